@@ -1,0 +1,32 @@
+# Toolchain for Cortex-M0+ (MSPM0L1306 / MSPM0G3507) and the ARMv6-M QEMU target.
+# Debian's gcc-arm-none-eabi 12 with newlib-nano. C++ is compiled with arm-none-eabi-g++ but linked with
+# arm-none-eabi-gcc: the C++ runtime libraries are not needed (and not installed, see
+# ../shared/reference/toolchain.md), and any accidental use of it (operator new, __cxa_*, unwinding) becomes a
+# link error instead of kilobytes of silent bloat.
+set(CMAKE_SYSTEM_NAME Generic)
+set(CMAKE_SYSTEM_PROCESSOR arm)
+set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
+
+set(CMAKE_C_COMPILER arm-none-eabi-gcc)
+set(CMAKE_CXX_COMPILER arm-none-eabi-g++)
+set(CMAKE_ASM_COMPILER arm-none-eabi-gcc)
+set(CMAKE_OBJCOPY arm-none-eabi-objcopy CACHE FILEPATH "objcopy")
+set(CMAKE_SIZE arm-none-eabi-size CACHE FILEPATH "size")
+
+set(BMS_CPU_FLAGS "-mcpu=cortex-m0plus -mthumb")
+set(CMAKE_C_FLAGS_INIT "${BMS_CPU_FLAGS} -ffunction-sections -fdata-sections")
+set(CMAKE_CXX_FLAGS_INIT
+    "${BMS_CPU_FLAGS} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit")
+set(CMAKE_ASM_FLAGS_INIT "${BMS_CPU_FLAGS}")
+set(CMAKE_EXE_LINKER_FLAGS_INIT "${BMS_CPU_FLAGS} --specs=nano.specs --specs=nosys.specs -nostartfiles -Wl,--gc-sections")
+
+set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os -g")
+set(CMAKE_CXX_FLAGS_MINSIZEREL_INIT "-Os -g")
+
+# Link C++ executables through the C driver (see above).
+set(CMAKE_CXX_LINK_EXECUTABLE
+    "<CMAKE_C_COMPILER> <FLAGS> <CMAKE_CXX_LINK_FLAGS> <LINK_FLAGS> <OBJECTS> -o <TARGET> <LINK_LIBRARIES>")
+
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)

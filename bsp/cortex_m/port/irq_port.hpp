@@ -1,0 +1,28 @@
+// ARMv6-M port of the interrupt facade (firmware/hal/irq.hpp), shared by the QEMU and MSPM0 BSPs.
+//
+// irqSave/irqRestore use PRIMASK (the M0/M0+ have no BASEPRI). waitForInterrupt is entered with PRIMASK=1:
+// ARMv6-M WFI still wakes on any pending enabled interrupt, and its handler runs when the caller restores
+// PRIMASK, so a wake-up that arrives after the scheduler's last ready check is never lost (ARMv6-M ARM
+// B1.5.19, and the same scheme as QP's QV_CPU_SLEEP). The DSB completes outstanding writes (e.g. a
+// peripheral register that clears an interrupt) before the core sleeps.
+#pragma once
+
+#include <cstdint>
+
+namespace fw::port {
+
+inline uint32_t irqSave() {
+  uint32_t primask;
+  __asm volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
+  return primask;
+}
+
+inline void irqRestore(uint32_t primask) {
+  __asm volatile("msr primask, %0" ::"r"(primask) : "memory");
+}
+
+inline void waitForInterrupt() {
+  __asm volatile("dsb\n\twfi" ::: "memory");
+}
+
+}  // namespace fw::port

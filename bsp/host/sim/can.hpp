@@ -1,0 +1,69 @@
+// SimCan: the host's classic CAN controller (implements fw::hal::CanBus) on a simulated bus.
+//
+// Frames leave one at a time in queue order; each occupies the wire for its real length at the bit rate,
+// computed from the actual bit stream (SOF..CRC with stuff bits, then ACK, EOF and intermission), so the
+// timing figures printed by bms-sim are those of a real 500 kbit/s bus. The controller has a TX queue of
+// `txDepth` frames (the MCAN dedicated buffers/FIFO the BSP configures).
+// Fault injection: injectBusOff() puts the controller bus-off (queued frames are discarded, as MCAN does when
+// it enters Bus_Off with INIT set); recover() takes 128 x 11 recessive bits to return to ErrorActive.
+// Every frame sent is recorded with the time its transmission completed, for candump output and tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "hal/can_bus.hpp"
+
+namespace bsp::host {
+
+class SimClock;
+class SimIrq;
+
+struct SentCanFrame {
+  uint64_t timeUs;
+  fw::hal::CanFrame frame;
+};
+
+// Bits on the wire for `frame` including stuff bits and the 10-bit ACK/EOF tail plus 3-bit intermission.
+uint32_t canFrameBits(const fw::hal::CanFrame& frame);
+
+class SimCan final : public fw::hal::CanBus {
+ public:
+  SimCan(SimClock& clock, SimIrq& irq, uint32_t bitRate = 500000, size_t txDepth = 8);
+
+  const std::vector<SentCanFrame>& sent() const { return sent_; }
+  void injectBusOff();
+  void injectRx(const fw::hal::CanFrame& frame);
+  uint64_t busTimeUs() const { return busTimeUs_; }
+
+ private:
+  fw::Status doSend(const fw::hal::CanFrame& frame) override;
+  bool doReceive(fw::hal::CanFrame& frame) override;
+  void doOnEvent(fw::hal::Notify notify) override { notify_ = notify; }
+  fw::hal::CanState doState() const override { return state_; }
+  fw::Status doRecover() override;
+  fw::hal::CanCounters doCounters() const override { return counters_; }
+
+  void startNext();
+  void signal();
+
+  SimClock& clock_;
+  SimIrq& irq_;
+  uint32_t bitRate_;
+  size_t txDepth_;
+  int line_;
+  fw::hal::Notify notify_;
+  fw::hal::CanState state_ = fw::hal::CanState::ErrorActive;
+  fw::hal::CanCounters counters_;
+  std::deque<fw::hal::CanFrame> txQueue_;
+  std::deque<fw::hal::CanFrame> rxQueue_;
+  std::vector<SentCanFrame> sent_;
+  bool transmitting_ = false;
+  uint64_t txEvent_ = 0;
+  uint64_t busTimeUs_ = 0;
+  bool recovering_ = false;
+};
+
+}  // namespace bsp::host

@@ -1,0 +1,68 @@
+// CRCs used on the battery-monitor links.
+//
+// crc8   CRC-8, polynomial 0x07 (x^8+x^2+x+1), init 0x00, MSB first, no reflection, no final XOR
+//        (catalogue name CRC-8/SMBUS, check("123456789") = 0xF4). Used by the BQ769x2/BQ7690x optional
+//        per-byte I2C CRC (SLUAA11B / SLUAAM4 section 4) and by the SMBus PEC (BQ4050).
+// crc16  CRC-16/MODBUS: polynomial 0x8005 reflected (0xA001), init 0xFFFF, no final XOR
+//        (check("123456789") = 0x4B37). Used by BQ79616 UART frames, sent low byte first; running it over a
+//        whole valid frame including its CRC gives 0.
+//
+// Both are constexpr, take a running value so a message can be fed in pieces, and are ISR-safe.
+// crc16 uses a 16-entry nibble table (32 bytes of flash): about 4x faster than bitwise at 1/16 the size of a
+// byte table, the right trade on a Cortex-M0+ that checks every byte of a 64-device chain read.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace fw::crc {
+
+constexpr uint8_t crc8Update(uint8_t crc, uint8_t byte) {
+  crc = static_cast<uint8_t>(crc ^ byte);
+  for (int bit = 0; bit < 8; ++bit) {
+    crc = static_cast<uint8_t>((crc & 0x80U) ? (crc << 1) ^ 0x07U : (crc << 1));
+  }
+  return crc;
+}
+
+constexpr uint8_t crc8(const uint8_t* data, size_t length, uint8_t crc = 0x00) {
+  for (size_t i = 0; i < length; ++i)
+    crc = crc8Update(crc, data[i]);
+  return crc;
+}
+
+inline constexpr uint16_t kCrc16Init = 0xFFFF;
+
+namespace detail {
+// Reflected 0xA001 remainders for each 4-bit value: entry n = crc of nibble n shifted through 4 rounds.
+constexpr uint16_t crc16Nibble(uint16_t n) {
+  for (int bit = 0; bit < 4; ++bit)
+    n = static_cast<uint16_t>((n & 1U) ? (n >> 1) ^ 0xA001U : (n >> 1));
+  return n;
+}
+struct Crc16Table {
+  uint16_t entry[16];
+};
+constexpr Crc16Table makeCrc16Table() {
+  Crc16Table t{};
+  for (uint16_t n = 0; n < 16; ++n)
+    t.entry[n] = crc16Nibble(n);
+  return t;
+}
+inline constexpr Crc16Table kCrc16Table = makeCrc16Table();
+}  // namespace detail
+
+constexpr uint16_t crc16Update(uint16_t crc, uint8_t byte) {
+  crc = static_cast<uint16_t>(crc ^ byte);
+  crc = static_cast<uint16_t>((crc >> 4) ^ detail::kCrc16Table.entry[crc & 0x0FU]);
+  crc = static_cast<uint16_t>((crc >> 4) ^ detail::kCrc16Table.entry[crc & 0x0FU]);
+  return crc;
+}
+
+constexpr uint16_t crc16(const uint8_t* data, size_t length, uint16_t crc = kCrc16Init) {
+  for (size_t i = 0; i < length; ++i)
+    crc = crc16Update(crc, data[i]);
+  return crc;
+}
+
+}  // namespace fw::crc

@@ -1,0 +1,31 @@
+// Interrupt masking and sleep, provided by the BSP through the port header on its include path.
+//
+// Contract (each BSP's port/irq_port.hpp implements, in namespace fw::port):
+//   uint32_t irqSave();            mask interrupts (PRIMASK=1 on Cortex-M), return the previous state
+//   void irqRestore(uint32_t);     restore the state irqSave returned
+//   void waitForInterrupt();       sleep until an interrupt is pending. Called with interrupts MASKED: on
+//                                  ARMv6-M, WFI wakes on a pending interrupt even with PRIMASK=1, and the
+//                                  handler runs once the caller restores the mask, so an interrupt that
+//                                  arrives between the caller's last check and the WFI is never lost.
+//                                  On the host it returns to the test harness instead of sleeping.
+// CriticalSection is the RAII form; sections nest.
+#pragma once
+
+#include <cstdint>
+
+#include "port/irq_port.hpp"
+
+namespace fw::hal {
+
+class CriticalSection {
+ public:
+  CriticalSection() : saved_(port::irqSave()) {}
+  ~CriticalSection() { port::irqRestore(saved_); }
+  CriticalSection(const CriticalSection&) = delete;
+  CriticalSection& operator=(const CriticalSection&) = delete;
+
+ private:
+  uint32_t saved_;
+};
+
+}  // namespace fw::hal

@@ -1,0 +1,232 @@
+#include "sched/scheduler.hpp"
+
+#include "core/assert.hpp"
+#include "hal/irq.hpp"
+
+FW_MODULE(fw::Module::Sched);
+
+// Test builds may define FW_SCHED_IDLE_PROBE to run code in the window between the last ready check and the
+// WFI (with interrupts masked): the QEMU race test pends an interrupt exactly there.
+#ifdef FW_SCHED_IDLE_PROBE
+extern "C" void fw_sched_idle_probe();
+#define FW_IDLE_WINDOW() fw_sched_idle_probe()
+#else
+#define FW_IDLE_WINDOW() ((void)0)
+#endif
+
+namespace fw::sched {
+namespace {
+
+// Highest set bit of a non-zero byte. ARMv6-M has no CLZ, so use a nibble table (16 bytes) instead of a
+// loop: two table look-ups at most, constant time.
+constexpr uint8_t kLog2Nibble[16] = {0, 0, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 3};
+
+inline uint8_t highestBit(uint8_t mask) {
+  return (mask & 0xF0U) != 0 ? static_cast<uint8_t>(4 + kLog2Nibble[mask >> 4]) : kLog2Nibble[mask];
+}
+
+constexpr TaskId kSupervisorTask = 0xFE;  // marks the internal watchdog-supervisor timer
+
+}  // namespace
+
+void Scheduler::addTask(TaskId id, Task& task, Duration budget, bool watched) {
+  FW_ASSERT(id < kMaxTasks && tasks_[id] == nullptr);
+  tasks_[id] = &task;
+  budget_[id] = budget;
+  if (watched) watched_ = static_cast<uint8_t>(watched_ | (1U << id));
+}
+
+void Scheduler::post(TaskId id, EventMask events) {
+  FW_ASSERT(id < kMaxTasks && tasks_[id] != nullptr);
+  {
+    hal::CriticalSection cs;
+    pending_[id] |= events;
+    ready_ = static_cast<uint8_t>(ready_ | (1U << id));
+  }
+  trace(TraceKind::Post, id, events);
+}
+
+void Scheduler::postThunk(void* self, uint32_t arg) {
+  // arg packs the task id in the top byte and a 24-bit event mask below it.
+  static_cast<Scheduler*>(self)->post(static_cast<TaskId>(arg >> 24), arg & 0x00FFFFFFU);
+}
+
+hal::Notify Scheduler::notifier(TaskId id, EventMask events) {
+  FW_ASSERT(id < kMaxTasks && (events >> 24) == 0);
+  return hal::Notify{&Scheduler::postThunk, this, (static_cast<uint32_t>(id) << 24) | events};
+}
+
+void Scheduler::insertTimer(Timer& timer) {
+  // Sorted by deadline; a timer goes after others with the same deadline, so equal deadlines fire in the
+  // order they were armed.
+  Timer** link = &timers_;
+  while (*link != nullptr && !isBefore(timer.deadline_, (*link)->deadline_))
+    link = &(*link)->next_;
+  timer.next_ = *link;
+  *link = &timer;
+  timer.armed_ = true;
+}
+
+void Scheduler::removeTimer(Timer& timer) {
+  for (Timer** link = &timers_; *link != nullptr; link = &(*link)->next_) {
+    if (*link == &timer) {
+      *link = timer.next_;
+      break;
+    }
+  }
+  timer.next_ = nullptr;
+  timer.armed_ = false;
+}
+
+void Scheduler::startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period) {
+  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && tasks_[id] != nullptr));
+  if (timer.armed_) removeTimer(timer);
+  timer.task_ = id;
+  timer.events_ = events;
+  timer.period_ = period;
+  timer.deadline_ = clock_.now() + delay;
+  insertTimer(timer);
+}
+
+void Scheduler::stopTimer(Timer& timer) {
+  if (timer.armed_) removeTimer(timer);
+}
+
+bool Scheduler::nextDeadline(Instant& deadline) const {
+  if (timers_ == nullptr) return false;
+  deadline = timers_->deadline_;
+  return true;
+}
+
+void Scheduler::fireDueTimers(Instant now) {
+  while (timers_ != nullptr && isDue(timers_->deadline_, now)) {
+    Timer& timer = *timers_;
+    timers_ = timer.next_;
+    timer.next_ = nullptr;
+    timer.armed_ = false;
+
+    if (timer.task_ == kSupervisorTask) {
+      superviseOnce();
+    } else {
+      if (timer.period_.us != 0 && (pending_[timer.task_] & timer.events_) != 0) {
+        // The previous expiry has not been consumed yet: the task is falling behind its period.
+        ++stats_[timer.task_].timerOverruns;
+        trace(TraceKind::TimerOverrun, timer.task_, 1);
+      }
+      trace(TraceKind::TimerFire, timer.task_, timer.events_);
+      post(timer.task_, timer.events_);
+    }
+
+    if (timer.period_.us != 0) {
+      // Drift-free: the next deadline is a whole period after the previous *deadline*, not after now.
+      timer.deadline_ = timer.deadline_ + timer.period_;
+      if (isDue(timer.deadline_, now)) {
+        // Whole periods were missed. Skip them (keeping the phase) rather than firing a burst.
+        const uint32_t missed = elapsed(timer.deadline_, now).us / timer.period_.us + 1;
+        timer.deadline_ = timer.deadline_ + timer.period_ * missed;
+        if (timer.task_ != kSupervisorTask) {
+          stats_[timer.task_].timerOverruns += missed;
+          trace(TraceKind::TimerOverrun, timer.task_, missed);
+        }
+      }
+      insertTimer(timer);
+    }
+  }
+}
+
+bool Scheduler::dispatchOne() {
+  fireDueTimers(clock_.now());
+
+  TaskId id;
+  EventMask events;
+  {
+    hal::CriticalSection cs;
+    const uint8_t ready = ready_;
+    if (ready == 0) return false;
+    id = highestBit(ready);
+    events = pending_[id];
+    pending_[id] = 0;
+    ready_ = static_cast<uint8_t>(ready & ~(1U << id));
+  }
+
+  trace(TraceKind::Run, id, events);
+  const Instant start = clock_.now();
+  tasks_[id]->run(events);
+  const Duration took = elapsed(start, clock_.now());
+
+  TaskStats& st = stats_[id];
+  ++st.runs;
+  if (took > st.worstRun) st.worstRun = took;
+  trace(TraceKind::RunEnd, id, took.us);
+  if (budget_[id].us != 0 && took > budget_[id]) {
+    ++st.overruns;
+    trace(TraceKind::Overrun, id, took.us);
+  }
+  return true;
+}
+
+void Scheduler::idle() {
+  const uint32_t saved = port::irqSave();
+  // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
+  // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
+  const bool work = ready_ != 0 || (timers_ != nullptr && isDue(timers_->deadline_, clock_.now()));
+  if (!work) {
+    if (timers_ != nullptr) clock_.wakeAt(timers_->deadline_);
+    trace(TraceKind::Idle, kNoTask, 0);
+    FW_IDLE_WINDOW();
+    port::waitForInterrupt();
+  }
+  port::irqRestore(saved);
+}
+
+void Scheduler::run() {
+  for (;;) {
+    if (!dispatchOne()) idle();
+  }
+}
+
+void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {
+  FW_ASSERT(window.us != 0);
+  watchdog_ = &watchdog;
+  checkedIn_ = 0;
+  startTimer(supervisor_, kSupervisorTask, 0, window, window);
+}
+
+void Scheduler::checkIn(TaskId id) {
+  checkedIn_ = static_cast<uint8_t>(checkedIn_ | (1U << id));
+}
+
+void Scheduler::superviseOnce() {
+  const uint8_t missing = static_cast<uint8_t>(watched_ & ~checkedIn_);
+  if (missing == 0) {
+    watchdog_->feed();
+    trace(TraceKind::WatchdogFeed, kNoTask, 0);
+  } else {
+    trace(TraceKind::WatchdogStarved, kNoTask, missing);
+  }
+  checkedIn_ = 0;
+}
+
+void Scheduler::noteQueueDrop(TaskId id) {
+  uint32_t drops;
+  {
+    hal::CriticalSection cs;
+    drops = ++stats_[id].queueDrops;
+  }
+  trace(TraceKind::QueueFull, id, drops);
+}
+
+void Scheduler::setTraceSink([[maybe_unused]] TraceSink* sink) {
+#if FW_SCHED_TRACE
+  sink_ = sink;
+#endif
+}
+
+void Scheduler::trace([[maybe_unused]] TraceKind kind, [[maybe_unused]] uint8_t task,
+                      [[maybe_unused]] uint32_t arg) {
+#if FW_SCHED_TRACE
+  if (sink_ != nullptr) sink_->record(kind, task, arg);
+#endif
+}
+
+}  // namespace fw::sched

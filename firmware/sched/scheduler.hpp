@@ -1,0 +1,110 @@
+// Scheduler: fixed-priority, run-to-completion tasks driven by events from ISRs and software timers.
+//
+// Model (QP's QV kernel and RTIC, in a few hundred bytes):
+// - Up to kMaxTasks tasks, each with a unique priority (its TaskId; higher runs first), a 32-bit set of
+//   pending event flags, and optionally an EventQueue (event_queue.hpp) for data-carrying events.
+// - post() sets flags and the task's ready bit; it is the only thing an ISR does.
+// - The loop fires due timers, then runs the highest-priority ready task to completion, and repeats. With
+//   nothing ready it sleeps race-free: interrupts masked, ready set re-checked, WFI, unmask.
+// - Per task: worst run time, run count, budget overruns, timer overruns and queue drops (stats()).
+// - Watchdog supervision: the hardware watchdog is fed once per window only if every watched task called
+//   checkIn() during that window; one stalled task starves the watchdog and the MCU resets.
+//
+// Contract
+// - addTask/startTimer/stopTimer/checkIn/dispatchOne/idle/run: thread mode only.
+// - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
+//   instructions.
+// - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
+#pragma once
+
+#include <cstdint>
+
+#include "core/time.hpp"
+#include "hal/clock.hpp"
+#include "hal/notify.hpp"
+#include "hal/watchdog.hpp"
+#include "sched/task.hpp"
+#include "sched/timer.hpp"
+#include "sched/trace.hpp"
+
+#ifndef FW_SCHED_MAX_TASKS
+#define FW_SCHED_MAX_TASKS 8
+#endif
+
+namespace fw::sched {
+
+inline constexpr uint8_t kMaxTasks = FW_SCHED_MAX_TASKS;
+static_assert(kMaxTasks >= 1 && kMaxTasks <= 8, "the ready set is one byte");
+
+struct TaskStats {
+  Duration worstRun{};         // longest single run() so far
+  uint32_t runs = 0;           // completed run() calls
+  uint32_t overruns = 0;       // runs longer than the task's budget
+  uint32_t timerOverruns = 0;  // periodic expiries that found the previous one unconsumed, or were skipped
+  uint32_t queueDrops = 0;     // items an EventQueue of this task refused because it was full
+};
+
+class Scheduler {
+ public:
+  explicit Scheduler(hal::Clock& clock) : clock_(clock) {}
+  Scheduler(const Scheduler&) = delete;
+  Scheduler& operator=(const Scheduler&) = delete;
+
+  // Registers `task` at priority `id`. `budget` is the longest run() allowed before it counts as an overrun
+  // (zero: no budget). A `watched` task must checkIn() at least once per watchdog window.
+  void addTask(TaskId id, Task& task, Duration budget = {}, bool watched = false);
+
+  // Any context. Sets `events` on task `id` and makes it ready.
+  void post(TaskId id, EventMask events);
+  // A Notify that posts `events` to task `id` (for BSP completions).
+  hal::Notify notifier(TaskId id, EventMask events);
+
+  // Thread mode. Arms `timer` to post `events` to `id` after `delay`, then every `period` if non-zero.
+  // Re-arming an armed timer restarts it.
+  void startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period = {});
+  void stopTimer(Timer& timer);
+
+  // Thread mode. Fires due timers, then runs the highest-priority ready task. False if no task ran.
+  bool dispatchOne();
+  // Thread mode. Sleeps until an interrupt unless work is pending; never loses a wake-up (see irq.hpp).
+  void idle();
+  // The firmware main loop: dispatch, and idle when there is nothing to do.
+  [[noreturn]] void run();
+
+  // Watchdog supervision: every `window`, feed `watchdog` if every watched task checked in, else withhold the
+  // feed. The hardware timeout must be longer than `window`.
+  void superviseWatchdog(hal::Watchdog& watchdog, Duration window);
+  void checkIn(TaskId id);
+
+  // Earliest armed timer deadline, if any timer is armed.
+  bool nextDeadline(Instant& deadline) const;
+  const TaskStats& stats(TaskId id) const { return stats_[id]; }
+  void noteQueueDrop(TaskId id);  // called by EventQueue (any context)
+
+  void setTraceSink(TraceSink* sink);
+
+ private:
+  void fireDueTimers(Instant now);
+  void insertTimer(Timer& timer);
+  void removeTimer(Timer& timer);
+  void superviseOnce();
+  void trace(TraceKind kind, uint8_t task, uint32_t arg);
+  static void postThunk(void* self, uint32_t arg);
+
+  hal::Clock& clock_;
+  Task* tasks_[kMaxTasks] = {};
+  EventMask pending_[kMaxTasks] = {};
+  Duration budget_[kMaxTasks] = {};
+  TaskStats stats_[kMaxTasks] = {};
+  volatile uint8_t ready_ = 0;
+  uint8_t watched_ = 0;
+  uint8_t checkedIn_ = 0;
+  Timer* timers_ = nullptr;  // armed timers sorted by deadline
+  hal::Watchdog* watchdog_ = nullptr;
+  Timer supervisor_;
+#if FW_SCHED_TRACE
+  TraceSink* sink_ = nullptr;
+#endif
+};
+
+}  // namespace fw::sched

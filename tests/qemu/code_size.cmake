@@ -1,0 +1,16 @@
+# Prints the .text+.data size of every object in ARCHIVE (as `arm-none-eabi-size` reports it) and fails if
+# the total exceeds BUDGET bytes. Output: "REPORT <NAME>.code_bytes=<n> (budget <BUDGET>)".
+execute_process(COMMAND ${SIZE} -t ${ARCHIVE} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${SIZE} failed on ${ARCHIVE}")
+endif()
+message("${out}")
+string(REGEX MATCH "\n[ \t]*([0-9]+)[ \t]+([0-9]+)[ \t]+([0-9]+)[ \t]+[0-9]+[ \t]+[0-9a-f]+[ \t]+\\(TOTALS\\)" m "${out}")
+if(NOT m)
+  message(FATAL_ERROR "could not parse size output")
+endif()
+math(EXPR code "${CMAKE_MATCH_1} + ${CMAKE_MATCH_2}")
+message("REPORT ${NAME}.code_bytes=${code} (budget ${BUDGET})")
+if(code GREATER BUDGET)
+  message(FATAL_ERROR "${NAME} code is ${code} B, over its ${BUDGET} B budget")
+endif()
