@@ -1,0 +1,123 @@
+// Protection: the firmware's limits, layered above the battery monitor's own hardware protection.
+//
+// The device's protections (BQ769x2 COV/CUV/OCD/SCD..., BQ79616 OV/UV comparators, BQ4050 SafetyStatus) are
+// primary and act on their own. This layer adds the pack designer's limits on top, with the same discipline
+// for every fault:
+//   - a trip threshold and a clear threshold (hysteresis): a fault clears only once the value is back past
+//     the clear threshold, never by hovering at the trip point;
+//   - a debounce count: the condition must be seen in that many consecutive evaluations of fresh data;
+//   - a delay: and it must have been present for at least that long (first sighting to now);
+//   - the same count and delay on the way back (recovery is debounced too);
+//   - latching: a latched fault stays tripped until clearLatched() (a user action), even when the value
+//     recovers;
+//   - an action: which FETs open (charge, discharge or both) or, on images without FETs, the fault output.
+// Stale data and lost communication are faults like any other: the evaluation knows when the last valid
+// measurement was taken and how many scans in a row failed. Missing data never clears a fault: value rules
+// are only evaluated on fresh, validated samples.
+//
+// Units are integers: cell voltages in mV, current in mA (positive = charging), temperatures in 0.1 K.
+// Contract: thread mode only (the protection task); no allocation; evaluate() is O(cells + temps).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "core/time.hpp"
+
+namespace fw::app {
+
+enum class FaultId : uint8_t {
+  CellOvervoltage,
+  CellUndervoltage,
+  ChargeOvercurrent,
+  DischargeOvercurrent,
+  Overtemperature,
+  Undertemperature,
+  DeviceSafety,  // the battery monitor reports a tripped protection of its own
+  StaleData,     // no valid measurement for longer than staleAfter
+  CommLoss,      // commLossScans scan attempts in a row failed
+};
+inline constexpr uint8_t kFaultCount = 9;
+using FaultMask = uint16_t;
+constexpr FaultMask bit(FaultId id) {
+  return static_cast<FaultMask>(1U << static_cast<uint8_t>(id));
+}
+
+// Names for tools and logs ("cell_ov", "comm_loss", ...). Host/QEMU text only; not needed by the images.
+const char* faultName(FaultId id);
+
+enum class Action : uint8_t {
+  None = 0,
+  ChargeOff = 1,
+  DischargeOff = 2,
+  AllOff = 3,
+};
+
+struct Rule {
+  bool enabled = false;
+  int32_t trip = 0;   // condition present when value >= trip (upper limits) or <= trip (lower limits)
+  int32_t clear = 0;  // condition gone when value < clear (upper) or > clear (lower)
+  uint8_t debounce = 1;
+  Duration delay{};
+  bool latch = false;
+  Action action = Action::AllOff;
+};
+
+struct ProtectionConfig {
+  Rule rules[kFaultCount];  // indexed by FaultId; upper limits: Ov, ChargeOc, Ot; lower: Uv, DischargeOc, Ut
+  Duration staleAfter = ms(1000);
+  uint8_t commLossScans = 3;
+};
+
+// One evaluation's inputs. `fresh` marks a new validated sample; the spans describe it. On a failed scan
+// attempt set scanFailed (and fresh=false); on a plain periodic check set neither.
+struct ProtectionInputs {
+  bool fresh = false;
+  bool scanFailed = false;
+  Instant sampleTime{};
+  std::span<const int16_t> cellMv{};
+  bool hasCurrent = false;
+  int32_t currentMa = 0;
+  std::span<const int16_t> tempDeciK{};
+  bool deviceFault = false;
+};
+
+struct ProtectionState {
+  FaultMask active = 0;        // tripped now
+  FaultMask newlyTripped = 0;  // tripped in this evaluation
+  FaultMask newlyCleared = 0;  // cleared in this evaluation
+  bool chargeOff = false;      // union of the actions of every active fault
+  bool dischargeOff = false;
+  bool faultOutput() const { return active != 0; }
+};
+
+class Protection {
+ public:
+  explicit Protection(const ProtectionConfig& config) : config_(config) {}
+
+  ProtectionState evaluate(const ProtectionInputs& in, Instant now);
+  // Clears latched faults whose condition is gone (a user action: button or CAN command). Returns the faults
+  // that cleared; a latched fault whose condition is still present stays.
+  FaultMask clearLatched();
+
+  FaultMask active() const { return active_; }
+  Instant trippedAt(FaultId id) const { return tripped_[static_cast<uint8_t>(id)]; }
+
+ private:
+  struct Track {
+    uint8_t count = 0;  // consecutive evaluations the condition (or, when tripped, its absence) was seen
+    Instant since{};    // when that run started
+  };
+  void update(FaultId id, bool present, bool absent, Instant now, ProtectionState& out);
+
+  const ProtectionConfig& config_;
+  Track track_[kFaultCount]{};
+  Instant tripped_[kFaultCount]{};
+  FaultMask active_ = 0;
+  FaultMask conditionNow_ = 0;  // last evaluation's raw conditions (for clearLatched)
+  Instant lastFresh_{};
+  bool everFresh_ = false;
+  uint8_t failedScans_ = 0;
+};
+
+}  // namespace fw::app

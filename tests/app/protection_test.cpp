@@ -1,0 +1,240 @@
+// Firmware protection limits: debounce count, delay, hysteresis, latching, stale data and comm loss.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "app/protection.hpp"
+
+namespace {
+
+using fw::ms;
+using fw::app::Action;
+using fw::app::bit;
+using fw::app::FaultId;
+using fw::app::Protection;
+using fw::app::ProtectionConfig;
+using fw::app::ProtectionInputs;
+
+constexpr uint8_t idx(FaultId id) {
+  return static_cast<uint8_t>(id);
+}
+
+ProtectionConfig baseConfig() {
+  ProtectionConfig c;
+  c.rules[idx(FaultId::CellOvervoltage)] = {true, 4250, 4150, 3, ms(200), false, Action::ChargeOff};
+  c.rules[idx(FaultId::CellUndervoltage)] = {true, 2700, 2900, 3, ms(200), false, Action::DischargeOff};
+  c.rules[idx(FaultId::ChargeOvercurrent)] = {true, 20000, 18000, 2, ms(0), false, Action::ChargeOff};
+  c.rules[idx(FaultId::DischargeOvercurrent)] = {true, -40000, -35000, 2, ms(0), true, Action::DischargeOff};
+  c.rules[idx(FaultId::Overtemperature)] = {true,  3332,  3282,          2,
+                                            ms(0), false, Action::AllOff};  // 60.0/55.0 C
+  c.rules[idx(FaultId::Undertemperature)] = {
+      true, 2532, 2582, 2, ms(0), false, Action::ChargeOff};  // -20/-15 C
+  c.rules[idx(FaultId::DeviceSafety)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
+  c.rules[idx(FaultId::StaleData)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
+  c.rules[idx(FaultId::CommLoss)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
+  c.staleAfter = ms(500);
+  c.commLossScans = 3;
+  return c;
+}
+
+struct Sampler {
+  std::vector<int16_t> cells = std::vector<int16_t>(4, 3700);
+  std::vector<int16_t> temps = std::vector<int16_t>(2, 2982);
+  int32_t current = 0;
+  bool deviceFault = false;
+  ProtectionInputs fresh(uint32_t tMs) const {
+    ProtectionInputs in;
+    in.fresh = true;
+    in.sampleTime = fw::Instant{tMs * 1000};
+    in.cellMv = cells;
+    in.tempDeciK = temps;
+    in.hasCurrent = true;
+    in.currentMa = current;
+    in.deviceFault = deviceFault;
+    return in;
+  }
+};
+
+fw::Instant at(uint32_t tMs) {
+  return fw::Instant{tMs * 1000};
+}
+
+TEST(Protection, OvervoltageNeedsDebounceCountAndDelay) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.cells[2] = 4260;
+  // 100 ms scans: the third sighting is at 200 ms, which also satisfies the 200 ms delay.
+  EXPECT_EQ(p.evaluate(s.fresh(0), at(0)).active, 0);
+  EXPECT_EQ(p.evaluate(s.fresh(100), at(100)).active, 0);
+  const auto st = p.evaluate(s.fresh(200), at(200));
+  EXPECT_EQ(st.active, bit(FaultId::CellOvervoltage));
+  EXPECT_EQ(st.newlyTripped, bit(FaultId::CellOvervoltage));
+  EXPECT_TRUE(st.chargeOff);
+  EXPECT_FALSE(st.dischargeOff);
+  EXPECT_EQ(p.trippedAt(FaultId::CellOvervoltage), at(200));
+}
+
+TEST(Protection, DelayHoldsTripEvenAfterEnoughSightings) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.cells[0] = 4300;
+  // 10 ms scans: three sightings by 20 ms, but the 200 ms delay is not over until 200 ms.
+  for (uint32_t t = 0; t < 200; t += 10)
+    EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, 0) << t;
+  EXPECT_EQ(p.evaluate(s.fresh(200), at(200)).active, bit(FaultId::CellOvervoltage));
+}
+
+TEST(Protection, OneNoisySampleDoesNotTrip) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  for (uint32_t t = 0; t < 2000; t += 100) {
+    s.cells[1] = (t / 100) % 2 == 0 ? 4300 : 4000;  // every other sample over the limit
+    EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, 0) << t;
+  }
+}
+
+TEST(Protection, HysteresisKeepsTheFaultUntilBelowTheClearThreshold) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.cells[3] = 4300;
+  for (uint32_t t = 0; t <= 200; t += 100)
+    p.evaluate(s.fresh(t), at(t));
+  ASSERT_EQ(p.active(), bit(FaultId::CellOvervoltage));
+  s.cells[3] = 4200;  // under the trip, above the clear threshold
+  for (uint32_t t = 300; t <= 1500; t += 100)
+    EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, p.active());
+  EXPECT_EQ(p.active(), bit(FaultId::CellOvervoltage));
+  s.cells[3] = 4100;  // past the clear threshold: recovery is debounced and delayed like the trip
+  EXPECT_NE(p.evaluate(s.fresh(1600), at(1600)).active, 0);
+  EXPECT_NE(p.evaluate(s.fresh(1700), at(1700)).active, 0);
+  const auto st = p.evaluate(s.fresh(1800), at(1800));
+  EXPECT_EQ(st.active, 0);
+  EXPECT_EQ(st.newlyCleared, bit(FaultId::CellOvervoltage));
+  EXPECT_FALSE(st.chargeOff);
+}
+
+TEST(Protection, MissingDataNeverClearsOrAdvancesAFault) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.cells[0] = 2600;
+  for (uint32_t t = 0; t <= 200; t += 100)
+    p.evaluate(s.fresh(t), at(t));
+  ASSERT_EQ(p.active(), bit(FaultId::CellUndervoltage));
+  ProtectionInputs failed;
+  failed.scanFailed = true;
+  p.evaluate(failed, at(300));
+  EXPECT_TRUE(p.active() & bit(FaultId::CellUndervoltage)) << "a failed scan is not evidence of recovery";
+}
+
+TEST(Protection, LatchedFaultStaysUntilClearedAndOnlyIfTheConditionIsGone) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.current = -45000;
+  p.evaluate(s.fresh(0), at(0));
+  auto st = p.evaluate(s.fresh(10), at(10));
+  ASSERT_EQ(st.active, bit(FaultId::DischargeOvercurrent));
+  EXPECT_TRUE(st.dischargeOff);
+  EXPECT_EQ(p.clearLatched(), 0) << "condition still present";
+  s.current = -1000;
+  for (uint32_t t = 20; t < 200; t += 10)
+    EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, st.active);
+  EXPECT_EQ(p.clearLatched(), bit(FaultId::DischargeOvercurrent));
+  EXPECT_EQ(p.evaluate(s.fresh(200), at(200)).active, 0);
+}
+
+TEST(Protection, StaleDataIsAFaultAndFreshDataClearsIt) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  ProtectionInputs tick;  // a periodic check with no new sample
+  EXPECT_EQ(p.evaluate(tick, at(400)).active, 0);
+  EXPECT_EQ(p.evaluate(tick, at(500)).active, 0) << "exactly the limit is still fresh";
+  const auto st = p.evaluate(tick, at(501));
+  EXPECT_EQ(st.active, bit(FaultId::StaleData));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_EQ(p.evaluate(s.fresh(600), at(600)).active, 0);
+}
+
+TEST(Protection, NoSampleEverIsStaleOnceTheLimitPasses) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  EXPECT_EQ(p.evaluate({}, at(100)).active, 0);
+  EXPECT_EQ(p.evaluate({}, at(600)).active, bit(FaultId::StaleData));
+}
+
+TEST(Protection, CommLossAfterConsecutiveFailedScans) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  ProtectionInputs failed;
+  failed.scanFailed = true;
+  EXPECT_EQ(p.evaluate(failed, at(100)).active, 0);
+  EXPECT_EQ(p.evaluate(failed, at(200)).active, 0);
+  p.evaluate(s.fresh(300), at(300));  // one success resets the run
+  EXPECT_EQ(p.evaluate(failed, at(400)).active, 0);
+  EXPECT_EQ(p.evaluate(failed, at(450)).active, 0);
+  EXPECT_EQ(p.evaluate(failed, at(480)).active, bit(FaultId::CommLoss));
+  EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active, 0);
+}
+
+TEST(Protection, ActionsAreTheUnionOfActiveFaults) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.temps[1] = 2500;  // -23.2 C: undertemperature -> charge off
+  p.evaluate(s.fresh(0), at(0));
+  auto st = p.evaluate(s.fresh(10), at(10));
+  EXPECT_EQ(st.active, bit(FaultId::Undertemperature));
+  EXPECT_TRUE(st.chargeOff);
+  EXPECT_FALSE(st.dischargeOff);
+  s.temps[0] = 3400;  // 66.9 C: overtemperature -> all off
+  p.evaluate(s.fresh(20), at(20));
+  st = p.evaluate(s.fresh(30), at(30));
+  EXPECT_EQ(st.active, bit(FaultId::Undertemperature) | bit(FaultId::Overtemperature));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.faultOutput());
+}
+
+TEST(Protection, ChargeOvercurrentUsesPositiveCurrent) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.current = 25000;
+  p.evaluate(s.fresh(0), at(0));
+  EXPECT_EQ(p.evaluate(s.fresh(10), at(10)).active, bit(FaultId::ChargeOvercurrent));
+  s.current = -25000;  // a large discharge is not a charge overcurrent
+  Protection q(cfg);
+  q.evaluate(s.fresh(0), at(0));
+  EXPECT_EQ(q.evaluate(s.fresh(10), at(10)).active, 0);
+}
+
+TEST(Protection, DeviceSafetyTripsAtOnce) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.deviceFault = true;
+  const auto st = p.evaluate(s.fresh(0), at(0));
+  EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+}
+
+TEST(Protection, DisabledRulesNeverTrip) {
+  ProtectionConfig cfg;  // every rule disabled
+  Protection p(cfg);
+  Sampler s;
+  s.cells[0] = 5000;
+  s.deviceFault = true;
+  for (uint32_t t = 0; t < 5000; t += 100)
+    EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, 0);
+  EXPECT_EQ(p.evaluate({}, at(100000)).active, 0);
+}
+
+}  // namespace
