@@ -1,0 +1,25 @@
+// SLCAN (Lawicel CAN-over-serial) text encoding of CAN frames, for the L1306 images, whose results leave on
+// the LaunchPad's back-channel UART so that PC CAN tools (slcand, SavvyCAN, python-can's slcan interface) can
+// read them as a CAN bus.
+//
+//   standard frame:  t<iii><l><dd>...\r     e.g. id 0x004, 8 bytes -> "t004816C016BC16B416B9\r"
+//   extended frame:  T<iiiiiiii><l><dd>...\r
+// Identifiers and data are uppercase hex; l is the DLC digit (0..8).
+//
+// Contract: encode() writes at most kMaxEncodedLength bytes and returns the number written, or 0 when the
+// frame is invalid (DLC > 8, identifier out of range) or `out` is too small. Pure function, ISR-safe.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "hal/can_bus.hpp"
+
+namespace fw::app::slcan {
+
+inline constexpr size_t kMaxEncodedLength = 1 + 8 + 1 + 16 + 1;  // 'T' + id + dlc + data + '\r'
+
+size_t encode(const hal::CanFrame& frame, std::span<uint8_t> out);
+
+}  // namespace fw::app::slcan

@@ -1,0 +1,39 @@
+// SLCAN encoding against the Lawicel CAN232/CANUSB protocol's frame syntax ("tiiildd..\r",
+// "Tiiiiiiiildd..\r").
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "app/slcan.hpp"
+
+namespace {
+
+std::string encode(const fw::hal::CanFrame& f) {
+  uint8_t buf[fw::app::slcan::kMaxEncodedLength];
+  const size_t n = fw::app::slcan::encode(f, buf);
+  return std::string(reinterpret_cast<const char*>(buf), n);
+}
+
+TEST(Slcan, StandardFrameMatchesSeed001Payload) {
+  // Seed 001's first CAN frame: ID 0x004, 8 bytes "16 C0 16 BC 16 B4 16 B9".
+  fw::hal::CanFrame f{0x004, false, 8, {0x16, 0xC0, 0x16, 0xBC, 0x16, 0xB4, 0x16, 0xB9}};
+  EXPECT_EQ(encode(f), "t004816C016BC16B416B9\r");
+}
+
+TEST(Slcan, LawicelExamples) {
+  // The CAN232 syntax: 't' + 3 id digits or 'T' + 8 id digits, one DLC digit, two digits per data byte, CR.
+  EXPECT_EQ(encode({0x100, false, 2, {0x11, 0x33}}), "t10021133\r");
+  EXPECT_EQ(encode({0x10, true, 2, {0x11, 0x33}}), "T0000001021133\r");
+  EXPECT_EQ(encode({0x7FF, false, 0, {}}), "t7FF0\r");
+  EXPECT_EQ(encode({0x1FFFFFFF, true, 1, {0xAB}}), "T1FFFFFFF1AB\r");
+}
+
+TEST(Slcan, InvalidFramesEncodeToNothing) {
+  EXPECT_EQ(encode({0x800, false, 1, {}}), "");
+  EXPECT_EQ(encode({0x20000000, true, 1, {}}), "");
+  EXPECT_EQ(encode({0x1, false, 9, {}}), "");
+  uint8_t small[5];
+  EXPECT_EQ(fw::app::slcan::encode({0x100, false, 2, {0x11, 0x33}}, small), 0u);
+}
+
+}  // namespace
