@@ -1,0 +1,73 @@
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "emit/emit.hpp"
+
+namespace regmapgen {
+
+std::string displayPath(const std::string& path) {
+  const std::size_t last = path.find_last_of("/\\");
+  if (last == std::string::npos) return path;
+  const std::size_t prev = last == 0 ? std::string::npos : path.find_last_of("/\\", last - 1);
+  return prev == std::string::npos ? path : path.substr(prev + 1);
+}
+
+std::string hexAddress(std::uint32_t value, int digits) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%0*X", digits, value);
+  return buf;
+}
+
+std::string cppValueType(const Entry& e) {
+  if (e.fieldset.present) return "bits::" + e.fieldset.value;
+  if (e.enumRef.present) return "enums::" + e.enumRef.value;
+  const TypeInfo& t = *e.type;
+  auto scalar = [&](int size, bool isSigned) {
+    return std::string(isSigned ? "std::int" : "std::uint") + std::to_string(size * 8) + "_t";
+  };
+  switch (t.base) {
+    case TypeInfo::Base::None:
+      return "::fw::regmap::NoData";
+    case TypeInfo::Base::Float:
+      return "::fw::regmap::F4";
+    case TypeInfo::Base::Bytes:
+    case TypeInfo::Base::String:
+      if (t.variable) return "::fw::regmap::Block<" + std::to_string(t.count) + ">";
+      return "std::array<std::uint8_t, " + std::to_string(t.count) + ">";
+    default:
+      break;
+  }
+  const std::string elem = scalar(t.elemSize, t.isSigned());
+  if (t.array) return "std::array<" + elem + ", " + std::to_string(t.count) + ">";
+  return elem;
+}
+
+std::uint32_t f4Bits(double value, const std::string& text) {
+  // Parse the decimal text straight to the nearest float (no double rounding), then take its bit pattern.
+  const float f = text.empty() ? static_cast<float>(value) : std::strtof(text.c_str(), nullptr);
+  std::uint32_t bits = 0;
+  static_assert(sizeof bits == sizeof f);
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+std::string unitText(const Entry& e) {
+  const std::string unit = e.unit ? std::string(e.unit->symbol) : "";
+  if (!e.scale.present || (e.scale.num == 1 && e.scale.den == 1)) return unit;
+  return e.scale.text + (unit.empty() ? "" : " " + unit);
+}
+
+std::string emitList(const Model& model) {
+  std::ostringstream out;
+  for (const Family& fam : model.families) {
+    for (const Entry& e : fam.entries) {
+      out << e.kind->listName << ' ' << hexAddress(*e.addr, e.kind->addrDigits) << ' ' << e.cppName << ' '
+          << e.type->code << '\n';
+    }
+  }
+  return out.str();
+}
+
+}  // namespace regmapgen

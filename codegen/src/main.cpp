@@ -1,0 +1,212 @@
+// regmapgen: validates register-map YAML, generates C++ and Markdown from it, lists entries, and imports TRM
+// tables. See `regmapgen help` and regmaps/README.md.
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "check/check.hpp"
+#include "diag/diag.hpp"
+#include "emit/emit.hpp"
+#include "import/import.hpp"
+#include "model/model.hpp"
+#include "model/schema.hpp"
+
+namespace fs = std::filesystem;
+using namespace regmapgen;
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  regmapgen check FILE...         validate; every error as file:line:col, exit 1 on any error\n"
+    "  regmapgen list FILE...          one line per entry: <kind> <address> <identifier> <type>\n"
+    "  regmapgen generate --out DIR [--docs DIR] [--docs-only] [--stamp FILE] FILE...\n"
+    "                                  write DIR/regmap/<family>.hpp, <family>_table.hpp, "
+    "<family>_selftest.cpp\n"
+    "                                  and DOCS/<family>/REFERENCE.md (DOCS defaults to DIR/docs; "
+    "--docs-only\n"
+    "                                  writes just the references); files are only rewritten when their "
+    "content\n"
+    "                                  changes; --stamp is touched on success\n"
+    "  regmapgen import [--family NAME] [--kind KIND] [--map FILE]... [--source SRC] FILE|-\n"
+    "                                  turn a TRM / app-note table into YAML on stdout\n"
+    "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
+    "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
+
+bool readFile(const std::string& path, std::string& text) {
+  if (path == "-") {
+    std::ostringstream ss;
+    ss << std::cin.rdbuf();
+    text = ss.str();
+    return true;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  text = ss.str();
+  return true;
+}
+
+// Loads, builds and checks the files; prints diagnostics. Returns false on any error.
+bool load(const std::vector<std::string>& files, Sources& sources, Model& model) {
+  for (const std::string& f : files) {
+    std::string text;
+    if (!readFile(f, text)) {
+      std::cerr << "regmapgen: error: cannot read " << f << "\n";
+      return false;
+    }
+    sources.add(f, std::move(text));
+  }
+  Diagnostics diag(sources);
+  model = build(sources, diag);
+  check(model, diag);
+  diag.render(std::cerr);
+  if (diag.errorCount() > 0 || diag.warningCount() > 0) {
+    std::cerr << "regmapgen: " << diag.errorCount() << " error(s), " << diag.warningCount()
+              << " warning(s)\n";
+  }
+  return diag.errorCount() == 0;
+}
+
+// Writes `content` to `path` unless it already holds exactly that (keeps timestamps, so the build does not
+// recompile what did not change).
+bool writeIfChanged(const fs::path& path, const std::string& content) {
+  std::string old;
+  if (readFile(path.string(), old) && old == content) return true;
+  std::error_code ec;
+  fs::create_directories(path.parent_path(), ec);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << content;
+  if (!out) {
+    std::cerr << "regmapgen: error: cannot write " << path.string() << "\n";
+    return false;
+  }
+  return true;
+}
+
+int cmdCheck(const std::vector<std::string>& files) {
+  Sources sources;
+  Model model;
+  return load(files, sources, model) ? 0 : 1;
+}
+
+int cmdList(const std::vector<std::string>& files) {
+  Sources sources;
+  Model model;
+  if (!load(files, sources, model)) return 1;
+  std::cout << emitList(model);
+  return 0;
+}
+
+int cmdGenerate(const std::vector<std::string>& args) {
+  std::string out, docs, stamp;
+  bool docsOnly = false;
+  std::vector<std::string> files;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--docs-only") {
+      docsOnly = true;
+    } else if ((a == "--out" || a == "--docs" || a == "--stamp") && i + 1 < args.size()) {
+      (a == "--out" ? out : a == "--docs" ? docs : stamp) = args[++i];
+    } else if (a.rfind("--", 0) == 0) {
+      std::cerr << "regmapgen: error: unknown option " << a << "\n" << kUsage;
+      return 2;
+    } else {
+      files.push_back(a);
+    }
+  }
+  if ((out.empty() && !(docsOnly && !docs.empty())) || files.empty()) {
+    std::cerr
+        << "regmapgen: error: generate needs --out DIR (or --docs-only --docs DIR) and at least one FILE\n"
+        << kUsage;
+    return 2;
+  }
+  if (docs.empty()) docs = (fs::path(out) / "docs").string();
+  Sources sources;
+  Model model;
+  if (!load(files, sources, model)) return 1;
+  bool ok = true;
+  for (const Family& fam : model.families) {
+    if (!docsOnly) {
+      for (const OutputFile& f : emitCode(fam, sources))
+        ok = writeIfChanged(fs::path(out) / f.relativePath, f.content) && ok;
+    }
+    ok = writeIfChanged(fs::path(docs) / fam.name / "REFERENCE.md", emitMarkdown(fam, sources)) && ok;
+  }
+  if (ok && !stamp.empty()) {
+    std::ofstream s(stamp, std::ios::trunc);
+    s << "generated\n";
+  }
+  return ok ? 0 : 1;
+}
+
+int cmdImport(const std::vector<std::string>& args) {
+  ImportOptions opts;
+  std::string file;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    const bool hasValue = i + 1 < args.size();
+    if (a == "--family" && hasValue) {
+      opts.family = args[++i];
+    } else if (a == "--kind" && hasValue) {
+      opts.kind = args[++i];
+    } else if (a == "--map" && hasValue) {
+      opts.mapFiles.push_back(args[++i]);
+    } else if (a == "--source" && hasValue) {
+      opts.source = args[++i];
+    } else if (a == "--help") {
+      std::cout << kUsage << "\nRecognised column headings:\n" << headingHelp();
+      return 0;
+    } else if (a.rfind("--", 0) == 0 || !file.empty()) {
+      std::cerr << "regmapgen: error: unexpected argument " << a << "\n" << kUsage;
+      return 2;
+    } else {
+      file = a;
+    }
+  }
+  if (file.empty()) {
+    std::cerr << "regmapgen: error: import needs a FILE (or - for stdin)\n" << kUsage;
+    return 2;
+  }
+  std::string text;
+  if (!readFile(file, text)) {
+    std::cerr << "regmapgen: error: cannot read " << file << "\n";
+    return 1;
+  }
+  return runImport(file, text, opts, std::cout, std::cerr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
+    std::cout << kUsage;
+    return args.empty() ? 2 : 0;
+  }
+  const std::string cmd = args[0];
+  args.erase(args.begin());
+  if (cmd == "check" || cmd == "list") {
+    if (args.empty()) {
+      std::cerr << "regmapgen: error: " << cmd << " needs at least one FILE\n" << kUsage;
+      return 2;
+    }
+    return cmd == "check" ? cmdCheck(args) : cmdList(args);
+  }
+  if (cmd == "generate") return cmdGenerate(args);
+  if (cmd == "import") return cmdImport(args);
+  if (cmd == "schema") {
+    std::cout << schemaMarkdown();
+    return 0;
+  }
+  if (cmd == "glossary") {
+    std::cout << glossaryMarkdown();
+    return 0;
+  }
+  std::cerr << "regmapgen: error: unknown command '" << cmd << "'\n" << kUsage;
+  return 2;
+}

@@ -1,0 +1,25 @@
+# Compiles one snippet against the generated headers and checks the outcome (a ctest driver).
+#   -DCXX=<compiler> -DINCLUDES=a|b -DSOURCE=<file.cpp> -DEXPECT=pass|fail [-DEXPECT_MESSAGE=<regex>]
+# A "fail" snippet must fail *because of the access constraint* (EXPECT_MESSAGE must appear in the
+# diagnostics), so a typo or a missing header cannot make the test pass.
+string(REPLACE "|" ";" dirs "${INCLUDES}")
+set(flags -std=c++20 -fsyntax-only -fno-exceptions -fno-rtti -Wall -Wextra -Werror)
+foreach(d IN LISTS dirs)
+  list(APPEND flags -I${d})
+endforeach()
+execute_process(COMMAND ${CXX} ${flags} ${SOURCE} OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
+if(EXPECT STREQUAL "pass")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${SOURCE} should compile but did not:\n${err}")
+  endif()
+else()
+  if(rc EQUAL 0)
+    message(FATAL_ERROR "${SOURCE} compiled, but it must be rejected")
+  endif()
+  if(DEFINED EXPECT_MESSAGE AND NOT err MATCHES "${EXPECT_MESSAGE}")
+    message(FATAL_ERROR "${SOURCE} failed to compile, but not because of '${EXPECT_MESSAGE}':\n${err}")
+  endif()
+  if(err MATCHES "No such file|file not found")
+    message(FATAL_ERROR "${SOURCE} failed for a missing header, not for access:\n${err}")
+  endif()
+endif()
