@@ -169,7 +169,7 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
     }
     if (!sendAddress(true)) return ns;
     text += " [";
-    const size_t total = txn.read.size() + (txn.pec ? 1 : 0);
+    size_t total = txn.read.size() + (txn.pec ? 1 : 0);
     for (size_t i = 0; i < total; ++i) {
       fw::Duration stretch{};
       const uint8_t byte = target->onRead(stretch);
@@ -182,10 +182,23 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
       char buf[3];
       std::snprintf(buf, sizeof buf, "%02X", byte);
       text += buf;
-      if (i < txn.read.size()) {
+      const size_t dataEnd = total - (txn.pec ? 1 : 0);
+      if (i < dataEnd) {
         txn.read[i] = byte;
         txn.readCount = static_cast<uint8_t>(i + 1);
         pec = fw::crc::crc8Update(pec, byte);
+        if (i == 0 && txn.blockRead) {
+          // SMBus block read: the count byte decides how many bytes follow. One that does not fit the
+          // buffer is refused (NACK, STOP) rather than trusted (LANDSCAPE: PX4 copied it unbounded).
+          if (byte == 0 || byte > txn.read.size() - 1) {
+            text += "] NACK P";
+            ns += bitNs;
+            txn.status = Status::Length;
+            target->onStop();
+            return ns;
+          }
+          total = 1 + byte + (txn.pec ? 1 : 0);
+        }
       } else if (byte != pec) {
         text += "] P";
         ns += bitNs;
