@@ -1,0 +1,70 @@
+// Target fault handling: fw::onFault, HardFault_Handler, unexpected interrupts and abort().
+#include "fault.hpp"
+
+#include "mmio.hpp"
+#include "regs/sysctl.hpp"
+
+namespace bsp::mspm0 {
+namespace {
+
+constexpr uint32_t kRecordCheck = 0xFA17C0DE;
+
+struct NoInitRecord {
+  uint32_t moduleLine;  // module << 16 | line
+  uint32_t check;       // moduleLine ^ kRecordCheck: tells a written record from power-on garbage
+};
+
+// .noinit is neither loaded nor zeroed by the reset handler (see mspm0.ld).
+__attribute__((section(".noinit"))) NoInitRecord gRecord;
+
+[[noreturn]] void recordAndReset(uint32_t moduleLine) {
+  __asm volatile("cpsid i" ::: "memory");
+  gRecord.moduleLine = moduleLine;
+  gRecord.check = moduleLine ^ kRecordCheck;
+  reg::sysctl::Reset& reset = reg::sysctl::reset();
+  reset.resetlevel.write(reg::sysctl::kResetLevelSysrst);
+  reset.resetcmd.write(reg::sysctl::kResetCmdGo);
+  for (;;) {
+  }
+}
+
+}  // namespace
+
+void unexpectedInterrupt() {
+  uint32_t ipsr;
+  __asm volatile("mrs %0, ipsr" : "=r"(ipsr));
+  recordAndReset((static_cast<uint32_t>(fw::Module::Bsp) << 16) | 0xF000 | (ipsr & 0x3F));
+}
+
+FaultRecord takeFaultRecord() {
+  FaultRecord record;
+  const uint32_t moduleLine = gRecord.moduleLine;
+  if ((moduleLine ^ kRecordCheck) == gRecord.check) {
+    record.valid = true;
+    record.module = static_cast<fw::Module>(moduleLine >> 16);
+    record.line = static_cast<uint16_t>(moduleLine);
+  }
+  gRecord.check = ~(moduleLine ^ kRecordCheck);
+  return record;
+}
+
+}  // namespace bsp::mspm0
+
+namespace fw {
+void onFault(Module module, uint16_t line) {
+  bsp::mspm0::recordAndReset((static_cast<uint32_t>(module) << 16) | line);
+}
+}  // namespace fw
+
+extern "C" {
+
+void HardFault_Handler() {
+  bsp::mspm0::recordAndReset((static_cast<uint32_t>(fw::Module::Bsp) << 16) | 0xFFFE);
+}
+
+// libstdc++ headers may reference abort on "impossible" paths; newlib's would pull signal() and malloc.
+[[noreturn]] void abort() {
+  bsp::mspm0::recordAndReset((static_cast<uint32_t>(fw::Module::Core) << 16) | 0xFFFD);
+}
+
+}  // extern "C"

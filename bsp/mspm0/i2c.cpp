@@ -1,0 +1,256 @@
+#include "i2c.hpp"
+
+#include "gpio.hpp"
+#include "mmio.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/gpio.hpp"
+
+namespace bsp::mspm0 {
+
+namespace i2c = reg::i2c;
+using fw::Status;
+using fw::hal::I2cTransaction;
+
+namespace {
+
+constexpr uint32_t kCommonIrqs = i2c::kIntNack | i2c::kIntStop | i2c::kIntArbLost | i2c::kIntTimeoutA;
+constexpr uint32_t kFifoTriggers = i2c::kFifoTxTrigLevel4 | i2c::kFifoRxTrigLevel4;
+// Bus recovery runs at 100 kHz or slower whatever the bus speed: 5 us half periods = 40 spin iterations of
+// 4 cycles at 32 MHz.
+constexpr uint32_t kRecoveryHalfPeriodSpins = 40;
+// PINCM for I2C pins: input enabled, open drain (a driven 1 is Hi-Z), as TI's example sets them (tsv row
+// "PA0 I2C0_SDA ... input function + HiZ").
+constexpr uint32_t kOpenDrainInput = reg::iomux::kInputEnable | reg::iomux::kHiZ1;
+
+}  // namespace
+
+void I2cController::init() {
+  reg::resetAndPowerUp(reg::gprcm(config_.base));
+  muxPeripheral(config_.sda, kOpenDrainInput);
+  muxPeripheral(config_.scl, kOpenDrainInput);
+  configure();
+  nvic::enable(config_.irq);
+}
+
+void I2cController::configure() {
+  i2c::Clock& clock = i2c::clock(config_.base);
+  clock.clksel.write(i2c::kClkselBusclk);
+  clock.clkdiv.write(config_.timing.clkdivRatio);
+  i2c::Controller& r = i2c::controller(config_.base);
+  r.gfctl.write(i2c::kGfctlAnalog50ns);  // the 50 ns spike filter I2C fast mode asks for
+  r.mtpr.write(config_.timing.tpr);
+  r.mfifoctl.write(kFifoTriggers);
+  r.timeoutCtl.write(i2c::kTimeoutAEnable | config_.timing.timeoutCount);
+  reg::EventBlock& events = reg::cpuInt(config_.base);
+  events.imask.write(0);
+  events.iclr.write(0xFFFFFFFF);
+  r.mcr.write(i2c::kMcrActive | i2c::kMcrClkStretch);
+}
+
+Status I2cController::doStart(std::span<I2cTransaction> list, fw::hal::Notify done) {
+  if (list.empty() || list.size() > 255) return Status::InvalidArgument;
+  if (busy_) return Status::Busy;
+  for (I2cTransaction& t : list) {
+    if ((t.write.empty() && t.read.empty()) || t.address > 0x7F || t.read.size() > 255 ||
+        t.write.size() > i2c::kMctrLenMax - 1) {
+      return Status::InvalidArgument;
+    }
+    t.status = Status::Aborted;  // what every transaction after a failure keeps
+    t.readCount = 0;
+  }
+  busy_ = true;
+  list_ = list;
+  done_ = done;
+  index_ = 0;
+  startTransaction();
+  return Status::Ok;
+}
+
+void I2cController::startTransaction() {
+  i2c::Controller& r = i2c::controller(config_.base);
+  const I2cTransaction& t = list_[index_];
+  // A target that was reset mid-byte can hold SDA low on an idle bus; the controller would then wait for
+  // the bus forever. Free it first (I2C UM10204 3.1.16).
+  if ((r.mbmon.read() & i2c::kMbmonSda) == 0 && !recoverBus()) {
+    // Report from the ISR, as the contract promises: pend the IRQ and let onInterrupt() complete.
+    stuck_ = true;
+    phase_ = Phase::Write;
+    nvic::setPending(config_.irq);
+    return;
+  }
+  result_ = Status::Ok;
+  const uint32_t pecBytes = t.pec ? 1 : 0;
+  // PECCNT counts the data bytes of the whole transaction (both bursts) including the PEC byte; writing
+  // the register also restarts the hardware byte count.
+  r.pecctl.write(t.pec ? i2c::kPecEnable | static_cast<uint32_t>(t.write.size() + t.read.size() + pecBytes)
+                       : 0);
+  r.mfifoctl.write(kFifoTriggers | i2c::kFifoTxFlush | i2c::kFifoRxFlush);
+  r.mfifoctl.write(kFifoTriggers);
+  reg::cpuInt(config_.base).iclr.write(0xFFFFFFFF);
+  if (t.write.empty()) {
+    beginRead();
+    return;
+  }
+  tx_ = t.write.data();
+  txLeft_ = static_cast<uint16_t>(t.write.size());
+  txPecDummy_ = t.pec && t.read.empty();
+  const uint32_t length = t.write.size() + (txPecDummy_ ? 1 : 0);  // before fillTx() consumes the dummy
+  fillTx(i2c::kFifoDepth);
+  const bool more = txLeft_ != 0 || txPecDummy_;
+  phase_ = Phase::Write;
+  reg::cpuInt(config_.base).imask.write(kCommonIrqs | i2c::kIntTxDone | (more ? i2c::kIntTxFifoTrig : 0));
+  r.msa.write(static_cast<uint32_t>(t.address) << 1);
+  // No STOP when a read follows: the controller keeps the bus and the next START is a repeated START.
+  r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart |
+               (t.read.empty() ? i2c::kMctrStop : 0));
+}
+
+void I2cController::beginRead() {
+  i2c::Controller& r = i2c::controller(config_.base);
+  const I2cTransaction& t = list_[index_];
+  rx_ = t.read.data();
+  rxLeft_ = static_cast<uint16_t>(t.read.size());
+  const uint32_t length = t.read.size() + (t.pec ? 1 : 0);
+  phase_ = Phase::Read;
+  reg::cpuInt(config_.base).imask.write(kCommonIrqs | i2c::kIntRxFifoTrig | i2c::kIntPecRxErr);
+  r.msa.write((static_cast<uint32_t>(t.address) << 1) | i2c::kMsaRead);
+  // ACK = 0: the last byte is NACKed, as a controller receiver must before STOP.
+  r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart | i2c::kMctrStop);
+}
+
+void I2cController::fillTx(uint32_t room) {
+  i2c::Controller& r = i2c::controller(config_.base);
+  while (room != 0 && txLeft_ != 0) {
+    r.mtxdata.write(*tx_++);
+    --txLeft_;
+    --room;
+  }
+  if (room != 0 && txPecDummy_) {
+    r.mtxdata.write(0);  // replaced on the wire by the PEC
+    txPecDummy_ = false;
+  }
+}
+
+void I2cController::drainRx() {
+  i2c::Controller& r = i2c::controller(config_.base);
+  I2cTransaction& t = list_[index_];
+  // RXFIFOCNT is at most 8, so this loop is bounded.
+  for (uint32_t n = r.mfifosr.read() & i2c::kFifoRxCountMask; n != 0; --n) {
+    const uint8_t byte = static_cast<uint8_t>(r.mrxdata.read());
+    if (rxLeft_ != 0) {
+      *rx_++ = byte;
+      --rxLeft_;
+      ++t.readCount;
+    }  // else: the PEC byte, already checked by the hardware
+  }
+}
+
+void I2cController::onInterrupt() {
+  reg::EventBlock& events = reg::cpuInt(config_.base);
+  const uint32_t pending = events.mis.read();
+  events.iclr.write(pending);
+  if (phase_ == Phase::Idle) return;
+
+  if (stuck_) {
+    stuck_ = false;
+    complete(Status::BusStuck);
+    return;
+  }
+  if (pending & i2c::kIntTimeoutA) {
+    complete(recoverBus() ? Status::Timeout : Status::BusStuck);
+    return;
+  }
+  if (pending & i2c::kIntArbLost) {
+    complete(Status::ArbitrationLost);
+    return;
+  }
+  if ((pending & i2c::kIntNack) && result_ == Status::Ok) {
+    result_ = (i2c::controller(config_.base).msr.read() & i2c::kMsrAdrAck) ? Status::Nack : Status::DataNack;
+  }
+  if ((pending & i2c::kIntPecRxErr) && result_ == Status::Ok) result_ = Status::Pec;
+  if (pending & i2c::kIntRxFifoTrig) drainRx();
+  if (pending & i2c::kIntTxFifoTrig) {
+    fillTx(i2c::kFifoDepth / 2);  // the trigger fires at 4 or fewer bytes queued: 4 are free
+    if (txLeft_ == 0 && !txPecDummy_) mmio::clearBits(events.imask, i2c::kIntTxFifoTrig);
+  }
+  if (pending & i2c::kIntStop) {
+    drainRx();
+    complete(result_);
+    return;
+  }
+  if ((pending & i2c::kIntTxDone) && phase_ == Phase::Write && result_ == Status::Ok &&
+      !list_[index_].read.empty()) {
+    beginRead();
+  }
+}
+
+void I2cController::complete(Status status) {
+  list_[index_].status = status;
+  if (status == Status::Ok && index_ + 1U < list_.size()) {
+    ++index_;
+    startTransaction();
+    return;
+  }
+  finish();
+}
+
+void I2cController::finish() {
+  reg::cpuInt(config_.base).imask.write(0);
+  phase_ = Phase::Idle;
+  busy_ = false;
+  done_();
+}
+
+Status I2cController::doRecover() {
+  if (busy_) return Status::Busy;
+  return recoverBus() ? Status::Ok : Status::BusStuck;
+}
+
+namespace {
+
+// One step of the bit-banged recovery: drive an open-drain line (set = released), then wait half a period.
+void drive(reg::gpio::Data& port, uint32_t mask, bool high) {
+  (high ? port.doutset : port.doutclr).write(mask);
+  mmio::spin(kRecoveryHalfPeriodSpins);
+}
+
+}  // namespace
+
+bool I2cController::recoverBus() {
+  namespace gpio = reg::gpio;
+  const Pin& sdaPin = config_.sda.pin;
+  const Pin& sclPin = config_.scl.pin;
+  gpio::Data& sda = gpio::data(sdaPin.portBase());
+  gpio::Data& scl = gpio::data(sclPin.portBase());
+  const uint32_t sdaMask = sdaPin.mask();
+  const uint32_t sclMask = sclPin.mask();
+  auto sdaHigh = [&] { return (gpio::input(sdaPin.portBase()).din.read() & sdaMask) != 0; };
+  // Stop the controller from driving the lines, then take both pins as open-drain GPIOs released high.
+  reg::resetAndPowerUp(reg::gprcm(config_.base));
+  sda.doutset.write(sdaMask);
+  scl.doutset.write(sclMask);
+  sda.doeset.write(sdaMask);
+  scl.doeset.write(sclMask);
+  constexpr uint32_t kGpioOpenDrain = reg::iomux::kPc | reg::iomux::kPfGpio | kOpenDrainInput;
+  reg::iomux::pincm(sdaPin.pincm).write(kGpioOpenDrain);
+  reg::iomux::pincm(sclPin.pincm).write(kGpioOpenDrain);
+  // Up to 9 clocks: a target stuck mid-byte releases SDA at the latest after its last bit and ACK slot.
+  for (int clock = 0; clock < 9 && !sdaHigh(); ++clock) {
+    drive(scl, sclMask, false);
+    drive(scl, sclMask, true);
+  }
+  // STOP: SDA rises while SCL is high.
+  drive(scl, sclMask, false);
+  drive(sda, sdaMask, false);
+  drive(scl, sclMask, true);
+  drive(sda, sdaMask, true);
+  const bool free = sdaHigh() && (gpio::input(sclPin.portBase()).din.read() & sclMask) != 0;
+  sda.doeclr.write(sdaMask);
+  scl.doeclr.write(sclMask);
+  muxPeripheral(config_.sda, kOpenDrainInput);
+  muxPeripheral(config_.scl, kOpenDrainInput);
+  configure();
+  return free;
+}
+
+}  // namespace bsp::mspm0

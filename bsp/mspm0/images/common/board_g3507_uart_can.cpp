@@ -1,0 +1,107 @@
+// Board instance and interrupt glue of the LP-MSPM0G3507 BQ79616 image: every driver object is built at
+// compile time (constinit) from the chip facts and the image's board_config.hpp.
+#include "board_g3507_uart_can.hpp"
+#include "board_config.hpp"
+#include "chip/mspm0g3507.hpp"
+#include "gpio.hpp"
+#include "mcan.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/timg.hpp"
+#include "regs/uart.hpp"
+#include "sysclock.hpp"
+#include "timg_clock.hpp"
+#include "uart_link.hpp"
+#include "watchdog.hpp"
+
+extern "C" uint32_t __stack_limit__[];
+
+namespace image {
+namespace {
+
+using Chip = bsp::mspm0::chip::Mspm0g3507;
+using namespace bsp::mspm0;
+
+// The BQ79616 UART is a board setting (CMake BMS_BQ79616_UART): seed 001 wires UART0 PA10/PA11, TI's SDK
+// example UART1 PA8/PA9.
+#if defined(BMS_BQ79616_UART1) && BMS_BQ79616_UART1
+#define BMS_BQ79616_UART_IRQ_HANDLER UART1_IRQHandler
+struct Link {
+  static constexpr uintptr_t kBase = Chip::kUart1;
+  static constexpr uint8_t kIrq = Chip::kIrqUart1;
+  static constexpr PinFunction kTx = Chip::kUart1TxPa8;
+  static constexpr PinFunction kRx = Chip::kUart1RxPa9;
+  static constexpr uint8_t kRxTrigger = Chip::kDmaTrigUart1Rx;
+  static constexpr uint8_t kTxTrigger = Chip::kDmaTrigUart1Tx;
+};
+#else
+#define BMS_BQ79616_UART_IRQ_HANDLER UART0_IRQHandler
+struct Link {
+  static constexpr uintptr_t kBase = Chip::kUart0;
+  static constexpr uint8_t kIrq = Chip::kIrqUart0;
+  static constexpr PinFunction kTx = Chip::kUart0TxPa10;
+  static constexpr PinFunction kRx = Chip::kUart0RxPa11;
+  static constexpr uint8_t kRxTrigger = Chip::kDmaTrigUart0Rx;
+  static constexpr uint8_t kTxTrigger = Chip::kDmaTrigUart0Tx;
+};
+#endif
+
+constinit TimgClock clock({Chip::kTimg0, Chip::kIrqTimg0, reg::timg::prescalerFor1MHz(kBusClockHz)});
+constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
+constinit UartLink link(
+    {Link::kBase, Link::kIrq,
+     static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kBq79616Baud)), config::kBq79616Baud,
+     Link::kTx, Link::kRx, DmaChannel{Chip::kDma, 0, Link::kRxTrigger},
+     DmaChannel{Chip::kDma, 1, Link::kTxTrigger},
+     TimgOneShot::Config{Chip::kTimg6, Chip::kIrqTimg6, reg::timg::prescalerFor1MHz(kBusClockHz)}});
+constinit GpioEdgeInput nfault(Chip::kPb0, Edge::Falling, Pull::Up);
+constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
+constinit GpioOut led(Chip::kPb22);
+constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
+                       McanBus::kNbtp500k});
+
+constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
+GpioEdgeInput* const kEdgeInputs[] = {&nfault, &button};
+constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
+
+constinit Board instance{clock, watchdog, link, nfault, button, led, can, fw::Status::NotReady};
+
+}  // namespace
+
+Board& board() {
+  return instance;
+}
+
+void bringUp() {
+  initSysosc(true);
+  powerGpioPort(kGpioaBase);
+  powerGpioPort(kGpioaBase + kGpioPortStride);
+  led.init(false);
+  clock.start();
+  link.init();
+  nfault.init();
+  button.init();
+  const fw::Status hfxt = startHfxt(Chip::kHfxinPa5, Chip::kHfxoutPa6);
+  instance.canStatus = hfxt == fw::Status::Ok ? can.init() : hfxt;
+  bsp::mspm0::nvic::enable(Chip::kIrqGroup1);
+  watchdog.start();
+}
+
+}  // namespace image
+
+extern "C" {
+void TIMG0_IRQHandler() {
+  image::clock.onInterrupt();
+}
+void TIMG6_IRQHandler() {
+  image::link.onTimerInterrupt();
+}
+void BMS_BQ79616_UART_IRQ_HANDLER() {
+  image::link.onUartInterrupt();
+}
+void CANFD0_IRQHandler() {
+  image::can.onInterrupt();
+}
+void GROUP1_IRQHandler() {
+  image::gpioInterrupts.onInterrupt();
+}
+}

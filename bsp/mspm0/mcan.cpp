@@ -1,0 +1,158 @@
+#include "mcan.hpp"
+
+#include "gpio.hpp"
+#include "hal/irq.hpp"
+#include "mmio.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/gpio.hpp"
+
+namespace bsp::mspm0 {
+
+namespace mcan = reg::mcan;
+using fw::Status;
+using fw::hal::CanFrame;
+
+namespace {
+
+constexpr uint32_t kIrqs = mcan::kIrRf0n | mcan::kIrTc | mcan::kIrEp | mcan::kIrBo;
+// Bounded waits for hardware handshakes at start-up: about 1 ms each at 32 MHz.
+constexpr uint32_t kPollLimit = 1000;
+constexpr uint32_t kPollSpins = 8;
+
+bool waitFor(const mmio::Reg& reg, uint32_t mask, uint32_t value) {
+  for (uint32_t i = 0; i < kPollLimit; ++i) {
+    if ((reg.read() & mask) == value) return true;
+    mmio::spin(kPollSpins);
+  }
+  return false;
+}
+
+mmio::Reg* element(uintptr_t base, uint32_t startByte, uint32_t index) {
+  return mcan::ram(base, startByte + index * mcan::kElementWords * 4);
+}
+
+}  // namespace
+
+Status McanBus::init() {
+  const uintptr_t base = config_.base;
+  // MCAN keeps its GPRCM at +0x6800 (tsv note "GPRCM keys"); same keys as the others.
+  reg::resetAndPowerUp(mcan::gprcm(base));
+  muxPeripheral(config_.tx);
+  muxPeripheral(config_.rx, reg::iomux::kInputEnable);
+  mcan::SsClock& ssClock = mcan::ssClock(base);
+  ssClock.clkdiv.write(0);  // CANCLK / 1
+  ssClock.clken.write(1);   // CLK_REQEN
+  if (!waitFor(mcan::ssStat(base), mcan::kSsMemInitDone, mcan::kSsMemInitDone)) return Status::NotReady;
+  // Configuration needs INIT, then CCE (M_CAN user manual 3.1.1); INIT crosses clock domains, so wait.
+  mcan::Core& core = mcan::core(base);
+  core.cccr.write(mcan::kCccrInit);
+  if (!waitFor(core.cccr, mcan::kCccrInit, mcan::kCccrInit)) return Status::NotReady;
+  core.cccr.write(mcan::kCccrInit | mcan::kCccrCce);
+  core.nbtp.write(config_.nbtp);
+  mcan::Queues& q = mcan::queues(base);
+  q.gfc.write(mcan::kGfcAcceptAllRejectRemote);
+  q.sidfc.write(0);
+  q.xidfc.write(0);
+  q.rxesc.write(0);  // 8-byte data fields
+  q.txesc.write(0);
+  q.rxf0c.write(mcan::rxf0c(kRxFifoStart, kFifoElements));
+  q.txbc.write(mcan::txbc(kTxFifoStart, kFifoElements));
+  q.txbtie.write((1U << kFifoElements) - 1);  // TC for every TX FIFO element
+  core.ir.write(0xFFFFFFFF);
+  core.ie.write(kIrqs);
+  core.ils.write(0);  // all on line 0
+  core.ile.write(mcan::kIleLine0);
+  reg::EventBlock& events = mcan::cpuInt(base);
+  events.iclr.write(mcan::kIntLine0);
+  events.imask.write(mcan::kIntLine0);
+  core.cccr.write(0);  // leave INIT: the controller joins the bus after 11 recessive bits
+  ready_ = true;
+  nvic::enable(config_.irq);
+  return Status::Ok;
+}
+
+Status McanBus::doSend(const CanFrame& frame) {
+  if (frame.dlc > 8 || frame.id > (frame.extended ? 0x1FFFFFFFU : 0x7FFU)) return Status::InvalidArgument;
+  if (!ready_) return Status::NotReady;
+  if (mcan::core(config_.base).psr.read() & mcan::kPsrBusOff) return Status::BusOff;
+  mcan::Queues& q = mcan::queues(config_.base);
+  fw::hal::CriticalSection cs;  // the put index and inFlight_ are shared with the ISR and other senders
+  const uint32_t fqs = q.txfqs.read();
+  if (fqs & mcan::kTxfqsFull) {
+    txOverflows_ = txOverflows_ + 1;
+    return Status::Overflow;
+  }
+  const uint32_t put = (fqs >> mcan::kTxfqsPutShift) & mcan::kTxfqsPutMask;
+  mmio::Reg* e = element(config_.base, kTxFifoStart, put);
+  e[0].write(frame.extended ? (mcan::kElemXtd | frame.id) : (frame.id << mcan::kElemStdIdShift));
+  e[1].write(static_cast<uint32_t>(frame.dlc) << mcan::kElemDlcShift);
+  for (uint32_t word = 0; word < 2; ++word) {
+    const uint8_t* d = &frame.data[4 * word];
+    e[2 + word].write(d[0] | (d[1] << 8) | (d[2] << 16) | (static_cast<uint32_t>(d[3]) << 24));
+  }
+  inFlight_ = inFlight_ | (1U << put);
+  q.txbar.write(1U << put);
+  return Status::Ok;
+}
+
+bool McanBus::doReceive(CanFrame& frame) {
+  mcan::Queues& q = mcan::queues(config_.base);
+  const uint32_t status = q.rxf0s.read();
+  if ((status & mcan::kRxf0sFillMask) == 0) return false;
+  const uint32_t get = (status >> mcan::kRxf0sGetShift) & mcan::kRxf0sGetMask;
+  const mmio::Reg* e = element(config_.base, kRxFifoStart, get);
+  const uint32_t r0 = e[0].read();
+  const uint32_t r1 = e[1].read();
+  frame.extended = (r0 & mcan::kElemXtd) != 0;
+  frame.id = frame.extended ? (r0 & 0x1FFFFFFF) : ((r0 >> mcan::kElemStdIdShift) & 0x7FF);
+  frame.dlc = static_cast<uint8_t>((r1 >> mcan::kElemDlcShift) & 0xF);
+  if (frame.dlc > 8) frame.dlc = 8;  // classic CAN: DLC 9..15 still mean 8 bytes
+  for (uint32_t word = 0; word < 2; ++word) {
+    const uint32_t v = e[2 + word].read();
+    for (uint32_t i = 0; i < 4; ++i)
+      frame.data[4 * word + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  q.rxf0a.write(get);
+  ++rxFrames_;
+  return true;
+}
+
+void McanBus::onInterrupt() {
+  const uintptr_t base = config_.base;
+  reg::EventBlock& events = mcan::cpuInt(base);
+  if ((events.mis.read() & mcan::kIntLine0) == 0) return;
+  mcan::Core& core = mcan::core(base);
+  const uint32_t ir = core.ir.read() & kIrqs;
+  core.ir.write(ir);  // write 1 to clear, only what we handle
+  events.iclr.write(mcan::kIntLine0);
+  if (ir & mcan::kIrTc) {
+    const uint32_t sent = mcan::queues(base).txbto.read() & inFlight_;
+    inFlight_ = inFlight_ & ~sent;
+    uint32_t n = txFrames_;
+    for (uint32_t bits = sent; bits != 0; bits &= bits - 1)
+      ++n;
+    txFrames_ = n;
+  }
+  if ((ir & mcan::kIrBo) && (core.psr.read() & mcan::kPsrBusOff)) busOffEvents_ = busOffEvents_ + 1;
+  if (ir != 0) notify_();
+}
+
+fw::hal::CanState McanBus::doState() const {
+  const uint32_t psr = mcan::core(config_.base).psr.read();
+  if (psr & mcan::kPsrBusOff) return fw::hal::CanState::BusOff;
+  if (psr & mcan::kPsrErrorPassive) return fw::hal::CanState::ErrorPassive;
+  return fw::hal::CanState::ErrorActive;
+}
+
+Status McanBus::doRecover() {
+  if (!ready_) return Status::NotReady;
+  mcan::Core& core = mcan::core(config_.base);
+  if (core.psr.read() & mcan::kPsrBusOff) mmio::clearBits(core.cccr, mcan::kCccrInit);
+  return Status::Ok;
+}
+
+fw::hal::CanCounters McanBus::doCounters() const {
+  return fw::hal::CanCounters{txFrames_, rxFrames_, txOverflows_, busOffEvents_};
+}
+
+}  // namespace bsp::mspm0

@@ -1,0 +1,73 @@
+// McanBus: fw::hal::CanBus on the MSPM0G3507's MCAN (CANFD0), classic CAN only.
+//
+// Message RAM (at the peripheral base, byte addresses): an 8-element TX FIFO at 0x000 and an 8-element RX
+// FIFO 0 at 0x080, 16 bytes per element (8 data bytes). No acceptance filters: the global filter puts every
+// data frame in RX FIFO 0 and rejects remote frames. The TX FIFO (TXBC.TFQM = 0) sends frames in the order
+// they were queued, which is what the contract asks of frames of equal priority.
+//
+// Bit timing (bq79616-protocol.md section 8, TI's example): CANCLK = HFXT 40 MHz, prescaler 1, 1 + 69 + 10
+// = 80 tq of 25 ns = 500 kbit/s, sample point 70/80 = 87.5 %, SJW 10 tq. kNbtp500k below is that word.
+// Documented alternative without the crystal: SYSPLLCLK1 as CANCLK (GENCLKCFG.CANCLKSRC = 1) at 40 MHz
+// gives the same NBTP; from a 32 MHz clock, 1 + 55 + 8 = 64 tq gives 500 kbit/s at 87.5 % as well.
+//
+// Contract (see hal/can_bus.hpp)
+// - init(): thread mode; Ok, or NotReady when the message RAM or the INIT handshake did not come up in
+//   time (bounded polls). Until init() succeeds send() returns NotReady.
+// - send(): Ok, Overflow (TX FIFO full, counted), BusOff, InvalidArgument (dlc > 8, id out of range),
+//   NotReady. Task context (a short critical section guards the put index).
+// - receive(): task context; pops RX FIFO 0 in arrival order.
+// - Bus-off: the MCAN sets CCCR.INIT itself and stops (ISO 11898-1). recover() clears INIT, after which
+//   the controller waits for 129 x 11 recessive bits and returns to error active; the BO interrupt fires on
+//   entering and on leaving bus-off and the registered Notify is called both times.
+// - onInterrupt(): body of CANFD0_IRQHandler: reads the wrapper MIS and the MCAN IR, clears exactly those
+//   bits (IR is write-1-to-clear), updates counters, notifies, returns.
+#pragma once
+
+#include <cstdint>
+
+#include "hal/can_bus.hpp"
+#include "pin.hpp"
+#include "regs/mcan.hpp"
+
+namespace bsp::mspm0 {
+
+class McanBus final : public fw::hal::CanBus {
+ public:
+  static constexpr uint32_t kNbtp500k = reg::mcan::nbtp(10, 1, 69, 10);
+  static_assert(kNbtp500k == 0x12004409, "bq79616-protocol.md section 8 NBTP word");
+
+  struct Config {
+    uintptr_t base = 0;
+    uint8_t irq = 0;
+    PinFunction tx{};
+    PinFunction rx{};
+    uint32_t nbtp = kNbtp500k;
+  };
+
+  static constexpr uint32_t kTxFifoStart = 0x000;  // byte address in the message RAM
+  static constexpr uint32_t kRxFifoStart = 0x080;
+  static constexpr uint32_t kFifoElements = 8;
+
+  constexpr explicit McanBus(const Config& config) : config_(config) {}
+  fw::Status init();
+  void onInterrupt();
+
+ private:
+  fw::Status doSend(const fw::hal::CanFrame& frame) override;
+  bool doReceive(fw::hal::CanFrame& frame) override;
+  void doOnEvent(fw::hal::Notify notify) override { notify_ = notify; }
+  fw::hal::CanState doState() const override;
+  fw::Status doRecover() override;
+  fw::hal::CanCounters doCounters() const override;
+
+  Config config_;
+  fw::hal::Notify notify_{};
+  volatile uint32_t inFlight_ = 0;  // TX FIFO elements requested and not yet seen transmitted
+  volatile uint32_t txFrames_ = 0;
+  uint32_t rxFrames_ = 0;
+  volatile uint32_t txOverflows_ = 0;
+  volatile uint32_t busOffEvents_ = 0;
+  bool ready_ = false;
+};
+
+}  // namespace bsp::mspm0

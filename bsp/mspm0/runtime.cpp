@@ -1,0 +1,37 @@
+// Target definitions of the runtime helpers described in runtime.hpp. The loops must not be turned back
+// into calls to memset/memcpy by the optimiser (that would recurse), hence no-tree-loop-distribute-patterns.
+#include "runtime.hpp"
+
+#include <cstddef>
+#include <cstdint>
+
+extern "C" {
+
+__attribute__((optimize("no-tree-loop-distribute-patterns"))) void* memset(void* destination, int value,
+                                                                           size_t size) {
+  auto* d = static_cast<uint8_t*>(destination);
+  while (size-- != 0)
+    *d++ = static_cast<uint8_t>(value);
+  return destination;
+}
+
+__attribute__((optimize("no-tree-loop-distribute-patterns"))) void* memcpy(void* destination,
+                                                                           const void* source, size_t size) {
+  auto* d = static_cast<uint8_t*>(destination);
+  const auto* s = static_cast<const uint8_t*>(source);
+  while (size-- != 0)
+    *d++ = *s++;
+  return destination;
+}
+
+// RTABI: quotient in r0, remainder in r1, i.e. a 64-bit return value.
+uint64_t __aeabi_uidivmod(uint32_t numerator, uint32_t denominator) {
+  const auto qr = bsp::mspm0::runtime::udivmod(numerator, denominator);
+  return qr.quotient | (static_cast<uint64_t>(qr.remainder) << 32);
+}
+
+uint32_t __aeabi_uidiv(uint32_t numerator, uint32_t denominator) {
+  return static_cast<uint32_t>(__aeabi_uidivmod(numerator, denominator));
+}
+
+}  // extern "C"

@@ -1,0 +1,25 @@
+// System clocks. Both chips run MCLK = CPUCLK = BUSCLK = ULPCLK = SYSOSC 32 MHz (the reset source; the TI
+// examples use the same, tsv "CPUCLK_FREQ"). Flash wait states need no change: MCLKCFG.FLASHWAIT only
+// applies when MCLK comes from HSCLK (sysctl MCLKCFG description).
+//
+// Contract
+// - initSysosc(): thread mode at start-up; selects SYSOSC base frequency (32 MHz) and MCLK /1 (and on the
+//   G3507 ULPCLK /1). Idempotent.
+// - startHfxt(hfxin, hfxout): G3507 only. Hands PA5/PA6 to the crystal oscillator, starts the 40 MHz HFXT
+//   (range 32-48 MHz, 640 us start-up time, start-up monitor on, as TI's example), selects HFCLK as CANCLK,
+//   and waits (bounded, ~5 ms) for HFCLKGOOD. Ok or Timeout (no crystal, or a broken one).
+#pragma once
+
+#include <cstdint>
+
+#include "core/status.hpp"
+#include "pin.hpp"
+
+namespace bsp::mspm0 {
+
+inline constexpr uint32_t kBusClockHz = 32000000;
+
+void initSysosc(bool hasUlpDivider);
+fw::Status startHfxt(const Pin& hfxin, const Pin& hfxout);
+
+}  // namespace bsp::mspm0

@@ -1,0 +1,83 @@
+#include "timg_clock.hpp"
+
+#include <atomic>
+
+#include "mmio.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/timg.hpp"
+
+namespace bsp::mspm0 {
+
+namespace timg = reg::timg;
+
+namespace {
+constexpr uint32_t kHalf = 0x8000;
+// An alarm further away than a quarter period could alias with the 16-bit compare; leave it to the
+// half-period wake-up instead.
+constexpr int32_t kMaxAlarmUs = 0x4000;
+}  // namespace
+
+void TimgClock::start() {
+  const uintptr_t base = config_.base;
+  reg::resetAndPowerUp(reg::gprcm(base));
+  // TIMCLK set-up order of the TRM (SLAU846A 23.2.1): source, divider, prescaler, enable.
+  timg::Clock& clock = timg::clock(base);
+  clock.clksel.write(timg::kClkselBusclk);
+  clock.clkdiv.write(0);  // /1
+  timg::Common& common = timg::common(base);
+  common.cps.write(config_.prescaler);  // 1 MHz counter clock
+  common.cclkctl.write(timg::kClockEnable);
+  timg::Counter& counter = timg::counter(base);
+  counter.load.write(0xFFFF);
+  counter.ccctl[0].write(0);  // compare mode, immediate update
+  counter.ccctl[1].write(0);
+  counter.cc[1].write(kHalf);
+  reg::EventBlock& events = reg::cpuInt(base);
+  events.iclr.write(0xFFFFFFFF);
+  events.imask.write(timg::kIntLoad | timg::kIntCcu1);
+  // CLC/CAC/CZC are written as 0: their reset value (7) is reserved and stops some instances counting.
+  counter.ctrctl.write(timg::kCtrEnable | timg::kCtrRepeat | timg::kCtrCountUp | timg::kCtrStartAtZero);
+  nvic::enable(config_.irq);
+}
+
+uint32_t TimgClock::widen(uint32_t halves, uint32_t counter) {
+  // Bit 15 of the counter says which half the counter is in; the parity of `halves` says which half the
+  // software has seen. When they disagree the event is either pending (counter just entered the next half,
+  // low bits small) or was taken a tick early (counter still at the end of the half, low bits large).
+  counter &= 0xFFFF;
+  if ((counter >> 15) != (halves & 1U)) halves += (counter & 0x7FFF) < 0x4000 ? 1U : ~0U;
+  return (halves << 15) | (counter & 0x7FFF);
+}
+
+fw::Instant TimgClock::doNow() const {
+  const uint32_t halves = halves_;
+  std::atomic_signal_fence(std::memory_order_acquire);  // read the count before the counter
+  return fw::Instant{widen(halves, timg::counter(config_.base).ctr.read())};
+}
+
+void TimgClock::doWakeAt(fw::Instant deadline) {
+  reg::EventBlock& events = reg::cpuInt(config_.base);
+  if (static_cast<int32_t>(deadline.us - doNow().us) > kMaxAlarmUs) {
+    mmio::clearBits(events.imask, timg::kIntCcu0);
+    return;
+  }
+  timg::counter(config_.base).cc[0].write(deadline.us & 0xFFFF);
+  events.iclr.write(timg::kIntCcu0);
+  mmio::setBits(events.imask, timg::kIntCcu0);
+  // The compare fires only when the counter equals CC0; if it passed CC0 while we were arming, the event is
+  // gone. Re-check and pend the interrupt ourselves (embassy-mspm0 set_alarm does the same).
+  if (fw::isDue(deadline, doNow())) events.iset.write(timg::kIntCcu0);
+}
+
+void TimgClock::onInterrupt() {
+  reg::EventBlock& events = reg::cpuInt(config_.base);
+  const uint32_t pending = events.mis.read();
+  events.iclr.write(pending);
+  uint32_t halves = halves_;
+  if (pending & timg::kIntLoad) ++halves;
+  if (pending & timg::kIntCcu1) ++halves;
+  halves_ = halves;
+  if (pending & timg::kIntCcu0) mmio::clearBits(events.imask, timg::kIntCcu0);  // one-shot alarm
+}
+
+}  // namespace bsp::mspm0

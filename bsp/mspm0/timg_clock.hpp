@@ -1,0 +1,51 @@
+// TimgClock: the firmware clock (fw::hal::Clock) on a 16-bit TIMG timer counting microseconds.
+//
+// The timer counts up 0..0xFFFF at 1 MHz (bus clock / prescaler). Software widens it to 32 bits by counting
+// half-periods: the load event (counter = 0xFFFF) and the CC1 compare event (counter = 0x8000) each add one,
+// so bit 15 of the counter and bit 0 of the half count always describe the same half (embassy-mspm0's
+// time driver uses the same two-events-per-wrap scheme). now() is correct as long as the interrupt is not
+// held off for more than a quarter period (16 ms).
+//
+// Contract
+// - now(): any context, including ISRs and with interrupts masked. Monotonic; microseconds; wraps at 2^32.
+// - wakeAt(deadline): called by the scheduler with interrupts masked. Arms CC0 for `deadline` when it is less
+//   than 16 ms away (later deadlines are re-armed from the half-period interrupt that wakes the CPU at least
+//   every 32.8 ms, which the Clock contract allows). Right after arming it re-reads now(); if the deadline
+//   has already passed it pends the interrupt with ISET, so the wake-up is never lost.
+// - onInterrupt(): body of the timer's IRQ handler. Reads MIS, clears exactly those bits, counts
+//   half-periods, disarms a fired alarm, returns. The wake-up itself is the point: the scheduler re-checks
+//   its timers after WFI.
+#pragma once
+
+#include <cstdint>
+
+#include "hal/clock.hpp"
+
+namespace bsp::mspm0 {
+
+class TimgClock final : public fw::hal::Clock {
+ public:
+  struct Config {
+    uintptr_t base = 0;
+    uint8_t irq = 0;
+    uint8_t prescaler = 31;  // CPS.PCNT for a 1 MHz count from BUSCLK: reg::timg::prescalerFor1MHz(32 MHz)
+  };
+
+  constexpr explicit TimgClock(const Config& config) : config_(config) {}
+
+  // Powers and starts the timer and enables its interrupt in the NVIC. Thread mode, once.
+  void start();
+  void onInterrupt();
+
+  // Combines a half-period count and a raw counter value into microseconds (exposed for tests).
+  static uint32_t widen(uint32_t halves, uint32_t counter);
+
+ private:
+  fw::Instant doNow() const override;
+  void doWakeAt(fw::Instant deadline) override;
+
+  Config config_;
+  volatile uint32_t halves_ = 0;  // written by onInterrupt only
+};
+
+}  // namespace bsp::mspm0

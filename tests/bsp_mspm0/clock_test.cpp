@@ -1,0 +1,122 @@
+// Register-level tests of the TIMG scheduler clock (bsp/mspm0/timg_clock.*). Addresses: TIMG0_BASE
+// 0x40084000 + GPTIMER.* offsets (mspm0l1306.tsv); CC/CCCTL at 0x1810/0x1830 and the CCU0/CCU1 bits (8/9)
+// from the TIMx register description (SLAU846A section 23, mspm0-data tim_v1.yaml).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "timg_clock.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+constexpr uintptr_t kBase = 0x40084000;
+constexpr uintptr_t kImask = kBase + 0x1028;
+constexpr uintptr_t kMis = kBase + 0x1038;
+constexpr uintptr_t kIset = kBase + 0x1040;
+constexpr uintptr_t kIclr = kBase + 0x1048;
+constexpr uintptr_t kCps = kBase + 0x110C;
+constexpr uintptr_t kCtr = kBase + 0x1800;
+constexpr uintptr_t kCtrctl = kBase + 0x1804;
+constexpr uintptr_t kLoad = kBase + 0x1808;
+constexpr uintptr_t kCc0 = kBase + 0x1810;
+constexpr uintptr_t kCc1 = kBase + 0x1814;
+constexpr uint32_t kLoadEvent = 1U << 1;  // GPTIMER_CPU_INT_IMASK_L
+constexpr uint32_t kCcu0 = 1U << 8;
+constexpr uint32_t kCcu1 = 1U << 9;
+
+class ClockTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    clock.start();
+  }
+  void interrupt(uint32_t pending) {
+    regs().queueRead(kMis, pending);
+    clock.onInterrupt();
+  }
+  uint32_t nowAt(uint32_t counter) {
+    regs().queueRead(kCtr, counter);
+    return clock.now().us;
+  }
+
+  TimgClock clock{{kBase, 16, 31}};
+};
+
+TEST_F(ClockTest, StartCounts1MHzUpWithTwoEventsPerWrap) {
+  EXPECT_EQ(regs().lastWrite(kCps), 31U);  // 32 MHz / (31 + 1) = 1 MHz (PCNT: divide by PCNT + 1)
+  EXPECT_EQ(regs().lastWrite(kLoad), 0xFFFFU);
+  EXPECT_EQ(regs().lastWrite(kCc1), 0x8000U);
+  EXPECT_EQ(regs().lastWrite(kImask), kLoadEvent | kCcu1);
+  // CTRCTL: EN | REPEAT 1 | CM up (2 << 4) | CVAE zero (2 << 28); CLC/CAC/CZC 0.
+  EXPECT_EQ(regs().lastWrite(kCtrctl), 0x1U | 0x2U | 0x20U | 0x20000000U);
+  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 16);  // TIMG0 is IRQ 16
+}
+
+TEST_F(ClockTest, WidensThe16BitCounterAcrossWraps) {
+  EXPECT_EQ(nowAt(0x0010), 0x10U);
+  EXPECT_EQ(nowAt(0x7FF0), 0x7FF0U);
+  EXPECT_EQ(nowAt(0x8004), 0x8004U);  // half event pending, not yet counted
+  interrupt(kCcu1);
+  EXPECT_EQ(regs().lastWrite(kIclr), kCcu1);
+  EXPECT_EQ(nowAt(0x8010), 0x8010U);
+  EXPECT_EQ(nowAt(0x0003), 0x10003U);  // wrapped, load event still pending
+  interrupt(kLoadEvent);
+  EXPECT_EQ(nowAt(0x0005), 0x10005U);
+  interrupt(kCcu1);
+  interrupt(kLoadEvent);
+  EXPECT_EQ(nowAt(0x0001), 0x20001U);
+}
+
+TEST_F(ClockTest, AnEventTakenOneTickEarlyDoesNotJumpAhead) {
+  interrupt(kCcu1);
+  interrupt(kLoadEvent);  // taken while the counter still reads 0xFFFF
+  EXPECT_EQ(nowAt(0xFFFF), 0xFFFFU);
+  EXPECT_EQ(nowAt(0x0000), 0x10000U);
+}
+
+TEST_F(ClockTest, WidenIsMonotonicOverManyPeriods) {
+  uint32_t halves = 0;
+  uint32_t previous = 0;
+  for (uint32_t t = 0; t < 6 * 0x10000; t += 0x1234) {
+    const uint32_t counter = t & 0xFFFF;
+    // The interrupt is serviced with some latency: count the halves crossed 0x100 ticks ago.
+    const uint32_t serviced = t < 0x100 ? 0 : (t - 0x100) >> 15;
+    halves = serviced;
+    const uint32_t now = TimgClock::widen(halves, counter);
+    EXPECT_EQ(now, t);
+    EXPECT_GE(now, previous);
+    previous = now;
+  }
+}
+
+TEST_F(ClockTest, WakeAtArmsTheCompareForNearDeadlines) {
+  regs().clearLog();
+  regs().queueReads(kCtr, {100, 110});
+  clock.wakeAt(fw::Instant{600});
+  EXPECT_EQ(regs().lastWrite(kCc0), 600U);
+  EXPECT_EQ(regs().lastWrite(kIclr), kCcu0);
+  EXPECT_NE(regs().lastWrite(kImask).value() & kCcu0, 0U);
+  EXPECT_FALSE(regs().lastWrite(kIset).has_value());
+  interrupt(kCcu0);  // one-shot: the alarm disarms itself
+  EXPECT_EQ(regs().lastWrite(kImask).value() & kCcu0, 0U);
+}
+
+TEST_F(ClockTest, WakeAtPendsTheInterruptWhenTheDeadlinePassedWhileArming) {
+  regs().clearLog();
+  regs().queueReads(kCtr, {100, 700});  // the counter passed CC0 = 600 between the two reads
+  clock.wakeAt(fw::Instant{600});
+  EXPECT_EQ(regs().lastWrite(kIset), kCcu0);
+}
+
+TEST_F(ClockTest, FarDeadlinesWaitForTheHalfPeriodWakeUp) {
+  regs().clearLog();
+  regs().queueRead(kCtr, 100);
+  clock.wakeAt(fw::Instant{100 + 20000});  // beyond a quarter period
+  EXPECT_FALSE(regs().lastWrite(kCc0).has_value());
+  EXPECT_EQ(regs().lastWrite(kImask).value() & kCcu0, 0U);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

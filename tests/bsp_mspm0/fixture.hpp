@@ -1,0 +1,30 @@
+// Shared fixture of the register-level tests: a fresh register model and interrupt controller per test, and
+// a Notify that counts its calls.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "hal/notify.hpp"
+#include "mmio_model.hpp"
+#include "sim/sim_irq.hpp"
+
+namespace bsp::mspm0::test {
+
+class RegisterTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    model().reset();
+    bsp::host::simIrq().reset();
+  }
+
+  RegisterModel& regs() { return model(); }
+
+  // A Notify that counts how often it ran.
+  fw::hal::Notify counter(int& calls) {
+    return fw::hal::Notify{[](void* c, uint32_t) { ++*static_cast<int*>(c); }, &calls, 0};
+  }
+};
+
+}  // namespace bsp::mspm0::test

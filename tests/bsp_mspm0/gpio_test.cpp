@@ -1,0 +1,111 @@
+// Register-level tests of GPIO outputs, edge inputs and the INT_GROUP1 dispatch (bsp/mspm0/gpio.*).
+// Addresses: GPIOA 0x400A0000, GPIOB 0x400A2000 + GPIO.* offsets; IOMUX PINCMn at 0x40428000 + 4n;
+// CPUSS INT_GROUP[1].IIDX at 0x40401130 (mspm0g3507.tsv rows and group_iidx: GPIOA 1, GPIOB 2).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "gpio.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+constexpr uintptr_t kGpioa = 0x400A0000;
+constexpr uintptr_t kGpiob = 0x400A2000;
+constexpr uintptr_t kImask = 0x1028;
+constexpr uintptr_t kMis = 0x1038;
+constexpr uintptr_t kIclr = 0x1048;
+constexpr uintptr_t kDoutSet = 0x1290;
+constexpr uintptr_t kDoutClr = 0x12A0;
+constexpr uintptr_t kDoeSet = 0x12D0;
+constexpr uintptr_t kDin = 0x1380;
+constexpr uintptr_t kPolarity15_0 = 0x1390;
+constexpr uintptr_t kPolarity31_16 = 0x13A0;
+constexpr uintptr_t kGroup1Iidx = 0x40401130;
+constexpr uintptr_t pincm(int n) {
+  return 0x40428000 + 4 * n;
+}
+
+class GpioTest : public RegisterTest {
+ protected:
+  GpioEdgeInput button{Pin{1, 21, 49}, Edge::Falling, Pull::Up};   // PB21 = S2 (PINCM49)
+  GpioEdgeInput nfault{Pin{1, 0, 12}, Edge::Falling, Pull::None};  // PB0 (PINCM12)
+  GpioEdgeInput alert{Pin{0, 15, 16}, Edge::Both, Pull::Up};       // PA15
+  std::array<uintptr_t, 2> ports{kGpioa, kGpiob};
+  std::array<GpioEdgeInput*, 3> inputs{&button, &nfault, &alert};
+  GpioInterrupts dispatcher{0x40400000, ports, inputs};
+  int buttonCalls = 0;
+  int nfaultCalls = 0;
+  int alertCalls = 0;
+};
+
+TEST_F(GpioTest, EdgeInputMuxesAnInputAndSelectsItsEdge) {
+  button.init();
+  // PINCM49 = PC (bit 7) | PF 1 (GPIO) | INENA (bit 18) | PIPU (bit 17).
+  EXPECT_EQ(regs().lastWrite(pincm(49)), 0x80U | 1U | (1U << 18) | (1U << 17));
+  // POLARITY31_16 holds DIO16..31 two bits each: DIO21 is bits 11:10, FALL = 2.
+  EXPECT_EQ(regs().lastWrite(kGpiob + kPolarity31_16), 2U << 10);
+  alert.init();
+  EXPECT_EQ(regs().lastWrite(kGpioa + kPolarity15_0), 3U << 30);  // DIO15 bits 31:30, RISE_FALL = 3
+  EXPECT_FALSE(regs().lastWrite(kGpiob + kImask).has_value());    // masked until enable()
+}
+
+TEST_F(GpioTest, EnableClearsAStaleEdgeThenUnmasks) {
+  button.init();
+  regs().clearLog();
+  button.enable(counter(buttonCalls));
+  EXPECT_TRUE(regs().wroteInOrder({{kGpiob + kIclr, 1U << 21}, {kGpiob + kImask, 1U << 21}}));
+  nfault.enable(counter(nfaultCalls));
+  EXPECT_EQ(regs().lastWrite(kGpiob + kImask), (1U << 21) | 1U);  // read-modify-write keeps the other pin
+  button.disable();
+  EXPECT_EQ(regs().lastWrite(kGpiob + kImask), 1U);
+}
+
+TEST_F(GpioTest, Group1DispatchFindsThePortClearsExactlyItsBitsAndNotifies) {
+  button.enable(counter(buttonCalls));
+  nfault.enable(counter(nfaultCalls));
+  alert.enable(counter(alertCalls));
+  regs().clearLog();
+  regs().queueRead(kGroup1Iidx, 2);          // GPIOB pending (tsv group_iidx GROUP1.GPIOB = 2)
+  regs().queueRead(kGpiob + kMis, 1U << 0);  // PB0 edge
+  dispatcher.onInterrupt();
+  EXPECT_EQ(nfaultCalls, 1);
+  EXPECT_EQ(buttonCalls, 0);
+  EXPECT_EQ(alertCalls, 0);
+  EXPECT_EQ(regs().writes(kGpiob + kIclr), (std::vector<uint32_t>{1U}));
+  EXPECT_TRUE(regs().writes(kGpioa + kIclr).empty());
+
+  regs().queueRead(kGroup1Iidx, 1);  // GPIOA
+  regs().queueRead(kGpioa + kMis, 1U << 15);
+  dispatcher.onInterrupt();
+  EXPECT_EQ(alertCalls, 1);
+  EXPECT_EQ(regs().lastWrite(kGpioa + kIclr), 1U << 15);
+
+  regs().queueRead(kGroup1Iidx, 3);  // COMP0: not ours, nothing touched
+  regs().clearLog();
+  dispatcher.onInterrupt();
+  EXPECT_EQ(regs().log().size(), 1U);
+}
+
+TEST_F(GpioTest, LevelReadsDin) {
+  regs().set(kGpiob + kDin, 1U << 21);
+  EXPECT_TRUE(button.level());
+  EXPECT_FALSE(nfault.level());
+}
+
+TEST_F(GpioTest, OutputPresetsLevelBeforeDrivingAndUsesSetClear) {
+  GpioOut led{Pin{1, 22, 50}};  // PB22
+  led.init(false);
+  EXPECT_TRUE(
+      regs().wroteInOrder({{kGpiob + kDoutClr, 1U << 22}, {kGpiob + kDoeSet, 1U << 22}, {pincm(50), 0x81U}}));
+  led.set(true);
+  EXPECT_EQ(regs().lastWrite(kGpiob + kDoutSet), 1U << 22);
+  EXPECT_TRUE(led.level());
+  led.set(false);
+  EXPECT_EQ(regs().lastWrite(kGpiob + kDoutClr), 1U << 22);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

@@ -1,0 +1,390 @@
+// Register-level tests of the MSPM0 I2C controller driver (bsp/mspm0/i2c.*) against the register model.
+// Addresses: I2C0_BASE 0x400F0000 and the I2C.* register offsets of mspm0l1306.tsv; bits: the I2C_* field
+// rows of the same file; IOMUX PINCMn at IOMUX_BASE + 4n (tsv note "PINCM index").
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "i2c.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+// Register addresses (tsv "reg" rows, I2C0_BASE 0x400F0000).
+constexpr uintptr_t kPwren = 0x400F0800;
+constexpr uintptr_t kRstctl = 0x400F0804;
+constexpr uintptr_t kClkdiv = 0x400F1000;
+constexpr uintptr_t kClksel = 0x400F1004;
+constexpr uintptr_t kImask = 0x400F1028;
+constexpr uintptr_t kMis = 0x400F1038;
+constexpr uintptr_t kIclr = 0x400F1048;
+constexpr uintptr_t kTimeoutCtl = 0x400F1204;
+constexpr uintptr_t kMsa = 0x400F1210;
+constexpr uintptr_t kMctr = 0x400F1214;
+constexpr uintptr_t kMsr = 0x400F1218;
+constexpr uintptr_t kMrxdata = 0x400F121C;
+constexpr uintptr_t kMtxdata = 0x400F1220;
+constexpr uintptr_t kMtpr = 0x400F1224;
+constexpr uintptr_t kMcr = 0x400F1228;
+constexpr uintptr_t kMbmon = 0x400F1234;
+constexpr uintptr_t kMfifosr = 0x400F123C;
+constexpr uintptr_t kPecctl = 0x400F1240;
+constexpr uintptr_t kPincm1 = 0x40428004;  // PA0 = SDA
+constexpr uintptr_t kPincm2 = 0x40428008;  // PA1 = SCL
+constexpr uintptr_t kGpioaDoutSet = 0x400A1290;
+constexpr uintptr_t kGpioaDoutClr = 0x400A12A0;
+constexpr uintptr_t kGpioaDin = 0x400A1380;
+constexpr uintptr_t kNvicIser = 0xE000E100;
+
+// I2C_CPU_INT_IMASK_* bits.
+constexpr uint32_t kTxDone = 1U << 1;
+constexpr uint32_t kRxFifoTrig = 1U << 2;
+constexpr uint32_t kTxFifoTrig = 1U << 3;
+constexpr uint32_t kNack = 1U << 7;
+constexpr uint32_t kStop = 1U << 9;
+constexpr uint32_t kArbLost = 1U << 10;
+constexpr uint32_t kPecRxErr = 1U << 13;
+constexpr uint32_t kTimeoutA = 1U << 14;
+// MCTR: BURSTRUN 0, START 1, STOP 2, MBLEN 27:16 (tsv note "MCTR = (len<<16)|BURSTRUN|START|STOP").
+constexpr uint32_t mctr(uint32_t length, bool stop) {
+  return (length << 16) | 0x3 | (stop ? 0x4 : 0);
+}
+// PINCM for an I2C pin: PC (bit 7) | PF 3 (I2C0_SDA/SCL on PA0/PA1) | INENA (bit 18) | HIZ1 (bit 25).
+constexpr uint32_t kPincmI2c = 0x80 | 3 | (1U << 18) | (1U << 25);
+constexpr uint32_t kPincmGpioOpenDrain = 0x80 | 1 | (1U << 18) | (1U << 25);
+
+I2cController::Config config(uint32_t bitRate, uint32_t stretchUs) {
+  return {0x400F0000,
+          24,
+          PinFunction{Pin{0, 0, 1}, 3},
+          PinFunction{Pin{0, 1, 2}, 3},
+          bitRate,
+          i2cTiming(32000000, bitRate, stretchUs)};
+}
+
+class I2cTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    i2c.init();
+    regs().set(kMbmon, 0x3);  // SCL and SDA high: idle bus
+    regs().clearLog();
+  }
+
+  // Plays back one interrupt: MIS holds `pending` for the ISR's read.
+  void interrupt(uint32_t pending) {
+    regs().queueRead(kMis, pending);
+    i2c.onInterrupt();
+  }
+
+  I2cController i2c{config(400000, 2000)};
+  int done = 0;
+};
+
+TEST_F(I2cTest, InitProgramsClock100kHzTimeoutAndPins) {
+  RegisterTest::SetUp();
+  I2cController slow(config(100000, 2000));
+  slow.init();
+  // GPRCM: reset with KEY 0xB1 then enable with KEY 0x26 (tsv note "GPRCM keys").
+  EXPECT_TRUE(regs().wroteInOrder({{kRstctl, 0xB1000003}, {kPwren, 0x26000001}}));
+  EXPECT_EQ(regs().lastWrite(kClksel), 0x8U);  // BUSCLK_SEL bit 3: 32 MHz functional clock
+  EXPECT_EQ(regs().lastWrite(kClkdiv), 0x0U);  // /1
+  // SCL = 32 MHz / ((1 + TPR) * 10): TPR 31 is 100 kHz (tsv "I2C0 MTPR.TPR 31 -> 100 kHz").
+  EXPECT_EQ(regs().lastWrite(kMtpr), 31U);
+  // Timeout A counts 520 functional clocks per unit (TRM TIMEOUT_CTL): 2 ms * 32 MHz / 520 = 123.1 -> 124,
+  // with TCNTAEN (bit 15).
+  EXPECT_EQ(regs().lastWrite(kTimeoutCtl), 0x8000U | 124U);
+  EXPECT_EQ(regs().lastWrite(kMcr), 0x5U);  // ACTIVE | CLKSTRETCH
+  EXPECT_EQ(regs().lastWrite(kPincm1), kPincmI2c);
+  EXPECT_EQ(regs().lastWrite(kPincm2), kPincmI2c);
+  EXPECT_EQ(regs().lastWrite(kImask), 0x0U);
+  EXPECT_EQ(regs().lastWrite(kNvicIser), 1U << 24);  // I2C0 is IRQ 24 (tsv irq rows)
+  EXPECT_EQ(slow.bitRate(), 100000U);
+}
+
+TEST_F(I2cTest, InitFastModeUsesTpr7) {
+  RegisterTest::SetUp();
+  I2cController fast(config(400000, 2000));
+  fast.init();
+  EXPECT_EQ(regs().lastWrite(kMtpr), 7U);  // 32 MHz / (8 * 10) = 400 kHz
+}
+
+TEST_F(I2cTest, SmbusStretchLimitDividesTheFunctionalClock) {
+  // 25 ms does not fit 255 units at 32 MHz (16.25 us each); /8 gives 4 MHz: 130 us units, 193 of them, and
+  // TPR 3 for 100 kHz.
+  constexpr I2cTiming t = i2cTiming(32000000, 100000, 25000);
+  EXPECT_TRUE(t.valid);
+  EXPECT_EQ(t.clkdivRatio, 7);
+  EXPECT_EQ(t.tpr, 3);
+  EXPECT_EQ(t.timeoutCount, 193);
+  EXPECT_FALSE(i2cTiming(32000000, 100000, 40000).valid);  // beyond 255 units even at /8
+}
+
+TEST_F(I2cTest, WriteSendsAddressBytesAndStopThenCompletesOnStop) {
+  const std::array<uint8_t, 3> bytes{0x3E, 0x22, 0x00};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = bytes;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+
+  EXPECT_EQ(regs().writes(kMtxdata), (std::vector<uint32_t>{0x3E, 0x22, 0x00}));
+  EXPECT_EQ(regs().lastWrite(kMsa), 0x10U);  // address 0x08 << 1, DIR 0 (tsv note "MSA = (addr7<<1)|DIR")
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(3, true));
+  EXPECT_EQ(regs().lastWrite(kPecctl), 0x0U);
+  // MCTR last: everything is armed before the controller starts.
+  EXPECT_LT(regs().findWrite(kImask, regs().lastWrite(kImask).value()),
+            regs().findWrite(kMctr, mctr(3, true)));
+  const uint32_t armed = regs().lastWrite(kImask).value();
+  EXPECT_EQ(armed & (kNack | kStop | kArbLost | kTimeoutA | kTxDone),
+            kNack | kStop | kArbLost | kTimeoutA | kTxDone);
+  EXPECT_EQ(armed & kTxFifoTrig, 0U);  // all 3 bytes fit the 8-byte FIFO
+
+  interrupt(kTxDone | kStop);
+  EXPECT_EQ(regs().lastWrite(kIclr), kTxDone | kStop);  // exactly what was handled
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(list[0].status, fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kImask), 0x0U);
+  EXPECT_EQ(regs().readCount(0x400F1020), 0U);  // IIDX is never read: reading it clears a flag
+}
+
+TEST_F(I2cTest, WriteReadUsesRepeatedStartAndStoresTheBytes) {
+  const std::array<uint8_t, 1> command{0x14};
+  std::array<uint8_t, 2> data{};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = command;
+  list[0].read = data;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  // First burst without STOP: the controller keeps the bus for the repeated START.
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(1, false));
+
+  interrupt(kTxDone);
+  EXPECT_EQ(regs().lastWrite(kMsa), 0x11U);  // address + R
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(2, true));
+  EXPECT_EQ(regs().writes(kMctr).size(), 2U);
+  EXPECT_EQ(done, 0);
+
+  regs().queueRead(kMfifosr, 2);  // RXFIFOCNT 3:0
+  regs().queueReads(kMrxdata, {0x68, 0x33});
+  interrupt(kStop);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(list[0].status, fw::Status::Ok);
+  EXPECT_EQ(list[0].readCount, 2);
+  EXPECT_EQ(data, (std::array<uint8_t, 2>{0x68, 0x33}));
+}
+
+TEST_F(I2cTest, LongReadDrainsTheFifoAtItsTrigger) {
+  std::array<uint8_t, 12> data{};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x0B;
+  list[0].read = data;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(12, true));
+  regs().queueRead(kMfifosr, 8);
+  regs().queueReads(kMrxdata, {0, 1, 2, 3, 4, 5, 6, 7});
+  interrupt(kRxFifoTrig);
+  regs().queueRead(kMfifosr, 4);
+  regs().queueReads(kMrxdata, {8, 9, 10, 11});
+  interrupt(kStop);
+  EXPECT_EQ(list[0].readCount, 12);
+  EXPECT_EQ(data[7], 7);
+  EXPECT_EQ(data[11], 11);
+  EXPECT_EQ(done, 1);
+}
+
+TEST_F(I2cTest, AddressNackEndsTheListAndAbortsTheRest) {
+  const std::array<uint8_t, 1> command{0x14};
+  std::array<fw::hal::I2cTransaction, 2> list{};
+  list[0].address = 0x08;
+  list[0].write = command;
+  list[1].address = 0x08;
+  list[1].write = command;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  regs().set(kMsr, 0x2 | 0x4);  // ERR | ADRACK: the address was not acknowledged
+  interrupt(kNack);
+  EXPECT_EQ(done, 0);  // the controller sends STOP itself; the list ends at STOP
+  interrupt(kStop);
+  EXPECT_EQ(list[0].status, fw::Status::Nack);
+  EXPECT_EQ(list[1].status, fw::Status::Aborted);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(regs().writes(kMctr).size(), 1U);  // the second transaction never started
+}
+
+TEST_F(I2cTest, DataNackIsReportedSeparately) {
+  const std::array<uint8_t, 2> bytes{0x66, 0x82};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = bytes;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  regs().set(kMsr, 0x2 | 0x8);  // ERR | DATACK
+  interrupt(kNack | kStop);
+  EXPECT_EQ(list[0].status, fw::Status::DataNack);
+}
+
+TEST_F(I2cTest, ListRunsBackToBackFromTheInterrupt) {
+  const std::array<uint8_t, 1> a{0x01};
+  const std::array<uint8_t, 1> b{0x02};
+  std::array<fw::hal::I2cTransaction, 2> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  list[1].address = 0x09;
+  list[1].write = b;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  interrupt(kTxDone | kStop);
+  EXPECT_EQ(done, 0);
+  EXPECT_EQ(regs().lastWrite(kMsa), 0x12U);  // second target started from the ISR
+  interrupt(kTxDone | kStop);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(list[0].status, fw::Status::Ok);
+  EXPECT_EQ(list[1].status, fw::Status::Ok);
+}
+
+TEST_F(I2cTest, ArbitrationLossEndsWithoutStop) {
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  interrupt(kArbLost);
+  EXPECT_EQ(list[0].status, fw::Status::ArbitrationLost);
+  EXPECT_EQ(done, 1);
+}
+
+TEST_F(I2cTest, TimeoutRecoversTheBusWithClocksAndStop) {
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  regs().clearLog();
+  // SDA (PA0, DIN bit 0) held low by the target for two clocks, then released; SCL (bit 1) high.
+  regs().queueReads(kGpioaDin, {0x2, 0x2, 0x3});
+  regs().set(kGpioaDin, 0x3);
+  interrupt(kTimeoutA);
+
+  EXPECT_EQ(list[0].status, fw::Status::Timeout);
+  EXPECT_EQ(done, 1);
+  // The controller is reset before the pins become GPIOs, the pins are open-drain GPIOs (PF 1) while SCL
+  // is clocked, then they return to I2C (PF 3) and the controller is configured again.
+  EXPECT_TRUE(regs().wroteInOrder({{kRstctl, 0xB1000003},
+                                   {kPincm1, kPincmGpioOpenDrain},
+                                   {kPincm2, kPincmGpioOpenDrain},
+                                   {kGpioaDoutClr, 0x2},
+                                   {kGpioaDoutSet, 0x2},
+                                   {kPincm1, kPincmI2c},
+                                   {kPincm2, kPincmI2c},
+                                   {kMcr, 0x5}}));
+  // Two recovery clocks plus the STOP's SCL low phase pull SCL (mask 0x2) low; the STOP pulls SDA (0x1) low
+  // once and releases it last.
+  const auto clr = regs().writes(kGpioaDoutClr);
+  EXPECT_EQ(std::count(clr.begin(), clr.end(), 0x2U), 3);
+  EXPECT_EQ(std::count(clr.begin(), clr.end(), 0x1U), 1);
+  EXPECT_EQ(regs().lastWrite(kGpioaDoutSet), 0x1U);
+  EXPECT_GT(regs().spinCount(), 0U);
+}
+
+TEST_F(I2cTest, StuckSdaAfterNineClocksIsBusStuck) {
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  regs().clearLog();
+  regs().set(kGpioaDin, 0x2);  // SDA never released
+  interrupt(kTimeoutA);
+  EXPECT_EQ(list[0].status, fw::Status::BusStuck);
+  const auto clr = regs().writes(kGpioaDoutClr);
+  EXPECT_EQ(std::count(clr.begin(), clr.end(), 0x2U), 9 + 1);  // nine clocks, then the STOP
+}
+
+TEST_F(I2cTest, IdleBusWithSdaLowIsRecoveredBeforeStarting) {
+  regs().set(kMbmon, 0x1);     // SCL high, SDA low on an idle bus
+  regs().set(kGpioaDin, 0x3);  // released after the first check
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_GE(regs().findWrite(kPincm1, kPincmGpioOpenDrain), 0);
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(1, true));
+}
+
+TEST_F(I2cTest, IdleBusThatStaysStuckIsReportedFromTheInterrupt) {
+  regs().set(kMbmon, 0x1);     // SDA low on an idle bus
+  regs().set(kGpioaDin, 0x2);  // and recovery cannot free it
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = a;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(done, 0);  // `done` is never called from start() itself
+  EXPECT_FALSE(regs().lastWrite(kMctr).has_value());
+  EXPECT_EQ(regs().lastWrite(0xE000E200), 1U << 24);  // NVIC ISPR: the I2C0 interrupt is pended
+  interrupt(0);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(list[0].status, fw::Status::BusStuck);
+}
+
+TEST_F(I2cTest, HardwarePecOnWriteCountsThePecByteAndQueuesADummy) {
+  const std::array<uint8_t, 3> bytes{0x00, 0x44, 0x00};  // BQ4050 ManufacturerAccess word write
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x0B;
+  list[0].write = bytes;
+  list[0].pec = true;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  // CONTROLLER_I2CPECCTL: PECEN bit 12, PECCNT 8:0 = data bytes including the PEC byte (TRM PECCNT).
+  EXPECT_EQ(regs().lastWrite(kPecctl), (1U << 12) | 4U);
+  EXPECT_EQ(regs().writes(kMtxdata), (std::vector<uint32_t>{0x00, 0x44, 0x00, 0x00}));
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(4, true));
+}
+
+TEST_F(I2cTest, HardwarePecOnReadSpansTheRepeatedStartAndReportsAMismatch) {
+  const std::array<uint8_t, 1> command{0x09};  // SBS Voltage
+  std::array<uint8_t, 2> word{};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x0B;
+  list[0].write = command;
+  list[0].read = word;
+  list[0].pec = true;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kPecctl), (1U << 12) | 4U);  // 1 command + 2 data + PEC
+  interrupt(kTxDone);
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(3, true));  // the PEC byte is read too
+  EXPECT_NE(regs().lastWrite(kImask).value() & kPecRxErr, 0U);
+  regs().queueRead(kMfifosr, 3);
+  regs().queueReads(kMrxdata, {0x10, 0x3A, 0x55});
+  interrupt(kPecRxErr | kStop);
+  EXPECT_EQ(list[0].status, fw::Status::Pec);
+  EXPECT_EQ(list[0].readCount, 2);  // the PEC byte is not stored
+  EXPECT_EQ(word, (std::array<uint8_t, 2>{0x10, 0x3A}));
+}
+
+TEST_F(I2cTest, StartRejectsBadListsAndBusy) {
+  std::array<fw::hal::I2cTransaction, 1> empty{};
+  empty[0].address = 0x08;
+  EXPECT_EQ(i2c.start(empty, {}), fw::Status::InvalidArgument);  // nothing to write or read
+  EXPECT_EQ(i2c.start({}, {}), fw::Status::InvalidArgument);
+  const std::array<uint8_t, 1> a{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x80;
+  list[0].write = a;
+  EXPECT_EQ(i2c.start(list, {}), fw::Status::InvalidArgument);  // not a 7-bit address
+  list[0].address = 0x08;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(i2c.start(list, counter(done)), fw::Status::Busy);
+  EXPECT_EQ(i2c.recover(), fw::Status::Busy);
+  EXPECT_TRUE(regs().log().size() > 0);
+}
+
+TEST_F(I2cTest, RecoverWhenIdleReportsTheBusState) {
+  regs().set(kGpioaDin, 0x3);
+  EXPECT_EQ(i2c.recover(), fw::Status::Ok);
+  regs().set(kGpioaDin, 0x2);
+  EXPECT_EQ(i2c.recover(), fw::Status::BusStuck);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

@@ -1,0 +1,173 @@
+// Register-level tests of the MCAN driver (bsp/mspm0/mcan.*) against the register model. Addresses:
+// CANFD0_BASE 0x40508000 + the MCAN.* offsets of mspm0g3507.tsv (message RAM at the base); bit timing from
+// bq79616-protocol.md section 8; element layout from the tsv "MCAN TX element" rows.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "mcan.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+constexpr uintptr_t kBase = 0x40508000;
+constexpr uintptr_t kCccr = kBase + 0x7018;
+constexpr uintptr_t kNbtp = kBase + 0x701C;
+constexpr uintptr_t kPsr = kBase + 0x7044;
+constexpr uintptr_t kIr = kBase + 0x7050;
+constexpr uintptr_t kIe = kBase + 0x7054;
+constexpr uintptr_t kIle = kBase + 0x705C;
+constexpr uintptr_t kGfc = kBase + 0x7080;
+constexpr uintptr_t kRxf0c = kBase + 0x70A0;
+constexpr uintptr_t kRxf0s = kBase + 0x70A4;
+constexpr uintptr_t kRxf0a = kBase + 0x70A8;
+constexpr uintptr_t kTxbc = kBase + 0x70C0;
+constexpr uintptr_t kTxfqs = kBase + 0x70C4;
+constexpr uintptr_t kTxbar = kBase + 0x70D0;
+constexpr uintptr_t kTxbto = kBase + 0x70D8;
+constexpr uintptr_t kSsStat = kBase + 0x7208;
+constexpr uintptr_t kWrapMis = kBase + 0x7838;
+constexpr uintptr_t kWrapIclr = kBase + 0x7848;
+constexpr uintptr_t kWrapImask = kBase + 0x7828;
+constexpr uintptr_t kClkEn = kBase + 0x7900;
+
+// MCAN_IR_* bits.
+constexpr uint32_t kRf0n = 1U << 0;
+constexpr uint32_t kTc = 1U << 9;
+constexpr uint32_t kBo = 1U << 25;
+
+class McanTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    regs().set(kSsStat, 0x2);  // MEM_INIT_DONE
+    ASSERT_EQ(can.init(), fw::Status::Ok);
+    regs().clearLog();
+  }
+  void interrupt(uint32_t ir) {
+    regs().queueRead(kWrapMis, 0x1);  // INTL0
+    regs().queueRead(kIr, ir);
+    can.onInterrupt();
+  }
+
+  McanBus can{{kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k}};
+  int events = 0;
+};
+
+TEST_F(McanTest, InitProgramsClassic500kAt87_5PercentInConfigurationMode) {
+  RegisterTest::SetUp();
+  regs().set(kSsStat, 0x2);
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
+  ASSERT_EQ(fresh.init(), fw::Status::Ok);
+  // NBRP 0, NTSEG1 68, NTSEG2 9, NSJW 9 (register values of TI's example): 1 + 69 + 10 = 80 tq of 25 ns at
+  // 40 MHz = 500 kbit/s, sample point 70 / 80 = 87.5 %.
+  EXPECT_EQ(regs().lastWrite(kNbtp), (9U << 25) | (0U << 16) | (68U << 8) | 9U);
+  // INIT, then INIT|CCE, configuration, then INIT cleared to join the bus.
+  EXPECT_TRUE(
+      regs().wroteInOrder({{kClkEn, 1}, {kCccr, 0x1}, {kCccr, 0x3}, {kNbtp, 0x12004409}, {kCccr, 0x0}}));
+  EXPECT_EQ(regs().lastWrite(kTxbc), 8U << 24);             // TFQS 8, TFQM 0 (FIFO), TBSA 0
+  EXPECT_EQ(regs().lastWrite(kRxf0c), 0x80U | (8U << 16));  // F0SA 0x80, F0S 8
+  EXPECT_EQ(regs().lastWrite(kGfc), 0x3U);                  // accept all data frames in FIFO 0, reject remote
+  EXPECT_EQ(regs().lastWrite(kIe), kRf0n | kTc | (1U << 23) | kBo);
+  EXPECT_EQ(regs().lastWrite(kIle), 0x1U);
+  EXPECT_EQ(regs().lastWrite(kWrapImask), 0x1U);
+  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 6);  // CANFD0 is IRQ 6 (tsv irq rows)
+}
+
+TEST_F(McanTest, InitWithoutMessageRamIsNotReady) {
+  RegisterTest::SetUp();
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
+  EXPECT_EQ(fresh.init(), fw::Status::NotReady);  // MEM_INIT_DONE never set: bounded wait
+  fw::hal::CanFrame frame;
+  EXPECT_EQ(fresh.send(frame), fw::Status::NotReady);
+}
+
+TEST_F(McanTest, TransmitWritesTheElementAtThePutIndexAndRequestsIt) {
+  regs().set(kTxfqs, 2U << 16);  // TFQPI = 2, not full
+  fw::hal::CanFrame frame;
+  frame.id = 0x004;
+  frame.dlc = 8;
+  frame.data = {0x16, 0xC0, 0x16, 0xBC, 0x16, 0xB4, 0x16, 0xB9};
+  ASSERT_EQ(can.send(frame), fw::Status::Ok);
+  constexpr uintptr_t element = kBase + 0x000 + 2 * 16;   // TX FIFO at byte 0, 16-byte elements
+  EXPECT_EQ(regs().lastWrite(element), 0x004U << 18);     // T0: standard ID in 28:18
+  EXPECT_EQ(regs().lastWrite(element + 4), 8U << 16);     // T1: DLC 19:16, FDF 0, BRS 0
+  EXPECT_EQ(regs().lastWrite(element + 8), 0xBC16C016U);  // data bytes 0..3, byte 0 in bits 7:0
+  EXPECT_EQ(regs().lastWrite(element + 12), 0xB916B416U);
+  EXPECT_EQ(regs().lastWrite(kTxbar), 1U << 2);
+  EXPECT_GT(regs().findWrite(kTxbar, 1U << 2), regs().findWrite(element + 12, 0xB916B416U));
+
+  regs().set(kTxbto, 1U << 2);
+  interrupt(kTc);
+  EXPECT_EQ(regs().lastWrite(kIr), kTc);  // IR is write-1-to-clear: exactly the handled bit
+  EXPECT_EQ(regs().lastWrite(kWrapIclr), 0x1U);
+  EXPECT_EQ(can.counters().txFrames, 1U);
+}
+
+TEST_F(McanTest, ExtendedIdAndBadFrames) {
+  fw::hal::CanFrame frame;
+  frame.extended = true;
+  frame.id = 0x18FF50E5;
+  frame.dlc = 2;
+  ASSERT_EQ(can.send(frame), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kBase), (1U << 30) | 0x18FF50E5U);  // XTD bit 30, ID 28:0
+  frame.dlc = 9;
+  EXPECT_EQ(can.send(frame), fw::Status::InvalidArgument);
+  frame.dlc = 1;
+  frame.extended = false;
+  frame.id = 0x800;
+  EXPECT_EQ(can.send(frame), fw::Status::InvalidArgument);
+}
+
+TEST_F(McanTest, FullTxFifoIsOverflowAndCounted) {
+  regs().set(kTxfqs, 1U << 21);  // TFQF
+  fw::hal::CanFrame frame;
+  EXPECT_EQ(can.send(frame), fw::Status::Overflow);
+  EXPECT_TRUE(regs().writes(kTxbar).empty());
+  EXPECT_EQ(can.counters().txOverflows, 1U);
+}
+
+TEST_F(McanTest, BusOffRefusesFramesNotifiesAndRecoversByLeavingInit) {
+  can.onEvent(counter(events));
+  regs().set(kPsr, 1U << 7);  // PSR.BO
+  regs().set(kCccr, 0x1);     // the controller set INIT itself
+  interrupt(kBo);
+  EXPECT_EQ(events, 1);
+  EXPECT_EQ(can.counters().busOffEvents, 1U);
+  EXPECT_EQ(can.state(), fw::hal::CanState::BusOff);
+  fw::hal::CanFrame frame;
+  EXPECT_EQ(can.send(frame), fw::Status::BusOff);
+
+  EXPECT_EQ(can.recover(), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kCccr), 0x0U);  // INIT cleared: 129 x 11 recessive bits, then error active
+  regs().set(kPsr, 0);
+  interrupt(kBo);  // BO changes again when the controller leaves bus-off
+  EXPECT_EQ(events, 2);
+  EXPECT_EQ(can.counters().busOffEvents, 1U);
+  EXPECT_EQ(can.state(), fw::hal::CanState::ErrorActive);
+}
+
+TEST_F(McanTest, ReceivePopsFifoZeroInOrderAndAcknowledges) {
+  regs().set(kRxf0s, 1U | (3U << 8));  // fill level 1, get index 3
+  constexpr uintptr_t element = kBase + 0x80 + 3 * 16;
+  regs().set(element, 0x123U << 18);
+  regs().set(element + 4, 3U << 16);
+  regs().set(element + 8, 0x00CCBBAA);
+  fw::hal::CanFrame frame;
+  ASSERT_TRUE(can.receive(frame));
+  EXPECT_EQ(frame.id, 0x123U);
+  EXPECT_FALSE(frame.extended);
+  EXPECT_EQ(frame.dlc, 3);
+  EXPECT_EQ(frame.data[0], 0xAA);
+  EXPECT_EQ(frame.data[2], 0xCC);
+  EXPECT_EQ(regs().lastWrite(kRxf0a), 3U);
+  regs().set(kRxf0s, 0);
+  EXPECT_FALSE(can.receive(frame));
+  EXPECT_EQ(can.counters().rxFrames, 1U);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

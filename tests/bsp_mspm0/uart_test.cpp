@@ -1,0 +1,302 @@
+// Register-level tests of the UART drivers (bsp/mspm0/uart_link.*, uart_serial_tx.*) against the register
+// model. Addresses: UART0_BASE 0x40108000 + UART.* offsets, DMA_BASE 0x4042A000 (channel n at +0x1200 +
+// 0x10n, DMATCTL n at +0x1110 + 4n, tsv note "DMA"), TIMG6_BASE 0x40868000 + GPTIMER.* offsets, all from
+// mspm0g3507.tsv; DMA triggers from its dmatrig rows (UART0 RX 17, TX 18).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "mmio.hpp"
+#include "regs/uart.hpp"
+#include "uart_link.hpp"
+#include "uart_serial_tx.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+constexpr uintptr_t kUart = 0x40108000;
+constexpr uintptr_t kImask = kUart + 0x1028;
+constexpr uintptr_t kMis = kUart + 0x1038;
+constexpr uintptr_t kIclr = kUart + 0x1048;
+constexpr uintptr_t kDmaRxImask = kUart + 0x1058;  // DMA_TRIG_RX.IMASK
+constexpr uintptr_t kDmaTxImask = kUart + 0x1088;  // DMA_TRIG_TX.IMASK
+constexpr uintptr_t kCtl0 = kUart + 0x1100;
+constexpr uintptr_t kLcrh = kUart + 0x1104;
+constexpr uintptr_t kStat = kUart + 0x1108;
+constexpr uintptr_t kIbrd = kUart + 0x1110;
+constexpr uintptr_t kFbrd = kUart + 0x1114;
+constexpr uintptr_t kTxdata = kUart + 0x1120;
+constexpr uintptr_t kRxdata = kUart + 0x1124;
+constexpr uintptr_t kDma = 0x4042A000;
+constexpr uintptr_t dmaCtl(int ch) {
+  return kDma + 0x1200 + 0x10 * ch;
+}
+constexpr uintptr_t dmaSa(int ch) {
+  return dmaCtl(ch) + 4;
+}
+constexpr uintptr_t dmaDa(int ch) {
+  return dmaCtl(ch) + 8;
+}
+constexpr uintptr_t dmaSz(int ch) {
+  return dmaCtl(ch) + 12;
+}
+constexpr uintptr_t dmaTctl(int ch) {
+  return kDma + 0x1110 + 4 * ch;
+}
+constexpr uintptr_t kTimer = 0x40868000;  // TIMG6
+constexpr uintptr_t kTimerMis = kTimer + 0x1038;
+constexpr uintptr_t kTimerCtrctl = kTimer + 0x1804;
+constexpr uintptr_t kTimerLoad = kTimer + 0x1808;
+constexpr uintptr_t kPincm21 = 0x40428054;  // PA10
+constexpr uintptr_t kGpioaDoeSet = 0x400A12D0;
+constexpr uintptr_t kGpioaDoeClr = 0x400A12E0;
+
+// UART_CPU_INT_IMASK_* bits.
+constexpr uint32_t kFrmErr = 1U << 1;
+constexpr uint32_t kParErr = 1U << 2;
+constexpr uint32_t kBrkErr = 1U << 3;
+constexpr uint32_t kOvrErr = 1U << 4;
+constexpr uint32_t kEot = 1U << 12;
+constexpr uint32_t kDmaDoneRx = 1U << 15;
+constexpr uint32_t kDmaDoneTx = 1U << 16;
+constexpr uint32_t kErrors = kFrmErr | kParErr | kBrkErr | kOvrErr;
+// DMACTL: DMAEN bit 1, DMADSTINCR 23:20 = 3 (increment), DMASRCINCR 19:16 = 3; byte widths, single mode.
+constexpr uint32_t kDmaRxCtl = (1U << 1) | (3U << 20);
+constexpr uint32_t kDmaTxCtl = (1U << 1) | (3U << 16);
+// GPTIMER CTRCTL: EN bit 0, CM 5:4 = 0 (down), CVAE 29:28 = 0 (start at LOAD), REPEAT 0 (stop at zero).
+constexpr uint32_t kOneShotDown = 0x1;
+
+UartLink::Config linkConfig() {
+  return {kUart,
+          15,
+          static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 1000000)),
+          1000000,
+          PinFunction{Pin{0, 10, 21}, 2},
+          PinFunction{Pin{0, 11, 22}, 2},
+          DmaChannel{kDma, 0, 17},
+          DmaChannel{kDma, 1, 18},
+          TimgOneShot::Config{kTimer, 17, 31}};
+}
+
+class UartLinkTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    link.init();
+    regs().clearLog();
+  }
+  void uartInterrupt(uint32_t pending) {
+    regs().queueRead(kMis, pending);
+    link.onUartInterrupt();
+  }
+  void timerInterrupt() {
+    regs().queueRead(kTimerMis, 0x1);  // Z (zero event)
+    link.onTimerInterrupt();
+  }
+
+  UartLink link{linkConfig()};
+  int done = 0;
+};
+
+TEST_F(UartLinkTest, InitSets1MbaudFromThe32MHzBusClock) {
+  RegisterTest::SetUp();
+  UartLink fresh(linkConfig());
+  fresh.init();
+  // 32 MHz / (16 * 1 Mbaud) = 2.0: IBRD 2, FBRD 0 (tsv example "UART1 (to BQ79616) ... IBRD=2 FBRD=0").
+  EXPECT_EQ(regs().lastWrite(kIbrd), 2U);
+  EXPECT_EQ(regs().lastWrite(kFbrd), 0U);
+  EXPECT_EQ(regs().lastWrite(kLcrh), 0x30U);                           // WLEN 8 bits, no parity, 1 stop
+  EXPECT_EQ(regs().lastWrite(kCtl0), 0x1U | 0x8U | 0x10U | 0x20000U);  // ENABLE RXE TXE FEN
+  EXPECT_EQ(regs().lastWrite(kDmaRxImask), 1U << 10);                  // RXINT triggers the DMA
+  EXPECT_EQ(regs().lastWrite(kDmaTxImask), 1U << 11);                  // TXINT triggers the DMA
+  EXPECT_LT(regs().findWrite(kIbrd, 2), regs().findWrite(kCtl0, 0x1U | 0x8U | 0x10U | 0x20000U));
+  EXPECT_EQ(fresh.baudRate(), 1000000U);
+}
+
+TEST_F(UartLinkTest, DmaReceiveArmsReceiverFirstAndCompletesWhenFull) {
+  const std::array<uint8_t, 6> frame{0xC0, 0x05, 0x68, 0x1F, 0x42, 0x2D};
+  std::array<uint8_t, 38> reply{};
+  fw::hal::UartExchange ex;
+  ex.tx = frame;
+  ex.rx = reply;
+  regs().set(kStat, 0x4);  // RXFE: nothing stale in the FIFO
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+
+  EXPECT_EQ(regs().lastWrite(dmaSa(0)), kUart + 0x1124U);  // RXDATA
+  EXPECT_EQ(regs().lastWrite(dmaDa(0)), mmio::address(reply.data()));
+  EXPECT_EQ(regs().lastWrite(dmaSz(0)), 38U);
+  EXPECT_EQ(regs().lastWrite(dmaTctl(0)), 17U);  // DMA_UART0_RX_TRIG
+  EXPECT_EQ(regs().lastWrite(dmaCtl(0)), kDmaRxCtl);
+  EXPECT_EQ(regs().lastWrite(dmaSa(1)), mmio::address(frame.data()));
+  EXPECT_EQ(regs().lastWrite(dmaDa(1)), kUart + 0x1120U);  // TXDATA
+  EXPECT_EQ(regs().lastWrite(dmaSz(1)), 6U);
+  EXPECT_EQ(regs().lastWrite(dmaTctl(1)), 18U);  // DMA_UART0_TX_TRIG
+  EXPECT_EQ(regs().lastWrite(dmaCtl(1)), kDmaTxCtl);
+  // The receiver is armed before the transmitter starts.
+  EXPECT_LT(regs().findWrite(dmaCtl(0), kDmaRxCtl), regs().findWrite(dmaCtl(1), kDmaTxCtl));
+  EXPECT_EQ(regs().lastWrite(kImask), kErrors | kDmaDoneRx | kEot);
+
+  uartInterrupt(kEot);  // last stop bit sent: the first-byte timeout starts
+  EXPECT_EQ(regs().lastWrite(kIclr), kEot);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 2000U);  // UartExchange default firstByteTimeout = 2 ms
+  EXPECT_EQ(regs().lastWrite(kTimerCtrctl), kOneShotDown);
+
+  regs().set(dmaSz(0), 0);
+  uartInterrupt(kDmaDoneRx);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(ex.status, fw::Status::Ok);
+  EXPECT_EQ(ex.received, 38U);
+  EXPECT_EQ(regs().lastWrite(dmaCtl(0)), 0U);  // channels stopped
+  EXPECT_EQ(regs().lastWrite(dmaCtl(1)), 0U);
+  EXPECT_EQ(regs().lastWrite(kTimerCtrctl), 0U);
+}
+
+TEST_F(UartLinkTest, ReceiveTimeoutAfterAGapIsTruncated) {
+  const std::array<uint8_t, 1> tx{0x80};
+  std::array<uint8_t, 8> rx{};
+  fw::hal::UartExchange ex;
+  ex.tx = tx;
+  ex.rx = rx;
+  ex.firstByteTimeout = fw::us(1500);
+  ex.gapTimeout = fw::us(100);
+  regs().set(kStat, 0x4);
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+  regs().set(dmaSz(0), 8);
+  uartInterrupt(kEot);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 1500U);
+  regs().set(dmaSz(0), 5);  // three bytes arrived before the first-byte timeout
+  timerInterrupt();
+  EXPECT_EQ(done, 0);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 100U);  // now watching the inter-byte gap
+  timerInterrupt();                               // no progress for one gap
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(ex.status, fw::Status::Truncated);
+  EXPECT_EQ(ex.received, 3U);
+}
+
+TEST_F(UartLinkTest, SilenceIsNoResponse) {
+  std::array<uint8_t, 4> rx{};
+  fw::hal::UartExchange ex;
+  ex.rx = rx;  // receive only: the first-byte timeout starts at once
+  regs().set(kStat, 0x4);
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 2000U);
+  regs().set(dmaSz(0), 4);
+  timerInterrupt();
+  EXPECT_EQ(ex.status, fw::Status::NoResponse);
+  EXPECT_EQ(ex.received, 0U);
+  EXPECT_EQ(done, 1);
+}
+
+TEST_F(UartLinkTest, LineErrorIsCommFault) {
+  const std::array<uint8_t, 1> tx{0x80};
+  std::array<uint8_t, 4> rx{};
+  fw::hal::UartExchange ex;
+  ex.tx = tx;
+  ex.rx = rx;
+  regs().set(kStat, 0x4);
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+  regs().set(dmaSz(0), 3);
+  uartInterrupt(kFrmErr);
+  EXPECT_EQ(ex.status, fw::Status::CommFault);
+  EXPECT_EQ(ex.received, 1U);
+  EXPECT_EQ(regs().lastWrite(kIclr), kFrmErr);
+}
+
+TEST_F(UartLinkTest, PingHoldsTxLowForAHardwareTimedInterval) {
+  ASSERT_EQ(link.ping(fw::ms(2), counter(done)), fw::Status::Ok);
+  // TX (PA10) becomes a GPIO driving its preset low level: DOE set, PINCM21 = PC | PF 1 (GPIO).
+  EXPECT_EQ(regs().lastWrite(kGpioaDoeSet), 1U << 10);
+  EXPECT_EQ(regs().lastWrite(kPincm21), 0x80U | 1U);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 2000U);
+  EXPECT_EQ(regs().lastWrite(kTimerCtrctl), kOneShotDown);
+  EXPECT_EQ(regs().spinCount(), 0U);  // no busy loop: the timer measures the pulse
+  EXPECT_EQ(link.ping(fw::ms(2), counter(done)), fw::Status::Busy);
+  EXPECT_EQ(done, 0);
+
+  timerInterrupt();
+  EXPECT_EQ(regs().lastWrite(kPincm21), 0x80U | 2U);  // back to UART0_TX (PF 2)
+  EXPECT_EQ(regs().lastWrite(kGpioaDoeClr), 1U << 10);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(link.ping(fw::Duration{}, {}), fw::Status::InvalidArgument);
+}
+
+TEST_F(UartLinkTest, LongPingRunsInTimerChunks) {
+  ASSERT_EQ(link.ping(fw::ms(100), counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 0xFFFFU);
+  timerInterrupt();
+  EXPECT_EQ(done, 0);
+  EXPECT_EQ(regs().lastWrite(kTimerLoad), 100000U - 0xFFFFU);
+  timerInterrupt();
+  EXPECT_EQ(done, 1);
+}
+
+TEST_F(UartLinkTest, AbortStopsEverythingWithoutDone) {
+  std::array<uint8_t, 4> rx{};
+  fw::hal::UartExchange ex;
+  ex.rx = rx;
+  regs().set(kStat, 0x4);
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+  link.abort();
+  EXPECT_EQ(regs().lastWrite(kImask), 0U);
+  EXPECT_EQ(regs().lastWrite(dmaCtl(0)), 0U);
+  EXPECT_EQ(done, 0);
+  EXPECT_EQ(link.start(ex, counter(done)), fw::Status::Ok);  // idle again
+}
+
+TEST_F(UartLinkTest, StartRejectsEmptyAndBusy) {
+  fw::hal::UartExchange empty;
+  EXPECT_EQ(link.start(empty, {}), fw::Status::InvalidArgument);
+  ASSERT_EQ(link.ping(fw::us(250), counter(done)), fw::Status::Ok);
+  std::array<uint8_t, 1> rx{};
+  fw::hal::UartExchange ex;
+  ex.rx = rx;
+  EXPECT_EQ(link.start(ex, {}), fw::Status::Busy);
+}
+
+class SerialTxTest : public RegisterTest {
+ protected:
+  // L1306 back-channel: UART0 (same base on both parts), PA23 PINCM24 PF 2, DMA channel 0, trigger 11
+  // (mspm0l1306.tsv dmatrig DMA_UART0_TX_TRIG).
+  UartSerialTx serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
+                       PinFunction{Pin{0, 23, 24}, 2}, DmaChannel{kDma, 0, 11}}};
+  int done = 0;
+};
+
+TEST_F(SerialTxTest, InitSets115200Baud) {
+  serial.init();
+  // 32 MHz / (16 * 115200) = 17.361: IBRD 17, FBRD round(0.361 * 64) = 23.
+  EXPECT_EQ(regs().lastWrite(kIbrd), 17U);
+  EXPECT_EQ(regs().lastWrite(kFbrd), 23U);
+  EXPECT_EQ(regs().lastWrite(0x40428060), 0x80U | 2U);  // PINCM24 = PA23 UART0_TX
+  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 15);    // UART0 is IRQ 15
+}
+
+TEST_F(SerialTxTest, WriteFeedsTheFifoByDmaAndCompletesAtEndOfTransmission) {
+  serial.init();
+  regs().clearLog();
+  const std::array<uint8_t, 5> line{'t', '7', 'F', 'F', '\r'};
+  ASSERT_EQ(serial.write(line, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(dmaSa(0)), mmio::address(line.data()));
+  EXPECT_EQ(regs().lastWrite(dmaDa(0)), kUart + 0x1120U);
+  EXPECT_EQ(regs().lastWrite(dmaSz(0)), 5U);
+  EXPECT_EQ(regs().lastWrite(dmaTctl(0)), 11U);
+  EXPECT_EQ(regs().lastWrite(kImask), kDmaDoneTx);
+  EXPECT_EQ(serial.write(line, {}), fw::Status::Busy);
+
+  regs().set(kStat, 0x1);  // BUSY: the last bytes are still shifting out
+  regs().queueRead(kMis, kDmaDoneTx);
+  serial.onInterrupt();
+  EXPECT_EQ(done, 0);
+  EXPECT_EQ(regs().lastWrite(kImask), kEot);
+  regs().queueRead(kMis, kEot);
+  serial.onInterrupt();
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(serial.write({}, {}), fw::Status::InvalidArgument);
+  EXPECT_EQ(serial.write(line, {}), fw::Status::Ok);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test
