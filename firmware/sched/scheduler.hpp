@@ -46,7 +46,8 @@ struct TaskStats {
 
 class Scheduler {
  public:
-  explicit Scheduler(hal::Clock& clock) : clock_(clock) {}
+  // constexpr so an image can declare its scheduler constinit (no static constructor, no init code).
+  explicit constexpr Scheduler(hal::Clock& clock) : clock_(clock) {}
   Scheduler(const Scheduler&) = delete;
   Scheduler& operator=(const Scheduler&) = delete;
 
