@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "can/can_emit.hpp"
+#include "can/can_model.hpp"
 #include "check/check.hpp"
 #include "diag/diag.hpp"
 #include "emit/emit.hpp"
@@ -33,6 +35,9 @@ constexpr const char* kUsage =
     "                                  changes; --stamp is touched on success\n"
     "  regmapgen import [--family NAME] [--kind KIND] [--map FILE]... [--source SRC] FILE|-\n"
     "                                  turn a TRM / app-note table into YAML on stdout\n"
+    "  regmapgen can --out DIR [--dbc-dir DIR] FILE\n"
+    "                                  CAN catalogue: DIR/can/<name>.hpp packers and <name>_<layout>.dbc\n"
+    "                                  (in --dbc-dir, default DIR/can); every error as file:line:col\n"
     "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
     "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
 
@@ -180,6 +185,51 @@ int cmdImport(const std::vector<std::string>& args) {
   return runImport(file, text, opts, std::cout, std::cerr);
 }
 
+int cmdCan(const std::vector<std::string>& args) {
+  std::string out, dbcDir, file;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if ((args[i] == "--out" || args[i] == "--dbc-dir") && i + 1 < args.size()) {
+      (args[i] == "--out" ? out : dbcDir) = args[i + 1];
+      ++i;
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      std::cerr << "regmapgen: error: can: unknown option " << args[i] << "\n" << kUsage;
+      return 2;
+    } else if (file.empty()) {
+      file = args[i];
+    } else {
+      std::cerr << "regmapgen: error: can takes one catalogue FILE\n";
+      return 2;
+    }
+  }
+  if (file.empty() || (out.empty() && dbcDir.empty())) {
+    std::cerr << "regmapgen: error: can needs --out DIR (or --dbc-dir DIR) and a FILE\n" << kUsage;
+    return 2;
+  }
+  std::string text;
+  if (!readFile(file, text)) {
+    std::cerr << "regmapgen: error: cannot read " << file << "\n";
+    return 1;
+  }
+  Sources sources;
+  const int id = sources.add(file, std::move(text));
+  Diagnostics diag(sources);
+  const can::Catalogue cat = can::buildCatalogue(sources, id, diag);
+  diag.render(std::cerr);
+  if (diag.errorCount() > 0) {
+    std::cerr << "regmapgen: " << diag.errorCount() << " error(s)\n";
+    return 1;
+  }
+  const std::string source = fs::path(file).filename().string();
+  bool ok = true;
+  if (!out.empty())
+    ok = writeIfChanged(fs::path(out) / "can" / (cat.name + ".hpp"), can::emitCpp(cat, source));
+  const fs::path dbc = dbcDir.empty() ? fs::path(out) / "can" : fs::path(dbcDir);
+  for (const std::string& layout : cat.layouts()) {
+    ok = writeIfChanged(dbc / (cat.name + "_" + layout + ".dbc"), can::emitDbc(cat, layout, source)) && ok;
+  }
+  return ok ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -199,6 +249,7 @@ int main(int argc, char** argv) {
   }
   if (cmd == "generate") return cmdGenerate(args);
   if (cmd == "import") return cmdImport(args);
+  if (cmd == "can") return cmdCan(args);
   if (cmd == "schema") {
     std::cout << schemaMarkdown();
     return 0;

@@ -1,0 +1,87 @@
+// Prints frames packed by the generated C++ packers, each with the physical values a DBC reader must decode
+// from it. The values were worked out by hand from the catalogue (raw * factor + offset), not computed here.
+// Output lines: <layout> <id hex> <8 data bytes hex> <Signal>=<value> ...
+#include <cstdio>
+
+#include "can/bms.hpp"
+
+namespace {
+
+void print(const char* layout, const fw::hal::CanFrame& f, const char* expect) {
+  std::printf("%s %03X ", layout, static_cast<unsigned>(f.id));
+  for (uint8_t b : f.data)
+    std::printf("%02X", b);
+  std::printf(" %s\n", expect);
+}
+
+}  // namespace
+
+int main() {
+  using namespace fw::can::bms;
+  PackSummary s;
+  s.packVoltage = 4812;
+  s.packCurrent = -1234;
+  s.stateOfCharge = 87;
+  s.chargeFet = 1;
+  s.dischargeFet = 0;
+  s.faultOutput = 1;
+  s.dataValid = 1;
+  s.counter = 9;
+  s.activeFaults = 0x0101;
+  print("native", s.pack(),
+        "PackVoltage=48.12 PackCurrent=-12.34 StateOfCharge=87 ChargeFet=1 DischargeFet=0 FaultOutput=1 "
+        "DataValid=1 Counter=9 ActiveFaults=257");
+
+  CellExtremes e;
+  e.maxCellVoltage = 4201;
+  e.maxCellIndex = 17;
+  e.minCellVoltage = 2999;
+  e.minCellIndex = 1023;
+  print("native", e.pack(), "MaxCellVoltage=4201 MaxCellIndex=17 MinCellVoltage=2999 MinCellIndex=1023");
+
+  TemperatureExtremes t;
+  t.maxTemperature = 3332;  // 60.05 degC
+  t.minTemperature = 2532;  // -19.95 degC
+  t.maxTemperatureIndex = 3;
+  t.minTemperatureIndex = 0;
+  print("native", t.pack(),
+        "MaxTemperature=60.05 MinTemperature=-19.95 MaxTemperatureIndex=3 MinTemperatureIndex=0");
+
+  ProtectionEvent p;
+  p.activeFaults = 0x0001;
+  p.newlyTripped = 0x0001;
+  p.newlyCleared = 0x0100;
+  p.commErrors = 65535;
+  print("native", p.pack(), "ActiveFaults=1 NewlyTripped=1 NewlyCleared=256 CommErrors=65535");
+
+  CellVoltages c;
+  c.board = 5;
+  c.frameIndex = 2;  // cells 7..9
+  c.status = 0;
+  c.cell[0] = 3700;
+  c.cell[1] = 3701;
+  c.cell[2] = 3702;
+  print("native", c.pack(), "Board=5 FrameIndex=2 Status=0 Cell07=3700 Cell08=3701 Cell09=3702");
+  c.frameIndex = 5;  // cell 16 only
+  c.cell[0] = 4100;
+  c.cell[1] = 0;
+  c.cell[2] = 0;
+  print("native", c.pack(), "Board=5 FrameIndex=5 Status=0 Cell16=4100");
+
+  Temperatures tt;
+  tt.board = 1;
+  tt.frameIndex = 1;  // sensors 4..6
+  tt.status = 1;
+  tt.temp[0] = 2982;  // 25.05 degC
+  tt.temp[1] = 2732;  // 0.05 degC
+  tt.temp[2] = 3232;  // 50.05 degC
+  print("native", tt.pack(), "Board=1 FrameIndex=1 Status=1 Temp4=25.05 Temp5=0.05 Temp6=50.05");
+
+  TiCellVoltages ti;
+  ti.vCell[0] = 0x16C0;  // 5824 * 190.73 uV = 1.11081152 V (seed 001: "1.1108 V")
+  ti.vCell[1] = 0x16BC;
+  ti.vCell[2] = 0x16B4;
+  ti.vCell[3] = -1;
+  print("ti", ti.pack(), "VCell1=1.11081152 VCell2=1.1100486 VCell3=1.10852276 VCell4=-0.00019073");
+  return 0;
+}
