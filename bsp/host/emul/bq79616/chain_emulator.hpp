@@ -1,0 +1,180 @@
+// Bq79616ChainEmulator: a daisy chain of 1..64 BQ79616 devices behind the base device's UART, for host tests
+// and bmsctl. It has two faces (as Zephyr emulators do):
+//   - the bus face, a bsp::host::UartPeer on SimUart: command frames and pings arrive from the driver under
+//     test, response frames go back with the chain's timing;
+//   - the backend face for tests: device state, registers, cell voltages and temperatures, fault injection.
+//
+// What it models (SLUSE81E unless noted; each choice that is an estimate says so):
+// - Frames: INIT/DEV_ID/REG/DATA/CRC exactly as frame.hpp; a command with a bad CRC is dropped by the base
+//   (FAULT_COMM1[UART_RC] set) and never forwarded. Single, stack, broadcast and reverse broadcast writes;
+//   single, stack and broadcast reads; responses one frame per device, top of stack first (the device with
+//   COMM_CTRL[TOP_STACK] starts, each device below appends its own frame after the one from above).
+// - Power: every device starts in SHUTDOWN and answers nothing. A WAKE ping resets the base's registers and
+//   makes it ACTIVE after tSU(WAKE_SHUT) (10 ms, the datasheet maximum). CONTROL1[SEND_WAKE] sends the WAKE
+//   tone up: device j above the sender is reset and ACTIVE after (j - sender) x (1.6 ms tone + 10 ms)
+//   (SLUUC56B). The base does not forward a WAKE tone by itself, so a driver that forgets SEND_WAKE fails.
+//   After a SHUTDOWN ping the next WAKE brings the base up with its daisy-chain port still off; only a second
+//   WAKE turns it on (SLUUC56B note). SLEEPtoACTIVE wakes SLEEPing devices without a reset (230 us + 270 us
+//   per device for the tone, an estimate). HW_RESET (ping to the base, CONTROL2[SEND_HW_RESET] tone up)
+//   holds a device in reset for tHWRST = 75 ms (BQ75614-Q1 sibling table), then it is in SHUTDOWN.
+// - Pings are classified by their low time against the datasheet windows shrunk by `pingTolerancePercent`
+//   (default 5 %), standing for the MCU clock error a real design must absorb: TI's example's 2.0 ms WAKE
+//   (the window's bottom edge) is rejected, a ping in the middle of the window is accepted. Windows: COMM
+//   CLEAR 15..20 bit periods, SLEEPtoACTIVE 250..300 us, WAKE 2.0..2.5 ms, SHUTDOWN 7..10 ms, HW_RESET >= 36
+//   ms.
+// - Addressing: a device processes only writes until it has been given an address; CONTROL1[ADDR_WR] makes
+//   it keep (and not forward) the next frame; DIR0_ADDR is writable only then (SLUSE81E §9.5.4.3.9).
+// - Timing on top of SimUart's 10 bits per byte: a command reaches device k k x `hopUs` after its last stop
+//   bit; a device starts its response `responseUs` after the command reached it; a response frame travels
+//   down at `hopUs` per device. The daisy chain is faster than the 1 Mbaud UART, so the base's UART output is
+//   back to back once the first frame arrives. Defaults hopUs = 3, responseUs = 100 come from TI's bound for
+//   a stack read, tWAIT_READ_MAX = (n - 1) x 3 us x 2 + m x 10 us + 100 us (BQ79600-Q1 datasheet): the
+//   emulator answers as late as that bound allows, so throughput measured against it is not flattered.
+// - Measurements: VCELLn read 0x8000 until the main ADC has run in continuous mode for `adcSettleUs` (38 ms,
+//   TI's LPF settling); GPIOs read 0x8000 (not configured as ADC inputs) unless a test sets them; die
+//   temperatures default to 25 degC. CUST_CRC_RSLT is a CRC over the NVM-shadow registers 0x000..0x035; when
+//   it differs from CUST_CRC the device latches an OTP CRC fault (unless FAULT_MSK2[MSK_OTP_CRC]).
+// - Faults: FAULT_SUMMARY is computed from the FAULT_* registers; FAULT_RST1/2 clear their groups. A WAKE or
+//   a digital reset leaves FAULT_SYS[DRST] set (bit 5 here; the bit position is the emulator's choice).
+//   A communication fault injected into a stack device latches there (FAULT_COMM2 bit 0) and, through the
+//   fault signal, in the base (FAULT_COMM3 bit 4, FCOMM_DET): the base's latch comes back while any stack
+//   device still holds its fault, so it clears only when base and stack are both cleared (LANDSCAPE.md
+//   problem 4). nFAULT (attachFaultPin) is low while any awake device has a non-zero FAULT_SUMMARY.
+//
+// Injected faults: a shorter chain (construct with fewer devices than the driver expects), a broken link
+// above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),
+// corrupted bytes in a device's next response(s) on the UART, a truncated next response, a sticky (optionally
+// persistent) communication fault, a base receiver stuck mid-frame (until COMM CLEAR or a ping), the whole
+// chain asleep, a device's digital reset (address lost), a hung device (only HW_RESET brings it back).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sim/peripherals.hpp"
+#include "sim/sim_clock.hpp"
+#include "sim/uart.hpp"
+
+namespace bsp::host {
+
+class Bq79616ChainEmulator final : public UartPeer {
+ public:
+  struct Timing {
+    uint32_t hopUs = 3;
+    uint32_t responseUs = 100;
+    uint32_t wakeSetupUs = 10000;
+    uint32_t toneUs = 1600;
+    uint32_t stackWakeUs = 10000;
+    uint32_t sleepToActiveUs = 230;
+    uint32_t sleepToActiveToneUs = 270;
+    uint32_t hwResetUs = 75000;
+    uint32_t adcSettleUs = 38000;
+    uint32_t pingTolerancePercent = 5;
+  };
+
+  enum class Power : uint8_t { Shutdown, Sleep, Active, HwReset };
+
+  static constexpr size_t kMaxDevices = 64;
+  static constexpr size_t kRegisterSpace = 0x1000;
+
+  Bq79616ChainEmulator(SimClock& clock, SimUart& uart, size_t devices, Timing timing);
+  Bq79616ChainEmulator(SimClock& clock, SimUart& uart, size_t devices)
+      : Bq79616ChainEmulator(clock, uart, devices, Timing{}) {}
+
+  // --- bus face ------------------------------------------------------------------------------------------
+  void onHostBytes(std::span<const uint8_t> bytes, uint64_t endUs) override;
+  std::string onPing(fw::Duration low, uint64_t endUs) override;
+
+  // --- backend face --------------------------------------------------------------------------------------
+  size_t size() const { return devices_.size(); }
+  Power power(size_t device) const { return devices_.at(device).power; }
+  bool awake(size_t device) const;  // ACTIVE and done waking up, now
+  bool addressed(size_t device) const { return devices_.at(device).addressed; }
+  uint8_t address(size_t device) const;
+  // The register as a read would return it now (computed registers included).
+  uint8_t reg(size_t device, uint16_t address) const;
+  void setReg(size_t device, uint16_t address, uint8_t value);
+  void setCellMicrovolts(size_t device, int cell, int32_t microvolts);  // cell 1..16
+  void setCellRaw(size_t device, int cell, int16_t raw);
+  int16_t cellRaw(size_t device, int cell) const;
+  void setDieTempRaw(size_t device, int index, int16_t raw);  // index 1..2, 0.025 degC per LSB
+  void setGpioRaw(size_t device, int gpio, int16_t raw);      // gpio 1..8
+  void attachFaultPin(SimEdgeInput& nfault);
+  const Timing& timing() const { return timing_; }
+
+  // --- fault injection -----------------------------------------------------------------------------------
+  void breakLinkAbove(size_t device);  // nothing passes between `device` and `device + 1`
+  void healLink();
+  void setMuted(size_t device, bool muted);
+  // XORs `mask` into byte `index` of `device`'s response frame on the UART, for its next `times` responses.
+  void corruptResponse(size_t device, size_t index, uint8_t mask, int times = 1);
+  void truncateNextResponse(size_t keepBytes);  // the base stops after `keepBytes` bytes of the next response
+  void injectCommFault(size_t device, bool persistent);
+  void endCommFaultCause(size_t device);  // a persistent fault's cause goes away (the latch stays)
+  void desyncBase();                      // the base's receiver waits for a frame that never completes
+  void sleepAll();
+  void shutdownAll();
+  void resetDevice(size_t device);  // digital reset: registers to defaults, address and role lost
+  void hangDevice(size_t device);   // ignores frames, tones and pings until a HW_RESET
+
+  struct Counters {
+    uint64_t commandFrames = 0;  // command frames with a good CRC the base accepted
+    uint64_t badCommandCrc = 0;
+    uint64_t ignoredBytes = 0;  // bytes the base did not take (asleep, desynchronised, not a frame)
+    uint64_t responses = 0;     // response frames sent to the host
+    uint64_t pings = 0;
+    uint64_t rejectedPings = 0;  // low times outside every window
+  };
+  const Counters& counters() const { return counters_; }
+
+ private:
+  struct Device {
+    std::array<uint8_t, kRegisterSpace> regs{};
+    Power power = Power::Shutdown;
+    uint64_t readyAt = 0;
+    uint64_t resetUntil = 0;
+    uint64_t adcSince = 0;
+    bool adcRunning = false;
+    bool addrWr = false;
+    bool addressed = false;
+    bool muted = false;
+    bool hung = false;
+    bool commCause = false;
+    int corruptTimes = 0;
+    size_t corruptIndex = 0;
+    uint8_t corruptMask = 0;
+  };
+
+  bool activeAt(const Device& d, uint64_t t) const;
+  void tick(uint64_t now);
+  bool reaches(size_t k) const { return brokenAbove_ < 0 || k <= static_cast<size_t>(brokenAbove_); }
+  void resetRegisters(Device& d);
+  void digitalReset(size_t k, uint64_t readyAt);
+  void process(const std::vector<uint8_t>& frame, uint64_t endUs);
+  void applyWrite(size_t k, uint16_t reg, std::span<const uint8_t> data, uint64_t t);
+  void writeReg(size_t k, uint16_t address, uint8_t value, uint64_t t);
+  uint8_t readReg(size_t k, uint16_t address, uint64_t t) const;
+  void respond(const std::vector<size_t>& order, uint16_t reg, size_t count, uint64_t startUs,
+               const std::vector<uint64_t>& reachedAt);
+  void toneUp(size_t from, uint64_t t, uint8_t kind);
+  void updateFaults();
+  uint16_t custCrc(const Device& d) const;
+
+  SimClock& clock_;
+  SimUart& uart_;
+  Timing timing_;
+  std::vector<Device> devices_;
+  std::vector<uint8_t> rxBuf_;
+  int brokenAbove_ = -1;
+  bool desync_ = false;
+  int wakesSinceShutdownPing_ = 2;  // 2 = the daisy-chain port is on
+  size_t truncateAt_ = SIZE_MAX;
+  SimEdgeInput* nfault_ = nullptr;
+  Counters counters_;
+};
+
+}  // namespace bsp::host

@@ -1,0 +1,218 @@
+// Chain: the BQ79616 daisy chain behind one UART, as a non-blocking driver (drivers/operation.hpp).
+//
+// One Chain object owns the link to the base device (address 0) and the stack devices above it. Every
+// operation is a resumable state machine: start*() starts it and returns at once; the owning task forwards
+// the driver's events to onEvent(), which does one short step per call; onEvent() returns Progress::Done
+// exactly once per started operation, and result() then holds its Status. Every wait is bounded: bus
+// exchanges by the UART's first-byte and gap timeouts (plus a guard timer that aborts the UART if its
+// completion never comes: Timeout), settling times by the driver's timer. After any read that failed other
+// than by silence, the driver receives until the line is quiet before it sends the next frame, so the tail
+// of a late or unexpected response never lands in the next one.
+//
+// Operations (each returns Ok when started, Busy while another runs, InvalidArgument or NotReady):
+//   startWake()         WAKE ping 2.25 ms (inside tHLD_WAKE 2.0..2.5 ms with 10 % margin each side), wait
+//                       tSU(WAKE_SHUT) max + 10 % = 11 ms, a second WAKE + wait (a chain shut down by a
+//                       SHUTDOWN ping only listens after the second), single write CONTROL1[SEND_WAKE] to
+//                       the base, then (1.6 ms tone + 10 ms) per configured device (TI SLUUC56B), which
+//                       also covers one device more than configured so discovery can notice it.
+//   startAutoAddress()  TI's sequence (SLUSE81E table 9-19): 8 DLL-sync dummy writes, CONTROL1[ADDR_WR],
+//                       DIR0_ADDR = 0..N (one address more than configured; writes that reach no device in
+//                       ADDR_WR mode are ignored), COMM_CTRL stack/base/top, 8 DLL-sync dummy reads,
+//                       FAULT_RST2; then discovery: single reads of DIR0_ADDR from address 0 upward until a
+//                       device does not answer, top of stack moved to the last device found, and one
+//                       broadcast read of DIR0_ADDR that must return every address, top first.
+//                       Result: Ok when the configured count answered; CommFault when fewer did (the chain
+//                       then runs with those, lastFault() names the first missing device and its error);
+//                       VerifyFailed when a device above the configured count answered (the chain runs
+//                       with the configured count and lastFault() names the extra device);
+//                       NoResponse/Crc/... when not even the base answered or an address read back wrong.
+//   startConfigure()    ACTIVE_CELL and ADC_CONF1 first, then the customer CRC refresh (broadcast read of
+//                       CUST_CRC_RSLT, each device's result written to its CUST_CRC), then FAULT_RST1/2 =
+//                       FF FF, ADC_CTRL1 continuous run, and the LPF settling time before the first read.
+//                       (Writing the NVM-shadow registers before the CRC refresh means no CRC fault needs
+//                       masking; TI's example masks it with FAULT_MSK2 instead.)
+//   startBringUp()      the three above in order; the result is the worst of them (CommFault with fewer
+//                       devices still configures the devices found).
+//   startScan(records, summary)
+//                       one broadcast read per enabled part: all cells (VCELL16_HI..VCELL1_LO, 32 bytes per
+//                       device), die temperatures, GPIO1..8, FAULT_SUMMARY (also read when an nFAULT edge
+//                       arrived since the last fault read). Each response frame is checked (CRC, length,
+//                       device id in top-first order, register). A failed chain read is retried once as a
+//                       whole (not when a device of this scan was already silent); if it fails again the
+//                       driver reads the devices that are still missing one by one from the base upward,
+//                       stopping at the first device that does not answer (the ones above it are unreachable
+//                       and marked NoResponse). So every record holds either validated values (its ValidBits
+//                       say which) or zeros and the Status that named its failure; `summary` names the first
+//                       failing device. records.size() must be at least the configured device count. Result:
+//                       Ok if every configured device validated every part; otherwise the status of the
+//                       lowest failing device. Unlike operation.hpp's default, records are written for the
+//                       devices that validated even when the scan as a whole fails: a chain reports the
+//                       devices that answer.
+//   startClearFaults()  broadcast FAULT_RST1/2 = FF FF (base and stack), then reads FAULT_SUMMARY back:
+//                       Ok when every device is clear, CommFault (a FAULT_COMM bit stayed) or VerifyFailed
+//                       (another fault stayed) naming the device otherwise. Call it deliberately: clearing
+//                       on every scan would hide a fault that keeps coming back.
+//   startRecovery()     the recovery ladder, stopping at the first rung after which every configured device
+//                       answers a broadcast read of its address: (0) drain the line, COMM CLEAR, (1)
+//                       SLEEPtoACTIVE, (2) full bring-up (WAKE resets every register, so re-address and
+//                       reconfigure), (3) HW_RESET tone up the stack and HW_RESET ping, then full bring-up.
+//                       Rungs 0 and 1 end with FAULT_RST2 clearing the communication faults the recovery
+//                       itself caused. Result: Ok, or the last bring-up's result (e.g. CommFault with fewer
+//                       devices).
+//   startWrite(type, device, reg, data) / startRead(type, device, reg, count, rx)
+//                       one raw frame (tools, balancing, diagnostics): a read expects one response frame
+//                       for a single read, devices()−1 for a stack read and devices() for a broadcast read;
+//                       result() is the UART's status and received() the bytes stored in `rx`. The caller
+//                       parses the frames with frame.hpp.
+//
+// nFAULT: attachFaultLine() enables the pin's falling-edge notification as `event` to the owning task; the
+// task forwards it with the others (events() includes it). An edge only counts in stats() and makes the next
+// scan read FAULT_SUMMARY; it never ends an operation.
+//
+// Memory: the driver keeps one receive buffer for the largest read it makes itself, 64 devices x (32 + 6)
+// bytes = 2432 bytes (TI's PrintAllFaults overflowed its buffer; this one is sized for the worst case and a
+// read that would not fit is refused, never sent).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "core/status.hpp"
+#include "core/time.hpp"
+#include "drivers/bq79616/frame.hpp"
+#include "drivers/bq79616/measurement.hpp"
+#include "drivers/operation.hpp"
+#include "hal/clock.hpp"
+#include "hal/gpio.hpp"
+#include "hal/uart.hpp"
+#include "sched/timer.hpp"
+
+namespace fw::drivers::bq79616 {
+
+struct ChainConfig {
+  uint8_t devices = 1;          // devices the pack is built with, 1..64 (discovered and checked at bring-up)
+  uint8_t activeCells = 16;     // cells per device, 6..16 (ACTIVE_CELL)
+  uint8_t adcConf1 = 0x02;      // ADC_CONF1: LPF_VCELL = 26 Hz as in TI's bring-up
+  Duration adcSettle = ms(38);  // LPF settling before the first read (38 ms at 26 Hz, TI)
+  uint8_t scanParts = kValidCells | kValidDieTemp | kValidGpio | kValidFaults;  // what startScan reads
+};
+
+enum class RecoveryLevel : uint8_t { CommClear = 0, SleepToActive = 1, Rewake = 2, HardwareReset = 3 };
+
+// Ping low times and waits (SLUSE81E §6.6, protocol.md §4; each chosen inside its window with margin).
+inline constexpr Duration kWakePing = us(2250);          // tHLD_WAKE 2.0..2.5 ms
+inline constexpr Duration kSleepToActivePing = us(275);  // tUART(StA) 250..300 us
+inline constexpr Duration kHwResetPing = ms(40);         // tHLD_HWRST >= 36 ms
+inline constexpr Duration kCommClearPing = us(18);       // tUART(CLR) 15..20 bit periods at 1 Mbaud
+inline constexpr size_t kRxBufferBytes = kMaxDevices * responseSize(32);
+
+class Chain {
+ public:
+  // Preconditions (FW_ASSERT): config.devices 1..64, config.activeCells 6..16, distinct non-zero bus and
+  // timer events, a UART of at least 250 kbaud. `uart`, `clock` and the scheduler must outlive the driver.
+  Chain(hal::Uart& uart, const hal::Clock& clock, const DriverContext& context, const ChainConfig& config);
+  Chain(const Chain&) = delete;
+  Chain& operator=(const Chain&) = delete;
+
+  void attachFaultLine(hal::EdgeInput& nfault, sched::EventMask event);
+
+  Status startWake();
+  Status startAutoAddress();
+  Status startConfigure();
+  Status startBringUp();
+  Status startScan(std::span<DeviceRecord> records, ScanSummary& summary);
+  Status startClearFaults();
+  Status startRecovery();
+  Status startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data);
+  Status startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t count, std::span<uint8_t> rx);
+
+  sched::EventMask events() const { return ctx_.events() | faultEvent_; }
+  Progress onEvent(sched::EventMask events);
+
+  bool busy() const { return active_; }
+  Status result() const { return result_; }
+  size_t received() const { return exchange_.received; }
+  uint8_t devices() const { return devices_; }           // devices in use (0 before bring-up)
+  uint8_t discovered() const { return found_; }          // devices that answered discovery
+  FaultReport lastFault() const { return lastFault_; }   // the device and error behind the last failure
+  RecoveryLevel lastRecovery() const { return level_; }  // the rung the last startRecovery() reached
+  bool faultLineActive() const { return nfault_ != nullptr && !nfault_->level(); }
+  const LinkStats& stats() const { return stats_; }
+  const ChainConfig& config() const { return config_; }
+
+  struct Step;  // one instruction of a bring-up/scan/recovery script (chain.cpp)
+
+ private:
+  enum class Wait : uint8_t { None, Bus, Timer };
+
+  Status begin(const Step* script, bool singlePhase);
+  void run();
+  void advance();
+  void resume();
+  void finish(Status status);
+  void fail(Status status, uint8_t device);
+  void count(Status status);
+  void wait(Wait what, Duration d);
+  void send(size_t txLen, std::span<uint8_t> rx);
+  void issueWrite(const Step& s);
+  void issueRead(const Step& s);
+  void onBus();
+  void onRead(const Step& s);
+  Status onFrame(const Step& s, uint8_t device, const uint8_t* data);
+  Status frameAt(uint8_t index, uint8_t count, uint8_t expectDevice, ResponseFrame& f);
+  void endDiscovery(Status r);
+  void store(uint8_t part, uint8_t device, const uint8_t* data);
+  void markFailed(uint8_t part, uint8_t device, Status status);
+  void endScan();
+  uint8_t slots() const;
+
+  // The state the interpreter touches on every step comes first: on Cortex-M0+ a byte load reaches only 31
+  // bytes past its base register, so these stay one instruction each.
+  uint8_t loop_ = 0;         // progress inside the step (address, device, register)
+  uint8_t attempt_ = 0;      // 0 = first try, 1 = the retry
+  bool localising_ = false;  // a scan part reads the devices still missing one by one
+  bool broken_ = false;      // a device of this scan did not answer at all: no whole-chain retries
+  bool draining_ = false;    // a read failed: receive until the line is quiet before the next frame
+  uint8_t drained_ = 0;
+  bool singlePhase_ = false;
+  bool active_ = false;
+  bool finished_ = false;
+  bool faultPending_ = false;
+  Wait waiting_ = Wait::None;
+  RecoveryLevel level_ = RecoveryLevel::CommClear;
+  Status result_ = Status::Ok;
+  Status deferred_ = Status::Ok;  // a non-fatal failure reported when the operation ends
+  uint8_t devices_ = 0;
+  uint8_t found_ = 0;
+  uint8_t parts_ = 0;      // ValidBits this scan reads
+  uint8_t txLen_ = 0;      // length of the frame startRead()/startWrite() encoded
+  uint8_t first_ = 0;      // device of the first response frame expected (top of stack first)
+  uint8_t frames_ = 0;     // response frames expected
+  uint8_t faulted_ = 0;    // kRFaults: the device named
+  uint8_t faultBits_ = 0;  // kRFaults: its FAULT_SUMMARY
+  uint16_t reg_ = 0;       // register of the read in flight
+  FaultReport lastFault_;
+  const Step* pc_ = nullptr;   // the step running
+  const Step* ret_ = nullptr;  // where a nested bring-up returns to (recovery)
+
+  hal::Uart& uart_;
+  const hal::Clock& clock_;
+  DriverContext ctx_;
+  ChainConfig config_;
+  hal::EdgeInput* nfault_ = nullptr;
+  sched::EventMask faultEvent_ = 0;
+  sched::Timer timer_;
+  hal::UartExchange exchange_;
+  std::span<DeviceRecord> records_;
+  ScanSummary* summary_ = nullptr;
+  std::span<uint8_t> userRx_;
+  LinkStats stats_;
+
+  // Left uninitialised on purpose: written before every use (a static object's are zero anyway), which
+  // keeps 2.4 KB of zeroing out of the constructor.
+  uint8_t tx_[kMaxCommandBytes];
+  uint8_t rx_[kRxBufferBytes];
+};
+
+}  // namespace fw::drivers::bq79616

@@ -1,0 +1,90 @@
+// The BQ79616 registers this driver touches, taken from the generated register map (regmap/bq79616.hpp,
+// generated from regmaps/bq79616/*.yaml). No address is written down here: each constant is the address of a
+// generated descriptor, and the static_asserts check the layout facts the driver relies on (consecutive
+// blocks read or written in one frame), so a wrong table fails the build instead of the bus.
+//
+// Also here: the few register *values* the driver writes, each with the datasheet field it sets.
+#pragma once
+
+#include <cstdint>
+
+#include "regmap/bq79616.hpp"
+
+namespace fw::drivers::bq79616::regs {
+
+namespace r = ::fw::regmap::bq79616::reg;
+
+template <class D>
+constexpr uint16_t addr(D) {
+  static_assert(D::address <= 0xFFFF, "BQ79616 register addresses are 16-bit");
+  return static_cast<uint16_t>(D::address);
+}
+
+// Addressing and communication (SLUSE81E §9.5.4.3).
+inline constexpr uint16_t kDir0Addr = addr(r::Dir0Addr);
+inline constexpr uint16_t kCommCtrl = addr(r::CommCtrl);
+inline constexpr uint16_t kControl1 = addr(r::Control1);
+inline constexpr uint16_t kControl2 = addr(r::Control2);
+inline constexpr uint16_t kOtpEccDatain1 = addr(r::OtpEccDatain1);  // DLL synchronisation dummies 1..8
+// Configuration (NVM shadow registers, covered by the customer CRC).
+inline constexpr uint16_t kActiveCell = addr(r::ActiveCell);
+inline constexpr uint16_t kAdcConf1 = addr(r::AdcConf1);
+inline constexpr uint16_t kCustCrcHi = addr(r::CustCrcHi);
+inline constexpr uint16_t kCustCrcRsltHi = addr(r::CustCrcRsltHi);
+inline constexpr uint16_t kAdcCtrl1 = addr(r::AdcCtrl1);
+// Faults.
+inline constexpr uint16_t kFaultRst1 = addr(r::FaultRst1);
+inline constexpr uint16_t kFaultRst2 = addr(r::FaultRst2);
+inline constexpr uint16_t kFaultSummary = addr(r::FaultSummary);
+// Measurements.
+inline constexpr uint16_t kVcell16Hi = addr(r::Vcell16Hi);
+inline constexpr uint16_t kGpio1Hi = addr(r::Gpio1Hi);
+inline constexpr uint16_t kDietemp1Hi = addr(r::Dietemp1Hi);
+
+// Blocks the driver moves in one frame must be contiguous in the map.
+static_assert(addr(r::OtpEccDatain8) == kOtpEccDatain1 + 7, "OTP_ECC_DATAIN1..8 are consecutive");
+static_assert(addr(r::CustCrcLo) == kCustCrcHi + 1, "CUST_CRC_HI/LO are one 2-byte write");
+static_assert(addr(r::CustCrcRsltLo) == kCustCrcRsltHi + 1, "CUST_CRC_RSLT_HI/LO are one 2-byte read");
+static_assert(kFaultRst2 == kFaultRst1 + 1, "FAULT_RST1/2 are one 2-byte write");
+static_assert(addr(r::Vcell1Lo) == kVcell16Hi + 31, "VCELL16_HI..VCELL1_LO are one 32-byte read");
+static_assert(addr(r::Gpio8Lo) == kGpio1Hi + 15, "GPIO1_HI..GPIO8_LO are one 16-byte read");
+static_assert(addr(r::Dietemp2Lo) == kDietemp1Hi + 3, "DIETEMP1_HI..DIETEMP2_LO are one 4-byte read");
+
+namespace b = ::fw::regmap::bq79616::bits;
+namespace e = ::fw::regmap::bq79616::enums;
+
+// CONTROL1 (SLUSE81E §9.5.4.3.11): self-clearing command bits.
+inline constexpr uint8_t kControl1AddrWr = b::Control1{}.with_addr_wr(true).raw();      // swallow next frame
+inline constexpr uint8_t kControl1SendWake = b::Control1{}.with_send_wake(true).raw();  // WAKE tone up
+// CONTROL2: SEND_HW_RESET sends the HW_RESET tone up the stack.
+inline constexpr uint8_t kControl2SendHwReset = b::Control2{}.with_send_hw_reset(true).raw();
+// COMM_CTRL: STACK_DEV, TOP_STACK.
+inline constexpr uint8_t kCommBase = b::CommCtrl{}.raw();                        // base of 2+
+inline constexpr uint8_t kCommStack = b::CommCtrl{}.with_stack_dev(true).raw();  // below the top
+inline constexpr uint8_t kCommTop = b::CommCtrl{}.with_stack_dev(true).with_top_stack(true).raw();
+inline constexpr uint8_t kCommStandalone = b::CommCtrl{}.with_top_stack(true).raw();  // a chain of one
+// FAULT_RST2: TI's auto-addressing step clears COMM1 and COMM2 (0x03); recovery clears every comm group.
+inline constexpr uint8_t kFaultRst2StartupComm =
+    b::FaultRst2{}.with_rst_comm1(true).with_rst_comm2(true).raw();
+inline constexpr uint8_t kFaultRst2AllComm = b::FaultRst2{}
+                                                 .with_rst_comm1(true)
+                                                 .with_rst_comm2(true)
+                                                 .with_rst_comm3_hb(true)
+                                                 .with_rst_comm3_ftone(true)
+                                                 .with_rst_comm3_fcomm(true)
+                                                 .raw();
+inline constexpr uint8_t kSummaryFaultComm = b::FaultSummary::fault_comm_mask;
+// ADC_CTRL1 = 0x0E exactly as TI's bring-up writes it ("continuous run, LPF enabled, MAIN_GO"). The fields
+// the register map and TI agree on are checked below; bit 3 is TI's LPF enable, which the (unverified) map
+// places at bit 4 instead, so the value stays TI's proven one until the datasheet settles it.
+inline constexpr uint8_t kAdcCtrl1Continuous = 0x0E;
+static_assert(b::AdcCtrl1::fromRaw(kAdcCtrl1Continuous).main_mode() == e::MainAdcMode::Continuous);
+static_assert(b::AdcCtrl1::fromRaw(kAdcCtrl1Continuous).main_go());
+// ACTIVE_CELL NUM_CELL: 0x0 = 6 cells ... 0xA = 16 cells.
+inline constexpr uint8_t kActiveCellMin = 6;
+static_assert(static_cast<uint8_t>(e::ActiveCells::Cells16) == 16 - kActiveCellMin);
+
+// Values the device returns for a measurement that is not available (not converted yet, channel off).
+inline constexpr int16_t kNotReady = static_cast<int16_t>(-32768);  // 0x8000
+
+}  // namespace fw::drivers::bq79616::regs
