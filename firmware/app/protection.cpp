@@ -6,17 +6,31 @@ namespace {
 struct Extremes {
   int32_t maxCell = INT32_MIN, minCell = INT32_MAX;
   int32_t maxTemp = INT32_MIN, minTemp = INT32_MAX;
+  bool cells = false, temps = false, current = false;
 };
 
-Extremes extremes(const ProtectionInputs& in) {
+// Extremes over the boards whose data is Valid now; the oldest board's age for the staleness rule.
+Extremes extremes(const PackView& pack, Instant now, Duration staleAfter, uint32_t& oldestUs) {
   Extremes e;
-  for (int16_t v : in.cellMv) {
-    if (v > e.maxCell) e.maxCell = v;
-    if (v < e.minCell) e.minCell = v;
-  }
-  for (int16_t t : in.tempDeciK) {
-    if (t > e.maxTemp) e.maxTemp = t;
-    if (t < e.minTemp) e.minTemp = t;
+  oldestUs = 0;
+  for (size_t b = 0; b < pack.boards.size(); ++b) {
+    const BoardSample& s = pack.boards[b];
+    const uint32_t age = s.valid ? elapsed(s.takenAt, now).us : now.us;  // never valid: since start-up
+    if (age > oldestUs) oldestUs = age;
+    if (boardStatus(s, now, staleAfter) != BoardStatus::Valid) continue;
+    for (uint8_t c = 0; c < pack.cellsPerBoard; ++c) {
+      const int16_t v = s.cellMv[c];
+      if (v > e.maxCell) e.maxCell = v;
+      if (v < e.minCell) e.minCell = v;
+      e.cells = true;
+    }
+    for (uint8_t t = 0; t < pack.tempsPerBoard; ++t) {
+      const int16_t v = s.tempDeciK[t];
+      if (v > e.maxTemp) e.maxTemp = v;
+      if (v < e.minTemp) e.minTemp = v;
+      e.temps = true;
+    }
+    if (b == 0) e.current = pack.hasCurrent;
   }
   return e;
 }
@@ -64,15 +78,16 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   ProtectionState out;
 
   if (in.fresh) {
-    lastFresh_ = in.sampleTime;
-    everFresh_ = true;
     failedScans_ = 0;
   } else if (in.scanFailed && failedScans_ < 0xFF) {
     ++failedScans_;
   }
 
-  if (in.fresh) {
-    const Extremes e = extremes(in);
+  uint32_t oldestUs = now.us;  // no pack yet: everything is as old as the firmware
+  Extremes e;
+  if (in.pack != nullptr) e = extremes(*in.pack, now, config_.staleAfter, oldestUs);
+
+  if (in.fresh && in.pack != nullptr) {
     for (uint8_t i = 0; i < kFaultCount; ++i) {
       const auto id = static_cast<FaultId>(i);
       const Rule& rule = config_.rules[i];
@@ -81,43 +96,46 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
       int32_t value = 0;
       switch (id) {
         case FaultId::CellOvervoltage:
-          value = e.maxCell, known = !in.cellMv.empty();
+          value = e.maxCell, known = e.cells;
           break;
         case FaultId::CellUndervoltage:
-          value = e.minCell, known = !in.cellMv.empty();
+          value = e.minCell, known = e.cells;
           break;
         case FaultId::ChargeOvercurrent:
-          value = in.currentMa, known = in.hasCurrent;
+          value = in.pack->currentMa, known = e.current;
           break;
         case FaultId::DischargeOvercurrent:
-          value = in.currentMa, known = in.hasCurrent;
+          value = in.pack->currentMa, known = e.current;
           break;
         case FaultId::Overtemperature:
-          value = e.maxTemp, known = !in.tempDeciK.empty();
+          value = e.maxTemp, known = e.temps;
           break;
         case FaultId::Undertemperature:
-          value = e.minTemp, known = !in.tempDeciK.empty();
-          break;
-        case FaultId::DeviceSafety:
-          value = in.deviceFault ? 1 : 0;
+          value = e.minTemp, known = e.temps;
           break;
         default:
-          continue;  // freshness rules are evaluated below
+          continue;  // device and freshness rules are evaluated below
       }
       if (!known) continue;
-      const bool upper = isUpperLimit(id) || id == FaultId::DeviceSafety;
+      const bool upper = isUpperLimit(id);
       const bool present = upper ? value >= rule.trip : value <= rule.trip;
       const bool absent = upper ? value < rule.clear : value > rule.clear;
       update(id, present, absent, now, out);
     }
   }
 
-  // Freshness: stale when the newest valid sample is older than the limit (or there never was one and the
-  // limit has passed since start-up); comm loss after consecutive failed scans.
+  // The monitor's own protection: its fault line acts at once; its status registers with each fresh scan.
+  const Rule& device = config_.rules[static_cast<uint8_t>(FaultId::DeviceSafety)];
+  if (device.enabled && (in.fresh || in.faultLine)) {
+    const bool fault = in.faultLine || (in.pack != nullptr && in.pack->deviceFault);
+    update(FaultId::DeviceSafety, fault, !fault, now, out);
+  }
+
+  // Freshness: stale when the oldest board's newest valid sample is older than the limit (a board that never
+  // answered counts from start-up); comm loss after consecutive failed scans.
   const Rule& stale = config_.rules[static_cast<uint8_t>(FaultId::StaleData)];
   if (stale.enabled) {
-    const Instant reference = everFresh_ ? lastFresh_ : Instant{};
-    const bool isStale = elapsed(reference, now) > config_.staleAfter;
+    const bool isStale = oldestUs > config_.staleAfter.us;
     update(FaultId::StaleData, isStale, !isStale, now, out);
   }
   const Rule& comm = config_.rules[static_cast<uint8_t>(FaultId::CommLoss)];

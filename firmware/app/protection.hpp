@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <span>
 
+#include "app/pack_view.hpp"
 #include "core/time.hpp"
 
 namespace fw::app {
@@ -69,17 +70,13 @@ struct ProtectionConfig {
   uint8_t commLossScans = 3;
 };
 
-// One evaluation's inputs. `fresh` marks a new validated sample; the spans describe it. On a failed scan
-// attempt set scanFailed (and fresh=false); on a plain periodic check set neither.
+// One evaluation's inputs. Value limits are evaluated only when `fresh` (a scan just validated) and only over
+// the boards whose status is Valid; the freshness rules look at every board of `pack` on every evaluation.
 struct ProtectionInputs {
-  bool fresh = false;
-  bool scanFailed = false;
-  Instant sampleTime{};
-  std::span<const int16_t> cellMv{};
-  bool hasCurrent = false;
-  int32_t currentMa = 0;
-  std::span<const int16_t> tempDeciK{};
-  bool deviceFault = false;
+  bool fresh = false;              // a scan just completed and validated
+  bool scanFailed = false;         // a scan attempt just failed
+  const PackView* pack = nullptr;  // the measured pack (may be null before the first scan)
+  bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own
 };
 
 struct ProtectionState {
@@ -101,6 +98,7 @@ class Protection {
   FaultMask clearLatched();
 
   FaultMask active() const { return active_; }
+  const ProtectionConfig& config() const { return config_; }
   Instant trippedAt(FaultId id) const { return tripped_[static_cast<uint8_t>(id)]; }
 
  private:
@@ -115,8 +113,6 @@ class Protection {
   Instant tripped_[kFaultCount]{};
   FaultMask active_ = 0;
   FaultMask conditionNow_ = 0;  // last evaluation's raw conditions (for clearLatched)
-  Instant lastFresh_{};
-  bool everFresh_ = false;
   uint8_t failedScans_ = 0;
 };
 

@@ -80,6 +80,7 @@ class Scheduler {
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
   const TaskStats& stats(TaskId id) const { return stats_[id]; }
+  hal::Clock& clock() const { return clock_; }
   void noteQueueDrop(TaskId id);  // called by EventQueue (any context)
 
   void setTraceSink(TraceSink* sink);

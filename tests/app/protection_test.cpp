@@ -37,20 +37,48 @@ ProtectionConfig baseConfig() {
   return c;
 }
 
+// One board of four cells and two temperature sensors, as a monitor task would keep it.
 struct Sampler {
   std::vector<int16_t> cells = std::vector<int16_t>(4, 3700);
   std::vector<int16_t> temps = std::vector<int16_t>(2, 2982);
   int32_t current = 0;
   bool deviceFault = false;
-  ProtectionInputs fresh(uint32_t tMs) const {
+  fw::app::BoardSample board;
+  fw::app::PackView view;
+
+  const fw::app::PackView* pack() {
+    view.boards = std::span<const fw::app::BoardSample>(&board, 1);
+    view.cellsPerBoard = static_cast<uint8_t>(cells.size());
+    view.tempsPerBoard = static_cast<uint8_t>(temps.size());
+    view.hasCurrent = true;
+    view.currentMa = current;
+    view.deviceFault = deviceFault;
+    return &view;
+  }
+  // A scan that validated at tMs.
+  ProtectionInputs fresh(uint32_t tMs) {
+    board.takenAt = fw::Instant{tMs * 1000};
+    board.last = fw::Status::Ok;
+    board.valid = true;
+    for (size_t i = 0; i < cells.size(); ++i) board.cellMv[i] = cells[i];
+    for (size_t i = 0; i < temps.size(); ++i) board.tempDeciK[i] = temps[i];
     ProtectionInputs in;
     in.fresh = true;
-    in.sampleTime = fw::Instant{tMs * 1000};
-    in.cellMv = cells;
-    in.tempDeciK = temps;
-    in.hasCurrent = true;
-    in.currentMa = current;
-    in.deviceFault = deviceFault;
+    in.pack = pack();
+    return in;
+  }
+  // A scan attempt that failed.
+  ProtectionInputs failed() {
+    board.last = fw::Status::Timeout;
+    ProtectionInputs in;
+    in.scanFailed = true;
+    in.pack = pack();
+    return in;
+  }
+  // A periodic check with no new scan.
+  ProtectionInputs tick() {
+    ProtectionInputs in;
+    in.pack = pack();
     return in;
   }
 };
@@ -125,9 +153,7 @@ TEST(Protection, MissingDataNeverClearsOrAdvancesAFault) {
   for (uint32_t t = 0; t <= 200; t += 100)
     p.evaluate(s.fresh(t), at(t));
   ASSERT_EQ(p.active(), bit(FaultId::CellUndervoltage));
-  ProtectionInputs failed;
-  failed.scanFailed = true;
-  p.evaluate(failed, at(300));
+  p.evaluate(s.failed(), at(300));
   EXPECT_TRUE(p.active() & bit(FaultId::CellUndervoltage)) << "a failed scan is not evidence of recovery";
 }
 
@@ -153,10 +179,9 @@ TEST(Protection, StaleDataIsAFaultAndFreshDataClearsIt) {
   Protection p(cfg);
   Sampler s;
   p.evaluate(s.fresh(0), at(0));
-  ProtectionInputs tick;  // a periodic check with no new sample
-  EXPECT_EQ(p.evaluate(tick, at(400)).active, 0);
-  EXPECT_EQ(p.evaluate(tick, at(500)).active, 0) << "exactly the limit is still fresh";
-  const auto st = p.evaluate(tick, at(501));
+  EXPECT_EQ(p.evaluate(s.tick(), at(400)).active, 0);
+  EXPECT_EQ(p.evaluate(s.tick(), at(500)).active, 0) << "exactly the limit is still fresh";
+  const auto st = p.evaluate(s.tick(), at(501));
   EXPECT_EQ(st.active, bit(FaultId::StaleData));
   EXPECT_TRUE(st.chargeOff && st.dischargeOff);
   EXPECT_EQ(p.evaluate(s.fresh(600), at(600)).active, 0);
@@ -165,8 +190,9 @@ TEST(Protection, StaleDataIsAFaultAndFreshDataClearsIt) {
 TEST(Protection, NoSampleEverIsStaleOnceTheLimitPasses) {
   const auto cfg = baseConfig();
   Protection p(cfg);
-  EXPECT_EQ(p.evaluate({}, at(100)).active, 0);
-  EXPECT_EQ(p.evaluate({}, at(600)).active, bit(FaultId::StaleData));
+  Sampler s;
+  EXPECT_EQ(p.evaluate(s.tick(), at(100)).active, 0);
+  EXPECT_EQ(p.evaluate(s.tick(), at(600)).active, bit(FaultId::StaleData));
 }
 
 TEST(Protection, CommLossAfterConsecutiveFailedScans) {
@@ -174,14 +200,12 @@ TEST(Protection, CommLossAfterConsecutiveFailedScans) {
   Protection p(cfg);
   Sampler s;
   p.evaluate(s.fresh(0), at(0));
-  ProtectionInputs failed;
-  failed.scanFailed = true;
-  EXPECT_EQ(p.evaluate(failed, at(100)).active, 0);
-  EXPECT_EQ(p.evaluate(failed, at(200)).active, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(100)).active, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(200)).active, 0);
   p.evaluate(s.fresh(300), at(300));  // one success resets the run
-  EXPECT_EQ(p.evaluate(failed, at(400)).active, 0);
-  EXPECT_EQ(p.evaluate(failed, at(450)).active, 0);
-  EXPECT_EQ(p.evaluate(failed, at(480)).active, bit(FaultId::CommLoss));
+  EXPECT_EQ(p.evaluate(s.failed(), at(400)).active, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(450)).active, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(480)).active, bit(FaultId::CommLoss));
   EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active, 0);
 }
 
@@ -224,6 +248,45 @@ TEST(Protection, DeviceSafetyTripsAtOnce) {
   const auto st = p.evaluate(s.fresh(0), at(0));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
   EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+}
+
+TEST(Protection, FaultLineTripsDeviceSafetyWithoutWaitingForAScan) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  ProtectionInputs line = s.tick();
+  line.faultLine = true;  // ALERT/nFAULT edge: no new measurement yet
+  const auto st = p.evaluate(line, at(5));
+  EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_EQ(p.evaluate(s.fresh(100), at(100)).active, 0) << "the next scan shows no device fault";
+}
+
+TEST(Protection, OnlyValidBoardsFeedTheLimitsAndALostBoardGoesStale) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  fw::app::BoardSample boards[2];
+  for (auto& b : boards) {
+    b.valid = true;
+    b.last = fw::Status::Ok;
+    b.takenAt = at(0);
+    for (int c = 0; c < 4; ++c) b.cellMv[c] = 3700;
+  }
+  boards[1].last = fw::Status::NoResponse;  // board 1 stopped answering; its old values must not count
+  boards[1].cellMv[0] = 1000;
+  fw::app::PackView view;
+  view.boards = boards;
+  view.cellsPerBoard = 4;
+  ProtectionInputs in;
+  in.fresh = true;
+  in.pack = &view;
+  for (uint32_t t = 0; t <= 400; t += 100) {
+    boards[0].takenAt = at(t);
+    EXPECT_EQ(p.evaluate(in, at(t)).active, 0) << t;  // no undervoltage from the lost board's old cell
+  }
+  boards[0].takenAt = at(600);
+  EXPECT_EQ(p.evaluate(in, at(600)).active, bit(FaultId::StaleData)) << "board 1's data is 600 ms old";
 }
 
 TEST(Protection, DisabledRulesNeverTrip) {

@@ -1,0 +1,59 @@
+// CanPublisher: sends the publish cycles of a FramePlan on a CAN bus (the G3507 images).
+//
+// Native layout: a fast cycle every `fastPeriod` and a slow one every `slowEvery` fast periods. TI layout:
+// one cycle per new scan (post kScanDone), as TI's demo sends after each read.
+// The task fills the controller's TX queue until it refuses (Overflow) and continues when a frame has left
+// (kCan), so it never waits. A cycle still unfinished when the next one is due is abandoned (counted): the
+// bus is saturated, and newer data is worth more than older frames. On bus-off it abandons the cycle, starts
+// the controller's recovery (at most once per fast period) and resumes with fresh frames when the bus is
+// back. Thread mode only.
+#pragma once
+
+#include <cstdint>
+
+#include "app/frame_plan.hpp"
+#include "hal/can_bus.hpp"
+#include "sched/scheduler.hpp"
+
+namespace fw::app {
+
+struct PublishStats {
+  uint32_t frames = 0;      // frames accepted by the bus
+  uint32_t cycles = 0;      // cycles started
+  uint32_t abandoned = 0;   // cycles dropped unfinished (saturated bus or bus-off)
+  uint32_t busOff = 0;      // bus-off events seen
+  uint32_t recoveries = 0;  // recoveries started
+  uint32_t refused = 0;     // send attempts refused (queue full)
+};
+
+class CanPublisher final : public sched::Task {
+ public:
+  static constexpr sched::EventMask kScanDone = 0x1;
+  static constexpr sched::EventMask kCan = 0x2;
+
+  CanPublisher(sched::Scheduler& scheduler, sched::TaskId id, hal::CanBus& can, FramePlan& plan,
+               CanLayout layout, Duration fastPeriod, uint8_t slowEvery);
+
+  void start();
+  void run(sched::EventMask events) override;
+  const PublishStats& stats() const { return stats_; }
+
+ private:
+  static constexpr sched::EventMask kTick = 0x4;
+  void beginCycle(bool ti);
+  void pump(Instant now);
+
+  sched::Scheduler& scheduler_;
+  sched::TaskId id_;
+  hal::CanBus& can_;
+  FramePlan& plan_;
+  CanLayout layout_;
+  Duration fastPeriod_;
+  uint8_t slowEvery_;
+  uint8_t tick_ = 0;
+  bool recovering_ = false;
+  sched::Timer timer_;
+  PublishStats stats_;
+};
+
+}  // namespace fw::app
