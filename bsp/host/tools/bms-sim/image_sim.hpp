@@ -1,0 +1,90 @@
+// ImageSim: one firmware image running on the host BSP against its emulated devices, as bms-sim drives it.
+//
+// Each image family provides one (sim_<family>.cpp) and registers it by image name. The scenario engine only
+// talks to this interface: it moves the emulated pack (cells, current, temperatures), injects faults, and
+// reads back what the firmware did.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/protection_task.hpp"
+#include "sim/harness.hpp"
+
+namespace bmssim {
+
+struct SimOptions {
+  std::string image;
+  int devices = 0;  // 0 = the image's default
+  bool tiLayout = false;
+  uint32_t durationMs = 10000;
+};
+
+// Figures every image reports (the --json summary's keys).
+struct SimFigures {
+  uint32_t scans = 0;
+  uint32_t scanFailures = 0;
+  uint32_t scanPeriodMs = 0;
+  double scanBusUs = 0;         // bus time of one scan (mean over the scans since start-up)
+  double scanTransactions = 0;  // bus transactions per scan (mean)
+  uint64_t commErrors = 0;
+  uint32_t recoveries = 0;
+  uint64_t outputFrames = 0;  // CAN frames sent, or SLCAN lines written
+  std::string output;         // "can" or "slcan"
+  bool chargeOn = false, dischargeOn = false, faultOutput = false;
+  uint16_t activeFaults = 0;
+  int minCellMv = 0, maxCellMv = 0;
+  int boards = 0, validBoards = 0;
+  int32_t currentMa = 0;
+};
+
+struct SentFrame {
+  uint64_t timeUs;
+  uint32_t id;
+  bool extended;
+  std::vector<uint8_t> data;
+};
+
+class ImageSim {
+ public:
+  virtual ~ImageSim() = default;
+
+  virtual int boards() const = 0;
+  virtual int cellsPerBoard() const = 0;
+  virtual int tempsPerBoard() const = 0;
+  virtual bool hasCurrent() const = 0;
+
+  // The emulated pack (scenario inputs).
+  virtual void setCellMv(int board, int cell, int mv) = 0;
+  virtual void setCurrentMa(int ma) = 0;
+  virtual void setTempDeciK(int board, int sensor, int deciK) = 0;
+  // Faults.
+  virtual void setCommLost(bool lost) = 0;         // the monitor stops answering
+  virtual void openWire(int board, int cell) = 0;  // the sense line below `cell` is disconnected
+  virtual void setIntermittent(bool on) = 0;       // most monitor transactions are corrupted
+  virtual bool busOff() = 0;                       // false when the image has no CAN
+
+  virtual bsp::host::Harness& harness() = 0;
+  virtual SimFigures figures() = 0;
+  virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
+  virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
+  virtual void afterStep() {}                         // called after each simulation step (bookkeeping)
+};
+
+using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);
+
+struct ImageEntry {
+  const char* image;
+  const char* summary;
+  int defaultDevices;
+  SimFactory make;
+};
+
+struct ImageRegistrar {
+  explicit ImageRegistrar(ImageEntry entry);
+};
+const std::vector<ImageEntry>& images();
+
+}  // namespace bmssim

@@ -1,0 +1,130 @@
+#include "report.hpp"
+
+#include <cstdio>
+
+#include "app/protection.hpp"
+
+namespace bmssim {
+namespace {
+
+std::string faultsText(uint16_t mask) {
+  if (mask == 0) return "-";
+  std::string s;
+  for (uint8_t i = 0; i < fw::app::kFaultCount; ++i) {
+    if ((mask & (1U << i)) == 0) continue;
+    if (!s.empty()) s += ",";
+    s += fw::app::faultName(static_cast<fw::app::FaultId>(i));
+  }
+  return s;
+}
+
+std::string ms(uint64_t us) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", static_cast<double>(us) / 1000.0);
+  return buf;
+}
+
+}  // namespace
+
+void Report::tick(uint64_t nowUs) {
+  if (json_ || nowUs < nextView_) return;
+  nextView_ = nowUs + 500000;
+  const SimFigures f = sim_.figures();
+  std::printf(
+      "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu\n",
+      static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
+      f.currentMa / 1000.0, f.chargeOn ? "CHG:on " : "CHG:off", f.dischargeOn ? "DSG:on " : "DSG:off",
+      faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
+      static_cast<unsigned long long>(f.outputFrames));
+}
+
+void Report::finish(double onsetMs, bool busOffUnsupported) {
+  const SimFigures f = sim_.figures();
+  const auto log = sim_.protectionLog();
+  const uint64_t now = sim_.harness().nowUs();
+  if (!json_) {
+    std::printf("\nscenario %s: %s\n", scenario_.name.c_str(), scenario_.description.c_str());
+    if (busOffUnsupported) std::printf("(this image has no CAN bus: the bus-off step did nothing)\n");
+    std::printf("scans %u (%u failed), scan period %u ms, bus %.0f us and %.1f transactions per scan\n",
+                f.scans, f.scanFailures, f.scanPeriodMs, f.scanBusUs, f.scanTransactions);
+    std::printf("%s %llu, comm errors %llu, recoveries %u\n",
+                f.output == "can" ? "CAN frames" : "SLCAN lines",
+                static_cast<unsigned long long>(f.outputFrames),
+                static_cast<unsigned long long>(f.commErrors), f.recoveries);
+    if (log.empty()) std::printf("protection events: none\n");
+    for (const auto& e : log) {
+      std::printf(
+          "protection event %-13s onset %s ms, detected %s ms, %s %s ms\n", fw::app::faultName(e.fault),
+          onsetMs < 0 ? "?" : ms(static_cast<uint64_t>(onsetMs * 1000)).c_str(), ms(e.detected.us).c_str(),
+          f.output == "can" && !sim_.hasCurrent() ? "fault output at" : "FETs off at",
+          e.actionDone ? ms(e.acted.us).c_str() : "(pending)");
+    }
+    return;
+  }
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3f", v);
+    return std::string(buf);
+  };
+  std::printf("{\n");
+  std::printf("  \"image\": \"%s\",\n", options_.image.c_str());
+  std::printf("  \"scenario\": \"%s\",\n", scenario_.name.c_str());
+  std::printf("  \"sim_time_ms\": %s,\n", num(static_cast<double>(now) / 1000.0).c_str());
+  std::printf("  \"devices\": %d,\n", f.boards);
+  std::printf("  \"scans\": %u,\n", f.scans);
+  std::printf("  \"scan_failures\": %u,\n", f.scanFailures);
+  std::printf("  \"scan_period_ms\": %u,\n", f.scanPeriodMs);
+  std::printf("  \"scan_bus_us\": %s,\n", num(f.scanBusUs).c_str());
+  std::printf("  \"scan_transactions\": %s,\n", num(f.scanTransactions).c_str());
+  std::printf("  \"output\": \"%s\",\n", f.output.c_str());
+  std::printf("  \"can_frames\": %llu,\n", static_cast<unsigned long long>(f.outputFrames));
+  std::printf("  \"comm_errors\": %llu,\n", static_cast<unsigned long long>(f.commErrors));
+  std::printf("  \"recoveries\": %u,\n", f.recoveries);
+  std::printf("  \"bus_off_applicable\": %s,\n", busOffUnsupported ? "false" : "true");
+  std::printf("  \"charge_on\": %s,\n", f.chargeOn ? "true" : "false");
+  std::printf("  \"discharge_on\": %s,\n", f.dischargeOn ? "true" : "false");
+  std::printf("  \"fault_output\": %s,\n", f.faultOutput ? "true" : "false");
+  std::printf("  \"active_faults\": [");
+  bool first = true;
+  for (uint8_t i = 0; i < fw::app::kFaultCount; ++i) {
+    if ((f.activeFaults & (1U << i)) == 0) continue;
+    std::printf("%s\"%s\"", first ? "" : ", ", fw::app::faultName(static_cast<fw::app::FaultId>(i)));
+    first = false;
+  }
+  std::printf("],\n");
+  std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  std::printf("  \"protection_events\": [");
+  first = true;
+  for (const auto& e : log) {
+    std::printf(
+        "%s\n    {\"fault\": \"%s\", \"onset_ms\": %s, \"detected_ms\": %s, \"fets_off_ms\": %s, "
+        "\"latency_ms\": %s}",
+        first ? "" : ",", fw::app::faultName(e.fault), onsetMs < 0 ? "null" : num(onsetMs).c_str(),
+        num(static_cast<double>(e.detected.us) / 1000.0).c_str(),
+        e.actionDone ? num(static_cast<double>(e.acted.us) / 1000.0).c_str() : "null",
+        (e.actionDone && onsetMs >= 0) ? num(static_cast<double>(e.acted.us) / 1000.0 - onsetMs).c_str()
+                                       : "null");
+    first = false;
+  }
+  std::printf("%s]\n}\n", first ? "" : "\n  ");
+}
+
+bool Report::writeCandump(const std::string& path) const {
+  FILE* out = std::fopen(path.c_str(), "w");
+  if (out == nullptr) return false;
+  for (const auto& fr : sim_.frames()) {
+    std::fprintf(out, "(%llu.%06llu) can0 ", static_cast<unsigned long long>(fr.timeUs / 1000000),
+                 static_cast<unsigned long long>(fr.timeUs % 1000000));
+    if (fr.extended) {
+      std::fprintf(out, "%08X#", fr.id);
+    } else {
+      std::fprintf(out, "%03X#", fr.id);
+    }
+    for (uint8_t b : fr.data)
+      std::fprintf(out, "%02X", b);
+    std::fprintf(out, "\n");
+  }
+  return std::fclose(out) == 0;
+}
+
+}  // namespace bmssim
