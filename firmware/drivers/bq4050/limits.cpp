@@ -1,0 +1,67 @@
+// Plausibility limits of BQ4050 SBS words (contract in limits.hpp).
+//
+// Why these ranges: each one is the widest range a working BQ4050 pack can report, so a legitimate reading is
+// never refused, while the two corruptions seen in the field (seed 003: the second byte's top bit stuck high,
+// which adds 32768; and an all-ones 0xFFFF word) fall outside wherever the quantity allows it.
+//   Temperature  SBS 1.1 Temperature() is 0.1 K over 0..65535; -50 degC .. +150 degC brackets the gauge's
+//                -40..85 degC operating range (datasheet SLUSC67A, recommended operating conditions) and any
+//                thermistor reading of a pack that can still run.
+//   Voltage      SBS 1.1 Voltage() in mV. The BQ4050 gauges 1 to 4 series cells (SLUSC67A title), each on a
+//                0..5 V cell input, so the pack reads at most 20000 mV.
+//   CellVoltageN 0..5000 mV for the same reason (0x3C..0x3F are the gauge's extensions, SLUUAQ3A SBS table).
+//   RSOC         0..100 %, the register map's SBS 1.1 RelativeStateOfCharge() limits (descriptor min/max).
+//   Capacities   SBS 1.1 RemainingCapacity()/FullChargeCapacity() allow 0..65535, but the gauge's design and
+//                learned capacities are I2 data-flash values capped at 32767 (BQ40zxy family "Design Capacity
+//                mAh", I2, max 32767, SLUUCN4A), and a CEDV gauge never reports more than it learned.
+//   BatteryStatus  bits 13 and 10 are reserved in SBS 1.1 BatteryStatus() (the register map's field mask).
+// Current (I2) and the run times (65535 = "not applicable" in SBS 1.1) can take every value: only the
+// confirming re-read protects them (gauge.cpp).
+#include "drivers/bq4050/limits.hpp"
+
+#include "regmap/bq4050.hpp"
+
+namespace fw::drivers::bq4050 {
+
+namespace {
+
+namespace sbs = regmap::bq4050::sbs;
+
+struct Limit {
+  uint8_t first;  // commands first..last share the range
+  uint8_t last;
+  uint16_t lo;
+  uint16_t hi;
+};
+
+constexpr uint8_t code(uint32_t address) {
+  return static_cast<uint8_t>(address);
+}
+
+constexpr Limit kLimits[] = {
+    {code(sbs::Temperature.address), code(sbs::Temperature.address), 2231, 4231},
+    {code(sbs::Voltage.address), code(sbs::Voltage.address), 0, 20000},
+    {code(sbs::RelativeStateOfCharge.address), code(sbs::RelativeStateOfCharge.address),
+     static_cast<uint16_t>(sbs::RelativeStateOfCharge.spec.min),
+     static_cast<uint16_t>(sbs::RelativeStateOfCharge.spec.max)},
+    {code(sbs::RemainingCapacity.address), code(sbs::FullChargeCapacity.address), 0, 32767},
+    {code(sbs::CellVoltage4.address), code(sbs::CellVoltage1.address), 0, 5000},
+};
+
+static_assert(sbs::RelativeStateOfCharge.hasMin && sbs::RelativeStateOfCharge.hasMax,
+              "the register map carries the SBS 1.1 RSOC range");
+static_assert(sbs::FullChargeCapacity.address == sbs::RemainingCapacity.address + 1);
+static_assert(sbs::CellVoltage1.address == sbs::CellVoltage4.address + 3);
+
+}  // namespace
+
+bool plausibleWord(uint8_t cmd, uint16_t raw) {
+  if (cmd == code(sbs::BatteryStatus.address)) {
+    return (raw & ~regmap::bq4050::bits::BatteryStatus::fields_mask) == 0;
+  }
+  for (const Limit& l : kLimits) {
+    if (cmd >= l.first && cmd <= l.last) return raw >= l.lo && raw <= l.hi;
+  }
+  return true;
+}
+
+}  // namespace fw::drivers::bq4050
