@@ -34,4 +34,21 @@ uint32_t __aeabi_uidiv(uint32_t numerator, uint32_t denominator) {
   return static_cast<uint32_t>(__aeabi_uidivmod(numerator, denominator));
 }
 
+// Signed division on the same unsigned loop, instead of libgcc's 460-byte __divsi3. C semantics: the
+// quotient truncates toward zero and the remainder takes the numerator's sign (RTABI 4.3.1).
+uint64_t __aeabi_idivmod(int32_t numerator, int32_t denominator) {
+  const bool negN = numerator < 0;
+  const bool negD = denominator < 0;
+  const uint32_t n = negN ? 0U - static_cast<uint32_t>(numerator) : static_cast<uint32_t>(numerator);
+  const uint32_t d = negD ? 0U - static_cast<uint32_t>(denominator) : static_cast<uint32_t>(denominator);
+  const auto qr = bsp::mspm0::runtime::udivmod(n, d);
+  const uint32_t q = negN != negD ? 0U - qr.quotient : qr.quotient;
+  const uint32_t r = negN ? 0U - qr.remainder : qr.remainder;
+  return q | (static_cast<uint64_t>(r) << 32);
+}
+
+int32_t __aeabi_idiv(int32_t numerator, int32_t denominator) {
+  return static_cast<int32_t>(static_cast<uint32_t>(__aeabi_idivmod(numerator, denominator)));
+}
+
 }  // extern "C"

@@ -55,6 +55,7 @@ struct Mspm0g3507 {
   static constexpr Pin kPb0{1, 0, 12};    // BQ79616 nFAULT (TI example), BQ76952 ALERT here
   static constexpr Pin kPb21{1, 21, 49};  // LaunchPad button S2
   static constexpr Pin kPb22{1, 22, 50};  // LaunchPad RGB LED (LED2), one channel
+  static constexpr Pin kPb26{1, 26, 57};  // LaunchPad RGB LED (LED2) red channel; fault output of the images
 };
 
 }  // namespace bsp::mspm0::chip

@@ -30,6 +30,7 @@ constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chi
 constinit GpioEdgeInput alert(Chip::kPb0, Edge::Falling, Pull::Up);
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);
+constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
                        McanBus::kNbtp500k});
 
@@ -37,7 +38,7 @@ constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
 
-constinit Board instance{clock, watchdog, i2c, alert, button, led, can, fw::Status::NotReady};
+constinit Board instance{clock, watchdog, i2c, alert, button, led, faultOut, can, fw::Status::NotReady};
 
 }  // namespace
 
@@ -50,6 +51,7 @@ void bringUp() {
   powerGpioPort(kGpioaBase);
   powerGpioPort(kGpioaBase + kGpioPortStride);
   led.init(false);
+  faultOut.init(true);  // asserted until the application has measured the pack and released it
   clock.start();
   i2c.init();
   alert.init();

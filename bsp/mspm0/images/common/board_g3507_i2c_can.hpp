@@ -6,8 +6,9 @@
 //        rate and stretch limit from the image's board_config.hpp; ALERT of the monitor on PB0 (falling
 //        edge, pull-up)
 //   CANFD0 TX PA12, RX PA13 to the TCAN1046 (seed 001), CANCLK = HFXT 40 MHz (PA5/PA6)
-//   button S2 PB21 (falling edge, pull-up), LED PB22 (LED2 channel)
-//   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, CANFD0 IRQ 6, INT_GROUP1 IRQ 1 (GPIOB)
+//   button S2 PB21 (falling edge, pull-up), LED PB22 (LED2 channel), fault output PB26 (LED2 red, high =
+//   fault) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, CANFD0 IRQ 6, INT_GROUP1 IRQ 1
+//   (GPIOB)
 //
 // Contract: bringUp() runs once in thread mode: clocks (SYSOSC 32 MHz, HFXT for CAN), GPIO power, the
 // scheduler clock, the bus, CAN and the watchdog. `canStatus` says whether CAN came up (Ok) or not (the
@@ -27,12 +28,13 @@ namespace image {
 struct Board {
   fw::hal::Clock& clock;
   fw::hal::Watchdog& watchdog;
-  fw::hal::I2cBus& i2c;        // the monitor's or gauge's bus (I2C0)
-  fw::hal::EdgeInput& alert;   // ALERT (BQ76952) on PB0; unused by the BQ4050 image unless wired
-  fw::hal::EdgeInput& button;  // LaunchPad S2
-  fw::hal::DigitalOut& led;    // LaunchPad LED
-  fw::hal::CanBus& can;        // results out, 500 kbit/s
-  fw::Status canStatus;        // set by bringUp()
+  fw::hal::I2cBus& i2c;           // the monitor's or gauge's bus (I2C0)
+  fw::hal::EdgeInput& alert;      // ALERT (BQ76952) on PB0; unused by the BQ4050 image unless wired
+  fw::hal::EdgeInput& button;     // LaunchPad S2
+  fw::hal::DigitalOut& led;       // LaunchPad LED
+  fw::hal::DigitalOut& faultOut;  // fault output PB26 (high = fault): LED2 red, BoosterPack header
+  fw::hal::CanBus& can;           // results out, 500 kbit/s
+  fw::Status canStatus;           // set by bringUp()
 };
 
 Board& board();

@@ -56,6 +56,7 @@ constinit UartLink link(
 constinit GpioEdgeInput nfault(Chip::kPb0, Edge::Falling, Pull::Up);
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);
+constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
                        McanBus::kNbtp500k});
 
@@ -63,7 +64,7 @@ constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 GpioEdgeInput* const kEdgeInputs[] = {&nfault, &button};
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
 
-constinit Board instance{clock, watchdog, link, nfault, button, led, can, fw::Status::NotReady};
+constinit Board instance{clock, watchdog, link, nfault, button, led, faultOut, can, fw::Status::NotReady};
 
 }  // namespace
 
@@ -76,6 +77,7 @@ void bringUp() {
   powerGpioPort(kGpioaBase);
   powerGpioPort(kGpioaBase + kGpioPortStride);
   led.init(false);
+  faultOut.init(true);  // asserted until the application has measured the pack and released it
   clock.start();
   link.init();
   nfault.init();

@@ -6,7 +6,7 @@
 //                     back-channel jumpers must be removed)
 //     UART1_PA8_PA9   (TI's SDK example):        UART1 TX PA8, RX PA9 (IRQ 13)
 //     1 Mbaud 8N1, RX on DMA channel 0, TX on DMA channel 1, TIMG6 (IRQ 17) times pings and RX timeouts
-//   nFAULT PB0 (falling edge, pull-up), button S2 PB21, LED PB22
+//   nFAULT PB0 (falling edge, pull-up), button S2 PB21, LED PB22, fault output PB26 (LED2 red, high = fault)
 //   CANFD0 TX PA12, RX PA13 to the TCAN1046, CANCLK = HFXT 40 MHz (PA5/PA6)
 //   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, CANFD0 IRQ 6, INT_GROUP1 IRQ 1 (GPIOB)
 //
@@ -26,12 +26,13 @@ namespace image {
 struct Board {
   fw::hal::Clock& clock;
   fw::hal::Watchdog& watchdog;
-  fw::hal::Uart& bq79616;      // daisy-chain base link, 1 Mbaud, with pings
-  fw::hal::EdgeInput& nfault;  // BQ79616 nFAULT
-  fw::hal::EdgeInput& button;  // LaunchPad S2
-  fw::hal::DigitalOut& led;    // LaunchPad LED
-  fw::hal::CanBus& can;        // results out, 500 kbit/s
-  fw::Status canStatus;        // set by bringUp()
+  fw::hal::Uart& bq79616;         // daisy-chain base link, 1 Mbaud, with pings
+  fw::hal::EdgeInput& nfault;     // BQ79616 nFAULT
+  fw::hal::EdgeInput& button;     // LaunchPad S2
+  fw::hal::DigitalOut& led;       // LaunchPad LED
+  fw::hal::DigitalOut& faultOut;  // fault output PB26 (high = fault): LED2 red, BoosterPack header
+  fw::hal::CanBus& can;           // results out, 500 kbit/s
+  fw::Status canStatus;           // set by bringUp()
 };
 
 Board& board();
