@@ -4,7 +4,9 @@
 //   3 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
 //   2 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery
 //   1 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
-// The same object runs on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
+// The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
+// The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
+// which the caller provides as a zero-initialised static object: no start-up code fills them.
 #pragma once
 
 #include <cstdint>
@@ -24,8 +26,15 @@ namespace fw::app {
 struct Bq79616AppConfig {
   drivers::bq79616::ChainConfig chain{};
   Duration scanPeriod = ms(100);
+  const ProtectionConfig* limits = nullptr;  // null: kDefaultLimits (default_limits.hpp)
   CanLayout layout = CanLayout::Native;
   Duration recoveryInterval = s(1);  // at most one recovery attempt per interval
+};
+
+struct Bq79616Storage {
+  BoardSample samples[drivers::bq79616::kMaxDevices];
+  int16_t raw[drivers::bq79616::kMaxDevices][drivers::bq79616::kCellsPerDevice];
+  drivers::bq79616::DeviceRecord records[drivers::bq79616::kMaxDevices];
 };
 
 struct MonitorStats {
@@ -33,10 +42,8 @@ struct MonitorStats {
   uint32_t scanFailures = 0;  // scans that did not validate every device
   uint32_t earlyScans = 0;    // scans started by the fault line
   uint32_t scanOverruns = 0;  // scan periods that came while the previous scan was still running
-  uint32_t bringUps = 0;
-  uint32_t recoveries = 0;  // recovery operations run
-  Duration lastScan{};      // duration of the last scan
-  Duration worstScan{};
+  uint32_t recoveries = 0;    // bring-up and recovery operations run
+  Duration lastScan{};        // duration of the last scan
 };
 
 class Bq79616Monitor final : public sched::Task {
@@ -44,8 +51,8 @@ class Bq79616Monitor final : public sched::Task {
   static constexpr sched::TaskId kId = 2;
 
   Bq79616Monitor(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
-                 const Bq79616AppConfig& config, std::span<BoardSample> samples, int16_t (*raw)[16],
-                 PackView& view, sched::TaskId protection, sched::TaskId publisher);
+                 const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view,
+                 sched::TaskId protection, sched::TaskId publisher);
 
   void start();
   void run(sched::EventMask events) override;
@@ -56,34 +63,29 @@ class Bq79616Monitor final : public sched::Task {
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFault = 0x4, kScanTick = 0x8, kRetry = 0x10;
-  enum class Phase : uint8_t { BringUp, Running, Waiting, Recovering };
-  enum class Op : uint8_t { None, BringUp, Scan, Recovery };
+  enum class Phase : uint8_t { BringUp, Running, Recovering };
   void startNext(Instant now);
   void finished(Instant now);
-  void publishScan();
+  void publishScan(Instant now);
 
   sched::Scheduler& scheduler_;
   const Bq79616AppConfig& config_;
   drivers::bq79616::Chain chain_;
   hal::EdgeInput& nfault_;
-  std::span<BoardSample> samples_;
-  int16_t (*raw_)[16];
+  Bq79616Storage& store_;
   PackView& view_;
   sched::TaskId protection_;
   sched::TaskId publisher_;
   sched::Timer scanTimer_;
   sched::Timer retryTimer_;
   Phase phase_ = Phase::BringUp;
-  Op op_ = Op::None;
+  bool scanning_ = false;
   bool scanDue_ = false;
   bool retryDue_ = true;  // bring-up starts at once
   bool early_ = false;
   uint8_t failedInRow_ = 0;
   Instant opStarted_{};
-  Instant lastRecovery_{};
-  bool recoveredOnce_ = false;
   MonitorStats stats_;
-  drivers::bq79616::DeviceRecord records_[drivers::bq79616::kMaxDevices];
   drivers::bq79616::ScanSummary summary_;
 };
 
@@ -98,7 +100,8 @@ class Bq79616App {
   static constexpr sched::TaskId kProtectionId = 3;
   static constexpr sched::TaskId kPublisherId = 1;
 
-  Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config);
+  Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config,
+             Bq79616Storage& storage);
   void start();
 
   const PackView& pack() const { return view_; }
@@ -109,9 +112,7 @@ class Bq79616App {
 
  private:
   Bq79616AppConfig config_;
-  ProtectionConfig limits_;
-  BoardSample samples_[drivers::bq79616::kMaxDevices];
-  int16_t raw_[drivers::bq79616::kMaxDevices][16];
+  const ProtectionConfig& limits_;
   PackView view_;
   PublishStatus status_;
   FramePlan plan_;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 namespace fw::can {
 
@@ -41,6 +42,27 @@ constexpr uint32_t get(const std::array<uint8_t, 8>& data, uint16_t start, uint8
     pos = bigEndian ? nextMotorolaBit(pos) : static_cast<uint16_t>(pos + 1);
   }
   return value;
+}
+
+// One signal slot of a message: where it sits. The generated packers keep a constexpr table of these per
+// message and pack all of a frame's values with one call, so every message shares one packing loop.
+struct Field {
+  uint8_t start;
+  uint8_t length;
+  bool bigEndian;
+};
+
+// Out-of-line packing loop (can_bits.cpp): one copy in the image, however many messages use it.
+void packRuntime(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values, uint8_t count);
+
+constexpr void pack(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values,
+                    uint8_t count) {
+  if (std::is_constant_evaluated()) {
+    for (uint8_t i = 0; i < count; ++i)
+      put(data, fields[i].start, fields[i].length, fields[i].bigEndian, values[i]);
+  } else {
+    packRuntime(data, fields, values, count);
+  }
 }
 
 constexpr int32_t signExtend(uint32_t value, uint8_t length) {

@@ -5,13 +5,17 @@
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
 // Current waits for two samples (load steps are real but brief); a discharge over-current latches until
 // cleared. Stale data and lost communication open both paths.
+//
+// One constant table (in flash, referenced, never copied) for the 100 ms scan period every image uses.
 #pragma once
 
 #include "app/protection.hpp"
 
 namespace fw::app {
 
-constexpr ProtectionConfig defaultLimits(Duration scanPeriod) {
+inline constexpr Duration kScanPeriod = ms(100);
+
+constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   ProtectionConfig c{};
   auto set = [&c](FaultId id, Rule r) { c.rules[static_cast<uint8_t>(id)] = r; };
   set(FaultId::CellOvervoltage, {true, 4250, 4150, 1, {}, false, Action::AllOff});
@@ -27,5 +31,7 @@ constexpr ProtectionConfig defaultLimits(Duration scanPeriod) {
   c.commLossScans = 3;
   return c;
 }
+
+inline constexpr ProtectionConfig kDefaultLimits = makeDefaultLimits(kScanPeriod);
 
 }  // namespace fw::app

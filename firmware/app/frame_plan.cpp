@@ -45,11 +45,9 @@ void FramePlan::skipEmpty() {
         step_ = kDone;
         break;
       case kTiCells:
-        if (pack_.rawCells == nullptr) {
-          step_ = kDone;
-          break;
-        }
-        return;
+        if (pack_.rawCells != nullptr) return;
+        step_ = kDone;
+        break;
       default:
         return;
     }
@@ -57,107 +55,75 @@ void FramePlan::skipEmpty() {
 }
 
 bool FramePlan::build(Instant now, hal::CanFrame& out) {
-  // Extremes over the boards that are Valid now.
-  int32_t maxCell = 0, minCell = 0, maxTemp = 0, minTemp = 0;
-  uint16_t maxCellAt = 0, minCellAt = 0, maxTempAt = 0, minTempAt = 0;
-  int32_t packMv = 0;
-  bool any = false, anyTemp = false;
-  const bool needExtremes = step_ == kSummary || step_ == kExtremes || step_ == kTempExtremes;
-  for (uint16_t b = 0; needExtremes && b < pack_.boards.size(); ++b) {
-    const BoardSample& s = pack_.boards[b];
-    if (boardStatus(s, now, staleAfter_) != BoardStatus::Valid) continue;
-    for (uint8_t c = 0; c < pack_.cellsPerBoard; ++c) {
-      const int32_t v = s.cellMv[c];
-      const uint16_t at = static_cast<uint16_t>(b * kMaxCellsPerBoard + c);
-      packMv += v;
-      if (!any || v > maxCell) maxCell = v, maxCellAt = at;
-      if (!any || v < minCell) minCell = v, minCellAt = at;
-      any = true;
-    }
-    for (uint8_t t = 0; t < pack_.tempsPerBoard; ++t) {
-      const int32_t v = s.tempDeciK[t];
-      const uint16_t at = static_cast<uint16_t>(b * kMaxTempsPerBoard + t);
-      if (!anyTemp || v > maxTemp) maxTemp = v, maxTempAt = at;
-      if (!anyTemp || v < minTemp) minTemp = v, minTempAt = at;
-      anyTemp = true;
-    }
-  }
+  // Each case fills the raw values of one message in its field order (can/bms.hpp kFields); one call packs
+  // them, so every message costs only its stores and all share one packing loop.
+  uint32_t v[9] = {};  // the longest message (PackSummary) has nine fields
+  const can::Field* fields = nullptr;
+  uint8_t count = 0;
+  uint32_t id = 0;
+  auto use = [&](const auto& table, uint32_t messageId) {
+    fields = table;
+    count = static_cast<uint8_t>(sizeof table / sizeof table[0]);
+    id = messageId;
+  };
+  static_assert(sizeof bms::PackSummary::kFields / sizeof(can::Field) <= 9);
 
+  // Totals of the last scan go out only while that scan is fresh: never an old value as a current one.
+  const PackTotals& t = pack_.totals;
+  const bool fresh = elapsed(t.takenAt, now) <= staleAfter_;
   switch (step_) {
-    case kSummary: {
-      bms::PackSummary m;
-      m.packVoltage = clampU16((packMv + 5) / 10);
-      const bool currentOk = any && pack_.hasCurrent;
-      m.packCurrent = currentOk ? clampI16(pack_.currentMa / 10) : 0;
-      m.stateOfCharge = any ? pack_.stateOfCharge : 255;
-      m.chargeFet = status_.chargeOn ? 1 : 0;
-      m.dischargeFet = status_.dischargeOn ? 1 : 0;
-      m.faultOutput = status_.faultOutput ? 1 : 0;
-      m.dataValid = any ? 1 : 0;
-      m.counter = static_cast<uint8_t>(counter_ & 0xF);
-      m.activeFaults = status_.active;
-      out = m.pack();
-      return true;
-    }
-    case kExtremes: {
-      bms::CellExtremes m;
-      if (any) {
-        m.maxCellVoltage = clampU16(maxCell), m.maxCellIndex = maxCellAt;
-        m.minCellVoltage = clampU16(minCell), m.minCellIndex = minCellAt;
+    case kSummary:
+      use(bms::PackSummary::kFields, bms::PackSummary::kId);
+      if (fresh && t.cells) {
+        v[0] = clampU16((t.packMv + 5) / 10);
+        v[1] = static_cast<uint16_t>(pack_.hasCurrent ? clampI16(pack_.currentMa / 10) : 0);
+        v[6] = 1;  // DataValid
       }
-      out = m.pack();
-      return true;
-    }
-    case kEvent: {
-      bms::ProtectionEvent m;
-      m.activeFaults = status_.active;
-      m.newlyTripped = status_.pendingTripped;
-      m.newlyCleared = status_.pendingCleared;
-      m.commErrors = status_.commErrors;
-      out = m.pack();
-      return true;
-    }
-    case kCells: {
-      const BoardSample& s = pack_.boards[board_];
-      const BoardStatus st = boardStatus(s, now, staleAfter_);
-      bms::CellVoltages m;
-      m.board = static_cast<uint8_t>(board_);
-      m.frameIndex = frame_;
-      m.status = static_cast<uint8_t>(st);
-      for (uint8_t k = 0; k < 3; ++k) {
-        const uint8_t c = static_cast<uint8_t>(frame_ * 3 + k);
-        m.cell[k] = (st == BoardStatus::Valid && c < pack_.cellsPerBoard) ? clampU16(s.cellMv[c]) : 0;
-      }
-      out = m.pack();
-      return true;
-    }
+      v[2] = (fresh && t.cells) ? pack_.stateOfCharge : 255;
+      v[3] = status_.chargeOn;
+      v[4] = status_.dischargeOn;
+      v[5] = status_.faultOutput;
+      v[7] = counter_ & 0xFU;
+      v[8] = status_.active;
+      break;
+    case kExtremes:
+      use(bms::CellExtremes::kFields, bms::CellExtremes::kId);
+      if (fresh && t.cells)
+        v[0] = clampU16(t.maxCell), v[1] = t.maxCellAt, v[2] = clampU16(t.minCell), v[3] = t.minCellAt;
+      break;
+    case kTempExtremes:
+      use(bms::TemperatureExtremes::kFields, bms::TemperatureExtremes::kId);
+      if (fresh && t.temps)
+        v[0] = clampU16(t.maxTemp), v[1] = clampU16(t.minTemp), v[2] = t.maxTempAt, v[3] = t.minTempAt;
+      break;
+    case kEvent:
+      use(bms::ProtectionEvent::kFields, bms::ProtectionEvent::kId);
+      v[0] = status_.active, v[1] = status_.pendingTripped, v[2] = status_.pendingCleared,
+      v[3] = status_.commErrors;
+      break;
+    case kCells:
     case kTemps: {
+      // Board, frame index, status, then three slots of cells or temperatures (zero unless Valid).
+      const bool cells = step_ == kCells;
+      if (cells) {
+        use(bms::CellVoltages::kFields, bms::CellVoltages::kId);
+      } else {
+        use(bms::Temperatures::kFields, bms::Temperatures::kId);
+      }
       const BoardSample& s = pack_.boards[board_];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
-      bms::Temperatures m;
-      m.board = static_cast<uint8_t>(board_);
-      m.frameIndex = frame_;
-      m.status = static_cast<uint8_t>(st);
+      const uint8_t items = cells ? pack_.cellsPerBoard : pack_.tempsPerBoard;
+      v[0] = board_, v[1] = frame_, v[2] = static_cast<uint8_t>(st);
       for (uint8_t k = 0; k < 3; ++k) {
-        const uint8_t t = static_cast<uint8_t>(frame_ * 3 + k);
-        m.temp[k] = (st == BoardStatus::Valid && t < pack_.tempsPerBoard) ? clampU16(s.tempDeciK[t]) : 0;
+        const auto i = static_cast<uint8_t>(frame_ * 3 + k);
+        if (st == BoardStatus::Valid && i < items) v[3 + k] = clampU16(cells ? s.cellMv[i] : s.tempDeciK[i]);
       }
-      out = m.pack();
-      return true;
-    }
-    case kTempExtremes: {
-      bms::TemperatureExtremes m;
-      if (anyTemp) {
-        m.maxTemperature = clampU16(maxTemp), m.maxTemperatureIndex = maxTempAt;
-        m.minTemperature = clampU16(minTemp), m.minTemperatureIndex = minTempAt;
-      }
-      out = m.pack();
-      return true;
+      break;
     }
     case kTiCells: {
-      // Top of stack first: slot 0 is the highest board. Skip boards that are not Valid.
+      // Top of stack first: slot 0 is the highest board. Boards that are not Valid are left out.
       while (board_ < pack_.boards.size()) {
-        const uint16_t b = static_cast<uint16_t>(pack_.boards.size() - 1 - board_);
+        const auto b = static_cast<uint16_t>(pack_.boards.size() - 1 - board_);
         if (boardStatus(pack_.boards[b], now, staleAfter_) == BoardStatus::Valid) break;
         ++board_;
       }
@@ -165,18 +131,18 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
         step_ = kDone;
         return false;
       }
-      const uint16_t b = static_cast<uint16_t>(pack_.boards.size() - 1 - board_);
-      const int16_t* raw = pack_.rawCells + b * kMaxCellsPerBoard;
-      bms::TiCellVoltages m;
+      use(bms::TiCellVoltages::kFields, bms::TiCellVoltages::kId);
+      const int16_t* raw = pack_.rawCells + (pack_.boards.size() - 1 - board_) * kMaxCellsPerBoard;
       for (uint8_t k = 0; k < 4; ++k)
-        m.vCell[k] = raw[15 - (frame_ * 4 + k)];  // cells 16..1
-      out = m.pack();
-      return true;
+        v[k] = static_cast<uint16_t>(raw[15 - (frame_ * 4 + k)]);  // cells 16..1
+      break;
     }
     case kDone:
       return false;
   }
-  return false;
+  out = hal::CanFrame{id, false, 8, {}};
+  can::pack(out.data, fields, v, count);
+  return true;
 }
 
 void FramePlan::advance() {

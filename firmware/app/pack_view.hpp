@@ -24,12 +24,28 @@ inline constexpr uint8_t kMaxTempsPerBoard = 4;
 
 enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPresent = 3 };
 
+// All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {
-  Instant takenAt{};               // when the values were measured (end of the validated transaction)
-  Status last = Status::NotReady;  // outcome of the latest attempt to measure this board
-  bool valid = false;              // the values are from a validated measurement (possibly an old one)
-  int16_t cellMv[kMaxCellsPerBoard]{};
-  int16_t tempDeciK[kMaxTempsPerBoard]{};
+  Instant takenAt;  // when the values were measured (end of the validated transaction)
+  Status last;      // outcome of the latest attempt to measure this board (meaningful once attempted)
+  bool attempted;   // the monitor has tried to measure this board at least once
+  bool valid;       // the values are from a validated measurement (possibly an old one)
+  int16_t cellMv[kMaxCellsPerBoard];
+  int16_t tempDeciK[kMaxTempsPerBoard];
+};
+
+// The pack at a glance, computed by the monitor once per scan (summarize()) so that protection and the
+// publishers do not each walk every board: totals and extremes over the boards that validated in that scan,
+// and the age of the oldest board's data (a board never measured counts from start-up).
+struct PackTotals {
+  Instant takenAt;  // end of the scan these totals describe
+  Instant oldest;   // oldest takenAt among all boards (Instant{0} if any board never validated)
+  bool cells;       // at least one board validated in the scan
+  bool temps;
+  int32_t packMv;  // sum of the validated cells
+  int16_t maxCell, minCell, maxTemp, minTemp;
+  uint16_t maxCellAt, minCellAt;  // board * kMaxCellsPerBoard + cell (0-based)
+  uint16_t maxTempAt, minTempAt;  // board * kMaxTempsPerBoard + sensor (0-based)
 };
 
 struct PackView {
@@ -43,11 +59,15 @@ struct PackView {
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
   // LSB), for the TI-compatible CAN layout, which carries raw codes. Null when the monitor has none.
   const int16_t* rawCells = nullptr;
+  PackTotals totals{};
 };
 
+// Recomputes view.totals from the boards whose last attempt validated; `scanEnd` is when the scan ended.
+void summarize(PackView& view, Instant scanEnd);
+
 constexpr BoardStatus boardStatus(const BoardSample& b, Instant now, Duration staleAfter) {
-  if (b.last != Status::Ok) return b.valid ? BoardStatus::CommFault : BoardStatus::NotPresent;
-  if (!b.valid) return BoardStatus::NotPresent;
+  if (!b.attempted || !b.valid) return BoardStatus::NotPresent;
+  if (b.last != Status::Ok) return BoardStatus::CommFault;
   return elapsed(b.takenAt, now) > staleAfter ? BoardStatus::Stale : BoardStatus::Valid;
 }
 

@@ -1,45 +1,14 @@
 #include "app/protection.hpp"
 
 namespace fw::app {
-namespace {
-
-struct Extremes {
-  int32_t maxCell = INT32_MIN, minCell = INT32_MAX;
-  int32_t maxTemp = INT32_MIN, minTemp = INT32_MAX;
-  bool cells = false, temps = false, current = false;
-};
-
-// Extremes over the boards whose data is Valid now; the oldest board's age for the staleness rule.
-Extremes extremes(const PackView& pack, Instant now, Duration staleAfter, uint32_t& oldestUs) {
-  Extremes e;
-  oldestUs = 0;
-  for (size_t b = 0; b < pack.boards.size(); ++b) {
-    const BoardSample& s = pack.boards[b];
-    const uint32_t age = s.valid ? elapsed(s.takenAt, now).us : now.us;  // never valid: since start-up
-    if (age > oldestUs) oldestUs = age;
-    if (boardStatus(s, now, staleAfter) != BoardStatus::Valid) continue;
-    for (uint8_t c = 0; c < pack.cellsPerBoard; ++c) {
-      const int16_t v = s.cellMv[c];
-      if (v > e.maxCell) e.maxCell = v;
-      if (v < e.minCell) e.minCell = v;
-      e.cells = true;
-    }
-    for (uint8_t t = 0; t < pack.tempsPerBoard; ++t) {
-      const int16_t v = s.tempDeciK[t];
-      if (v > e.maxTemp) e.maxTemp = v;
-      if (v < e.minTemp) e.minTemp = v;
-      e.temps = true;
-    }
-    if (b == 0) e.current = pack.hasCurrent;
-  }
-  return e;
-}
-
-constexpr bool isUpperLimit(FaultId id) {
-  return id == FaultId::CellOvervoltage || id == FaultId::ChargeOvercurrent || id == FaultId::Overtemperature;
-}
-
-}  // namespace
+// The six value limits come first in FaultId order, alternating upper and lower limits, so one loop handles
+// them all.
+static_assert(static_cast<uint8_t>(FaultId::CellOvervoltage) == 0 &&
+              static_cast<uint8_t>(FaultId::CellUndervoltage) == 1 &&
+              static_cast<uint8_t>(FaultId::ChargeOvercurrent) == 2 &&
+              static_cast<uint8_t>(FaultId::DischargeOvercurrent) == 3 &&
+              static_cast<uint8_t>(FaultId::Overtemperature) == 4 &&
+              static_cast<uint8_t>(FaultId::Undertemperature) == 5);
 
 void Protection::update(FaultId id, bool present, bool absent, Instant now, ProtectionState& out) {
   const uint8_t i = static_cast<uint8_t>(id);
@@ -83,44 +52,18 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
     ++failedScans_;
   }
 
-  uint32_t oldestUs = now.us;  // no pack yet: everything is as old as the firmware
-  Extremes e;
-  if (in.pack != nullptr) e = extremes(*in.pack, now, config_.staleAfter, oldestUs);
-
-  if (in.fresh && in.pack != nullptr) {
-    for (uint8_t i = 0; i < kFaultCount; ++i) {
-      const auto id = static_cast<FaultId>(i);
+  const PackTotals* t = in.pack != nullptr ? &in.pack->totals : nullptr;
+  if (in.fresh && t != nullptr) {
+    const bool current = in.pack->hasCurrent && t->cells;
+    const int32_t value[6] = {t->maxCell,         t->minCell, in.pack->currentMa,
+                              in.pack->currentMa, t->maxTemp, t->minTemp};
+    const bool known[6] = {t->cells, t->cells, current, current, t->temps, t->temps};
+    for (uint8_t i = 0; i < 6; ++i) {
       const Rule& rule = config_.rules[i];
-      if (!rule.enabled) continue;
-      bool known = true;
-      int32_t value = 0;
-      switch (id) {
-        case FaultId::CellOvervoltage:
-          value = e.maxCell, known = e.cells;
-          break;
-        case FaultId::CellUndervoltage:
-          value = e.minCell, known = e.cells;
-          break;
-        case FaultId::ChargeOvercurrent:
-          value = in.pack->currentMa, known = e.current;
-          break;
-        case FaultId::DischargeOvercurrent:
-          value = in.pack->currentMa, known = e.current;
-          break;
-        case FaultId::Overtemperature:
-          value = e.maxTemp, known = e.temps;
-          break;
-        case FaultId::Undertemperature:
-          value = e.minTemp, known = e.temps;
-          break;
-        default:
-          continue;  // device and freshness rules are evaluated below
-      }
-      if (!known) continue;
-      const bool upper = isUpperLimit(id);
-      const bool present = upper ? value >= rule.trip : value <= rule.trip;
-      const bool absent = upper ? value < rule.clear : value > rule.clear;
-      update(id, present, absent, now, out);
+      if (!rule.enabled || !known[i]) continue;
+      const bool upper = (i & 1U) == 0;  // Ov, ChargeOc, Ot are upper limits; Uv, DischargeOc, Ut lower
+      update(static_cast<FaultId>(i), upper ? value[i] >= rule.trip : value[i] <= rule.trip,
+             upper ? value[i] < rule.clear : value[i] > rule.clear, now, out);
     }
   }
 
@@ -135,7 +78,8 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   // answered counts from start-up); comm loss after consecutive failed scans.
   const Rule& stale = config_.rules[static_cast<uint8_t>(FaultId::StaleData)];
   if (stale.enabled) {
-    const bool isStale = oldestUs > config_.staleAfter.us;
+    const uint32_t age = t != nullptr ? elapsed(t->oldest, now).us : now.us;
+    const bool isStale = age > config_.staleAfter.us;
     update(FaultId::StaleData, isStale, !isStale, now, out);
   }
   const Rule& comm = config_.rules[static_cast<uint8_t>(FaultId::CommLoss)];

@@ -49,7 +49,7 @@ void ProtectionTask::apply(const ProtectionState& st, Instant now) {
       }
     }
     if ((st.newlyTripped & b) != 0 && logCount_ < kLogSize) {
-      log_[logCount_++] = ProtectionRecord{static_cast<FaultId>(i), now, {}, false, false};
+      log_[logCount_++] = ProtectionRecord{static_cast<FaultId>(i), false, false, now, {}};
     }
   }
 

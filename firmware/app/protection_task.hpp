@@ -46,12 +46,12 @@ class FaultPinActuator final : public Actuator {
   bool active_;
 };
 
-struct ProtectionRecord {
-  FaultId fault = FaultId::CellOvervoltage;
-  Instant detected{};
-  Instant acted{};
-  bool actionDone = false;  // acted holds when the FET-off / fault output took effect
-  bool cleared = false;
+struct ProtectionRecord {  // all-zero until written: the log needs no constructor
+  FaultId fault;
+  bool actionDone;  // `acted` holds when the FET-off / fault output took effect
+  bool cleared;
+  Instant detected;
+  Instant acted;
 };
 
 class ProtectionTask final : public sched::Task {
@@ -92,7 +92,7 @@ class ProtectionTask final : public sched::Task {
   bool dischargeOn_ = false;
   bool requested_ = false;  // a request has been made since start()
   bool pendingAction_ = false;
-  ProtectionRecord log_[kLogSize];
+  ProtectionRecord log_[kLogSize]{};
   size_t logCount_ = 0;
   uint32_t evaluations_ = 0;
 };

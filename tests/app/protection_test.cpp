@@ -43,7 +43,7 @@ struct Sampler {
   std::vector<int16_t> temps = std::vector<int16_t>(2, 2982);
   int32_t current = 0;
   bool deviceFault = false;
-  fw::app::BoardSample board;
+  fw::app::BoardSample board{};
   fw::app::PackView view;
 
   const fw::app::PackView* pack() {
@@ -59,20 +59,25 @@ struct Sampler {
   ProtectionInputs fresh(uint32_t tMs) {
     board.takenAt = fw::Instant{tMs * 1000};
     board.last = fw::Status::Ok;
-    board.valid = true;
-    for (size_t i = 0; i < cells.size(); ++i) board.cellMv[i] = cells[i];
-    for (size_t i = 0; i < temps.size(); ++i) board.tempDeciK[i] = temps[i];
+    board.attempted = board.valid = true;
+    for (size_t i = 0; i < cells.size(); ++i)
+      board.cellMv[i] = cells[i];
+    for (size_t i = 0; i < temps.size(); ++i)
+      board.tempDeciK[i] = temps[i];
     ProtectionInputs in;
     in.fresh = true;
     in.pack = pack();
+    fw::app::summarize(view, board.takenAt);  // what a monitor does after each scan
     return in;
   }
   // A scan attempt that failed.
   ProtectionInputs failed() {
     board.last = fw::Status::Timeout;
+    board.attempted = true;
     ProtectionInputs in;
     in.scanFailed = true;
     in.pack = pack();
+    fw::app::summarize(view, board.takenAt);
     return in;
   }
   // A periodic check with no new scan.
@@ -266,12 +271,13 @@ TEST(Protection, FaultLineTripsDeviceSafetyWithoutWaitingForAScan) {
 TEST(Protection, OnlyValidBoardsFeedTheLimitsAndALostBoardGoesStale) {
   const auto cfg = baseConfig();
   Protection p(cfg);
-  fw::app::BoardSample boards[2];
+  fw::app::BoardSample boards[2]{};
   for (auto& b : boards) {
-    b.valid = true;
+    b.valid = b.attempted = true;
     b.last = fw::Status::Ok;
     b.takenAt = at(0);
-    for (int c = 0; c < 4; ++c) b.cellMv[c] = 3700;
+    for (int c = 0; c < 4; ++c)
+      b.cellMv[c] = 3700;
   }
   boards[1].last = fw::Status::NoResponse;  // board 1 stopped answering; its old values must not count
   boards[1].cellMv[0] = 1000;
@@ -283,9 +289,11 @@ TEST(Protection, OnlyValidBoardsFeedTheLimitsAndALostBoardGoesStale) {
   in.pack = &view;
   for (uint32_t t = 0; t <= 400; t += 100) {
     boards[0].takenAt = at(t);
+    fw::app::summarize(view, at(t));
     EXPECT_EQ(p.evaluate(in, at(t)).active, 0) << t;  // no undervoltage from the lost board's old cell
   }
   boards[0].takenAt = at(600);
+  fw::app::summarize(view, at(600));
   EXPECT_EQ(p.evaluate(in, at(600)).active, bit(FaultId::StaleData)) << "board 1's data is 600 ms old";
 }
 

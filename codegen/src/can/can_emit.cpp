@@ -101,20 +101,24 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
       if (!s.description.empty()) out << ": " << s.description;
       out << "\n";
     }
-    out << "\n  constexpr hal::CanFrame pack() const {\n"
-        << "    hal::CanFrame f{kId, kExtended, kDlc, {}};\n";
+    // Packing is table-driven: the message's fields (every slot of a group) and one shared loop.
+    out << "\n  static constexpr can::Field kFields[] = {";
+    bool firstField = true;
+    std::string values;
     for (const Signal& s : m.signals) {
       const std::string field = lowerFirst(s.name);
-      const std::string be = s.bigEndian ? "true" : "false";
-      if (s.isGroup()) {
-        out << "    for (uint8_t k = 0; k < " << s.count << "; ++k) can::put(f.data, " << s.start << " + k * "
-            << s.length << ", " << s.length << ", " << be << ", static_cast<uint32_t>(" << field
-            << "[k]));\n";
-      } else {
-        out << "    can::put(f.data, " << s.start << ", " << s.length << ", " << be
-            << ", static_cast<uint32_t>(" << field << "));\n";
+      for (uint32_t k = 0; k < s.count; ++k) {
+        out << (firstField ? "" : ", ") << "{" << s.slotStart(k) << ", " << s.length << ", "
+            << (s.bigEndian ? "true" : "false") << "}";
+        values += std::string(firstField ? "" : ", ") + "static_cast<uint32_t>(" + field +
+                  (s.isGroup() ? "[" + std::to_string(k) + "]" : "") + ")";
+        firstField = false;
       }
     }
+    out << "};\n\n  constexpr hal::CanFrame pack() const {\n"
+        << "    const uint32_t values[] = {" << values << "};\n"
+        << "    hal::CanFrame f{kId, kExtended, kDlc, {}};\n"
+        << "    can::pack(f.data, kFields, values, sizeof values / sizeof values[0]);\n";
     out << "    return f;\n  }\n\n"
         << "  static constexpr " << m.name << " unpack(const hal::CanFrame& f) {\n"
         << "    " << m.name << " m{};\n";

@@ -284,6 +284,7 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     if (sigs != nullptr && !sigs->isSeq()) {
       diag.error(sigs->loc, where + ": signals must be a sequence");
     } else if (sigs != nullptr) {
+      if (sigs->items.empty()) diag.error(sigs->loc, where + ": a message needs at least one signal");
       for (const Node& s : sigs->items)
         m.signals.push_back(buildSignal(s, where, diag));
     }

@@ -34,7 +34,7 @@ class Bq79616Sim final : public ImageSim {
         setTempDeciK(b, t, 2982);
     }
     app_ = std::make_unique<fw::app::Bq79616App>(
-        h_.sched, fw::app::Bq79616App::Io{uart_, nfault_, can_, faultOut_}, config_);
+        h_.sched, fw::app::Bq79616App::Io{uart_, nfault_, can_, faultOut_}, config_, *storage_);
     app_->start();
   }
 
@@ -100,7 +100,7 @@ class Bq79616Sim final : public ImageSim {
     f.outputFrames = can_.sent().size();
     f.output = "can";
     fillPackFigures(f, app_->pack(), status(), fw::Instant{static_cast<uint32_t>(h_.nowUs())},
-                    fw::app::defaultLimits(config_.scanPeriod).staleAfter);
+                    fw::app::kDefaultLimits.staleAfter);
     return f;
   }
 
@@ -140,6 +140,7 @@ class Bq79616Sim final : public ImageSim {
   bsp::host::SimCan can_;
   bsp::host::SimDigitalOut faultOut_;
   fw::app::Bq79616AppConfig config_;
+  std::unique_ptr<fw::app::Bq79616Storage> storage_ = std::make_unique<fw::app::Bq79616Storage>();
   std::unique_ptr<fw::app::Bq79616App> app_;
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;
