@@ -1,0 +1,227 @@
+// Bq769xEmulator: a BQ76952 (BQ769x2 family) or BQ76905/BQ76907 (BQ7690x) battery monitor on the simulated
+// I2C bus, with two faces in the Zephyr manner (STYLE.md section 3-4):
+//   bus face      bsp::host::I2cTarget: attach it to a SimI2cBus at 0x08. It behaves like the chip on the
+//                 wire: the 128-byte direct-command space with auto-increment on reads and writes, the
+//                 subcommand window (0x3E/0x3F read FF FF while a command runs, then echo it; the result in
+//                 0x40..0x5F with the checksum at 0x60 and the length at 0x61), data memory through the same
+//                 window, writes committed by 0x60/0x61 only when checksum and length are right, data-memory
+//                 writes accepted only in CONFIG_UPDATE, Alarm Status write-1-to-clear, and the optional
+//                 per-byte CRC-8 (a wrong CRC from the host is refused with a NACK and the write dropped).
+//   backend face  the methods below, for tests and the simulator: set cell voltages, current, temperatures;
+//                 read back data memory, FET states, balancing, CONFIG_UPDATE; watch the ALERT output;
+//                 inject faults.
+// Time comes from the SimClock: a subcommand's result appears after its latency (Timing), CONFIG_UPDATE
+// entry and exit take their own time, the device's COV/CUV protections trip after their configured delay
+// and release below threshold minus hysteresis, and the emulator stretches SCL where Timing says so. Wire
+// time itself is SimI2cBus's business.
+//
+// Register facts come from the generated register maps (regmap/bq769x2*.hpp, regmap/bq7690x*.hpp); data
+// memory starts at the maps' defaults. Where the maps have no default that the protections need (BQ7690x
+// COV/CUV thresholds), the protection stays off until the host writes one. Assumptions that no TI document
+// gives (latencies, boot time) are Timing fields, so a test states them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "core/time.hpp"
+#include "sim/i2c_target.hpp"
+#include "sim/sim_clock.hpp"
+
+namespace bsp::host {
+
+// Assumed device timings (no TI document gives them; tests state the ones they rely on).
+struct Bq769xTiming {
+  fw::Duration subcommand = fw::us(400);  // write of 0x3E/0x3F until the echo (typical command)
+  fw::Duration dataMemory = fw::us(600);  // data-memory read until the echo
+  fw::Duration iromSig = fw::us(8500);    // IROM_SIG, the slowest (LibreSolar: ~8.5 ms)
+  fw::Duration configUpdate = fw::ms(1);  // SET_CFGUPDATE / EXIT_CFGUPDATE until the flag changes
+  fw::Duration boot = fw::ms(2);          // after a reset: every address is NACKed for this long
+  fw::Duration ackStretch{};              // SCL stretch on every address ACK (0: none)
+  bool nackFirstAfterPowerUp = false;     // the first transaction after power-up is NACKed (E2E 1515940)
+};
+
+class Bq769xEmulator final : public I2cTarget {
+ public:
+  enum class Model : uint8_t { Bq76952, Bq76907, Bq76905 };
+
+  using Timing = Bq769xTiming;
+
+  Bq769xEmulator(SimClock& clock, Model model = Model::Bq76952, Timing timing = {});
+
+  // --- bus face --------------------------------------------------------------------------------------------
+  I2cReply onStart(bool read) override;
+  I2cReply onWrite(uint8_t byte) override;
+  uint8_t onRead(fw::Duration& stretch) override;
+  void onStop() override;
+  void onBusRecovery() override;
+
+  // --- backend: measurements -------------------------------------------------------------------------------
+  void setCellMv(uint8_t cell, int16_t mv);  // cell 1..16 (1..7 on BQ7690x)
+  void setAllCellsMv(int16_t mv);
+  int16_t cellMv(uint8_t cell) const { return cells_.at(cell - 1); }
+  void setCurrentMa(int32_t ma);       // charge positive; CC2 saturates at the int16 range in userA
+  void setStackOverride(int16_t raw);  // fixes Stack Voltage (raw units) instead of the cell sum
+  void setPackLd(int16_t packRaw, int16_t ldRaw);
+  void setIntTemp(int16_t raw);            // BQ769x2: 0.1 K; BQ7690x: degC
+  void setTs(uint8_t index, int16_t raw);  // TS1..TS3 (index 0..2) in 0.1 K; BQ7690x: index 0 = TS counts
+  void setDeviceNumber(uint16_t number) { deviceNumber_ = number; }
+  void setCrc(bool on) { crc_ = on; }  // the device's Comm Type CRC setting ("OTP": survives resets)
+  bool crc() const { return crc_; }
+  // Completes an ADC scan: sets Alarm Raw Status FULLSCAN/ADSCAN (latched into Alarm Status if enabled).
+  void completeScan();
+
+  // --- backend: observation --------------------------------------------------------------------------------
+  uint8_t reg(uint8_t cmd);  // a direct-command byte as the host would read it now
+  uint32_t dataMemory(uint16_t address, uint8_t size) const;
+  void setDataMemory(uint16_t address, uint32_t value, uint8_t size);
+  bool inConfigUpdate() const { return cfgUpdate_; }
+  bool fetEnabled() const { return fetEn_; }  // FET_EN (0 = FET test mode)
+  bool chgFet() const { return chgOn_; }
+  bool dsgFet() const { return dsgOn_; }
+  // Cells being balanced, bit 0 = cell 1 (whatever the family's CB_ACTIVE_CELLS layout).
+  uint16_t balancing() const { return static_cast<uint16_t>(bq7690x() ? cbActive_ >> 1 : cbActive_); }
+  uint16_t alarmStatus() const { return alarmStatus_; }
+  uint8_t safetyStatusA() const { return safetyStatusA_; }
+  uint8_t safetyAlertA() const { return safetyAlertA_; }
+  bool alertAsserted() const { return alertAsserted_; }
+  // ALERT output: called with true when the pin asserts (Alarm Status became non-zero) and false when it
+  // releases. The simulator wires it to a SimEdgeInput (active low: drive(!asserted)).
+  void onAlert(std::function<void(bool asserted)> hook) { alertHook_ = std::move(hook); }
+  // Every subcommand or data-memory address the device executed or served, in order.
+  const std::vector<uint16_t>& executed() const { return executed_; }
+  // 0x60/0x61 commits refused: wrong checksum or length, data memory outside CONFIG_UPDATE.
+  uint32_t rejectedWrites() const { return rejectedWrites_; }
+  uint32_t resets() const { return resets_; }
+  Model model() const { return model_; }
+
+  // --- backend: power and faults ---------------------------------------------------------------------------
+  void powerOn();                       // power-on reset (POR); arms nackFirstAfterPowerUp
+  void reset();                         // what RESET (0x0012) does: registers and data memory to defaults
+  void nackNext(int transactions = 1);  // NACK the address of the next transactions
+  void setMuted(bool muted) { muted_ = muted; }  // NACK every address while muted (device gone, comm loss)
+  void stretchNext(fw::Duration d);              // stretch SCL once, on the next byte of any kind
+  // Flips bit 0 of byte `wireIndex` (a data or CRC byte) of a read: the first read long enough, after
+  // skipping `skipReads` read transactions.
+  void corruptNextRead(uint8_t wireIndex, int skipReads = 0);
+  void wrongLengthNext(uint8_t length);  // the next subcommand result reports this 0x61 length
+  void wrongChecksumNext();              // the next subcommand result carries a wrong 0x60 checksum
+  // The next result's echo appears `lag` before its buffer, checksum and length are updated.
+  void staleBufferNext(fw::Duration lag = fw::ms(2));
+  void resetAfterBytes(int bytes);  // the device resets after that many more bytes on the bus
+  void setLatency(uint16_t code, fw::Duration d) { latencyOverride_ = {code, d}; }
+
+ private:
+  struct Pending {
+    uint8_t addr;
+    uint8_t value;
+  };
+
+  bool bq7690x() const { return model_ != Model::Bq76952; }
+  uint8_t cellCount() const;
+  void refresh();
+  void put16(uint8_t cmd, uint16_t v);
+  void commit();
+  void startCommand(uint16_t code);
+  void complete(uint16_t code);
+  void fillResult(uint16_t code, const uint8_t* data, uint8_t n, uint8_t reportedLen);
+  void executeWrite();
+  void update();
+  void evaluateProtections();
+  void scheduleProtection(uint64_t atUs);
+  void setAlert(bool asserted);
+  void loadDefaults();
+  void initRegisters();
+  bool dmValid(uint16_t address) const;
+  fw::Duration latencyOf(uint16_t code) const;
+
+  SimClock& clock_;
+  Model model_;
+  Timing timing_;
+  std::array<uint8_t, 128> regs_{};
+  std::vector<uint8_t> dm_;
+  std::vector<uint8_t> dmDefaults_;
+  uint16_t dmBase_ = 0;
+
+  // Measurement state
+  std::array<int16_t, 16> cells_{};
+  int32_t currentMa_ = 0;
+  bool stackOverride_ = false;
+  int16_t stackRaw_ = 0;
+  int16_t packRaw_ = -1;  // -1: follows the stack
+  int16_t ldRaw_ = -1;
+  int16_t intTemp_ = 0;
+  std::array<int16_t, 3> ts_{};
+  uint16_t deviceNumber_ = 0;
+
+  // Device state
+  bool crc_ = false;
+  bool cfgUpdate_ = false;
+  bool por_ = true;
+  bool fetEn_ = false;
+  bool hostChgOff_ = false;
+  bool hostDsgOff_ = false;
+  bool hostChgOn_ = false;  // BQ7690x FET Control CHG_ON / DSG_ON (manual mode)
+  bool hostDsgOn_ = false;
+  bool chgOn_ = false;
+  bool dsgOn_ = false;
+  uint16_t cbActive_ = 0;
+  uint16_t alarmStatus_ = 0;
+  uint16_t alarmRaw_ = 0;
+  uint16_t alarmEnable_ = 0;
+  uint8_t safetyAlertA_ = 0;
+  uint8_t safetyStatusA_ = 0;
+  bool alertAsserted_ = false;
+  uint64_t covSince_ = UINT64_MAX;
+  uint64_t cuvSince_ = UINT64_MAX;
+  SimClock::EventId protectionEvent_ = 0;
+  std::function<void(bool)> alertHook_;
+
+  // Subcommand window state
+  uint16_t running_ = 0;  // the command being executed (its result is not in the buffer yet)
+  SimClock::EventId commandEvent_ = 0;
+  SimClock::EventId bufferEvent_ = 0;
+  uint16_t writeCode_ = 0;  // a write waiting for its 0x60/0x61 commit
+  std::vector<uint8_t> writeData_;
+  bool writePending_ = false;
+
+  // Transaction state
+  bool addressed_ = false;
+  bool reading_ = false;
+  bool haveCommand_ = false;
+  bool dropped_ = false;  // a wrong CRC was received: nothing of this transaction is committed
+  bool dead_ = false;     // the device reset during this transaction
+  uint8_t ptr_ = 0;
+  uint8_t cmd_ = 0;         // the command byte of this transaction (its read CRC covers it)
+  uint8_t crcAcc_ = 0;      // running CRC of the first data byte
+  int dataIndex_ = 0;       // data bytes seen in this phase
+  bool expectCrc_ = false;  // next written byte is a CRC (CRC mode)
+  uint8_t lastData_ = 0;
+  std::vector<Pending> pending_;
+  int readIndex_ = 0;  // bytes read in this phase (wire index)
+  uint8_t readData_ = 0;
+  uint64_t bootUntil_ = 0;
+
+  // Faults
+  bool nackFirst_ = false;
+  bool muted_ = false;
+  int nackCount_ = 0;
+  fw::Duration stretchOnce_{};
+  int corruptIndex_ = -1;
+  int corruptSkip_ = 0;
+  bool corruptThis_ = false;
+  int wrongLength_ = -1;
+  bool wrongChecksum_ = false;
+  fw::Duration staleLag_{};
+  int resetAfter_ = -1;
+  std::pair<uint16_t, fw::Duration> latencyOverride_{0, {}};
+
+  std::vector<uint16_t> executed_;
+  uint32_t rejectedWrites_ = 0;
+  uint32_t resets_ = 0;
+};
+
+}  // namespace bsp::host

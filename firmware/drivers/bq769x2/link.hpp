@@ -1,0 +1,171 @@
+// Link: the I2C protocol shared by the BQ769x2 (BQ76952...) and BQ7690x (BQ76905/BQ76907) battery monitors,
+// as a non-blocking driver layer (drivers/operation.hpp).
+//
+// The device is an I2C target at a 7-bit address (0x08 by default: 0x10 write / 0x11 read on the wire).
+// Everything goes through its 128-byte direct-command space, which auto-increments through consecutive
+// commands on reads and writes (TI E2E 1560065: "read 32 bytes from 0x14 and it will read all of the cell
+// voltages"), plus the subcommand window inside it:
+//   0x3E/0x3F  subcommand code or data-memory address (little-endian); both read 0xFF while it executes and
+//              echo the code once the result is ready
+//   0x40..0x5F the 32-byte transfer buffer (the result, or data to write)
+//   0x60       checksum = ~(0x3E + 0x3F + buffer bytes) & 0xFF
+//   0x61       length = buffer bytes + 4
+//
+// Operations (each: start*() returns Ok when started, Busy while another runs, InvalidArgument for a
+// malformed request; then onEvent() until Progress::Done, then result()):
+//   startRead(cmd, len, at, delay)  one transaction: S addr+W cmd Sr addr+R [len bytes] P. The bytes land in
+//                                   data() (data()[0] = the byte of `cmd`) at scratch offset `at`, so a
+//                                   caller can gather several reads in one buffer. `delay` waits first (a
+//                                   poll interval) without blocking.
+//   startWrite(cmd, bytes)          one transaction: S addr+W cmd bytes... P (1..kMaxWriteData bytes)
+//   startSubcommand(code, await)    command-only subcommand: S addr+W 3E lo hi P, then (await) the echo poll
+//                                   as below, so the command has run before the next one is written (a new
+//                                   0x3E write while one runs would replace it). Without await it ends at the
+//                                   write: for RESET, SHUTDOWN and DEEPSLEEP, after which the device does not
+//                                   echo. Effects are for the caller to verify (e.g. the CFGUPDATE flag).
+//   startSubcommandRead(code, len)  write 3E lo hi; poll 3E/3F every pollInterval until it echoes `code`
+//                                   (at most maxPolls polls: Timeout; any other echo than FF FF or the code:
+//                                   EchoMismatch); read 0x40..0x61 (32 + checksum + length); the length must
+//                                   be 4..36 and cover `len` data bytes (Length); the checksum is checked
+//                                   over the code and the whole buffer the device reports (Checksum).
+//                                   data()[0..len) is the result; reported() the data bytes the device
+//                                   reported (FW_VERSION reports more than it fills). A data-memory read is
+//                                   the same at its address.
+//   startSubcommandWrite(code, b)   write 3E lo hi b... then 60 checksum length (length = bytes + 4): the two
+//                                   writes TI's SLUAA11B section 3 shows. A data-memory write is the same at
+//                                   its address; the device ignores it unless it is in CONFIG_UPDATE.
+//
+// CRC mode (Comm Type with CRC; BQ7695202 ships with it on): every data byte on the wire is followed by a
+// CRC-8 (poly 0x07, init 0): the first one covers every byte since START including the data byte (for a read
+// also addr+R), every later one only its own data byte (SLUAA11B / SLUAAM4 section 4). The link adds them to
+// writes and checks and strips them on reads (Crc); a device in CRC mode refuses a wrong CRC with a NACK.
+//
+// Failures and retries. A transaction ends in Ok, Nack (address), DataNack, Timeout (clock stretch beyond the
+// bus limit, or no echo within the budget), BusStuck, ArbitrationLost, Crc, Checksum, Length or
+// EchoMismatch. Any of them restarts the whole operation from its first byte (the register address is
+// resent: a continued read would start wherever the auto-increment pointer stopped, LibreSolar #53) after
+// retryDelay, up to `retries` more times; then the operation ends with the last failure. One NACK after
+// power-up is therefore absorbed (E2E 1515940). Every wait is bounded: a bus transaction by the I2cBus
+// contract (wire time + stretch limit), every other wait by this driver's timer.
+//
+// Memory: one scratch buffer (kScratchBytes) that holds the longest read with its CRC bytes; the data stay
+// there until the next operation starts (data() is only meaningful after an Ok result).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "core/status.hpp"
+#include "core/time.hpp"
+#include "drivers/operation.hpp"
+#include "hal/i2c_bus.hpp"
+#include "sched/timer.hpp"
+
+namespace fw::drivers::bq769x2 {
+
+inline constexpr uint8_t kDefaultAddress = 0x08;  // 7-bit; 0x10/0x11 on the wire
+inline constexpr uint8_t kCmdSubcommand = 0x3E;
+inline constexpr uint8_t kCmdBuffer = 0x40;
+inline constexpr uint8_t kCmdChecksum = 0x60;
+inline constexpr uint8_t kBufferBytes = 32;                  // 0x40..0x5F
+inline constexpr uint8_t kWindowBytes = kBufferBytes + 2;    // 0x40..0x61: buffer, checksum, length
+inline constexpr uint8_t kMaxReadBytes = 50;                 // the longest direct read (scan: 0x0A..0x3B)
+inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC after every byte
+inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
+
+struct LinkConfig {
+  uint8_t address = kDefaultAddress;
+  bool crc = false;       // per-byte CRC-8 on the wire (must match the device's Comm Type)
+  uint8_t retries = 2;    // extra attempts of a failed operation
+  uint8_t maxPolls = 40;  // echo polls of a subcommand read: 40 x 250 us >= 10 ms (IROM_SIG takes ~8.5 ms)
+  Duration retryDelay = us(500);
+  Duration pollInterval = us(250);
+};
+
+// Every Status a link attempt can fail with is below this one (Busy, Nack ... EchoMismatch).
+inline constexpr uint8_t kLinkStatusCount = static_cast<uint8_t>(Status::EchoMismatch) + 1;
+
+// Link statistics since construction (never reset by the driver).
+struct LinkStats {
+  uint32_t transactions = 0;               // I2C transactions started
+  uint32_t retries = 0;                    // whole-operation restarts
+  uint32_t polls = 0;                      // echo polls that found the device still busy
+  uint16_t errors[kLinkStatusCount] = {};  // failed attempts per Status (Nack, Crc, Checksum, ...)
+};
+
+class Link {
+ public:
+  Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config);
+  Link(const Link&) = delete;
+  Link& operator=(const Link&) = delete;
+
+  Status startRead(uint8_t cmd, uint8_t len, uint8_t at = 0, Duration delay = {});
+  Status startWrite(uint8_t cmd, std::span<const uint8_t> bytes);
+  Status startSubcommand(uint16_t code, bool awaitEcho = true);
+  Status startSubcommandRead(uint16_t code, uint8_t len);
+  Status startSubcommandWrite(uint16_t code, std::span<const uint8_t> bytes);
+
+  sched::EventMask events() const { return ctx_.events(); }
+  Progress onEvent(sched::EventMask events);
+
+  bool busy() const { return op_ != Op::Idle; }
+  Status result() const { return result_; }
+  const uint8_t* data() const { return scratch_ + at_; }
+  uint8_t* scratch() { return scratch_; }
+  uint8_t reported() const { return reported_; }
+  bool crc() const { return crc_; }
+  void setCrc(bool on) { crc_ = on; }  // when idle (the CRC-mode probe)
+  const LinkStats& stats() const { return stats_; }
+
+ private:
+  enum class Op : uint8_t { Idle, Read, Write, SubWrite, SubRead, Sub };
+  enum class Phase : uint8_t { Main, Poll, Fetch, Commit };
+  enum class Wait : uint8_t { None, Bus, Timer };
+
+  Status request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8_t len);
+  void phase(Phase p);
+  void transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen);
+  void onBus();
+  void fail(Status s);
+  void finish(Status s);
+  void wait(Duration d);
+
+  // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register.
+  Op op_ = Op::Idle;
+  Phase phase_ = Phase::Main;
+  Wait wait_ = Wait::None;
+  Status result_ = Status::Ok;
+  bool crc_;
+  uint8_t address_;
+  uint8_t retries_;
+  uint8_t maxPolls_;
+  uint8_t len_ = 0;
+  uint8_t at_ = 0;
+  uint8_t attempt_ = 0;
+  uint8_t polls_ = 0;
+  uint8_t reported_ = 0;
+  uint8_t dataLen_ = 0;
+  uint16_t code_ = 0;  // subcommand code or data-memory address; the command byte of a direct access
+  hal::I2cBus& bus_;
+  DriverContext ctx_;
+  Duration retryDelay_;
+  Duration pollInterval_;
+  Duration delay_{};
+  hal::I2cTransaction txn_;
+  sched::Timer timer_;
+  uint8_t data_[2 + kMaxWriteData];          // code lo, hi, then the data of a write
+  uint8_t tx_[1 + 2 * (kMaxWriteData + 2)];  // command byte + data with CRCs
+  LinkStats stats_;
+  uint8_t scratch_[kScratchBytes];
+};
+
+// The transfer checksum: ~(sum of the code bytes and the data) & 0xFF (SLUUBY2B section 13.1).
+constexpr uint8_t transferChecksum(uint16_t code, const uint8_t* data, size_t n) {
+  uint8_t sum = static_cast<uint8_t>(code + (code >> 8));
+  for (size_t i = 0; i < n; ++i)
+    sum = static_cast<uint8_t>(sum + data[i]);
+  return static_cast<uint8_t>(~sum);
+}
+
+}  // namespace fw::drivers::bq769x2

@@ -1,0 +1,121 @@
+// What a scan of a BQ769x2 (BQ76952...) or BQ7690x (BQ76905/BQ76907) monitor produces: the device's own
+// register image of the measurement set, typed with the generated register-map accessors.
+//
+// Each record is the bytes of the direct commands a scan reads, in the order the scan reads them (the
+// device sends every value little-endian, and both the Cortex-M0+ and the host are little-endian, so the
+// validated bytes are the record: no per-field decoding code). Fields are the generated value types:
+//   m.reg.safetyStatusA.cuv(), m.reg.batteryStatus.cfgupdate(), m.reg.fetStatus.chg_fet()
+// A record is written only by a scan whose every transaction validated (CRC when enabled, plausibility of
+// the reserved bits and signs the device always keeps clear), and takenAt is the end of its last
+// transaction. Units (integers; converters below):
+//   cell voltages  mV, signed (an input with no cell can read slightly negative)
+//   stack/pack/LD  BQ769x2: userV (DA Configuration[USER_VOLTS_CV]: 10 mV by default); BQ7690x stack: mV
+//   current        CC2, signed userA (DA Configuration[USER_AMPS]: 1 mA by default), charge positive;
+//                  at 1 mA it saturates at +-32.767 A (LibreSolar 7b0bb23): pick the unit for the pack
+//   temperatures   BQ769x2: 0.1 K; BQ7690x internal: 1 degC (regmaps/README.md deviation 7), TS: counts
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/time.hpp"
+#include "regmap/bq7690x.hpp"
+#include "regmap/bq769x2.hpp"
+
+namespace fw::drivers::bq769x2 {
+
+static_assert(std::endian::native == std::endian::little, "records are the device's little-endian bytes");
+
+namespace map = ::fw::regmap::bq769x2;
+namespace map7690x = ::fw::regmap::bq7690x;
+
+inline constexpr uint8_t kMaxCells = 16;
+
+// BQ769x2 direct commands 0x0A..0x3B, 0x62..0x75, 0x02..0x07 and 0x7F (SLUUBY2B chapter 12), in that order.
+struct Bq769x2Registers {
+  // 0x0A..0x11
+  map::bits::PfA pfAlertA;
+  map::bits::PfA pfStatusA;
+  map::bits::PfB pfAlertB;
+  map::bits::PfB pfStatusB;
+  map::bits::PfAlertC pfAlertC;
+  map::bits::PfStatusC pfStatusC;
+  map::bits::PfD pfAlertD;
+  map::bits::PfD pfStatusD;
+  map::bits::BatteryStatus batteryStatus;  // 0x12
+  int16_t cellMv[kMaxCells];               // 0x14..0x33
+  int16_t stack;                           // 0x34 userV
+  int16_t pack;                            // 0x36 userV
+  int16_t ld;                              // 0x38 userV
+  int16_t current;                         // 0x3A CC2, userA
+  // 0x62..0x75
+  map::bits::Alarm alarmStatus;  // latched (write 1 to clear), drives ALERT
+  map::bits::Alarm alarmRaw;
+  map::bits::Alarm alarmEnable;
+  int16_t intTemp;  // 0x68, 0.1 K
+  int16_t cfetoffTemp;
+  int16_t dfetoffTemp;
+  int16_t alertTemp;
+  int16_t ts[3];  // TS1..TS3, 0.1 K (0 when the pin is not a thermistor input)
+  // 0x02..0x07
+  map::bits::SafetyA safetyAlertA;
+  map::bits::SafetyA safetyStatusA;
+  map::bits::SafetyB safetyAlertB;
+  map::bits::SafetyB safetyStatusB;
+  map::bits::SafetyAlertC safetyAlertC;
+  map::bits::SafetyC safetyStatusC;
+  map::bits::FetStatus fetStatus;  // 0x7F: what the FETs are doing (never the host's intent)
+};
+static_assert(offsetof(Bq769x2Registers, batteryStatus) == 8 && offsetof(Bq769x2Registers, current) == 48);
+static_assert(offsetof(Bq769x2Registers, alarmStatus) == 50 && offsetof(Bq769x2Registers, ts) == 64);
+static_assert(offsetof(Bq769x2Registers, safetyAlertA) == 70 && offsetof(Bq769x2Registers, fetStatus) == 76);
+
+struct Bq769x2Measurement {
+  Instant takenAt{};
+  Bq769x2Registers reg{};
+  // Any enabled protection or permanent-fail flag the device reports as tripped.
+  bool deviceFault() const {
+    return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw() | reg.safetyStatusC.raw() |
+            reg.pfStatusA.raw() | reg.pfStatusB.raw() | reg.pfStatusC.raw() | reg.pfStatusD.raw()) != 0;
+  }
+};
+
+// BQ7690x direct commands 0x12..0x2B, 0x62..0x67, 0x3A..0x3B and 0x02..0x05 (SLUUCI8/SLUUCJ0), in that order.
+struct Bq7690xRegisters {
+  map7690x::bits::BatteryStatus batteryStatus;  // 0x12
+  int16_t cellMv[7];                            // 0x14..0x21 (cells 6-7: BQ76907 only)
+  int16_t reg18;                                // 0x22 counts
+  int16_t vss;                                  // 0x24 counts
+  int16_t stack;                                // 0x26 mV
+  int16_t intTemp;                              // 0x28 degC (see the header)
+  int16_t ts;                                   // 0x2A counts
+  map7690x::bits::Alarm alarmStatus;            // 0x62
+  map7690x::bits::Alarm alarmRaw;
+  map7690x::bits::Alarm alarmEnable;
+  int16_t current;                        // 0x3A CC2, userA
+  map7690x::bits::SafetyA safetyAlertA;   // 0x02
+  map7690x::bits::SafetyA safetyStatusA;  // 0x03
+  uint8_t safetyAlertB;                   // 0x04 (no layout found: regmaps/README.md deviation 10)
+  uint8_t safetyStatusB;                  // 0x05
+};
+static_assert(offsetof(Bq7690xRegisters, alarmStatus) == 26 && offsetof(Bq7690xRegisters, current) == 32);
+static_assert(offsetof(Bq7690xRegisters, safetyStatusB) == 37);
+
+struct Bq7690xMeasurement {
+  Instant takenAt{};
+  Bq7690xRegisters reg{};
+  bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB) != 0; }
+};
+
+// Milliamps from a CC2 reading in userA: lsbTenthMilliamp is the userA LSB in 0.1 mA (1, 10, 100 or 1000
+// for DA Configuration[USER_AMPS] = 0..3).
+constexpr int32_t currentMa(int16_t userA, int32_t lsbTenthMilliamp = 10) {
+  return static_cast<int32_t>(userA) * lsbTenthMilliamp / 10;
+}
+// Millivolts from a stack/pack/LD reading in userV (10 mV per LSB unless USER_VOLTS_CV is cleared).
+constexpr int32_t userVoltsMv(int16_t userV, int32_t lsbMillivolt = 10) {
+  return static_cast<int32_t>(userV) * lsbMillivolt;
+}
+
+}  // namespace fw::drivers::bq769x2

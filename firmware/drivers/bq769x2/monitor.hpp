@@ -1,0 +1,225 @@
+// Monitor: a BQ769x2 (BQ76952, BQ76942, ...) or BQ7690x (BQ76905, BQ76907) battery monitor on I2C, as a
+// non-blocking driver (drivers/operation.hpp) built on the shared protocol layer (link.hpp).
+//
+// One class serves both families; a Variant (kBq76952, kBq76907, kBq76905) holds what differs: the scan's
+// direct commands, the plausibility checks, where CFGUPDATE and FET_EN are reported, how FETs are driven,
+// the CB_ACTIVE_CELLS width and the cell count. The typed front ends Bq769x2 and Bq7690x add the
+// family's measurement record.
+//
+// Operations (start*() returns Ok when started, Busy while another operation runs, InvalidArgument for a
+// malformed request; then forward events to onEvent() until Progress::Done; result() is the final Status;
+// nothing is written to an output unless the operation ends in Ok):
+//   startProbe(id)        DEVICE_NUMBER and FW_VERSION through the subcommand window (echo, length and
+//                         checksum checked). A NACK right after power-up is retried like any failure
+//                         (E2E 1515940). With MonitorConfig::probeCrc the first attempt is made without CRC
+//                         (a device with CRC on NACKs it cleanly at its missing CRC byte; a CRC-framed write
+//                         to a device without CRC would land as data), and on DataNack, Crc, Checksum,
+//                         Length or EchoMismatch the probe tries once more with CRC on. id.crc tells which
+//                         mode answered; the link keeps it. BQ7695202 ships with CRC on (E2E 1049966).
+//   startConfigure(set)   the CONFIG_UPDATE transaction (SLUUBY2B 13.1, SLUAA11B section 3): read every
+//                         setting and compare; if all match, end Ok without entering CONFIG_UPDATE (it stops
+//                         protections and FETs). Otherwise SET_CFGUPDATE (0x0090), poll Battery Status until
+//                         CFGUPDATE is set (Timeout), write each setting that differed and read it back
+//                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
+//                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
+//                         the first failure. At most 32 settings; written() counts the writes.
+//   startScan(m)          (typed front ends) the measurement set in 4 block reads (BQ76952: 0x0A..0x3B,
+//                         0x62..0x75, 0x02..0x07, 0x7F; BQ7690x: 0x12..0x2B, 0x62..0x67, 0x3A, 0x02..0x05).
+//                         A read that needed a retry makes the whole scan start over once (a snapshot is
+//                         never stitched across a disturbance). Reserved bits set or a negative stack voltage
+//                         or temperature (what a released SDA reads: 0xFF) end it with Implausible.
+//   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff. BQ769x2: the subcommands
+//                         ALL_FETS_ON 0x0096, ALL_FETS_OFF 0x0095, DSG_PDSG_OFF 0x0093, CHG_PCHG_OFF 0x0094.
+//                         BQ7690x: FET Control written from the intent (CHG_OFF bit 3, DSG_OFF bit 2,
+//                         SLUUCJ0). fetIntent() is the host's last accepted command, kept apart from the
+//                         FET status the device reports (FET_CONTROL is documented wrongly, E2E 1453973:
+//                         the driver never writes a status back as a command).
+//   startFetEnable()      leaves FET test mode: reads FET_EN (BQ769x2 MANUFACTURINGSTATUS bit 4, BQ7690x
+//                         Battery Status bit 8) and only if it is 0 sends FET_ENABLE (0x0022, which
+//                         toggles it) and checks it reads 1 (VerifyFailed). Never toggles it off.
+//   startBalance(cells)   CB_ACTIVE_CELLS (0x0083) = bit mask of cells (bit 0 = cell 1; the BQ7690x puts
+//                         cell 1 at bit 1 on the wire, SLUAAM4 2.4 / E2E 1572792), read back (VerifyFailed).
+//                         Cells beyond the variant's count are InvalidArgument, and so are adjacent cells
+//                         unless MonitorConfig::allowAdjacentBalancing: the device itself never balances
+//                         neighbours autonomously and two adjacent cells double the current through the
+//                         shared input resistor (E2E 1505209). 0 stops balancing.
+// The link (link()) may be used directly for raw operations while the monitor is idle (bmsctl, diagnostics);
+// onEvent() forwards to it either way. The configuration is copied at construction; the settings table
+// passed to startConfigure() and the output of a running operation must stay valid until it ends.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "core/assert.hpp"
+#include "drivers/bq769x2/link.hpp"
+#include "drivers/bq769x2/measurement.hpp"
+#include "hal/clock.hpp"
+#include "regmap/descriptor.hpp"
+
+namespace fw::drivers::bq769x2 {
+
+// One data-memory setting of a configuration table. Build it with setting() from a generated descriptor.
+struct Setting {
+  uint16_t address;
+  uint8_t size;  // 1, 2 or 4
+  uint32_t value;
+};
+
+// A setting from a data-memory descriptor and a value of its type; a value outside the TRM's min..max is a
+// compile error in a constexpr table (and an assert at run time).
+template <regmap::ConfigUpdateOnly D>
+requires regmap::FixedSize<D> &&(D::size <= 4) constexpr Setting setting(D d, typename D::value_type value) {
+  const auto bytes = regmap::encode(d, value);
+  uint32_t raw = 0;
+  for (size_t i = 0; i < D::size; ++i)
+    raw |= static_cast<uint32_t>(bytes[i]) << (8 * i);
+  if constexpr (std::is_integral_v<typename D::value_type>) {
+    FW_ASSERT_MODULE(::fw::Module::DriverBq769x2, regmap::inRange(d, value));
+  }
+  return Setting{static_cast<uint16_t>(D::address), static_cast<uint8_t>(D::size), raw};
+}
+
+struct ScanBlock {
+  uint8_t cmd;
+  uint8_t len;
+};
+struct Check {
+  uint8_t offset;  // byte of the record
+  uint8_t mask;    // bits that must read 0
+};
+
+struct Variant {
+  ScanBlock blocks[4];
+  const Check* checks;
+  uint8_t checkCount;
+  uint8_t cells;
+  uint8_t cfgUpdateMask;  // in Battery Status low byte
+  uint8_t fetEnByte;      // FET_EN: byte and mask of ...
+  uint8_t fetEnMask;
+  uint16_t fetEnCode;     // ... this subcommand's result, or of Battery Status when 0
+  uint8_t fetControlCmd;  // BQ7690x FET Control direct command; 0: BQ769x2 FET subcommands
+  uint8_t cbBytes;        // CB_ACTIVE_CELLS width
+  uint8_t cbShift;        // CB_ACTIVE_CELLS bit of cell 1 (BQ7690x: bit 1, E2E 1572792)
+};
+
+extern const Variant kBq76952;  // also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record)
+extern const Variant kBq76907;
+extern const Variant kBq76905;
+
+struct MonitorConfig {
+  LinkConfig link{};
+  bool probeCrc = false;                // startProbe tries both CRC modes
+  bool allowAdjacentBalancing = false;  // see startBalance
+  uint8_t cfgPolls = 40;                // Battery Status polls for CFGUPDATE, one per link pollInterval
+};
+
+struct Identity {
+  uint16_t deviceNumber = 0;  // DEVICE_NUMBER: 0x7695 BQ76952, 0x7694 BQ76942, 0x7605 BQ76905, 0x7607 ...
+  uint8_t fw[6] = {};         // FW_VERSION as read: three big-endian words (SLUUBY2B, SLUUCJ0)
+  bool crc = false;           // the CRC mode the device answered in
+  uint16_t fwDevice() const { return static_cast<uint16_t>((fw[0] << 8) | fw[1]); }
+  uint16_t fwVersion() const { return static_cast<uint16_t>((fw[2] << 8) | fw[3]); }
+  uint16_t fwBuild() const { return static_cast<uint16_t>((fw[4] << 8) | fw[5]); }
+};
+
+enum class FetCommand : uint8_t { AllOn, AllOff, DischargeOff, ChargeOff };
+
+struct FetIntent {
+  bool chargeOff = false;     // the host asked for CHG (and PCHG) off
+  bool dischargeOff = false;  // the host asked for DSG (and PDSG) off
+};
+
+class Monitor {
+ public:
+  Monitor(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
+          const MonitorConfig& config);
+  Monitor(const Monitor&) = delete;
+  Monitor& operator=(const Monitor&) = delete;
+
+  Status startProbe(Identity& out);
+  Status startConfigure(std::span<const Setting> settings);
+  Status startFet(FetCommand command);
+  Status startFetEnable();
+  Status startBalance(uint16_t cells);
+
+  sched::EventMask events() const { return link_.events(); }
+  Progress onEvent(sched::EventMask events);
+
+  bool busy() const { return op_ != Op::Idle; }
+  Status result() const { return result_; }
+  FetIntent fetIntent() const { return intent_; }
+  uint8_t written() const { return written_; }  // settings the last startConfigure wrote
+  Link& link() { return link_; }
+  const LinkStats& stats() const { return link_.stats(); }
+  const Variant& variant() const { return variant_; }
+
+ protected:
+  Status startScan(void* record, uint8_t bytes, Instant* takenAt);
+
+ private:
+  enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, Balance };
+  Status begin(Op op, Status started);
+  void step(Status r);
+  void configStep(Status r);
+  bool matches() const;
+  Status nextSetting(bool write);
+  void writeNext();
+  void exitUpdate();
+  void pollStatus();
+  Status readStatus();
+  Status readFetEn();
+  Status sendFet();
+  FetIntent nextIntent() const;
+  void finish(Status s);
+
+  // Small fields first (short load offsets on Cortex-M0+), the link with its buffers last.
+  Op op_ = Op::Idle;
+  Status result_ = Status::Ok;
+  Status error_ = Status::Ok;  // a configure failure kept while CONFIG_UPDATE is being left
+  uint8_t step_ = 0;
+  uint8_t index_ = 0;
+  uint8_t polls_ = 0;
+  uint8_t cfgPolls_;
+  uint8_t bytes_ = 0;
+  uint8_t written_ = 0;
+  FetCommand command_ = FetCommand::AllOn;
+  FetIntent intent_{};
+  bool probeCrc_;
+  bool allowAdjacent_;
+  bool restarted_ = false;
+  uint16_t tmp_ = 0;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
+  const hal::Clock& clock_;
+  const Variant& variant_;
+  Duration pollDelay_;
+  std::span<const Setting> settings_;
+  void* out_ = nullptr;
+  Instant* takenAt_ = nullptr;
+  uint32_t diff_ = 0;
+  uint32_t scanRetries_ = 0;
+  Link link_;
+};
+
+// BQ769x2 front end (BQ76952 and its 3..10-cell siblings).
+class Bq769x2 : public Monitor {
+ public:
+  Bq769x2(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context,
+          const MonitorConfig& config = {})
+      : Monitor(bus, clock, context, kBq76952, config) {}
+  Status startScan(Bq769x2Measurement& out) {
+    return Monitor::startScan(&out.reg, sizeof(Bq769x2Registers), &out.takenAt);
+  }
+};
+
+// BQ7690x front end: variant kBq76907 (7 cells) or kBq76905 (5 cells).
+class Bq7690x : public Monitor {
+ public:
+  Bq7690x(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
+          const MonitorConfig& config = {})
+      : Monitor(bus, clock, context, variant, config) {}
+  Status startScan(Bq7690xMeasurement& out) {
+    return Monitor::startScan(&out.reg, sizeof(Bq7690xRegisters), &out.takenAt);
+  }
+};
+
+}  // namespace fw::drivers::bq769x2

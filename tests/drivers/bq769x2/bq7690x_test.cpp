@@ -1,0 +1,66 @@
+// The BQ7690x (BQ76905/BQ76907) through the same protocol layer: its own FET control (the FET Control direct
+// command written from the host's intent), FET_EN in Battery Status, 5- and 7-cell variants, CRC mode.
+#include <gtest/gtest.h>
+
+#include "rig.hpp"
+
+namespace {
+
+using namespace test769;
+
+TEST(Bq7690xDriver, ProbeAndScanWithCrc) {
+  drv::MonitorConfig config;
+  config.probeCrc = true;
+  Rig7690x r(Emu::Model::Bq76907, config);
+  r.emu.setCrc(true);
+  drv::Identity id;
+  ASSERT_EQ(r.run(r.driver.startProbe(id)), Status::Ok);
+  EXPECT_EQ(id.deviceNumber, 0x7607);
+  EXPECT_TRUE(id.crc);
+  drv::Bq7690xMeasurement m;
+  ASSERT_EQ(r.scan(m), Status::Ok);
+  EXPECT_EQ(m.reg.cellMv[2], 3093);
+  EXPECT_EQ(m.reg.intTemp, 29);
+}
+
+TEST(Bq7690xDriver, FetEnableReadsBatteryStatusAndNeverTogglesTwice) {
+  Rig7690x r;
+  ASSERT_EQ(r.run(r.driver.startFetEnable()), Status::Ok);
+  EXPECT_TRUE(r.emu.fetEnabled());
+  EXPECT_EQ(r.wire().front(), "S 10 12 Sr 11 [80 04] P");  // SEC = 1 (bit 10), POR (bit 7), no FET_EN (bit 8)
+  EXPECT_EQ(r.count("S 10 3E 22 00 P"), 1u);
+  ASSERT_EQ(r.run(r.driver.startFetEnable()), Status::Ok);
+  EXPECT_EQ(r.count("S 10 3E 22 00 P"), 1u);
+  drv::Bq7690xMeasurement m;
+  ASSERT_EQ(r.scan(m), Status::Ok);
+  EXPECT_TRUE(m.reg.batteryStatus.fet_en());
+  EXPECT_TRUE(m.reg.batteryStatus.chg() && m.reg.batteryStatus.dsg());
+}
+
+TEST(Bq7690xDriver, FetCommandsWriteFetControlFromTheIntentOnly) {
+  Rig7690x r;
+  ASSERT_EQ(r.run(r.driver.startFetEnable()), Status::Ok);
+  r.clearWire();
+  ASSERT_EQ(r.run(r.driver.startFet(drv::FetCommand::DischargeOff)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startFet(drv::FetCommand::ChargeOff)), Status::Ok);
+  EXPECT_FALSE(r.emu.chgFet() || r.emu.dsgFet());
+  ASSERT_EQ(r.run(r.driver.startFet(drv::FetCommand::AllOn)), Status::Ok);
+  EXPECT_TRUE(r.emu.chgFet() && r.emu.dsgFet());
+  ASSERT_EQ(r.run(r.driver.startFet(drv::FetCommand::AllOff)), Status::Ok);
+  EXPECT_EQ(r.wire(),
+            (std::vector<std::string>{"S 10 68 04 P", "S 10 68 0C P", "S 10 68 00 P", "S 10 68 0C P"}))
+      << "one write per command, no read of a status first";
+  EXPECT_TRUE(r.driver.fetIntent().chargeOff && r.driver.fetIntent().dischargeOff);
+}
+
+TEST(Bq7690xDriver, Bq76905HasFiveCells) {
+  Rig7690x r(Emu::Model::Bq76905);
+  r.emu.setCellMv(5, 3500);
+  drv::Bq7690xMeasurement m;
+  ASSERT_EQ(r.scan(m), Status::Ok);
+  EXPECT_EQ(m.reg.cellMv[4], 3500);
+  EXPECT_EQ(m.reg.stack, 3089 + 3082 + 3093 + 3089 + 3500);
+  EXPECT_EQ(r.driver.startBalance(0x0040), Status::InvalidArgument);
+}
+
+}  // namespace

@@ -1,0 +1,176 @@
+// Acceptance 3: the full BQ76952 measurement set in at most 6 I2C transactions and 3 ms of bus time at 400
+// kHz without CRC, measured on the simulated bus (SimI2cBus: START/STOP one bit time, 9 bit times per byte,
+// clock stretch, tBUF), with and without CRC, against TI's access pattern (SLAAEB3 / LANDSCAPE Part A section
+// 1: one 2-byte direct read per command, each a write with STOP then a separate read, a fixed 4 ms after
+// every read and 10 ms between groups). The figures are printed as REPORT lines for ./ci/test.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "rig.hpp"
+
+namespace {
+
+using namespace test769;
+
+struct Figures {
+  uint64_t transactions;
+  uint64_t busUs;
+  uint64_t elapsedUs;
+};
+
+Figures scanFigures(bool crc, drv::Bq769x2Measurement& m) {
+  Rig r(crcConfig(crc));
+  r.emu.setCrc(crc);
+  const uint64_t t0 = r.bus.transactions();
+  const uint64_t b0 = r.bus.busTimeUs();
+  const uint64_t start = r.harness.nowUs();
+  EXPECT_EQ(r.scan(m), Status::Ok);
+  return {r.bus.transactions() - t0, r.bus.busTimeUs() - b0, r.harness.nowUs() - start};
+}
+
+TEST(Bq769x2Scan, FullMeasurementSetWithinSixTransactionsAndThreeMilliseconds) {
+  drv::Bq769x2Measurement m;
+  const Figures f = scanFigures(false, m);
+  EXPECT_LE(f.transactions, 6u);
+  EXPECT_LE(f.busUs, 3000u);
+  std::printf(
+      "REPORT bq76952.scan.transactions=%llu bus_us=%llu elapsed_us=%llu crc=off (budget 6 / 3000 us)\n",
+      static_cast<unsigned long long>(f.transactions), static_cast<unsigned long long>(f.busUs),
+      static_cast<unsigned long long>(f.elapsedUs));
+
+  drv::Bq769x2Measurement mc;
+  const Figures c = scanFigures(true, mc);
+  EXPECT_LE(c.transactions, 6u);
+  std::printf("REPORT bq76952.scan.transactions=%llu bus_us=%llu elapsed_us=%llu crc=on\n",
+              static_cast<unsigned long long>(c.transactions), static_cast<unsigned long long>(c.busUs),
+              static_cast<unsigned long long>(c.elapsedUs));
+  // The same values either way.
+  EXPECT_EQ(0, std::memcmp(&m.reg, &mc.reg, sizeof m.reg));
+}
+
+TEST(Bq769x2Scan, RecordHoldsEveryValueOfTheMeasurementSet) {
+  Rig r;
+  for (uint8_t c = 1; c <= 16; ++c)
+    r.emu.setCellMv(c, static_cast<int16_t>(3600 + c));
+  r.emu.setCurrentMa(-1234);
+  r.emu.setIntTemp(3012);
+  r.emu.setTs(0, 2950);
+  r.emu.setTs(1, 2951);
+  r.emu.setTs(2, 2952);
+  r.emu.setPackLd(5000, 4999);
+  const uint64_t before = r.harness.nowUs();
+  drv::Bq769x2Measurement m;
+  ASSERT_EQ(r.scan(m), Status::Ok);
+  for (uint8_t c = 0; c < 16; ++c)
+    EXPECT_EQ(m.reg.cellMv[c], 3601 + c);
+  int sum = 0;
+  for (uint8_t c = 1; c <= 16; ++c)
+    sum += 3600 + c;
+  EXPECT_EQ(m.reg.stack, sum / 10);  // userV = 10 mV (DA Configuration default)
+  EXPECT_EQ(m.reg.pack, 5000);
+  EXPECT_EQ(m.reg.ld, 4999);
+  EXPECT_EQ(m.reg.current, -1234);
+  EXPECT_EQ(drv::currentMa(m.reg.current), -1234);
+  EXPECT_EQ(m.reg.intTemp, 3012);
+  EXPECT_EQ(m.reg.ts[0], 2950);
+  EXPECT_EQ(m.reg.ts[1], 2951);
+  EXPECT_EQ(m.reg.ts[2], 2952);
+  EXPECT_EQ(m.reg.alarmEnable.raw(), 0xF800);  // Default Alarm Mask
+  EXPECT_TRUE(m.reg.batteryStatus.por());      // not configured since power-up
+  EXPECT_FALSE(m.reg.batteryStatus.cfgupdate());
+  EXPECT_EQ(m.reg.safetyStatusA.raw(), 0);
+  EXPECT_EQ(m.reg.pfStatusA.raw() | m.reg.pfStatusB.raw() | m.reg.pfStatusC.raw() | m.reg.pfStatusD.raw(), 0);
+  EXPECT_FALSE(m.reg.fetStatus.chg_fet());  // FET test mode at power-up (Mfg Status Init FET_EN = 0)
+  EXPECT_GT(m.takenAt.us, before);
+  EXPECT_LE(m.takenAt.us, r.harness.nowUs());
+  // Exactly the four block reads (register address resent each time, repeated start, no fixed delays).
+  EXPECT_EQ(r.wire().size(), 4u);
+  EXPECT_EQ(r.count("S 10 0A Sr 11 ["), 1u);
+  EXPECT_EQ(r.count("S 10 62 Sr 11 ["), 1u);
+  EXPECT_EQ(r.count("S 10 02 Sr 11 ["), 1u);
+  EXPECT_EQ(r.count("S 10 7F Sr 11 ["), 1u);
+}
+
+// TI's bq769x2_control_i2c read pass: ReadAllVoltages (16 cells, stack, pack, LD), ReadCurrent, three TS
+// temperatures, alarm status, Safety Status A/B/C and PF Status A/B/C: 30 direct reads, each an I2C write of
+// the command with STOP, then a new START and a 2-byte read, followed by 4 ms (two delayUS(2000)); main
+// waits 10 ms between the 7 groups.
+TEST(Bq769x2Scan, TiExampleAccessPatternForComparison) {
+  Rig r;
+  static const uint8_t kGroups[][19] = {{0x14, 0x16, 0x18, 0x1A, 0x1C, 0x1E, 0x20, 0x22, 0x24, 0x26, 0x28,
+                                         0x2A, 0x2C, 0x2E, 0x30, 0x32, 0x34, 0x36, 0x38},
+                                        {0x3A},
+                                        {0x70, 0x72, 0x74},
+                                        {0x62},
+                                        {0x03, 0x05, 0x07},
+                                        {0x0B, 0x0D, 0x0F}};
+  static const uint8_t kSizes[] = {19, 1, 3, 1, 3, 3};
+  const uint64_t t0 = r.bus.transactions();
+  const uint64_t b0 = r.bus.busTimeUs();
+  const uint64_t start = r.harness.nowUs();
+  int reads = 0;
+  bool done = false;
+  auto runList = [&](std::vector<fw::hal::I2cTransaction>& list) {
+    done = false;
+    ASSERT_EQ(
+        r.bus.start(list, fw::hal::Notify{[](void* c, uint32_t) { *static_cast<bool*>(c) = true; }, &done}),
+        Status::Ok);
+    r.harness.runUntil([&] { return done; }, fw::ms(100));
+    ASSERT_EQ(list.back().status, Status::Ok);
+  };
+  uint8_t cell1[2] = {};
+  for (size_t g = 0; g < 6; ++g) {
+    for (uint8_t i = 0; i < kSizes[g]; ++i) {
+      uint8_t cmd = kGroups[g][i];
+      uint8_t rx[2] = {};
+      std::vector<fw::hal::I2cTransaction> write{{0x08, {&cmd, 1}, {}}};
+      runList(write);
+      std::vector<fw::hal::I2cTransaction> read{{0x08, {}, rx}};
+      runList(read);
+      if (cmd == 0x14) std::copy(rx, rx + 2, cell1);
+      ++reads;
+      r.harness.runFor(fw::ms(4));
+    }
+    r.harness.runFor(fw::ms(10));
+  }
+  EXPECT_EQ(reads, 30);
+  EXPECT_EQ(cell1[0] | (cell1[1] << 8), 3700);  // the pattern works, it is only slow
+  const uint64_t txns = r.bus.transactions() - t0;
+  const uint64_t bus = r.bus.busTimeUs() - b0;
+  const uint64_t elapsed = r.harness.nowUs() - start;
+  std::printf("REPORT bq76952.scan.ti_pattern.transactions=%llu bus_us=%llu elapsed_us=%llu crc=off\n",
+              static_cast<unsigned long long>(txns), static_cast<unsigned long long>(bus),
+              static_cast<unsigned long long>(elapsed));
+  drv::Bq769x2Measurement m;
+  const Figures ours = scanFigures(false, m);
+  EXPECT_LT(ours.transactions * 10, txns);  // more than ten times fewer transactions
+  EXPECT_LT(ours.busUs, bus);
+  EXPECT_LT(ours.elapsedUs * 50, elapsed);
+}
+
+TEST(Bq7690xScan, MeasurementSetOfTheBq76907InFourReads) {
+  Rig7690x r(Emu::Model::Bq76907);
+  r.emu.setCellMv(7, 3333);
+  r.emu.setCurrentMa(-250);
+  drv::Bq7690xMeasurement m;
+  const uint64_t t0 = r.bus.transactions();
+  const uint64_t b0 = r.bus.busTimeUs();
+  ASSERT_EQ(r.scan(m), Status::Ok);
+  EXPECT_EQ(r.bus.transactions() - t0, 4u);
+  EXPECT_EQ(m.reg.cellMv[0], 3089);  // SLUAAM4 script output
+  EXPECT_EQ(m.reg.cellMv[1], 3082);
+  EXPECT_EQ(m.reg.cellMv[6], 3333);
+  EXPECT_EQ(m.reg.stack, 3089 + 3082 + 3093 + 3089 + 3089 + 3089 + 3333);
+  EXPECT_EQ(m.reg.intTemp, 29);
+  EXPECT_EQ(m.reg.current, -250);
+  EXPECT_EQ(m.reg.reg18, 19153);
+  EXPECT_TRUE(m.reg.batteryStatus.por());
+  EXPECT_EQ(m.reg.safetyStatusA.raw(), 0);
+  std::printf("REPORT bq76907.scan.transactions=%llu bus_us=%llu crc=off\n",
+              static_cast<unsigned long long>(r.bus.transactions() - t0),
+              static_cast<unsigned long long>(r.bus.busTimeUs() - b0));
+}
+
+}  // namespace
