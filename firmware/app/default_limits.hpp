@@ -15,18 +15,26 @@ namespace fw::app {
 
 inline constexpr Duration kScanPeriod = ms(100);
 
+constexpr Rule limit(int32_t trip, int32_t clear, uint8_t debounce, Action action, bool latch = false) {
+  Rule r;
+  r.trip = trip, r.clear = clear, r.debounce = debounce, r.action = action, r.latch = latch, r.enabled = true;
+  return r;
+}
+
 constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   ProtectionConfig c{};
-  auto set = [&c](FaultId id, Rule r) { c.rules[static_cast<uint8_t>(id)] = r; };
-  set(FaultId::CellOvervoltage, {true, 4250, 4150, 1, {}, false, Action::AllOff});
-  set(FaultId::CellUndervoltage, {true, 2700, 2900, 1, {}, false, Action::DischargeOff});
-  set(FaultId::ChargeOvercurrent, {true, 20000, 18000, 2, {}, false, Action::ChargeOff});
-  set(FaultId::DischargeOvercurrent, {true, -40000, -35000, 2, {}, true, Action::DischargeOff});
-  set(FaultId::Overtemperature, {true, 3332, 3282, 1, {}, false, Action::AllOff});      // 60.0 / 55.0 degC
-  set(FaultId::Undertemperature, {true, 2532, 2582, 1, {}, false, Action::ChargeOff});  // -20 / -15 degC
-  set(FaultId::DeviceSafety, {true, 1, 1, 1, {}, false, Action::AllOff});
-  set(FaultId::StaleData, {true, 1, 1, 1, {}, false, Action::AllOff});
-  set(FaultId::CommLoss, {true, 1, 1, 1, {}, false, Action::AllOff});
+  c.rules[static_cast<uint8_t>(FaultId::CellOvervoltage)] = limit(4250, 4150, 1, Action::AllOff);
+  c.rules[static_cast<uint8_t>(FaultId::CellUndervoltage)] = limit(2700, 2900, 1, Action::DischargeOff);
+  c.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)] = limit(20000, 18000, 2, Action::ChargeOff);
+  c.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)] =
+      limit(-40000, -35000, 2, Action::DischargeOff, true);
+  c.rules[static_cast<uint8_t>(FaultId::Overtemperature)] =
+      limit(3332, 3282, 1, Action::AllOff);  // 60 / 55 degC
+  c.rules[static_cast<uint8_t>(FaultId::Undertemperature)] =
+      limit(2532, 2582, 1, Action::ChargeOff);  // -20 / -15
+  c.rules[static_cast<uint8_t>(FaultId::DeviceSafety)] = limit(1, 1, 1, Action::AllOff);
+  c.rules[static_cast<uint8_t>(FaultId::StaleData)] = limit(1, 1, 1, Action::AllOff);
+  c.rules[static_cast<uint8_t>(FaultId::CommLoss)] = limit(1, 1, 1, Action::AllOff);
   c.staleAfter = scanPeriod * 3;
   c.commLossScans = 3;
   return c;

@@ -16,41 +16,24 @@ int16_t clampI16(int32_t v) {
 
 }  // namespace
 
+// A cycle is a numbered sequence of frames; which frame index k is follows from the pack's shape:
+//   fast: summary, extremes, [event]
+//   slow: the same, then cells (boards x frames per board), temperatures (likewise), temperature extremes
+//   ti:   boards x 4 frames, top of stack first
 void FramePlan::begin(Kind kind) {
   kind_ = kind;
-  step_ = kind == kTi ? kTiCells : kSummary;
-  board_ = 0;
-  frame_ = 0;
-  skipEmpty();
-}
-
-// Steps past parts that have nothing to send in this cycle.
-void FramePlan::skipEmpty() {
-  for (;;) {
-    switch (step_) {
-      case kEvent:
-        if ((status_.pendingTripped | status_.pendingCleared) != 0) return;
-        step_ = kind_ == kSlow ? kCells : kDone;
-        break;
-      case kCells:
-        if (pack_.cellsPerBoard != 0 && board_ < pack_.boards.size()) return;
-        step_ = kTemps, board_ = 0, frame_ = 0;
-        break;
-      case kTemps:
-        if (pack_.tempsPerBoard != 0 && board_ < pack_.boards.size()) return;
-        step_ = kTempExtremes;
-        break;
-      case kTempExtremes:
-        if (pack_.tempsPerBoard != 0) return;
-        step_ = kDone;
-        break;
-      case kTiCells:
-        if (pack_.rawCells != nullptr) return;
-        step_ = kDone;
-        break;
-      default:
-        return;
-    }
+  next_ = 0;
+  const auto boards = static_cast<uint16_t>(pack_.boards.size());
+  if (kind == kTi) {
+    count_ = pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
+    return;
+  }
+  event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
+  count_ = static_cast<uint16_t>(2 + event_);
+  if (kind == kSlow) {
+    count_ = static_cast<uint16_t>(
+        count_ + boards * (framesPerBoard(pack_.cellsPerBoard) + framesPerBoard(pack_.tempsPerBoard)) +
+        (pack_.tempsPerBoard != 0 ? 1 : 0));
   }
 }
 
@@ -68,10 +51,39 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
   };
   static_assert(sizeof bms::PackSummary::kFields / sizeof(can::Field) <= 9);
 
+  if (next_ >= count_) return false;
+  // Map the frame index to its message, board and frame within the board.
+  enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells };
+  Step step = kTiCells;
+  uint16_t k = next_;
+  uint16_t board = 0;
+  uint8_t frame = 0;
+  if (kind_ == kTi) {
+    board = static_cast<uint16_t>(k / 4), frame = static_cast<uint8_t>(k % 4);
+  } else if (k < 2 + event_) {
+    step = k == 0 ? kSummary : (k == 1 ? kExtremes : kEvent);
+  } else {
+    k = static_cast<uint16_t>(k - 2 - event_);
+    const uint8_t cellFrames = framesPerBoard(pack_.cellsPerBoard);
+    const uint8_t tempFrames = framesPerBoard(pack_.tempsPerBoard);
+    const auto cellPart = static_cast<uint16_t>(pack_.boards.size() * cellFrames);
+    const auto tempPart = static_cast<uint16_t>(pack_.boards.size() * tempFrames);
+    if (k < cellPart) {
+      step = kCells, board = static_cast<uint16_t>(k / cellFrames),
+      frame = static_cast<uint8_t>(k % cellFrames);
+    } else if (k - cellPart < tempPart) {
+      k = static_cast<uint16_t>(k - cellPart);
+      step = kTemps, board = static_cast<uint16_t>(k / tempFrames),
+      frame = static_cast<uint8_t>(k % tempFrames);
+    } else {
+      step = kTempExtremes;
+    }
+  }
+
   // Totals of the last scan go out only while that scan is fresh: never an old value as a current one.
   const PackTotals& t = pack_.totals;
   const bool fresh = elapsed(t.takenAt, now) <= staleAfter_;
-  switch (step_) {
+  switch (step) {
     case kSummary:
       use(bms::PackSummary::kFields, bms::PackSummary::kId);
       if (fresh && t.cells) {
@@ -104,41 +116,36 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
     case kCells:
     case kTemps: {
       // Board, frame index, status, then three slots of cells or temperatures (zero unless Valid).
-      const bool cells = step_ == kCells;
+      const bool cells = step == kCells;
       if (cells) {
         use(bms::CellVoltages::kFields, bms::CellVoltages::kId);
       } else {
         use(bms::Temperatures::kFields, bms::Temperatures::kId);
       }
-      const BoardSample& s = pack_.boards[board_];
+      const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const uint8_t items = cells ? pack_.cellsPerBoard : pack_.tempsPerBoard;
-      v[0] = board_, v[1] = frame_, v[2] = static_cast<uint8_t>(st);
-      for (uint8_t k = 0; k < 3; ++k) {
-        const auto i = static_cast<uint8_t>(frame_ * 3 + k);
-        if (st == BoardStatus::Valid && i < items) v[3 + k] = clampU16(cells ? s.cellMv[i] : s.tempDeciK[i]);
+      v[0] = board, v[1] = frame, v[2] = static_cast<uint8_t>(st);
+      for (uint8_t j = 0; j < 3; ++j) {
+        const auto i = static_cast<uint8_t>(frame * 3 + j);
+        if (st == BoardStatus::Valid && i < items) v[3 + j] = clampU16(cells ? s.cellMv[i] : s.tempDeciK[i]);
       }
       break;
     }
     case kTiCells: {
-      // Top of stack first: slot 0 is the highest board. Boards that are not Valid are left out.
-      while (board_ < pack_.boards.size()) {
-        const auto b = static_cast<uint16_t>(pack_.boards.size() - 1 - board_);
-        if (boardStatus(pack_.boards[b], now, staleAfter_) == BoardStatus::Valid) break;
-        ++board_;
-      }
-      if (board_ >= pack_.boards.size()) {
-        step_ = kDone;
-        return false;
+      // Top of stack first: slot 0 is the highest board. A board that is not Valid is left out (the layout
+      // has no status field to say so): its four frames are skipped.
+      const auto b = static_cast<uint16_t>(pack_.boards.size() - 1 - board);
+      if (boardStatus(pack_.boards[b], now, staleAfter_) != BoardStatus::Valid) {
+        next_ = static_cast<uint16_t>((board + 1) * 4);
+        return build(now, out);
       }
       use(bms::TiCellVoltages::kFields, bms::TiCellVoltages::kId);
-      const int16_t* raw = pack_.rawCells + (pack_.boards.size() - 1 - board_) * kMaxCellsPerBoard;
-      for (uint8_t k = 0; k < 4; ++k)
-        v[k] = static_cast<uint16_t>(raw[15 - (frame_ * 4 + k)]);  // cells 16..1
+      const int16_t* raw = pack_.rawCells + b * kMaxCellsPerBoard;
+      for (uint8_t j = 0; j < 4; ++j)
+        v[j] = static_cast<uint16_t>(raw[15 - (frame * 4 + j)]);  // cells 16..1
       break;
     }
-    case kDone:
-      return false;
   }
   out = hal::CanFrame{id, false, 8, {}};
   can::pack(out.data, fields, v, count);
@@ -146,36 +153,13 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
 }
 
 void FramePlan::advance() {
-  switch (step_) {
-    case kSummary:
-      ++counter_;
-      step_ = kExtremes;
-      break;
-    case kExtremes:
-      step_ = kEvent;
-      break;
-    case kEvent:
-      status_.pendingTripped = 0;
-      status_.pendingCleared = 0;
-      step_ = kind_ == kSlow ? kCells : kDone;
-      board_ = 0, frame_ = 0;
-      break;
-    case kCells:
-      if (++frame_ >= framesPerBoard(pack_.cellsPerBoard)) frame_ = 0, ++board_;
-      break;
-    case kTemps:
-      if (++frame_ >= framesPerBoard(pack_.tempsPerBoard)) frame_ = 0, ++board_;
-      break;
-    case kTempExtremes:
-      step_ = kDone;
-      break;
-    case kTiCells:
-      if (++frame_ >= 4) frame_ = 0, ++board_;
-      break;
-    case kDone:
-      break;
+  if (next_ >= count_) return;
+  if (next_ == 0 && kind_ != kTi) ++counter_;  // PackSummary's rolling counter counts summaries sent
+  if (kind_ != kTi && event_ && next_ == 2) {
+    status_.pendingTripped = 0;
+    status_.pendingCleared = 0;
   }
-  skipEmpty();
+  ++next_;
 }
 
 }  // namespace fw::app

@@ -34,29 +34,27 @@ class FramePlan {
   void beginFast() { begin(kFast); }
   void beginSlow() { begin(kSlow); }
   void beginTi() { begin(kTi); }
-  bool active() const { return step_ != kDone; }
+  bool active() const { return next_ < count_; }
 
   // Builds the current frame into `out` (false when the cycle is complete).
   bool build(Instant now, hal::CanFrame& out);
   // The frame from the last build() was accepted: move to the next one.
   void advance();
   // Drops the rest of the cycle (bus-off: the next cycle starts from fresh data).
-  void abandon() { step_ = kDone; }
+  void abandon() { next_ = count_; }
 
  private:
-  enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
   enum Kind : uint8_t { kFast, kSlow, kTi };
   void begin(Kind kind);
-  void skipEmpty();
-  uint8_t framesPerBoard(uint8_t items) const { return static_cast<uint8_t>((items + 2) / 3); }
+  static uint8_t framesPerBoard(uint8_t items) { return static_cast<uint8_t>((items + 2) / 3); }
 
   const PackView& pack_;
   PublishStatus& status_;
   Duration staleAfter_;
   Kind kind_ = kFast;
-  Step step_ = kDone;
-  uint16_t board_ = 0;
-  uint8_t frame_ = 0;
+  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  uint16_t next_ = 0;   // index of the frame to build in this cycle
+  uint16_t count_ = 0;  // frames in this cycle
   uint8_t counter_ = 0;
 };
 

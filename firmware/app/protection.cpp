@@ -52,40 +52,43 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
     ++failedScans_;
   }
 
+  // Every rule compares one value with its thresholds; build the nine values, then one loop does the rest.
+  // The device rule's value is 1 while the monitor reports a fault (its line at once, its status with each
+  // fresh scan); the freshness rules' values are 1 while the data is stale or the link is lost. A board
+  // that never answered counts as stale from start-up.
   const PackTotals* t = in.pack != nullptr ? &in.pack->totals : nullptr;
-  if (in.fresh && t != nullptr) {
-    const bool current = in.pack->hasCurrent && t->cells;
-    const int32_t value[6] = {t->maxCell,         t->minCell, in.pack->currentMa,
-                              in.pack->currentMa, t->maxTemp, t->minTemp};
-    const bool known[6] = {t->cells, t->cells, current, current, t->temps, t->temps};
-    for (uint8_t i = 0; i < 6; ++i) {
-      const Rule& rule = config_.rules[i];
-      if (!rule.enabled || !known[i]) continue;
-      const bool upper = (i & 1U) == 0;  // Ov, ChargeOc, Ot are upper limits; Uv, DischargeOc, Ut lower
-      update(static_cast<FaultId>(i), upper ? value[i] >= rule.trip : value[i] <= rule.trip,
-             upper ? value[i] < rule.clear : value[i] > rule.clear, now, out);
-    }
-  }
-
-  // The monitor's own protection: its fault line acts at once; its status registers with each fresh scan.
-  const Rule& device = config_.rules[static_cast<uint8_t>(FaultId::DeviceSafety)];
-  if (device.enabled && (in.fresh || in.faultLine)) {
-    const bool fault = in.faultLine || (in.pack != nullptr && in.pack->deviceFault);
-    update(FaultId::DeviceSafety, fault, !fault, now, out);
-  }
-
-  // Freshness: stale when the oldest board's newest valid sample is older than the limit (a board that never
-  // answered counts from start-up); comm loss after consecutive failed scans.
-  const Rule& stale = config_.rules[static_cast<uint8_t>(FaultId::StaleData)];
-  if (stale.enabled) {
-    const uint32_t age = t != nullptr ? elapsed(t->oldest, now).us : now.us;
-    const bool isStale = age > config_.staleAfter.us;
-    update(FaultId::StaleData, isStale, !isStale, now, out);
-  }
-  const Rule& comm = config_.rules[static_cast<uint8_t>(FaultId::CommLoss)];
-  if (comm.enabled && (in.fresh || in.scanFailed)) {
-    const bool lost = failedScans_ >= config_.commLossScans;
-    update(FaultId::CommLoss, lost, !lost, now, out);
+  const bool fresh = in.fresh && t != nullptr;
+  const bool current = fresh && in.pack->hasCurrent && t->cells;
+  const int32_t amps = current ? in.pack->currentMa : 0;
+  const bool fault = in.faultLine || (fresh && in.pack->deviceFault);
+  const uint32_t age = t != nullptr ? elapsed(t->oldest, now).us : now.us;
+  const int32_t value[kFaultCount] = {fresh ? t->maxCell : 0,
+                                      fresh ? t->minCell : 0,
+                                      amps,
+                                      amps,
+                                      fresh ? t->maxTemp : 0,
+                                      fresh ? t->minTemp : 0,
+                                      fault,
+                                      age > config_.staleAfter.us,
+                                      failedScans_ >= config_.commLossScans};
+  const bool evaluated[kFaultCount] = {fresh && t->cells,
+                                       fresh && t->cells,
+                                       current,
+                                       current,
+                                       fresh && t->temps,
+                                       fresh && t->temps,
+                                       in.fresh || in.faultLine,
+                                       true,
+                                       in.fresh || in.scanFailed};
+  constexpr FaultMask kLowerLimits =
+      bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) | bit(FaultId::Undertemperature);
+  for (uint8_t i = 0; i < kFaultCount; ++i) {
+    const Rule& rule = config_.rules[i];
+    if (!rule.enabled || !evaluated[i]) continue;
+    const int32_t v = value[i];
+    const bool lower = ((kLowerLimits >> i) & 1U) != 0;
+    update(static_cast<FaultId>(i), lower ? v <= rule.trip : v >= rule.trip,
+           lower ? v > rule.clear : v < rule.clear, now, out);
   }
 
   out.active = active_;

@@ -54,14 +54,15 @@ enum class Action : uint8_t {
   AllOff = 3,
 };
 
+// 16 bytes, largest members first (the limit table is nine of these in flash).
 struct Rule {
-  bool enabled = false;
   int32_t trip = 0;   // condition present when value >= trip (upper limits) or <= trip (lower limits)
   int32_t clear = 0;  // condition gone when value < clear (upper) or > clear (lower)
-  uint8_t debounce = 1;
   Duration delay{};
-  bool latch = false;
+  uint8_t debounce = 1;
   Action action = Action::AllOff;
+  bool latch = false;
+  bool enabled = false;
 };
 
 struct ProtectionConfig {

@@ -19,19 +19,25 @@ constexpr uint8_t idx(FaultId id) {
   return static_cast<uint8_t>(id);
 }
 
+fw::app::Rule rule(int32_t trip, int32_t clear, uint8_t debounce, fw::Duration delay, Action action,
+                   bool latch = false) {
+  fw::app::Rule r;
+  r.trip = trip, r.clear = clear, r.debounce = debounce, r.delay = delay, r.action = action, r.latch = latch;
+  r.enabled = true;
+  return r;
+}
+
 ProtectionConfig baseConfig() {
   ProtectionConfig c;
-  c.rules[idx(FaultId::CellOvervoltage)] = {true, 4250, 4150, 3, ms(200), false, Action::ChargeOff};
-  c.rules[idx(FaultId::CellUndervoltage)] = {true, 2700, 2900, 3, ms(200), false, Action::DischargeOff};
-  c.rules[idx(FaultId::ChargeOvercurrent)] = {true, 20000, 18000, 2, ms(0), false, Action::ChargeOff};
-  c.rules[idx(FaultId::DischargeOvercurrent)] = {true, -40000, -35000, 2, ms(0), true, Action::DischargeOff};
-  c.rules[idx(FaultId::Overtemperature)] = {true,  3332,  3282,          2,
-                                            ms(0), false, Action::AllOff};  // 60.0/55.0 C
-  c.rules[idx(FaultId::Undertemperature)] = {
-      true, 2532, 2582, 2, ms(0), false, Action::ChargeOff};  // -20/-15 C
-  c.rules[idx(FaultId::DeviceSafety)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
-  c.rules[idx(FaultId::StaleData)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
-  c.rules[idx(FaultId::CommLoss)] = {true, 1, 1, 1, ms(0), false, Action::AllOff};
+  c.rules[idx(FaultId::CellOvervoltage)] = rule(4250, 4150, 3, ms(200), Action::ChargeOff);
+  c.rules[idx(FaultId::CellUndervoltage)] = rule(2700, 2900, 3, ms(200), Action::DischargeOff);
+  c.rules[idx(FaultId::ChargeOvercurrent)] = rule(20000, 18000, 2, ms(0), Action::ChargeOff);
+  c.rules[idx(FaultId::DischargeOvercurrent)] = rule(-40000, -35000, 2, ms(0), Action::DischargeOff, true);
+  c.rules[idx(FaultId::Overtemperature)] = rule(3332, 3282, 2, ms(0), Action::AllOff);      // 60.0/55.0 C
+  c.rules[idx(FaultId::Undertemperature)] = rule(2532, 2582, 2, ms(0), Action::ChargeOff);  // -20/-15 C
+  c.rules[idx(FaultId::DeviceSafety)] = rule(1, 1, 1, ms(0), Action::AllOff);
+  c.rules[idx(FaultId::StaleData)] = rule(1, 1, 1, ms(0), Action::AllOff);
+  c.rules[idx(FaultId::CommLoss)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.staleAfter = ms(500);
   c.commLossScans = 3;
   return c;
