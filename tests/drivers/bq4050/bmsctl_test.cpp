@@ -1,6 +1,7 @@
 // `bmsctl trace bq4050` as a user runs it: the built binary, its stdout, stderr and exit status
 // (ARCHITECTURE.md "Host tools" contract). PECs are checked with the test's own bitwise CRC-8.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <sys/wait.h>
 
@@ -33,7 +34,10 @@ struct ToolRun {
 };
 
 ToolRun bmsctl(const std::string& args) {
-  const std::string errFile = ::testing::TempDir() + "bmsctl_bq4050_stderr.txt";
+  // One file per process and call: ctest runs these tests as parallel processes.
+  static int calls = 0;
+  const std::string errFile = ::testing::TempDir() + "bmsctl_bq4050_" + std::to_string(getpid()) + "_" +
+                              std::to_string(++calls) + "_stderr.txt";
   const std::string cmd = std::string(BMSCTL_PATH) + " trace bq4050 " + args + " 2>" + errFile;
   ToolRun run;
   FILE* p = popen(cmd.c_str(), "r");
@@ -50,6 +54,7 @@ ToolRun bmsctl(const std::string& args) {
     run.out.push_back(line);
   std::ifstream err(errFile);
   run.err.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
+  std::remove(errFile.c_str());
   return run;
 }
 

@@ -1,6 +1,7 @@
 // `bmsctl trace bq79616` as a user runs it: the built binary, its stdout and exit status (ARCHITECTURE.md
 // "Host tools" contract). Every frame of bq79616-protocol.md section 3 must come out byte for byte.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <sys/wait.h>
 
@@ -38,7 +39,10 @@ struct ToolRun {
 };
 
 ToolRun bmsctl(const std::string& args) {
-  const std::string errFile = ::testing::TempDir() + "bmsctl_bq79616_stderr.txt";
+  // One file per process and call: ctest runs these tests as parallel processes.
+  static int calls = 0;
+  const std::string errFile = ::testing::TempDir() + "bmsctl_bq79616_" + std::to_string(getpid()) + "_" +
+                              std::to_string(++calls) + "_stderr.txt";
   const std::string cmd = std::string(BMSCTL_PATH) + " trace bq79616 " + args + " 2>" + errFile;
   ToolRun run;
   FILE* p = popen(cmd.c_str(), "r");
@@ -55,6 +59,7 @@ ToolRun bmsctl(const std::string& args) {
     run.out.push_back(line);
   std::ifstream err(errFile);
   run.err.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
+  std::remove(errFile.c_str());
   return run;
 }
 
