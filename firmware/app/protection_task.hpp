@@ -72,6 +72,7 @@ class ProtectionTask final : public sched::Task {
   // The owner of a deferred actuator reports that the last request took effect.
   void actuated(Instant at);
 
+  sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
   std::span<const ProtectionRecord> log() const { return {log_, logCount_}; }
   uint32_t evaluations() const { return evaluations_; }

@@ -22,6 +22,7 @@ fw::Status SimSerialTx::doWrite(std::span<const uint8_t> bytes, fw::hal::Notify 
   done_ = done;
   text_.append(bytes.begin(), bytes.end());
   const uint64_t us = (bytes.size() * 10ULL * 1000000ULL + baud_ - 1) / baud_;
+  writeTimes_.push_back(clock_.nowUs() + us);
   clock_.scheduleIn(fw::us(static_cast<uint32_t>(us)), [this] { irq_.raise(line_); });
   return fw::Status::Ok;
 }

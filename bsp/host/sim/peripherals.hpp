@@ -20,6 +20,8 @@ class SimSerialTx final : public fw::hal::SerialTx {
  public:
   SimSerialTx(SimClock& clock, SimIrq& irq, uint32_t baud = 115200);
   const std::string& text() const { return text_; }
+  // When each write's last byte left the line (one entry per write()).
+  const std::vector<uint64_t>& writeTimes() const { return writeTimes_; }
   void clear() { text_.clear(); }
   bool busy() const { return busy_; }
 
@@ -32,6 +34,7 @@ class SimSerialTx final : public fw::hal::SerialTx {
   fw::hal::Notify done_;
   bool busy_ = false;
   std::string text_;
+  std::vector<uint64_t> writeTimes_;
 };
 
 // An edge-interrupt input. drive(level) changes the pin; an edge of the configured polarity raises the IRQ.

@@ -1,0 +1,225 @@
+// bms-sim bindings of the BQ769x2-family images: the BQ76952 or BQ76907 emulator on a simulated 400 kHz I2C
+// bus, ALERT on a simulated edge input, and SLCAN text on a simulated 115 200 Bd UART (L1306 images) or CAN
+// on a simulated 500 kbit/s controller (G3507 image).
+#include <cstdio>
+#include <memory>
+
+#include "app/bq769x_app.hpp"
+#include "app/bq769x_settings.hpp"
+#include "app/default_limits.hpp"
+#include "bq769x2/emulator.hpp"
+#include "image_sim.hpp"
+#include "pack_figures.hpp"
+#include "sim/can.hpp"
+#include "sim/i2c_bus.hpp"
+#include "sim/peripherals.hpp"
+
+namespace bmssim {
+namespace {
+
+namespace b769 = fw::drivers::bq769x2;
+using Emulator = bsp::host::Bq769xEmulator;
+
+// The emulated pack and its link, common to the three images.
+template <class Driver, class Measurement, class Publisher, class Output>
+class Bq769xSim final : public ImageSim {
+ public:
+  template <class... DriverArgs>
+  Bq769xSim(Emulator::Model model, uint8_t cells, std::span<const b769::Setting> settings,
+            DriverArgs&&... args)
+      : emulator_(h_.clock, model), cells_(cells), truth_(cells, 3700) {
+    bus_.attach(0x08, emulator_);
+    emulator_.onAlert([this](bool asserted) { alert_.drive(!asserted); });  // ALERT is active low
+    for (int c = 1; c <= cells; ++c)
+      emulator_.setCellMv(static_cast<uint8_t>(c), 3700);
+    config_.settings = settings;
+    config_.cells = cells;
+    app_ =
+        std::make_unique<App>(h_.sched, bus_, alert_, output_, config_, static_cast<DriverArgs&&>(args)...);
+    app_->start();
+  }
+
+  int boards() const override { return 1; }
+  int cellsPerBoard() const override { return cells_; }
+  int tempsPerBoard() const override { return fw::app::tempsOf(static_cast<Measurement*>(nullptr)); }
+  bool hasCurrent() const override { return true; }
+
+  void setCellMv(int, int cell, int mv) override {
+    truth_[static_cast<size_t>(cell - 1)] = mv;
+    push(cell);
+    if (cell < cells_) push(cell + 1);
+  }
+  void setCurrentMa(int ma) override { emulator_.setCurrentMa(ma); }
+  void setTempDeciK(int, int sensor, int deciK) override {
+    // Sensor 1 is the internal one (BQ7690x: whole degC), 2 and 3 are TS1 and TS3.
+    if (sensor == 1) {
+      const bool bq7690x = emulator_.model() != Emulator::Model::Bq76952;
+      emulator_.setIntTemp(static_cast<int16_t>(bq7690x ? (deciK - 2732) / 10 : deciK));
+    } else {
+      emulator_.setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
+    }
+  }
+  void setCommLost(bool lost) override { emulator_.setMuted(lost); }
+  void openWire(int, int cell) override {
+    openCell_ = cell;
+    push(cell);
+    push(cell - 1);
+  }
+  void setIntermittent(bool on) override { intermittent_ = on; }
+  bool busOff() override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      output_.injectBusOff();
+      return true;
+    } else {
+      return false;
+    }
+  }
+
+  void afterStep() override {
+    // An intermittent link: the device drops off the bus for 250 ms of every 350 ms, so scans fail in runs
+    // and the data ages past the stale limit between the good ones. (Silent bit flips are not used here:
+    // without CRC they are undetectable by design; the CRC-mode tests cover them.)
+    if (intermittent_) emulator_.setMuted((tick_++ % 350) < 250);
+    if (!intermittent_ && tick_ != 0) {
+      emulator_.setMuted(false);
+      tick_ = 0;
+    }
+    const auto& st = app_->monitor().stats();
+    if (st.scans != lastScans_) {
+      if (st.scans == lastScans_ + 1 && lastScans_ != 0) {
+        busUs_ += static_cast<double>(bus_.busTimeUs() - lastBusUs_);
+        transactions_ += bus_.transactions() - lastTransactions_;
+        ++measured_;
+      }
+      lastScans_ = st.scans, lastBusUs_ = bus_.busTimeUs(), lastTransactions_ = bus_.transactions();
+    }
+  }
+
+  bsp::host::Harness& harness() override { return h_; }
+
+  SimFigures figures() override {
+    SimFigures f;
+    const auto& st = app_->monitor().stats();
+    f.scans = st.scans;
+    f.scanFailures = st.scanFailures;
+    f.scanPeriodMs = config_.scanPeriod.toMs();
+    f.scanBusUs = measured_ ? busUs_ / measured_ : 0;
+    f.scanTransactions = measured_ ? static_cast<double>(transactions_) / measured_ : 0;
+    for (uint16_t e : app_->monitor().driver().stats().errors)
+      f.commErrors += e;
+    f.recoveries = st.setupAttempts > 0 ? st.setupAttempts - 1 : 0;
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      f.outputFrames = output_.sent().size();
+      f.output = "can";
+    } else {
+      f.outputFrames = slcanFrames().size();
+      f.output = "slcan";
+    }
+    fillPackFigures(f, app_->pack(), app_->status(), fw::Instant{static_cast<uint32_t>(h_.nowUs())},
+                    fw::app::kDefaultLimits.staleAfter);
+    return f;
+  }
+
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
+    const auto log = app_->protection().log();
+    return {log.begin(), log.end()};
+  }
+
+  std::vector<SentFrame> frames() const override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      std::vector<SentFrame> out;
+      for (const auto& s : output_.sent()) {
+        out.push_back({s.timeUs,
+                       s.frame.id,
+                       s.frame.extended,
+                       {s.frame.data.begin(), s.frame.data.begin() + s.frame.dlc}});
+      }
+      return out;
+    } else {
+      return slcanFrames();
+    }
+  }
+
+ private:
+  using App = fw::app::Bq769xApp<Driver, Measurement, Publisher>;
+
+  // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r"); times are those of
+  // the line's completion on the wire.
+  std::vector<SentFrame> slcanFrames() const {
+    std::vector<SentFrame> out;
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+      const std::string& text = output_.text();
+      size_t pos = 0;
+      for (size_t end; (end = text.find('\r', pos)) != std::string::npos; pos = end + 1) {
+        const std::string line = text.substr(pos, end - pos);
+        if (line.size() < 5 || (line[0] != 't' && line[0] != 'T')) continue;
+        const bool ext = line[0] == 'T';
+        const size_t idLen = ext ? 8 : 3;
+        SentFrame f{0, static_cast<uint32_t>(std::stoul(line.substr(1, idLen), nullptr, 16)), ext, {}};
+        const int dlc = line[1 + idLen] - '0';
+        for (int i = 0; i < dlc; ++i) {
+          f.data.push_back(static_cast<uint8_t>(std::stoul(line.substr(2 + idLen + 2 * i, 2), nullptr, 16)));
+        }
+        out.push_back(f);
+      }
+      const auto& times = output_.writeTimes();  // the publisher writes one line per write()
+      for (size_t i = 0; i < out.size() && i < times.size(); ++i)
+        out[i].timeUs = times[i];
+    }
+    return out;
+  }
+
+  void push(int cell) {
+    if (cell < 1 || cell > cells_) return;
+    int mv = truth_[static_cast<size_t>(cell - 1)];
+    if (cell == openCell_) mv = 0;
+    if (cell == openCell_ - 1) mv += truth_[static_cast<size_t>(cell)];
+    emulator_.setCellMv(static_cast<uint8_t>(cell), static_cast<int16_t>(mv));
+  }
+
+  bsp::host::Harness h_;
+  bsp::host::SimI2cBus bus_{h_.clock, h_.irq, {400000, fw::ms(4), fw::us(4)}};
+  Emulator emulator_;
+  bsp::host::SimEdgeInput alert_{h_.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
+  Output output_{h_.clock, h_.irq};
+  fw::app::Bq769xAppConfig config_;
+  std::unique_ptr<App> app_;
+  int cells_;
+  std::vector<int> truth_;
+  int openCell_ = -1;
+  bool intermittent_ = false;
+  uint64_t tick_ = 0;
+  uint32_t lastScans_ = 0;
+  uint64_t lastBusUs_ = 0, lastTransactions_ = 0;
+  double busUs_ = 0;
+  uint64_t transactions_ = 0;
+  uint32_t measured_ = 0;
+};
+
+using L1306Bq76952 =
+    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+using L1306Bq76907 =
+    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+using G3507Bq76952 =
+    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
+
+std::unique_ptr<ImageSim> makeL1306Bq76952(const SimOptions&, std::string&) {
+  return std::make_unique<L1306Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings);
+}
+std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
+  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings,
+                                        b769::kBq76907);
+}
+std::unique_ptr<ImageSim> makeG3507Bq76952(const SimOptions&, std::string&) {
+  return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings);
+}
+
+const ImageRegistrar kL1306Bq76952{
+    {"lp-mspm0l1306-bq76952", "BQ76952 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76952}};
+const ImageRegistrar kL1306Bq76907{
+    {"lp-mspm0l1306-bq76907", "BQ76907 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76907}};
+const ImageRegistrar kG3507Bq76952{
+    {"lp-mspm0g3507-bq76952", "BQ76952 over I2C, CAN out", 1, &makeG3507Bq76952}};
+
+}  // namespace
+}  // namespace bmssim
