@@ -13,6 +13,7 @@
 #include "image_sim.hpp"
 #include "report.hpp"
 #include "scenario.hpp"
+#include "sim/peripherals.hpp"
 
 namespace bmssim {
 namespace {
@@ -120,6 +121,10 @@ int run(int argc, char** argv) {
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
 
   auto& h = sim->harness();
+  // The watchdog supervision every image's main() sets up: fed every 250 ms if every watched task made
+  // progress. Its longest gap shows whether anything stalled.
+  bsp::host::SimWatchdog watchdog(h.clock);
+  h.sched.superviseWatchdog(watchdog, fw::ms(250));
   std::vector<Ramp> ramps;
   std::map<std::pair<int, int>, double> cells, temps;
   auto cellNow = [&](int b, int c) {
@@ -215,7 +220,7 @@ int run(int argc, char** argv) {
     report.tick(h.nowUs());
   }
 
-  report.finish(onsetMs, busOffUnsupported);
+  report.finish(onsetMs, busOffUnsupported, watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;

@@ -38,7 +38,7 @@ void Report::tick(uint64_t nowUs) {
       static_cast<unsigned long long>(f.outputFrames));
 }
 
-void Report::finish(double onsetMs, bool busOffUnsupported) {
+void Report::finish(double onsetMs, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog) {
   const SimFigures f = sim_.figures();
   const auto log = sim_.protectionLog();
   const uint64_t now = sim_.harness().nowUs();
@@ -47,10 +47,11 @@ void Report::finish(double onsetMs, bool busOffUnsupported) {
     if (busOffUnsupported) std::printf("(this image has no CAN bus: the bus-off step did nothing)\n");
     std::printf("scans %u (%u failed), scan period %u ms, bus %.0f us and %.1f transactions per scan\n",
                 f.scans, f.scanFailures, f.scanPeriodMs, f.scanBusUs, f.scanTransactions);
-    std::printf("%s %llu, comm errors %llu, recoveries %u\n",
+    std::printf("%s %llu, comm errors %llu, recoveries %u, watchdog fed %zu times (longest gap %.0f ms)\n",
                 f.output == "can" ? "CAN frames" : "SLCAN lines",
                 static_cast<unsigned long long>(f.outputFrames),
-                static_cast<unsigned long long>(f.commErrors), f.recoveries);
+                static_cast<unsigned long long>(f.commErrors), f.recoveries, watchdog.feeds().size(),
+                static_cast<double>(watchdog.longestGapUs(0)) / 1000.0);
     if (log.empty()) std::printf("protection events: none\n");
     for (const auto& e : log) {
       std::printf(
@@ -81,6 +82,9 @@ void Report::finish(double onsetMs, bool busOffUnsupported) {
   std::printf("  \"comm_errors\": %llu,\n", static_cast<unsigned long long>(f.commErrors));
   std::printf("  \"recoveries\": %u,\n", f.recoveries);
   std::printf("  \"bus_off_applicable\": %s,\n", busOffUnsupported ? "false" : "true");
+  std::printf("  \"watchdog_feeds\": %zu,\n", watchdog.feeds().size());
+  std::printf("  \"watchdog_longest_gap_ms\": %s,\n",
+              num(static_cast<double>(watchdog.longestGapUs(0)) / 1000.0).c_str());
   std::printf("  \"charge_on\": %s,\n", f.chargeOn ? "true" : "false");
   std::printf("  \"discharge_on\": %s,\n", f.dischargeOn ? "true" : "false");
   std::printf("  \"fault_output\": %s,\n", f.faultOutput ? "true" : "false");

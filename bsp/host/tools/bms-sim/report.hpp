@@ -5,6 +5,7 @@
 
 #include "image_sim.hpp"
 #include "scenario.hpp"
+#include "sim/peripherals.hpp"
 
 namespace bmssim {
 
@@ -16,7 +17,7 @@ class Report {
   // Called after every millisecond of simulated time; prints the live view every 500 ms unless --json.
   void tick(uint64_t nowUs);
   // Prints the JSON summary (with --json) or the final view and the protection events.
-  void finish(double onsetMs, bool busOffUnsupported);
+  void finish(double onsetMs, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog);
   // candump -l format: "(seconds.micros) can0 ID#DATA", one frame per line.
   bool writeCandump(const std::string& path) const;
 

@@ -96,7 +96,7 @@ class Bq79616Sim final : public ImageSim {
     const auto& link = app_->monitor().chain().stats();
     for (uint32_t e : link.errors)
       f.commErrors += e;
-    f.recoveries = st.recoveries;
+    f.recoveries = st.recoveries > 0 ? st.recoveries - 1 : 0;  // the first is the bring-up
     f.outputFrames = can_.sent().size();
     f.output = "can";
     fillPackFigures(f, app_->pack(), status(), fw::Instant{static_cast<uint32_t>(h_.nowUs())},
