@@ -1,18 +1,15 @@
 // `bmsctl trace bq4050` as a user runs it: the built binary, its stdout, stderr and exit status
 // (ARCHITECTURE.md "Host tools" contract). PECs are checked with the test's own bitwise CRC-8.
 #include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <sys/wait.h>
 
 #include <cstdio>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "rig.hpp"
+#include "support/tool_run.hpp"
 
 #ifndef BMSCTL_PATH
 #error "BMSCTL_PATH must name the bmsctl binary"
@@ -21,41 +18,10 @@
 namespace bq4050_test {
 namespace {
 
-struct ToolRun {
-  int status = -1;
-  std::vector<std::string> out;
-  std::string err;
-  bool has(const std::string& line) const {
-    for (const auto& l : out) {
-      if (l == line) return true;
-    }
-    return false;
-  }
-};
+using test::ToolRun;
 
 ToolRun bmsctl(const std::string& args) {
-  // One file per process and call: ctest runs these tests as parallel processes.
-  static int calls = 0;
-  const std::string errFile = ::testing::TempDir() + "bmsctl_bq4050_" + std::to_string(getpid()) + "_" +
-                              std::to_string(++calls) + "_stderr.txt";
-  const std::string cmd = std::string(BMSCTL_PATH) + " trace bq4050 " + args + " 2>" + errFile;
-  ToolRun run;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (p == nullptr) return run;
-  char buf[4096];
-  std::string text;
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-    text.append(buf, n);
-  const int raw = pclose(p);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    run.out.push_back(line);
-  std::ifstream err(errFile);
-  run.err.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
-  std::remove(errFile.c_str());
-  return run;
+  return test::runTool(std::string(BMSCTL_PATH) + " trace bq4050 " + args);
 }
 
 uint8_t hexByte(const std::string& s) {

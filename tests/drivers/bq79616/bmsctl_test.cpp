@@ -1,16 +1,13 @@
 // `bmsctl trace bq79616` as a user runs it: the built binary, its stdout and exit status (ARCHITECTURE.md
 // "Host tools" contract). Every frame of bq79616-protocol.md section 3 must come out byte for byte.
 #include <gtest/gtest.h>
-#include <unistd.h>
-
-#include <sys/wait.h>
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/tool_run.hpp"
 #include "ti_vectors.hpp"
 
 #ifndef BMSCTL_PATH
@@ -19,48 +16,10 @@
 
 namespace {
 
-struct ToolRun {
-  int status = -1;
-  std::vector<std::string> out;
-  std::string err;
-  std::vector<std::string> lines(const std::string& prefix) const {
-    std::vector<std::string> v;
-    for (const auto& l : out) {
-      if (l.rfind(prefix, 0) == 0) v.push_back(l);
-    }
-    return v;
-  }
-  bool has(const std::string& line) const {
-    for (const auto& l : out) {
-      if (l == line) return true;
-    }
-    return false;
-  }
-};
+using test::ToolRun;
 
 ToolRun bmsctl(const std::string& args) {
-  // One file per process and call: ctest runs these tests as parallel processes.
-  static int calls = 0;
-  const std::string errFile = ::testing::TempDir() + "bmsctl_bq79616_" + std::to_string(getpid()) + "_" +
-                              std::to_string(++calls) + "_stderr.txt";
-  const std::string cmd = std::string(BMSCTL_PATH) + " trace bq79616 " + args + " 2>" + errFile;
-  ToolRun run;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (p == nullptr) return run;
-  char buf[4096];
-  std::string text;
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0)
-    text.append(buf, n);
-  const int raw = pclose(p);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    run.out.push_back(line);
-  std::ifstream err(errFile);
-  run.err.assign(std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>());
-  std::remove(errFile.c_str());
-  return run;
+  return test::runTool(std::string(BMSCTL_PATH) + " trace bq79616 " + args);
 }
 
 TEST(Bq79616Bmsctl, EverySection3FrameIsTracedByteExact) {
