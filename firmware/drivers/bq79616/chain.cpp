@@ -3,12 +3,18 @@
 // Every operation is a short script of Steps run by one interpreter: a step either starts something that
 // completes later (a ping, a frame exchange, a timer) and the interpreter returns, or finishes at once and
 // the next step runs. Scripts keep the TI sequences readable next to their sources and cost a few bytes per
-// step instead of a function per state.
+// step instead of a function per state. Every frame a script sends goes through one path (issue()): the step
+// says what to send, and how many times (a step repeats while `loop_` is below its repetition count, so
+// "next device", "next address" and "done" are the same code for every kind of step).
 //
 // Sources: SLUSE81E (BQ79616-Q1 datasheet) §6.6 timing, §9.3.6 communication and auto-addressing
 // (table 9-19), §9.4 power modes and pings, §9.5.4 register map; SLUUC56B (TI bring-up procedure, wake
 // timing); TI's MSPM0 SDK example as summarised in bq79616-protocol.md (§5, §6).
 #include "drivers/bq79616/chain.hpp"
+
+#include <cstddef>
+#include <cstring>
+#include <type_traits>
 
 #include "core/assert.hpp"
 #include "core/bytes.hpp"
@@ -19,51 +25,50 @@ FW_MODULE(fw::Module::DriverBq79616);
 namespace fw::drivers::bq79616 {
 
 enum class Op : uint8_t {
-  Ping,   // kind: PingKind
-  Delay,  // kind: DelayKind
-  Write,  // kind: WriteKind; value: the byte; n: bytes (literal writes) or repetitions (WSeq)
-  Read,   // kind: ReadKind; n: bytes per device; value: repetitions (RDiscard) or the ValidBits part (RScan)
+  // The steps that use the bus come first: after a failed read, run() drains the line before any of them.
+  Ping,   // arg: the low time in microseconds
+  Frame,  // kind: Kind; value: the byte written, the ValidBits part of a scan or the ladder rung
   Drain,  // receive until the line is quiet
   Raw,    // the frame startRead()/startWrite() encoded
+  Delay,  // kind: DelayKind; arg << value: microseconds
   Call,   // nested bring-up (recovery); kind: RecoveryLevel
   Phase,  // end of a bring-up phase when that phase was started alone
   End,
 };
 
-struct Chain::Step {
-  Op op;
-  uint8_t kind = 0;
-  uint8_t value = 0;
-  uint8_t n = 0;
-  uint16_t reg = 0;
+// Four bytes a step (two thirds of separate fields): the operation and its kind share a byte, and a frame's
+// register bytes share a half-word with the register (BQ79616 registers are below 0x800).
+struct detail::Step {
+  uint8_t code;       // Op << 4 | kind
+  uint8_t value = 0;  // see Op
+  uint16_t arg = 0;   // Frame: register | (register bytes − 1) << 11; Ping, Delay: the time
 };
 
 namespace {
 
 using R = RequestType;
+using Step = Chain::Step;
 
-enum PingKind : uint8_t { kPingWake, kPingSleepToActive, kPingCommClear, kPingHwReset };
-enum DelayKind : uint8_t {
-  kWakeSetup,
-  kStackWake,
-  kAdcSettle,
-  kRxMin,
-  kStackSleepToActive,
-  kHwResetTone,
-  kHwReset,
-};
-enum WriteKind : uint8_t {
-  kWBcast,       // broadcast write of `n` bytes of `value`
-  kWBase,        // single write to the base (address 0)
-  kWSeq,         // broadcast write of `value` to `n` consecutive registers, one frame each
+constexpr uint8_t code(Op op, uint8_t kind = 0) {
+  return static_cast<uint8_t>(static_cast<uint8_t>(op) << 4 | kind);
+}
+constexpr Op opOf(const Step& s) {
+  return static_cast<Op>(s.code >> 4);
+}
+
+enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle };
+
+// Frame steps: writes first, then reads (kRDllSync and above).
+enum Kind : uint8_t {
+  kWBcast,       // broadcast write of `value` (to as many consecutive registers as the step's bytes)
+  kWBase,        // single write of `value` to the base (address 0)
+  kWDllSync,     // broadcast write of `value` to kDllSyncFrames consecutive registers, one frame each
   kWActiveCell,  // broadcast ACTIVE_CELL from the configuration
   kWAdcConf1,    // broadcast ADC_CONF1 from the configuration
   kWAddress,     // broadcast DIR0_ADDR = 0, 1, ... one per address slot
   kWTop,         // COMM_CTRL of base and top; value 0: as configured, 1: as discovered
   kWCrc,         // each device's CUST_CRC_RSLT (still in rx_ from kRCrc) to its CUST_CRC
-};
-enum ReadKind : uint8_t {
-  kRDiscard,   // DLL-sync dummy: broadcast read of `value` consecutive registers, responses unused
+  kRDllSync,   // DLL-sync dummies: broadcast reads of kDllSyncFrames consecutive registers, responses unused
   kRDiscover,  // single reads of DIR0_ADDR from address 0 up until a device does not answer
   kRVerify,    // broadcast read of DIR0_ADDR: every address, top first; a failure ends the operation
   kRProbe,     // the same as a recovery probe: success ends the ladder at rung `value`
@@ -72,118 +77,156 @@ enum ReadKind : uint8_t {
   kRScan,      // a scan part (`value` = ValidBits), with retry and per-device fallback
 };
 
-constexpr Duration kPingLow[] = {kWakePing, kSleepToActivePing, kCommClearPing, kHwResetPing};
+constexpr uint8_t kDllSyncFrames = 8;  // TI's table 9-19: 8 dummy writes, then 8 dummy reads
 
-// Waits: base + perDevice x configured devices (microseconds).
-struct DelaySpec {
-  uint32_t base;
-  uint16_t perDevice;
-};
-constexpr DelaySpec kDelays[] = {
-    {11000, 0},  // tSU(WAKE_SHUT): 10 ms max (SLUSE81E §6.6) + 10 %
-    {0, 11600},  // WAKE tone ~1.6 ms + ACTIVE entry ~10 ms, per device (SLUUC56B §1.2)
-    {0, 5},      // + config adcSettle: LPF settling, 5 us per device as TI's bring-up waits
-    {100, 0},    // after COMM CLEAR, before the next frame (tUART(RXMIN), rounded up)
-    {0, 1000},   // tSU(SLP2ACT) 230 us + the SLEEPtoACTIVE tone, per device (estimate, rounded up)
-    {0, 2000},   // HW_RESET tone up the stack, per device (estimate)
-    {83000, 0},  // tHWRST 75 ms (BQ75614-Q1 sibling table) + 10 %
-};
+// INIT bytes of the frames the scripts send (a write's data length − 1 goes into bits 2:0).
+constexpr uint8_t kInitSingleRead = initByte(R::SingleRead, 0);
+constexpr uint8_t kInitBroadcastRead = initByte(R::BroadcastRead, 0);
+constexpr uint8_t kInitSingleWrite = initByte(R::SingleWrite, 1);
+constexpr uint8_t kInitBroadcastWrite = initByte(R::BroadcastWrite, 1);
+
+// Step builders, evaluated at compile time only: a step that does not fit its encoding calls
+// stepOutOfRange(), which is not constexpr, so the script does not compile.
+inline void stepOutOfRange() {}
+constexpr uint16_t kRegMask = 0x07FF;
+// `bytes`: registers written or read per device, 1..32 (also the last register of a DLL-sync run fits).
+consteval Step frame(Kind kind, uint16_t reg, uint8_t value = 0, uint8_t bytes = 1) {
+  if (reg + kDllSyncFrames > kRegMask || bytes < 1 || bytes > 32) stepOutOfRange();
+  return {code(Op::Frame, kind), value, static_cast<uint16_t>(reg | (bytes - 1) << 11)};
+}
+consteval Step ping(Duration low) {
+  if (low.us > 0xFFFF) stepOutOfRange();
+  return {code(Op::Ping), 0, static_cast<uint16_t>(low.us)};
+}
+// `time` in microseconds, as a 16-bit value and a shift; it must be exact.
+consteval Step delay(DelayKind kind, uint32_t time) {
+  uint8_t shift = 0;
+  while ((time >> shift) > 0xFFFF)
+    ++shift;
+  if (((time >> shift) << shift) != time) stepOutOfRange();
+  return {code(Op::Delay, kind), shift, static_cast<uint16_t>(time >> shift)};
+}
+consteval Step call(RecoveryLevel level) {
+  return {code(Op::Call, static_cast<uint8_t>(level))};
+}
+constexpr Step kPhase = {code(Op::Phase)};
+constexpr Step kEnd = {code(Op::End)};
 
 // Wake, auto-address and configure, in that order; each phase ends at a Phase step.
-constexpr Chain::Step kBringUp[] = {
+constexpr Step kBringUp[] = {
     // Wake (SLUUC56B §1.2). Two WAKE pings: after a SHUTDOWN ping the COMH/COML receivers only come back
-    // with the second one; a WAKE to an awake device just resets it, which bring-up does anyway.
-    {Op::Ping, kPingWake},
-    {Op::Delay, kWakeSetup},
-    {Op::Ping, kPingWake},
-    {Op::Delay, kWakeSetup},
-    {Op::Write, kWBase, regs::kControl1SendWake, 1, regs::kControl1},
-    {Op::Delay, kStackWake},
-    {Op::Phase},
+    // with the second one; a WAKE to an awake device just resets it, which bring-up does anyway. Each is
+    // followed by tSU(WAKE_SHUT): 10 ms max (SLUSE81E §6.6) + 10 %.
+    ping(kWakePing),
+    delay(kOnce, 11000),
+    ping(kWakePing),
+    delay(kOnce, 11000),
+    frame(kWBase, regs::kControl1, regs::kControl1SendWake),
+    delay(kPerDevice, 11600),  // WAKE tone ~1.6 ms + ACTIVE entry ~10 ms per device (SLUUC56B)
+    kPhase,
     // Auto-address (SLUSE81E table 9-19; protocol.md §6), then discovery and read-back.
-    {Op::Write, kWSeq, 0x00, 8, regs::kOtpEccDatain1},
-    {Op::Write, kWBcast, regs::kControl1AddrWr, 1, regs::kControl1},
-    {Op::Write, kWAddress, 0, 1, regs::kDir0Addr},
-    {Op::Write, kWBcast, regs::kCommStack, 1, regs::kCommCtrl},
-    {Op::Write, kWTop, 0, 1, regs::kCommCtrl},
-    {Op::Read, kRDiscard, 8, 1, regs::kOtpEccDatain1},
-    {Op::Write, kWBcast, regs::kFaultRst2StartupComm, 1, regs::kFaultRst2},
-    {Op::Read, kRDiscover, 0, 1, regs::kDir0Addr},
-    {Op::Write, kWTop, 1, 1, regs::kCommCtrl},
-    {Op::Read, kRVerify, 0, 1, regs::kDir0Addr},
-    {Op::Phase},
+    frame(kWDllSync, regs::kOtpEccDatain1, 0x00),
+    frame(kWBcast, regs::kControl1, regs::kControl1AddrWr),
+    frame(kWAddress, regs::kDir0Addr),
+    frame(kWBcast, regs::kCommCtrl, regs::kCommStack),
+    frame(kWTop, regs::kCommCtrl, 0),
+    frame(kRDllSync, regs::kOtpEccDatain1),
+    frame(kWBcast, regs::kFaultRst2, regs::kFaultRst2StartupComm),
+    frame(kRDiscover, regs::kDir0Addr),
+    frame(kWTop, regs::kCommCtrl, 1),
+    frame(kRVerify, regs::kDir0Addr),
+    kPhase,
     // Configure. NVM-shadow writes first, so the CRC refresh covers them (chain.hpp).
-    {Op::Write, kWActiveCell, 0, 1, regs::kActiveCell},
-    {Op::Write, kWAdcConf1, 0, 1, regs::kAdcConf1},
-    {Op::Read, kRCrc, 0, 2, regs::kCustCrcRsltHi},
-    {Op::Write, kWCrc, 0, 2, regs::kCustCrcHi},
-    {Op::Write, kWBcast, 0xFF, 2, regs::kFaultRst1},
-    {Op::Write, kWBcast, regs::kAdcCtrl1Continuous, 1, regs::kAdcCtrl1},
-    {Op::Delay, kAdcSettle},
-    {Op::End},
+    frame(kWActiveCell, regs::kActiveCell),
+    frame(kWAdcConf1, regs::kAdcConf1),
+    frame(kRCrc, regs::kCustCrcRsltHi, 0, 2),
+    frame(kWCrc, regs::kCustCrcHi, 0, 2),
+    frame(kWBcast, regs::kFaultRst1, 0xFF, 2),  // FAULT_RST1 and FAULT_RST2
+    frame(kWBcast, regs::kAdcCtrl1, regs::kAdcCtrl1Continuous),
+    delay(kAdcSettle, 5),  // + config adcSettle: LPF settling, 5 us per device as TI's bring-up waits
+    kEnd,
 };
 constexpr size_t kAddressPhase = 7;
 constexpr size_t kConfigurePhase = 18;
-static_assert(kBringUp[kAddressPhase - 1].op == Op::Phase && kBringUp[kConfigurePhase - 1].op == Op::Phase);
+static_assert(kBringUp[kAddressPhase - 1].code == kPhase.code &&
+              kBringUp[kConfigurePhase - 1].code == kPhase.code);
 
-constexpr Chain::Step kScan[] = {
-    {Op::Read, kRScan, kValidCells, 32, regs::kVcell16Hi},
-    {Op::Read, kRScan, kValidDieTemp, 4, regs::kDietemp1Hi},
-    {Op::Read, kRScan, kValidGpio, 16, regs::kGpio1Hi},
-    {Op::Read, kRScan, kValidFaults, 1, regs::kFaultSummary},
-    {Op::End},
+constexpr Step kScan[] = {
+    frame(kRScan, regs::kVcell16Hi, kValidCells, 2 * kCellsPerDevice),
+    frame(kRScan, regs::kDietemp1Hi, kValidDieTemp, 4),
+    frame(kRScan, regs::kGpio1Hi, kValidGpio, 2 * kGpiosPerDevice),
+    frame(kRScan, regs::kFaultSummary, kValidFaults, 1),
+    kEnd,
 };
+// 64 devices x the largest read must fit the receive buffer: issue() relies on it without a check.
+static_assert(kRxBufferBytes >= kMaxDevices * responseSize(32));
 
-constexpr Chain::Step kClearFaults[] = {
-    {Op::Write, kWBcast, 0xFF, 2, regs::kFaultRst1},  // FAULT_RST1 and FAULT_RST2, base and stack
-    {Op::Read, kRFaults, 0, 1, regs::kFaultSummary},
-    {Op::End},
+constexpr Step kClearFaults[] = {
+    frame(kWBcast, regs::kFaultRst1, 0xFF, 2),  // FAULT_RST1 and FAULT_RST2, base and stack
+    frame(kRFaults, regs::kFaultSummary),
+    kEnd,
 };
 
 // The recovery ladder (LANDSCAPE.md, BQ79616 problem 3): drain before COMM CLEAR, because a COMM CLEAR
 // while stack responses are still arriving makes the host receive stray frames (SLUSE81E §9.3.6.1.2.1.2).
-constexpr Chain::Step kRecovery[] = {
-    {Op::Drain},
-    {Op::Ping, kPingCommClear},
-    {Op::Delay, kRxMin},
-    {Op::Read, kRProbe, static_cast<uint8_t>(RecoveryLevel::CommClear), 1, regs::kDir0Addr},
-    {Op::Ping, kPingSleepToActive},
-    {Op::Delay, kStackSleepToActive},
-    {Op::Drain},
-    {Op::Read, kRProbe, static_cast<uint8_t>(RecoveryLevel::SleepToActive), 1, regs::kDir0Addr},
-    {Op::Call, static_cast<uint8_t>(RecoveryLevel::Rewake)},
-    {Op::Write, kWBase, regs::kControl2SendHwReset, 1, regs::kControl2},
-    {Op::Delay, kHwResetTone},
-    {Op::Ping, kPingHwReset},
-    {Op::Delay, kHwReset},
-    {Op::Call, static_cast<uint8_t>(RecoveryLevel::HardwareReset)},
-    {Op::End},
+constexpr Step kRecovery[] = {
+    {code(Op::Drain)},
+    ping(kCommClearPing),
+    delay(kOnce, 100),  // tUART(RXMIN) after COMM CLEAR, before the next frame, rounded up
+    frame(kRProbe, regs::kDir0Addr, static_cast<uint8_t>(RecoveryLevel::CommClear)),
+    ping(kSleepToActivePing),
+    delay(kPerDevice, 1000),  // tSU(SLP2ACT) 230 us + the SLEEPtoACTIVE tone per device (estimate)
+    {code(Op::Drain)},
+    frame(kRProbe, regs::kDir0Addr, static_cast<uint8_t>(RecoveryLevel::SleepToActive)),
+    call(RecoveryLevel::Rewake),
+    frame(kWBase, regs::kControl2, regs::kControl2SendHwReset),
+    delay(kPerDevice, 2000),  // the HW_RESET tone up the stack, per device (estimate)
+    ping(kHwResetPing),
+    delay(kOnce, 83000),  // tHWRST 75 ms (BQ75614-Q1 sibling table) + 10 %
+    call(RecoveryLevel::HardwareReset),
+    kEnd,
 };
 // After a COMM CLEAR or SLEEPtoACTIVE rung: those set FAULT_COMM1[COMMCLR_DET, STOP_DET] themselves.
-constexpr Chain::Step kRecovered[] = {
-    {Op::Write, kWBcast, regs::kFaultRst2AllComm, 1, regs::kFaultRst2},
-    {Op::End},
+constexpr Step kRecovered[] = {
+    frame(kWBcast, regs::kFaultRst2, regs::kFaultRst2AllComm),
+    kEnd,
 };
 
-constexpr Chain::Step kRaw[] = {{Op::Raw}, {Op::End}};
+constexpr Step kRaw[] = {{code(Op::Raw)}, kEnd};
 
-// First-byte timeout of a read: TI's bound for a chain read is 100 us + 2 x 3 us per device before the
-// first byte (BQ79600-Q1 datasheet, tWAIT_READ_MAX); twice that, plus margin.
-Duration firstByteTimeout(uint8_t devices) {
-  return us(500 + 12U * devices);
-}
 constexpr Duration kGapTimeout = us(200);  // 20 byte times of silence inside a response
+
+// The constructor and startScan() clear these with memset (zero is each one's empty value); the state has no
+// tail padding, so no member of Chain can sit inside the bytes the constructor clears.
+static_assert(std::is_trivially_copyable_v<detail::ChainState> &&
+              std::is_trivially_copyable_v<DeviceRecord> && std::is_trivially_copyable_v<ScanSummary> &&
+              std::is_standard_layout_v<detail::ChainState> &&
+              offsetof(detail::ChainState, timer_) + sizeof(sched::Timer) == sizeof(detail::ChainState));
 
 }  // namespace
 
 Chain::Chain(hal::Uart& uart, const hal::Clock& clock, const DriverContext& context,
              const ChainConfig& config)
-    : uart_(uart), clock_(clock), ctx_(context), config_(config) {
+    : uart_(uart), clock_(clock), ctx_(context) {
+  // All of the state zero in one memset (every member is trivially copyable and zero is its empty value);
+  // the member initialisers of its parts run before it and become dead stores.
+  std::memset(static_cast<void*>(static_cast<detail::ChainState*>(this)), 0, sizeof(detail::ChainState));
+  config_ = config;
+  configured_ = config.devices;
   FW_ASSERT(config.devices >= 1 && config.devices <= kMaxDevices);
   FW_ASSERT(config.activeCells >= regs::kActiveCellMin && config.activeCells <= kCellsPerDevice);
   FW_ASSERT(context.busEvent != 0 && context.timerEvent != 0 && (context.busEvent & context.timerEvent) == 0);
-  // The guard timer below allows 40 us per byte: 10 bits at 250 kbaud or faster (the BQ79616 runs 1 Mbaud).
+  // The guard timer in started() allows 40 us per byte: 10 bits at 250 kbaud or faster (the BQ79616 runs
+  // 1 Mbaud).
   FW_ASSERT(uart.baudRate() >= 250000);
+  busDone_ = context.busNotify();
+  lastFault_.device = kNoDevice;
+  // One address more than configured, so discovery can notice a device the configuration left out.
+  slots_ = config.devices < kMaxDevices ? static_cast<uint8_t>(config.devices + 1) : kMaxDevices;
+  // First-byte timeout of a read: TI's bound for a chain read is 100 us + 2 x 3 us per device before the
+  // first byte (BQ79600-Q1 datasheet, tWAIT_READ_MAX); twice that, plus margin.
+  exchange_.firstByteTimeout = us(500 + 12U * config.devices);
+  exchange_.gapTimeout = kGapTimeout;
 }
 
 void Chain::attachFaultLine(hal::EdgeInput& nfault, sched::EventMask event) {
@@ -205,7 +248,6 @@ Status Chain::begin(const Step* script, bool singlePhase) {
   localising_ = false;
   singlePhase_ = singlePhase;
   active_ = true;
-  finished_ = false;
   deferred_ = Status::Ok;
   result_ = Status::Ok;
   run();
@@ -232,14 +274,15 @@ Status Chain::startBringUp() {
 Status Chain::startScan(std::span<DeviceRecord> records, ScanSummary& summary) {
   if (active_) return Status::Busy;
   if (devices_ == 0) return Status::NotReady;
-  if (records.size() < config_.devices || config_.scanParts == 0) return Status::InvalidArgument;
-  records_ = records;
+  if (records.size() < configured_ || config_.scanParts == 0) return Status::InvalidArgument;
+  records_ = records.data();
   summary_ = &summary;
   parts_ = static_cast<uint8_t>(config_.scanParts | (faultPending_ ? kValidFaults : 0));
   broken_ = false;
-  for (uint8_t d = 0; d < config_.devices; ++d)
-    records_[d] = DeviceRecord{};
-  summary = ScanSummary{};
+  // Zero is every record's empty value (DeviceRecord is trivially copyable): one memset for all of them.
+  std::memset(static_cast<void*>(records_), 0, configured_ * sizeof(DeviceRecord));
+  std::memset(static_cast<void*>(&summary), 0, sizeof summary);
+  summary.firstError.device = kNoDevice;
   summary.started = clock_.now();
   return begin(kScan, false);
 }
@@ -285,67 +328,69 @@ Status Chain::startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t 
 // ----------------------------------------------------------------------------------------
 
 Progress Chain::onEvent(sched::EventMask events) {
-  finished_ = false;
+  const bool wasActive = active_;
   if ((events & faultEvent_) != 0) {
     ++stats_.faultLineEdges;
     faultPending_ = true;
   }
-  if ((events & ctx_.busEvent) != 0 && waiting_ == Wait::Bus) {
+  const Wait w = waiting_;
+  if ((events & ctx_.busEvent) != 0 && w == Wait::Bus) {
     waiting_ = Wait::None;
     ctx_.scheduler.stopTimer(timer_);
     onBus();
-    run();
-  }
-  // A timer event is current only if the timer is no longer armed: an expiry posted before the timer was
-  // re-armed for a later wait must not end that wait early.
-  if ((events & ctx_.timerEvent) != 0 && !timer_.armed() && waiting_ != Wait::None) {
-    if (waiting_ == Wait::Bus) {
+  } else if ((events & ctx_.timerEvent) != 0 && !timer_.armed() && w != Wait::None) {
+    // A timer event is current only if the timer is no longer armed: an expiry posted before the timer was
+    // re-armed for a later wait must not end that wait early. (After a bus completion handled above, the
+    // next step has either ended the operation or armed the timer again, so one branch is enough.)
+    waiting_ = Wait::None;
+    if (w == Wait::Bus) {
       // The UART never reported completion within its own bounds: take the line back.
       uart_.abort();
-      waiting_ = Wait::None;
       count(Status::Timeout);
-      fail(Status::Timeout, kNoDevice);
+      fail(Status::Timeout);
     } else {
-      waiting_ = Wait::None;
       advance();
     }
-    run();
   }
-  return finished_ ? Progress::Done : Progress::Running;
+  run();  // returns at once unless a step above ended
+  // Operations start only from start*(), never inside onEvent(): an operation that was running and is not
+  // any more ended here.
+  return wasActive && !active_ ? Progress::Done : Progress::Running;
 }
 
 void Chain::advance() {
   draining_ = false;
-  ++pc_;
+  pc_ = pc_ + 1;
   loop_ = 0;
   attempt_ = 0;
   localising_ = false;
 }
 
+// Nothing can be waiting here (every path to it has stopped the timer or seen it expire), so the timer is not
+// touched.
 void Chain::finish(Status status) {
-  ctx_.scheduler.stopTimer(timer_);
   summary_ = nullptr;
-  waiting_ = Wait::None;
   active_ = false;
-  finished_ = true;
   result_ = status;
 }
 
 void Chain::fail(Status status, uint8_t device) {
   lastFault_ = {status, device};
-  if (ret_ == nullptr) return finish(status);
-  deferred_ = status;
-  resume();  // a nested bring-up failed: the recovery ladder goes on with its next rung
+  unwind(status);
 }
 
-void Chain::resume() {
+[[gnu::always_inline]] inline void Chain::unwind(Status status) {
+  if (ret_ == nullptr) return finish(status);
+  // A nested bring-up failed or left the chain degraded: the recovery ladder goes on with the rung after its
+  // Call.
+  deferred_ = status;
   pc_ = ret_ - 1;
   ret_ = nullptr;
   advance();
 }
 
-void Chain::count(Status status) {
-  if (status != Status::Ok) ++stats_.errors[static_cast<uint8_t>(status)];
+[[gnu::noinline]] void Chain::count(Status status) {
+  ++stats_.errors[static_cast<uint8_t>(status)];
 }
 
 void Chain::wait(Wait what, Duration d) {
@@ -353,81 +398,60 @@ void Chain::wait(Wait what, Duration d) {
   ctx_.scheduler.startTimer(timer_, ctx_.task, ctx_.timerEvent, d);
 }
 
-void Chain::send(size_t txLen, std::span<uint8_t> rx) {
+// A ping or an exchange was handed to the UART: wait for its completion, guarded by `guard`.
+void Chain::started(Status status, Duration guard) {
+  if (status != Status::Ok) return fail(status);
+  wait(Wait::Bus, guard);
+}
+
+void Chain::send(size_t txLen, uint8_t* rx, size_t rxLen) {
   exchange_.tx = {tx_, txLen};
-  exchange_.rx = rx;
-  exchange_.firstByteTimeout = firstByteTimeout(config_.devices);
-  exchange_.gapTimeout = kGapTimeout;
+  exchange_.rx = {rx, rxLen};
   if (txLen != 0) ++stats_.commandFrames;
-  const Status s = uart_.start(exchange_, ctx_.busNotify());
-  if (s != Status::Ok) return fail(s, kNoDevice);
   // Guard: the first-byte wait plus the whole exchange at 40 us per byte (4 x the time at 1 Mbaud, so no
   // division by the baud rate is needed), with 20 ms to spare.
-  wait(Wait::Bus, exchange_.firstByteTimeout + us(static_cast<uint32_t>(txLen + rx.size()) * 40U) + ms(20));
-}
-
-// Frame `index` of the last response (top of stack first), checked against the device that must send it.
-Status Chain::frameAt(uint8_t index, uint8_t count, uint8_t expectDevice, ResponseFrame& f) {
-  const size_t at = index * responseSize(count);
-  if (at + responseSize(count) > exchange_.received) {
-    // The UART ended early: its status says how (NoResponse, Truncated, CommFault).
-    return exchange_.status != Status::Ok ? exchange_.status : Status::Truncated;
-  }
-  const Status s = parseResponse({rx_ + at, exchange_.received - at}, reg_, count, f);
-  if (s == Status::Ok && f.device != expectDevice) return Status::DeviceId;
-  return s;
-}
-
-uint8_t Chain::slots() const {
-  // One address more than configured, so discovery can notice a device the configuration left out.
-  return config_.devices < kMaxDevices ? static_cast<uint8_t>(config_.devices + 1) : kMaxDevices;
+  started(uart_.start(exchange_, busDone_),
+          exchange_.firstByteTimeout + us(static_cast<uint32_t>(txLen + rxLen) * 40U) + ms(20));
 }
 
 void Chain::run() {
   while (active_ && waiting_ == Wait::None) {
     const Step& s = *pc_;
-    switch (s.op) {
-      case Op::Ping: {
-        const Status started = uart_.ping(kPingLow[s.kind], ctx_.busNotify());
-        if (started != Status::Ok) {
-          fail(started, kNoDevice);
-        } else {
-          wait(Wait::Bus, kPingLow[s.kind] + ms(20));
-        }
+    const Op op = opOf(s);
+    if (draining_ && op <= Op::Raw) {
+      // After a failed read, let whatever the chain still sends go by before the bus is used again, or its
+      // tail would land in the next response (a chain answering with more frames than expected, a late
+      // frame). This also holds across operations: one that ended on a failed read leaves it to the next.
+      send(0, rx_, sizeof rx_);
+      continue;
+    }
+    switch (op) {
+      case Op::Ping:
+        started(uart_.ping(us(s.arg), busDone_), us(s.arg) + ms(20));
         break;
-      }
-      case Op::Delay: {
-        const DelaySpec& d = kDelays[s.kind];
-        Duration t = us(d.base + static_cast<uint32_t>(d.perDevice) * config_.devices);
-        if (s.kind == kAdcSettle) t = t + config_.adcSettle;
-        wait(Wait::Timer, t);
-        break;
-      }
-      case Op::Write:
-        issueWrite(s);
-        break;
-      case Op::Read:
-        if (draining_) {
-          // After a failed read, let whatever the chain still sends go by before the next frame, or its tail
-          // would land in the next response (a chain answering with more frames than expected, a late frame).
-          send(0, {rx_, sizeof rx_});
-        } else {
-          issueRead(s);
-        }
+      case Op::Frame:
+        issue(s);
         break;
       case Op::Drain:
         // Receive whatever is still on the line; the exchange ends after a first-byte timeout of silence.
-        send(0, {rx_, sizeof rx_});
+        send(0, rx_, sizeof rx_);
         break;
       case Op::Raw:
-        send(txLen_, userRx_);
+        send(txLen_, userRx_.data(), userRx_.size());
         break;
+      case Op::Delay: {
+        uint32_t t = static_cast<uint32_t>(s.arg) << s.value;
+        if (s.code >= code(Op::Delay, kPerDevice)) t *= configured_;
+        Duration d = us(t);
+        if (s.code == code(Op::Delay, kAdcSettle)) d = d + config_.adcSettle;
+        wait(Wait::Timer, d);
+        break;
+      }
       case Op::Call:
         ret_ = pc_ + 1;
-        level_ = static_cast<RecoveryLevel>(s.kind);
+        level_ = static_cast<RecoveryLevel>(s.code & 0x0FU);
         deferred_ = Status::Ok;
         pc_ = kBringUp;
-        singlePhase_ = false;
         break;
       case Op::Phase:
         if (singlePhase_) {
@@ -444,111 +468,111 @@ void Chain::run() {
           ++stats_.recoveries[static_cast<uint8_t>(level_)];
           finish(Status::Ok);
         } else {
-          resume();  // the bring-up left the chain degraded: next rung
+          unwind(deferred_);
         }
         break;
     }
   }
 }
 
-void Chain::issueWrite(const Step& s) {
-  uint8_t buf[2] = {s.value, s.value};
-  const uint8_t* data = buf;
-  uint8_t bytes = s.n;
-  auto type = R::BroadcastWrite;
+// Sends frame `loop_` of a Frame step, or moves on when the step has sent all of its frames.
+void Chain::issue(const Step& s) {
+  uint8_t data[2] = {s.value, s.value};
+  const uint8_t* bytes = data;
+  bool single = false;
   uint8_t device = 0;
-  uint16_t reg = s.reg;
-  switch (s.kind) {
-    case kWBase:
-      type = R::SingleWrite;
+  uint16_t reg = s.arg & kRegMask;
+  uint8_t reps = 1;
+  uint8_t frames = devices_;
+  const auto n = static_cast<uint8_t>((s.arg >> 11) + 1);  // register bytes
+  switch (s.code) {
+    case code(Op::Frame, kWBase):
+      single = true;
       break;
-    case kWSeq:
+    case code(Op::Frame, kWDllSync):
+    case code(Op::Frame, kRDllSync):
       reg = static_cast<uint16_t>(reg + loop_);
-      bytes = 1;
+      reps = kDllSyncFrames;
+      frames = configured_;  // before discovery: every configured device answers
       break;
-    case kWActiveCell:
-      buf[0] = static_cast<uint8_t>(config_.activeCells - regs::kActiveCellMin);
+    case code(Op::Frame, kWActiveCell):
+      data[0] = static_cast<uint8_t>(config_.activeCells - regs::kActiveCellMin);
       break;
-    case kWAdcConf1:
-      buf[0] = config_.adcConf1;
+    case code(Op::Frame, kWAdcConf1):
+      data[0] = config_.adcConf1;
       break;
-    case kWAddress:
-      buf[0] = loop_;
+    case code(Op::Frame, kWAddress):
+      data[0] = loop_;
+      reps = slots_;
       break;
-    case kWTop: {
-      // Phase 0 (TI order): base = 0x00 and top = 0x03, or 0x01 for a chain of one. Phase 1: move the top to
-      // the last device that answered if discovery found fewer than configured.
-      const uint8_t n = s.value == 0 ? config_.devices : found_;
-      const bool needed = s.value == 0 ? loop_ < (n == 1 ? 1 : 2) : (loop_ == 0 && found_ < config_.devices);
-      if (!needed) return advance();
-      const bool standalone = n == 1;
-      const bool topWrite = s.value == 1 || loop_ == 1;
-      type = R::SingleWrite;
-      device = topWrite && !standalone ? static_cast<uint8_t>(n - 1) : 0;
-      buf[0] = standalone ? regs::kCommStandalone : (topWrite ? regs::kCommTop : regs::kCommBase);
+    case code(Op::Frame, kWTop): {
+      // Value 0 (TI order): base = 0x00, then top = 0x03; a chain of one is base and top at once (0x01).
+      // Value 1: move the top to the last device that answered if discovery found fewer than configured.
+      const uint8_t n = s.value != 0 ? found_ : configured_;
+      reps = s.value != 0 ? (found_ < configured_ ? 1 : 0) : (n == 1 ? 1 : 2);
+      single = true;
+      if (loop_ + s.value != 0) device = static_cast<uint8_t>(n - 1);
+      data[0] = n == 1 ? regs::kCommStandalone : device == 0 ? regs::kCommBase : regs::kCommTop;
       break;
     }
-    case kWCrc:
+    case code(Op::Frame, kWCrc):
       // Frame loop_ of the CUST_CRC_RSLT response (still in rx_) belongs to device top - loop_.
-      type = R::SingleWrite;
+      single = true;
       device = static_cast<uint8_t>(devices_ - 1 - loop_);
-      data = rx_ + loop_ * responseSize(2) + 4;
+      bytes = rx_ + loop_ * responseSize(2) + 4;
+      reps = devices_;
       break;
-    default:  // kWBcast
-      break;
-  }
-  const size_t len = encodeWrite(type, device, reg, {data, bytes}, tx_);
-  FW_ASSERT(len != 0);
-  send(len, {});
-}
-
-void Chain::issueRead(const Step& s) {
-  auto type = R::BroadcastRead;
-  uint8_t device = 0;
-  uint8_t frames = devices_;
-  reg_ = s.reg;
-  switch (s.kind) {
-    case kRDiscard:
-      reg_ = static_cast<uint16_t>(reg_ + loop_);
-      frames = config_.devices;
-      break;
-    case kRDiscover:
+    case code(Op::Frame, kRDiscover):
       if (loop_ == 0) found_ = 0;
-      type = R::SingleRead;
+      single = true;
       device = loop_;
-      frames = 1;
+      reps = slots_;
       break;
-    case kRProbe:
+    case code(Op::Frame, kRProbe):
       // A probe passes only for the whole configured chain: a chain that came back short goes on to the rungs
       // that re-discover it.
-      if (devices_ < config_.devices) return advance();
+      if (devices_ < configured_) reps = 0;
       break;
-    case kRScan:
-      if ((parts_ & s.value) == 0) return advance();
-      if (localising_) {
+    case code(Op::Frame, kRScan):
+      if ((parts_ & s.value) == 0) {
+        reps = 0;
+      } else if (localising_) {
         // Per-device fallback, from the base upward, for the devices this part has not validated yet.
         while (loop_ < devices_ && (records_[loop_].valid & s.value) != 0)
           ++loop_;
-        if (loop_ >= devices_) return advance();
-        type = R::SingleRead;
+        single = true;
         device = loop_;
-        frames = 1;
+        reps = devices_;
       }
       break;
-    default:
+    default:  // kWBcast, kRVerify, kRCrc, kRFaults
       break;
   }
-  if (frames == 0) return fail(Status::NotReady, kNoDevice);
-  first_ = type == R::SingleRead ? device : static_cast<uint8_t>(frames - 1);
-  frames_ = frames;
-  faulted_ = kNoDevice;
-  const size_t len = encodeRead(type, device, reg_, s.n, tx_);
-  const size_t expect = frames * responseSize(s.n);
-  FW_ASSERT(len != 0 && expect <= sizeof rx_);
-  send(len, {rx_, expect});
+  if (loop_ >= reps) return s.code == code(Op::Frame, kRDiscover) ? endDiscovery(Status::Ok) : advance();
+  uint8_t init;
+  size_t rxLen = 0;
+  size_t len = n;  // bytes after the register: the data of a write, the byte count of a read
+  if (s.code >= code(Op::Frame, kRDllSync)) {
+    // frames is never 0: the reads of devices_ run only once discovery found at least one device
+    // (startScan(), startClearFaults() and startConfigure() check it, a probe runs only for the whole
+    // configured chain).
+    if (single) frames = 1;
+    reg_ = reg;
+    count_ = n;
+    frames_ = frames;
+    first_ = single ? device : static_cast<uint8_t>(frames - 1);
+    faulted_ = kNoDevice;
+    rxLen = frames * responseSize(n);
+    data[0] = static_cast<uint8_t>(n - 1);
+    len = 1;
+    init = single ? kInitSingleRead : kInitBroadcastRead;
+  } else {
+    init = static_cast<uint8_t>((single ? kInitSingleWrite : kInitBroadcastWrite) | (n - 1));
+  }
+  send(encodeFrame(init, device, reg, bytes, len, tx_), rx_, rxLen);
 }
 
-void Chain::onBus() {
+[[gnu::always_inline]] inline void Chain::onBus() {
   const Step& s = *pc_;
   const Status st = exchange_.status;
   if (draining_) {
@@ -556,163 +580,141 @@ void Chain::onBus() {
     draining_ = st == Status::Ok && ++drained_ < 4;
     return;
   }
-  switch (s.op) {
-    case Op::Write:
+  switch (opOf(s)) {
+    case Op::Frame:
+      if (s.code >= code(Op::Frame, kRDllSync)) return onRead(s);
       if (st != Status::Ok) {
         count(st);
-        fail(st, kNoDevice);
-        break;
+        return fail(st);
       }
       ++loop_;
-      if (s.kind == kWSeq       ? loop_ >= s.n
-          : s.kind == kWAddress ? loop_ >= slots()
-          : s.kind == kWCrc     ? loop_ >= devices_
-                                : s.kind != kWTop) {
-        advance();  // kWTop decides in issueWrite() whether another write is needed
-      }
-      break;
-    case Op::Read:
-      onRead(s);
-      break;
+      return;
     case Op::Drain:
       // Ok means the buffer filled while bytes kept coming: drain again, at most 4 buffers in all.
       if (st != Status::Ok || ++loop_ >= 4) advance();
-      break;
+      return;
     case Op::Raw:
-      count(st);
-      finish(st);
-      break;
+      if (st != Status::Ok) count(st);
+      return finish(st);
     default:  // Ping
-      advance();
-      break;
+      return advance();
   }
 }
 
-// Checks one validated frame for the step's purpose and files its data.
-Status Chain::onFrame(const Step& s, uint8_t device, const uint8_t* data) {
-  switch (s.kind) {
-    case kRDiscover:
-    case kRVerify:
-    case kRProbe:
-      return (data[0] & kMaxAddress) == device ? Status::Ok : Status::VerifyFailed;
-    case kRFaults:
-      // The lowest stack device with a fault is named: the base's FCOMM_DET only echoes a stack fault.
-      if (data[0] != 0 && (device != 0 || faulted_ == kNoDevice)) {
-        faulted_ = device;
-        faultBits_ = data[0];
-      }
-      return Status::Ok;
-    case kRScan:
-      store(s.value, device, data);
-      return Status::Ok;
-    default:  // kRDiscard, kRCrc
-      return Status::Ok;
-  }
-}
-
-void Chain::onRead(const Step& s) {
+[[gnu::always_inline]] inline void Chain::onRead(const Step& s) {
   Status r = Status::Ok;
-  uint8_t bad = kNoDevice;
-  for (uint8_t i = 0; i < frames_; ++i) {
-    const auto dev = static_cast<uint8_t>(first_ - i);
-    ResponseFrame f;
-    r = frameAt(i, s.n, dev, f);
-    if (r == Status::Ok) r = onFrame(s, dev, f.data.data());
-    if (r != Status::Ok) {
-      // Nothing after a bad frame can be trusted: the frames below it are not looked at.
-      bad = dev;
-      break;
+  uint8_t dev = first_;
+  const size_t size = responseSize(count_);
+  size_t left = exchange_.received;
+  const uint8_t* f = rx_;
+  for (uint8_t i = 0; i < frames_; ++i, --dev, f += size, left -= size) {
+    // Frame i of the response (top of stack first), checked against the device that must send it.
+    if (left < size) {
+      // The UART ended early: its status says how (NoResponse, Truncated, CommFault).
+      r = exchange_.status != Status::Ok ? exchange_.status : Status::Truncated;
+    } else {
+      r = checkResponse(f, left, reg_, count_);
+      if (r == Status::Ok && f[1] != dev) r = Status::DeviceId;
     }
+    if (r == Status::Ok) {
+      const uint8_t v = f[4];
+      switch (s.code) {
+        case code(Op::Frame, kRDiscover):
+        case code(Op::Frame, kRVerify):
+        case code(Op::Frame, kRProbe):
+          if ((v & kMaxAddress) != dev) r = Status::VerifyFailed;
+          break;
+        case code(Op::Frame, kRFaults):
+          // The lowest stack device with a fault is named: the base's FCOMM_DET only echoes a stack fault.
+          if (v != 0 && (dev != 0 || faulted_ == kNoDevice)) {
+            faulted_ = dev;
+            faultBits_ = v;
+          }
+          break;
+        case code(Op::Frame, kRScan):
+          store(s.value, dev, f + 4);
+          break;
+        default:  // kRDllSync, kRCrc
+          break;
+      }
+    }
+    // Nothing after a bad frame can be trusted: the frames below it are not looked at.
+    if (r != Status::Ok) break;
     ++stats_.responseFrames;
   }
-  if (s.kind == kRDiscard) {  // DLL-sync dummies: TI ignores their responses, and so does the driver
-    if (++loop_ >= s.value) advance();
-    return;
-  }
+  // DLL-sync dummies: TI ignores their responses, and so does the driver.
+  if (s.code == code(Op::Frame, kRDllSync)) r = Status::Ok;
   if (r == Status::Ok) {
     attempt_ = 0;
-    switch (s.kind) {
-      case kRDiscover:
-        found_ = static_cast<uint8_t>(loop_ + 1);
-        if (++loop_ >= slots()) endDiscovery(r);
-        return;
-      case kRScan:
-        if (localising_) {
-          ++loop_;
-        } else {
-          advance();
-        }
-        return;
-      case kRProbe:
-        level_ = static_cast<RecoveryLevel>(s.value);
-        ++stats_.recoveries[s.value];
-        pc_ = kRecovered;
-        loop_ = 0;
-        return;
-      case kRFaults:
-        if (faulted_ != kNoDevice) {
-          return fail((faultBits_ & regs::kSummaryFaultComm) != 0 ? Status::CommFault : Status::VerifyFailed,
-                      faulted_);
-        }
-        return advance();
-      default:  // kRVerify, kRCrc
-        return advance();
+    if (s.code == code(Op::Frame, kRProbe)) {
+      level_ = static_cast<RecoveryLevel>(s.value);
+      ++stats_.recoveries[s.value];
+      pc_ = kRecovered;
+      loop_ = 0;
+      return;
     }
+    if (s.code == code(Op::Frame, kRFaults) && faulted_ != kNoDevice) {
+      return fail((faultBits_ & regs::kSummaryFaultComm) != 0 ? Status::CommFault : Status::VerifyFailed,
+                  faulted_);
+    }
+    ++loop_;
+    if (s.code == code(Op::Frame, kRDiscover)) found_ = loop_;
+    return;  // issue() sends the next frame of the step or moves on
   }
+  const bool silent = r == Status::NoResponse;
   // Silence at the address above the configured count is the expected end of discovery, not an error.
-  const bool expectedSilence = s.kind == kRDiscover && r == Status::NoResponse && loop_ >= config_.devices;
-  if (!expectedSilence) count(r);
-  if (r != Status::NoResponse) {
+  if (!(s.code == code(Op::Frame, kRDiscover) && silent && loop_ >= configured_)) count(r);
+  if (!silent) {
     draining_ = true;
     drained_ = 0;
   }
   // One retry of the whole transaction, except for silence in discovery (nothing is there) and for the
   // per-device reads of a scan (the chain read was retried already).
-  const bool retry =
-      s.kind == kRDiscover ? r != Status::NoResponse : !(s.kind == kRScan && (localising_ || broken_));
+  const bool retry = s.code == code(Op::Frame, kRDiscover)
+                         ? !silent
+                         : !(s.code == code(Op::Frame, kRScan) && (localising_ || broken_));
   if (attempt_ == 0 && retry) {
     attempt_ = 1;
     ++stats_.retries;
-    return;  // run() sends the same step again
+    return;  // run() sends the same frame again
   }
-  switch (s.kind) {
-    case kRDiscover:
+  switch (s.code) {
+    case code(Op::Frame, kRDiscover):
       return endDiscovery(r);
-    case kRScan:
+    case code(Op::Frame, kRScan):
       if (!localising_) {
         ++stats_.localisations;
         localising_ = true;
         loop_ = 0;
         return;
       }
-      markFailed(s.value, loop_, r);
-      if (r == Status::NoResponse) {
+      markFailed(loop_, r);
+      if (silent) {
         // Silence: the link ends below this device, so the ones above it cannot be reached either.
-        for (uint8_t d = static_cast<uint8_t>(loop_ + 1); d < devices_; ++d) {
-          if ((records_[d].valid & s.value) == 0) markFailed(s.value, d, Status::NoResponse);
+        while (++loop_ < devices_) {
+          if ((records_[loop_].valid & s.value) == 0) markFailed(loop_, Status::NoResponse);
         }
-        loop_ = devices_;
       } else {
         ++loop_;
       }
       return;
-    case kRProbe:
-      lastFault_ = {r, bad};
+    case code(Op::Frame, kRProbe):
+      lastFault_ = {r, dev};
       return advance();  // the probe failed: next rung of the ladder
     default:
-      return fail(r, bad);
+      return fail(r, dev);
   }
 }
 
 void Chain::endDiscovery(Status r) {
   if (found_ == 0) return fail(r, 0);
-  devices_ = found_ < config_.devices ? found_ : config_.devices;
-  if (found_ < config_.devices) {
-    deferred_ = Status::CommFault;
-    lastFault_ = {r, found_};
-  } else if (found_ > config_.devices) {
-    deferred_ = Status::VerifyFailed;
-    lastFault_ = {Status::VerifyFailed, config_.devices};
+  const bool fewer = found_ < configured_;
+  devices_ = fewer ? found_ : configured_;
+  if (found_ != configured_) {
+    // Fewer: the chain runs with those, the first missing device (devices_) is named with its error. More:
+    // it runs with the configured count, and the first extra device (devices_ again) is named.
+    deferred_ = fewer ? Status::CommFault : Status::VerifyFailed;
+    lastFault_ = {fewer ? r : Status::VerifyFailed, devices_};
   }
   advance();
 }
@@ -726,63 +728,60 @@ void Chain::store(uint8_t part, uint8_t device, const uint8_t* p) {
     r.faultSummary = p[0];
     faultPending_ = false;
   } else {
-    // Big-endian 16-bit words; the cell block starts with VCELL16, so it fills the record backwards.
-    int16_t* out = part == kValidCells  ? r.cellRaw + kCellsPerDevice - 1
-                   : part == kValidGpio ? r.gpioRaw
-                                        : r.dieTemp;
-    const int step = part == kValidCells ? -1 : 1;
-    const unsigned words = part == kValidCells ? kCellsPerDevice : part == kValidGpio ? kGpiosPerDevice : 2U;
-    // A measurement that has not been converted (0x8000) is not a value: cells of the active range and die
-    // temperatures make the part NotReady. GPIOs keep 0x8000, their usual value when not an ADC input.
-    const unsigned checked = part == kValidCells ? config_.activeCells : part == kValidGpio ? 0U : 2U;
-    for (unsigned i = 0; i < words; ++i) {
-      const int16_t v = bytes::loadBeI16(p + 2 * i);
-      if (v == regs::kNotReady && words - 1 - i < checked) return markFailed(part, device, Status::NotReady);
-      out[static_cast<int>(i) * step] = part == kValidDieTemp ? dieTempDeciKelvin(v) : v;
+    // Big-endian 16-bit words, count_ bytes of them; the cell block starts with VCELL16, so it is read
+    // backwards into the record. A measurement that has not been converted (0x8000) is not a value: cells of
+    // the active range and die temperatures make the part NotReady. GPIOs keep 0x8000, their usual value
+    // when not an ADC input.
+    const bool cells = part == kValidCells;
+    int16_t* out = cells ? r.cellRaw : part == kValidGpio ? r.gpioRaw : r.dieTemp;
+    const unsigned checked = cells ? config_.activeCells : part == kValidGpio ? 0U : 2U;
+    const unsigned words = count_ / 2U;
+    const int stride = cells ? -2 : 2;
+    const uint8_t* in = cells ? p + count_ - 2 : p;
+    bool ready = true;
+    for (unsigned k = 0; k < words; ++k, in += stride) {
+      const int16_t v = bytes::loadBeI16(in);
+      if (k < checked && v == regs::kNotReady) ready = false;
+      out[k] = part == kValidDieTemp ? dieTempDeciKelvin(v) : v;
     }
-    if (part == kValidCells) r.takenAt = clock_.now();
+    if (!ready) {
+      // Left (or, after a retry, made) all zeros.
+      std::memset(out, 0, words * sizeof *out);
+      r.valid = static_cast<uint8_t>(r.valid & ~part);
+      return markFailed(device, Status::NotReady);
+    }
+    if (cells) r.takenAt = clock_.now();
   }
   r.valid = static_cast<uint8_t>(r.valid | part);
 }
 
-void Chain::markFailed(uint8_t part, uint8_t device, Status status) {
+// A device's part did not validate. Its values are zero already: a record starts the scan zeroed and a part
+// is written only when it validates (store()), so only the status is left to set.
+void Chain::markFailed(uint8_t device, Status status) {
   DeviceRecord& r = records_[device];
-  r.valid = static_cast<uint8_t>(r.valid & ~part);
-  switch (part) {
-    case kValidCells:
-      for (int16_t& v : r.cellRaw)
-        v = 0;
-      break;
-    case kValidDieTemp:
-      r.dieTemp[0] = r.dieTemp[1] = 0;
-      break;
-    case kValidGpio:
-      for (int16_t& v : r.gpioRaw)
-        v = 0;
-      break;
-    default:
-      r.faultSummary = 0;
-      break;
-  }
   if (r.status == Status::Ok) r.status = status;
   if (status == Status::NoResponse) broken_ = true;
 }
 
-void Chain::endScan() {
+[[gnu::always_inline]] inline void Chain::endScan() {
   ScanSummary& sum = *summary_;
   sum.devices = devices_;
-  for (uint8_t d = 0; d < config_.devices; ++d) {
+  for (uint8_t d = 0; d < configured_; ++d) {
     DeviceRecord& r = records_[d];
     if (d >= devices_) r.status = Status::NoResponse;  // not in the chain since the last bring-up
-    if (r.status == Status::Ok && (r.valid & parts_) == parts_) ++sum.validDevices;
     if (r.faultSummary != 0) ++sum.faultedDevices;
-    if (r.status != Status::Ok && sum.firstError.device == kNoDevice) sum.firstError = {r.status, d};
+    // Every part of the scan either validated for a device or gave it a non-Ok status (issue() and onRead()
+    // visit every device below devices_ in each part), so Ok means every part is valid.
+    if (r.status == Status::Ok) {
+      ++sum.validDevices;
+    } else if (sum.firstError.device == kNoDevice) {
+      sum.firstError.status = r.status;
+      sum.firstError.device = d;
+      lastFault_.status = deferred_ = r.status;
+      lastFault_.device = d;
+    }
   }
   sum.finished = clock_.now();
-  if (sum.firstError.device != kNoDevice) {
-    lastFault_ = sum.firstError;
-    deferred_ = sum.firstError.status;
-  }
 }
 
 }  // namespace fw::drivers::bq79616

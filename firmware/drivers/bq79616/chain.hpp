@@ -107,7 +107,61 @@ inline constexpr Duration kHwResetPing = ms(40);         // tHLD_HWRST >= 36 ms
 inline constexpr Duration kCommClearPing = us(18);       // tUART(CLR) 15..20 bit periods at 1 Mbaud
 inline constexpr size_t kRxBufferBytes = kMaxDevices * responseSize(32);
 
-class Chain {
+namespace detail {
+
+enum class Wait : uint8_t { None, Bus, Timer };
+struct Step;  // one instruction of a bring-up/scan/recovery script (chain.cpp)
+
+// Chain's state: an implementation detail of chain.cpp, not part of the interface. It is a base class of
+// trivially copyable members so that Chain's constructor clears all of it with one memset instead of code per
+// member. The state the interpreter touches on every step comes first: on Cortex-M0+ a byte load reaches only
+// 31 bytes past its base register and a word load 124.
+struct ChainState {
+  // Bytes 0..31.
+  uint8_t loop_;        // progress inside the step (address, device, register, repetition)
+  uint8_t attempt_;     // 0 = first try, 1 = the retry
+  bool localising_;     // a scan part reads the devices still missing one by one
+  bool broken_;         // a device of this scan did not answer at all: no whole-chain retries
+  bool draining_;       // a read failed: receive until the line is quiet before the next bus step
+  uint8_t drained_;     // receive buffers drained so far
+  bool active_;         // an operation runs
+  Wait waiting_;        // what the running operation waits for
+  uint8_t devices_;     // devices in use (0 before bring-up)
+  uint8_t configured_;  // config_.devices
+  uint8_t slots_;       // addresses to assign: one more than configured (at most 64)
+  uint8_t parts_;       // ValidBits this scan reads
+  uint8_t first_;       // device of the first response frame expected (top of stack first)
+  uint8_t frames_;      // response frames expected
+  uint8_t count_;       // register bytes per response frame of the read in flight
+  Status deferred_;     // a non-fatal failure reported when the operation ends
+  bool singlePhase_;    // startWake()/startAutoAddress()/startConfigure(): end at the phase's end
+  bool faultPending_;   // an nFAULT edge since FAULT_SUMMARY was last read
+  uint8_t faulted_;     // FAULT_SUMMARY read of startClearFaults(): the device named
+  uint8_t faultBits_;   // and its FAULT_SUMMARY
+  uint8_t found_;       // devices that answered discovery
+  RecoveryLevel level_;
+  Status result_;
+  uint8_t txLen_;  // length of the frame startRead()/startWrite() encoded
+  FaultReport lastFault_;
+  uint16_t reg_;  // register of the read in flight
+  // Words.
+  const Step* pc_;   // the step running
+  const Step* ret_;  // where a nested bring-up returns to (recovery)
+  DeviceRecord* records_;
+  ScanSummary* summary_;
+  std::span<uint8_t> userRx_;
+  hal::EdgeInput* nfault_;
+  sched::EventMask faultEvent_;
+  hal::UartExchange exchange_;
+  hal::Notify busDone_;  // the driver context's busNotify(), made once
+  ChainConfig config_;
+  LinkStats stats_;
+  sched::Timer timer_;
+};
+
+}  // namespace detail
+
+class Chain : private detail::ChainState {
  public:
   // Preconditions (FW_ASSERT): config.devices 1..64, config.activeCells 6..16, distinct non-zero bus and
   // timer events, a UART of at least 250 kbaud. `uart`, `clock` and the scheduler must outlive the driver.
@@ -141,73 +195,32 @@ class Chain {
   const LinkStats& stats() const { return stats_; }
   const ChainConfig& config() const { return config_; }
 
-  struct Step;  // one instruction of a bring-up/scan/recovery script (chain.cpp)
+  using Step = detail::Step;
 
  private:
-  enum class Wait : uint8_t { None, Bus, Timer };
+  using Wait = detail::Wait;
 
   Status begin(const Step* script, bool singlePhase);
   void run();
   void advance();
-  void resume();
   void finish(Status status);
-  void fail(Status status, uint8_t device);
+  void fail(Status status, uint8_t device = kNoDevice);
+  void unwind(Status status);
   void count(Status status);
   void wait(Wait what, Duration d);
-  void send(size_t txLen, std::span<uint8_t> rx);
-  void issueWrite(const Step& s);
-  void issueRead(const Step& s);
+  void started(Status status, Duration guard);
+  void send(size_t txLen, uint8_t* rx, size_t rxLen);
+  void issue(const Step& s);
   void onBus();
   void onRead(const Step& s);
-  Status onFrame(const Step& s, uint8_t device, const uint8_t* data);
-  Status frameAt(uint8_t index, uint8_t count, uint8_t expectDevice, ResponseFrame& f);
   void endDiscovery(Status r);
   void store(uint8_t part, uint8_t device, const uint8_t* data);
-  void markFailed(uint8_t part, uint8_t device, Status status);
+  void markFailed(uint8_t device, Status status);
   void endScan();
-  uint8_t slots() const;
-
-  // The state the interpreter touches on every step comes first: on Cortex-M0+ a byte load reaches only 31
-  // bytes past its base register, so these stay one instruction each.
-  uint8_t loop_ = 0;         // progress inside the step (address, device, register)
-  uint8_t attempt_ = 0;      // 0 = first try, 1 = the retry
-  bool localising_ = false;  // a scan part reads the devices still missing one by one
-  bool broken_ = false;      // a device of this scan did not answer at all: no whole-chain retries
-  bool draining_ = false;    // a read failed: receive until the line is quiet before the next frame
-  uint8_t drained_ = 0;
-  bool singlePhase_ = false;
-  bool active_ = false;
-  bool finished_ = false;
-  bool faultPending_ = false;
-  Wait waiting_ = Wait::None;
-  RecoveryLevel level_ = RecoveryLevel::CommClear;
-  Status result_ = Status::Ok;
-  Status deferred_ = Status::Ok;  // a non-fatal failure reported when the operation ends
-  uint8_t devices_ = 0;
-  uint8_t found_ = 0;
-  uint8_t parts_ = 0;      // ValidBits this scan reads
-  uint8_t txLen_ = 0;      // length of the frame startRead()/startWrite() encoded
-  uint8_t first_ = 0;      // device of the first response frame expected (top of stack first)
-  uint8_t frames_ = 0;     // response frames expected
-  uint8_t faulted_ = 0;    // kRFaults: the device named
-  uint8_t faultBits_ = 0;  // kRFaults: its FAULT_SUMMARY
-  uint16_t reg_ = 0;       // register of the read in flight
-  FaultReport lastFault_;
-  const Step* pc_ = nullptr;   // the step running
-  const Step* ret_ = nullptr;  // where a nested bring-up returns to (recovery)
 
   hal::Uart& uart_;
   const hal::Clock& clock_;
   DriverContext ctx_;
-  ChainConfig config_;
-  hal::EdgeInput* nfault_ = nullptr;
-  sched::EventMask faultEvent_ = 0;
-  sched::Timer timer_;
-  hal::UartExchange exchange_;
-  std::span<DeviceRecord> records_;
-  ScanSummary* summary_ = nullptr;
-  std::span<uint8_t> userRx_;
-  LinkStats stats_;
 
   // Left uninitialised on purpose: written before every use (a static object's are zero anyway), which
   // keeps 2.4 KB of zeroing out of the constructor.

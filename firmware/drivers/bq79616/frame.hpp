@@ -21,6 +21,9 @@
 //   first problem: Truncated (fewer than count + 6 bytes), Crc (the frame's CRC does not check), Length (the
 //   frame is intact but announces another length), DeviceId (intact, but the device byte has its reserved
 //   bits set or the register is not the one read). `out` is written only on Ok and points into `bytes`.
+// - encodeFrame()/checkResponse() are the unchecked cores of the above, for callers whose frames are valid by
+//   construction (the chain driver's own scripts): encodeFrame() trusts its arguments, checkResponse() is
+//   parseResponse() without the output.
 // - Pure functions: no state, no allocation, callable from any context.
 #pragma once
 
@@ -79,5 +82,14 @@ struct ResponseFrame {
 };
 
 Status parseResponse(std::span<const uint8_t> bytes, uint16_t reg, size_t count, ResponseFrame& out);
+
+// A command frame with INIT byte `init` (initByte()): DEV_ID when the type has one, REG, the `n` bytes at
+// `data` (a write's data, or a read's single "bytes − 1" byte) and the CRC, at `out`; returns its length.
+// Preconditions, not checked: a valid INIT byte, device <= 63, n 1..8, `out` holds n + 6 bytes.
+size_t encodeFrame(uint8_t init, uint8_t device, uint16_t reg, const uint8_t* data, size_t n, uint8_t* out);
+
+// parseResponse() of the `available` bytes at `frame`, without the output: the device is frame[1] and the
+// data starts at frame[4].
+Status checkResponse(const uint8_t* frame, size_t available, uint16_t reg, size_t count);
 
 }  // namespace fw::drivers::bq79616

@@ -84,10 +84,11 @@ constexpr int32_t cellMicrovolts(int16_t raw) {
 }
 
 // Tenths of a kelvin of a raw DIETEMP code, rounded half up: 1 LSB = 0.025 degC = a quarter of 0.1 K, and
-// 0 degC = 273.15 K = 10926 quarters of 0.1 K.
+// 0 degC = 273.15 K = 10926 quarters of 0.1 K. floor((quarters + 2) / 4) is rounding half up for either sign,
+// and C++20 defines >> of a negative value as that floor (no signed division on Cortex-M0+).
 constexpr int16_t dieTempDeciKelvin(int16_t raw) {
   const int32_t quarters = static_cast<int32_t>(raw) + 10926;
-  return static_cast<int16_t>(quarters >= 0 ? (quarters + 2) / 4 : -((1 - quarters) / 4));
+  return static_cast<int16_t>((quarters + 2) >> 2);
 }
 
 }  // namespace fw::drivers::bq79616
