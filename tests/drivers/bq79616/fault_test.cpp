@@ -283,3 +283,38 @@ TEST(Bq79616Faults, AUartThatNeverCompletesEndsInTimeout) {
 }
 
 }  // namespace
+
+namespace {
+
+// Regression: an operation that ended on a failed read other than a scan (here clear-faults' read-back,
+// corrupted twice so its retry fails too) left the driver marked as draining, and the next operation
+// repeated its first bus step: one raw write went out five times, and a bring-up sent six WAKE pings back to
+// back with no setup wait between them. The line is drained once, then each operation runs as written.
+TEST(Bq79616Faults, AFailedReadDoesNotRepeatTheNextOperationsFirstStep) {
+  namespace r = fw::regmap::bq79616::reg;
+  test::ChainRig rig(3);
+  ASSERT_EQ(rig.bringUp(), fw::Status::Ok);
+
+  rig.emulator.corruptResponse(1, 4, 0x40, 2);
+  ASSERT_EQ(rig.finish(rig.chain.startClearFaults()), fw::Status::Crc);
+  rig.uart.clearWireLog();
+  const std::vector<uint8_t> zero = {0x00};
+  ASSERT_EQ(rig.finish(rig.chain.startWrite(fw::drivers::bq79616::RequestType::BroadcastWrite, 0,
+                                            r::OtpEccDatain1.address, zero)),
+            fw::Status::Ok);
+  size_t writes = 0;
+  for (const auto& line : rig.uart.wireLog())
+    writes += line.rfind("TX D0 03 43 00", 0) == 0;
+  EXPECT_EQ(writes, 1u) << "one write, one frame";
+
+  rig.emulator.corruptResponse(1, 4, 0x40, 2);
+  ASSERT_EQ(rig.finish(rig.chain.startClearFaults()), fw::Status::Crc);
+  rig.uart.clearWireLog();
+  ASSERT_EQ(rig.bringUp(), fw::Status::Ok);
+  size_t wakes = 0;
+  for (const auto& line : rig.uart.wireLog())
+    wakes += line.rfind("PING WAKE", 0) == 0;
+  EXPECT_EQ(wakes, 2u) << "bring-up sends its two WAKE pings (the second for a chain shut down), no more";
+}
+
+}  // namespace
