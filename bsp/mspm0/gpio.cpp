@@ -19,7 +19,7 @@ void muxPeripheral(const PinFunction& function, uint32_t extra) {
   iomux::pincm(function.pin.pincm).write(iomux::kPc | function.pf | extra);
 }
 
-void muxGpioOutput(const Pin& pin, bool high) {
+inline void muxGpioOutput(const Pin& pin, bool high) {
   gpio::Data& data = gpio::data(pin.portBase());
   // Set the level before enabling the driver so the pin never glitches to the other level.
   (high ? data.doutset : data.doutclr).write(pin.mask());
@@ -27,7 +27,7 @@ void muxGpioOutput(const Pin& pin, bool high) {
   iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio);
 }
 
-void muxGpioInput(const Pin& pin, Pull pull) {
+inline void muxGpioInput(const Pin& pin, Pull pull) {
   const uint32_t pullBits = pull == Pull::Up ? iomux::kPullUp : pull == Pull::Down ? iomux::kPullDown : 0;
   gpio::data(pin.portBase()).doeclr.write(pin.mask());
   iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio | iomux::kInputEnable | pullBits);
@@ -53,7 +53,7 @@ void GpioEdgeInput::init() {
                static_cast<uint32_t>(edge_) << shift);
 }
 
-void GpioEdgeInput::doEnable(fw::hal::Notify notify) {
+void GpioEdgeInput::doEnable(const fw::hal::Notify& notify) {
   notify_ = notify;
   // The ISR reads notify_ once the pin is unmasked: keep the compiler from sinking the store below the
   // unmask (a single core needs no hardware barrier).

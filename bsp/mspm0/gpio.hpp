@@ -26,8 +26,9 @@ enum class Edge : uint8_t { Rising = 1, Falling = 2, Both = 3 };  // GPIO POLARI
 
 // IOMUX PINCM writes. `extra` adds PINCM bits (input enable, pulls, open drain) to PC|PF.
 void muxPeripheral(const PinFunction& function, uint32_t extra = 0);
-void muxGpioOutput(const Pin& pin, bool high);
-void muxGpioInput(const Pin& pin, Pull pull);
+// (inline, defined in gpio.cpp: each has one caller there, GpioOut::init / GpioEdgeInput::init)
+inline void muxGpioOutput(const Pin& pin, bool high);
+inline void muxGpioInput(const Pin& pin, Pull pull);
 // Powers a GPIO port (GPRCM reset + enable).
 void powerGpioPort(uintptr_t port);
 
@@ -54,7 +55,7 @@ class GpioEdgeInput final : public fw::hal::EdgeInput {
   void onEdge() const { notify_(); }
 
  private:
-  void doEnable(fw::hal::Notify notify) override;
+  void doEnable(const fw::hal::Notify& notify) override;
   void doDisable() override;
   bool doLevel() const override;
 

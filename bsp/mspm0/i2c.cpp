@@ -47,12 +47,12 @@ void I2cController::configure() {
   r.mcr.write(i2c::kMcrActive | i2c::kMcrClkStretch);
 }
 
-Status I2cController::doStart(std::span<I2cTransaction> list, fw::hal::Notify done) {
+Status I2cController::doStart(std::span<I2cTransaction> list, const fw::hal::Notify& done) {
   if (list.empty() || list.size() > 255) return Status::InvalidArgument;
   if (busy_) return Status::Busy;
   for (I2cTransaction& t : list) {
     if ((t.write.empty() && t.read.empty()) || t.address > 0x7F || t.read.size() > 255 ||
-        t.write.size() > i2c::kMctrLenMax - 1) {
+        t.write.size() > i2c::kMctrLenMax - 1 || (!kI2cPec && t.pec)) {
       return Status::InvalidArgument;
     }
     t.status = Status::Aborted;  // what every transaction after a failure keeps
@@ -79,11 +79,11 @@ void I2cController::startTransaction() {
     return;
   }
   result_ = Status::Ok;
-  const uint32_t pecBytes = t.pec ? 1 : 0;
+  const bool pec = kI2cPec && t.pec;
   // PECCNT counts the data bytes of the whole transaction (both bursts) including the PEC byte; writing
   // the register also restarts the hardware byte count.
-  r.pecctl.write(t.pec ? i2c::kPecEnable | static_cast<uint32_t>(t.write.size() + t.read.size() + pecBytes)
-                       : 0);
+  if (kI2cPec)
+    r.pecctl.write(pec ? i2c::kPecEnable | static_cast<uint32_t>(t.write.size() + t.read.size() + 1) : 0);
   r.mfifoctl.write(kFifoTriggers | i2c::kFifoTxFlush | i2c::kFifoRxFlush);
   r.mfifoctl.write(kFifoTriggers);
   reg::cpuInt(config_.base).iclr.write(0xFFFFFFFF);
@@ -93,10 +93,10 @@ void I2cController::startTransaction() {
   }
   tx_ = t.write.data();
   txLeft_ = static_cast<uint16_t>(t.write.size());
-  txPecDummy_ = t.pec && t.read.empty();
+  txPecDummy_ = pec && t.read.empty();
   const uint32_t length = t.write.size() + (txPecDummy_ ? 1 : 0);  // before fillTx() consumes the dummy
   fillTx(i2c::kFifoDepth);
-  const bool more = txLeft_ != 0 || txPecDummy_;
+  const bool more = txLeft_ != 0 || (kI2cPec && txPecDummy_);
   phase_ = Phase::Write;
   reg::cpuInt(config_.base).imask.write(kCommonIrqs | i2c::kIntTxDone | (more ? i2c::kIntTxFifoTrig : 0));
   r.msa.write(static_cast<uint32_t>(t.address) << 1);
@@ -110,9 +110,10 @@ void I2cController::beginRead() {
   const I2cTransaction& t = list_[index_];
   rx_ = t.read.data();
   rxLeft_ = static_cast<uint16_t>(t.read.size());
-  const uint32_t length = t.read.size() + (t.pec ? 1 : 0);
+  const uint32_t length = t.read.size() + (kI2cPec && t.pec ? 1 : 0);
   phase_ = Phase::Read;
-  reg::cpuInt(config_.base).imask.write(kCommonIrqs | i2c::kIntRxFifoTrig | i2c::kIntPecRxErr);
+  reg::cpuInt(config_.base)
+      .imask.write(kCommonIrqs | i2c::kIntRxFifoTrig | (kI2cPec ? i2c::kIntPecRxErr : 0));
   r.msa.write((static_cast<uint32_t>(t.address) << 1) | i2c::kMsaRead);
   // ACK = 0: the last byte is NACKed, as a controller receiver must before STOP.
   r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart | i2c::kMctrStop);
@@ -125,7 +126,7 @@ void I2cController::fillTx(uint32_t room) {
     --txLeft_;
     --room;
   }
-  if (room != 0 && txPecDummy_) {
+  if (kI2cPec && room != 0 && txPecDummy_) {
     r.mtxdata.write(0);  // replaced on the wire by the PEC
     txPecDummy_ = false;
   }
@@ -167,11 +168,11 @@ void I2cController::onInterrupt() {
   if ((pending & i2c::kIntNack) && result_ == Status::Ok) {
     result_ = (i2c::controller(config_.base).msr.read() & i2c::kMsrAdrAck) ? Status::Nack : Status::DataNack;
   }
-  if ((pending & i2c::kIntPecRxErr) && result_ == Status::Ok) result_ = Status::Pec;
+  if (kI2cPec && (pending & i2c::kIntPecRxErr) && result_ == Status::Ok) result_ = Status::Pec;
   if (pending & i2c::kIntRxFifoTrig) drainRx();
   if (pending & i2c::kIntTxFifoTrig) {
     fillTx(i2c::kFifoDepth / 2);  // the trigger fires at 4 or fewer bytes queued: 4 are free
-    if (txLeft_ == 0 && !txPecDummy_) mmio::clearBits(events.imask, i2c::kIntTxFifoTrig);
+    if (txLeft_ == 0 && !(kI2cPec && txPecDummy_)) mmio::clearBits(events.imask, i2c::kIntTxFifoTrig);
   }
   if (pending & i2c::kIntStop) {
     drainRx();
@@ -194,7 +195,7 @@ void I2cController::complete(Status status) {
   finish();
 }
 
-void I2cController::finish() {
+inline void I2cController::finish() {
   reg::cpuInt(config_.base).imask.write(0);
   phase_ = Phase::Idle;
   busy_ = false;

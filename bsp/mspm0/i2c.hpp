@@ -12,7 +12,7 @@
 //
 // Contract (see hal/i2c_bus.hpp; the statuses here are exactly those)
 // - start(): Ok, Busy, or InvalidArgument (empty list; a transaction with nothing to write or read; a
-//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write).
+//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write; PEC in a build without it).
 // - Nack: the address was not acknowledged (MSR.ADRACK); DataNack: a written byte was not (MSR.DATACK). The
 //   controller sends STOP itself after a NACK ("If there is a NACK response from the target,
 //   the controller will automatically send out a stop", SLAU846A I2C controller transfer table).
@@ -37,7 +37,17 @@
 #include "pin.hpp"
 #include "regs/i2c.hpp"
 
+// SMBus PEC is built where a driver uses it (BSP_I2C_PEC, default 1: the host tests and the BQ4050 image).
+// Images whose monitor never sets I2cTransaction::pec (the BQ769x2 family) build with 0: PECCTL then keeps
+// its reset value 0, and a transaction that asks for PEC is refused with InvalidArgument rather than sent
+// without it.
+#ifndef BSP_I2C_PEC
+#define BSP_I2C_PEC 1
+#endif
+
 namespace bsp::mspm0 {
+
+inline constexpr bool kI2cPec = BSP_I2C_PEC != 0;
 
 class I2cController final : public fw::hal::I2cBus {
  public:
@@ -59,7 +69,7 @@ class I2cController final : public fw::hal::I2cBus {
  private:
   enum class Phase : uint8_t { Idle, Write, Read };
 
-  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, fw::hal::Notify done) override;
+  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, const fw::hal::Notify& done) override;
   fw::Status doRecover() override;
   uint32_t doBitRate() const override { return config_.bitRate; }
 
@@ -70,7 +80,7 @@ class I2cController final : public fw::hal::I2cBus {
   void fillTx(uint32_t room);
   void drainRx();
   void complete(fw::Status status);
-  void finish();
+  inline void finish();  // inline (.cpp): one caller, complete(), folds it in
 
   // Byte-sized state first: Thumb-1 byte loads and stores reach only 31 bytes past the object address.
   volatile Phase phase_ = Phase::Idle;

@@ -14,7 +14,7 @@ using fw::hal::CanFrame;
 
 namespace {
 
-constexpr uint32_t kIrqs = mcan::kIrRf0n | mcan::kIrTc | mcan::kIrEp | mcan::kIrBo;
+constexpr uint32_t kIrqs = (kMcanRx ? mcan::kIrRf0n : 0) | mcan::kIrTc | mcan::kIrEp | mcan::kIrBo;
 // Bounded waits for hardware handshakes at start-up: about 1 ms each at 32 MHz.
 constexpr uint32_t kPollLimit = 1000;
 constexpr uint32_t kPollSpins = 8;
@@ -50,12 +50,12 @@ Status McanBus::init() {
   core.cccr.write(mcan::kCccrInit | mcan::kCccrCce);
   core.nbtp.write(config_.nbtp);
   mcan::Queues& q = mcan::queues(base);
-  q.gfc.write(mcan::kGfcAcceptAllRejectRemote);
+  q.gfc.write(kMcanRx ? mcan::kGfcAcceptAllRejectRemote : mcan::kGfcRejectAll);
   q.sidfc.write(0);
   q.xidfc.write(0);
   q.rxesc.write(0);  // 8-byte data fields
   q.txesc.write(0);
-  q.rxf0c.write(mcan::rxf0c(kRxFifoStart, kFifoElements));
+  if (kMcanRx) q.rxf0c.write(mcan::rxf0c(kRxFifoStart, kFifoElements));
   q.txbc.write(mcan::txbc(kTxFifoStart, kFifoElements));
   q.txbtie.write((1U << kFifoElements) - 1);  // TC for every TX FIFO element
   core.ir.write(0xFFFFFFFF);
@@ -96,6 +96,7 @@ Status McanBus::doSend(const CanFrame& frame) {
 }
 
 bool McanBus::doReceive(CanFrame& frame) {
+  if constexpr (!kMcanRx) return false;  // built without reception: nothing is ever received
   mcan::Queues& q = mcan::queues(config_.base);
   const uint32_t status = q.rxf0s.read();
   if ((status & mcan::kRxf0sFillMask) == 0) return false;

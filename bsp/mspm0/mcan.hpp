@@ -15,7 +15,9 @@
 //   time (bounded polls). Until init() succeeds send() returns NotReady.
 // - send(): Ok, Overflow (TX FIFO full, counted), BusOff, InvalidArgument (dlc > 8, id out of range),
 //   NotReady. Task context (a short critical section guards the put index).
-// - receive(): task context; pops RX FIFO 0 in arrival order.
+// - receive(): task context; pops RX FIFO 0 in arrival order. Reception is built unless BSP_MCAN_RX is 0:
+//   the images' applications only transmit, and build without it (define BSP_MCAN_RX=1 to receive); then
+//   the global filter rejects every frame and receive() always returns false (no frame).
 // - Bus-off: the MCAN sets CCCR.INIT itself and stops (ISO 11898-1). recover() clears INIT, after which
 //   the controller waits for 129 x 11 recessive bits and returns to error active; the BO interrupt fires on
 //   entering and on leaving bus-off and the registered Notify is called both times.
@@ -29,7 +31,13 @@
 #include "pin.hpp"
 #include "regs/mcan.hpp"
 
+#ifndef BSP_MCAN_RX
+#define BSP_MCAN_RX 1
+#endif
+
 namespace bsp::mspm0 {
+
+inline constexpr bool kMcanRx = BSP_MCAN_RX != 0;
 
 class McanBus final : public fw::hal::CanBus {
  public:
@@ -55,7 +63,7 @@ class McanBus final : public fw::hal::CanBus {
  private:
   fw::Status doSend(const fw::hal::CanFrame& frame) override;
   bool doReceive(fw::hal::CanFrame& frame) override;
-  void doOnEvent(fw::hal::Notify notify) override { notify_ = notify; }
+  void doOnEvent(const fw::hal::Notify& notify) override { notify_ = notify; }
   fw::hal::CanState doState() const override;
   fw::Status doRecover() override;
   fw::hal::CanCounters doCounters() const override;

@@ -1,7 +1,9 @@
 // Reset handler for both MSPM0 parts: paint the stack guard, copy .data, zero .bss, run constructors, call
 // main. The vector tables are per chip (vectors_mspm0l1306.cpp, vectors_mspm0g3507.cpp); the symbols come
 // from linker/mspm0.ld.
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "core/assert.hpp"
 #include "watchdog.hpp"
@@ -16,13 +18,15 @@ int main();
 }
 
 extern "C" void Reset_Handler() {
-  // Word loops rather than memcpy/memset: nothing from the C library is needed before main.
+  // memcpy/memset are this firmware's own (runtime.cpp), nothing from the C library: safe before .data and
+  // .bss exist. Sizes in bytes from the linker symbols (each region is word aligned, possibly empty).
   for (uint32_t i = 0; i < bsp::mspm0::kStackGuardWords; ++i)
     __stack_limit__[i] = bsp::mspm0::kStackGuardPattern;
-  for (uint32_t *src = &__data_load__, *dst = &__data_start__; dst < &__data_end__;)
-    *dst++ = *src++;
-  for (uint32_t* dst = &__bss_start__; dst < &__bss_end__;)
-    *dst++ = 0;
+  const auto bytes = [](const uint32_t& begin, const uint32_t& end) {
+    return static_cast<size_t>(reinterpret_cast<uintptr_t>(&end) - reinterpret_cast<uintptr_t>(&begin));
+  };
+  memcpy(&__data_start__, &__data_load__, bytes(__data_start__, __data_end__));
+  memset(&__bss_start__, 0, bytes(__bss_start__, __bss_end__));
   for (void (**ctor)() = &__init_array_start; ctor < &__init_array_end; ++ctor)
     (*ctor)();
   main();

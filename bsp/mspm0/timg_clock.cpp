@@ -40,15 +40,6 @@ void TimgClock::start() {
   nvic::enable(config_.irq);
 }
 
-uint32_t TimgClock::widen(uint32_t halves, uint32_t counter) {
-  // Bit 15 of the counter says which half the counter is in; the parity of `halves` says which half the
-  // software has seen. When they disagree the event is either pending (counter just entered the next half,
-  // low bits small) or was taken a tick early (counter still at the end of the half, low bits large).
-  counter &= 0xFFFF;
-  if ((counter >> 15) != (halves & 1U)) halves += (counter & 0x7FFF) < 0x4000 ? 1U : ~0U;
-  return (halves << 15) | (counter & 0x7FFF);
-}
-
 fw::Instant TimgClock::doNow() const {
   const uint32_t halves = halves_;
   std::atomic_signal_fence(std::memory_order_acquire);  // read the count before the counter

@@ -37,8 +37,16 @@ class TimgClock final : public fw::hal::Clock {
   void start();
   void onInterrupt();
 
-  // Combines a half-period count and a raw counter value into microseconds (exposed for tests).
-  static uint32_t widen(uint32_t halves, uint32_t counter);
+  // Combines a half-period count and a raw counter value into microseconds (exposed for tests; inline: now()
+  // is its one caller in the firmware).
+  static uint32_t widen(uint32_t halves, uint32_t counter) {
+    // Bit 15 of the counter says which half the counter is in; the parity of `halves` says which half the
+    // software has seen. When they disagree the event is either pending (counter just entered the next half,
+    // low bits small) or was taken a tick early (counter still at the end of the half, low bits large).
+    counter &= 0xFFFF;
+    if ((counter >> 15) != (halves & 1U)) halves += (counter & 0x7FFF) < 0x4000 ? 1U : ~0U;
+    return (halves << 15) | (counter & 0x7FFF);
+  }
 
  private:
   fw::Instant doNow() const override;

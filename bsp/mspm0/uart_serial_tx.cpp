@@ -16,7 +16,7 @@ void UartSerialTx::init() {
   nvic::enable(config_.irq);
 }
 
-fw::Status UartSerialTx::doWrite(std::span<const uint8_t> bytes, fw::hal::Notify done) {
+fw::Status UartSerialTx::doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) {
   if (bytes.empty() || bytes.size() > 0xFFFF) return fw::Status::InvalidArgument;
   if (busy_) return fw::Status::Busy;
   busy_ = true;

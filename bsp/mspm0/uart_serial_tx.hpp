@@ -32,7 +32,7 @@ class UartSerialTx final : public fw::hal::SerialTx {
   void onInterrupt();
 
  private:
-  fw::Status doWrite(std::span<const uint8_t> bytes, fw::hal::Notify done) override;
+  fw::Status doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) override;
   void finish();
 
   Config config_;

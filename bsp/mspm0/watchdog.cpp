@@ -16,14 +16,6 @@ void WindowWatchdog::start() {
   wwdt::control(base_).ctl0.write(wwdt::kCtl0Key | (wwdt::kPer2Pow15 << wwdt::kPerShift));
 }
 
-bool WindowWatchdog::stackGuardIntact() const {
-  if (guard_ == nullptr) return true;
-  for (uint32_t i = 0; i < kStackGuardWords; ++i) {
-    if (guard_[i] != kStackGuardPattern) return false;
-  }
-  return true;
-}
-
 void WindowWatchdog::doFeed() {
   FW_ASSERT(stackGuardIntact());  // the stack grew into its guard words: reset with a record
   wwdt::control(base_).cntrst.write(wwdt::kRestart);

@@ -1,10 +1,10 @@
 // The application of the lp-mspm0g3507-bq4050 image: a BQ4050 gas gauge on SMBus, CAN out.
 //
 // Tasks (priority = TaskId, higher first):
-//   3 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
-//   2 monitor      probe (device type, PEC detection), then a scan every scan period; after three failed
+//   2 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
+//   1 monitor      probe (device type, PEC detection), then a scan every scan period; after three failed
 //                  scans in a row it probes again, at most once per retry interval
-//   1 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
+//   0 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
 // The gauge protects the pack with its own FETs (SafetyStatus); the firmware layer adds its limits and acts
 // through the fault output, as on the BQ79616 image.
 #pragma once
@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "app/can_publisher.hpp"
+#include "app/default_limits.hpp"
 #include "app/frame_plan.hpp"
 #include "app/pack_view.hpp"
 #include "app/protection_task.hpp"
@@ -37,39 +38,60 @@ struct Bq4050Stats {
 
 class Bq4050Monitor final : public sched::Task {
  public:
-  static constexpr sched::TaskId kId = 2;
+  static constexpr sched::TaskId kId = 1;
 
+  // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050Monitor(sched::Scheduler& scheduler, hal::I2cBus& bus, const Bq4050AppConfig& config,
-                BoardSample& sample, PackView& view, sched::TaskId protection, sched::TaskId publisher);
+                BoardSample& sample, PackView& view, sched::TaskId protection, sched::TaskId publisher)
+      : protection_(protection),
+        publisher_(publisher),
+        scheduler_(scheduler),
+        config_(config),
+        sample_(sample),
+        view_(view),
+        gauge_(bus, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer}, config.gauge) {}
 
-  void start();
+  void start() {
+    scheduler_.addTask(kId, *this, {}, true);
+    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.post(kId, kRetry);
+  }
   void run(sched::EventMask events) override;
 
   const drivers::bq4050::Gauge& gauge() const { return gauge_; }
-  const Bq4050Stats& stats() const { return stats_; }
-  const drivers::bq4050::DeviceInfo& info() const { return info_; }
+  const Bq4050Stats& stats() const { return r_.stats; }
+  const drivers::bq4050::DeviceInfo& info() const { return r_.info; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kScanTick = 0x4, kRetry = 0x8;
-  void finished(Instant now);
+  inline void finished(Instant now);  // inline (.cpp): one caller, folded into it
 
-  sched::Scheduler& scheduler_;
-  const Bq4050AppConfig& config_;
-  drivers::bq4050::Gauge gauge_;
-  BoardSample& sample_;
-  PackView& view_;
+  // What changes, zero at construction (one block each, no per-member start-up code): the small fields
+  // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
+  // references, the gauge driver last.
+  struct Flags {
+    bool probed;
+    bool scanning;
+    bool scanDue;
+    bool retryDue;  // start() posts kRetry: the first probe starts at once
+    uint8_t failedInRow;
+  };
+  struct Records {
+    Bq4050Stats stats;
+    sched::Timer scanTimer;
+    sched::Timer retryTimer;
+    drivers::bq4050::DeviceInfo info;
+    drivers::bq4050::Measurement measurement;
+  };
+  Flags f_{};
   sched::TaskId protection_;
   sched::TaskId publisher_;
-  sched::Timer scanTimer_;
-  sched::Timer retryTimer_;
-  bool probed_ = false;
-  bool scanning_ = false;
-  bool scanDue_ = false;
-  bool retryDue_ = true;
-  uint8_t failedInRow_ = 0;
-  Bq4050Stats stats_;
-  drivers::bq4050::DeviceInfo info_{};
-  drivers::bq4050::Measurement measurement_{};
+  sched::Scheduler& scheduler_;
+  const Bq4050AppConfig& config_;
+  BoardSample& sample_;
+  PackView& view_;
+  Records r_{};
+  drivers::bq4050::Gauge gauge_;
 };
 
 class Bq4050App {
@@ -79,11 +101,22 @@ class Bq4050App {
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
   };
-  static constexpr sched::TaskId kProtectionId = 3;
-  static constexpr sched::TaskId kPublisherId = 1;
+  static constexpr sched::TaskId kProtectionId = 2;
+  static constexpr sched::TaskId kPublisherId = 0;
 
-  Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config);
-  void start();
+  // Inline: an image constructs it once, and the constructor is then stores only.
+  Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
+      : view_{.cellsPerBoard = config.gauge.cells, .tempsPerBoard = 1, .boards = {&sample_, 1}},
+        plan_(view_, status_, kDefaultLimits.staleAfter),
+        actuator_(io.faultOut, true),
+        protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, actuator_, config.scanPeriod),
+        publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
+        monitor_(scheduler, io.bus, config, sample_, view_, kProtectionId, kPublisherId) {}
+  void start() {
+    protection_.start();
+    monitor_.start();
+    publisher_.start();
+  }
 
   const PackView& pack() const { return view_; }
   const PublishStatus& status() const { return status_; }
@@ -98,8 +131,8 @@ class Bq4050App {
   FramePlan plan_;
   FaultPinActuator actuator_;
   ProtectionTask protection_;
-  Bq4050Monitor monitor_;
   CanPublisher publisher_;
+  Bq4050Monitor monitor_;  // last: its gauge driver's buffers would push the rest far away
 };
 
 }  // namespace fw::app

@@ -2,10 +2,10 @@
 // lp-mspm0g3507-bq76952): one monitor device on I2C, FET control through it, SLCAN or CAN out.
 //
 // Tasks (priority = TaskId, higher first):
-//   3 protection   firmware limits on every new scan, on ALERT at once, and every scan period
-//   2 monitor      probe, configuration (one CONFIG_UPDATE, only if the device differs), FET enable, a scan
+//   2 protection   firmware limits on every new scan, on ALERT at once, and every scan period
+//   1 monitor      probe, configuration (one CONFIG_UPDATE, only if the device differs), FET enable, a scan
 //                  every scan period; FET commands from protection go ahead of the next scan
-//   1 publisher    SLCAN lines (L1306) or CAN frames (G3507)
+//   0 publisher    SLCAN lines (L1306) or CAN frames (G3507)
 // ALERT is configured (DefaultAlarmMask) to assert on the device's safety alerts, safety status and
 // permanent-fail flags only, so the line itself is a fault signal: protection opens the FETs without waiting
 // for a scan, and the scan that follows says which fault it was.
@@ -64,63 +64,67 @@ constexpr uint8_t tempsOf(const drivers::bq769x2::Bq7690xMeasurement*) {
 template <class Driver, class Measurement>
 class Bq769xMonitor final : public sched::Task, public Actuator {
  public:
-  static constexpr sched::TaskId kId = 2;
+  static constexpr sched::TaskId kId = 1;
 
   template <class... DriverArgs>
   Bq769xMonitor(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert,
                 const Bq769xAppConfig& config, BoardSample& sample, PackView& view,
                 ProtectionTask& protection, sched::TaskId publisher, sched::EventMask publisherScanDone,
                 DriverArgs&&... driverArgs)
-      : scheduler_(scheduler),
-        driver_(bus, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer},
-                static_cast<DriverArgs&&>(driverArgs)..., config.monitor),
+      : publisher_(publisher),
+        publisherScanDone_(publisherScanDone),
+        scheduler_(scheduler),
         alert_(alert),
         config_(config),
         sample_(sample),
         view_(view),
         protection_(protection),
-        publisher_(publisher),
-        publisherScanDone_(publisherScanDone) {}
+        driver_(bus, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer},
+                static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
 
   void start() {
     scheduler_.addTask(kId, *this, {}, true);
     alert_.enable(scheduler_.notifier(kId, kAlert));
-    scheduler_.startTimer(scanTimer_, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
     scheduler_.post(kId, kRetry);
   }
 
   // Actuator: protection asks for the paths; the FET command goes out as soon as the bus is free.
   bool request(bool chargeOn, bool dischargeOn) override {
     using drivers::bq769x2::FetCommand;
-    fetWanted_ = true;
-    fet_ = chargeOn && dischargeOn     ? FetCommand::AllOn
-           : !chargeOn && !dischargeOn ? FetCommand::AllOff
-           : !chargeOn                 ? FetCommand::ChargeOff
-                                       : FetCommand::DischargeOff;
+    static_assert(static_cast<uint8_t>(FetCommand::AllOn) == 0 &&
+                  static_cast<uint8_t>(FetCommand::AllOff) == 1 &&
+                  static_cast<uint8_t>(FetCommand::DischargeOff) == 2 &&
+                  static_cast<uint8_t>(FetCommand::ChargeOff) == 3);
+    // Indexed by (charge off, discharge off): on/on AllOn, on/off DischargeOff, off/on ChargeOff, off/off
+    // AllOff.
+    constexpr FetCommand kCommand[4] = {FetCommand::AllOn, FetCommand::DischargeOff, FetCommand::ChargeOff,
+                                        FetCommand::AllOff};
+    f_.fetWanted = true;
+    f_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
     scheduler_.post(kId, kKick);
     return false;
   }
 
   void run(sched::EventMask events) override {
-    const Instant now = scheduler_.clock().now();
-    if ((events & driver_.events()) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished(now);
-    if ((events & kAlert) != 0 && phase_ == Phase::Running) {
-      ++stats_.alerts;
+    if ((events & driver_.events()) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
+    if ((events & kAlert) != 0 && f_.phase == Phase::Running) {
+      ++r_.stats.alerts;
       scheduler_.post(protection_.id(), ProtectionTask::kFaultLine);
-      scanDue_ = true;  // the next scan, right after the FET command, says which fault it was
+      f_.scanDue = true;  // the next scan, right after the FET command, says which fault it was
     }
     if ((events & kScanTick) != 0) {
-      scanDue_ = true;
-      fetBackoff_ = false;  // a failed FET command is tried again once per scan period
+      f_.scanDue = true;
+      f_.fetBackoff = false;  // a failed FET command is tried again once per scan period
       scheduler_.checkIn(kId);
     }
-    if ((events & kRetry) != 0) retryDue_ = true;
-    if (!driver_.busy()) startNext(now);
+    if ((events & kRetry) != 0) f_.retryDue = true;
+    if (!driver_.busy()) startNext();
   }
 
   const Driver& driver() const { return driver_; }
-  const Bq769xStats& stats() const { return stats_; }
-  bool running() const { return phase_ == Phase::Running; }
+  const Bq769xStats& stats() const { return r_.stats; }
+  bool running() const { return f_.phase == Phase::Running; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kAlert = 0x4, kScanTick = 0x8, kRetry = 0x10,
@@ -128,108 +132,120 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   enum class Phase : uint8_t { Probe, Configure, FetEnable, Running };
   enum class Op : uint8_t { None, Setup, Scan, Fet };
 
-  void startNext(Instant now) {
+  void startNext() {
     Status s = Status::Busy;
-    if (fetWanted_ && !fetBackoff_ && phase_ == Phase::Running) {
-      fetWanted_ = false;
-      s = driver_.startFet(fet_);
-      op_ = Op::Fet;
-    } else if (phase_ != Phase::Running) {
-      if (scanDue_) {
-        scanDue_ = false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
+    Op op = Op::Setup;
+    if (f_.phase != Phase::Running) {
+      if (f_.scanDue) {
+        f_.scanDue = false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
         scheduler_.post(protection_.id(), ProtectionTask::kScanFailed);
       }
-      if (!retryDue_) return;
-      if (phase_ == Phase::Probe) ++stats_.setupAttempts;
-      s = phase_ == Phase::Probe       ? driver_.startProbe(identity_)
-          : phase_ == Phase::Configure ? driver_.startConfigure(config_.settings)
-                                       : driver_.startFetEnable();
-      op_ = Op::Setup;
-    } else if (scanDue_) {
-      scanDue_ = false;
-      s = driver_.startScan(measurement_);
-      op_ = Op::Scan;
+      if (!f_.retryDue) return;
+      if (f_.phase == Phase::Probe) {
+        ++r_.stats.setupAttempts;
+        s = driver_.startProbe(r_.identity);
+      } else {
+        s = f_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
+                                         : driver_.startFetEnable();
+      }
+    } else if (f_.fetWanted && !f_.fetBackoff) {
+      f_.fetWanted = false;
+      s = driver_.startFet(f_.fet);
+      op = Op::Fet;
+    } else if (f_.scanDue) {
+      f_.scanDue = false;
+      s = driver_.startScan(r_.measurement);
+      op = Op::Scan;
     }
-    if (s != Status::Ok) op_ = Op::None;
-    (void)now;
+    f_.op = s == Status::Ok ? op : Op::None;
   }
 
-  void finished(Instant now) {
+  // Starts over from the probe after the retry interval (the device may have reset or be absent; a reset
+  // loses its RAM configuration).
+  void retryLater() {
+    f_.phase = Phase::Probe;
+    f_.retryDue = false;
+    scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryInterval);
+  }
+
+  void finished() {
+    const Instant now = scheduler_.clock().now();
     const Status result = driver_.result();
-    const Op op = op_;
-    op_ = Op::None;
+    const Op op = f_.op;
+    f_.op = Op::None;
     if (op == Op::Setup) {
-      if (result != Status::Ok) {
-        // Start over from the probe after the interval (the device may have reset or be absent).
-        phase_ = Phase::Probe;
-        retryDue_ = false;
-        scheduler_.startTimer(retryTimer_, kId, kRetry, config_.retryInterval);
-        return;
-      }
-      if (phase_ == Phase::Configure) stats_.configWrites = driver_.written();
-      phase_ = static_cast<Phase>(static_cast<uint8_t>(phase_) + 1);
-      if (phase_ == Phase::Running) scanDue_ = true;
+      if (result != Status::Ok) return retryLater();
+      if (f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
+      f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) + 1);
+      if (f_.phase == Phase::Running) f_.scanDue = true;
       return;
     }
     if (op == Op::Fet) {
       if (result == Status::Ok) {
-        ++stats_.fetCommands;
+        ++r_.stats.fetCommands;
         protection_.actuated(now);
       } else {
         // The device did not take it (gone, resetting): keep scanning, and try again next period. The
         // device's own protection stays the backstop meanwhile.
-        fetWanted_ = true;
-        fetBackoff_ = true;
+        f_.fetWanted = true;
+        f_.fetBackoff = true;
       }
       return;
     }
     if (op != Op::Scan) return;
-    ++stats_.scans;
+    ++r_.stats.scans;
     sample_.attempted = true;
     sample_.last = result;
+    sched::EventMask toProtection = ProtectionTask::kScanFailed;
     if (result == Status::Ok) {
-      toSample(measurement_, config_.cells, sample_, view_);
-      summarize(view_, now);
-      scheduler_.post(protection_.id(), ProtectionTask::kNewData);
-      failedInRow_ = 0;
+      toSample(r_.measurement, config_.cells, sample_, view_);
+      toProtection = ProtectionTask::kNewData;
+      f_.failedInRow = 0;
     } else {
-      ++stats_.scanFailures;
-      summarize(view_, now);
-      scheduler_.post(protection_.id(), ProtectionTask::kScanFailed);
-      if (++failedInRow_ >= 3) {
-        // The device stopped answering or keeps failing: go through probe and configuration again (a
-        // device reset loses its RAM configuration), at most once per retry interval.
-        phase_ = Phase::Probe;
-        failedInRow_ = 0;
-        retryDue_ = false;
-        scheduler_.startTimer(retryTimer_, kId, kRetry, config_.retryInterval);
+      ++r_.stats.scanFailures;
+      // The device stopped answering or keeps failing: go through probe and configuration again, at most
+      // once per retry interval.
+      if (++f_.failedInRow >= 3) {
+        f_.failedInRow = 0;
+        retryLater();
       }
     }
+    summarize(view_, now);
+    scheduler_.post(protection_.id(), toProtection);
     scheduler_.post(publisher_, publisherScanDone_);
   }
 
+  // What changes, zero at construction (one block each, no per-member start-up code): the small fields
+  // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
+  // references, the driver with its buffers last.
+  struct Flags {
+    Phase phase;
+    Op op;
+    bool scanDue;
+    bool retryDue;
+    bool fetWanted;
+    bool fetBackoff;
+    drivers::bq769x2::FetCommand fet;  // meaningful while fetWanted
+    uint8_t failedInRow;
+  };
+  struct Records {
+    Bq769xStats stats;
+    sched::Timer scanTimer;
+    sched::Timer retryTimer;
+    drivers::bq769x2::Identity identity;
+    Measurement measurement;
+  };
+  Flags f_{};
+  sched::TaskId publisher_;
+  sched::EventMask publisherScanDone_;
   sched::Scheduler& scheduler_;
-  Driver driver_;
   hal::EdgeInput& alert_;
   const Bq769xAppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
   ProtectionTask& protection_;
-  sched::TaskId publisher_;
-  sched::EventMask publisherScanDone_;
-  sched::Timer scanTimer_;
-  sched::Timer retryTimer_;
-  Phase phase_ = Phase::Probe;
-  Op op_ = Op::None;
-  bool scanDue_ = false;
-  bool retryDue_ = false;
-  bool fetWanted_ = false;
-  bool fetBackoff_ = false;
-  drivers::bq769x2::FetCommand fet_ = drivers::bq769x2::FetCommand::AllOff;
-  uint8_t failedInRow_ = 0;
-  Bq769xStats stats_;
-  drivers::bq769x2::Identity identity_;
-  Measurement measurement_;
+  Records r_{};
+  Driver driver_;
 };
 
 // The publisher that suits the image's output: SLCAN text on a serial line, or CAN frames.
@@ -245,19 +261,20 @@ inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::Ca
 template <class Driver, class Measurement, class Publisher>
 class Bq769xApp {
  public:
-  static constexpr sched::TaskId kProtectionId = 3;
-  static constexpr sched::TaskId kPublisherId = 1;
+  static constexpr sched::TaskId kProtectionId = 2;
+  static constexpr sched::TaskId kPublisherId = 0;
 
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
             const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
-      : view_{std::span<const BoardSample>(&sample_, 1), config.cells,
-              tempsOf(static_cast<Measurement*>(nullptr))},
+      : view_{.cellsPerBoard = config.cells,
+              .tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr)),
+              .boards = {&sample_, 1}},
         plan_(view_, status_, kDefaultLimits.staleAfter),
         protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, monitor_, config.scanPeriod),
+        publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
         monitor_(scheduler, bus, alert, config, sample_, view_, protection_, kPublisherId,
-                 Publisher::kScanDone, static_cast<DriverArgs&&>(driverArgs)...),
-        publisher_(makePublisher(scheduler, kPublisherId, output, plan_)) {}
+                 Publisher::kScanDone, static_cast<DriverArgs&&>(driverArgs)...) {}
 
   void start() {
     protection_.start();
@@ -277,8 +294,8 @@ class Bq769xApp {
   PublishStatus status_;
   FramePlan plan_;
   ProtectionTask protection_;
-  Bq769xMonitor<Driver, Measurement> monitor_;
   Publisher publisher_;
+  Bq769xMonitor<Driver, Measurement> monitor_;  // last: its driver's buffers would push the rest far away
 };
 
 }  // namespace fw::app

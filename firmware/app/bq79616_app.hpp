@@ -1,9 +1,9 @@
 // The application of the lp-mspm0g3507-bq79616 image: a BQ79616 daisy chain on a UART, CAN out.
 //
 // Tasks (priority = TaskId, higher first):
-//   3 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
-//   2 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery
-//   1 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
+//   2 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
+//   1 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery
+//   0 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
 // The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
 // The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
 // which the caller provides as a zero-initialised static object: no start-up code fills them.
@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "app/can_publisher.hpp"
+#include "app/default_limits.hpp"
 #include "app/frame_plan.hpp"
 #include "app/pack_view.hpp"
 #include "app/protection_task.hpp"
@@ -48,45 +49,69 @@ struct MonitorStats {
 
 class Bq79616Monitor final : public sched::Task {
  public:
-  static constexpr sched::TaskId kId = 2;
+  static constexpr sched::TaskId kId = 1;
 
+  // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616Monitor(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
                  const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view,
-                 sched::TaskId protection, sched::TaskId publisher);
+                 sched::TaskId protection, sched::TaskId publisher)
+      : protection_(protection),
+        publisher_(publisher),
+        scheduler_(scheduler),
+        config_(config),
+        nfault_(nfault),
+        store_(storage),
+        view_(view),
+        chain_(uart, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer}, config.chain) {}
 
-  void start();
+  void start() {
+    scheduler_.addTask(kId, *this, {}, true);
+    chain_.attachFaultLine(nfault_, kFault);
+    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.post(kId, kRetry);
+  }
   void run(sched::EventMask events) override;
 
   const drivers::bq79616::Chain& chain() const { return chain_; }
-  const MonitorStats& stats() const { return stats_; }
-  bool running() const { return phase_ == Phase::Running; }
+  const MonitorStats& stats() const { return r_.stats; }
+  bool running() const { return f_.phase == Phase::Running; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFault = 0x4, kScanTick = 0x8, kRetry = 0x10;
   enum class Phase : uint8_t { BringUp, Running, Recovering };
-  void startNext(Instant now);
-  void finished(Instant now);
+  // inline (.cpp): each has one caller and is folded into it.
+  inline void startNext(Instant now);
+  inline void finished(Instant now);
   void publishScan(Instant now);
 
+  // What changes, zero at construction (one block each, no per-member start-up code): the small fields
+  // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
+  // references, the chain driver with its state last.
+  struct Flags {
+    Phase phase;
+    bool scanning;
+    bool scanDue;
+    bool retryDue;  // start() posts kRetry: bring-up starts at once
+    bool early;
+    uint8_t failedInRow;
+  };
+  struct Records {
+    Instant opStarted;
+    MonitorStats stats;
+    drivers::bq79616::ScanSummary summary;
+    sched::Timer scanTimer;
+    sched::Timer retryTimer;
+  };
+  Flags f_{};
+  sched::TaskId protection_;
+  sched::TaskId publisher_;
   sched::Scheduler& scheduler_;
   const Bq79616AppConfig& config_;
-  drivers::bq79616::Chain chain_;
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
-  sched::TaskId protection_;
-  sched::TaskId publisher_;
-  sched::Timer scanTimer_;
-  sched::Timer retryTimer_;
-  Phase phase_ = Phase::BringUp;
-  bool scanning_ = false;
-  bool scanDue_ = false;
-  bool retryDue_ = true;  // bring-up starts at once
-  bool early_ = false;
-  uint8_t failedInRow_ = 0;
-  Instant opStarted_{};
-  MonitorStats stats_;
-  drivers::bq79616::ScanSummary summary_;
+  Records r_{};
+  drivers::bq79616::Chain chain_;
 };
 
 class Bq79616App {
@@ -97,12 +122,30 @@ class Bq79616App {
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
   };
-  static constexpr sched::TaskId kProtectionId = 3;
-  static constexpr sched::TaskId kPublisherId = 1;
+  static constexpr sched::TaskId kProtectionId = 2;
+  static constexpr sched::TaskId kPublisherId = 0;
 
+  // `config` and `storage` must outlive the application (they are referenced, not copied).
+  // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config,
-             Bq79616Storage& storage);
-  void start();
+             Bq79616Storage& storage)
+      : config_(config),
+        limits_(config.limits != nullptr ? *config.limits : kDefaultLimits),
+        view_{.cellsPerBoard = config.chain.activeCells,
+              .tempsPerBoard = 2,
+              .boards = {storage.samples, config.chain.devices}},
+        plan_(view_, status_, limits_.staleAfter),
+        actuator_(io.faultOut, true),
+        protection_(scheduler, kProtectionId, limits_, view_, status_, actuator_, config.scanPeriod),
+        publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
+        monitor_(scheduler, io.uart, io.nfault, config_, storage, view_, kProtectionId, kPublisherId) {
+    view_.rawCells = &storage.raw[0][0];
+  }
+  void start() {
+    protection_.start();
+    monitor_.start();
+    publisher_.start();
+  }
 
   const PackView& pack() const { return view_; }
   const ProtectionTask& protection() const { return protection_; }
@@ -111,15 +154,15 @@ class Bq79616App {
   const PublishStatus& status() const { return status_; }
 
  private:
-  Bq79616AppConfig config_;
+  const Bq79616AppConfig& config_;
   const ProtectionConfig& limits_;
   PackView view_;
   PublishStatus status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
   ProtectionTask protection_;
-  Bq79616Monitor monitor_;
   CanPublisher publisher_;
+  Bq79616Monitor monitor_;  // last: its chain driver's buffers would push everything after it far away
 };
 
 }  // namespace fw::app

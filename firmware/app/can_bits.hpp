@@ -10,6 +10,14 @@
 #include <cstdint>
 #include <type_traits>
 
+// The TI layout (seed 001: big-endian cell codes) is built only where it is sent: FW_CAN_TI_LAYOUT, default
+// 1 (host); every image except lp-mspm0g3507-bq79616 builds with 0. Without it packRuntime() packs
+// little-endian fields only (every native message's are; frame_plan.cpp checks it at compile time); constant
+// evaluation packs both either way.
+#ifndef FW_CAN_TI_LAYOUT
+#define FW_CAN_TI_LAYOUT 1
+#endif
+
 namespace fw::can {
 
 // Position of the next bit (towards the LSB) of a big-endian signal.
@@ -17,18 +25,15 @@ constexpr uint16_t nextMotorolaBit(uint16_t pos) {
   return (pos % 8 == 0) ? static_cast<uint16_t>(pos + 15) : pos - 1;
 }
 
+// Sets the bits of one signal in `data`, whose bits there are zero (pack() clears the frame first), so only
+// the ones are written.
 constexpr void put(std::array<uint8_t, 8>& data, uint16_t start, uint8_t length, bool bigEndian,
                    uint32_t value) {
   uint16_t pos = start;
   for (uint8_t i = 0; i < length; ++i) {
     // Little-endian walks from the LSB up; big-endian from the MSB down.
     const uint8_t bit = bigEndian ? static_cast<uint8_t>(length - 1 - i) : i;
-    const uint8_t mask = static_cast<uint8_t>(1U << (pos % 8));
-    if ((value >> bit) & 1U) {
-      data[pos / 8] = static_cast<uint8_t>(data[pos / 8] | mask);
-    } else {
-      data[pos / 8] = static_cast<uint8_t>(data[pos / 8] & ~mask);
-    }
+    if ((value >> bit) & 1U) data[pos / 8] = static_cast<uint8_t>(data[pos / 8] | (1U << (pos % 8)));
     pos = bigEndian ? nextMotorolaBit(pos) : static_cast<uint16_t>(pos + 1);
   }
 }
@@ -46,18 +51,22 @@ constexpr uint32_t get(const std::array<uint8_t, 8>& data, uint16_t start, uint8
 
 // One signal slot of a message: where it sits. The generated packers keep a constexpr table of these per
 // message and pack all of a frame's values with one call, so every message shares one packing loop.
+// Two bytes (length and byte order share one), as the tables of every message sit in flash.
 struct Field {
   uint8_t start;
-  uint8_t length;
-  bool bigEndian;
+  uint8_t length : 7;  // 1..32
+  uint8_t bigEndian : 1;
 };
+static_assert(sizeof(Field) == 2);
 
 // Out-of-line packing loop (can_bits.cpp): one copy in the image, however many messages use it.
 void packRuntime(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values, uint8_t count);
 
+// Writes the whole payload: every bit that no field covers is 0.
 constexpr void pack(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values,
                     uint8_t count) {
   if (std::is_constant_evaluated()) {
+    data = {};
     for (uint8_t i = 0; i < count; ++i)
       put(data, fields[i].start, fields[i].length, fields[i].bigEndian, values[i]);
   } else {

@@ -2,78 +2,55 @@
 
 namespace fw::app {
 
-CanPublisher::CanPublisher(sched::Scheduler& scheduler, sched::TaskId id, hal::CanBus& can, FramePlan& plan,
-                           CanLayout layout, Duration fastPeriod, uint8_t slowEvery)
-    : scheduler_(scheduler),
-      id_(id),
-      can_(can),
-      plan_(plan),
-      layout_(layout),
-      fastPeriod_(fastPeriod),
-      slowEvery_(slowEvery == 0 ? 1 : slowEvery) {}
-
-void CanPublisher::start() {
-  scheduler_.addTask(id_, *this);
-  can_.onEvent(scheduler_.notifier(id_, kCan));
-  // The TI layout also sends its summary-free stream only after scans; the timer still drives bus-off
-  // recovery in both layouts.
-  scheduler_.startTimer(timer_, id_, kTick, fastPeriod_, fastPeriod_);
-}
-
-void CanPublisher::beginCycle(bool ti) {
-  if (plan_.active()) ++stats_.abandoned;
-  if (ti) {
-    plan_.beginTi();
-  } else if (tick_ == 0) {
-    plan_.beginSlow();
-  } else {
-    plan_.beginFast();
-  }
-  ++stats_.cycles;
-}
-
 void CanPublisher::run(sched::EventMask events) {
-  const Instant now = scheduler_.clock().now();
-  const hal::CanState state = can_.state();
-  if (state == hal::CanState::BusOff) {
+  if (can_.state() == hal::CanState::BusOff) {
     if (plan_.active()) {
       plan_.abandon();
-      ++stats_.abandoned;
+      ++s_.stats.abandoned;
     }
-    if (!recovering_) {
-      ++stats_.busOff;
-      recovering_ = true;
-      ++stats_.recoveries;
+    if (!s_.recovering) {
+      ++s_.stats.busOff;
+      s_.recovering = true;
+      ++s_.stats.recoveries;
       can_.recover();
     } else if ((events & kTick) != 0) {
       can_.recover();  // retry once per fast period while the bus stays off
     }
     return;
   }
-  recovering_ = false;
+  s_.recovering = false;
 
-  if ((events & kTick) != 0 && layout_ == CanLayout::Native) {
-    beginCycle(false);
-    tick_ = static_cast<uint8_t>((tick_ + 1) % slowEvery_);
+  // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan.
+  const bool ti = layout_ == CanLayout::Ti;
+  if ((events & (ti ? kScanDone : kTick)) != 0) {
+    if (plan_.active()) ++s_.stats.abandoned;
+    if (ti) {
+      plan_.beginTi();
+    } else if (s_.tick == 0) {
+      plan_.beginSlow();
+    } else {
+      plan_.beginFast();
+    }
+    if (!ti && ++s_.tick == slowEvery_) s_.tick = 0;
+    ++s_.stats.cycles;
   }
-  if ((events & kScanDone) != 0 && layout_ == CanLayout::Ti) beginCycle(true);
-  pump(now);
+  pump(scheduler_.clock().now());
 }
 
-void CanPublisher::pump(Instant now) {
+inline void CanPublisher::pump(Instant now) {
   hal::CanFrame frame;
   while (plan_.build(now, frame)) {
     const Status s = can_.send(frame);
     if (s == Status::Ok) {
-      ++stats_.frames;
+      ++s_.stats.frames;
       plan_.advance();
       continue;
     }
     if (s == Status::Overflow) {
-      ++stats_.refused;  // wait for a frame to leave (kCan)
+      ++s_.stats.refused;  // wait for a frame to leave (kCan)
     } else {
       plan_.abandon();  // BusOff or a malformed frame: drop the cycle, the next one starts fresh
-      ++stats_.abandoned;
+      ++s_.stats.abandoned;
     }
     return;
   }

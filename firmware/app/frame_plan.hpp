@@ -17,12 +17,18 @@
 
 #include <cstdint>
 
+#include "app/can_bits.hpp"
 #include "app/pack_view.hpp"
 #include "app/publish_status.hpp"
 #include "core/time.hpp"
 #include "hal/can_bus.hpp"
 
 namespace fw::app {
+
+// The TI layout is built only where it is used (FW_CAN_TI_LAYOUT in can_bits.hpp: the lp-mspm0g3507-bq79616
+// image and the host). Images built without it have no TI cycle: beginTi() starts an empty one.
+
+inline constexpr bool kTiLayout = FW_CAN_TI_LAYOUT != 0;
 
 enum class CanLayout : uint8_t { Native, Ti };
 
@@ -34,28 +40,32 @@ class FramePlan {
   void beginFast() { begin(kFast); }
   void beginSlow() { begin(kSlow); }
   void beginTi() { begin(kTi); }
-  bool active() const { return next_ < count_; }
+  bool active() const { return step_ != kDone; }
 
   // Builds the current frame into `out` (false when the cycle is complete).
   bool build(Instant now, hal::CanFrame& out);
   // The frame from the last build() was accepted: move to the next one.
   void advance();
   // Drops the rest of the cycle (bus-off: the next cycle starts from fresh data).
-  void abandon() { next_ = count_; }
+  void abandon() { step_ = kDone; }
 
  private:
   enum Kind : uint8_t { kFast, kSlow, kTi };
+  // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
+  // of (framesIn() == 0).
+  enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
   void begin(Kind kind);
-  static uint8_t framesPerBoard(uint8_t items) { return static_cast<uint8_t>((items + 2) / 3); }
+  inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
+  void settle();
 
+  Kind kind_ = kFast;
+  Step step_ = kDone;
+  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  uint8_t counter_ = 0;
+  uint16_t index_ = 0;  // frame within the current step
   const PackView& pack_;
   PublishStatus& status_;
   Duration staleAfter_;
-  Kind kind_ = kFast;
-  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
-  uint16_t next_ = 0;   // index of the frame to build in this cycle
-  uint16_t count_ = 0;  // frames in this cycle
-  uint8_t counter_ = 0;
 };
 
 }  // namespace fw::app

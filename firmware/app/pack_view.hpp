@@ -22,6 +22,16 @@ namespace fw::app {
 inline constexpr uint8_t kMaxCellsPerBoard = 16;
 inline constexpr uint8_t kMaxTempsPerBoard = 4;
 
+// Boards a pack can have in this build (FW_PACK_MAX_BOARDS; default 64, a full BQ79616 chain). The
+// single-board images (BQ769x2, BQ7690x, BQ4050) build with 1: every per-board loop then compiles down to its
+// one board, and a view must hold exactly one board. Host builds keep 64, so tests and bms-sim cover the
+// multi-board paths.
+#ifndef FW_PACK_MAX_BOARDS
+#define FW_PACK_MAX_BOARDS 64
+#endif
+inline constexpr uint16_t kMaxBoards = FW_PACK_MAX_BOARDS;
+static_assert(kMaxBoards >= 1);
+
 enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPresent = 3 };
 
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
@@ -37,29 +47,37 @@ struct BoardSample {
 // The pack at a glance, computed by the monitor once per scan (summarize()) so that protection and the
 // publishers do not each walk every board: totals and extremes over the boards that validated in that scan,
 // and the age of the oldest board's data (a board never measured counts from start-up).
+// The four extremes share one layout (index kMaxCell..kMinTemp) so that one loop finds them and one line
+// reads any of them.
+enum Extreme : uint8_t { kMaxCell = 0, kMinCell = 1, kMaxTemp = 2, kMinTemp = 3 };
+
 struct PackTotals {
-  Instant takenAt;  // end of the scan these totals describe
-  Instant oldest;   // oldest takenAt among all boards (Instant{0} if any board never validated)
-  bool cells;       // at least one board validated in the scan
-  bool temps;
-  int32_t packMv;  // sum of the validated cells
-  int16_t maxCell, minCell, maxTemp, minTemp;
-  uint16_t maxCellAt, minCellAt;  // board * kMaxCellsPerBoard + cell (0-based)
-  uint16_t maxTempAt, minTempAt;  // board * kMaxTempsPerBoard + sensor (0-based)
+  Instant takenAt;     // end of the scan these totals describe
+  Instant oldest;      // oldest takenAt among all boards (Instant{0} if any board never validated)
+  int32_t packMv;      // sum of the validated cells
+  int16_t extreme[4];  // by Extreme: highest / lowest cell (mV), highest / lowest temperature (0.1 K)
+  // Where each extreme is: cells as board * kMaxCellsPerBoard + cell, temperatures as
+  // board * kMaxTempsPerBoard + sensor (0-based).
+  uint16_t at[4];
+  bool cells;  // at least one board validated in the scan (the cell extremes are meaningful)
+  bool temps;  // ... and reported temperatures (the temperature extremes are meaningful)
 };
 
+// Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
 struct PackView {
-  std::span<const BoardSample> boards{};
-  uint8_t cellsPerBoard = 0;  // connected cells per board
-  uint8_t tempsPerBoard = 0;  // temperature sensors per board
-  bool hasCurrent = false;    // pack-level values, valid with board 0's measurement
-  int32_t currentMa = 0;
-  uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
+  uint8_t cellsPerBoard = 0;    // connected cells per board
+  uint8_t tempsPerBoard = 0;    // temperature sensors per board
+  bool hasCurrent = false;      // pack-level values, valid with board 0's measurement
   bool deviceFault = false;     // a monitor reports a tripped protection of its own
+  uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
+  int32_t currentMa = 0;
+  std::span<const BoardSample> boards{};
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
   // LSB), for the TI-compatible CAN layout, which carries raw codes. Null when the monitor has none.
   const int16_t* rawCells = nullptr;
   PackTotals totals{};
+
+  uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
 };
 
 // Recomputes view.totals from the boards whose last attempt validated; `scanEnd` is when the scan ended.

@@ -1,7 +1,8 @@
 #include "app/protection.hpp"
 
 namespace fw::app {
-// The six value limits come first in FaultId order, alternating upper and lower limits, so one loop handles
+// The six value limits come first in FaultId order, alternating upper and lower limits; cells and
+// temperatures line up with PackTotals::extreme (cells at 0, 1, temperatures at 2, 3), so one loop handles
 // them all.
 static_assert(static_cast<uint8_t>(FaultId::CellOvervoltage) == 0 &&
               static_cast<uint8_t>(FaultId::CellUndervoltage) == 1 &&
@@ -9,105 +10,104 @@ static_assert(static_cast<uint8_t>(FaultId::CellOvervoltage) == 0 &&
               static_cast<uint8_t>(FaultId::DischargeOvercurrent) == 3 &&
               static_cast<uint8_t>(FaultId::Overtemperature) == 4 &&
               static_cast<uint8_t>(FaultId::Undertemperature) == 5);
-
-void Protection::update(FaultId id, bool present, bool absent, Instant now, ProtectionState& out) {
-  const uint8_t i = static_cast<uint8_t>(id);
-  const Rule& rule = config_.rules[i];
-  const FaultMask b = bit(id);
-  Track& t = track_[i];
-  if (present) conditionNow_ |= b;
-  if (absent) conditionNow_ = static_cast<FaultMask>(conditionNow_ & ~b);
-
-  // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
-  // sighting of the other kind restarts the count. Neither (no fresh data) leaves the count as it is.
-  const bool tripped = (active_ & b) != 0;
-  const bool towards = tripped ? absent : present;
-  const bool away = tripped ? present : absent;
-  if (away) {
-    t.count = 0;
-    return;
-  }
-  if (!towards) return;
-  if (t.count == 0) t.since = now;
-  if (t.count < 0xFF) ++t.count;
-  if (t.count < rule.debounce || elapsed(t.since, now) < rule.delay) return;
-
-  t.count = 0;
-  if (!tripped) {
-    active_ |= b;
-    tripped_[i] = now;
-    out.newlyTripped |= b;
-  } else if (!rule.latch) {
-    active_ = static_cast<FaultMask>(active_ & ~b);
-    out.newlyCleared |= b;
-  }
-}
+static_assert(kMaxCell == 0 && kMinCell == 1 && kMaxTemp == 4 - 2 && kMinTemp == 5 - 2);
 
 ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   ProtectionState out;
 
   if (in.fresh) {
-    failedScans_ = 0;
-  } else if (in.scanFailed && failedScans_ < 0xFF) {
-    ++failedScans_;
+    s_.failedScans = 0;
+  } else if (in.scanFailed && s_.failedScans < 0xFF) {
+    ++s_.failedScans;
   }
 
-  // Every rule compares one value with its thresholds; build the nine values, then one loop does the rest.
-  // The device rule's value is 1 while the monitor reports a fault (its line at once, its status with each
-  // fresh scan); the freshness rules' values are 1 while the data is stale or the link is lost. A board
-  // that never answered counts as stale from start-up.
-  const PackTotals* t = in.pack != nullptr ? &in.pack->totals : nullptr;
+  // Every rule compares one value with its thresholds; build the nine values, and the set of rules that have
+  // one to look at now, then one loop does the rest. Value limits are only looked at with fresh data:
+  // missing data neither trips nor clears them. The device rule's value is 1 while the monitor reports a
+  // fault (its line at once, its status with each fresh scan); the freshness rules' values are 1 while the
+  // data is stale or the link is lost. A board that never answered counts as stale from start-up.
+  const PackView* pack = in.pack;
+  const PackTotals* t = pack != nullptr ? &pack->totals : nullptr;
   const bool fresh = in.fresh && t != nullptr;
-  const bool current = fresh && in.pack->hasCurrent && t->cells;
-  const int32_t amps = current ? in.pack->currentMa : 0;
-  const bool fault = in.faultLine || (fresh && in.pack->deviceFault);
-  const uint32_t age = t != nullptr ? elapsed(t->oldest, now).us : now.us;
-  const int32_t value[kFaultCount] = {fresh ? t->maxCell : 0,
-                                      fresh ? t->minCell : 0,
-                                      amps,
-                                      amps,
-                                      fresh ? t->maxTemp : 0,
-                                      fresh ? t->minTemp : 0,
-                                      fault,
-                                      age > config_.staleAfter.us,
-                                      failedScans_ >= config_.commLossScans};
-  const bool evaluated[kFaultCount] = {fresh && t->cells,
-                                       fresh && t->cells,
-                                       current,
-                                       current,
-                                       fresh && t->temps,
-                                       fresh && t->temps,
-                                       in.fresh || in.faultLine,
-                                       true,
-                                       in.fresh || in.scanFailed};
-  constexpr FaultMask kLowerLimits =
-      bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) | bit(FaultId::Undertemperature);
+  int32_t value[kFaultCount] = {};
+  FaultMask evaluated = bit(FaultId::StaleData);
+  if (fresh) {
+    if (t->cells) {
+      value[0] = t->extreme[kMaxCell];
+      value[1] = t->extreme[kMinCell];
+      evaluated |= bit(FaultId::CellOvervoltage) | bit(FaultId::CellUndervoltage);
+      if (pack->hasCurrent) {
+        value[2] = value[3] = pack->currentMa;
+        evaluated |= bit(FaultId::ChargeOvercurrent) | bit(FaultId::DischargeOvercurrent);
+      }
+    }
+    if (t->temps) {
+      value[4] = t->extreme[kMaxTemp];
+      value[5] = t->extreme[kMinTemp];
+      evaluated |= bit(FaultId::Overtemperature) | bit(FaultId::Undertemperature);
+    }
+  }
+  value[6] = in.faultLine || (fresh && pack->deviceFault);
+  if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
+  value[7] = (t != nullptr ? elapsed(t->oldest, now).us : now.us) > config_.staleAfter.us;
+  value[8] = s_.failedScans >= config_.commLossScans;
+  if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
+
+  // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
+  // of the actions (ChargeOff and DischargeOff are bits) of every active fault.
+  uint8_t actions = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const Rule& rule = config_.rules[i];
-    if (!rule.enabled || !evaluated[i]) continue;
-    const int32_t v = value[i];
-    const bool lower = ((kLowerLimits >> i) & 1U) != 0;
-    update(static_cast<FaultId>(i), lower ? v <= rule.trip : v >= rule.trip,
-           lower ? v > rule.clear : v < rule.clear, now, out);
+    if (rule.enabled && (evaluated & (1U << i)) != 0) track(i, value[i], now, out);
+    if ((s_.active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
   }
-
-  out.active = active_;
-  for (uint8_t i = 0; i < kFaultCount; ++i) {
-    if ((active_ & (1U << i)) == 0) continue;
-    const auto action = static_cast<uint8_t>(config_.rules[i].action);
-    out.chargeOff = out.chargeOff || (action & static_cast<uint8_t>(Action::ChargeOff)) != 0;
-    out.dischargeOff = out.dischargeOff || (action & static_cast<uint8_t>(Action::DischargeOff)) != 0;
-  }
+  out.active = s_.active;
+  out.chargeOff = (actions & static_cast<uint8_t>(Action::ChargeOff)) != 0;
+  out.dischargeOff = (actions & static_cast<uint8_t>(Action::DischargeOff)) != 0;
   return out;
+}
+
+void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) {
+  constexpr FaultMask kLowerLimits =
+      bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) | bit(FaultId::Undertemperature);
+  const Rule& rule = config_.rules[i];
+  const FaultMask b = static_cast<FaultMask>(1U << i);
+  const bool lower = (kLowerLimits & b) != 0;
+  const bool present = lower ? v <= rule.trip : v >= rule.trip;
+  const bool absent = lower ? v > rule.clear : v < rule.clear;
+  if (present) s_.conditionNow |= b;
+  if (absent) s_.conditionNow = static_cast<FaultMask>(s_.conditionNow & ~b);
+
+  // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
+  // sighting of the other kind restarts the count.
+  const bool tripped = (s_.active & b) != 0;
+  if (tripped ? present : absent) {
+    s_.count[i] = 0;
+    return;
+  }
+  if (!(tripped ? absent : present)) return;
+  if (s_.count[i] == 0) s_.since[i] = now;
+  if (s_.count[i] < 0xFF) ++s_.count[i];
+  if (s_.count[i] < rule.debounce || elapsed(s_.since[i], now) < rule.delay) return;
+
+  s_.count[i] = 0;
+  if (!tripped) {
+    s_.active |= b;
+    s_.tripped[i] = now;
+    out.newlyTripped |= b;
+  } else if (!rule.latch) {
+    s_.active = static_cast<FaultMask>(s_.active & ~b);
+    out.newlyCleared |= b;
+  }
 }
 
 FaultMask Protection::clearLatched() {
   FaultMask cleared = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const FaultMask b = static_cast<FaultMask>(1U << i);
-    if ((active_ & b) == 0 || !config_.rules[i].latch || (conditionNow_ & b) != 0) continue;
-    active_ = static_cast<FaultMask>(active_ & ~b);
-    track_[i] = Track{};
+    if ((s_.active & b) == 0 || !config_.rules[i].latch || (s_.conditionNow & b) != 0) continue;
+    s_.active = static_cast<FaultMask>(s_.active & ~b);
+    s_.count[i] = 0;
     cleared |= b;
   }
   return cleared;

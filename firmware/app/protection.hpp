@@ -74,9 +74,9 @@ struct ProtectionConfig {
 // One evaluation's inputs. Value limits are evaluated only when `fresh` (a scan just validated) and only over
 // the boards whose status is Valid; the freshness rules look at every board of `pack` on every evaluation.
 struct ProtectionInputs {
+  const PackView* pack = nullptr;  // the measured pack (may be null before the first scan)
   bool fresh = false;              // a scan just completed and validated
   bool scanFailed = false;         // a scan attempt just failed
-  const PackView* pack = nullptr;  // the measured pack (may be null before the first scan)
   bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own
 };
 
@@ -98,23 +98,27 @@ class Protection {
   // that cleared; a latched fault whose condition is still present stays.
   FaultMask clearLatched();
 
-  FaultMask active() const { return active_; }
+  FaultMask active() const { return s_.active; }
   const ProtectionConfig& config() const { return config_; }
-  Instant trippedAt(FaultId id) const { return tripped_[static_cast<uint8_t>(id)]; }
+  Instant trippedAt(FaultId id) const { return s_.tripped[static_cast<uint8_t>(id)]; }
 
  private:
-  struct Track {
-    uint8_t count = 0;  // consecutive evaluations the condition (or, when tripped, its absence) was seen
-    Instant since{};    // when that run started
-  };
-  void update(FaultId id, bool present, bool absent, Instant now, ProtectionState& out);
+  // Moves rule `i`'s debounce with its value `v` (out of line: the loop around it stays in registers).
+  void track(uint8_t i, int32_t v, Instant now, ProtectionState& out);
 
+  // Everything that changes, zero at construction (one block: no per-member start-up code).
+  struct State {
+    FaultMask active;
+    FaultMask conditionNow;  // last evaluation's raw conditions (for clearLatched)
+    uint8_t failedScans;
+    // Per fault: consecutive evaluations the condition (or, when tripped, its absence) was seen, and when
+    // that run started.
+    uint8_t count[kFaultCount];
+    Instant since[kFaultCount];
+    Instant tripped[kFaultCount];
+  };
   const ProtectionConfig& config_;
-  Track track_[kFaultCount]{};
-  Instant tripped_[kFaultCount]{};
-  FaultMask active_ = 0;
-  FaultMask conditionNow_ = 0;  // last evaluation's raw conditions (for clearLatched)
-  uint8_t failedScans_ = 0;
+  State s_{};
 };
 
 }  // namespace fw::app

@@ -2,76 +2,64 @@
 
 namespace fw::app {
 
-ProtectionTask::ProtectionTask(sched::Scheduler& scheduler, sched::TaskId id, const ProtectionConfig& config,
-                               const PackView& pack, PublishStatus& status, Actuator& actuator,
-                               Duration checkPeriod)
-    : scheduler_(scheduler),
-      id_(id),
-      pack_(pack),
-      status_(status),
-      actuator_(actuator),
-      protection_(config),
-      checkPeriod_(checkPeriod) {}
-
-void ProtectionTask::start() {
-  scheduler_.addTask(id_, *this, {}, true);
-  scheduler_.startTimer(timer_, id_, kTick, checkPeriod_, checkPeriod_);
-}
-
 void ProtectionTask::run(sched::EventMask events) {
   const Instant now = scheduler_.clock().now();
-  ProtectionInputs in;
+  ProtectionInputs in{};
   in.pack = &pack_;
   in.fresh = (events & kNewData) != 0;
   in.scanFailed = (events & kScanFailed) != 0 && !in.fresh;
   in.faultLine = (events & kFaultLine) != 0;
-  if ((events & kClearLatched) != 0) status_.pendingCleared |= protection_.clearLatched();
+  if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
+    status_.pendingCleared |= protection_.clearLatched();
   const ProtectionState st = protection_.evaluate(in, now);
-  ++evaluations_;
+  ++s_.evaluations;
   apply(st, now);
   scheduler_.checkIn(id_);
 }
 
-void ProtectionTask::apply(const ProtectionState& st, Instant now) {
+inline void ProtectionTask::apply(const ProtectionState& st, Instant now) {
   status_.active = st.active;
   status_.pendingTripped |= st.newlyTripped;
   status_.pendingCleared |= st.newlyCleared;
   status_.faultOutput = st.faultOutput();
 
-  for (uint8_t i = 0; i < kFaultCount; ++i) {
-    const FaultMask b = static_cast<FaultMask>(1U << i);
-    if ((st.newlyCleared & b) != 0) {
-      for (size_t k = logCount_; k-- > 0;) {
-        if (log_[k].fault == static_cast<FaultId>(i) && !log_[k].cleared) {
-          log_[k].cleared = true;
-          break;
-        }
-      }
+  // A fault that cleared closes its newest open record; one that tripped opens a record.
+  FaultMask cleared = st.newlyCleared;
+  for (uint8_t k = s_.logCount; k-- > 0 && cleared != 0;) {
+    const FaultMask b = bit(s_.log[k].fault);
+    if ((cleared & b) != 0 && !s_.log[k].cleared) {
+      s_.log[k].cleared = true;
+      cleared = static_cast<FaultMask>(cleared & ~b);
     }
-    if ((st.newlyTripped & b) != 0 && logCount_ < kLogSize) {
-      log_[logCount_++] = ProtectionRecord{static_cast<FaultId>(i), false, false, now, {}};
-    }
+  }
+  // The log never wraps, so a new record's other fields are still zero (actionDone, cleared, acted).
+  for (uint8_t i = 0; i < kFaultCount && s_.logCount < kLogSize; ++i) {
+    if ((st.newlyTripped & (1U << i)) == 0) continue;
+    ProtectionRecord& r = s_.log[s_.logCount++];
+    r.fault = static_cast<FaultId>(i);
+    r.detected = now;
   }
 
   const bool chargeOn = !st.chargeOff;
   const bool dischargeOn = !st.dischargeOff;
-  if (requested_ && chargeOn == chargeOn_ && dischargeOn == dischargeOn_ && st.newlyTripped == 0) return;
-  requested_ = true;
-  chargeOn_ = chargeOn;
-  dischargeOn_ = dischargeOn;
-  pendingAction_ = true;
+  if (s_.requested && chargeOn == s_.chargeOn && dischargeOn == s_.dischargeOn && st.newlyTripped == 0)
+    return;
+  s_.requested = true;
+  s_.chargeOn = chargeOn;
+  s_.dischargeOn = dischargeOn;
+  s_.pendingAction = true;
   if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
 }
 
 void ProtectionTask::actuated(Instant at) {
-  if (!pendingAction_) return;
-  pendingAction_ = false;
-  status_.chargeOn = chargeOn_;
-  status_.dischargeOn = dischargeOn_;
-  for (size_t k = 0; k < logCount_; ++k) {
-    if (!log_[k].actionDone) {
-      log_[k].acted = at;
-      log_[k].actionDone = true;
+  if (!s_.pendingAction) return;
+  s_.pendingAction = false;
+  status_.chargeOn = s_.chargeOn;
+  status_.dischargeOn = s_.dischargeOn;
+  for (uint8_t k = 0; k < s_.logCount; ++k) {
+    if (!s_.log[k].actionDone) {
+      s_.log[k].acted = at;
+      s_.log[k].actionDone = true;
     }
   }
 }

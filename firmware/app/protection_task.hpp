@@ -9,6 +9,10 @@
 //
 // Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (ALERT/nFAULT edge),
 // kClearLatched (a user request). The periodic check is internal. Thread mode only.
+//
+// kClearLatched needs a user action that posts it (a button, a CAN command). The images have none yet, so
+// they build without it (FW_PROTECTION_CLEAR_LATCHED=0: the event is ignored and a latched fault stays until
+// reset); an image that wires such an action builds with 1, the default (host, bms-sim).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +23,13 @@
 #include "app/publish_status.hpp"
 #include "hal/gpio.hpp"
 #include "sched/scheduler.hpp"
+
+#ifndef FW_PROTECTION_LOG_SIZE
+#define FW_PROTECTION_LOG_SIZE 16
+#endif
+#ifndef FW_PROTECTION_CLEAR_LATCHED
+#define FW_PROTECTION_CLEAR_LATCHED 1
+#endif
 
 namespace fw::app {
 
@@ -60,42 +71,61 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kScanFailed = 0x2;
   static constexpr sched::EventMask kFaultLine = 0x4;
   static constexpr sched::EventMask kClearLatched = 0x8;
-  static constexpr size_t kLogSize = 16;
+  // Trips logged since start-up (the log does not wrap: later trips are not logged once it is full). Images
+  // may shorten it (FW_PROTECTION_LOG_SIZE: 4 on the 4 KiB L1306); the host keeps 16 for bms-sim.
+  static constexpr size_t kLogSize = FW_PROTECTION_LOG_SIZE;
+  static_assert(kLogSize >= 1 && kLogSize <= 255);
 
+  // Inline: an image constructs it once, and the constructor is then stores only.
   ProtectionTask(sched::Scheduler& scheduler, sched::TaskId id, const ProtectionConfig& config,
-                 const PackView& pack, PublishStatus& status, Actuator& actuator, Duration checkPeriod);
+                 const PackView& pack, PublishStatus& status, Actuator& actuator, Duration checkPeriod)
+      : id_(id),
+        scheduler_(scheduler),
+        pack_(pack),
+        status_(status),
+        actuator_(actuator),
+        checkPeriod_(checkPeriod),
+        protection_(config) {}
 
   // Registers the task (watched by the watchdog supervisor) and arms its periodic check. Requests the paths
   // on, as the startup state (no fault known yet).
-  void start();
+  void start() {
+    scheduler_.addTask(id_, *this, {}, true);
+    scheduler_.startTimer(s_.timer, id_, kTick, checkPeriod_, checkPeriod_);
+  }
   void run(sched::EventMask events) override;
   // The owner of a deferred actuator reports that the last request took effect.
   void actuated(Instant at);
 
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
-  std::span<const ProtectionRecord> log() const { return {log_, logCount_}; }
-  uint32_t evaluations() const { return evaluations_; }
+  std::span<const ProtectionRecord> log() const { return {s_.log, s_.logCount}; }
+  uint32_t evaluations() const { return s_.evaluations; }
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
-  void apply(const ProtectionState& st, Instant now);
+  inline void apply(const ProtectionState& st, Instant now);  // inline (.cpp): one caller, folded into it
 
-  sched::Scheduler& scheduler_;
+  // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
+  // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
+  struct State {
+    bool chargeOn;
+    bool dischargeOn;
+    bool requested;  // a request has been made since start()
+    bool pendingAction;
+    uint8_t logCount;
+    uint32_t evaluations;
+    sched::Timer timer;
+    ProtectionRecord log[kLogSize];
+  };
   sched::TaskId id_;
+  State s_{};
+  sched::Scheduler& scheduler_;
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
-  Protection protection_;
   Duration checkPeriod_;
-  sched::Timer timer_;
-  bool chargeOn_ = false;
-  bool dischargeOn_ = false;
-  bool requested_ = false;  // a request has been made since start()
-  bool pendingAction_ = false;
-  ProtectionRecord log_[kLogSize]{};
-  size_t logCount_ = 0;
-  uint32_t evaluations_ = 0;
+  Protection protection_;
 };
 
 }  // namespace fw::app

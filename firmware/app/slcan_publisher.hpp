@@ -20,30 +20,45 @@ class SlcanPublisher final : public sched::Task {
  public:
   static constexpr sched::EventMask kScanDone = 0x1;
 
+  // Inline: an image constructs it once, and the constructor is then stores only.
   SlcanPublisher(sched::Scheduler& scheduler, sched::TaskId id, hal::SerialTx& serial, FramePlan& plan,
-                 Duration fastPeriod, uint8_t slowEvery);
+                 Duration fastPeriod, uint8_t slowEvery)
+      : id_(id),
+        slowEvery_(slowEvery == 0 ? 1 : slowEvery),
+        scheduler_(scheduler),
+        serial_(serial),
+        plan_(plan),
+        fastPeriod_(fastPeriod) {}
 
-  void start();
+  void start() {
+    scheduler_.addTask(id_, *this);
+    scheduler_.startTimer(s_.timer, id_, kTick, fastPeriod_, fastPeriod_);
+  }
   void run(sched::EventMask events) override;
-  const PublishStats& stats() const { return stats_; }
+  const PublishStats& stats() const { return s_.stats; }
 
  private:
   static constexpr sched::EventMask kTick = 0x2;
   static constexpr sched::EventMask kSent = 0x4;
   void pump(Instant now);
 
-  sched::Scheduler& scheduler_;
+  // What changes, zero at construction (one block, no per-member start-up code); byte fields first
+  // (Cortex-M0+ byte loads reach only 31 bytes past the object's address).
+  struct State {
+    uint8_t tick;
+    bool busy;
+    bool lineFromOldCycle;  // the line in flight was built before the current cycle began
+    uint8_t line[slcan::kMaxEncodedLength];
+    sched::Timer timer;
+    PublishStats stats;
+  };
   sched::TaskId id_;
+  uint8_t slowEvery_;
+  State s_{};
+  sched::Scheduler& scheduler_;
   hal::SerialTx& serial_;
   FramePlan& plan_;
   Duration fastPeriod_;
-  uint8_t slowEvery_;
-  uint8_t tick_ = 0;
-  bool busy_ = false;
-  bool lineFromOldCycle_ = false;  // the line in flight was built before the current cycle began
-  sched::Timer timer_;
-  PublishStats stats_;
-  uint8_t line_[slcan::kMaxEncodedLength];
 };
 
 }  // namespace fw::app

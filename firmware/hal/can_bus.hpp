@@ -40,7 +40,7 @@ class CanBus {
  public:
   Status send(const CanFrame& frame) { return doSend(frame); }
   bool receive(CanFrame& frame) { return doReceive(frame); }
-  void onEvent(Notify notify) { doOnEvent(notify); }
+  void onEvent(const Notify& notify) { doOnEvent(notify); }
   CanState state() const { return doState(); }
   Status recover() { return doRecover(); }
   CanCounters counters() const { return doCounters(); }
@@ -51,7 +51,7 @@ class CanBus {
  private:
   virtual Status doSend(const CanFrame& frame) = 0;
   virtual bool doReceive(CanFrame& frame) = 0;
-  virtual void doOnEvent(Notify notify) = 0;
+  virtual void doOnEvent(const Notify& notify) = 0;
   virtual CanState doState() const = 0;
   virtual Status doRecover() = 0;
   virtual CanCounters doCounters() const = 0;

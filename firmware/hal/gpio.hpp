@@ -13,7 +13,7 @@ namespace fw::hal {
 
 class EdgeInput {
  public:
-  void enable(Notify notify) { doEnable(notify); }
+  void enable(const Notify& notify) { doEnable(notify); }
   void disable() { doDisable(); }
   bool level() const { return doLevel(); }
 
@@ -21,7 +21,7 @@ class EdgeInput {
   ~EdgeInput() = default;
 
  private:
-  virtual void doEnable(Notify notify) = 0;
+  virtual void doEnable(const Notify& notify) = 0;
   virtual void doDisable() = 0;
   virtual bool doLevel() const = 0;
 };

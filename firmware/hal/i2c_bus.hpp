@@ -45,7 +45,7 @@ struct I2cTransaction {
 
 class I2cBus {
  public:
-  Status start(std::span<I2cTransaction> list, Notify done) { return doStart(list, done); }
+  Status start(std::span<I2cTransaction> list, const Notify& done) { return doStart(list, done); }
   Status recover() { return doRecover(); }
   // Bus clock in Hz (100 000 or 400 000), for timing figures.
   uint32_t bitRate() const { return doBitRate(); }
@@ -54,7 +54,7 @@ class I2cBus {
   ~I2cBus() = default;
 
  private:
-  virtual Status doStart(std::span<I2cTransaction> list, Notify done) = 0;
+  virtual Status doStart(std::span<I2cTransaction> list, const Notify& done) = 0;
   virtual Status doRecover() = 0;
   virtual uint32_t doBitRate() const = 0;
 };

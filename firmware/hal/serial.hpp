@@ -15,13 +15,13 @@ namespace fw::hal {
 
 class SerialTx {
  public:
-  Status write(std::span<const uint8_t> bytes, Notify done) { return doWrite(bytes, done); }
+  Status write(std::span<const uint8_t> bytes, const Notify& done) { return doWrite(bytes, done); }
 
  protected:
   ~SerialTx() = default;
 
  private:
-  virtual Status doWrite(std::span<const uint8_t> bytes, Notify done) = 0;
+  virtual Status doWrite(std::span<const uint8_t> bytes, const Notify& done) = 0;
 };
 
 }  // namespace fw::hal

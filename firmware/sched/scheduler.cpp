@@ -22,6 +22,7 @@ namespace {
 constexpr uint8_t kLog2Nibble[16] = {0, 0, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 3, 3, 3, 3};
 
 inline uint8_t highestBit(uint8_t mask) {
+  if constexpr (kMaxTasks <= 4) return kLog2Nibble[mask];  // the ready set fits the low nibble
   return (mask & 0xF0U) != 0 ? static_cast<uint8_t>(4 + kLog2Nibble[mask >> 4]) : kLog2Nibble[mask];
 }
 
@@ -30,18 +31,18 @@ constexpr TaskId kSupervisorTask = 0xFE;  // marks the internal watchdog-supervi
 }  // namespace
 
 void Scheduler::addTask(TaskId id, Task& task, Duration budget, bool watched) {
-  FW_ASSERT(id < kMaxTasks && tasks_[id] == nullptr);
-  tasks_[id] = &task;
-  budget_[id] = budget;
-  if (watched) watched_ = static_cast<uint8_t>(watched_ | (1U << id));
+  FW_ASSERT(id < kMaxTasks && s_.tasks[id] == nullptr);
+  s_.tasks[id] = &task;
+  s_.budget[id] = budget;
+  if (watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
 }
 
 void Scheduler::post(TaskId id, EventMask events) {
-  FW_ASSERT(id < kMaxTasks && tasks_[id] != nullptr);
+  FW_ASSERT(id < kMaxTasks && s_.tasks[id] != nullptr);
   {
     hal::CriticalSection cs;
-    pending_[id] |= events;
-    ready_ = static_cast<uint8_t>(ready_ | (1U << id));
+    s_.pending[id] |= events;
+    s_.ready = static_cast<uint8_t>(s_.ready | (1U << id));
   }
   trace(TraceKind::Post, id, events);
 }
@@ -59,7 +60,7 @@ hal::Notify Scheduler::notifier(TaskId id, EventMask events) {
 void Scheduler::insertTimer(Timer& timer) {
   // Sorted by deadline; a timer goes after others with the same deadline, so equal deadlines fire in the
   // order they were armed.
-  Timer** link = &timers_;
+  Timer** link = &s_.timers;
   while (*link != nullptr && !isBefore(timer.deadline_, (*link)->deadline_))
     link = &(*link)->next_;
   timer.next_ = *link;
@@ -68,7 +69,7 @@ void Scheduler::insertTimer(Timer& timer) {
 }
 
 void Scheduler::removeTimer(Timer& timer) {
-  for (Timer** link = &timers_; *link != nullptr; link = &(*link)->next_) {
+  for (Timer** link = &s_.timers; *link != nullptr; link = &(*link)->next_) {
     if (*link == &timer) {
       *link = timer.next_;
       break;
@@ -79,7 +80,7 @@ void Scheduler::removeTimer(Timer& timer) {
 }
 
 void Scheduler::startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period) {
-  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && tasks_[id] != nullptr));
+  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && s_.tasks[id] != nullptr));
   if (timer.armed_) removeTimer(timer);
   timer.task_ = id;
   timer.events_ = events;
@@ -93,24 +94,24 @@ void Scheduler::stopTimer(Timer& timer) {
 }
 
 bool Scheduler::nextDeadline(Instant& deadline) const {
-  if (timers_ == nullptr) return false;
-  deadline = timers_->deadline_;
+  if (s_.timers == nullptr) return false;
+  deadline = s_.timers->deadline_;
   return true;
 }
 
 void Scheduler::fireDueTimers(Instant now) {
-  while (timers_ != nullptr && isDue(timers_->deadline_, now)) {
-    Timer& timer = *timers_;
-    timers_ = timer.next_;
+  while (s_.timers != nullptr && isDue(s_.timers->deadline_, now)) {
+    Timer& timer = *s_.timers;
+    s_.timers = timer.next_;
     timer.next_ = nullptr;
     timer.armed_ = false;
 
     if (timer.task_ == kSupervisorTask) {
       superviseOnce();
     } else {
-      if (timer.period_.us != 0 && (pending_[timer.task_] & timer.events_) != 0) {
+      if (timer.period_.us != 0 && (s_.pending[timer.task_] & timer.events_) != 0) {
         // The previous expiry has not been consumed yet: the task is falling behind its period.
-        ++stats_[timer.task_].timerOverruns;
+        ++s_.stats[timer.task_].timerOverruns;
         trace(TraceKind::TimerOverrun, timer.task_, 1);
       }
       trace(TraceKind::TimerFire, timer.task_, timer.events_);
@@ -121,11 +122,17 @@ void Scheduler::fireDueTimers(Instant now) {
       // Drift-free: the next deadline is a whole period after the previous *deadline*, not after now.
       timer.deadline_ = timer.deadline_ + timer.period_;
       if (isDue(timer.deadline_, now)) {
-        // Whole periods were missed. Skip them (keeping the phase) rather than firing a burst.
-        const uint32_t missed = elapsed(timer.deadline_, now).us / timer.period_.us + 1;
-        timer.deadline_ = timer.deadline_ + timer.period_ * missed;
+        // Whole periods were missed. Skip them (keeping the phase) rather than firing a burst. Counted one by
+        // one rather than divided (ARMv6-M has no divide instruction, and this is the only division the
+        // scheduler would need): once per missed period, which on the target is at most the watchdog
+        // timeout over the period, since a main loop held up longer than that resets the MCU.
+        uint32_t missed = 0;
+        do {
+          timer.deadline_ = timer.deadline_ + timer.period_;
+          ++missed;
+        } while (isDue(timer.deadline_, now));
         if (timer.task_ != kSupervisorTask) {
-          stats_[timer.task_].timerOverruns += missed;
+          s_.stats[timer.task_].timerOverruns += missed;
           trace(TraceKind::TimerOverrun, timer.task_, missed);
         }
       }
@@ -141,24 +148,24 @@ bool Scheduler::dispatchOne() {
   EventMask events;
   {
     hal::CriticalSection cs;
-    const uint8_t ready = ready_;
+    const uint8_t ready = s_.ready;
     if (ready == 0) return false;
     id = highestBit(ready);
-    events = pending_[id];
-    pending_[id] = 0;
-    ready_ = static_cast<uint8_t>(ready & ~(1U << id));
+    events = s_.pending[id];
+    s_.pending[id] = 0;
+    s_.ready = static_cast<uint8_t>(ready & ~(1U << id));
   }
 
   trace(TraceKind::Run, id, events);
   const Instant start = clock_.now();
-  tasks_[id]->run(events);
+  s_.tasks[id]->run(events);
   const Duration took = elapsed(start, clock_.now());
 
-  TaskStats& st = stats_[id];
+  TaskStats& st = s_.stats[id];
   ++st.runs;
   if (took > st.worstRun) st.worstRun = took;
   trace(TraceKind::RunEnd, id, took.us);
-  if (budget_[id].us != 0 && took > budget_[id]) {
+  if (s_.budget[id].us != 0 && took > s_.budget[id]) {
     ++st.overruns;
     trace(TraceKind::Overrun, id, took.us);
   }
@@ -169,9 +176,9 @@ void Scheduler::idle() {
   const uint32_t saved = port::irqSave();
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
-  const bool work = ready_ != 0 || (timers_ != nullptr && isDue(timers_->deadline_, clock_.now()));
+  const bool work = s_.ready != 0 || (s_.timers != nullptr && isDue(s_.timers->deadline_, clock_.now()));
   if (!work) {
-    if (timers_ != nullptr) clock_.wakeAt(timers_->deadline_);
+    if (s_.timers != nullptr) clock_.wakeAt(s_.timers->deadline_);
     trace(TraceKind::Idle, kNoTask, 0);
     FW_IDLE_WINDOW();
     port::waitForInterrupt();
@@ -187,45 +194,45 @@ void Scheduler::run() {
 
 void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {
   FW_ASSERT(window.us != 0);
-  watchdog_ = &watchdog;
-  checkedIn_ = 0;
-  startTimer(supervisor_, kSupervisorTask, 0, window, window);
+  s_.watchdog = &watchdog;
+  s_.checkedIn = 0;
+  startTimer(s_.supervisor, kSupervisorTask, 0, window, window);
 }
 
 void Scheduler::checkIn(TaskId id) {
-  checkedIn_ = static_cast<uint8_t>(checkedIn_ | (1U << id));
+  s_.checkedIn = static_cast<uint8_t>(s_.checkedIn | (1U << id));
 }
 
-void Scheduler::superviseOnce() {
-  const uint8_t missing = static_cast<uint8_t>(watched_ & ~checkedIn_);
+inline void Scheduler::superviseOnce() {
+  const uint8_t missing = static_cast<uint8_t>(s_.watched & ~s_.checkedIn);
   if (missing == 0) {
-    watchdog_->feed();
+    s_.watchdog->feed();
     trace(TraceKind::WatchdogFeed, kNoTask, 0);
   } else {
     trace(TraceKind::WatchdogStarved, kNoTask, missing);
   }
-  checkedIn_ = 0;
+  s_.checkedIn = 0;
 }
 
 void Scheduler::noteQueueDrop(TaskId id) {
   uint32_t drops;
   {
     hal::CriticalSection cs;
-    drops = ++stats_[id].queueDrops;
+    drops = ++s_.stats[id].queueDrops;
   }
   trace(TraceKind::QueueFull, id, drops);
 }
 
 void Scheduler::setTraceSink([[maybe_unused]] TraceSink* sink) {
 #if FW_SCHED_TRACE
-  sink_ = sink;
+  s_.sink = sink;
 #endif
 }
 
 void Scheduler::trace([[maybe_unused]] TraceKind kind, [[maybe_unused]] uint8_t task,
                       [[maybe_unused]] uint32_t arg) {
 #if FW_SCHED_TRACE
-  if (sink_ != nullptr) sink_->record(kind, task, arg);
+  if (s_.sink != nullptr) s_.sink->record(kind, task, arg);
 #endif
 }
 

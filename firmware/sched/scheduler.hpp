@@ -79,7 +79,7 @@ class Scheduler {
 
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
-  const TaskStats& stats(TaskId id) const { return stats_[id]; }
+  const TaskStats& stats(TaskId id) const { return s_.stats[id]; }
   hal::Clock& clock() const { return clock_; }
   void noteQueueDrop(TaskId id);  // called by EventQueue (any context)
 
@@ -89,24 +89,30 @@ class Scheduler {
   void fireDueTimers(Instant now);
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
-  void superviseOnce();
+  inline void superviseOnce();  // inline (.cpp): one caller, folded into it
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
 
   hal::Clock& clock_;
-  Task* tasks_[kMaxTasks] = {};
-  EventMask pending_[kMaxTasks] = {};
-  Duration budget_[kMaxTasks] = {};
-  TaskStats stats_[kMaxTasks] = {};
-  volatile uint8_t ready_ = 0;
-  uint8_t watched_ = 0;
-  uint8_t checkedIn_ = 0;
-  Timer* timers_ = nullptr;  // armed timers sorted by deadline
-  hal::Watchdog* watchdog_ = nullptr;
-  Timer supervisor_;
+  // Everything else is zero at construction: one block, so an image's scheduler costs no start-up code beyond
+  // clearing it (or none, when declared constinit). Byte fields first: Cortex-M0+ byte loads reach only 31
+  // bytes past the object's address.
+  struct State {
+    volatile uint8_t ready;
+    uint8_t watched;
+    uint8_t checkedIn;
+    Task* tasks[kMaxTasks];
+    EventMask pending[kMaxTasks];
+    Duration budget[kMaxTasks];
+    TaskStats stats[kMaxTasks];
+    Timer* timers;  // armed timers sorted by deadline
+    hal::Watchdog* watchdog;
+    Timer supervisor;
 #if FW_SCHED_TRACE
-  TraceSink* sink_ = nullptr;
+    TraceSink* sink;
 #endif
+  };
+  State s_{};
 };
 
 }  // namespace fw::sched

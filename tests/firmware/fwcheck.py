@@ -13,7 +13,8 @@ Stack method (see README.md next to this file): per-function frame sizes from GC
 edges from the .ci files and, for functions without one, from BL instructions. An indirect call is resolved
 by reading the source at the call's line:column: a call through a member named like a function the image
 contains (a virtual `doStart(...)`, `run(...)`) may reach every address-taken function of that name; any
-other indirect call (a function pointer) may reach every address-taken function. Worst case = thread path
+other indirect call (a function pointer) may reach every address-taken function that is not a virtual
+member (virtual = labelled so in the .ci, or listed in a vtable). Worst case = thread path
 from Reset_Handler + one exception frame + the deepest interrupt handler (all interrupts run at one NVIC
 priority, so they do not nest) + one frame + the deepest fault handler (HardFault may hit inside a handler).
 Recursion through direct calls, or dynamic frames, fail the check.
@@ -233,6 +234,7 @@ class CallGraph:
             self._read_disassembly(objdump, missing)
         self._demangle_rest(cxxfilt)
         self.address_taken = self._address_taken()
+        self.virtual |= self._vtable_entries()
         self.by_name = {}
         for name in self.funcs:
             self.by_name.setdefault(unqualified(self.demangled.get(name, name)), set()).add(name)
@@ -327,6 +329,25 @@ class CallGraph:
                 if w in thumb:
                     taken.add(thumb[w])
         return taken
+
+    def _vtable_entries(self):
+        """Functions listed in a vtable (_ZTV* objects): virtual members and their thunks. GCC's .ci label
+        says "virtual" for ordinary classes but not for members of class templates, so the vtables are the
+        reliable source. A plain function pointer (Notify::fn) can never hold one of these."""
+        thumb = {addr | 1: name for addr, name in self.addr_to_name.items()}
+        entries = set()
+        for sym in self.elf.symbols:
+            if not sym["name"].startswith("_ZTV") or sym["type"] != 1 or sym["shndx"] >= len(self.elf.sections):
+                continue
+            sec = self.elf.sections[sym["shndx"]]
+            if sec["type"] == 8:  # NOBITS: no contents
+                continue
+            start = sec["offset"] + (sym["value"] - sec["addr"])
+            for i in range(sym["size"] // 4):
+                (w,) = struct.unpack_from("<I", self.elf.data, start + 4 * i)
+                if w in thumb:
+                    entries.add(thumb[w])
+        return entries
 
     def indirect_targets(self, label):
         """Candidates for an indirect call at `label` (path:line:col, the column of the call's '(')."""

@@ -17,15 +17,15 @@ SRAM_TOP = 0x20001000
 
 def build_elf(path, vectors, symbols, extra_words=()):
     """A minimal ELF32: .isr_vector (address 0) with `vectors`, .text (address 0x100) holding `extra_words`
-    (as literal data), and a symbol table. symbols: (name, address, type, bind)."""
+    (as literal data), and a symbol table. symbols: (name, address, type, bind[, size])."""
     shstr = b"\0.isr_vector\0.text\0.symtab\0.strtab\0.shstrtab\0"
     strtab = b"\0"
     symtab = b"\0" * 16
-    for name, addr, typ, bind in symbols:
+    for name, addr, typ, bind, *size in symbols:
         off = len(strtab)
         strtab += name.encode() + b"\0"
         shndx = 1 if addr < 0x100 else 2
-        symtab += struct.pack("<IIIBBH", off, addr, 4, (bind << 4) | typ, 0, shndx)
+        symtab += struct.pack("<IIIBBH", off, addr, size[0] if size else 4, (bind << 4) | typ, 0, shndx)
     vec = struct.pack(f"<{len(vectors)}I", *vectors)
     text = struct.pack(f"<{len(extra_words)}I", *extra_words) if extra_words else b"\0\0\0\0"
     blobs = [vec, text, symtab, strtab, shstr]
@@ -48,7 +48,7 @@ def build_elf(path, vectors, symbols, extra_words=()):
         f.write(header + body + b"\0" * (shoff - pos) + sh)
 
 
-FUNC, GLOBAL, WEAK, LOCAL = 2, 1, 2, 0
+FUNC, OBJECT, GLOBAL, WEAK, LOCAL = 2, 1, 1, 2, 0
 
 
 def good_image(handler_bind=GLOBAL, i2c_vector=None, extra_symbols=(), sp=SRAM_TOP):
@@ -125,13 +125,17 @@ class StackAnalysisTest(unittest.TestCase):
     def edge(self, a, b, label="x.cpp:1:1"):
         return f'edge: {{ sourcename: "{a}" targetname: "{b}" label: "{label}" }}\n'
 
-    def analyse(self, nodes, vectors_of, taken=()):
-        """nodes: name -> address. vectors_of: (reset, [isr...])."""
+    def analyse(self, nodes, vectors_of, taken=(), vtable=()):
+        """nodes: name -> address. vectors_of: (reset, [isr...]). taken: functions whose address is a data word;
+        vtable: those of them (the first len(vtable) words) that form a _ZTV object."""
         reset, isrs = vectors_of
         vectors = [SRAM_TOP, nodes[reset] | 1, 0, 0] + [0] * 12 + [0] * 32
         for i, isr in enumerate(isrs):
             vectors[16 + i] = nodes[isr] | 1
         symbols = [(n, a | 1, FUNC, GLOBAL) for n, a in nodes.items()]
+        if vtable:
+            assert list(taken[: len(vtable)]) == list(vtable)
+            symbols.append(("_ZTVN1a1BE", 0x100, OBJECT, GLOBAL, 4 * len(vtable)))
         path = os.path.join(self.root, "img.elf")
         build_elf(path, vectors, symbols, extra_words=[nodes[t] | 1 for t in taken])
         args = fwcheck.argparse.Namespace(elf=path, ci_root=self.root, objdump="false", cxxfilt="false")
@@ -165,6 +169,15 @@ class StackAnalysisTest(unittest.TestCase):
                       + self.node("untaken", "untaken", 900))
         s = self.analyse({"Reset": 0xC0, "thunk": 0xC8, "vfn": 0xD0, "untaken": 0xD8}, ("Reset", []),
                          taken=["thunk", "vfn"])
+        self.assertEqual(s["thread"], 32)
+
+    def test_pointer_call_skips_vtable_entries_even_without_a_virtual_label(self):
+        # GCC labels members of class templates without "virtual"; their vtable still says what they are.
+        self.write_ci("a.ci", self.node("Reset", "Reset", 8)
+                      + self.edge("Reset", "__indirect_call", f"{self.src}:2:5")
+                      + self.node("thunk", "thunk", 24) + self.node("tvfn", "T<int>::run", 400))
+        s = self.analyse({"Reset": 0xC0, "thunk": 0xC8, "tvfn": 0xD0}, ("Reset", []),
+                         taken=["tvfn", "thunk"], vtable=["tvfn"])
         self.assertEqual(s["thread"], 32)
 
     def test_direct_recursion_is_an_error(self):

@@ -41,7 +41,7 @@ class SimCan final : public fw::hal::CanBus {
  private:
   fw::Status doSend(const fw::hal::CanFrame& frame) override;
   bool doReceive(fw::hal::CanFrame& frame) override;
-  void doOnEvent(fw::hal::Notify notify) override { notify_ = notify; }
+  void doOnEvent(const fw::hal::Notify& notify) override { notify_ = notify; }
   fw::hal::CanState doState() const override { return state_; }
   fw::Status doRecover() override;
   fw::hal::CanCounters doCounters() const override { return counters_; }

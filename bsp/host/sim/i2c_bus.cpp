@@ -30,7 +30,7 @@ void SimI2cBus::detach(uint8_t address7) {
   targets_.erase(address7);
 }
 
-Status SimI2cBus::doStart(std::span<fw::hal::I2cTransaction> list, fw::hal::Notify done) {
+Status SimI2cBus::doStart(std::span<fw::hal::I2cTransaction> list, const fw::hal::Notify& done) {
   if (busy_) return Status::Busy;
   if (list.empty()) return Status::InvalidArgument;
   for (const auto& txn : list) {

@@ -62,7 +62,7 @@ class SimI2cBus final : public fw::hal::I2cBus {
   bool busy() const { return busy_; }
 
  private:
-  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, fw::hal::Notify done) override;
+  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, const fw::hal::Notify& done) override;
   fw::Status doRecover() override;
   uint32_t doBitRate() const override { return config_.bitRate; }
 

@@ -15,7 +15,7 @@ SimSerialTx::SimSerialTx(SimClock& clock, SimIrq& irq, uint32_t baud)
         done();
       })) {}
 
-fw::Status SimSerialTx::doWrite(std::span<const uint8_t> bytes, fw::hal::Notify done) {
+fw::Status SimSerialTx::doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) {
   if (busy_) return fw::Status::Busy;
   if (bytes.empty()) return fw::Status::InvalidArgument;
   busy_ = true;

@@ -26,7 +26,7 @@ class SimSerialTx final : public fw::hal::SerialTx {
   bool busy() const { return busy_; }
 
  private:
-  fw::Status doWrite(std::span<const uint8_t> bytes, fw::hal::Notify done) override;
+  fw::Status doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) override;
   SimClock& clock_;
   SimIrq& irq_;
   uint32_t baud_;
@@ -46,7 +46,7 @@ class SimEdgeInput final : public fw::hal::EdgeInput {
   uint64_t edges() const { return edges_; }
 
  private:
-  void doEnable(fw::hal::Notify notify) override { notify_ = notify; }
+  void doEnable(const fw::hal::Notify& notify) override { notify_ = notify; }
   void doDisable() override { notify_ = {}; }
   bool doLevel() const override { return level_; }
   SimIrq& irq_;

@@ -8,6 +8,16 @@
 #   BMS_IMAGE_SRAM_BUDGET   data + bss + measured worst-case stack limit in bytes
 #   BMS_IMAGE_HANDLERS      "<handler>:<irq>" for every peripheral interrupt the image uses
 #   BMS_IMAGE_BUDGET_SOURCE where the budgets come from
+#   BMS_IMAGE_DEFINES       compile definitions every firmware library of the image is built with (through
+#                           fw_options, so all translation units agree): the scheduler's task table size
+#                           (FW_SCHED_MAX_TASKS, the image's three tasks); no latched-fault clearing without a
+#                           user action to trigger it (FW_PROTECTION_CLEAR_LATCHED=0); on the 4 KiB L1306 the protection
+#                           event log length (FW_PROTECTION_LOG_SIZE; host builds keep 16); and what a
+#                           single-board image leaves out (FW_PACK_MAX_BOARDS=1, FW_CAN_TI_LAYOUT=0) and the
+#                           BQ769x2-family driver built for one family without the CRC-mode probe
+#                           (FW_BQ769X_FAMILY, FW_BQ769X_PROBE_CRC=0), the I2C driver without SMBus PEC
+#                           (BSP_I2C_PEC=0) and the MCAN driver without reception (BSP_MCAN_RX=0). Host
+#                           builds use the defaults, so tests and bms-sim cover every path.
 # Budgets: ARCHITECTURE.md gives lp-mspm0l1306-bq76952 (flash 8 240 B, SRAM 2 KiB) and lp-mspm0g3507-bq79616
 # (flash 12 KiB). The other images take their sibling's budget on the same chip (provisional, set here);
 # G3507 images get 16 KiB of SRAM (half the part).
@@ -17,6 +27,29 @@ set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-b
 function(bms_image_info image)
   set(l1306_irqs GROUP1_IRQHandler:1 UART0_IRQHandler:15 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
   set(g3507_i2c_irqs GROUP1_IRQHandler:1 CANFD0_IRQHandler:6 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
+  # Every image runs three tasks (protection, monitor, publisher: firmware/app/*_app.hpp), and none has a
+  # user action that clears latched faults yet (firmware/app/protection_task.hpp).
+  set(defines FW_SCHED_MAX_TASKS=3 FW_PROTECTION_CLEAR_LATCHED=0)
+  if(image MATCHES "^lp-mspm0l1306-")
+    list(APPEND defines FW_PROTECTION_LOG_SIZE=4)
+  endif()
+  # Single-board images compile the multi-board paths down to one board, and only the BQ79616 image (seed
+  # 001's TI CAN layout) carries the TI layout (firmware/app/pack_view.hpp, frame_plan.hpp).
+  if(NOT image STREQUAL "lp-mspm0g3507-bq79616")
+    list(APPEND defines FW_PACK_MAX_BOARDS=1 FW_CAN_TI_LAYOUT=0)
+  endif()
+  # The BQ769x2-family driver built for the image's one family, without the CRC-mode probe the images'
+  # configurations never ask for (firmware/drivers/bq769x2/monitor.hpp).
+  # The G3507 applications only transmit on CAN: no MCAN reception (bsp/mspm0/mcan.hpp).
+  if(image MATCHES "^lp-mspm0g3507-")
+    list(APPEND defines BSP_MCAN_RX=0)
+  endif()
+  # No SMBus PEC in the I2C driver where nothing uses it (bsp/mspm0/i2c.hpp).
+  if(image MATCHES "-bq76952$")
+    list(APPEND defines FW_BQ769X_FAMILY=1 FW_BQ769X_PROBE_CRC=0 BSP_I2C_PEC=0)
+  elseif(image MATCHES "-bq76907$")
+    list(APPEND defines FW_BQ769X_FAMILY=2 FW_BQ769X_PROBE_CRC=0 BSP_I2C_PEC=0)
+  endif()
   if(image STREQUAL "lp-mspm0l1306-bq76952")
     set(row mspm0l1306 l1306_i2c_slcan 1024 8240 2048 "ARCHITECTURE.md" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0l1306-bq76907")
@@ -62,4 +95,5 @@ function(bms_image_info image)
   set(BMS_IMAGE_SRAM_BUDGET ${sram} PARENT_SCOPE)
   set(BMS_IMAGE_BUDGET_SOURCE "${source}" PARENT_SCOPE)
   set(BMS_IMAGE_HANDLERS ${handlers} PARENT_SCOPE)
+  set(BMS_IMAGE_DEFINES ${defines} PARENT_SCOPE)
 endfunction()

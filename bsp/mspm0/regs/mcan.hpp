@@ -125,6 +125,8 @@ inline constexpr uint32_t kIrBo = 1U << 25;   // bus-off status changed
 // and RRFE bit 0 reject remote frames.
 inline constexpr uint32_t kIleLine0 = 1U << 0;
 inline constexpr uint32_t kGfcAcceptAllRejectRemote = (1U << 1) | (1U << 0);
+// ANFS = ANFE = 2: reject non-matching frames too (no filter matches, so nothing is received).
+inline constexpr uint32_t kGfcRejectAll = (2U << 4) | (2U << 2) | kGfcAcceptAllRejectRemote;
 
 // TXBC: TBSA 15:2 (byte address), NDTB 21:16, TFQS 29:24, TFQM bit 30 (0 = FIFO).
 constexpr uint32_t txbc(uint32_t startByte, uint32_t fifoElements) {

@@ -96,7 +96,16 @@ struct LinkStats {
 
 class Link {
  public:
-  Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config);
+  // Inline: an image constructs it once, and the constructor is then stores only.
+  Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config)
+      : crc_(config.crc),
+        address_(config.address),
+        retries_(config.retries),
+        maxPolls_(config.maxPolls),
+        bus_(bus),
+        ctx_(context),
+        retryDelay_(config.retryDelay),
+        pollInterval_(config.pollInterval) {}
   Link(const Link&) = delete;
   Link& operator=(const Link&) = delete;
 
@@ -109,14 +118,14 @@ class Link {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return op_ != Op::Idle; }
-  Status result() const { return result_; }
-  const uint8_t* data() const { return scratch_ + at_; }
-  uint8_t* scratch() { return scratch_; }
-  uint8_t reported() const { return reported_; }
+  bool busy() const { return s_.op != Op::Idle; }
+  Status result() const { return s_.result; }
+  const uint8_t* data() const { return b_.scratch + s_.at; }
+  uint8_t* scratch() { return b_.scratch; }
+  uint8_t reported() const { return s_.reported; }
   bool crc() const { return crc_; }
   void setCrc(bool on) { crc_ = on; }  // when idle (the CRC-mode probe)
-  const LinkStats& stats() const { return stats_; }
+  const LinkStats& stats() const { return b_.stats; }
 
  private:
   enum class Op : uint8_t { Idle, Read, Write, SubWrite, SubRead, Sub };
@@ -125,39 +134,49 @@ class Link {
 
   Status request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8_t len);
   void phase(Phase p);
-  void transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen);
+  inline void transfer(uint8_t cmd, const uint8_t* data, uint8_t count,
+                       uint8_t readLen);  // one caller: phase()
   void onBus();
   void fail(Status s);
   void finish(Status s);
   void wait(Duration d);
 
+  // The operation in progress: small fields, zero at construction (one block, no per-member start-up code).
+  struct State {
+    Op op;
+    Phase phase;
+    Wait wait;
+    Status result;
+    uint8_t len;
+    uint8_t at;
+    uint8_t attempt;
+    uint8_t polls;
+    uint8_t reported;
+    uint8_t dataLen;
+    uint16_t code;  // subcommand code or data-memory address; the command byte of a direct access
+    Duration delay;
+  };
+  // The buffers, zero at construction as well.
+  struct Buffers {
+    hal::I2cTransaction txn;
+    sched::Timer timer;
+    uint8_t data[2 + kMaxWriteData];          // code lo, hi, then the data of a write
+    uint8_t tx[1 + 2 * (kMaxWriteData + 2)];  // command byte + data with CRCs
+    LinkStats stats;
+    uint8_t scratch[kScratchBytes];
+  };
+
   // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register.
-  Op op_ = Op::Idle;
-  Phase phase_ = Phase::Main;
-  Wait wait_ = Wait::None;
-  Status result_ = Status::Ok;
   bool crc_;
   uint8_t address_;
   uint8_t retries_;
   uint8_t maxPolls_;
-  uint8_t len_ = 0;
-  uint8_t at_ = 0;
-  uint8_t attempt_ = 0;
-  uint8_t polls_ = 0;
-  uint8_t reported_ = 0;
-  uint8_t dataLen_ = 0;
-  uint16_t code_ = 0;  // subcommand code or data-memory address; the command byte of a direct access
+  State s_{};
   hal::I2cBus& bus_;
   DriverContext ctx_;
   Duration retryDelay_;
   Duration pollInterval_;
-  Duration delay_{};
-  hal::I2cTransaction txn_;
-  sched::Timer timer_;
-  uint8_t data_[2 + kMaxWriteData];          // code lo, hi, then the data of a write
-  uint8_t tx_[1 + 2 * (kMaxWriteData + 2)];  // command byte + data with CRCs
-  LinkStats stats_;
-  uint8_t scratch_[kScratchBytes];
+  Buffers b_{};
 };
 
 // The transfer checksum: ~(sum of the code bytes and the data) & 0xFF (SLUUBY2B section 13.1).

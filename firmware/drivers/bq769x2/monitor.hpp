@@ -103,9 +103,84 @@ struct Variant {
   uint8_t cbShift;        // CB_ACTIVE_CELLS bit of cell 1 (BQ7690x: bit 1, E2E 1572792)
 };
 
-extern const Variant kBq76952;  // also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record)
-extern const Variant kBq76907;
-extern const Variant kBq76905;
+namespace variant_detail {
+constexpr uint8_t high(uint16_t v) {
+  return static_cast<uint8_t>(v >> 8);
+}
+// Bits the device always keeps clear (reserved) and sign bits of values that cannot be negative. A released
+// SDA (device reset mid-transaction, SLUSE13B section 14) reads 0xFF, which sets them: without CRC this is
+// the only way to tell such a tail from data.
+inline constexpr Check kChecks769x2[] = {
+    {9, high(static_cast<uint16_t>(~map::bits::BatteryStatus::fields_mask))},  // Battery Status bit 14
+    {51, high(static_cast<uint16_t>(~map::bits::Alarm::fields_mask))},         // Alarm Status bit 8
+    {70, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},              // Safety Alert A bits 1:0
+    {71, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},              // Safety Status A bits 1:0
+    {76, static_cast<uint8_t>(~map::bits::FetStatus::fields_mask)},            // FET Status bit 7
+    {43, 0x80},                                                                // Stack Voltage >= 0
+    {57, 0x80},
+    {59, 0x80},
+    {61, 0x80},
+    {63, 0x80},
+    {65, 0x80},
+    {67, 0x80},
+    {69, 0x80},  // temperatures >= 0 K
+};
+inline constexpr Check kChecks7690x[] = {
+    {0, static_cast<uint8_t>(~map7690x::bits::BatteryStatus::fields_mask)},         // Battery Status bit 0
+    {1, high(static_cast<uint16_t>(~map7690x::bits::BatteryStatus::fields_mask))},  // bit 9
+    {34, static_cast<uint8_t>(~map7690x::bits::SafetyA::fields_mask)},
+    {35, static_cast<uint8_t>(~map7690x::bits::SafetyA::fields_mask)},
+    {21, 0x80},  // Stack Voltage >= 0
+};
+constexpr Variant bq7690x(uint8_t cells) {
+  return {{{0x12, 26}, {0x62, 6}, {0x3A, 2}, {0x02, 4}},
+          kChecks7690x,
+          sizeof kChecks7690x / sizeof kChecks7690x[0],
+          cells,
+          map7690x::bits::BatteryStatus::cfgupdate_mask,
+          1,
+          high(map7690x::bits::BatteryStatus::fet_en_mask),
+          0,
+          map7690x::cmd::FetControl.address,
+          1,
+          1};
+}
+}  // namespace variant_detail
+
+// Also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record).
+inline constexpr Variant kBq76952{
+    {{0x0A, 50}, {0x62, 20}, {0x02, 6}, {0x7F, 1}},
+    variant_detail::kChecks769x2,
+    sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
+    16,
+    map::bits::BatteryStatus::cfgupdate_mask,
+    0,
+    map::bits::ManufacturingStatus::fet_en_mask,
+    map::sub::ManufacturingStatus.address,
+    0,
+    2,
+    0};
+inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
+inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
+
+// The family this build's Monitor serves (FW_BQ769X_FAMILY): 0 both (host tools and tests: the variant is
+// read at run time), 1 BQ769x2 only, 2 BQ7690x only. An image builds for its device's family: every variant
+// fact then is a constant (except the BQ7690x cell count, which tells a BQ76905 from a BQ76907) and the other
+// family's paths compile away. A Monitor built for one family must be given a variant of it: the front ends
+// Bq769x2 / Bq7690x only exist in builds for their family.
+#ifndef FW_BQ769X_FAMILY
+#define FW_BQ769X_FAMILY 0
+#endif
+inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
+static_assert(kFamily <= 2, "FW_BQ769X_FAMILY: 0 both, 1 BQ769x2, 2 BQ7690x");
+
+// The CRC-mode probe (MonitorConfig::probeCrc) is built unless FW_BQ769X_PROBE_CRC is 0: the images set 0,
+// as their configuration knows the device's mode (link.crc) and never asks for the probe; with 0, probeCrc
+// is ignored and startProbe() uses the configured mode only.
+#ifndef FW_BQ769X_PROBE_CRC
+#define FW_BQ769X_PROBE_CRC 1
+#endif
+inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
 
 struct MonitorConfig {
   LinkConfig link{};
@@ -132,8 +207,16 @@ struct FetIntent {
 
 class Monitor {
  public:
+  // Inline: an image constructs it once, and the constructor is then stores only.
   Monitor(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
-          const MonitorConfig& config);
+          const MonitorConfig& config)
+      : cfgPolls_(config.cfgPolls),
+        probeCrc_(config.probeCrc),
+        allowAdjacent_(config.allowAdjacentBalancing),
+        clock_(clock),
+        variant_(variant),
+        pollDelay_(config.link.pollInterval),
+        link_(bus, context, config.link) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
 
@@ -146,10 +229,10 @@ class Monitor {
   sched::EventMask events() const { return link_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return op_ != Op::Idle; }
-  Status result() const { return result_; }
-  FetIntent fetIntent() const { return intent_; }
-  uint8_t written() const { return written_; }  // settings the last startConfigure wrote
+  bool busy() const { return s_.op != Op::Idle; }
+  Status result() const { return s_.result; }
+  FetIntent fetIntent() const { return s_.intent; }
+  uint8_t written() const { return s_.written; }  // settings the last startConfigure wrote
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
@@ -159,9 +242,16 @@ class Monitor {
 
  private:
   enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, Balance };
+  // The variant's facts: constants when the build serves one family (kFamily).
+  const Variant& facts() const {
+    if constexpr (kFamily == 1) return kBq76952;
+    if constexpr (kFamily == 2)
+      return kBq76907;  // differs from kBq76905 only in cells: read variant_ for those
+    return variant_;
+  }
   Status begin(Op op, Status started);
   void step(Status r);
-  void configStep(Status r);
+  inline void configStep(Status r);  // inline (.cpp): one caller, folded into it
   bool matches() const;
   Status nextSetting(bool write);
   void writeNext();
@@ -173,38 +263,45 @@ class Monitor {
   FetIntent nextIntent() const;
   void finish(Status s);
 
-  // Small fields first (short load offsets on Cortex-M0+), the link with its buffers last.
-  Op op_ = Op::Idle;
-  Status result_ = Status::Ok;
-  Status error_ = Status::Ok;  // a configure failure kept while CONFIG_UPDATE is being left
-  uint8_t step_ = 0;
-  uint8_t index_ = 0;
-  uint8_t polls_ = 0;
+  // The operation in progress, zero at construction (one block, no per-member start-up code). Small fields
+  // first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register.
+  struct State {
+    Op op;
+    Status result;
+    Status error;  // a configure failure kept while CONFIG_UPDATE is being left
+    uint8_t step;
+    uint8_t index;
+    uint8_t polls;
+    uint8_t bytes;
+    uint8_t written;
+    FetCommand command;
+    FetIntent intent;
+    bool restarted;
+    uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
+    std::span<const Setting> settings;
+    void* out;
+    Instant* takenAt;
+    uint32_t diff;
+    uint32_t scanRetries;
+  };
+
   uint8_t cfgPolls_;
-  uint8_t bytes_ = 0;
-  uint8_t written_ = 0;
-  FetCommand command_ = FetCommand::AllOn;
-  FetIntent intent_{};
   bool probeCrc_;
   bool allowAdjacent_;
-  bool restarted_ = false;
-  uint16_t tmp_ = 0;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
+  State s_{};
   const hal::Clock& clock_;
   const Variant& variant_;
   Duration pollDelay_;
-  std::span<const Setting> settings_;
-  void* out_ = nullptr;
-  Instant* takenAt_ = nullptr;
-  uint32_t diff_ = 0;
-  uint32_t scanRetries_ = 0;
-  Link link_;
+  Link link_;  // with its buffers: last
 };
 
 // BQ769x2 front end (BQ76952 and its 3..10-cell siblings).
 class Bq769x2 : public Monitor {
  public:
-  Bq769x2(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context,
-          const MonitorConfig& config = {})
+  template <uint8_t F = kFamily>
+  requires(F != 2)  // not in a build for the BQ7690x family
+      Bq769x2(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context,
+              const MonitorConfig& config = {})
       : Monitor(bus, clock, context, kBq76952, config) {}
   Status startScan(Bq769x2Measurement& out) {
     return Monitor::startScan(&out.reg, sizeof(Bq769x2Registers), &out.takenAt);
@@ -214,8 +311,10 @@ class Bq769x2 : public Monitor {
 // BQ7690x front end: variant kBq76907 (7 cells) or kBq76905 (5 cells).
 class Bq7690x : public Monitor {
  public:
-  Bq7690x(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
-          const MonitorConfig& config = {})
+  template <uint8_t F = kFamily>
+  requires(F != 1)  // not in a build for the BQ769x2 family
+      Bq7690x(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
+              const MonitorConfig& config = {})
       : Monitor(bus, clock, context, variant, config) {}
   Status startScan(Bq7690xMeasurement& out) {
     return Monitor::startScan(&out.reg, sizeof(Bq7690xRegisters), &out.takenAt);

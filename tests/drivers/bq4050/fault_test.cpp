@@ -289,7 +289,7 @@ class SilentBus final : public fw::hal::I2cBus {
   int recovers = 0;
 
  private:
-  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, fw::hal::Notify d) override {
+  fw::Status doStart(std::span<fw::hal::I2cTransaction> list, const fw::hal::Notify& d) override {
     txn = list.data();
     done = d;
     return fw::Status::Ok;

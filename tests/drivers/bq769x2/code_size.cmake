@@ -1,6 +1,7 @@
 # Code and RAM of the BQ769x2 driver for Cortex-M0+ at -Os, as the lp-mspm0l1306-bq76952 image links it.
 #
-# Compiles firmware/drivers/bq769x2/*.cpp with the firmware flags of bsp/arm-none-eabi.cmake (MinSizeRel) and
+# Compiles firmware/drivers/bq769x2/*.cpp with the firmware flags of bsp/arm-none-eabi.cmake (MinSizeRel),
+# plus code_probe.cpp for what lives in the driver's headers (constructors, the BQ76952 variant table), and
 # sums the .text/.rodata sections, leaving out the BQ7690x variant tables (separate sections, dropped by
 # --gc-sections from a BQ76952 image). ram_probe.cpp sizes the driver object and the measurement record on
 # the target (nm prints the size of arrays of exactly those sizes).
@@ -11,8 +12,14 @@ set(flags -mcpu=cortex-m0plus -mthumb -Os -ffunction-sections -fdata-sections -f
           -I${SOURCE_DIR}/firmware -I${GEN_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 set(code 0)
-foreach(src link monitor)
-  execute_process(COMMAND ${CXX} ${flags} -c ${SOURCE_DIR}/firmware/drivers/bq769x2/${src}.cpp -o ${WORK_DIR}/${src}.o
+# code_probe.cpp instantiates what lives in the driver's headers (constructors, the BQ76952 variant table).
+foreach(src link monitor code_probe)
+  if(src STREQUAL "code_probe")
+    set(path ${CMAKE_CURRENT_LIST_DIR}/code_probe.cpp)
+  else()
+    set(path ${SOURCE_DIR}/firmware/drivers/bq769x2/${src}.cpp)
+  endif()
+  execute_process(COMMAND ${CXX} ${flags} -c ${path} -o ${WORK_DIR}/${src}.o
                   RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "compiling ${src}.cpp for Cortex-M0+ failed:\n${err}")

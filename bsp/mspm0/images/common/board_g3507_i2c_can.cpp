@@ -28,17 +28,23 @@ constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
 constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chip::kI2c0SclPa1,
                              config::kI2cBitRate, kI2cTiming});
 constinit GpioEdgeInput alert(Chip::kPb0, Edge::Falling, Pull::Up);
+#if BMS_BOARD_LED_BUTTON
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);
+#endif
 constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
                        McanBus::kNbtp500k});
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
+#if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
+constinit Board instance{clock, watchdog, i2c, alert, faultOut, can, fw::Status::NotReady, button, led};
+#else
+GpioEdgeInput* const kEdgeInputs[] = {&alert};
+constinit Board instance{clock, watchdog, i2c, alert, faultOut, can, fw::Status::NotReady};
+#endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
-
-constinit Board instance{clock, watchdog, i2c, alert, button, led, faultOut, can, fw::Status::NotReady};
 
 }  // namespace
 
@@ -50,12 +56,14 @@ void bringUp() {
   initSysosc(true);
   powerGpioPort(kGpioaBase);
   powerGpioPort(kGpioaBase + kGpioPortStride);
-  led.init(false);
   faultOut.init(true);  // asserted until the application has measured the pack and released it
+#if BMS_BOARD_LED_BUTTON
+  led.init(false);
+  button.init();
+#endif
   clock.start();
   i2c.init();
   alert.init();
-  button.init();
   const fw::Status hfxt = startHfxt(Chip::kHfxinPa5, Chip::kHfxoutPa6);
   instance.canStatus = hfxt == fw::Status::Ok ? can.init() : hfxt;
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);

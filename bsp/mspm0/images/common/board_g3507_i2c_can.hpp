@@ -6,9 +6,9 @@
 //        rate and stretch limit from the image's board_config.hpp; ALERT of the monitor on PB0 (falling
 //        edge, pull-up)
 //   CANFD0 TX PA12, RX PA13 to the TCAN1046 (seed 001), CANCLK = HFXT 40 MHz (PA5/PA6)
-//   button S2 PB21 (falling edge, pull-up), LED PB22 (LED2 channel), fault output PB26 (LED2 red, high =
-//   fault) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, CANFD0 IRQ 6, INT_GROUP1 IRQ 1
-//   (GPIOB)
+//   button S2 PB21 (falling edge, pull-up) and LED PB22 when built (BMS_BOARD_LED_BUTTON) (LED2 channel),
+//   fault output PB26 (LED2 red, high = fault) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ
+//   24, CANFD0 IRQ 6, INT_GROUP1 IRQ 1 (GPIOB)
 //
 // Contract: bringUp() runs once in thread mode: clocks (SYSOSC 32 MHz, HFXT for CAN), GPIO power, the
 // scheduler clock, the bus, CAN and the watchdog. `canStatus` says whether CAN came up (Ok) or not (the
@@ -23,6 +23,13 @@
 #include "hal/i2c_bus.hpp"
 #include "hal/watchdog.hpp"
 
+// The LaunchPad's LED and button S2 are built only for an application that uses them: define
+// BMS_BOARD_LED_BUTTON=1 for the image (target_compile_definitions in its image.cmake). The applications of
+// these images use neither (their fault indication is the fault output), so they are left out by default.
+#ifndef BMS_BOARD_LED_BUTTON
+#define BMS_BOARD_LED_BUTTON 0
+#endif
+
 namespace image {
 
 struct Board {
@@ -30,11 +37,13 @@ struct Board {
   fw::hal::Watchdog& watchdog;
   fw::hal::I2cBus& i2c;           // the monitor's or gauge's bus (I2C0)
   fw::hal::EdgeInput& alert;      // ALERT (BQ76952) on PB0; unused by the BQ4050 image unless wired
-  fw::hal::EdgeInput& button;     // LaunchPad S2
-  fw::hal::DigitalOut& led;       // LaunchPad LED
   fw::hal::DigitalOut& faultOut;  // fault output PB26 (high = fault): LED2 red, BoosterPack header
   fw::hal::CanBus& can;           // results out, 500 kbit/s
   fw::Status canStatus;           // set by bringUp()
+#if BMS_BOARD_LED_BUTTON
+  fw::hal::EdgeInput& button;  // LaunchPad S2
+  fw::hal::DigitalOut& led;    // LaunchPad LED
+#endif
 };
 
 Board& board();

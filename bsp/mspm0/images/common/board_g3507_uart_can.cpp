@@ -54,17 +54,23 @@ constinit UartLink link(
      DmaChannel{Chip::kDma, 1, Link::kTxTrigger},
      TimgOneShot::Config{Chip::kTimg6, Chip::kIrqTimg6, reg::timg::prescalerFor1MHz(kBusClockHz)}});
 constinit GpioEdgeInput nfault(Chip::kPb0, Edge::Falling, Pull::Up);
+#if BMS_BOARD_LED_BUTTON
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);
+#endif
 constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
                        McanBus::kNbtp500k});
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
+#if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&nfault, &button};
+constinit Board instance{clock, watchdog, link, nfault, faultOut, can, fw::Status::NotReady, button, led};
+#else
+GpioEdgeInput* const kEdgeInputs[] = {&nfault};
+constinit Board instance{clock, watchdog, link, nfault, faultOut, can, fw::Status::NotReady};
+#endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
-
-constinit Board instance{clock, watchdog, link, nfault, button, led, faultOut, can, fw::Status::NotReady};
 
 }  // namespace
 
@@ -76,12 +82,14 @@ void bringUp() {
   initSysosc(true);
   powerGpioPort(kGpioaBase);
   powerGpioPort(kGpioaBase + kGpioPortStride);
-  led.init(false);
   faultOut.init(true);  // asserted until the application has measured the pack and released it
+#if BMS_BOARD_LED_BUTTON
+  led.init(false);
+  button.init();
+#endif
   clock.start();
   link.init();
   nfault.init();
-  button.init();
   const fw::Status hfxt = startHfxt(Chip::kHfxinPa5, Chip::kHfxoutPa6);
   instance.canStatus = hfxt == fw::Status::Ok ? can.init() : hfxt;
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);

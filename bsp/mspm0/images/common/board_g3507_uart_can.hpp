@@ -21,6 +21,13 @@
 #include "hal/uart.hpp"
 #include "hal/watchdog.hpp"
 
+// The LaunchPad's LED and button S2 are built only for an application that uses them: define
+// BMS_BOARD_LED_BUTTON=1 for the image (target_compile_definitions in its image.cmake). The applications of
+// these images use neither (their fault indication is the fault output), so they are left out by default.
+#ifndef BMS_BOARD_LED_BUTTON
+#define BMS_BOARD_LED_BUTTON 0
+#endif
+
 namespace image {
 
 struct Board {
@@ -28,11 +35,13 @@ struct Board {
   fw::hal::Watchdog& watchdog;
   fw::hal::Uart& bq79616;         // daisy-chain base link, 1 Mbaud, with pings
   fw::hal::EdgeInput& nfault;     // BQ79616 nFAULT
-  fw::hal::EdgeInput& button;     // LaunchPad S2
-  fw::hal::DigitalOut& led;       // LaunchPad LED
   fw::hal::DigitalOut& faultOut;  // fault output PB26 (high = fault): LED2 red, BoosterPack header
   fw::hal::CanBus& can;           // results out, 500 kbit/s
   fw::Status canStatus;           // set by bringUp()
+#if BMS_BOARD_LED_BUTTON
+  fw::hal::EdgeInput& button;  // LaunchPad S2
+  fw::hal::DigitalOut& led;    // LaunchPad LED
+#endif
 };
 
 Board& board();

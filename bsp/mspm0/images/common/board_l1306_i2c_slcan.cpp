@@ -29,18 +29,24 @@ constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
 constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chip::kI2c0SclPa1,
                              config::kI2cBitRate, kI2cTiming});
 constinit GpioEdgeInput alert(Chip::kPa15, Edge::Falling, Pull::Up);
+#if BMS_BOARD_LED_BUTTON
 constinit GpioEdgeInput button(Chip::kPa14, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPa26);
+#endif
 constinit UartSerialTx serial({Chip::kUart0, Chip::kIrqUart0,
                                static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz,
                                                                               config::kSlcanBaud)),
                                Chip::kUart0TxPa23, DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}});
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase};
+#if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
+constinit Board instance{clock, watchdog, i2c, alert, serial, button, led};
+#else
+GpioEdgeInput* const kEdgeInputs[] = {&alert};
+constinit Board instance{clock, watchdog, i2c, alert, serial};
+#endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
-
-constinit Board instance{clock, watchdog, i2c, alert, button, led, serial};
 
 }  // namespace
 
@@ -51,12 +57,14 @@ Board& board() {
 void bringUp() {
   initSysosc(false);
   powerGpioPort(kGpioaBase);
-  led.init(false);
   clock.start();
   i2c.init();
   alert.init();
-  button.init();
   serial.init();
+#if BMS_BOARD_LED_BUTTON
+  led.init(false);
+  button.init();
+#endif
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);
   watchdog.start();
 }

@@ -5,7 +5,7 @@
 //   I2C0 SDA PA0, SCL PA1 (seed 000 table 2-1, TI's example), bit rate and stretch limit from the image's
 //        board_config.hpp; ALERT of the monitor on PA15 (falling edge, pull-up: open-drain ALERT)
 //   UART0 TX PA23 -> XDS110 back-channel (SLCAN text), DMA channel 0
-//   button S2 PA14 (falling edge, pull-up), LED PA26
+//   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1 (see below)
 //   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15, INT_GROUP1 IRQ 1 (GPIOA)
 //
 // Contract: bringUp() runs once in thread mode, before interrupts are expected: it sets the clocks, powers
@@ -20,16 +20,25 @@
 #include "hal/serial.hpp"
 #include "hal/watchdog.hpp"
 
+// The LaunchPad's LED and button S2 are built only for an application that uses them: define
+// BMS_BOARD_LED_BUTTON=1 for the image (target_compile_definitions in its image.cmake). The BQ769x2-family
+// applications of these images use neither, and the 8 KiB flash budget has no room for drivers nobody calls.
+#ifndef BMS_BOARD_LED_BUTTON
+#define BMS_BOARD_LED_BUTTON 0
+#endif
+
 namespace image {
 
 struct Board {
   fw::hal::Clock& clock;
   fw::hal::Watchdog& watchdog;
-  fw::hal::I2cBus& i2c;        // the battery monitor's bus (I2C0)
-  fw::hal::EdgeInput& alert;   // the monitor's ALERT pin
+  fw::hal::I2cBus& i2c;       // the battery monitor's bus (I2C0)
+  fw::hal::EdgeInput& alert;  // the monitor's ALERT pin
+  fw::hal::SerialTx& serial;  // SLCAN text to the PC
+#if BMS_BOARD_LED_BUTTON
   fw::hal::EdgeInput& button;  // LaunchPad S2
   fw::hal::DigitalOut& led;    // LaunchPad LED
-  fw::hal::SerialTx& serial;   // SLCAN text to the PC
+#endif
 };
 
 Board& board();

@@ -1,31 +1,21 @@
-// Application hook of the lp-mspm0g3507-bq76952 image. HOOK POINT: replace this file with the
-// BQ76952 driver, the measurement/protection tasks and the CAN publisher; main.cpp
-// calls appInit() once, after bringUp() and before the scheduler runs.
-//
-// Until then it runs a 500 ms heartbeat: LED toggle and one CAN frame per beat (standard ID 0x7FF, DLC 4,
-// the beat count big-endian), so a CAN tool on the bus shows the board is alive.
+// Application of the lp-mspm0g3507-bq76952 image: the BQ76952 monitor (probe, one CONFIG_UPDATE, FET enable,
+// scans), the firmware protection (FETs through the BQ76952) and CAN publishing
+// (firmware/app/bq769x_app.hpp).
+#include "app/bq769x_app.hpp"
+#include "app/bq769x_settings.hpp"
 #include "board.hpp"
-#include "common/heartbeat.hpp"
-#include "core/bytes.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
 
-constexpr fw::sched::TaskId kHeartbeatTask = 0;
+using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
+                               fw::app::CanPublisher>;
 
-void emitCan(uint32_t beat) {
-  fw::hal::CanFrame frame;
-  frame.id = 0x7FF;
-  frame.dlc = 4;
-  fw::bytes::storeBe32(frame.data.data(), beat);
-  // Overflow, BusOff or NotReady: the heartbeat frame is dropped; the LED still shows the beat.
-  (void)image::board().can.send(frame);
-}
-
-constinit image::Heartbeat heartbeat(emitCan);
+const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76952Settings, 16};
 
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  heartbeat.start(scheduler, kHeartbeatTask, board.led, fw::ms(500));
+  static App app(scheduler, board.i2c, board.alert, board.can, kConfig);
+  app.start();
 }

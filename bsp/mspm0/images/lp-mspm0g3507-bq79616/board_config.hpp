@@ -9,4 +9,12 @@ namespace image::config {
 // BQ79616 daisy-chain base link: 1 Mbaud 8N1 (bq79616-protocol.md section 1; IBRD 2, FBRD 0 from 32 MHz).
 inline constexpr uint32_t kBq79616Baud = 1000000;
 
+// Devices the chain is built with (CMake BMS_BQ79616_DEVICES, default 2 as in TI's example). Bring-up
+// discovers the devices that answer and reports a mismatch; it does not trust this number blindly.
+#ifndef BMS_BQ79616_DEVICES
+#define BMS_BQ79616_DEVICES 2
+#endif
+inline constexpr uint8_t kBq79616Devices = BMS_BQ79616_DEVICES;
+static_assert(kBq79616Devices >= 1 && kBq79616Devices <= 64, "BMS_BQ79616_DEVICES must be 1..64");
+
 }  // namespace image::config
