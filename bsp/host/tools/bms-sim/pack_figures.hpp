@@ -1,13 +1,65 @@
-// Shared helpers for the image simulations: pack figures from the firmware's PackView and publish status.
+// Shared helpers for the image simulations: the per-scan bus meter, and the figures, frames and protection
+// log every binding reads back from its firmware image the same way.
 #pragma once
 
 #include <algorithm>
+#include <vector>
 
 #include "app/pack_view.hpp"
 #include "app/publish_status.hpp"
 #include "image_sim.hpp"
+#include "sim/can.hpp"
 
 namespace bmssim {
+
+// The bus cost of one scan. Only a scan that directly follows the previous one in the same link epoch is
+// measured: a gap (failed scans in between) or a new epoch (the link was brought up again) would bill the
+// retries or the bring-up to the scan.
+class ScanMeter {
+ public:
+  // Call after every step with the scan counter, the link epoch and the running bus totals.
+  void observe(uint32_t scans, uint32_t epoch, uint64_t busUs, uint64_t transactions) {
+    if (scans == lastScans_) return;
+    if (scans == lastScans_ + 1 && epoch == lastEpoch_ && lastScans_ != 0) {
+      busUs_ += busUs - lastBusUs_;
+      transactions_ += transactions - lastTransactions_;
+      ++measured_;
+    }
+    lastScans_ = scans, lastEpoch_ = epoch, lastBusUs_ = busUs, lastTransactions_ = transactions;
+  }
+
+  double meanBusUs() const { return measured_ ? static_cast<double>(busUs_) / measured_ : 0; }
+  double meanTransactions() const { return measured_ ? static_cast<double>(transactions_) / measured_ : 0; }
+
+ private:
+  uint32_t lastScans_ = 0, lastEpoch_ = 0, measured_ = 0;
+  uint64_t lastBusUs_ = 0, lastTransactions_ = 0, busUs_ = 0, transactions_ = 0;
+};
+
+// Scan counters (any monitor's stats with `scans` and `scanFailures`) and the meter's means.
+template <class ScanStats>
+void fillScanFigures(SimFigures& f, const ScanStats& st, fw::Duration period, const ScanMeter& meter) {
+  f.scans = st.scans;
+  f.scanFailures = st.scanFailures;
+  f.scanPeriodMs = period.toMs();
+  f.scanBusUs = meter.meanBusUs();
+  f.scanTransactions = meter.meanTransactions();
+}
+
+// Every CAN frame the simulated controller put on the wire, with its completion time.
+inline std::vector<SentFrame> canFrames(const bsp::host::SimCan& can) {
+  std::vector<SentFrame> out;
+  for (const auto& s : can.sent())
+    out.push_back(
+        {s.timeUs, s.frame.id, s.frame.extended, {s.frame.data.begin(), s.frame.data.begin() + s.frame.dlc}});
+  return out;
+}
+
+template <class App>
+std::vector<fw::app::ProtectionRecord> protectionLogOf(const App& app) {
+  const auto log = app.protection().log();
+  return {log.begin(), log.end()};
+}
 
 inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const fw::app::PublishStatus& st,
                             fw::Instant now, fw::Duration staleAfter) {

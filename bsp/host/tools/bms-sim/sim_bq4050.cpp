@@ -54,15 +54,7 @@ class Bq4050Sim final : public ImageSim {
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.
     if (intermittent_) attach((tick_++ % 350) >= 250);
-    const auto& st = app_->monitor().stats();
-    if (st.scans != lastScans_) {
-      if (st.scans == lastScans_ + 1 && lastScans_ != 0) {
-        busUs_ += static_cast<double>(bus_.busTimeUs() - lastBusUs_);
-        transactions_ += bus_.transactions() - lastTransactions_;
-        ++measured_;
-      }
-      lastScans_ = st.scans, lastBusUs_ = bus_.busTimeUs(), lastTransactions_ = bus_.transactions();
-    }
+    meter_.observe(app_->monitor().stats().scans, 0, bus_.busTimeUs(), bus_.transactions());
   }
 
   bsp::host::Harness& harness() override { return h_; }
@@ -70,11 +62,7 @@ class Bq4050Sim final : public ImageSim {
   SimFigures figures() override {
     SimFigures f;
     const auto& st = app_->monitor().stats();
-    f.scans = st.scans;
-    f.scanFailures = st.scanFailures;
-    f.scanPeriodMs = config_.scanPeriod.toMs();
-    f.scanBusUs = measured_ ? busUs_ / measured_ : 0;
-    f.scanTransactions = measured_ ? static_cast<double>(transactions_) / measured_ : 0;
+    fillScanFigures(f, st, config_.scanPeriod, meter_);
     const auto& gs = app_->monitor().gauge().stats();
     for (uint32_t e : gs.failures)
       f.commErrors += e;
@@ -86,21 +74,8 @@ class Bq4050Sim final : public ImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    const auto log = app_->protection().log();
-    return {log.begin(), log.end()};
-  }
-
-  std::vector<SentFrame> frames() const override {
-    std::vector<SentFrame> out;
-    for (const auto& s : can_.sent()) {
-      out.push_back({s.timeUs,
-                     s.frame.id,
-                     s.frame.extended,
-                     {s.frame.data.begin(), s.frame.data.begin() + s.frame.dlc}});
-    }
-    return out;
-  }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(*app_); }
+  std::vector<SentFrame> frames() const override { return canFrames(can_); }
 
  private:
   void attach(bool present) {
@@ -134,11 +109,7 @@ class Bq4050Sim final : public ImageSim {
   int openCell_ = -1;
   bool intermittent_ = false;
   uint64_t tick_ = 0;
-  uint32_t lastScans_ = 0;
-  uint64_t lastBusUs_ = 0, lastTransactions_ = 0;
-  double busUs_ = 0;
-  uint64_t transactions_ = 0;
-  uint32_t measured_ = 0;
+  ScanMeter meter_;
 };
 
 std::unique_ptr<ImageSim> make(const SimOptions&, std::string&) {

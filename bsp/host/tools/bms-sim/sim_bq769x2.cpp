@@ -84,15 +84,7 @@ class Bq769xSim final : public ImageSim {
       emulator_.setMuted(false);
       tick_ = 0;
     }
-    const auto& st = app_->monitor().stats();
-    if (st.scans != lastScans_) {
-      if (st.scans == lastScans_ + 1 && lastScans_ != 0) {
-        busUs_ += static_cast<double>(bus_.busTimeUs() - lastBusUs_);
-        transactions_ += bus_.transactions() - lastTransactions_;
-        ++measured_;
-      }
-      lastScans_ = st.scans, lastBusUs_ = bus_.busTimeUs(), lastTransactions_ = bus_.transactions();
-    }
+    meter_.observe(app_->monitor().stats().scans, 0, bus_.busTimeUs(), bus_.transactions());
   }
 
   bsp::host::Harness& harness() override { return h_; }
@@ -100,11 +92,7 @@ class Bq769xSim final : public ImageSim {
   SimFigures figures() override {
     SimFigures f;
     const auto& st = app_->monitor().stats();
-    f.scans = st.scans;
-    f.scanFailures = st.scanFailures;
-    f.scanPeriodMs = config_.scanPeriod.toMs();
-    f.scanBusUs = measured_ ? busUs_ / measured_ : 0;
-    f.scanTransactions = measured_ ? static_cast<double>(transactions_) / measured_ : 0;
+    fillScanFigures(f, st, config_.scanPeriod, meter_);
     for (uint16_t e : app_->monitor().driver().stats().errors)
       f.commErrors += e;
     f.recoveries = st.setupAttempts > 0 ? st.setupAttempts - 1 : 0;
@@ -120,21 +108,11 @@ class Bq769xSim final : public ImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    const auto log = app_->protection().log();
-    return {log.begin(), log.end()};
-  }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(*app_); }
 
   std::vector<SentFrame> frames() const override {
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
-      std::vector<SentFrame> out;
-      for (const auto& s : output_.sent()) {
-        out.push_back({s.timeUs,
-                       s.frame.id,
-                       s.frame.extended,
-                       {s.frame.data.begin(), s.frame.data.begin() + s.frame.dlc}});
-      }
-      return out;
+      return canFrames(output_);
     } else {
       return slcanFrames();
     }
@@ -189,11 +167,7 @@ class Bq769xSim final : public ImageSim {
   int openCell_ = -1;
   bool intermittent_ = false;
   uint64_t tick_ = 0;
-  uint32_t lastScans_ = 0;
-  uint64_t lastBusUs_ = 0, lastTransactions_ = 0;
-  double busUs_ = 0;
-  uint64_t transactions_ = 0;
-  uint32_t measured_ = 0;
+  ScanMeter meter_;
 };
 
 using L1306Bq76952 =

@@ -70,17 +70,10 @@ class Bq79616Sim final : public ImageSim {
 
   void afterStep() override {
     if (intermittent_ && ++tick_ % 2 == 0) emulator_.corruptResponse(0, 6, 0x10, 3);
+    // Bus time is the UART's byte count at its byte time; a scan across a re-bring-up is not measured.
     const auto& st = app_->monitor().stats();
-    if (st.scans != lastScans_) {
-      const uint64_t bytes = uart_.txBytes() + uart_.rxBytes();
-      const uint32_t frames = app_->monitor().chain().stats().commandFrames;
-      if (st.scans == lastScans_ + 1 && st.recoveries == lastRecoveries_ && lastScans_ != 0) {
-        busUs_ += static_cast<double>(bytes - lastBytes_) * static_cast<double>(uart_.byteTimeUs());
-        transactions_ += frames - lastFrames_;
-        ++measured_;
-      }
-      lastScans_ = st.scans, lastBytes_ = bytes, lastFrames_ = frames, lastRecoveries_ = st.recoveries;
-    }
+    meter_.observe(st.scans, st.recoveries, (uart_.txBytes() + uart_.rxBytes()) * uart_.byteTimeUs(),
+                   app_->monitor().chain().stats().commandFrames);
   }
 
   bsp::host::Harness& harness() override { return h_; }
@@ -88,11 +81,7 @@ class Bq79616Sim final : public ImageSim {
   SimFigures figures() override {
     SimFigures f;
     const auto& st = app_->monitor().stats();
-    f.scans = st.scans;
-    f.scanFailures = st.scanFailures;
-    f.scanPeriodMs = config_.scanPeriod.toMs();
-    f.scanBusUs = measured_ ? busUs_ / measured_ : 0;
-    f.scanTransactions = measured_ ? static_cast<double>(transactions_) / measured_ : 0;
+    fillScanFigures(f, st, config_.scanPeriod, meter_);
     const auto& link = app_->monitor().chain().stats();
     for (uint32_t e : link.errors)
       f.commErrors += e;
@@ -104,21 +93,8 @@ class Bq79616Sim final : public ImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    const auto log = app_->protection().log();
-    return {log.begin(), log.end()};
-  }
-
-  std::vector<SentFrame> frames() const override {
-    std::vector<SentFrame> out;
-    for (const auto& s : can_.sent()) {
-      out.push_back({s.timeUs,
-                     s.frame.id,
-                     s.frame.extended,
-                     {s.frame.data.begin(), s.frame.data.begin() + s.frame.dlc}});
-    }
-    return out;
-  }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(*app_); }
+  std::vector<SentFrame> frames() const override { return canFrames(can_); }
 
  private:
   const fw::app::PublishStatus& status() const { return app_->status(); }
@@ -146,11 +122,7 @@ class Bq79616Sim final : public ImageSim {
   int openBoard_ = -1, openCell_ = -1;
   bool intermittent_ = false;
   uint64_t tick_ = 0;
-  uint32_t lastScans_ = 0, lastFrames_ = 0, lastRecoveries_ = 0;
-  uint64_t lastBytes_ = 0;
-  double busUs_ = 0;
-  uint64_t transactions_ = 0;
-  uint32_t measured_ = 0;
+  ScanMeter meter_;
 };
 
 std::unique_ptr<ImageSim> make(const SimOptions& o, std::string& error) {
