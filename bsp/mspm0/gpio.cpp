@@ -11,14 +11,6 @@ namespace bsp::mspm0 {
 namespace gpio = reg::gpio;
 namespace iomux = reg::iomux;
 
-void powerGpioPort(uintptr_t port) {
-  reg::resetAndPowerUp(reg::gprcm(port));
-}
-
-void muxPeripheral(const PinFunction& function, uint32_t extra) {
-  iomux::pincm(function.pin.pincm).write(iomux::kPc | function.pf | extra);
-}
-
 inline void muxGpioOutput(const Pin& pin, bool high) {
   gpio::Data& data = gpio::data(pin.portBase());
   // Set the level before enabling the driver so the pin never glitches to the other level.
@@ -27,10 +19,8 @@ inline void muxGpioOutput(const Pin& pin, bool high) {
   iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio);
 }
 
-inline void muxGpioInput(const Pin& pin, Pull pull) {
-  const uint32_t pullBits = pull == Pull::Up ? iomux::kPullUp : pull == Pull::Down ? iomux::kPullDown : 0;
-  gpio::data(pin.portBase()).doeclr.write(pin.mask());
-  iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio | iomux::kInputEnable | pullBits);
+void muxPeripheral(const PinFunction& function, uint32_t extra) {
+  iomux::pincm(function.pin.pincm).write(iomux::kPc | function.pf | extra);
 }
 
 void GpioOut::init(bool high) {
@@ -42,15 +32,6 @@ void GpioOut::doSet(bool high) {
   level_ = high;
   gpio::Data& data = gpio::data(pin_.portBase());
   (high ? data.doutset : data.doutclr).write(pin_.mask());
-}
-
-void GpioEdgeInput::init() {
-  muxGpioInput(pin_, pull_);
-  // POLARITY15_0 / POLARITY31_16 hold two bits per pin (TRM GPIO "Interrupt polarity").
-  gpio::Input& in = gpio::input(pin_.portBase());
-  const uint32_t shift = 2U * (pin_.bit & 15U);
-  mmio::modify(pin_.bit < 16 ? in.polarity15_0 : in.polarity31_16, gpio::kPolarityMask << shift,
-               static_cast<uint32_t>(edge_) << shift);
 }
 
 void GpioEdgeInput::doEnable(const fw::hal::Notify& notify) {

@@ -10,6 +10,8 @@
 // - GpioInterrupts::onInterrupt() is the body of GROUP1_IRQHandler: it reads the group's IIDX to find the
 //   port, reads that port's MIS, clears exactly those bits (ICLR), notifies the inputs and returns. If more
 //   than one port is pending, the NVIC line stays asserted and the handler runs again.
+//   onPortInterrupt() does the same for a part whose INT_GROUP1 has a single GPIO member, `port` (the L1306:
+//   GPIOA, IIDX 1), with every input on that port, without the port look-up.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +19,10 @@
 
 #include "hal/gpio.hpp"
 #include "hal/notify.hpp"
+#include "mmio.hpp"
 #include "pin.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/gpio.hpp"
 
 namespace bsp::mspm0 {
 
@@ -26,11 +31,18 @@ enum class Edge : uint8_t { Rising = 1, Falling = 2, Both = 3 };  // GPIO POLARI
 
 // IOMUX PINCM writes. `extra` adds PINCM bits (input enable, pulls, open drain) to PC|PF.
 void muxPeripheral(const PinFunction& function, uint32_t extra = 0);
-// (inline, defined in gpio.cpp: each has one caller there, GpioOut::init / GpioEdgeInput::init)
+// (inline: muxGpioOutput is defined in gpio.cpp, its one caller GpioOut::init is there; muxGpioInput below)
 inline void muxGpioOutput(const Pin& pin, bool high);
-inline void muxGpioInput(const Pin& pin, Pull pull);
+inline void muxGpioInput(const Pin& pin, Pull pull) {
+  namespace iomux = reg::iomux;
+  const uint32_t pullBits = pull == Pull::Up ? iomux::kPullUp : pull == Pull::Down ? iomux::kPullDown : 0;
+  reg::gpio::data(pin.portBase()).doeclr.write(pin.mask());
+  iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio | iomux::kInputEnable | pullBits);
+}
 // Powers a GPIO port (GPRCM reset + enable).
-void powerGpioPort(uintptr_t port);
+inline void powerGpioPort(uintptr_t port) {
+  reg::resetAndPowerUp(reg::gprcm(port));
+}
 
 class GpioOut final : public fw::hal::DigitalOut {
  public:
@@ -48,8 +60,16 @@ class GpioOut final : public fw::hal::DigitalOut {
 class GpioEdgeInput final : public fw::hal::EdgeInput {
  public:
   constexpr GpioEdgeInput(Pin pin, Edge edge, Pull pull) : pin_(pin), edge_(edge), pull_(pull) {}
-  // Muxes the pin as an input and selects its edge; the interrupt stays masked until enable().
-  void init();
+  // Muxes the pin as an input and selects its edge; the interrupt stays masked until enable(). Inline and
+  // const: a board calls it on a constexpr copy of its input, and the register writes fold to constants.
+  void init() const {
+    muxGpioInput(pin_, pull_);
+    // POLARITY15_0 / POLARITY31_16 hold two bits per pin (TRM GPIO "Interrupt polarity").
+    reg::gpio::Input& in = reg::gpio::input(pin_.portBase());
+    const uint32_t shift = 2U * (pin_.bit & 15U);
+    mmio::modify(pin_.bit < 16 ? in.polarity15_0 : in.polarity31_16, reg::gpio::kPolarityMask << shift,
+                 static_cast<uint32_t>(edge_) << shift);
+  }
   const Pin& pin() const { return pin_; }
   // ISR context, from GpioInterrupts.
   void onEdge() const { notify_(); }
@@ -64,6 +84,19 @@ class GpioEdgeInput final : public fw::hal::EdgeInput {
   Pull pull_;
   fw::hal::Notify notify_{};
 };
+
+// GROUP1_IRQHandler body of a single-port part (see the contract above). Inline: the handler's constant
+// port and input list fold into it.
+inline void onPortInterrupt(uintptr_t cpuss, uintptr_t port, std::span<GpioEdgeInput* const> inputs) {
+  // IIDX 1 is the part's only GPIO port (anything else is not a GPIO event).
+  if (reg::cpuss::group(cpuss, 1).iidx.read() != 1) return;
+  reg::EventBlock& events = reg::cpuInt(port);
+  const uint32_t pending = events.mis.read();
+  events.iclr.write(pending);
+  for (const GpioEdgeInput* input : inputs) {
+    if ((pending & input->pin().mask()) != 0) input->onEdge();
+  }
+}
 
 class GpioInterrupts {
  public:

@@ -48,7 +48,7 @@ void I2cController::configure() {
 }
 
 Status I2cController::doStart(std::span<I2cTransaction> list, const fw::hal::Notify& done) {
-  if (list.empty() || list.size() > 255) return Status::InvalidArgument;
+  if (list.empty() || list.size() > (kI2cLists ? 255U : 1U)) return Status::InvalidArgument;
   if (busy_) return Status::Busy;
   for (I2cTransaction& t : list) {
     if ((t.write.empty() && t.read.empty()) || t.address > 0x7F || t.read.size() > 255 ||
@@ -61,14 +61,14 @@ Status I2cController::doStart(std::span<I2cTransaction> list, const fw::hal::Not
   busy_ = true;
   list_ = list;
   done_ = done;
-  index_ = 0;
+  if (kI2cLists) index_ = 0;
   startTransaction();
   return Status::Ok;
 }
 
 void I2cController::startTransaction() {
   i2c::Controller& r = i2c::controller(config_.base);
-  const I2cTransaction& t = list_[index_];
+  const I2cTransaction& t = current();
   // A target that was reset mid-byte can hold SDA low on an idle bus; the controller would then wait for
   // the bus forever. Free it first (I2C UM10204 3.1.16).
   if ((r.mbmon.read() & i2c::kMbmonSda) == 0 && !recoverBus()) {
@@ -107,7 +107,7 @@ void I2cController::startTransaction() {
 
 void I2cController::beginRead() {
   i2c::Controller& r = i2c::controller(config_.base);
-  const I2cTransaction& t = list_[index_];
+  const I2cTransaction& t = current();
   rx_ = t.read.data();
   rxLeft_ = static_cast<uint16_t>(t.read.size());
   const uint32_t length = t.read.size() + (kI2cPec && t.pec ? 1 : 0);
@@ -134,7 +134,7 @@ void I2cController::fillTx(uint32_t room) {
 
 void I2cController::drainRx() {
   i2c::Controller& r = i2c::controller(config_.base);
-  I2cTransaction& t = list_[index_];
+  I2cTransaction& t = current();
   // RXFIFOCNT is at most 8, so this loop is bounded.
   for (uint32_t n = r.mfifosr.read() & i2c::kFifoRxCountMask; n != 0; --n) {
     const uint8_t byte = static_cast<uint8_t>(r.mrxdata.read());
@@ -180,14 +180,14 @@ void I2cController::onInterrupt() {
     return;
   }
   if ((pending & i2c::kIntTxDone) && phase_ == Phase::Write && result_ == Status::Ok &&
-      !list_[index_].read.empty()) {
+      !current().read.empty()) {
     beginRead();
   }
 }
 
 void I2cController::complete(Status status) {
-  list_[index_].status = status;
-  if (status == Status::Ok && index_ + 1U < list_.size()) {
+  current().status = status;
+  if (kI2cLists && status == Status::Ok && index_ + 1U < list_.size()) {
     ++index_;
     startTransaction();
     return;

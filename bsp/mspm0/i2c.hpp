@@ -12,7 +12,8 @@
 //
 // Contract (see hal/i2c_bus.hpp; the statuses here are exactly those)
 // - start(): Ok, Busy, or InvalidArgument (empty list; a transaction with nothing to write or read; a
-//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write; PEC in a build without it).
+//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write; PEC in a build without it;
+//   more than one transaction in a build without lists).
 // - Nack: the address was not acknowledged (MSR.ADRACK); DataNack: a written byte was not (MSR.DATACK). The
 //   controller sends STOP itself after a NACK ("If there is a NACK response from the target,
 //   the controller will automatically send out a stop", SLAU846A I2C controller transfer table).
@@ -44,10 +45,17 @@
 #ifndef BSP_I2C_PEC
 #define BSP_I2C_PEC 1
 #endif
+// Transaction lists longer than one are built where something runs them (BSP_I2C_LISTS, default 1: the host
+// tests). No device driver of the images does (each starts one transaction at a time), so the images build
+// with 0: start() then refuses a list of more than one transaction with InvalidArgument.
+#ifndef BSP_I2C_LISTS
+#define BSP_I2C_LISTS 1
+#endif
 
 namespace bsp::mspm0 {
 
 inline constexpr bool kI2cPec = BSP_I2C_PEC != 0;
+inline constexpr bool kI2cLists = BSP_I2C_LISTS != 0;
 
 class I2cController final : public fw::hal::I2cBus {
  public:
@@ -81,6 +89,8 @@ class I2cController final : public fw::hal::I2cBus {
   void drainRx();
   void complete(fw::Status status);
   inline void finish();  // inline (.cpp): one caller, complete(), folds it in
+  // The transaction in progress (the list's only one in a build without lists).
+  fw::hal::I2cTransaction& current() const { return list_[kI2cLists ? index_ : 0]; }
 
   // Byte-sized state first: Thumb-1 byte loads and stores reach only 31 bytes past the object address.
   volatile Phase phase_ = Phase::Idle;

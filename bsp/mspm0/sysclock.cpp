@@ -8,12 +8,6 @@ namespace bsp::mspm0 {
 
 namespace sysctl = reg::sysctl;
 
-void initSysosc(bool hasUlpDivider) {
-  sysctl::Clocks& s = sysctl::clocks();
-  mmio::clearBits(s.sysosccfg, sysctl::kSysoscFreqMask);
-  mmio::clearBits(s.mclkcfg, sysctl::kMclkMdivMask | (hasUlpDivider ? sysctl::kMclkUdivMask : 0));
-}
-
 fw::Status startHfxt(const Pin& hfxin, const Pin& hfxout) {
   sysctl::Clocks& s = sysctl::clocks();
   // PINCM = 0: no digital function connected, the pads belong to the oscillator.

@@ -13,13 +13,20 @@
 #include <cstdint>
 
 #include "core/status.hpp"
+#include "mmio.hpp"
 #include "pin.hpp"
+#include "regs/sysctl.hpp"
 
 namespace bsp::mspm0 {
 
 inline constexpr uint32_t kBusClockHz = 32000000;
 
-void initSysosc(bool hasUlpDivider);
+// Inline: one caller per image, whose constant argument leaves one write.
+inline void initSysosc(bool hasUlpDivider) {
+  reg::sysctl::Clocks& s = reg::sysctl::clocks();
+  mmio::clearBits(s.sysosccfg, reg::sysctl::kSysoscFreqMask);
+  mmio::clearBits(s.mclkcfg, reg::sysctl::kMclkMdivMask | (hasUlpDivider ? reg::sysctl::kMclkUdivMask : 0));
+}
 fw::Status startHfxt(const Pin& hfxin, const Pin& hfxout);
 
 }  // namespace bsp::mspm0

@@ -11,34 +11,10 @@ namespace bsp::mspm0 {
 namespace timg = reg::timg;
 
 namespace {
-constexpr uint32_t kHalf = 0x8000;
 // An alarm further away than a quarter period could alias with the 16-bit compare; leave it to the
 // half-period wake-up instead.
 constexpr int32_t kMaxAlarmUs = 0x4000;
 }  // namespace
-
-void TimgClock::start() {
-  const uintptr_t base = config_.base;
-  reg::resetAndPowerUp(reg::gprcm(base));
-  // TIMCLK set-up order of the TRM (SLAU846A 23.2.1): source, divider, prescaler, enable.
-  timg::Clock& clock = timg::clock(base);
-  clock.clksel.write(timg::kClkselBusclk);
-  clock.clkdiv.write(0);  // /1
-  timg::Common& common = timg::common(base);
-  common.cps.write(config_.prescaler);  // 1 MHz counter clock
-  common.cclkctl.write(timg::kClockEnable);
-  timg::Counter& counter = timg::counter(base);
-  counter.load.write(0xFFFF);
-  counter.ccctl[0].write(0);  // compare mode, immediate update
-  counter.ccctl[1].write(0);
-  counter.cc[1].write(kHalf);
-  reg::EventBlock& events = reg::cpuInt(base);
-  events.iclr.write(0xFFFFFFFF);
-  events.imask.write(timg::kIntLoad | timg::kIntCcu1);
-  // CLC/CAC/CZC are written as 0: their reset value (7) is reserved and stops some instances counting.
-  counter.ctrctl.write(timg::kCtrEnable | timg::kCtrRepeat | timg::kCtrCountUp | timg::kCtrStartAtZero);
-  nvic::enable(config_.irq);
-}
 
 fw::Instant TimgClock::doNow() const {
   const uint32_t halves = halves_;

@@ -20,6 +20,8 @@
 #include <cstdint>
 
 #include "hal/clock.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/timg.hpp"
 
 namespace bsp::mspm0 {
 
@@ -33,8 +35,32 @@ class TimgClock final : public fw::hal::Clock {
 
   constexpr explicit TimgClock(const Config& config) : config_(config) {}
 
-  // Powers and starts the timer and enables its interrupt in the NVIC. Thread mode, once.
-  void start();
+  // Powers and starts the timer and enables its interrupt in the NVIC. Thread mode, once. The static form
+  // is inline: a board that passes its constant configuration gets constant register writes.
+  void start() const { start(config_); }
+  static void start(const Config& config) {
+    namespace timg = reg::timg;
+    const uintptr_t base = config.base;
+    reg::resetAndPowerUp(reg::gprcm(base));
+    // TIMCLK set-up order of the TRM (SLAU846A 23.2.1): source, divider, prescaler, enable.
+    timg::Clock& clock = timg::clock(base);
+    clock.clksel.write(timg::kClkselBusclk);
+    clock.clkdiv.write(0);  // /1
+    timg::Common& common = timg::common(base);
+    common.cps.write(config.prescaler);  // 1 MHz counter clock
+    common.cclkctl.write(timg::kClockEnable);
+    timg::Counter& counter = timg::counter(base);
+    counter.load.write(0xFFFF);
+    counter.ccctl[0].write(0);  // compare mode, immediate update
+    counter.ccctl[1].write(0);
+    counter.cc[1].write(kHalf);
+    reg::EventBlock& events = reg::cpuInt(base);
+    events.iclr.write(0xFFFFFFFF);
+    events.imask.write(timg::kIntLoad | timg::kIntCcu1);
+    // CLC/CAC/CZC are written as 0: their reset value (7) is reserved and stops some instances counting.
+    counter.ctrctl.write(timg::kCtrEnable | timg::kCtrRepeat | timg::kCtrCountUp | timg::kCtrStartAtZero);
+    nvic::enable(config.irq);
+  }
   void onInterrupt();
 
   // Combines a half-period count and a raw counter value into microseconds (exposed for tests; inline: now()
@@ -49,6 +75,8 @@ class TimgClock final : public fw::hal::Clock {
   }
 
  private:
+  static constexpr uint32_t kHalf = 0x8000;  // CC1: the counter's mid-point, the second half-period event
+
   fw::Instant doNow() const override;
   void doWakeAt(fw::Instant deadline) override;
 

@@ -10,12 +10,6 @@ namespace bsp::mspm0 {
 
 namespace uart = reg::uart;
 
-void UartSerialTx::init() {
-  uartConfigure(config_.base, config_.divisor64, false);
-  muxPeripheral(config_.tx);
-  nvic::enable(config_.irq);
-}
-
 fw::Status UartSerialTx::doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) {
   if (bytes.empty() || bytes.size() > 0xFFFF) return fw::Status::InvalidArgument;
   if (busy_) return fw::Status::Busy;

@@ -12,8 +12,11 @@
 #include <span>
 
 #include "dma.hpp"
+#include "gpio.hpp"
 #include "hal/serial.hpp"
 #include "pin.hpp"
+#include "regs/cpuss.hpp"
+#include "uart_common.hpp"
 
 namespace bsp::mspm0 {
 
@@ -28,7 +31,14 @@ class UartSerialTx final : public fw::hal::SerialTx {
   };
 
   constexpr explicit UartSerialTx(const Config& config) : config_(config) {}
-  void init();
+  // Configures the UART (transmit only), muxes the pin and enables the interrupt. The static form is
+  // inline: a board that passes its constant configuration gets constant register writes.
+  void init() const { init(config_); }
+  static void init(const Config& config) {
+    uartConfigure(config.base, config.divisor64, false);
+    reg::iomux::pincm(config.tx.pin.pincm).write(reg::iomux::kPc | config.tx.pf);  // as muxPeripheral()
+    nvic::enable(config.irq);
+  }
   void onInterrupt();
 
  private:

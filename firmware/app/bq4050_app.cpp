@@ -5,7 +5,7 @@
 namespace fw::app {
 
 void Bq4050Monitor::run(sched::EventMask events) {
-  const Instant now = scheduler_.clock().now();
+  const Instant now = scheduler_.now();
   if ((events & gauge_.events()) != 0 && gauge_.onEvent(events) == drivers::Progress::Done) finished(now);
   if ((events & kScanTick) != 0) {
     f_.scanDue = true;

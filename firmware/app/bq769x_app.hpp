@@ -11,6 +11,11 @@
 // for a scan, and the scan that follows says which fault it was.
 // Bq769xMonitor is a template over the driver class (Bq769x2 or Bq7690x) so each image carries one copy
 // of exactly the code it uses.
+//
+// The start-up CONFIG_UPDATE is built unless FW_BQ769X_CONFIG_UPDATE is 0 (default 1: the host, bms-sim and
+// the G3507 image). With 0 (the L1306 images, whose 8 KiB budget has no room for it) the monitor goes from
+// the probe straight to FET enable and runs on the device's stored configuration: the settings table is
+// neither compared nor written (Bq769xAppConfig::settings is ignored, stats().configWrites stays 0).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +27,7 @@
 #include "app/pack_view.hpp"
 #include "app/protection_task.hpp"
 #include "app/slcan_publisher.hpp"
+#include "core/stats.hpp"
 #include "drivers/bq769x2/monitor.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
@@ -29,7 +35,20 @@
 #include "hal/serial.hpp"
 #include "sched/scheduler.hpp"
 
+#ifndef FW_BQ769X_CONFIG_UPDATE
+#define FW_BQ769X_CONFIG_UPDATE 1
+#endif
+
 namespace fw::app {
+
+inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
+static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
+              "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
+
+// The tasks of the application, by priority (TaskId).
+inline constexpr sched::TaskId kBq769xPublisherTask = 0;
+inline constexpr sched::TaskId kBq769xMonitorTask = 1;
+inline constexpr sched::TaskId kBq769xProtectionTask = 2;
 
 struct Bq769xAppConfig {
   std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
@@ -39,6 +58,7 @@ struct Bq769xAppConfig {
   Duration retryInterval = s(1);
 };
 
+// Statistics (core/stats.hpp: all 0 in a build without them).
 struct Bq769xStats {
   uint32_t scans = 0;
   uint32_t scanFailures = 0;
@@ -61,19 +81,17 @@ constexpr uint8_t tempsOf(const drivers::bq769x2::Bq7690xMeasurement*) {
   return 1;
 }
 
-template <class Driver, class Measurement>
+// kPublisherScanDone: the event that tells the publisher a scan ended (0: its cycles do not follow scans).
+template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
 class Bq769xMonitor final : public sched::Task, public Actuator {
  public:
-  static constexpr sched::TaskId kId = 1;
+  static constexpr sched::TaskId kId = kBq769xMonitorTask;
 
   template <class... DriverArgs>
   Bq769xMonitor(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert,
                 const Bq769xAppConfig& config, BoardSample& sample, PackView& view,
-                ProtectionTask& protection, sched::TaskId publisher, sched::EventMask publisherScanDone,
-                DriverArgs&&... driverArgs)
-      : publisher_(publisher),
-        publisherScanDone_(publisherScanDone),
-        scheduler_(scheduler),
+                ProtectionTask& protection, DriverArgs&&... driverArgs)
+      : scheduler_(scheduler),
         alert_(alert),
         config_(config),
         sample_(sample),
@@ -107,10 +125,11 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   }
 
   void run(sched::EventMask events) override {
-    if ((events & driver_.events()) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
+    // The driver's events are the two this task gave it (kBus, kTimer: the constructor's DriverContext).
+    if ((events & (kBus | kTimer)) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
     if ((events & kAlert) != 0 && f_.phase == Phase::Running) {
-      ++r_.stats.alerts;
-      scheduler_.post(protection_.id(), ProtectionTask::kFaultLine);
+      if (kStats) ++r_.stats.alerts;
+      scheduler_.post(kBq769xProtectionTask, ProtectionTask::kFaultLine);
       f_.scanDue = true;  // the next scan, right after the FET command, says which fault it was
     }
     if ((events & kScanTick) != 0) {
@@ -138,15 +157,15 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     if (f_.phase != Phase::Running) {
       if (f_.scanDue) {
         f_.scanDue = false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
-        scheduler_.post(protection_.id(), ProtectionTask::kScanFailed);
+        scheduler_.post(kBq769xProtectionTask, ProtectionTask::kScanFailed);
       }
       if (!f_.retryDue) return;
       if (f_.phase == Phase::Probe) {
-        ++r_.stats.setupAttempts;
+        if (kStats) ++r_.stats.setupAttempts;
         s = driver_.startProbe(r_.identity);
       } else {
-        s = f_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
-                                         : driver_.startFetEnable();
+        s = kConfigUpdate && f_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
+                                                          : driver_.startFetEnable();
       }
     } else if (f_.fetWanted && !f_.fetBackoff) {
       f_.fetWanted = false;
@@ -169,20 +188,22 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   }
 
   void finished() {
-    const Instant now = scheduler_.clock().now();
+    const Instant now = scheduler_.now();
     const Status result = driver_.result();
     const Op op = f_.op;
     f_.op = Op::None;
     if (op == Op::Setup) {
       if (result != Status::Ok) return retryLater();
-      if (f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
-      f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) + 1);
+      if (kStats && kConfigUpdate && f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
+      // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
+      f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) +
+                                    (!kConfigUpdate && f_.phase == Phase::Probe ? 2 : 1));
       if (f_.phase == Phase::Running) f_.scanDue = true;
       return;
     }
     if (op == Op::Fet) {
       if (result == Status::Ok) {
-        ++r_.stats.fetCommands;
+        if (kStats) ++r_.stats.fetCommands;
         protection_.actuated(now);
       } else {
         // The device did not take it (gone, resetting): keep scanning, and try again next period. The
@@ -193,7 +214,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       return;
     }
     if (op != Op::Scan) return;
-    ++r_.stats.scans;
+    if (kStats) ++r_.stats.scans;
     sample_.attempted = true;
     sample_.last = result;
     sched::EventMask toProtection = ProtectionTask::kScanFailed;
@@ -202,7 +223,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       toProtection = ProtectionTask::kNewData;
       f_.failedInRow = 0;
     } else {
-      ++r_.stats.scanFailures;
+      if (kStats) ++r_.stats.scanFailures;
       // The device stopped answering or keeps failing: go through probe and configuration again, at most
       // once per retry interval.
       if (++f_.failedInRow >= 3) {
@@ -211,8 +232,8 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       }
     }
     summarize(view_, now);
-    scheduler_.post(protection_.id(), toProtection);
-    scheduler_.post(publisher_, publisherScanDone_);
+    scheduler_.post(kBq769xProtectionTask, toProtection);
+    if constexpr (kPublisherScanDone != 0) scheduler_.post(kBq769xPublisherTask, kPublisherScanDone);
   }
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
@@ -236,8 +257,6 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     Measurement measurement;
   };
   Flags f_{};
-  sched::TaskId publisher_;
-  sched::EventMask publisherScanDone_;
   sched::Scheduler& scheduler_;
   hal::EdgeInput& alert_;
   const Bq769xAppConfig& config_;
@@ -261,8 +280,8 @@ inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::Ca
 template <class Driver, class Measurement, class Publisher>
 class Bq769xApp {
  public:
-  static constexpr sched::TaskId kProtectionId = 2;
-  static constexpr sched::TaskId kPublisherId = 0;
+  static constexpr sched::TaskId kProtectionId = kBq769xProtectionTask;
+  static constexpr sched::TaskId kPublisherId = kBq769xPublisherTask;
 
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
@@ -273,8 +292,8 @@ class Bq769xApp {
         plan_(view_, status_, kDefaultLimits.staleAfter),
         protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, monitor_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        monitor_(scheduler, bus, alert, config, sample_, view_, protection_, kPublisherId,
-                 Publisher::kScanDone, static_cast<DriverArgs&&>(driverArgs)...) {}
+        monitor_(scheduler, bus, alert, config, sample_, view_, protection_,
+                 static_cast<DriverArgs&&>(driverArgs)...) {}
 
   void start() {
     protection_.start();
@@ -285,17 +304,20 @@ class Bq769xApp {
   const PackView& pack() const { return view_; }
   const PublishStatus& status() const { return status_; }
   const ProtectionTask& protection() const { return protection_; }
-  const Bq769xMonitor<Driver, Measurement>& monitor() const { return monitor_; }
+  using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
+  const Monitor& monitor() const { return monitor_; }
   const Publisher& publisher() const { return publisher_; }
 
  private:
-  BoardSample sample_{};
+  // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
+  // base register, farther ones cost an address computation each): the wiring first, the zero blocks last.
   PackView view_;
-  PublishStatus status_;
   FramePlan plan_;
+  PublishStatus status_;
   ProtectionTask protection_;
   Publisher publisher_;
-  Bq769xMonitor<Driver, Measurement> monitor_;  // last: its driver's buffers would push the rest far away
+  Monitor monitor_;
+  BoardSample sample_{};
 };
 
 }  // namespace fw::app

@@ -7,7 +7,7 @@ namespace fw::app {
 namespace b616 = drivers::bq79616;
 
 void Bq79616Monitor::run(sched::EventMask events) {
-  const Instant now = scheduler_.clock().now();
+  const Instant now = scheduler_.now();
   if ((events & chain_.events()) != 0 && chain_.onEvent(events) == drivers::Progress::Done) finished(now);
   if ((events & kFault) != 0 && f_.phase == Phase::Running) {
     // nFAULT: a device reports a fault. Protection acts on the line itself at once; the next scan (started

@@ -12,8 +12,9 @@
 
 // The TI layout (seed 001: big-endian cell codes) is built only where it is sent: FW_CAN_TI_LAYOUT, default
 // 1 (host); every image except lp-mspm0g3507-bq79616 builds with 0. Without it packRuntime() packs
-// little-endian fields only (every native message's are; frame_plan.cpp checks it at compile time); constant
-// evaluation packs both either way.
+// little-endian fields only (every native message's are); constant evaluation packs both either way. The
+// firmware's publish plan (frame_plan.cpp) packs its frames with its own bit-stream packer, so an image
+// links packRuntime() only if something calls a generated pack() at run time.
 #ifndef FW_CAN_TI_LAYOUT
 #define FW_CAN_TI_LAYOUT 1
 #endif

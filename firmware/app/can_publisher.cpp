@@ -34,7 +34,7 @@ void CanPublisher::run(sched::EventMask events) {
     if (!ti && ++s_.tick == slowEvery_) s_.tick = 0;
     ++s_.stats.cycles;
   }
-  pump(scheduler_.clock().now());
+  pump(scheduler_.now());
 }
 
 inline void CanPublisher::pump(Instant now) {

@@ -1,5 +1,7 @@
 #include "app/frame_plan.hpp"
 
+#include <type_traits>
+
 #include "can/bms.hpp"
 
 namespace fw::app {
@@ -39,49 +41,111 @@ static_assert([] {
   return true;
 }());
 
-// The messages of the steps (can/bms.hpp), indexed by Step: identifiers and one shared field table, so a
-// step costs 4 bytes of flash and no pointer. The TI message is left out where the layout is compiled out.
+// The messages of the steps (can/bms.hpp), indexed by Step: identifiers and one shared table of field
+// codes, so a step costs 4 bytes of flash and no pointer. The TI message is left out where the layout is
+// compiled out, and a message the build leaves out (FW_PUBLISH_LEVEL) keeps its identifier but no fields.
+//
+// Every message's fields follow each other from bit 0 of the payload, each starting where the previous one
+// ended (checked below against the generated tables), so a frame is its values as one bit stream, least
+// significant bit first, and a field is only its length: one byte, with bit 7 set for a big-endian field
+// (the TI layout's, all 16 bits on a byte boundary: their bytes swapped, they join the stream too).
+constexpr uint8_t kBigEndian = 0x80;
 struct Message {
   uint16_t id;
   uint8_t first;  // index of its first field in Catalogue::fields
   uint8_t count;
 };
+template <class M>
+struct Left {  // a message this build does not send
+  static constexpr uint32_t kId = M::kId;
+};
+template <class M>
+constexpr size_t fieldCount() {
+  if constexpr (requires { M::kFields; }) {
+    return sizeof M::kFields / sizeof(can::Field);
+  } else {
+    return 0;
+  }
+}
+// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 16 bits each (so a
+// 32-bit accumulator with under 8 bits pending never overflows), big-endian ones 16 bits on a byte boundary.
+template <class M>
+constexpr bool streamable() {
+  if constexpr (fieldCount<M>() == 0) {
+    return true;
+  } else {
+    uint16_t next = 0;
+    for (const can::Field& f : M::kFields) {
+      const uint16_t lsb = f.bigEndian ? static_cast<uint16_t>(f.start / 8 * 8) : f.start;  // its first bit
+      if (f.length > 16 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
+      next = static_cast<uint16_t>(next + f.length);
+    }
+    return next <= 64;
+  }
+}
 template <class... M>
 struct Catalogue {
-  static constexpr size_t kFieldCount = ((sizeof M::kFields / sizeof(can::Field)) + ...);
+  static constexpr size_t kFieldCount = (fieldCount<M>() + ...);
   Message messages[sizeof...(M)];
-  can::Field fields[kFieldCount];
+  uint8_t fields[kFieldCount];
 };
 template <class... M>
 constexpr Catalogue<M...> catalogue() {
+  static_assert((streamable<M>() && ...), "a message whose fields do not form one bit stream");
   Catalogue<M...> c{};
   uint8_t m = 0;
   uint8_t f = 0;
-  auto add = [&](uint32_t id, const auto& fields) {
-    const auto n = static_cast<uint8_t>(sizeof fields / sizeof fields[0]);
-    c.messages[m++] = {static_cast<uint16_t>(id), f, n};
-    for (uint8_t i = 0; i < n; ++i)
-      c.fields[f++] = fields[i];
+  auto add = [&]<class T>(T*) {
+    constexpr auto n = static_cast<uint8_t>(fieldCount<T>());
+    c.messages[m++] = {static_cast<uint16_t>(T::kId), f, n};
+    if constexpr (n != 0) {
+      for (uint8_t i = 0; i < n; ++i)
+        c.fields[f++] =
+            static_cast<uint8_t>(T::kFields[i].length | (T::kFields[i].bigEndian ? kBigEndian : 0));
+    }
   };
-  (add(M::kId, M::kFields), ...);
+  (add(static_cast<M*>(nullptr)), ...);
   return c;
 }
-#define FW_NATIVE_MESSAGES                                                                         \
-  bms::PackSummary, bms::CellExtremes, bms::ProtectionEvent, bms::CellVoltages, bms::Temperatures, \
-      bms::TemperatureExtremes
+template <class M, bool kSent>
+using Sent = std::conditional_t<kSent, M, Left<M>>;
+#define FW_NATIVE_MESSAGES                                                                            \
+  bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
+      Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,                  \
+      Sent<bms::TemperatureExtremes, kAllMessages>
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES>();
-// Without the TI layout the packer only needs little-endian fields (can_bits.hpp): every native one is.
-static_assert([] {
-  for (const can::Field& f : kCatalogue.fields)
-    if (f.bigEndian) return false;
-  return true;
-}());
 #endif
 #undef FW_NATIVE_MESSAGES
-static_assert(bms::PackSummary::kId < 0x800 && bms::TiCellVoltages::kId < 0x800, "standard identifiers");
+static_assert(
+    [] {
+      for (const Message& m : kCatalogue.messages)
+        if (m.id == 0 || m.id >= 0x800) return false;  // fill() returns 0 for "no frame"
+      return true;
+    }(),
+    "standard identifiers above 0");
+
+// Writes the values of `count` fields (codes as above) as the frame's bit stream: all 8 bytes, the bits no
+// field covers 0.
+[[gnu::noinline]] void packStream(uint8_t* data, const uint8_t* fields, const uint32_t* values,
+                                  uint32_t count) {
+  uint8_t* const end = data + 8;
+  uint32_t acc = 0;  // bits not yet stored, the next one at bit 0
+  uint32_t bits = 0;
+  for (; count != 0; --count) {
+    const uint32_t code = *fields++;
+    const uint32_t n = code & 0x3FU;
+    uint32_t v = *values++ << (32U - n) >> (32U - n);  // the field's bits only
+    if (kTiLayout && (code & kBigEndian) != 0) v = (v >> 8) | ((v & 0xFFU) << 8);
+    acc |= v << bits;
+    for (bits += n; bits >= 8; bits -= 8, acc >>= 8)
+      *data++ = static_cast<uint8_t>(acc);
+  }
+  for (; data != end; acc >>= 8)
+    *data++ = static_cast<uint8_t>(acc);
+}
 constexpr uint8_t kMaxFields = 9;  // the longest message (PackSummary)
 static_assert(sizeof bms::PackSummary::kFields / sizeof(can::Field) == kMaxFields);
 
@@ -96,6 +160,7 @@ inline uint16_t FramePlan::framesIn(Step step) const {
   if (kind_ == kTi) {
     return kTiLayout && step == kTiCells && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
   }
+  if (!sent(step)) return 0;
   switch (step) {
     case kSummary:
     case kExtremes:
@@ -125,13 +190,15 @@ void FramePlan::settle() {
 
 void FramePlan::begin(Kind kind) {
   kind_ = kind;
-  event_ = kind != kTi && (status_.pendingTripped | status_.pendingCleared) != 0;
+  event_ = sent(kEvent) && kind != kTi && (status_.pendingTripped | status_.pendingCleared) != 0;
   step_ = kSummary;
   index_ = 0;
   settle();
 }
 
-bool FramePlan::build(Instant now, hal::CanFrame& out) {
+uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
+  // Steps a build leaves out never come up (framesIn() gives them no frames); saying so drops their code.
+  if (!sent(step_)) return 0;
   // Each step fills the raw values of its message in field order (can/bms.hpp kFields); one call packs them,
   // so every message costs only its stores and all share one packing loop.
   uint32_t v[kMaxFields] = {};
@@ -142,7 +209,7 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
   const bool temps = fresh && t.temps;
   switch (step_) {
     case kDone:
-      return false;
+      return 0;
     case kSummary:
       if (cells) {
         v[0] = clampU16(divideBy10(t.packMv + 5));
@@ -196,7 +263,7 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
       break;
     }
     case kTiCells: {
-      if constexpr (!kTiLayout) return false;  // compiled out: framesIn() gives this step no frames
+      if constexpr (!kTiLayout) return 0;  // compiled out: framesIn() gives this step no frames
       // Top of stack first: slot 0 is the highest board. A board that is not Valid is left out (the layout
       // has no status field to say so): its four frames are skipped.
       for (;;) {
@@ -210,23 +277,20 @@ bool FramePlan::build(Instant now, hal::CanFrame& out) {
         }
         index_ = static_cast<uint16_t>((slot + 1) * 4);
         settle();
-        if (step_ == kDone) return false;
+        if (step_ == kDone) return 0;
       }
       break;
     }
   }
   const Message& m = kCatalogue.messages[step_];
-  out.id = m.id;
-  out.extended = false;
-  out.dlc = 8;
-  can::pack(out.data, &kCatalogue.fields[m.first], v, m.count);  // writes all 8 bytes
-  return true;
+  packStream(data.data(), &kCatalogue.fields[m.first], v, m.count);
+  return m.id;
 }
 
 void FramePlan::advance() {
   if (step_ == kDone) return;
   if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
-  if (step_ == kEvent) {
+  if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;
     status_.pendingCleared = 0;
   }

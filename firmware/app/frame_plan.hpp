@@ -12,9 +12,12 @@
 //   ti (after each scan)  seed 001's layout: per board, top of stack first, four TiCellVoltages frames with
 //                         cells 16..13, 12..9, 8..5, 4..1 as raw big-endian codes; only Valid boards (the
 //                         layout has no status field, so an invalid board is left out rather than faked)
+// Images short of flash may build the native cycles with fewer messages (FW_PUBLISH_LEVEL,
+// app/publish_status.hpp); a message a build leaves out never comes up in a cycle.
 // Contract: thread mode (the publish task); the referenced pack and status must outlive the plan.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "app/can_bits.hpp"
@@ -42,8 +45,18 @@ class FramePlan {
   void beginTi() { begin(kTi); }
   bool active() const { return step_ != kDone; }
 
+  // Fills `data` with the payload of the current frame (all 8 bytes) and returns its standard identifier,
+  // or 0 when the cycle is complete. Every message of the catalogue is a classic 8-byte frame with a
+  // standard identifier above 0, so a sink that formats frames itself (SLCAN) needs nothing else.
+  uint16_t fill(Instant now, std::array<uint8_t, 8>& data);
   // Builds the current frame into `out` (false when the cycle is complete).
-  bool build(Instant now, hal::CanFrame& out);
+  bool build(Instant now, hal::CanFrame& out) {
+    const uint16_t id = fill(now, out.data);
+    out.id = id;
+    out.extended = false;
+    out.dlc = 8;
+    return id != 0;
+  }
   // The frame from the last build() was accepted: move to the next one.
   void advance();
   // Drops the rest of the cycle (bus-off: the next cycle starts from fresh data).
@@ -56,6 +69,12 @@ class FramePlan {
   enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
   void begin(Kind kind);
   inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
+  // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
+  [[gnu::always_inline]] static constexpr bool sent(Step step) {
+    if (step == kExtremes || step == kTemps || step == kTempExtremes) return kAllMessages;
+    if (step == kEvent || step == kCells) return kCoreMessages;
+    return true;
+  }
   void settle();
 
   Kind kind_ = kFast;

@@ -86,9 +86,14 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
     return;
   }
   if (!(tripped ? absent : present)) return;
+#if FW_PROTECTION_DELAYS
   if (s_.count[i] == 0) s_.since[i] = now;
+#endif
   if (s_.count[i] < 0xFF) ++s_.count[i];
-  if (s_.count[i] < rule.debounce || elapsed(s_.since[i], now) < rule.delay) return;
+  if (s_.count[i] < rule.debounce) return;
+#if FW_PROTECTION_DELAYS
+  if (elapsed(s_.since[i], now) < rule.delay) return;
+#endif
 
   s_.count[i] = 0;
   if (!tripped) {

@@ -15,6 +15,9 @@
 // measurement was taken and how many scans in a row failed. Missing data never clears a fault: value rules
 // are only evaluated on fresh, validated samples.
 //
+// Delays are built unless FW_PROTECTION_DELAYS is 0 (the L1306 images, whose limits use none: see
+// default_limits.hpp); a build without them has no Rule::delay and trips on the debounce count alone.
+//
 // Units are integers: cell voltages in mV, current in mA (positive = charging), temperatures in 0.1 K.
 // Contract: thread mode only (the protection task); no allocation; evaluate() is O(cells + temps).
 #pragma once
@@ -25,7 +28,13 @@
 #include "app/pack_view.hpp"
 #include "core/time.hpp"
 
+#ifndef FW_PROTECTION_DELAYS
+#define FW_PROTECTION_DELAYS 1
+#endif
+
 namespace fw::app {
+
+inline constexpr bool kProtectionDelays = FW_PROTECTION_DELAYS != 0;
 
 enum class FaultId : uint8_t {
   CellOvervoltage,
@@ -54,11 +63,13 @@ enum class Action : uint8_t {
   AllOff = 3,
 };
 
-// 16 bytes, largest members first (the limit table is nine of these in flash).
+// 16 bytes (12 without delays), largest members first (the limit table is nine of these in flash).
 struct Rule {
   int32_t trip = 0;   // condition present when value >= trip (upper limits) or <= trip (lower limits)
   int32_t clear = 0;  // condition gone when value < clear (upper) or > clear (lower)
+#if FW_PROTECTION_DELAYS
   Duration delay{};
+#endif
   uint8_t debounce = 1;
   Action action = Action::AllOff;
   bool latch = false;
@@ -112,9 +123,11 @@ class Protection {
     FaultMask conditionNow;  // last evaluation's raw conditions (for clearLatched)
     uint8_t failedScans;
     // Per fault: consecutive evaluations the condition (or, when tripped, its absence) was seen, and when
-    // that run started.
+    // that run started (for the delay).
     uint8_t count[kFaultCount];
+#if FW_PROTECTION_DELAYS
     Instant since[kFaultCount];
+#endif
     Instant tripped[kFaultCount];
   };
   const ProtectionConfig& config_;

@@ -1,9 +1,11 @@
 #include "app/protection_task.hpp"
 
+#include "core/stats.hpp"
+
 namespace fw::app {
 
 void ProtectionTask::run(sched::EventMask events) {
-  const Instant now = scheduler_.clock().now();
+  const Instant now = scheduler_.now();
   ProtectionInputs in{};
   in.pack = &pack_;
   in.fresh = (events & kNewData) != 0;
@@ -12,18 +14,33 @@ void ProtectionTask::run(sched::EventMask events) {
   if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
     status_.pendingCleared |= protection_.clearLatched();
   const ProtectionState st = protection_.evaluate(in, now);
-  ++s_.evaluations;
+  if (kStats) ++s_.evaluations;
   apply(st, now);
   scheduler_.checkIn(id_);
 }
 
 inline void ProtectionTask::apply(const ProtectionState& st, Instant now) {
   status_.active = st.active;
-  status_.pendingTripped |= st.newlyTripped;
-  status_.pendingCleared |= st.newlyCleared;
+  if (kCoreMessages) {  // what ProtectionEvent reports
+    status_.pendingTripped |= st.newlyTripped;
+    status_.pendingCleared |= st.newlyCleared;
+  }
   status_.faultOutput = st.faultOutput();
+  if constexpr (kLogSize != 0) record(st, now);
 
-  // A fault that cleared closes its newest open record; one that tripped opens a record.
+  const bool chargeOn = !st.chargeOff;
+  const bool dischargeOn = !st.dischargeOff;
+  if (s_.requested && chargeOn == s_.chargeOn && dischargeOn == s_.dischargeOn && st.newlyTripped == 0)
+    return;
+  s_.requested = true;
+  s_.chargeOn = chargeOn;
+  s_.dischargeOn = dischargeOn;
+  s_.pendingAction = true;
+  if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
+}
+
+// A fault that cleared closes its newest open record; one that tripped opens a record.
+inline void ProtectionTask::record(const ProtectionState& st, Instant now) {
   FaultMask cleared = st.newlyCleared;
   for (uint8_t k = s_.logCount; k-- > 0 && cleared != 0;) {
     const FaultMask b = bit(s_.log[k].fault);
@@ -39,16 +56,6 @@ inline void ProtectionTask::apply(const ProtectionState& st, Instant now) {
     r.fault = static_cast<FaultId>(i);
     r.detected = now;
   }
-
-  const bool chargeOn = !st.chargeOff;
-  const bool dischargeOn = !st.dischargeOff;
-  if (s_.requested && chargeOn == s_.chargeOn && dischargeOn == s_.dischargeOn && st.newlyTripped == 0)
-    return;
-  s_.requested = true;
-  s_.chargeOn = chargeOn;
-  s_.dischargeOn = dischargeOn;
-  s_.pendingAction = true;
-  if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
 }
 
 void ProtectionTask::actuated(Instant at) {
@@ -56,6 +63,7 @@ void ProtectionTask::actuated(Instant at) {
   s_.pendingAction = false;
   status_.chargeOn = s_.chargeOn;
   status_.dischargeOn = s_.dischargeOn;
+  if constexpr (kLogSize == 0) return;
   for (uint8_t k = 0; k < s_.logCount; ++k) {
     if (!s_.log[k].actionDone) {
       s_.log[k].acted = at;

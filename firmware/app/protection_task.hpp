@@ -72,9 +72,10 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kFaultLine = 0x4;
   static constexpr sched::EventMask kClearLatched = 0x8;
   // Trips logged since start-up (the log does not wrap: later trips are not logged once it is full). Images
-  // may shorten it (FW_PROTECTION_LOG_SIZE: 4 on the 4 KiB L1306); the host keeps 16 for bms-sim.
+  // may shorten it (FW_PROTECTION_LOG_SIZE), or leave it out with 0 (the L1306 images: nothing in them
+  // reads it; log() is then empty); the host keeps 16 for bms-sim.
   static constexpr size_t kLogSize = FW_PROTECTION_LOG_SIZE;
-  static_assert(kLogSize >= 1 && kLogSize <= 255);
+  static_assert(kLogSize <= 255);
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   ProtectionTask(sched::Scheduler& scheduler, sched::TaskId id, const ProtectionConfig& config,
@@ -104,7 +105,8 @@ class ProtectionTask final : public sched::Task {
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
-  inline void apply(const ProtectionState& st, Instant now);  // inline (.cpp): one caller, folded into it
+  inline void apply(const ProtectionState& st, Instant now);   // inline (.cpp): one caller, folded into it
+  inline void record(const ProtectionState& st, Instant now);  // the log's part of apply()
 
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
@@ -116,7 +118,7 @@ class ProtectionTask final : public sched::Task {
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;
-    ProtectionRecord log[kLogSize];
+    ProtectionRecord log[kLogSize != 0 ? kLogSize : 1];
   };
   sched::TaskId id_;
   State s_{};

@@ -1,5 +1,7 @@
 #include "app/slcan_publisher.hpp"
 
+#include "core/stats.hpp"
+
 namespace fw::app {
 
 void SlcanPublisher::run(sched::EventMask events) {
@@ -7,29 +9,31 @@ void SlcanPublisher::run(sched::EventMask events) {
     s_.busy = false;
     if (!s_.lineFromOldCycle) plan_.advance();  // the line built from the current frame has left
     s_.lineFromOldCycle = false;
-    ++s_.stats.frames;
+    if (kStats) ++s_.stats.frames;
   }
   if ((events & kTick) != 0) {
-    if (plan_.active()) ++s_.stats.abandoned;
+    if (kStats && plan_.active()) ++s_.stats.abandoned;
     s_.lineFromOldCycle = s_.busy;
-    if (s_.tick == 0) {
+    // A build that sends only what every cycle carries (FW_PUBLISH_LEVEL 0) has no slow cycle.
+    if (kCoreMessages && s_.tick == 0) {
       plan_.beginSlow();
     } else {
       plan_.beginFast();
     }
-    if (++s_.tick == slowEvery_) s_.tick = 0;
-    ++s_.stats.cycles;
+    if (kCoreMessages && ++s_.tick == slowEvery_) s_.tick = 0;
+    if (kStats) ++s_.stats.cycles;
   }
-  pump(scheduler_.clock().now());
+  pump(scheduler_.now());
 }
 
 void SlcanPublisher::pump(Instant now) {
   if (s_.busy) return;
-  hal::CanFrame frame;
-  if (!plan_.build(now, frame)) return;
-  const size_t n = slcan::encode(frame, s_.line);
-  if (n == 0 || serial_.write({s_.line, n}, scheduler_.notifier(id_, kSent)) != Status::Ok) {
-    ++s_.stats.refused;
+  std::array<uint8_t, 8> data;
+  const uint16_t id = plan_.fill(now, data);
+  if (id == 0) return;
+  slcan::encodeStandard(id, data, s_.line);
+  if (serial_.write(s_.line, scheduler_.notifier(id_, kSent)) != Status::Ok) {
+    if (kStats) ++s_.stats.refused;
     plan_.abandon();
     return;
   }

@@ -18,7 +18,8 @@ namespace fw::app {
 
 class SlcanPublisher final : public sched::Task {
  public:
-  static constexpr sched::EventMask kScanDone = 0x1;
+  // Its cycles run on the timer alone: a finished scan needs no event (0: the monitor posts none).
+  static constexpr sched::EventMask kScanDone = 0;
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   SlcanPublisher(sched::Scheduler& scheduler, sched::TaskId id, hal::SerialTx& serial, FramePlan& plan,
@@ -48,7 +49,7 @@ class SlcanPublisher final : public sched::Task {
     uint8_t tick;
     bool busy;
     bool lineFromOldCycle;  // the line in flight was built before the current cycle began
-    uint8_t line[slcan::kMaxEncodedLength];
+    uint8_t line[slcan::kStandardLength];
     sched::Timer timer;
     PublishStats stats;
   };

@@ -30,11 +30,15 @@ constexpr TaskId kSupervisorTask = 0xFE;  // marks the internal watchdog-supervi
 
 }  // namespace
 
+Instant Scheduler::now() const {
+  return clock_.now();
+}
+
 void Scheduler::addTask(TaskId id, Task& task, Duration budget, bool watched) {
   FW_ASSERT(id < kMaxTasks && s_.tasks[id] == nullptr);
   s_.tasks[id] = &task;
-  s_.budget[id] = budget;
-  if (watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
+  if (kBudgets) s_.budget[id] = budget;
+  if (kWatchdogSupervision && watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
 }
 
 void Scheduler::post(TaskId id, EventMask events) {
@@ -80,7 +84,7 @@ void Scheduler::removeTimer(Timer& timer) {
 }
 
 void Scheduler::startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period) {
-  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && s_.tasks[id] != nullptr));
+  FW_ASSERT((kWatchdogSupervision && id == kSupervisorTask) || (id < kMaxTasks && s_.tasks[id] != nullptr));
   if (timer.armed_) removeTimer(timer);
   timer.task_ = id;
   timer.events_ = events;
@@ -106,7 +110,7 @@ void Scheduler::fireDueTimers(Instant now) {
     timer.next_ = nullptr;
     timer.armed_ = false;
 
-    if (timer.task_ == kSupervisorTask) {
+    if (kWatchdogSupervision && timer.task_ == kSupervisorTask) {
       superviseOnce();
     } else {
       if (timer.period_.us != 0 && (s_.pending[timer.task_] & timer.events_) != 0) {
@@ -131,7 +135,7 @@ void Scheduler::fireDueTimers(Instant now) {
           timer.deadline_ = timer.deadline_ + timer.period_;
           ++missed;
         } while (isDue(timer.deadline_, now));
-        if (timer.task_ != kSupervisorTask) {
+        if (!kWatchdogSupervision || timer.task_ != kSupervisorTask) {
           s_.stats[timer.task_].timerOverruns += missed;
           trace(TraceKind::TimerOverrun, timer.task_, missed);
         }
@@ -165,7 +169,7 @@ bool Scheduler::dispatchOne() {
   ++st.runs;
   if (took > st.worstRun) st.worstRun = took;
   trace(TraceKind::RunEnd, id, took.us);
-  if (s_.budget[id].us != 0 && took > s_.budget[id]) {
+  if (kBudgets && s_.budget[id].us != 0 && took > s_.budget[id]) {
     ++st.overruns;
     trace(TraceKind::Overrun, id, took.us);
   }
@@ -193,13 +197,13 @@ void Scheduler::run() {
 }
 
 void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {
-  FW_ASSERT(window.us != 0);
+  FW_ASSERT(kWatchdogSupervision && window.us != 0);
   s_.watchdog = &watchdog;
   s_.checkedIn = 0;
   startTimer(s_.supervisor, kSupervisorTask, 0, window, window);
 }
 
-void Scheduler::checkIn(TaskId id) {
+void Scheduler::checkInNow(TaskId id) {
   s_.checkedIn = static_cast<uint8_t>(s_.checkedIn | (1U << id));
 }
 

@@ -15,6 +15,10 @@
 // - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
+// - Run-time budgets are built unless FW_SCHED_BUDGETS is 0 (the images, whose tasks all run without one):
+//   then addTask() ignores `budget` and overruns stay 0, as they do for a task registered without a budget.
+// - Watchdog supervision is built unless FW_WATCHDOG_SUPERVISION is 0 (an image without a watchdog, see
+//   bsp/mspm0/images/images.cmake): then checkIn() does nothing and superviseWatchdog() must not be called.
 #pragma once
 
 #include <cstdint>
@@ -30,10 +34,18 @@
 #ifndef FW_SCHED_MAX_TASKS
 #define FW_SCHED_MAX_TASKS 8
 #endif
+#ifndef FW_SCHED_BUDGETS
+#define FW_SCHED_BUDGETS 1
+#endif
+#ifndef FW_WATCHDOG_SUPERVISION
+#define FW_WATCHDOG_SUPERVISION 1
+#endif
 
 namespace fw::sched {
 
 inline constexpr uint8_t kMaxTasks = FW_SCHED_MAX_TASKS;
+inline constexpr bool kBudgets = FW_SCHED_BUDGETS != 0;
+inline constexpr bool kWatchdogSupervision = FW_WATCHDOG_SUPERVISION != 0;
 static_assert(kMaxTasks >= 1 && kMaxTasks <= 8, "the ready set is one byte");
 
 struct TaskStats {
@@ -75,12 +87,17 @@ class Scheduler {
   // Watchdog supervision: every `window`, feed `watchdog` if every watched task checked in, else withhold the
   // feed. The hardware timeout must be longer than `window`.
   void superviseWatchdog(hal::Watchdog& watchdog, Duration window);
-  void checkIn(TaskId id);
+  void checkIn(TaskId id) {
+    if constexpr (kWatchdogSupervision) checkInNow(id);
+  }
 
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
   const TaskStats& stats(TaskId id) const { return s_.stats[id]; }
   hal::Clock& clock() const { return clock_; }
+  // clock().now() as one direct call, for the tasks (out of line: they share it instead of each expanding
+  // the virtual call; the scheduler's own hot paths keep the direct virtual call).
+  Instant now() const;
   void noteQueueDrop(TaskId id);  // called by EventQueue (any context)
 
   void setTraceSink(TraceSink* sink);
@@ -90,6 +107,7 @@ class Scheduler {
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
   inline void superviseOnce();  // inline (.cpp): one caller, folded into it
+  void checkInNow(TaskId id);
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
 

@@ -28,6 +28,20 @@ TEST(Slcan, LawicelExamples) {
   EXPECT_EQ(encode({0x1FFFFFFF, true, 1, {0xAB}}), "T1FFFFFFF1AB\r");
 }
 
+TEST(Slcan, StandardEightByteLineMatchesTheGeneralEncoder) {
+  // encodeStandard() writes the line of every frame the publish plan builds: classic, 8 bytes, standard id.
+  const fw::hal::CanFrame frames[] = {
+      {0x004, false, 8, {0x16, 0xC0, 0x16, 0xBC, 0x16, 0xB4, 0x16, 0xB9}},
+      {0x100, false, 8, {0x00, 0x01, 0x23, 0x45, 0x67, 0x89, 0xAB, 0xCD}},
+      {0x7FF, false, 8, {0xFF, 0xFE, 0x10, 0x0F, 0xA0, 0x0A, 0x5A, 0xA5}},
+  };
+  for (const auto& f : frames) {
+    uint8_t line[fw::app::slcan::kStandardLength];
+    fw::app::slcan::encodeStandard(static_cast<uint16_t>(f.id), f.data, line);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(line), sizeof line), encode(f));
+  }
+}
+
 TEST(Slcan, InvalidFramesEncodeToNothing) {
   EXPECT_EQ(encode({0x800, false, 1, {}}), "");
   EXPECT_EQ(encode({0x20000000, true, 1, {}}), "");

@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "fixture.hpp"
 #include "gpio.hpp"
@@ -87,6 +89,46 @@ TEST_F(GpioTest, Group1DispatchFindsThePortClearsExactlyItsBitsAndNotifies) {
   regs().clearLog();
   dispatcher.onInterrupt();
   EXPECT_EQ(regs().log().size(), 1U);
+}
+
+TEST_F(GpioTest, SinglePortDispatchNeedsIidxOneClearsExactlyItsBitsAndNotifies) {
+  // A part with GPIOA alone (the L1306): the same contract as the dispatcher, with the port fixed.
+  alert.enable(counter(alertCalls));
+  GpioEdgeInput* const portA[] = {&alert};
+  regs().clearLog();
+  regs().queueRead(kGroup1Iidx, 1);  // GPIOA
+  regs().queueRead(kGpioa + kMis, (1U << 15) | (1U << 3));
+  onPortInterrupt(0x40400000, kGpioa, portA);
+  EXPECT_EQ(alertCalls, 1);
+  EXPECT_EQ(regs().writes(kGpioa + kIclr), (std::vector<uint32_t>{(1U << 15) | (1U << 3)}));
+
+  regs().queueRead(kGpioa + kMis, 1U << 3);  // another pin of the port: cleared, nobody notified
+  regs().queueRead(kGroup1Iidx, 1);
+  onPortInterrupt(0x40400000, kGpioa, portA);
+  EXPECT_EQ(alertCalls, 1);
+
+  regs().queueRead(kGroup1Iidx, 0);  // nothing pending in the group: nothing touched
+  regs().clearLog();
+  onPortInterrupt(0x40400000, kGpioa, portA);
+  EXPECT_EQ(regs().log().size(), 1U);
+  EXPECT_EQ(alertCalls, 1);
+}
+
+TEST_F(GpioTest, InitOfAConstexprCopyWritesWhatTheInputsOwnInitWrites) {
+  // The boards run init() on a constexpr copy of each input, so that its writes fold to constants.
+  static constexpr GpioEdgeInput kCopy{Pin{1, 21, 49}, Edge::Falling, Pull::Up};
+  const auto writes = [this] {
+    std::vector<std::pair<uintptr_t, uint32_t>> w;
+    for (const auto& a : regs().log())
+      if (a.kind == Access::Kind::Write) w.emplace_back(a.address, a.value);
+    return w;
+  };
+  kCopy.init();
+  const auto fromCopy = writes();
+  regs().clearLog();
+  button.init();
+  EXPECT_EQ(writes(), fromCopy);
+  EXPECT_FALSE(fromCopy.empty());
 }
 
 TEST_F(GpioTest, LevelReadsDin) {

@@ -10,14 +10,16 @@
 #   BMS_IMAGE_BUDGET_SOURCE where the budgets come from
 #   BMS_IMAGE_DEFINES       compile definitions every firmware library of the image is built with (through
 #                           fw_options, so all translation units agree): the scheduler's task table size
-#                           (FW_SCHED_MAX_TASKS, the image's three tasks); no latched-fault clearing without a
-#                           user action to trigger it (FW_PROTECTION_CLEAR_LATCHED=0); on the 4 KiB L1306 the protection
-#                           event log length (FW_PROTECTION_LOG_SIZE; host builds keep 16); and what a
-#                           single-board image leaves out (FW_PACK_MAX_BOARDS=1, FW_CAN_TI_LAYOUT=0) and the
-#                           BQ769x2-family driver built for one family without the CRC-mode probe
+#                           (FW_SCHED_MAX_TASKS, the image's three tasks) without run-time budgets
+#                           (FW_SCHED_BUDGETS=0); no latched-fault clearing without a user action to trigger it
+#                           (FW_PROTECTION_CLEAR_LATCHED=0); I2C without transaction lists (BSP_I2C_LISTS=0);
+#                           what a single-board image leaves out (FW_PACK_MAX_BOARDS=1, FW_CAN_TI_LAYOUT=0) and
+#                           the BQ769x2-family driver built for one family without the CRC-mode probe
 #                           (FW_BQ769X_FAMILY, FW_BQ769X_PROBE_CRC=0), the I2C driver without SMBus PEC
-#                           (BSP_I2C_PEC=0) and the MCAN driver without reception (BSP_MCAN_RX=0). Host
-#                           builds use the defaults, so tests and bms-sim cover every path.
+#                           (BSP_I2C_PEC=0) and the MCAN driver without reception (BSP_MCAN_RX=0); and on the
+#                           8 KiB L1306 what its budget has no room for (bsp/mspm0/README.md, "What the L1306
+#                           images leave out"). Host builds use the defaults, so tests and bms-sim cover every
+#                           path.
 # Budgets: ARCHITECTURE.md gives lp-mspm0l1306-bq76952 (flash 8 240 B, SRAM 2 KiB) and lp-mspm0g3507-bq79616
 # (flash 12 KiB). The other images take their sibling's budget on the same chip (provisional, set here);
 # G3507 images get 16 KiB of SRAM (half the part).
@@ -27,11 +29,20 @@ set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-b
 function(bms_image_info image)
   set(l1306_irqs GROUP1_IRQHandler:1 UART0_IRQHandler:15 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
   set(g3507_i2c_irqs GROUP1_IRQHandler:1 CANFD0_IRQHandler:6 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
-  # Every image runs three tasks (protection, monitor, publisher: firmware/app/*_app.hpp), and none has a
-  # user action that clears latched faults yet (firmware/app/protection_task.hpp).
-  set(defines FW_SCHED_MAX_TASKS=3 FW_PROTECTION_CLEAR_LATCHED=0)
+  # Every image runs three tasks (protection, monitor, publisher: firmware/app/*_app.hpp), none has a user
+  # action that clears latched faults yet (firmware/app/protection_task.hpp), and no device driver starts an
+  # I2C transaction list longer than one (bsp/mspm0/i2c.hpp), and no task has a run-time budget
+  # (firmware/sched/scheduler.hpp).
+  set(defines FW_SCHED_MAX_TASKS=3 FW_SCHED_BUDGETS=0 FW_PROTECTION_CLEAR_LATCHED=0 BSP_I2C_LISTS=0)
   if(image MATCHES "^lp-mspm0l1306-")
-    list(APPEND defines FW_PROTECTION_LOG_SIZE=4)
+    # No protection delays (the default limits use none).
+    list(APPEND defines FW_PROTECTION_DELAYS=0)
+    # Dropped to fit the 8 KiB budget (bsp/mspm0/README.md, "What the L1306 images leave out"): the SLCAN
+    # messages beyond PackSummary, ProtectionEvent and CellVoltages, and the start-up CONFIG_UPDATE.
+    list(APPEND defines FW_PUBLISH_LEVEL=0 FW_BQ769X_CONFIG_UPDATE=0 FW_BQ769X_CONFIG_PATHS=0
+         FW_WATCHDOG_SUPERVISION=0)
+    # Diagnostics nothing in these images reads: the statistics counters and the protection event log.
+    list(APPEND defines FW_STATS=0 FW_PROTECTION_LOG_SIZE=0)
   endif()
   # Single-board images compile the multi-board paths down to one board, and only the BQ79616 image (seed
   # 001's TI CAN layout) carries the TI layout (firmware/app/pack_view.hpp, frame_plan.hpp).

@@ -2,6 +2,7 @@
 
 #include "core/assert.hpp"
 #include "core/crc.hpp"
+#include "core/stats.hpp"
 
 namespace fw::drivers::bq769x2 {
 
@@ -18,9 +19,10 @@ namespace {
 
 Status Link::startRead(uint8_t cmd, uint8_t len, uint8_t at, Duration delay) {
   if (busy()) return Status::Busy;
-  if (len == 0 || at + len * (crc_ ? 2 : 1) > kScratchBytes) return Status::InvalidArgument;
+  if (len == 0 || at + len * (cfg_.crc ? 2 : 1) > kScratchBytes || (!kConfigPaths && delay.us != 0))
+    return Status::InvalidArgument;
   s_.at = at;
-  s_.delay = delay;
+  if (kConfigPaths) s_.delay = delay;
   return request(Op::Read, cmd, {}, len);
 }
 
@@ -38,6 +40,7 @@ Status Link::startSubcommandRead(uint16_t code, uint8_t len) {
 }
 
 Status Link::startSubcommandWrite(uint16_t code, std::span<const uint8_t> bytes) {
+  if (!kConfigPaths && !bytes.empty()) return Status::InvalidArgument;
   return request(Op::SubWrite, code, bytes, 0);
 }
 
@@ -47,7 +50,7 @@ Status Link::request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8
     return Status::InvalidArgument;
   if (op != Op::Read) {
     s_.at = 0;
-    s_.delay = {};
+    if (kConfigPaths) s_.delay = {};
   }
   s_.op = op;
   s_.code = code;
@@ -61,7 +64,7 @@ Status Link::request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8
     b_.data[2 + i] = bytes[i];
   s_.phase = Phase::Main;
   s_.polls = 0;
-  if (s_.delay.us != 0) {
+  if (kConfigPaths && s_.delay.us != 0) {
     wait(s_.delay);
   } else {
     phase(Phase::Main);
@@ -98,6 +101,7 @@ void Link::phase(Phase p) {
       readLen = kWindowBytes;
       break;
     case Phase::Commit:
+      if constexpr (!kConfigPaths) break;
       // SLUAA11B section 3.3: the checksum covers 0x3E, 0x3F and the data; the length counts them plus
       // 0x60 and 0x61 (data + 4).
       tail[0] = transferChecksum(s_.code, b_.data + 2, s_.dataLen);
@@ -113,21 +117,21 @@ void Link::phase(Phase p) {
 // Builds and starts one transaction. With CRC on, a CRC follows every data byte: the first covers
 // addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4).
 inline void Link::transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen) {
-  const uint8_t addressW = static_cast<uint8_t>(address_ << 1);
+  const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
   uint8_t crc = crcStep(crcStep(0, addressW), cmd);
   uint8_t k = 0;
   b_.tx[k++] = cmd;
   for (uint8_t i = 0; i < count; ++i) {
     b_.tx[k++] = data[i];
-    if (crc_) {
+    if (cfg_.crc) {
       b_.tx[k++] = crcStep(crc, data[i]);
       crc = 0;
     }
   }
-  b_.txn.address = address_;
+  b_.txn.address = cfg_.address;
   b_.txn.write = {b_.tx, k};
-  b_.txn.read = {b_.scratch + s_.at, static_cast<size_t>(crc_ ? 2 * readLen : readLen)};
-  ++b_.stats.transactions;
+  b_.txn.read = {b_.scratch + s_.at, static_cast<size_t>(cfg_.crc ? 2 * readLen : readLen)};
+  if (kStats) ++b_.stats.transactions;
   s_.wait = Wait::Bus;
   const Status s = bus_.start({&b_.txn, 1}, ctx_.busNotify());
   if (s != Status::Ok) {
@@ -153,10 +157,10 @@ Progress Link::onEvent(sched::EventMask events) {
 void Link::onBus() {
   if (b_.txn.status != Status::Ok) return fail(b_.txn.status);
   const size_t readLen = b_.txn.read.size();
-  if (crc_ && readLen != 0) {
+  if (cfg_.crc && readLen != 0) {
     // The first CRC of a read covers addr+W, the command, addr+R and the first data byte; then each byte
     // alone. The data are compacted in place over their CRCs.
-    const uint8_t addressW = static_cast<uint8_t>(address_ << 1);
+    const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
     uint8_t crc = crcStep(crcStep(crcStep(0, addressW), b_.tx[0]), addressW | 1);
     uint8_t* w = b_.txn.read.data();
     for (size_t i = 0; i < readLen / 2; ++i) {
@@ -170,9 +174,9 @@ void Link::onBus() {
     case Phase::Main:
       if (s_.op >= Op::SubRead) {
         s_.phase = Phase::Poll;
-        return wait(pollInterval_);
+        return wait(cfg_.pollInterval);
       }
-      if (s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
+      if (kConfigPaths && s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
       return finish(Status::Ok);
     case Phase::Poll: {
       // 0x3E/0x3F read FF FF while the subcommand runs and echo the code when its result is in the buffer;
@@ -180,9 +184,9 @@ void Link::onBus() {
       const uint16_t echo = static_cast<uint16_t>(b_.scratch[0] | (b_.scratch[1] << 8));
       if (echo == s_.code) return s_.op == Op::Sub ? finish(Status::Ok) : phase(Phase::Fetch);
       if (echo != 0xFFFF) return fail(Status::EchoMismatch);
-      if (++s_.polls >= maxPolls_) return fail(Status::Timeout);
-      ++b_.stats.polls;
-      return wait(pollInterval_);
+      if (++s_.polls >= cfg_.maxPolls) return fail(Status::Timeout);
+      if (kStats) ++b_.stats.polls;
+      return wait(cfg_.pollInterval);
     }
     case Phase::Fetch: {
       // 0x61 counts the buffer bytes plus 4; the checksum at 0x60 covers the code and every buffer byte the
@@ -200,13 +204,13 @@ void Link::onBus() {
 }
 
 void Link::fail(Status s) {
-  if (static_cast<uint8_t>(s) < kLinkStatusCount) ++b_.stats.errors[static_cast<uint8_t>(s)];
-  if (s_.attempt >= retries_) return finish(s);
+  if (kStats && static_cast<uint8_t>(s) < kLinkStatusCount) ++b_.stats.errors[static_cast<uint8_t>(s)];
+  if (s_.attempt >= cfg_.retries) return finish(s);
   ++s_.attempt;
   ++b_.stats.retries;
   s_.phase = Phase::Main;
   s_.polls = 0;
-  wait(retryDelay_ + s_.delay);
+  wait(kConfigPaths ? cfg_.retryDelay + s_.delay : cfg_.retryDelay);
 }
 
 void Link::finish(Status s) {

@@ -48,6 +48,11 @@
 // power-up is therefore absorbed (E2E 1515940). Every wait is bounded: a bus transaction by the I2cBus
 // contract (wire time + stretch limit), every other wait by this driver's timer.
 //
+// What only the monitor's configure and balance operations use (subcommand writes with data: the
+// CONFIG_UPDATE settings, the balancing mask; a delay before a read: the CFGUPDATE polls) is built unless
+// FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
+// startSubcommandWrite() with data and startRead() with a delay are InvalidArgument.
+//
 // Memory: one scratch buffer (kScratchBytes) that holds the longest read with its CRC bytes; the data stay
 // there until the next operation starts (data() is only meaningful after an Ok result).
 #pragma once
@@ -74,6 +79,11 @@ inline constexpr uint8_t kMaxReadBytes = 50;                 // the longest dire
 inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC after every byte
 inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
 
+#ifndef FW_BQ769X_CONFIG_PATHS
+#define FW_BQ769X_CONFIG_PATHS 1
+#endif
+inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
+
 struct LinkConfig {
   uint8_t address = kDefaultAddress;
   bool crc = false;       // per-byte CRC-8 on the wire (must match the device's Comm Type)
@@ -86,7 +96,8 @@ struct LinkConfig {
 // Every Status a link attempt can fail with is below this one (Busy, Nack ... EchoMismatch).
 inline constexpr uint8_t kLinkStatusCount = static_cast<uint8_t>(Status::EchoMismatch) + 1;
 
-// Link statistics since construction (never reset by the driver).
+// Link statistics since construction (never reset by the driver). In a build without statistics
+// (core/stats.hpp) only `retries` counts: the monitor's scan acts on it.
 struct LinkStats {
   uint32_t transactions = 0;               // I2C transactions started
   uint32_t retries = 0;                    // whole-operation restarts
@@ -98,14 +109,7 @@ class Link {
  public:
   // Inline: an image constructs it once, and the constructor is then stores only.
   Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config)
-      : crc_(config.crc),
-        address_(config.address),
-        retries_(config.retries),
-        maxPolls_(config.maxPolls),
-        bus_(bus),
-        ctx_(context),
-        retryDelay_(config.retryDelay),
-        pollInterval_(config.pollInterval) {}
+      : cfg_(config), bus_(bus), ctx_(context) {}
   Link(const Link&) = delete;
   Link& operator=(const Link&) = delete;
 
@@ -123,8 +127,8 @@ class Link {
   const uint8_t* data() const { return b_.scratch + s_.at; }
   uint8_t* scratch() { return b_.scratch; }
   uint8_t reported() const { return s_.reported; }
-  bool crc() const { return crc_; }
-  void setCrc(bool on) { crc_ = on; }  // when idle (the CRC-mode probe)
+  bool crc() const { return cfg_.crc; }
+  void setCrc(bool on) { cfg_.crc = on; }  // when idle (the CRC-mode probe)
   const LinkStats& stats() const { return b_.stats; }
 
  private:
@@ -166,16 +170,12 @@ class Link {
     uint8_t scratch[kScratchBytes];
   };
 
-  // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register.
-  bool crc_;
-  uint8_t address_;
-  uint8_t retries_;
-  uint8_t maxPolls_;
+  // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register. The
+  // configuration is kept whole (its bytes first), so the constructor copies it as one block.
+  LinkConfig cfg_;
   State s_{};
   hal::I2cBus& bus_;
   DriverContext ctx_;
-  Duration retryDelay_;
-  Duration pollInterval_;
   Buffers b_{};
 };
 

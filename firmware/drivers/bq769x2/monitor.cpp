@@ -47,7 +47,7 @@ Status Monitor::startProbe(Identity& out) {
 }
 
 Status Monitor::startConfigure(std::span<const Setting> settings) {
-  if (settings.empty() || settings.size() > 32) return Status::InvalidArgument;
+  if (!kConfigPaths || settings.empty() || settings.size() > 32) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   s_.settings = settings;
   s_.diff = 0;
@@ -57,14 +57,11 @@ Status Monitor::startConfigure(std::span<const Setting> settings) {
   return begin(Op::Configure, nextSetting(false));
 }
 
-Status Monitor::startScan(void* record, uint8_t bytes, Instant* takenAt) {
+Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
   if (busy()) return Status::Busy;
-  uint8_t total = 0;
-  for (const ScanBlock& b : facts().blocks)
-    total = static_cast<uint8_t>(total + b.len);
-  FW_ASSERT(total <= bytes);
-  s_.out = record;
-  s_.takenAt = takenAt;
+  // A build for one family checks the record size at compile time (the front ends).
+  if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
+  s_.out = measurement;
   s_.bytes = 0;
   s_.restarted = false;
   s_.scanRetries = link_.stats().retries;
@@ -83,7 +80,7 @@ Status Monitor::startFetEnable() {
 }
 
 Status Monitor::startBalance(uint16_t cells) {
-  if ((cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
+  if (!kConfigPaths || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   s_.tmp = static_cast<uint16_t>(cells << facts().cbShift);
@@ -136,79 +133,102 @@ FetIntent Monitor::nextIntent() const {
 }
 
 void Monitor::step(Status r) {
-  const uint8_t* d = link_.data();
   switch (s_.op) {
     case Op::Idle:
       return;
-    case Op::Configure:
-      return configStep(r);
     case Op::Probe:
-      if (r != Status::Ok) {
-        // The first attempt of a CRC probe was made without CRC; a device in CRC mode refuses it at its
-        // first missing CRC byte (DataNack), a stale or misframed answer shows as one of the others.
-        const bool framing = r == Status::DataNack || r == Status::Crc || r == Status::Checksum ||
-                             r == Status::Length || r == Status::EchoMismatch;
-        if (!kProbeCrc || !probeCrc_ || s_.step != 0 || s_.restarted || !framing) return finish(r);
-        s_.restarted = true;
-        link_.setCrc(!link_.crc());
-        return (void)link_.startSubcommandRead(sub::DeviceNumber.address, 2);
-      }
-      if (s_.step++ == 0) {
-        s_.tmp = static_cast<uint16_t>(d[0] | (d[1] << 8));
-        return (void)link_.startSubcommandRead(sub::FwVersion.address, 6);
-      } else {
-        Identity& id = *static_cast<Identity*>(s_.out);
-        id.deviceNumber = s_.tmp;
-        std::memcpy(id.fw, d, sizeof id.fw);
-        id.crc = link_.crc();
-        return finish(Status::Ok);
-      }
-    case Op::Scan: {
-      if (r != Status::Ok) return finish(r);
-      s_.bytes = static_cast<uint8_t>(s_.bytes + facts().blocks[s_.step].len);
-      if (++s_.step < sizeof facts().blocks / sizeof facts().blocks[0]) {
-        const ScanBlock& b = facts().blocks[s_.step];
-        return (void)link_.startRead(b.cmd, b.len, s_.bytes);
-      }
-      if (link_.stats().retries != s_.scanRetries && !s_.restarted) {
-        // A read of this scan had to be repeated: the device may have reset or the bus glitched between
-        // reads, so the snapshot is taken again from its first read (once).
-        s_.restarted = true;
-        s_.bytes = 0;
-        s_.step = 0;
-        return (void)link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len);
-      }
-      const uint8_t* raw = link_.scratch();
-      for (uint8_t i = 0; i < facts().checkCount; ++i) {
-        if ((raw[facts().checks[i].offset] & facts().checks[i].mask) != 0) return finish(Status::Implausible);
-      }
-      std::memcpy(s_.out, raw, s_.bytes);
-      *s_.takenAt = clock_.now();
-      return finish(Status::Ok);
-    }
+      return probeStep(r);
+    case Op::Configure:
+      if constexpr (kConfigPaths) configStep(r);
+      return;
+    case Op::Scan:
+      return scanStep(r);
     case Op::Fet:
-      if (r == Status::Ok) s_.intent = nextIntent();
-      return finish(r);
-    case Op::FetEnable: {
-      if (r != Status::Ok) return finish(r);
-      const bool enabled = (d[facts().fetEnByte] & facts().fetEnMask) != 0;
-      switch (s_.step++) {
-        case 0:  // FET_EN read: FET_ENABLE toggles it, so it is only sent when FET_EN is 0
-          if (enabled) return finish(Status::Ok);
-          return (void)link_.startSubcommand(sub::FetEnable.address);
-        case 1:  // FET_ENABLE sent: read FET_EN back
-          return (void)readFetEn();
-        default:
-          return finish(enabled ? Status::Ok : Status::VerifyFailed);
-      }
-    }
+      return fetStep(r);
+    case Op::FetEnable:
+      return fetEnableStep(r);
     case Op::Balance:
-      if (r != Status::Ok) return finish(r);
-      if (s_.step++ == 0) return (void)link_.startSubcommandRead(sub::CbActiveCells.address, facts().cbBytes);
-      return finish(static_cast<uint16_t>(d[0] | (facts().cbBytes > 1 ? d[1] << 8 : 0)) == s_.tmp
-                        ? Status::Ok
-                        : Status::VerifyFailed);
+      if constexpr (kConfigPaths) balanceStep(r);
+      return;
   }
+}
+
+inline void Monitor::probeStep(Status r) {
+  if (r != Status::Ok) {
+    // The first attempt of a CRC probe was made without CRC; a device in CRC mode refuses it at its first
+    // missing CRC byte (DataNack), a stale or misframed answer shows as one of the others.
+    const bool framing = r == Status::DataNack || r == Status::Crc || r == Status::Checksum ||
+                         r == Status::Length || r == Status::EchoMismatch;
+    if (!kProbeCrc || !probeCrc_ || s_.step != 0 || s_.restarted || !framing) return finish(r);
+    s_.restarted = true;
+    link_.setCrc(!link_.crc());
+    return (void)link_.startSubcommandRead(sub::DeviceNumber.address, 2);
+  }
+  const uint8_t* d = link_.data();
+  if (s_.step++ == 0) {
+    s_.tmp = static_cast<uint16_t>(d[0] | (d[1] << 8));
+    return (void)link_.startSubcommandRead(sub::FwVersion.address, 6);
+  }
+  Identity& id = *static_cast<Identity*>(s_.out);
+  id.deviceNumber = s_.tmp;
+  std::memcpy(id.fw, d, sizeof id.fw);
+  id.crc = link_.crc();
+  finish(Status::Ok);
+}
+
+inline void Monitor::scanStep(Status r) {
+  if (r != Status::Ok) return finish(r);
+  const Variant& v = facts();
+  s_.bytes = static_cast<uint8_t>(s_.bytes + v.blocks[s_.step].len);
+  if (++s_.step < sizeof v.blocks / sizeof v.blocks[0]) {
+    const ScanBlock& b = v.blocks[s_.step];
+    return (void)link_.startRead(b.cmd, b.len, s_.bytes);
+  }
+  if (link_.stats().retries != s_.scanRetries && !s_.restarted) {
+    // A read of this scan had to be repeated: the device may have reset or the bus glitched between
+    // reads, so the snapshot is taken again from its first read (once).
+    s_.restarted = true;
+    s_.bytes = 0;
+    s_.step = 0;
+    return (void)link_.startRead(v.blocks[0].cmd, v.blocks[0].len);
+  }
+  const uint8_t* raw = link_.scratch();
+  for (uint8_t i = 0; i < v.checkCount; ++i) {
+    if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
+  }
+  // The record is the time stamp followed by the registers (the front ends check the layout).
+  Instant* record = static_cast<Instant*>(s_.out);
+  std::memcpy(record + 1, raw, s_.bytes);
+  *record = clock_.now();
+  finish(Status::Ok);
+}
+
+inline void Monitor::fetStep(Status r) {
+  if (r == Status::Ok) s_.intent = nextIntent();
+  finish(r);
+}
+
+inline void Monitor::fetEnableStep(Status r) {
+  if (r != Status::Ok) return finish(r);
+  const bool enabled = (link_.data()[facts().fetEnByte] & facts().fetEnMask) != 0;
+  switch (s_.step++) {
+    case 0:  // FET_EN read: FET_ENABLE toggles it, so it is only sent when FET_EN is 0
+      if (enabled) return finish(Status::Ok);
+      return (void)link_.startSubcommand(sub::FetEnable.address);
+    case 1:  // FET_ENABLE sent: read FET_EN back
+      return (void)readFetEn();
+    default:
+      return finish(enabled ? Status::Ok : Status::VerifyFailed);
+  }
+}
+
+inline void Monitor::balanceStep(Status r) {
+  if (r != Status::Ok) return finish(r);
+  const uint8_t cbBytes = facts().cbBytes;
+  if (s_.step++ == 0) return (void)link_.startSubcommandRead(sub::CbActiveCells.address, cbBytes);
+  const uint8_t* d = link_.data();
+  finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == s_.tmp ? Status::Ok
+                                                                               : Status::VerifyFailed);
 }
 
 // Steps of the CONFIG_UPDATE transaction.

@@ -43,11 +43,14 @@
 //                         unless MonitorConfig::allowAdjacentBalancing: the device itself never balances
 //                         neighbours autonomously and two adjacent cells double the current through the
 //                         shared input resistor (E2E 1505209). 0 stops balancing.
+// A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, link.hpp) has neither
+// startConfigure() nor startBalance(): both return InvalidArgument.
 // The link (link()) may be used directly for raw operations while the monitor is idle (bmsctl, diagnostics);
 // onEvent() forwards to it either way. The configuration is copied at construction; the settings table
 // passed to startConfigure() and the output of a running operation must stay valid until it ends.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -238,9 +241,18 @@ class Monitor {
   const Variant& variant() const { return variant_; }
 
  protected:
-  Status startScan(void* record, uint8_t bytes, Instant* takenAt);
+  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers.
+  Status startScan(Instant* measurement, uint8_t bytes);
+  static constexpr uint8_t scanBytes(const Variant& v) {
+    uint8_t total = 0;
+    for (const ScanBlock& b : v.blocks)
+      total = static_cast<uint8_t>(total + b.len);
+    return total;
+  }
 
  private:
+  // Each operation is a step function that runs on every link completion until it calls finish(). The
+  // configure and balance operations exist only where the link has the writes they need (kConfigPaths).
   enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, Balance };
   // The variant's facts: constants when the build serves one family (kFamily).
   const Variant& facts() const {
@@ -251,7 +263,13 @@ class Monitor {
   }
   Status begin(Op op, Status started);
   void step(Status r);
-  inline void configStep(Status r);  // inline (.cpp): one caller, folded into it
+  // inline (.cpp): each has one caller, step(), which folds them in
+  inline void probeStep(Status r);
+  inline void configStep(Status r);
+  inline void scanStep(Status r);
+  inline void fetStep(Status r);
+  inline void fetEnableStep(Status r);
+  inline void balanceStep(Status r);
   bool matches() const;
   Status nextSetting(bool write);
   void writeNext();
@@ -279,8 +297,7 @@ class Monitor {
     bool restarted;
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
     std::span<const Setting> settings;
-    void* out;
-    Instant* takenAt;
+    void* out;  // the probe's Identity, or the scan's measurement record
     uint32_t diff;
     uint32_t scanRetries;
   };
@@ -304,7 +321,9 @@ class Bq769x2 : public Monitor {
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, kBq76952, config) {}
   Status startScan(Bq769x2Measurement& out) {
-    return Monitor::startScan(&out.reg, sizeof(Bq769x2Registers), &out.takenAt);
+    static_assert(offsetof(Bq769x2Measurement, reg) == sizeof(Instant));
+    static_assert(scanBytes(kBq76952) <= sizeof(Bq769x2Registers));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers));
   }
 };
 
@@ -317,7 +336,10 @@ class Bq7690x : public Monitor {
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, variant, config) {}
   Status startScan(Bq7690xMeasurement& out) {
-    return Monitor::startScan(&out.reg, sizeof(Bq7690xRegisters), &out.takenAt);
+    static_assert(offsetof(Bq7690xMeasurement, reg) == sizeof(Instant));
+    static_assert(scanBytes(kBq76907) <= sizeof(Bq7690xRegisters) &&
+                  scanBytes(kBq76905) <= sizeof(Bq7690xRegisters));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters));
   }
 };
 

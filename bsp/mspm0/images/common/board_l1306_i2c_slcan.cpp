@@ -24,29 +24,45 @@ using namespace bsp::mspm0;
 constexpr I2cTiming kI2cTiming = i2cTiming(kBusClockHz, config::kI2cBitRate, config::kI2cStretchLimitUs);
 static_assert(kI2cTiming.valid, "no I2C clock divider gives this bit rate and stretch limit");
 
-constinit TimgClock clock({Chip::kTimg0, Chip::kIrqTimg0, reg::timg::prescalerFor1MHz(kBusClockHz)});
+// Set-up of the clock and the serial output runs from their constant configurations (inline static start()
+// and init()), so its register writes are constants.
+constexpr TimgClock::Config kClockConfig{Chip::kTimg0, Chip::kIrqTimg0,
+                                         reg::timg::prescalerFor1MHz(kBusClockHz)};
+constinit TimgClock clock(kClockConfig);
+#if FW_WATCHDOG_SUPERVISION
 constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
+#endif
 constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chip::kI2c0SclPa1,
                              config::kI2cBitRate, kI2cTiming});
-constinit GpioEdgeInput alert(Chip::kPa15, Edge::Falling, Pull::Up);
+// Set-up runs on constexpr copies of the inputs (their init() is const and inline), so its register writes
+// are constants.
+constexpr GpioEdgeInput kAlert(Chip::kPa15, Edge::Falling, Pull::Up);
+constinit GpioEdgeInput alert = kAlert;
 #if BMS_BOARD_LED_BUTTON
-constinit GpioEdgeInput button(Chip::kPa14, Edge::Falling, Pull::Up);
+constexpr GpioEdgeInput kButton(Chip::kPa14, Edge::Falling, Pull::Up);
+constinit GpioEdgeInput button = kButton;
 constinit GpioOut led(Chip::kPa26);
 #endif
-constinit UartSerialTx serial({Chip::kUart0, Chip::kIrqUart0,
-                               static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz,
-                                                                              config::kSlcanBaud)),
-                               Chip::kUart0TxPa23, DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}});
+constexpr UartSerialTx::Config kSerialConfig{
+    Chip::kUart0, Chip::kIrqUart0,
+    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)), Chip::kUart0TxPa23,
+    DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}};
+constinit UartSerialTx serial(kSerialConfig);
 
-constexpr uintptr_t kGpioPorts[] = {kGpioaBase};
+// The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
+#if FW_WATCHDOG_SUPERVISION
+#define BMS_BOARD_WATCHDOG watchdog,
+#else
+#define BMS_BOARD_WATCHDOG
+#endif
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
-constinit Board instance{clock, watchdog, i2c, alert, serial, button, led};
+constinit Board instance{clock, BMS_BOARD_WATCHDOG i2c, alert, serial, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
-constinit Board instance{clock, watchdog, i2c, alert, serial};
+constinit Board instance{clock, BMS_BOARD_WATCHDOG i2c, alert, serial};
 #endif
-constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
+#undef BMS_BOARD_WATCHDOG
 
 }  // namespace
 
@@ -57,16 +73,18 @@ Board& board() {
 void bringUp() {
   initSysosc(false);
   powerGpioPort(kGpioaBase);
-  clock.start();
+  TimgClock::start(kClockConfig);
   i2c.init();
-  alert.init();
-  serial.init();
+  kAlert.init();
+  UartSerialTx::init(kSerialConfig);
 #if BMS_BOARD_LED_BUTTON
   led.init(false);
-  button.init();
+  kButton.init();
 #endif
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);
+#if FW_WATCHDOG_SUPERVISION
   watchdog.start();
+#endif
 }
 
 }  // namespace image
@@ -82,6 +100,6 @@ void UART0_IRQHandler() {
   image::serial.onInterrupt();
 }
 void GROUP1_IRQHandler() {
-  image::gpioInterrupts.onInterrupt();
+  bsp::mspm0::onPortInterrupt(image::Chip::kCpuss, bsp::mspm0::kGpioaBase, image::kEdgeInputs);
 }
 }

@@ -9,7 +9,8 @@
 //   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15, INT_GROUP1 IRQ 1 (GPIOA)
 //
 // Contract: bringUp() runs once in thread mode, before interrupts are expected: it sets the clocks, powers
-// GPIOA, starts the scheduler clock, the bus, the serial output and the watchdog, and arms nothing else.
+// GPIOA, starts the scheduler clock, the bus, the serial output and the watchdog (when built), and arms
+// nothing else.
 // board() may be called at any time (it returns the statically built board; drivers work after bringUp()).
 #pragma once
 
@@ -26,12 +27,20 @@
 #ifndef BMS_BOARD_LED_BUTTON
 #define BMS_BOARD_LED_BUTTON 0
 #endif
+// The watchdog and the scheduler's supervision of it (with the stack guard check each feed makes) are built
+// unless FW_WATCHDOG_SUPERVISION is 0 (images.cmake: an image short of flash may leave them out; main.cpp
+// then runs the scheduler unsupervised).
+#ifndef FW_WATCHDOG_SUPERVISION
+#define FW_WATCHDOG_SUPERVISION 1
+#endif
 
 namespace image {
 
 struct Board {
   fw::hal::Clock& clock;
+#if FW_WATCHDOG_SUPERVISION
   fw::hal::Watchdog& watchdog;
+#endif
   fw::hal::I2cBus& i2c;       // the battery monitor's bus (I2C0)
   fw::hal::EdgeInput& alert;  // the monitor's ALERT pin
   fw::hal::SerialTx& serial;  // SLCAN text to the PC
@@ -44,7 +53,9 @@ struct Board {
 Board& board();
 void bringUp();
 
+#if FW_WATCHDOG_SUPERVISION
 // The scheduler feeds the watchdog (1.0 s hardware timeout) every window if all watched tasks checked in.
 inline constexpr fw::Duration kWatchdogWindow = fw::ms(250);
+#endif
 
 }  // namespace image

@@ -1,36 +1,28 @@
-// Application hook of the lp-mspm0l1306-bq76907 image. HOOK POINT: replace this file with the BQ7690x
-// driver, the measurement/protection tasks and the SLCAN publisher; main.cpp calls appInit() once, after
-// bringUp() and before the scheduler runs.
-//
-// Until then it runs a 500 ms heartbeat: LED toggle and one SLCAN frame per beat,
-// "t7FF4<beat as 8 hex digits>\r" (standard ID 0x7FF, 4 data bytes), so a PC CAN tool shows it.
+// Application of the lp-mspm0l1306-bq76907 image: the BQ76907 monitor (probe, FET enable, scans), the
+// firmware protection (FETs through the BQ76907, ALERT fast path) and SLCAN publishing on the back-channel
+// UART (firmware/app/bq769x_app.hpp), built without what the 8 KiB budget has no room for (images.cmake,
+// bsp/mspm0/README.md "What the L1306 images leave out"): PackSummary is the only SLCAN message, and the
+// start-up CONFIG_UPDATE of its settings table is left out, so the table below is empty unless it is built.
+#include "app/bq769x_app.hpp"
+#include "app/bq769x_settings.hpp"
 #include "board.hpp"
-#include "common/heartbeat.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
 
-constexpr fw::sched::TaskId kHeartbeatTask = 0;
-uint8_t gLine[14] = {'t', '7', 'F', 'F', '4'};
-volatile bool gLineBusy = false;  // the UART still owns gLine; cleared by the write's done Notify
+using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769x2::Bq7690xMeasurement,
+                               fw::app::SlcanPublisher>;
 
-void lineSent(void*, uint32_t) {
-  gLineBusy = false;
-}
-
-void emitSlcan(uint32_t beat) {
-  if (gLineBusy) return;  // the previous line is still on the wire: skip this beat
-  image::toHex(beat, &gLine[5], 8);
-  gLine[13] = '\r';
-  gLineBusy = true;
-  if (image::board().serial.write(gLine, fw::hal::Notify{lineSent, nullptr, 0}) != fw::Status::Ok)
-    gLineBusy = false;
-}
-
-constinit image::Heartbeat heartbeat(emitSlcan);
+// The settings table only where the image applies it (FW_BQ769X_CONFIG_UPDATE,
+// bsp/mspm0/images/images.cmake).
+const fw::app::Bq769xAppConfig kConfig{fw::app::kConfigUpdate
+                                           ? std::span(fw::app::kBq76907Settings)
+                                           : std::span<const fw::drivers::bq769x2::Setting>{},
+                                       7};
 
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  heartbeat.start(scheduler, kHeartbeatTask, board.led, fw::ms(500));
+  static App app(scheduler, board.i2c, board.alert, board.serial, kConfig, fw::drivers::bq769x2::kBq76907);
+  app.start();
 }

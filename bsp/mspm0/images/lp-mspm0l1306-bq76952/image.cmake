@@ -1,3 +1,2 @@
-# This image's application does not fit its 8 240 B budget yet (see bsp/mspm0/README.md), so it runs the
-# heartbeat, which needs the LaunchPad LED.
-target_compile_definitions(${BMS_IMAGE} PRIVATE BMS_BOARD_LED_BUTTON=1)
+# The BQ769x2-family application (firmware/app/bq769x_app.*) with the BQ769x2 driver.
+target_link_libraries(${BMS_IMAGE} PRIVATE fw_app_bq769x2)

@@ -1,0 +1,141 @@
+// The BQ769x2-family application as the L1306 images build it (bsp/mspm0/images/images.cmake): compiled
+// with their options (tests/app/CMakeLists.txt), on the host BSP against the BQ76952 emulator. The host
+// build of everything else keeps every default, so these tests cover what only the images leave out: no
+// start-up CONFIG_UPDATE, PackSummary as the only SLCAN message, no statistics and no protection log, no
+// protection delays, and a driver without the configuration paths.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "app/bq769x_app.hpp"
+#include "app/default_limits.hpp"
+#include "bq769x2/emulator.hpp"
+#include "sim/harness.hpp"
+#include "sim/i2c_bus.hpp"
+#include "sim/peripherals.hpp"
+
+static_assert(!fw::app::kConfigUpdate && !fw::app::kCoreMessages && !fw::kStats &&
+                  fw::app::ProtectionTask::kLogSize == 0 && !fw::app::kProtectionDelays &&
+                  !fw::drivers::bq769x2::kConfigPaths,
+              "built with the L1306 image options");
+
+namespace {
+
+namespace b769 = fw::drivers::bq769x2;
+using Emulator = bsp::host::Bq769xEmulator;
+using App = fw::app::Bq769xApp<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher>;
+
+struct L1306 {
+  bsp::host::Harness h;
+  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
+  Emulator emu{h.clock, Emulator::Model::Bq76952};
+  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
+  bsp::host::SimSerialTx serial{h.clock, h.irq};
+  fw::app::Bq769xAppConfig config{{}, 16};
+  App app{h.sched, bus, alert, serial, config};
+
+  L1306() {
+    bus.attach(0x08, emu);
+    emu.onAlert([this](bool asserted) { alert.drive(!asserted); });  // ALERT is active low
+    for (uint8_t c = 1; c <= 16; ++c)
+      emu.setCellMv(c, 3700);
+    app.start();
+  }
+  // The SLCAN lines written so far.
+  std::vector<std::string> lines() const {
+    std::vector<std::string> out;
+    const std::string& t = serial.text();
+    for (size_t pos = 0, end; (end = t.find('\r', pos)) != std::string::npos; pos = end + 1)
+      out.push_back(t.substr(pos, end - pos));
+    return out;
+  }
+  size_t count(const std::string& prefix) const {
+    size_t n = 0;
+    for (const auto& r : bus.wireLog())
+      n += r.text.rfind(prefix, 0) == 0 ? 1 : 0;
+    return n;
+  }
+};
+
+TEST(L1306App, StartsWithoutConfigUpdateEnablesTheFetsAndScans) {
+  L1306 b;
+  b.h.runFor(fw::ms(1000));
+  EXPECT_TRUE(b.app.monitor().running());
+  EXPECT_TRUE(b.emu.fetEnabled()) << "FET_ENABLE sent after the probe";
+  EXPECT_EQ(b.count("S 10 3E 90 00"), 0u) << "no SET_CFGUPDATE: the image applies no settings";
+  EXPECT_EQ(b.count("S 10 60 "), 0u) << "no data-memory write";
+  EXPECT_GE(b.count("S 10 0A Sr 11 ["), 8u) << "a scan every 100 ms";
+  const fw::app::PackView& pack = b.app.pack();
+  ASSERT_TRUE(pack.totals.cells);
+  EXPECT_EQ(pack.totals.extreme[fw::app::kMaxCell], 3700);
+  EXPECT_EQ(pack.totals.packMv, 16 * 3700);
+  EXPECT_TRUE(b.app.status().chargeOn && b.app.status().dischargeOn);
+  // Statistics are not kept; the link still counts retries (the scan acts on them).
+  EXPECT_EQ(b.app.monitor().stats().scans, 0u);
+  EXPECT_EQ(b.app.monitor().driver().stats().transactions, 0u);
+  EXPECT_TRUE(b.app.protection().log().empty());
+}
+
+TEST(L1306App, SlcanCarriesPackSummaryOnlyEveryCycle) {
+  L1306 b;
+  b.h.runFor(fw::ms(2050));  // two slow-cycle periods
+  const auto lines = b.lines();
+  ASSERT_GE(lines.size(), 19u);  // one PackSummary per 100 ms
+  for (const auto& l : lines) {
+    ASSERT_EQ(l.size(), 21u) << l;
+    EXPECT_EQ(l.substr(0, 5), "t1008") << l;
+  }
+  // The last summary: 16 x 3.700 V = 59.20 V in 10 mV, data valid, both paths on, no fault.
+  const std::string& last = lines.back();
+  EXPECT_EQ(last.substr(5, 4), "2017");  // 5920 = 0x1720, little-endian
+  const int flags = std::stoi(last.substr(15, 2), nullptr, 16);
+  EXPECT_EQ(flags & 0x0F, 0x0B);  // ChargeFet, DischargeFet, DataValid
+  EXPECT_EQ(last.substr(17, 4), "0000");
+}
+
+TEST(L1306App, OvervoltageOpensBothPathsThroughTheDeviceWithinAScanPeriod) {
+  L1306 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  b.bus.clearWireLog();
+  b.emu.setCellMv(5, 4300);  // above the firmware limit (4250 mV), below the device's own COV
+  b.h.runFor(fw::ms(250));
+  EXPECT_EQ(b.count("S 10 3E 95 00"), 1u) << "ALL_FETS_OFF";
+  EXPECT_FALSE(b.app.status().chargeOn);
+  EXPECT_FALSE(b.app.status().dischargeOn);
+  EXPECT_NE(b.app.status().active & fw::app::bit(fw::app::FaultId::CellOvervoltage), 0);
+  const auto lines = b.lines();
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines.back().substr(17, 4), "0100");  // ActiveFaults bit 0, little-endian
+}
+
+TEST(L1306App, AlertOpensThePathsWithoutWaitingForAScan) {
+  L1306 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  b.bus.clearWireLog();
+  const uint64_t t0 = b.h.nowUs();
+  b.alert.drive(false);  // the device asserts ALERT
+  // The command goes out as soon as the bus is free (after the scan in progress, if any), long before the
+  // next scan would tell.
+  ASSERT_TRUE(b.h.runUntil([&] { return b.count("S 10 3E 95 00") != 0; }, fw::ms(10)));
+  EXPECT_LT(b.h.nowUs() - t0, 5000u) << "fault line to FET-off command without waiting for a scan period";
+}
+
+TEST(L1306App, TheDriverHasNoConfigurationPaths) {
+  L1306 b;
+  b.h.runFor(fw::ms(1000));
+  // Link operations the configure and balance operations need are refused rather than sent half-built.
+  b769::Link& link = const_cast<b769::Bq769x2&>(b.app.monitor().driver()).link();
+  ASSERT_TRUE(b.h.runUntil([&] { return !link.busy(); }, fw::ms(100)));  // between two scans
+  const uint8_t data[1] = {0x53};
+  EXPECT_EQ(link.startSubcommandWrite(0x9278, data), fw::Status::InvalidArgument);
+  EXPECT_EQ(link.startRead(0x12, 2, 0, fw::us(250)), fw::Status::InvalidArgument);
+  const b769::Setting one[] = {{0x9278, 1, 83}};
+  b769::Bq769x2& driver = const_cast<b769::Bq769x2&>(b.app.monitor().driver());
+  EXPECT_EQ(driver.startConfigure(one), fw::Status::InvalidArgument);
+  EXPECT_EQ(driver.startBalance(0x0001), fw::Status::InvalidArgument);
+}
+
+}  // namespace
