@@ -1,6 +1,7 @@
-// Reset handler for both MSPM0 parts: paint the stack guard, copy .data, zero .bss, run constructors, call
-// main. The vector tables are per chip (vectors_mspm0l1306.cpp, vectors_mspm0g3507.cpp); the symbols come
-// from linker/mspm0.ld.
+// Reset handler for both MSPM0 parts: paint the stack guard, copy .data, zero .bss, call main. No
+// constructors: every global of the images is constant-initialized (the link fails on an .init_array
+// entry, linker/mspm0_sections.ld), and what needs run-time set-up is built in main(). The vector tables are
+// per chip (vectors_mspm0l1306.cpp, vectors_mspm0g3507.cpp); the symbols come from linker/mspm0.ld.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -11,8 +12,6 @@
 extern "C" {
 extern uint32_t __data_load__, __data_start__, __data_end__, __bss_start__, __bss_end__;
 extern uint32_t __stack_limit__[];
-extern void (*__init_array_start)();
-extern void (*__init_array_end)();
 int main();
 [[noreturn]] void Reset_Handler();
 }
@@ -30,8 +29,6 @@ extern "C" void Reset_Handler() {
   };
   memcpy(&__data_start__, &__data_load__, bytes(__data_start__, __data_end__));
   memset(&__bss_start__, 0, bytes(__bss_start__, __bss_end__));
-  for (void (**ctor)() = &__init_array_start; ctor < &__init_array_end; ++ctor)
-    (*ctor)();
   main();
   fw::onFault(fw::Module::Bsp, static_cast<uint16_t>(__LINE__));  // main() never returns
 }

@@ -5,12 +5,11 @@
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler);
 
-namespace {
-fw::sched::Scheduler scheduler(image::board().clock);
-}
-
 int main() {
   image::bringUp();
+  // The scheduler lives in this frame, which never ends: no global needs a constructor at start-up (the
+  // reset handler runs none; linker/mspm0_sections.ld refuses any).
+  fw::sched::Scheduler scheduler(image::board().clock);
   appInit(image::board(), scheduler);
   scheduler.superviseWatchdog(image::board().watchdog, image::kWatchdogWindow);
   scheduler.run();
