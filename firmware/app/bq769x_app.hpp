@@ -38,10 +38,16 @@
 #ifndef FW_BQ769X_CONFIG_UPDATE
 #define FW_BQ769X_CONFIG_UPDATE 1
 #endif
+// Bq769xAppConfig::faultIndicator is built unless FW_BQ769X_FAULT_INDICATOR is 0 (the L1306 boards, which
+// have no fault output).
+#ifndef FW_BQ769X_FAULT_INDICATOR
+#define FW_BQ769X_FAULT_INDICATOR 1
+#endif
 
 namespace fw::app {
 
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
+inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 
@@ -56,6 +62,9 @@ struct Bq769xAppConfig {
   drivers::bq769x2::MonitorConfig monitor{};
   Duration scanPeriod = ms(100);
   Duration retryInterval = s(1);
+  // Driven high while protection holds a path off, low while both are on (the G3507 image's fault output,
+  // PB26); nullptr: none. The FETs stay the device's to switch: this pin only tells the outside.
+  hal::DigitalOut* faultIndicator = nullptr;
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -120,6 +129,13 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
                                         FetCommand::AllOff};
     f_.fetWanted = true;
     f_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
+    // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault
+    // it was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets)
+    // needs the command not to wait for a whole scan (~2 ms).
+    if (f_.op == Op::Scan) driver_.yieldScan();
+    f_.scanDue = true;
+    if (kFaultIndicator && config_.faultIndicator != nullptr)
+      config_.faultIndicator->set(!(chargeOn && dischargeOn));
     scheduler_.post(kId, kKick);
     return false;
   }
@@ -128,9 +144,10 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     // The driver's events are the two this task gave it (kBus, kTimer: the constructor's DriverContext).
     if ((events & (kBus | kTimer)) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
     if ((events & kAlert) != 0 && f_.phase == Phase::Running) {
+      // Protection (higher priority) runs next and asks for the FETs; nothing is started for the alert
+      // before it has, so the command goes first and the scan after it says which fault it was.
       if (kStats) ++r_.stats.alerts;
       scheduler_.post(kBq769xProtectionTask, ProtectionTask::kFaultLine);
-      f_.scanDue = true;  // the next scan, right after the FET command, says which fault it was
     }
     if ((events & kScanTick) != 0) {
       f_.scanDue = true;
@@ -214,6 +231,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       return;
     }
     if (op != Op::Scan) return;
+    if (result == Status::Aborted) return;  // gave way to a FET command (request()): not a measurement
     if (kStats) ++r_.stats.scans;
     sample_.attempted = true;
     sample_.last = result;

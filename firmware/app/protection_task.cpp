@@ -15,11 +15,11 @@ void ProtectionTask::run(sched::EventMask events) {
     status_.pendingCleared |= protection_.clearLatched();
   const ProtectionState st = protection_.evaluate(in, now);
   if (kStats) ++s_.evaluations;
-  apply(st, now);
+  apply(st, in.fresh, now);
   scheduler_.checkIn(id_);
 }
 
-inline void ProtectionTask::apply(const ProtectionState& st, Instant now) {
+inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant now) {
   status_.active = st.active;
   if (kCoreMessages) {  // what ProtectionEvent reports
     status_.pendingTripped |= st.newlyTripped;
@@ -30,6 +30,7 @@ inline void ProtectionTask::apply(const ProtectionState& st, Instant now) {
 
   const bool chargeOn = !st.chargeOff;
   const bool dischargeOn = !st.dischargeOff;
+  if (!s_.requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
   if (s_.requested && chargeOn == s_.chargeOn && dischargeOn == s_.dischargeOn && st.newlyTripped == 0)
     return;
   s_.requested = true;

@@ -88,8 +88,9 @@ class ProtectionTask final : public sched::Task {
         checkPeriod_(checkPeriod),
         protection_(config) {}
 
-  // Registers the task (watched by the watchdog supervisor) and arms its periodic check. Requests the paths
-  // on, as the startup state (no fault known yet).
+  // Registers the task (watched by the watchdog supervisor) and arms its periodic check. The first request
+  // to the actuator waits for the first fresh measurement or the first fault (stale data at the latest):
+  // until then the outputs stay as reset left them (a fault pin asserted, the monitor's FETs its own).
   void start() {
     scheduler_.addTask(id_, *this, {}, true);
     scheduler_.startTimer(s_.timer, id_, kTick, checkPeriod_, checkPeriod_);
@@ -105,8 +106,8 @@ class ProtectionTask final : public sched::Task {
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
-  inline void apply(const ProtectionState& st, Instant now);   // inline (.cpp): one caller, folded into it
-  inline void record(const ProtectionState& st, Instant now);  // the log's part of apply()
+  inline void apply(const ProtectionState& st, bool fresh, Instant now);  // inline (.cpp): one caller
+  inline void record(const ProtectionState& st, Instant now);             // the log's part of apply()
 
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.

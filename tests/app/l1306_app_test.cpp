@@ -17,7 +17,7 @@
 
 static_assert(!fw::app::kConfigUpdate && !fw::app::kCoreMessages && !fw::kStats &&
                   fw::app::ProtectionTask::kLogSize == 0 && !fw::app::kProtectionDelays &&
-                  !fw::drivers::bq769x2::kConfigPaths,
+                  !fw::drivers::bq769x2::kConfigPaths && !fw::app::kFaultIndicator,
               "built with the L1306 image options");
 
 namespace {
@@ -117,10 +117,13 @@ TEST(L1306App, AlertOpensThePathsWithoutWaitingForAScan) {
   b.bus.clearWireLog();
   const uint64_t t0 = b.h.nowUs();
   b.alert.drive(false);  // the device asserts ALERT
-  // The command goes out as soon as the bus is free (after the scan in progress, if any), long before the
-  // next scan would tell.
+  // The command goes out at the next read boundary of the scan in progress, if any, long before the next
+  // scan would tell: complete within the 2 ms budget (ARCHITECTURE.md).
   ASSERT_TRUE(b.h.runUntil([&] { return b.count("S 10 3E 95 00") != 0; }, fw::ms(10)));
-  EXPECT_LT(b.h.nowUs() - t0, 5000u) << "fault line to FET-off command without waiting for a scan period";
+  uint64_t done = 0;
+  for (const auto& r : b.bus.wireLog())
+    if (r.text.rfind("S 10 3E 95 00", 0) == 0) done = r.endUs;
+  EXPECT_LE(done - t0, 2000u) << "fault line to FET-off command complete";
 }
 
 TEST(L1306App, TheDriverHasNoConfigurationPaths) {

@@ -35,10 +35,11 @@ function(bms_image_info image)
   # (firmware/sched/scheduler.hpp).
   set(defines FW_SCHED_MAX_TASKS=3 FW_SCHED_BUDGETS=0 FW_PROTECTION_CLEAR_LATCHED=0 BSP_I2C_LISTS=0)
   if(image MATCHES "^lp-mspm0l1306-")
-    # No protection delays (the default limits use none).
-    list(APPEND defines FW_PROTECTION_DELAYS=0)
+    # No protection delays (the default limits use none), and no fault output pin on these boards.
+    list(APPEND defines FW_PROTECTION_DELAYS=0 FW_BQ769X_FAULT_INDICATOR=0)
     # Dropped to fit the 8 KiB budget (bsp/mspm0/README.md, "What the L1306 images leave out"): the SLCAN
-    # messages beyond PackSummary, ProtectionEvent and CellVoltages, and the start-up CONFIG_UPDATE.
+    # messages beyond PackSummary, ProtectionEvent and CellVoltages, the start-up CONFIG_UPDATE, and watchdog
+    # supervision.
     list(APPEND defines FW_PUBLISH_LEVEL=0 FW_BQ769X_CONFIG_UPDATE=0 FW_BQ769X_CONFIG_PATHS=0
          FW_WATCHDOG_SUPERVISION=0)
     # Diagnostics nothing in these images reads: the statistics counters and the protection event log.

@@ -64,6 +64,7 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
   s_.out = measurement;
   s_.bytes = 0;
   s_.restarted = false;
+  s_.yield = false;
   s_.scanRetries = link_.stats().retries;
   return begin(Op::Scan, link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len));
 }
@@ -178,6 +179,7 @@ inline void Monitor::probeStep(Status r) {
 
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
+  if (s_.yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
   s_.bytes = static_cast<uint8_t>(s_.bytes + v.blocks[s_.step].len);
   if (++s_.step < sizeof v.blocks / sizeof v.blocks[0]) {

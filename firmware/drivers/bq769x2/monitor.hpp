@@ -28,6 +28,8 @@
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
 //                         never stitched across a disturbance). Reserved bits set or a negative stack voltage
 //                         or temperature (what a released SDA reads: 0xFF) end it with Implausible.
+//                         yieldScan() makes a running scan end with Aborted instead of starting its next
+//                         read (the record is not written): a FET command need not wait for a whole scan.
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff. BQ769x2: the subcommands
 //                         ALL_FETS_ON 0x0096, ALL_FETS_OFF 0x0095, DSG_PDSG_OFF 0x0093, CHG_PCHG_OFF 0x0094.
 //                         BQ7690x: FET Control written from the intent (CHG_OFF bit 3, DSG_OFF bit 2,
@@ -233,6 +235,8 @@ class Monitor {
   Progress onEvent(sched::EventMask events);
 
   bool busy() const { return s_.op != Op::Idle; }
+  // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
+  void yieldScan() { s_.yield = true; }
   Status result() const { return s_.result; }
   FetIntent fetIntent() const { return s_.intent; }
   uint8_t written() const { return s_.written; }  // settings the last startConfigure wrote
@@ -295,6 +299,7 @@ class Monitor {
     FetCommand command;
     FetIntent intent;
     bool restarted;
+    bool yield;    // the scan ends at its next read boundary
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
     std::span<const Setting> settings;
     void* out;  // the probe's Identity, or the scan's measurement record

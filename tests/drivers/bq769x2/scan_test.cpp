@@ -174,3 +174,36 @@ TEST(Bq7690xScan, MeasurementSetOfTheBq76907InFourReads) {
 }
 
 }  // namespace
+
+namespace {
+
+// yieldScan(): the scan stops at the end of the read in progress (never mid-transfer), ends Aborted and
+// leaves the record as it was; the next scan is whole again.
+TEST(Bq769x2Scan, AYieldedScanEndsAbortedAtItsNextReadBoundaryWithoutWritingTheRecord) {
+  Rig r;
+  drv::Bq769x2Measurement m{};
+  m.takenAt = fw::Instant{12345};
+  ASSERT_EQ(r.driver.startScan(m), Status::Ok);
+  r.harness.runFor(fw::us(200));  // inside the first (50-byte) read
+  ASSERT_TRUE(r.driver.busy());
+  r.driver.yieldScan();
+  EXPECT_EQ(r.finish(Status::Ok), Status::Aborted);
+  EXPECT_EQ(r.count("S 10 0A Sr 11 ["), 1u) << r.wireText();
+  EXPECT_EQ(r.bus.transactions(), 1u) << "only the read in progress completed";
+  EXPECT_EQ(m.takenAt.us, 12345u) << "the record is not written";
+
+  EXPECT_EQ(r.scan(m), Status::Ok) << "the next scan is not affected";
+  EXPECT_EQ(r.bus.transactions(), 5u);
+  EXPECT_NE(m.takenAt.us, 12345u);
+}
+
+// Outside a scan it has no effect on the other operations.
+TEST(Bq769x2Scan, YieldScanDoesNotStopAFetCommand) {
+  Rig r;
+  ASSERT_EQ(r.driver.startFet(drv::FetCommand::AllOff), Status::Ok);
+  r.driver.yieldScan();
+  EXPECT_EQ(r.finish(Status::Ok), Status::Ok);
+  EXPECT_TRUE(r.driver.fetIntent().chargeOff && r.driver.fetIntent().dischargeOff);
+}
+
+}  // namespace

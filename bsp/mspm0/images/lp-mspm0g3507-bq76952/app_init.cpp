@@ -1,6 +1,6 @@
 // Application of the lp-mspm0g3507-bq76952 image: the BQ76952 monitor (probe, one CONFIG_UPDATE, FET enable,
-// scans), the firmware protection (FETs through the BQ76952) and CAN publishing
-// (firmware/app/bq769x_app.hpp).
+// scans), the firmware protection (FETs through the BQ76952, the fault output PB26 high while it holds a
+// path off) and CAN publishing (firmware/app/bq769x_app.hpp).
 #include "app/bq769x_app.hpp"
 #include "app/bq769x_settings.hpp"
 #include "board.hpp"
@@ -11,11 +11,12 @@ namespace {
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::CanPublisher>;
 
-const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76952Settings, 16};
-
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  static App app(scheduler, board.i2c, board.alert, board.can, kConfig);
+  // The board holds the fault output asserted from reset until protection first decides (bringUp()).
+  static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
+  config.faultIndicator = &board.faultOut;
+  static App app(scheduler, board.i2c, board.alert, board.can, config);
   app.start();
 }
