@@ -102,7 +102,7 @@ class Bq4050Sim final : public ImageSim {
   bsp::host::SimI2cBus bus_{h_.clock, h_.irq, {100000, fw::ms(25), fw::us(4)}};
   bsp::host::Bq4050Emulator emulator_;
   bsp::host::SimCan can_{h_.clock, h_.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut_{h_.clock, false};
+  bsp::host::SimDigitalOut faultOut_{h_.clock, true};  // the board asserts it from reset
   fw::app::Bq4050AppConfig config_;
   std::unique_ptr<fw::app::Bq4050App> app_;
   std::vector<int> truth_ = std::vector<int>(4, 3700);

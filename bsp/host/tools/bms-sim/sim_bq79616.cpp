@@ -21,7 +21,7 @@ class Bq79616Sim final : public ImageSim {
       : emulator_(h_.clock, uart_, static_cast<size_t>(o.devices)),
         nfault_(h_.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true),
         can_(h_.clock, h_.irq, 500000, 8),
-        faultOut_(h_.clock, false) {
+        faultOut_(h_.clock, true) {  // the board asserts it from reset
     uart_.attach(emulator_);
     emulator_.attachFaultPin(nfault_);
     config_.chain.devices = static_cast<uint8_t>(o.devices);

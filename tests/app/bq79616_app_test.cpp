@@ -1,0 +1,88 @@
+// The BQ79616 application as the lp-mspm0g3507-bq79616 image composes it (chain on a 1 Mbaud UART, nFAULT,
+// CAN out, fault output), on the host BSP against the chain emulator: the nFAULT fast path against its
+// budget (ARCHITECTURE.md: fault visible in the device -> action complete <= 2 ms on nFAULT) and the fault
+// output's start-up state.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "app/bq79616_app.hpp"
+#include "bq79616/chain_emulator.hpp"
+#include "sim/can.hpp"
+#include "sim/harness.hpp"
+#include "sim/peripherals.hpp"
+#include "sim/uart.hpp"
+
+namespace {
+
+struct G3507 {
+  static constexpr size_t kDevices = 2;
+  bsp::host::Harness h;
+  bsp::host::SimUart uart{h.clock, h.irq, 1000000};
+  bsp::host::Bq79616ChainEmulator emu{h.clock, uart, kDevices};
+  bsp::host::SimEdgeInput nfault{h.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true};
+  bsp::host::SimCan can{h.clock, h.irq, 500000, 8};
+  bsp::host::SimDigitalOut faultOut{h.clock, true};  // the board asserts it from reset
+  fw::app::Bq79616AppConfig config = [] {
+    fw::app::Bq79616AppConfig c;
+    c.chain.devices = kDevices;
+    return c;
+  }();
+  std::unique_ptr<fw::app::Bq79616Storage> storage = std::make_unique<fw::app::Bq79616Storage>();
+  fw::app::Bq79616App app{h.sched, fw::app::Bq79616App::Io{uart, nfault, can, faultOut}, config, *storage};
+
+  G3507() {
+    uart.attach(emu);
+    emu.attachFaultPin(nfault);
+    for (size_t d = 0; d < kDevices; ++d) {
+      for (int c = 1; c <= 16; ++c)
+        emu.setCellMicrovolts(d, c, 3700000);
+      for (int t = 1; t <= 2; ++t)
+        emu.setDieTempRaw(d, t, static_cast<int16_t>(2982 * 4 - 10926));  // 25 degC, 0.025 degC per LSB
+    }
+    app.start();
+  }
+  // When the fault output was last driven high at or after `fromUs`, or 0.
+  uint64_t assertedAt(uint64_t fromUs) const {
+    for (const auto& [t, level] : faultOut.history())
+      if (t >= fromUs && level) return t;
+    return 0;
+  }
+};
+
+TEST(Bq79616App, FaultOutputStaysAssertedUntilTheChainHasBeenMeasured) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_FALSE(b.faultOut.history().empty());
+  const auto [releasedAt, level] = b.faultOut.history().front();
+  EXPECT_FALSE(level);
+  EXPECT_GE(b.app.monitor().stats().scans, 1u);
+  // Released by the first evaluation with fresh data, not by a tick before any.
+  EXPECT_EQ(b.faultOut.history().size(), 1u);
+  std::printf("REPORT app.bq79616.fault_output_released_ms=%.1f (first fresh scan after bring-up)\n",
+              static_cast<double>(releasedAt) / 1000.0);
+}
+
+// nFAULT may fall at any point of the scan period, including during a scan's frames.
+TEST(Bq79616App, NfaultToFaultOutputWithinTwoMillisecondsWhereverTheScanIs) {
+  uint64_t worst = 0;
+  for (uint64_t offset = 0; offset < 3000; offset += 100) {
+    G3507 b;
+    b.h.runFor(fw::ms(1000));
+    ASSERT_FALSE(b.faultOut.level());
+    b.h.runFor(fw::us(static_cast<uint32_t>(offset)));
+    const uint64_t t0 = b.h.nowUs();
+    b.nfault.drive(false);
+    ASSERT_TRUE(b.h.runUntil([&] { return b.faultOut.level(); }, fw::ms(20))) << "offset " << offset;
+    const uint64_t took = b.assertedAt(t0) - t0;
+    worst = std::max(worst, took);
+    EXPECT_LE(took, 2000u) << "nFAULT " << offset << " us into the scan period";
+  }
+  std::printf(
+      "REPORT app.bq79616.nfault_to_fault_output_worst_us=%llu of virtual time (budget 2000; the host does "
+      "not model CPU time, only bus and wire time)\n",
+      static_cast<unsigned long long>(worst));
+}
+
+}  // namespace
