@@ -73,13 +73,13 @@ function(bms_image_info image)
     else()
       set(uart UART0_IRQHandler:15)
     endif()
-    set(row mspm0g3507 g3507_uart_can 2048 12288 16384 "ARCHITECTURE.md (flash), SRAM provisional"
+    set(row mspm0g3507 g3507_can 2048 12288 16384 "ARCHITECTURE.md (flash), SRAM provisional"
         "GROUP1_IRQHandler:1;CANFD0_IRQHandler:6;${uart};TIMG0_IRQHandler:16;TIMG6_IRQHandler:17")
   elseif(image STREQUAL "lp-mspm0g3507-bq4050")
-    set(row mspm0g3507 g3507_i2c_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
+    set(row mspm0g3507 g3507_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
         "${g3507_i2c_irqs}")
   elseif(image STREQUAL "lp-mspm0g3507-bq76952")
-    set(row mspm0g3507 g3507_i2c_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
+    set(row mspm0g3507 g3507_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
         "${g3507_i2c_irqs}")
   else()
     message(FATAL_ERROR "unknown MSPM0 image '${image}' (known: ${BMS_MSPM0_IMAGES})")

@@ -28,8 +28,8 @@
 #define BMS_BOARD_LED_BUTTON 0
 #endif
 // The watchdog and the scheduler's supervision of it (with the stack guard check each feed makes) are built
-// unless FW_WATCHDOG_SUPERVISION is 0 (images.cmake: an image short of flash may leave them out; main.cpp
-// then runs the scheduler unsupervised).
+// unless FW_WATCHDOG_SUPERVISION is 0 (images.cmake: an image short of flash may leave them out;
+// common/main.cpp then runs the scheduler unsupervised).
 #ifndef FW_WATCHDOG_SUPERVISION
 #define FW_WATCHDOG_SUPERVISION 1
 #endif

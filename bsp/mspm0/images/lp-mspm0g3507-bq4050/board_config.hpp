@@ -1,4 +1,4 @@
-// Board settings of the lp-mspm0g3507-bq4050 image (read by images/common/board_g3507_i2c_can.cpp).
+// Board settings of the lp-mspm0g3507-bq4050 image (read by images/common/board_g3507_can.cpp).
 #pragma once
 
 #include <cstdint>

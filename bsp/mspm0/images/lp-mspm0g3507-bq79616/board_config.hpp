@@ -1,8 +1,11 @@
-// Board settings of the lp-mspm0g3507-bq79616 image (read by images/common/board_g3507_uart_can.cpp). The
+// Board settings of the lp-mspm0g3507-bq79616 image (read by images/common/board_g3507_can.cpp). The
 // UART instance and pins are chosen by the CMake cache variable BMS_BQ79616_UART (see the board header).
 #pragma once
 
 #include <cstdint>
+
+// The monitor is a BQ79616 chain on a UART, not a device on I2C0 (board_g3507_can.hpp).
+#define BMS_BOARD_MONITOR_ON_UART 1
 
 namespace image::config {
 

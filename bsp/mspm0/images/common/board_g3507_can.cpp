@@ -1,17 +1,21 @@
-// Board instance and interrupt glue of the LP-MSPM0G3507 BQ79616 image: every driver object is built at
-// compile time (constinit) from the chip facts and the image's board_config.hpp.
-#include "board_g3507_uart_can.hpp"
-#include "board_config.hpp"
+// Board instance and interrupt glue of the LP-MSPM0G3507 CAN images: every driver object is built at
+// compile time (constinit) from the chip facts and the image's board_config.hpp. The monitor link (I2C0 or
+// the BQ79616 UART) is the only part that differs between the images.
+#include "board_g3507_can.hpp"
 #include "chip/mspm0g3507.hpp"
 #include "gpio.hpp"
 #include "mcan.hpp"
 #include "regs/cpuss.hpp"
 #include "regs/timg.hpp"
-#include "regs/uart.hpp"
 #include "sysclock.hpp"
 #include "timg_clock.hpp"
-#include "uart_link.hpp"
 #include "watchdog.hpp"
+#if BMS_BOARD_MONITOR_ON_UART
+#include "regs/uart.hpp"
+#include "uart_link.hpp"
+#else
+#include "i2c.hpp"
+#endif
 
 extern "C" uint32_t __stack_limit__[];
 
@@ -21,6 +25,7 @@ namespace {
 using Chip = bsp::mspm0::chip::Mspm0g3507;
 using namespace bsp::mspm0;
 
+#if BMS_BOARD_MONITOR_ON_UART
 // The BQ79616 UART is a board setting (CMake BMS_BQ79616_UART): seed 001 wires UART0 PA10/PA11, TI's SDK
 // example UART1 PA8/PA9.
 #if defined(BMS_BQ79616_UART1) && BMS_BQ79616_UART1
@@ -44,16 +49,22 @@ struct Link {
   static constexpr uint8_t kTxTrigger = Chip::kDmaTrigUart0Tx;
 };
 #endif
-
-constinit TimgClock clock({Chip::kTimg0, Chip::kIrqTimg0, reg::timg::prescalerFor1MHz(kBusClockHz)});
-constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
-constinit UartLink link(
+constinit UartLink monitorLink(
     {Link::kBase, Link::kIrq,
      static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kBq79616Baud)), config::kBq79616Baud,
      Link::kTx, Link::kRx, DmaChannel{Chip::kDma, 0, Link::kRxTrigger},
      DmaChannel{Chip::kDma, 1, Link::kTxTrigger},
      TimgOneShot::Config{Chip::kTimg6, Chip::kIrqTimg6, reg::timg::prescalerFor1MHz(kBusClockHz)}});
-constinit GpioEdgeInput nfault(Chip::kPb0, Edge::Falling, Pull::Up);
+#else
+constexpr I2cTiming kI2cTiming = i2cTiming(kBusClockHz, config::kI2cBitRate, config::kI2cStretchLimitUs);
+static_assert(kI2cTiming.valid, "no I2C clock divider gives this bit rate and stretch limit");
+constinit I2cController monitorLink({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chip::kI2c0SclPa1,
+                                     config::kI2cBitRate, kI2cTiming});
+#endif
+
+constinit TimgClock clock({Chip::kTimg0, Chip::kIrqTimg0, reg::timg::prescalerFor1MHz(kBusClockHz)});
+constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
+constinit GpioEdgeInput monitorSignal(Chip::kPb0, Edge::Falling, Pull::Up);  // ALERT or nFAULT
 #if BMS_BOARD_LED_BUTTON
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);
@@ -64,11 +75,12 @@ constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 #if BMS_BOARD_LED_BUTTON
-GpioEdgeInput* const kEdgeInputs[] = {&nfault, &button};
-constinit Board instance{clock, watchdog, link, nfault, faultOut, can, fw::Status::NotReady, button, led};
+GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal, &button};
+constinit Board instance{clock,  watchdog, monitorLink, monitorSignal, faultOut, can, fw::Status::NotReady,
+                         button, led};
 #else
-GpioEdgeInput* const kEdgeInputs[] = {&nfault};
-constinit Board instance{clock, watchdog, link, nfault, faultOut, can, fw::Status::NotReady};
+GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal};
+constinit Board instance{clock, watchdog, monitorLink, monitorSignal, faultOut, can, fw::Status::NotReady};
 #endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
 
@@ -88,8 +100,8 @@ void bringUp() {
   button.init();
 #endif
   clock.start();
-  link.init();
-  nfault.init();
+  monitorLink.init();
+  monitorSignal.init();
   const fw::Status hfxt = startHfxt(Chip::kHfxinPa5, Chip::kHfxoutPa6);
   instance.canStatus = hfxt == fw::Status::Ok ? can.init() : hfxt;
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);
@@ -102,12 +114,18 @@ extern "C" {
 void TIMG0_IRQHandler() {
   image::clock.onInterrupt();
 }
+#if BMS_BOARD_MONITOR_ON_UART
 void TIMG6_IRQHandler() {
-  image::link.onTimerInterrupt();
+  image::monitorLink.onTimerInterrupt();
 }
 void BMS_BQ79616_UART_IRQ_HANDLER() {
-  image::link.onUartInterrupt();
+  image::monitorLink.onUartInterrupt();
 }
+#else
+void I2C0_IRQHandler() {
+  image::monitorLink.onInterrupt();
+}
+#endif
 void CANFD0_IRQHandler() {
   image::can.onInterrupt();
 }
