@@ -237,7 +237,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       break;
     case kEvent:
       v[0] = status_.active, v[1] = status_.pendingTripped, v[2] = status_.pendingCleared;
-      v[3] = status_.commErrors;
+      v[3] = pack_.commErrors;
       break;
     case kCells:
     case kTemps: {

@@ -70,6 +70,10 @@ struct PackView {
   bool hasCurrent = false;      // pack-level values, valid with board 0's measurement
   bool deviceFault = false;     // a monitor reports a tripped protection of its own
   uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
+  // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
+  // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
+  // not publish it (FW_PUBLISH_LEVEL 0).
+  uint16_t commErrors = 0;
   int32_t currentMa = 0;
   std::span<const BoardSample> boards{};
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
@@ -80,7 +84,9 @@ struct PackView {
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
 };
 
-// Recomputes view.totals from the boards whose last attempt validated; `scanEnd` is when the scan ended.
+// Recomputes view.totals from the boards whose last attempt validated, and counts the boards whose last
+// attempt failed into view.commErrors; `scanEnd` is when the scan ended. Monitors call it exactly once per
+// scan, after recording every board's attempt.
 void summarize(PackView& view, Instant scanEnd);
 
 constexpr BoardStatus boardStatus(const BoardSample& b, Instant now, Duration staleAfter) {

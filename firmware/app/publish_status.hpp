@@ -26,7 +26,6 @@ struct PublishStatus {
   bool chargeOn = false;         // the charge path is enabled (FET on / fault output released)
   bool dischargeOn = false;
   bool faultOutput = false;
-  uint16_t commErrors = 0;  // failed monitor transactions, saturating
 };
 
 }  // namespace fw::app

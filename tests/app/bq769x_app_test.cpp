@@ -9,6 +9,7 @@
 #include "app/bq769x_app.hpp"
 #include "app/bq769x_settings.hpp"
 #include "bq769x2/emulator.hpp"
+#include "can/bms.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"
 #include "sim/i2c_bus.hpp"
@@ -69,6 +70,31 @@ TEST(Bq769xApp, FaultOutputStaysAssertedWhileTheDeviceNeverAnswers) {
   EXPECT_TRUE(b.faultOut.level());
   for (const auto& [t, level] : b.faultOut.history())
     EXPECT_TRUE(level) << "released at " << t << " us without a measurement";
+}
+
+// A device that stops answering: every failed scan is one failed board measurement (three in a row, then the
+// monitor probes instead of scanning), and the ProtectionEvent frames the comm-loss fault brings out say how
+// many there have been.
+TEST(Bq769xApp, ProtectionEventCountsTheFailedMeasurements) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  ASSERT_EQ(b.app.monitor().stats().scanFailures, 0u);
+  const size_t before = b.can.sent().size();
+  b.emu.setMuted(true);
+  b.h.runFor(fw::ms(1500));
+  const uint32_t failures = b.app.monitor().stats().scanFailures;
+  ASSERT_GE(failures, 3u);
+  std::vector<uint16_t> counts;
+  for (size_t i = before; i < b.can.sent().size(); ++i) {
+    const auto& f = b.can.sent()[i].frame;
+    if (f.id == fw::can::bms::ProtectionEvent::kId)
+      counts.push_back(fw::can::bms::ProtectionEvent::unpack(f).commErrors);
+  }
+  ASSERT_FALSE(counts.empty()) << "comm loss trips a fault, which brings out ProtectionEvent";
+  EXPECT_TRUE(std::is_sorted(counts.begin(), counts.end()));
+  EXPECT_EQ(counts.back(), failures);
+  EXPECT_EQ(b.app.pack().commErrors, failures);
 }
 
 // ALERT may come at any point of a scan. Swept over one scan period in 50 us steps, the FET-off command

@@ -134,6 +134,32 @@ TEST(FramePlan, AFailedBoardGoesOutWithItsStatusAndNoValues) {
   EXPECT_EQ(bms::CellExtremes::unpack(frames[1]).maxCellVoltage, 3015) << "extremes only over valid boards";
 }
 
+TEST(FramePlan, ProtectionEventCountsEveryFailedBoardMeasurementAndSaturates) {
+  Pack p;
+  EXPECT_EQ(p.view.commErrors, 0);
+  p.boards[1].last = fw::Status::NoResponse;
+  p.scanned(100);  // board 1 failed: 1
+  p.boards[0].last = fw::Status::Crc;
+  p.scanned(200);  // both failed: 3
+  p.boards[0].last = p.boards[1].last = fw::Status::Ok;
+  p.scanned(300);  // none failed: still 3
+  p.status.pendingTripped = 0x0001;
+  p.plan.beginFast();
+  auto frames = p.drain(300);
+  ASSERT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x103}));
+  EXPECT_EQ(bms::ProtectionEvent::unpack(frames[2]).commErrors, 3);
+
+  p.view.commErrors = 65534;
+  p.boards[0].last = p.boards[1].last = fw::Status::Timeout;
+  p.scanned(400);
+  p.scanned(500);
+  p.status.pendingTripped = 0x0001;
+  p.plan.beginFast();
+  frames = p.drain(500);
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(bms::ProtectionEvent::unpack(frames[2]).commErrors, 65535) << "saturates, never wraps to 0";
+}
+
 TEST(FramePlan, StaleDataIsNeverSentAsCurrent) {
   Pack p;  // scanned at 0 ms; stale after 300 ms
   p.plan.beginSlow();
