@@ -30,30 +30,17 @@ using namespace bsp::mspm0;
 // example UART1 PA8/PA9.
 #if defined(BMS_BQ79616_UART1) && BMS_BQ79616_UART1
 #define BMS_BQ79616_UART_IRQ_HANDLER UART1_IRQHandler
-struct Link {
-  static constexpr uintptr_t kBase = Chip::kUart1;
-  static constexpr uint8_t kIrq = Chip::kIrqUart1;
-  static constexpr PinFunction kTx = Chip::kUart1TxPa8;
-  static constexpr PinFunction kRx = Chip::kUart1RxPa9;
-  static constexpr uint8_t kRxTrigger = Chip::kDmaTrigUart1Rx;
-  static constexpr uint8_t kTxTrigger = Chip::kDmaTrigUart1Tx;
-};
+constexpr bool kUart1 = true;
 #else
 #define BMS_BQ79616_UART_IRQ_HANDLER UART0_IRQHandler
-struct Link {
-  static constexpr uintptr_t kBase = Chip::kUart0;
-  static constexpr uint8_t kIrq = Chip::kIrqUart0;
-  static constexpr PinFunction kTx = Chip::kUart0TxPa10;
-  static constexpr PinFunction kRx = Chip::kUart0RxPa11;
-  static constexpr uint8_t kRxTrigger = Chip::kDmaTrigUart0Rx;
-  static constexpr uint8_t kTxTrigger = Chip::kDmaTrigUart0Tx;
-};
+constexpr bool kUart1 = false;
 #endif
 constinit UartLink monitorLink(
-    {Link::kBase, Link::kIrq,
+    {kUart1 ? Chip::kUart1 : Chip::kUart0, kUart1 ? Chip::kIrqUart1 : Chip::kIrqUart0,
      static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kBq79616Baud)), config::kBq79616Baud,
-     Link::kTx, Link::kRx, DmaChannel{Chip::kDma, 0, Link::kRxTrigger},
-     DmaChannel{Chip::kDma, 1, Link::kTxTrigger},
+     kUart1 ? Chip::kUart1TxPa8 : Chip::kUart0TxPa10, kUart1 ? Chip::kUart1RxPa9 : Chip::kUart0RxPa11,
+     DmaChannel{Chip::kDma, 0, kUart1 ? Chip::kDmaTrigUart1Rx : Chip::kDmaTrigUart0Rx},
+     DmaChannel{Chip::kDma, 1, kUart1 ? Chip::kDmaTrigUart1Tx : Chip::kDmaTrigUart0Tx},
      TimgOneShot::Config{Chip::kTimg6, Chip::kIrqTimg6, reg::timg::prescalerFor1MHz(kBusClockHz)}});
 #else
 constexpr I2cTiming kI2cTiming = i2cTiming(kBusClockHz, config::kI2cBitRate, config::kI2cStretchLimitUs);
