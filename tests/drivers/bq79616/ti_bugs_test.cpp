@@ -24,7 +24,7 @@ TEST(Bq79616TiBugs, ResponseCrcIsAlwaysChecked) {
   EXPECT_EQ(rig.records[1].cellRaw[15], 0);
 }
 
-// TI: DL_UART_receiveDataBlocking without a timeout: one missing board hangs the MCU for ever.
+// TI: the UART receive blocks with no timeout: one missing board hangs the MCU for ever.
 TEST(Bq79616TiBugs, NoReceiveIsUnbounded) {
   ChainRig rig(2, test::configFor(3));  // configured for 3, only 2 there
   EXPECT_EQ(rig.bringUp(), Status::CommFault);
