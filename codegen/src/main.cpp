@@ -41,17 +41,11 @@ constexpr const char* kUsage =
     "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
     "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
 
-bool readFile(const std::string& path, std::string& text) {
-  if (path == "-") {
-    std::ostringstream ss;
-    ss << std::cin.rdbuf();
-    text = ss.str();
-    return true;
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+// A file's text, or standard input's for "-".
+bool readInput(const std::string& path, std::string& text) {
+  if (path != "-") return readFile(path, text);
   std::ostringstream ss;
-  ss << in.rdbuf();
+  ss << std::cin.rdbuf();
   text = ss.str();
   return true;
 }
@@ -60,7 +54,7 @@ bool readFile(const std::string& path, std::string& text) {
 bool load(const std::vector<std::string>& files, Sources& sources, Model& model) {
   for (const std::string& f : files) {
     std::string text;
-    if (!readFile(f, text)) {
+    if (!readInput(f, text)) {
       std::cerr << "regmapgen: error: cannot read " << f << "\n";
       return false;
     }
@@ -178,7 +172,7 @@ int cmdImport(const std::vector<std::string>& args) {
     return 2;
   }
   std::string text;
-  if (!readFile(file, text)) {
+  if (!readInput(file, text)) {
     std::cerr << "regmapgen: error: cannot read " << file << "\n";
     return 1;
   }
@@ -206,7 +200,7 @@ int cmdCan(const std::vector<std::string>& args) {
     return 2;
   }
   std::string text;
-  if (!readFile(file, text)) {
+  if (!readInput(file, text)) {
     std::cerr << "regmapgen: error: cannot read " << file << "\n";
     return 1;
   }

@@ -4,14 +4,10 @@
 #include <cstdio>
 #include <sstream>
 
+#include "model/names.hpp"
+
 namespace regmapgen::can {
 namespace {
-
-std::string hex(uint32_t v) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%X", v);
-  return buf;
-}
 
 std::string lowerFirst(std::string s) {
   if (!s.empty() && s[0] >= 'A' && s[0] <= 'Z') s[0] = static_cast<char>(s[0] - 'A' + 'a');
@@ -45,8 +41,13 @@ std::string itemName(const Signal& s, uint32_t i) {
   return s.name + buf;
 }
 
+// The id a DBC file gives a message: bit 31 marks an extended id.
+uint32_t dbcId(const Message& m) {
+  return m.id | (m.extended ? 0x80000000U : 0U);
+}
+
 void dbcSignal(std::ostringstream& out, const Signal& s, const std::string& name, const std::string& muxTag,
-               uint32_t start, const std::string& node) {
+               uint32_t start) {
   const double rawMin = s.isSigned ? -std::ldexp(1.0, static_cast<int>(s.length) - 1) : 0.0;
   const double rawMax = s.isSigned ? std::ldexp(1.0, static_cast<int>(s.length) - 1) - 1
                                    : std::ldexp(1.0, static_cast<int>(s.length)) - 1;
@@ -55,8 +56,7 @@ void dbcSignal(std::ostringstream& out, const Signal& s, const std::string& name
   if (lo > hi) std::swap(lo, hi);
   out << " SG_ " << name << (muxTag.empty() ? "" : " " + muxTag) << " : " << start << "|" << s.length << "@"
       << (s.bigEndian ? "0" : "1") << (s.isSigned ? "-" : "+") << " (" << s.factor << "," << s.offset << ") ["
-      << number(lo) << "|" << number(hi) << "] \"" << escape(s.unit) << "\" " << node << "\n";
-  (void)node;
+      << number(lo) << "|" << number(hi) << "] \"" << escape(s.unit) << "\" Vector__XXX\n";
 }
 
 }  // namespace
@@ -78,11 +78,11 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
       << "inline constexpr uint32_t kBitrate = " << cat.bitrate << ";\n\n";
   for (const Message& m : cat.messages) {
     if (!m.description.empty()) out << "// " << m.description << "\n";
-    out << "// " << m.layout << " layout, id " << hex(m.id) << (m.extended ? " (extended)" : "") << ", "
-        << m.dlc << " bytes, " << (m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms" : "on event")
-        << "\n";
+    out << "// " << m.layout << " layout, id " << hexAddress(m.id) << (m.extended ? " (extended)" : "")
+        << ", " << m.dlc << " bytes, "
+        << (m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms" : "on event") << "\n";
     out << "struct " << m.name << " {\n"
-        << "  static constexpr uint32_t kId = " << hex(m.id) << ";\n"
+        << "  static constexpr uint32_t kId = " << hexAddress(m.id) << ";\n"
         << "  static constexpr bool kExtended = " << (m.extended ? "true" : "false") << ";\n"
         << "  static constexpr uint8_t kDlc = " << m.dlc << ";\n"
         << "  static constexpr uint32_t kCycleMs = " << m.cycleMs << ";\n"
@@ -150,46 +150,41 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
   std::ostringstream comments, values;
   for (const Message& m : cat.messages) {
     if (m.layout != layout) continue;
-    const uint32_t dbcId = m.id | (m.extended ? 0x80000000U : 0U);
-    out << "BO_ " << dbcId << " " << m.name << ": " << m.dlc << " " << cat.node << "\n";
+    const uint32_t id = dbcId(m);
+    out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << cat.node << "\n";
     const Signal* mux = m.multiplexer();
     for (const Signal& s : m.signals) {
+      auto comment = [&](const std::string& name) {
+        if (!s.description.empty())
+          comments << "CM_ SG_ " << id << " " << name << " \"" << escape(s.description) << "\";\n";
+      };
       if (s.multiplexer) {
-        dbcSignal(out, s, s.name, "M", s.start, "Vector__XXX");
+        dbcSignal(out, s, s.name, "M", s.start);
       } else if (s.total > 0 && mux != nullptr) {
         for (uint32_t i = 0; i < s.total; ++i) {
-          dbcSignal(out, s, itemName(s, i), "m" + std::to_string(i / s.count), s.slotStart(i % s.count),
-                    "Vector__XXX");
-          if (!s.description.empty()) {
-            comments << "CM_ SG_ " << dbcId << " " << itemName(s, i) << " \"" << escape(s.description)
-                     << "\";\n";
-          }
+          dbcSignal(out, s, itemName(s, i), "m" + std::to_string(i / s.count), s.slotStart(i % s.count));
+          comment(itemName(s, i));
         }
         continue;
       } else if (s.count > 1) {
         for (uint32_t k = 0; k < s.count; ++k) {
-          dbcSignal(out, s, itemName(s, k), "", s.slotStart(k), "Vector__XXX");
-          if (!s.description.empty()) {
-            comments << "CM_ SG_ " << dbcId << " " << itemName(s, k) << " \"" << escape(s.description)
-                     << "\";\n";
-          }
+          dbcSignal(out, s, itemName(s, k), "", s.slotStart(k));
+          comment(itemName(s, k));
         }
         continue;
       } else {
-        dbcSignal(out, s, s.name, "", s.start, "Vector__XXX");
+        dbcSignal(out, s, s.name, "", s.start);
       }
-      if (!s.description.empty()) {
-        comments << "CM_ SG_ " << dbcId << " " << s.name << " \"" << escape(s.description) << "\";\n";
-      }
+      comment(s.name);
       if (!s.values.empty()) {
-        values << "VAL_ " << dbcId << " " << s.name;
+        values << "VAL_ " << id << " " << s.name;
         for (const auto& [raw, text] : s.values)
           values << " " << raw << " \"" << escape(text) << "\"";
         values << " ;\n";
       }
     }
     out << "\n";
-    if (!m.description.empty()) comments << "CM_ BO_ " << dbcId << " \"" << escape(m.description) << "\";\n";
+    if (!m.description.empty()) comments << "CM_ BO_ " << id << " \"" << escape(m.description) << "\";\n";
   }
   out << "CM_ \"Generated by regmapgen can from " << sourcePath << " (" << layout
       << " layout). Do not edit.\";\n"
@@ -197,8 +192,7 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
       << "BA_DEF_DEF_ \"GenMsgCycleTime\" 0;\n";
   for (const Message& m : cat.messages) {
     if (m.layout != layout || m.cycleMs == 0) continue;
-    out << "BA_ \"GenMsgCycleTime\" BO_ " << (m.id | (m.extended ? 0x80000000U : 0U)) << " " << m.cycleMs
-        << ";\n";
+    out << "BA_ \"GenMsgCycleTime\" BO_ " << dbcId(m) << " " << m.cycleMs << ";\n";
   }
   out << values.str();
   return out.str();

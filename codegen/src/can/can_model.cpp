@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
 #include <set>
 
 #include "model/model.hpp"
+#include "model/names.hpp"
 #include "yaml/yaml.hpp"
 
 namespace regmapgen::can {
@@ -13,9 +13,9 @@ namespace {
 
 using yaml::Node;
 
-bool isIdentifier(const std::string& s) {
-  static const std::regex re(R"([A-Za-z][A-Za-z0-9_]*)");
-  return std::regex_match(s, re);
+// [A-Za-z][A-Za-z0-9_]*: a C++ identifier that does not start with '_'.
+bool isCanIdentifier(const std::string& s) {
+  return isIdentifier(s) && s[0] != '_';
 }
 
 // Reports keys of `map` that are not in `allowed`, and missing keys of `required`.
@@ -69,7 +69,7 @@ Signal buildSignal(const Node& node, const std::string& where, Diagnostics& diag
             {"name", "start", "length"}, "signal of " + where, diag);
   s.name = text(node.find("name"));
   const std::string what = "signal '" + s.name + "' of " + where;
-  if (!s.name.empty() && !isIdentifier(s.name))
+  if (!s.name.empty() && !isCanIdentifier(s.name))
     diag.error(node.find("name")->loc, what + ": not an identifier");
   if (auto v = integer(node.find("start"), what + " start", diag)) {
     if (*v < 0 || *v > 63) diag.error(node.find("start")->loc, what + ": start bit must be 0..63");
@@ -228,7 +228,7 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
   checkKeys(root, {"catalogue", "bitrate", "node", "messages"}, {"catalogue", "messages"}, "the catalogue",
             diag);
   cat.name = text(root.find("catalogue"));
-  if (!cat.name.empty() && !isIdentifier(cat.name)) {
+  if (!cat.name.empty() && !isCanIdentifier(cat.name)) {
     diag.error(root.find("catalogue")->loc, "catalogue name must be an identifier");
   }
   if (auto v = integer(root.find("bitrate"), "bitrate", diag)) cat.bitrate = static_cast<uint32_t>(*v);
@@ -253,7 +253,7 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     const std::string where = "message '" + m.name + "'";
     checkKeys(node, {"name", "id", "extended", "layout", "dlc", "cycle_ms", "description", "signals"},
               {"name", "id", "signals"}, m.name.empty() ? "a message" : where, diag);
-    if (!m.name.empty() && !isIdentifier(m.name))
+    if (!m.name.empty() && !isCanIdentifier(m.name))
       diag.error(node.find("name")->loc, where + ": not an identifier");
     if (!m.name.empty() && !names.emplace(m.name, node.loc).second) {
       diag.error(node.find("name")->loc, "duplicate message name '" + m.name + "'");
@@ -267,7 +267,7 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
       m.id = static_cast<uint32_t>(std::clamp<int64_t>(*v, 0, limit));
     }
     if (const Node* l = node.find("layout")) m.layout = l->text;
-    if (!isIdentifier(m.layout)) diag.error(node.loc, where + ": layout must be an identifier");
+    if (!isCanIdentifier(m.layout)) diag.error(node.loc, where + ": layout must be an identifier");
     if (auto v = integer(node.find("dlc"), where + " dlc", diag)) {
       if (*v < 0 || *v > 8) diag.error(node.find("dlc")->loc, where + ": dlc must be 0..8 (classic CAN)");
       m.dlc = static_cast<uint32_t>(std::clamp<int64_t>(*v, 0, 8));

@@ -1,6 +1,6 @@
 #include "check/check.hpp"
 
-#include <cstdio>
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -17,16 +17,6 @@ std::string describeEntry(const Entry& e) {
 }
 
 namespace {
-
-std::string hex(std::int64_t v, int digits = 0) {
-  char buf[32];
-  if (v < 0) {
-    std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(v));
-  } else {
-    std::snprintf(buf, sizeof buf, "0x%0*llX", digits, static_cast<unsigned long long>(v));
-  }
-  return buf;
-}
 
 std::string at(const Sources& src, Loc l) {
   return src.path(l.file) + ":" + std::to_string(l.line);
@@ -199,34 +189,33 @@ class Checker {
 
   // Duplicate and overlapping addresses, within each kind.
   void overlaps(const Family& fam) {
+    // Bytes a memory-like entry occupies, codes an entry of the other kinds covers.
+    auto extent = [](const Entry& x) -> std::uint64_t {
+      return x.kind->memory ? static_cast<std::uint64_t>(std::max(x.size(), 1)) : x.span;
+    };
     std::vector<const Entry*> seen;
     for (const Entry& e : fam.entries) {
       if (!e.addr || !e.type) continue;
       const std::uint64_t lo = *e.addr;
-      const std::uint64_t n = e.kind->memory ? static_cast<std::uint64_t>(std::max(e.size(), 1)) : e.span;
+      const std::uint64_t n = extent(e);
       const std::uint64_t hi = lo + n - 1;
       if (hi > e.kind->maxAddress && e.kind->memory) {
         diag_.error(e.addrLoc, describeEntry(e) + ": its " + std::to_string(n) + " bytes run past address " +
-                                   hex(e.kind->maxAddress));
+                                   hexAddress(e.kind->maxAddress));
       }
       for (const Entry* p : seen) {
         if (p->kind != e.kind) continue;
         const std::uint64_t plo = *p->addr;
-        const std::uint64_t pn =
-            p->kind->memory ? static_cast<std::uint64_t>(std::max(p->size(), 1)) : p->span;
-        const std::uint64_t phi = plo + pn - 1;
+        const std::uint64_t phi = plo + extent(*p) - 1;
         if (lo > phi || hi < plo) continue;
         const int d = e.kind->addrDigits;
         if (lo == plo) {
-          diag_.error(e.addrLoc, "duplicate address " + hex(static_cast<std::int64_t>(lo), d) + ": " +
-                                     describeEntry(e) + " and " + describeEntry(*p) + " (" +
-                                     at(src_, p->addrLoc) + ")");
+          diag_.error(e.addrLoc, "duplicate address " + hexAddress(lo, d) + ": " + describeEntry(e) +
+                                     " and " + describeEntry(*p) + " (" + at(src_, p->addrLoc) + ")");
         } else {
-          diag_.error(e.addrLoc, describeEntry(e) + " at " + hex(static_cast<std::int64_t>(lo), d) + ".." +
-                                     hex(static_cast<std::int64_t>(hi), d) + " overlaps " +
-                                     describeEntry(*p) + " at " + hex(static_cast<std::int64_t>(plo), d) +
-                                     ".." + hex(static_cast<std::int64_t>(phi), d) + " (" +
-                                     at(src_, p->addrLoc) + ")");
+          diag_.error(e.addrLoc, describeEntry(e) + " at " + hexAddress(lo, d) + ".." + hexAddress(hi, d) +
+                                     " overlaps " + describeEntry(*p) + " at " + hexAddress(plo, d) + ".." +
+                                     hexAddress(phi, d) + " (" + at(src_, p->addrLoc) + ")");
         }
         break;  // one report per entry is enough
       }
@@ -244,7 +233,7 @@ class Checker {
       if (e.kind->kind != EntryKind::Value || !e.addr || !e.type) continue;
       for (int i = 0; i < e.size(); ++i) {
         if (!regs.count(*e.addr + static_cast<std::uint32_t>(i))) {
-          diag_.error(e.addrLoc, describeEntry(e) + ": byte " + hex(*e.addr + i, 4) +
+          diag_.error(e.addrLoc, describeEntry(e) + ": byte " + hexAddress(*e.addr + i, 4) +
                                      " is not a register of family '" + fam.name + "'");
         }
       }
@@ -270,17 +259,16 @@ class Checker {
       }
       if (f.msb < 0) continue;
       if (fs.width && f.msb >= fs.width) {
-        diag_.error(f.bitsLoc, fwhat + ": bits " + bitsText(f) + " exceed the " + std::to_string(fs.width) +
+        diag_.error(f.bitsLoc, fwhat + ": bits " + f.bitsText() + " exceed the " + std::to_string(fs.width) +
                                    "-bit width");
         continue;
       }
-      const std::uint64_t mask = ((std::uint64_t{1} << f.width()) - 1) << f.lsb;
+      const std::uint64_t mask = f.mask();
       if (used & mask) {
         for (const Field* p : placed) {
-          const std::uint64_t pm = ((std::uint64_t{1} << p->width()) - 1) << p->lsb;
-          if (pm & mask) {
-            diag_.error(f.bitsLoc, fwhat + ": bits " + bitsText(f) + " overlap field '" + p->name.value +
-                                       "' (bits " + bitsText(*p) + ")");
+          if (p->mask() & mask) {
+            diag_.error(f.bitsLoc, fwhat + ": bits " + f.bitsText() + " overlap field '" + p->name.value +
+                                       "' (bits " + p->bitsText() + ")");
             break;
           }
         }
@@ -302,10 +290,6 @@ class Checker {
         }
       }
     }
-  }
-
-  static std::string bitsText(const Field& f) {
-    return f.msb == f.lsb ? std::to_string(f.msb) : std::to_string(f.msb) + ":" + std::to_string(f.lsb);
   }
 
   void enumeration(const Enum& en) {

@@ -1,6 +1,8 @@
 #include "diag/diag.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 #include <tuple>
 
 namespace regmapgen {
@@ -8,6 +10,15 @@ namespace regmapgen {
 int Sources::add(std::string path, std::string text) {
   files_.push_back({std::move(path), std::move(text)});
   return static_cast<int>(files_.size() - 1);
+}
+
+bool readFile(const std::string& path, std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  text = ss.str();
+  return true;
 }
 
 std::string Sources::lineText(int file, int line) const {

@@ -40,6 +40,10 @@ class Sources {
   std::vector<File> files_;
 };
 
+// Reads the whole file at `path` (bytes as they are) into `text`; false if it cannot be opened. Callers word
+// the error.
+bool readFile(const std::string& path, std::string& text);
+
 enum class Severity { Error, Warning, Note };
 
 struct Diagnostic {

@@ -1,4 +1,4 @@
-#include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
@@ -14,19 +14,26 @@ std::string displayPath(const std::string& path) {
   return prev == std::string::npos ? path : path.substr(prev + 1);
 }
 
-std::string hexAddress(std::uint32_t value, int digits) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "0x%0*X", digits, value);
-  return buf;
+std::string familyTitle(const Family& fam) {
+  return fam.device && fam.device->title.present ? fam.device->title.value : upperCase(fam.name);
+}
+
+std::string cppIntType(int size, bool isSigned) {
+  return std::string(isSigned ? "std::int" : "std::uint") + std::to_string(size * 8) + "_t";
+}
+
+std::vector<const Field*> fieldsByMsb(const Fieldset& fs) {
+  std::vector<const Field*> fields;
+  for (const Field& f : fs.fields)
+    fields.push_back(&f);
+  std::sort(fields.begin(), fields.end(), [](const Field* a, const Field* b) { return a->msb > b->msb; });
+  return fields;
 }
 
 std::string cppValueType(const Entry& e) {
   if (e.fieldset.present) return "bits::" + e.fieldset.value;
   if (e.enumRef.present) return "enums::" + e.enumRef.value;
   const TypeInfo& t = *e.type;
-  auto scalar = [&](int size, bool isSigned) {
-    return std::string(isSigned ? "std::int" : "std::uint") + std::to_string(size * 8) + "_t";
-  };
   switch (t.base) {
     case TypeInfo::Base::None:
       return "::fw::regmap::NoData";
@@ -39,7 +46,7 @@ std::string cppValueType(const Entry& e) {
     default:
       break;
   }
-  const std::string elem = scalar(t.elemSize, t.isSigned());
+  const std::string elem = cppIntType(t.elemSize, t.isSigned());
   if (t.array) return "std::array<" + elem + ", " + std::to_string(t.count) + ">";
   return elem;
 }

@@ -31,42 +31,17 @@ std::string provenance(const Sources& src, Loc loc) {
   return displayPath(src.path(loc.file)) + ":" + std::to_string(loc.line);
 }
 
-std::string upperFamily(const std::string& name) {
-  std::string s = name;
-  for (char& c : s)
-    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string familyTitle(const Family& fam) {
-  return fam.device && fam.device->title.present ? fam.device->title.value : upperFamily(fam.name);
-}
-
 const char* rawType(int width) {
   return width <= 8 ? "std::uint8_t" : width <= 16 ? "std::uint16_t" : "std::uint32_t";
 }
 
-std::string hexMask(std::uint64_t mask, int width) {
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "0x%0*llX", width / 4, static_cast<unsigned long long>(mask));
-  return buf;
-}
-
-std::uint64_t fieldMask(const Field& f) {
-  return ((std::uint64_t{1} << f.width()) - 1) << f.lsb;
-}
-
-// The raw (integer) value of a limit as Spec stores it: integers as they are, F4 as IEEE-754 bits.
-std::int64_t rawLimit(const Entry& e, const Number& n) {
-  if (e.type->base == TypeInfo::Base::Float) return static_cast<std::int64_t>(f4Bits(n.real, n.text));
-  return n.integer;
-}
-
-std::string limitLiteral(const Entry& e, std::int64_t v) {
+// A limit as Spec stores it (integers as they are, F4 as IEEE-754 bits), written as a C++ literal.
+std::string limitLiteral(const Entry& e, const Number& n) {
+  const bool isFloat = e.type->base == TypeInfo::Base::Float;
+  const std::int64_t v = isFloat ? static_cast<std::int64_t>(f4Bits(n.real, n.text)) : n.integer;
   if (v < 0) return std::to_string(v);
-  if (e.type->base == TypeInfo::Base::Hex || e.type->base == TypeInfo::Base::Float || e.fieldset.present) {
-    return hexAddress(static_cast<std::uint32_t>(v),
-                      e.type->base == TypeInfo::Base::Float ? 8 : e.type->size() * 2);
+  if (e.type->base == TypeInfo::Base::Hex || isFloat || e.fieldset.present) {
+    return hexAddress(static_cast<std::uint32_t>(v), isFloat ? 8 : e.type->size() * 2);
   }
   return std::to_string(v);
 }
@@ -75,8 +50,7 @@ std::string limitLiteral(const Entry& e, std::int64_t v) {
 std::string enumUnderlying(const Family& fam, const Enum& en) {
   for (const Entry& e : fam.entries) {
     if (e.enumRef.present && e.enumRef.value == en.name.value && e.type) {
-      return std::string(e.type->isSigned() ? "std::int" : "std::uint") + std::to_string(e.type->size() * 8) +
-             "_t";
+      return cppIntType(e.type->size(), e.type->isSigned());
     }
   }
   int width = 8;
@@ -154,10 +128,9 @@ class CodeEmitter {
       << "#pragma once\n\n#include <array>\n#include <span>\n\n#include \"regmap/table.hpp\"\n\n"
       << "namespace fw::regmap::" << fam_.name << " {\n\nnamespace field_info {\n";
     for (const Fieldset& fs : fam_.fieldsets) {
-      std::vector<const Field*> fields;
-      for (const Field& f : fs.fields)
-        fields.push_back(&f);
-      std::sort(fields.begin(), fields.end(), [](const Field* a, const Field* b) { return a->lsb < b->lsb; });
+      // Lowest bits first: the checked fields do not overlap, so this is the msb order reversed.
+      std::vector<const Field*> fields = fieldsByMsb(fs);
+      std::reverse(fields.begin(), fields.end());
       o << "inline constexpr std::array<::fw::regmap::FieldInfo, " << fields.size() << "> " << fs.name.value
         << "{{\n";
       for (const Field* f : fields) {
@@ -168,7 +141,8 @@ class CodeEmitter {
     }
     o << "}  // namespace field_info\n\n"
       << "inline constexpr std::array<::fw::regmap::EntryInfo, " << fam_.entries.size() << "> kEntries{{\n";
-    for (const Entry& e : ordered()) {
+    for (const Entry* ep : ordered()) {
+      const Entry& e = *ep;
       const TypeInfo& t = *e.type;
       o << "    {.kind = ::fw::regmap::Kind::" << e.kind->cppKind
         << ", .address = " << hexAddress(*e.addr, e.kind->addrDigits) << ", .span = " << e.span
@@ -185,9 +159,9 @@ class CodeEmitter {
       o << ", .hasMin = " << (e.min.present ? "true" : "false")
         << ", .hasMax = " << (e.max.present ? "true" : "false")
         << ", .hasDefault = " << (e.dflt.present ? "true" : "false")
-        << ", .min = " << (e.min.present ? limitLiteral(e, rawLimit(e, e.min)) : "0")
-        << ", .max = " << (e.max.present ? limitLiteral(e, rawLimit(e, e.max)) : "0")
-        << ", .dflt = " << (e.dflt.present ? limitLiteral(e, rawLimit(e, e.dflt)) : "0");
+        << ", .min = " << (e.min.present ? limitLiteral(e, e.min) : "0")
+        << ", .max = " << (e.max.present ? limitLiteral(e, e.max) : "0")
+        << ", .dflt = " << (e.dflt.present ? limitLiteral(e, e.dflt) : "0");
       o << ", .fields = " << (e.fieldset.present ? "field_info::" + e.fieldset.value : "{}") << "},\n";
     }
     o << "}};\n\ninline constexpr std::span<const ::fw::regmap::EntryInfo> entries{kEntries};\n\n"
@@ -233,7 +207,8 @@ class CodeEmitter {
     }
     o << "\n// Every descriptor: address, size, access and limits as in the YAML; the table mirrors it.\n";
     std::size_t index = 0;
-    for (const Entry& e : ordered()) {
+    for (const Entry* ep : ordered()) {
+      const Entry& e = *ep;
       const std::string d = std::string(e.kind->ns) + "::" + e.cppName;
       const std::string dt = "decltype(" + d + ")";
       o << "// " << provenance(src_, e.loc) << "\n";
@@ -264,7 +239,7 @@ class CodeEmitter {
 
  private:
   // Entries grouped by kind (in kinds() order), file order within a kind: the table order.
-  std::vector<const Entry*> orderedPtrs() const {
+  std::vector<const Entry*> ordered() const {
     std::vector<const Entry*> out;
     for (const KindInfo& k : kinds()) {
       for (const Entry& e : fam_.entries) {
@@ -272,22 +247,6 @@ class CodeEmitter {
       }
     }
     return out;
-  }
-  std::vector<std::reference_wrapper<const Entry>> ordered() const {
-    std::vector<std::reference_wrapper<const Entry>> out;
-    for (const Entry* e : orderedPtrs())
-      out.emplace_back(*e);
-    return out;
-  }
-
-  void limitsInit(std::ostringstream& o, const Entry& e, const char* hasMin, const char* hasMax,
-                  const char* hasDef, const char* min, const char* max, const char* dflt) const {
-    if (e.min.present) o << hasMin << "true";
-    if (e.max.present) o << hasMax << "true";
-    if (e.dflt.present) o << hasDef << "true";
-    if (e.min.present) o << min << limitLiteral(e, rawLimit(e, e.min));
-    if (e.max.present) o << max << limitLiteral(e, rawLimit(e, e.max));
-    if (e.dflt.present) o << dflt << limitLiteral(e, rawLimit(e, e.dflt));
   }
 
   void enums(std::ostringstream& o) {
@@ -326,21 +285,14 @@ class CodeEmitter {
         << "  constexpr raw_type raw() const { return bits; }\n"
         << "  friend constexpr bool operator==(const " << name << "&, const " << name << "&) = default;\n";
       std::uint64_t all = 0;
-      std::vector<const Field*> fields;
-      for (const Field& f : fs.fields)
-        fields.push_back(&f);
-      std::sort(fields.begin(), fields.end(), [](const Field* a, const Field* b) { return a->msb > b->msb; });
-      for (const Field* f : fields) {
-        const std::uint64_t mask = fieldMask(*f);
+      for (const Field* f : fieldsByMsb(fs)) {
+        const std::uint64_t mask = f->mask();
         all |= mask;
         const std::string id = f->cppName;
-        const std::string bitsText = f->msb == f->lsb
-                                         ? "bit " + std::to_string(f->msb)
-                                         : "bits " + std::to_string(f->msb) + ":" + std::to_string(f->lsb);
-        o << "\n  // " << bitsText << " " << f->name.value;
+        o << "\n  // " << (f->msb == f->lsb ? "bit " : "bits ") << f->bitsText() << " " << f->name.value;
         if (f->description.present) o << ": " << oneLine(f->description.value);
         if (f->source.present) o << " [" << f->source.value << "]";
-        o << "\n  static constexpr raw_type " << id << "_mask = " << hexMask(mask, fs.width) << ";\n";
+        o << "\n  static constexpr raw_type " << id << "_mask = " << hexAddress(mask, fs.width / 4) << ";\n";
         if (f->width() == 1 && !f->enumRef.present) {
           o << "  constexpr bool " << id << "() const { return (bits & " << id << "_mask) != 0; }\n";
           if (writable) {
@@ -360,7 +312,7 @@ class CodeEmitter {
         }
       }
       o << "\n  // Every named field; other bits are reserved.\n  static constexpr raw_type fields_mask = "
-        << hexMask(all, fs.width) << ";\n};\n";
+        << hexAddress(all, fs.width / 4) << ";\n};\n";
     }
     // Each entry's own name as an alias of its layout (bits::SafetyStatusA = bits::SafetyA), where
     // unambiguous.
@@ -382,8 +334,7 @@ class CodeEmitter {
 
   void descriptors(std::ostringstream& o, const KindInfo& k) {
     bool any = false;
-    for (const Entry* ep : orderedPtrs()) {
-      const Entry& e = *ep;
+    for (const Entry& e : fam_.entries) {
       if (e.kind->kind != k.kind) continue;
       if (!any) {
         o << "\n// " << k.title << ".\nnamespace " << k.ns << " {\n";
@@ -407,8 +358,12 @@ class CodeEmitter {
       if (e.unit) o << ", .unit = ::fw::regmap::Unit::" << e.unit->cpp;
       if (e.scale.num != 1 || e.scale.den != 1)
         o << ", .scale = {" << e.scale.num << ", " << e.scale.den << "}";
-      limitsInit(o, e,
-                 ", .hasMin = ", ", .hasMax = ", ", .hasDefault = ", ", .min = ", ", .max = ", ", .dflt = ");
+      if (e.min.present) o << ", .hasMin = true";
+      if (e.max.present) o << ", .hasMax = true";
+      if (e.dflt.present) o << ", .hasDefault = true";
+      if (e.min.present) o << ", .min = " << limitLiteral(e, e.min);
+      if (e.max.present) o << ", .max = " << limitLiteral(e, e.max);
+      if (e.dflt.present) o << ", .dflt = " << limitLiteral(e, e.dflt);
       o << "},\n    " << cppValueType(e) << ">\n    " << e.cppName << "{};\n";
     }
     if (any) o << "\n}  // namespace " << k.ns << "\n";

@@ -16,6 +16,7 @@
 
 #include "diag/diag.hpp"
 #include "model/model.hpp"
+#include "model/names.hpp"
 
 namespace regmapgen {
 
@@ -37,10 +38,14 @@ std::string emitList(const Model& model);
 // comments and links (never an absolute path, so generated text is the same in every checkout).
 std::string displayPath(const std::string& path);
 
-// Shared formatting helpers.
-std::string hexAddress(std::uint32_t value, int digits);
+// Shared formatting helpers (hexAddress is in model/names.hpp).
+std::string familyTitle(const Family& fam);       // the device title, else the family name in upper case
+std::string cppIntType(int size, bool isSigned);  // cppIntType(2, true) == "std::int16_t"
 std::string cppValueType(const Entry& e);
 std::uint32_t f4Bits(double value, const std::string& text);
 std::string unitText(const Entry& e);  // "mV", "0.1 K", "190.73 uV", "" for none
+
+// The fieldset's fields, highest bits first (the order of the Markdown table and the bit-field types).
+std::vector<const Field*> fieldsByMsb(const Fieldset& fs);
 
 }  // namespace regmapgen

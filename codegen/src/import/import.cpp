@@ -1,7 +1,6 @@
 #include "import/import.hpp"
 
 #include <cctype>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -156,6 +155,14 @@ struct Imported {
   std::vector<std::string> notes;
 };
 
+// The kind a `--kind` value names (its `list` word or YAML key), or nullptr.
+const KindInfo* findKind(const std::string& k) {
+  for (const KindInfo& info : kinds()) {
+    if (info.listName == k || info.yamlKey == k) return &info;
+  }
+  return nullptr;
+}
+
 class Importer {
  public:
   Importer(std::string path, const ImportOptions& opts, std::ostream& err)
@@ -164,14 +171,12 @@ class Importer {
   bool loadMaps() {
     if (opts_.mapFiles.empty()) return true;
     for (const std::string& f : opts_.mapFiles) {
-      std::ifstream in(f, std::ios::binary);
-      if (!in) {
+      std::string text;
+      if (!readFile(f, text)) {
         err_ << "regmapgen: error: cannot read map file " << f << "\n";
         return false;
       }
-      std::ostringstream ss;
-      ss << in.rdbuf();
-      mapSources_.add(f, ss.str());
+      mapSources_.add(f, std::move(text));
     }
     Diagnostics diag(mapSources_);
     map_ = build(mapSources_, diag);
@@ -242,7 +247,7 @@ class Importer {
     static const std::regex mention(R"((?:地址|写入|[Aa]ddress|[Ww]rite to)\s*(0[xX][0-9A-Fa-f]{4})\b)");
     for (auto it = std::sregex_iterator(line.begin(), line.end(), mention); it != std::sregex_iterator();
          ++it) {
-      mentions_.push_back({"0x" + upper((*it)[1].str().substr(2)), number});
+      mentions_.push_back({"0x" + upperCase((*it)[1].str().substr(2)), number});
     }
   }
 
@@ -411,7 +416,7 @@ class Importer {
     e.keys.emplace_back("name", name);
 
     // Address.
-    std::string addr = hasAddr ? "0x" + upper(m[1].str()) : "";
+    std::string addr = hasAddr ? "0x" + upperCase(m[1].str()) : "";
     if (addr.size() == 3) addr = "0x0" + addr.substr(2);
     std::string category = translateOr(get(Role::Category));
     std::string subcategory = translateOr(get(Role::Subcategory));
@@ -500,19 +505,6 @@ class Importer {
       notes.append(notes.empty() ? "" : "; ").append(n);
     e.keys.emplace_back("notes", notes);
     entries_.push_back(std::move(e));
-  }
-
-  static std::string upper(std::string s) {
-    for (char& c : s)
-      c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return s;
-  }
-
-  static const KindInfo* findKind(const std::string& k) {
-    for (const KindInfo& info : kinds()) {
-      if (info.listName == k || info.yamlKey == k) return &info;
-    }
-    return nullptr;
   }
 
   static std::string translateOr(const std::string& s) {
@@ -616,14 +608,9 @@ int runImport(const std::string& path, const std::string& text, const ImportOpti
               std::ostream& err) {
   Importer imp(path, opts, err);
   imp.out = &out;
-  if (!opts.kind.empty()) {
-    bool ok = false;
-    for (const KindInfo& k : kinds())
-      ok = ok || k.listName == opts.kind || k.yamlKey == opts.kind;
-    if (!ok) {
-      err << "regmapgen: error: unknown --kind '" << opts.kind << "'\n";
-      return 2;
-    }
+  if (!opts.kind.empty() && !findKind(opts.kind)) {
+    err << "regmapgen: error: unknown --kind '" << opts.kind << "'\n";
+    return 2;
   }
   if (!imp.loadMaps()) return 1;
   return imp.run(text);

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <numeric>
 #include <regex>
@@ -352,13 +351,14 @@ class Builder {
     fam.device = std::move(d);
   }
 
-  static std::string entryWhat(const KindInfo& k, const Node& item) {
+  // How messages name an object before it is built: "<prefix> '<name>'", '?' for a missing or odd name.
+  static std::string named(const std::string& prefix, const Node& item) {
     const Node* n = item.find("name");
-    return std::string(k.listName) + " '" + (n && n->isScalar() ? n->text : "?") + "'";
+    return prefix + " '" + (n && n->isScalar() ? n->text : "?") + "'";
   }
 
   void entry(Family& fam, const KindInfo& kind, const Node& item) {
-    const std::string what = entryWhat(kind, item);
+    const std::string what = named(std::string(kind.listName), item);
     checkKeys(item, object("entry"), what, &kind);
     Entry e;
     e.kind = &kind;
@@ -370,8 +370,9 @@ class Builder {
     e.addrLoc = addr.loc;
     if (addr.present) {
       if (addr.integer < 0 || static_cast<std::uint64_t>(addr.integer) > kind.maxAddress) {
-        diag_.error(addr.loc, what + ": address " + addr.text + " is outside 0.." + hex(kind.maxAddress) +
-                                  " for " + std::string(kind.listName) + " entries");
+        diag_.error(addr.loc, what + ": address " + addr.text + " is outside 0.." +
+                                  hexAddress(kind.maxAddress) + " for " + std::string(kind.listName) +
+                                  " entries");
       } else {
         e.addr = static_cast<std::uint32_t>(addr.integer);
       }
@@ -436,8 +437,7 @@ class Builder {
   }
 
   void fieldset(Family& fam, const Node& item) {
-    const Node* n = item.find("name");
-    const std::string what = std::string("fieldset '") + (n && n->isScalar() ? n->text : "?") + "'";
+    const std::string what = named("fieldset", item);
     checkKeys(item, object("fieldset"), what);
     Fieldset fs;
     fs.loc = item.loc;
@@ -462,8 +462,7 @@ class Builder {
   }
 
   Field field(const Node& item, const std::string& parent) {
-    const Node* n = item.find("name");
-    const std::string what = parent + " field '" + std::string(n && n->isScalar() ? n->text : "?") + "'";
+    const std::string what = named(parent + " field", item);
     checkKeys(item, object("field"), what);
     Field f;
     f.loc = item.loc;
@@ -492,8 +491,7 @@ class Builder {
   }
 
   void enumeration(Family& fam, const Node& item) {
-    const Node* n = item.find("name");
-    const std::string what = std::string("enum '") + (n && n->isScalar() ? n->text : "?") + "'";
+    const std::string what = named("enum", item);
     checkKeys(item, object("enum"), what);
     Enum en;
     en.loc = item.loc;
@@ -502,9 +500,7 @@ class Builder {
     en.source = source(item, what);
     if (const Node* values = item.find("values")) {
       for (const Node* v : objectList(*values, "values", "enum value")) {
-        const Node* vn = v->find("name");
-        const std::string vwhat =
-            what + " value '" + std::string(vn && vn->isScalar() ? vn->text : "?") + "'";
+        const std::string vwhat = named(what + " value", *v);
         checkKeys(*v, object("enum value"), vwhat);
         EnumValue ev;
         ev.loc = v->loc;
@@ -517,12 +513,6 @@ class Builder {
       }
     }
     fam.enums.push_back(std::move(en));
-  }
-
-  static std::string hex(std::uint32_t v) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "0x%X", v);
-    return buf;
   }
 
   const Sources& sources_;

@@ -80,6 +80,11 @@ struct Field {
   Text enumRef;
   Text description, source;
   int width() const { return msb - lsb + 1; }
+  std::uint64_t mask() const { return ((std::uint64_t{1} << width()) - 1) << lsb; }
+  // "7" for one bit, "9:8" for a range.
+  std::string bitsText() const {
+    return msb == lsb ? std::to_string(msb) : std::to_string(msb) + ":" + std::to_string(lsb);
+  }
 };
 
 struct Fieldset {

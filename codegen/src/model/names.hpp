@@ -11,6 +11,7 @@
 // the YAML gives an explicit `id:`.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -25,5 +26,11 @@ bool isAscii(std::string_view s);
 
 // Lower-cased, with '_', ' ' and '-' removed: the form runtime lookup compares (table.hpp findByName).
 std::string lookupKey(std::string_view name);
+
+// ASCII letters upper-cased, every other byte as it is: "bq769x2" -> "BQ769X2".
+std::string upperCase(std::string_view s);
+
+// "0x" and upper-case hex digits, zero-padded to `digits`: hexAddress(0x14, 4) == "0x0014", (0x14) == "0x14".
+std::string hexAddress(std::uint64_t value, int digits = 0);
 
 }  // namespace regmapgen
