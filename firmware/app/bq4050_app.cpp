@@ -41,7 +41,6 @@ inline void Bq4050Monitor::finished(Instant now) {
   }
   f_.scanning = false;
   ++r_.stats.scans;
-  sample_.attempted = true;
   sample_.last = result;
   if (result == Status::Ok) {
     const auto cells = r_.measurement.cells();

@@ -233,7 +233,6 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     if (op != Op::Scan) return;
     if (result == Status::Aborted) return;  // gave way to a FET command (request()): not a measurement
     if (kStats) ++r_.stats.scans;
-    sample_.attempted = true;
     sample_.last = result;
     sched::EventMask toProtection = ProtectionTask::kScanFailed;
     if (result == Status::Ok) {

@@ -93,7 +93,6 @@ void Bq79616Monitor::publishScan(Instant now) {
   int16_t* raw = store_.raw[0];
   const uint8_t cells = config_.chain.activeCells;
   for (uint16_t d = view_.boardCount(); d != 0; --d, ++r, ++s, raw += b616::kCellsPerDevice) {
-    s->attempted = true;
     s->last = r->status != Status::Ok ? r->status
                                       : ((r->valid & b616::kValidCells) ? Status::Ok : Status::NotReady);
     if (s->last != Status::Ok) continue;

@@ -35,11 +35,11 @@ void summarize(PackView& view, Instant scanEnd) {
     } else if (isBefore(s.takenAt, t.oldest) && t.oldest.us != 0) {
       t.oldest = s.takenAt;
     }
-    if (s.attempted && s.last != Status::Ok) {
+    if (s.last != Status::Ok) {
       if (kCoreMessages && view.commErrors != UINT16_MAX) ++view.commErrors;
       continue;
     }
-    if (!s.attempted || !s.valid) continue;
+    if (!s.valid) continue;
     t.packMv += fold(&t.extreme[kMaxCell], &t.at[kMaxCell], t.cells, s.cellMv, view.cellsPerBoard,
                      static_cast<uint16_t>(b * kMaxCellsPerBoard));
     fold(&t.extreme[kMaxTemp], &t.at[kMaxTemp], t.temps, s.tempDeciK, view.tempsPerBoard,

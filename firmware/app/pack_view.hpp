@@ -37,8 +37,7 @@ enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPrese
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {
   Instant takenAt;  // when the values were measured (end of the validated transaction)
-  Status last;      // outcome of the latest attempt to measure this board (meaningful once attempted)
-  bool attempted;   // the monitor has tried to measure this board at least once
+  Status last;      // outcome of the latest attempt to measure this board (Ok until the first attempt)
   bool valid;       // the values are from a validated measurement (possibly an old one)
   int16_t cellMv[kMaxCellsPerBoard];
   int16_t tempDeciK[kMaxTempsPerBoard];
@@ -90,7 +89,7 @@ struct PackView {
 void summarize(PackView& view, Instant scanEnd);
 
 constexpr BoardStatus boardStatus(const BoardSample& b, Instant now, Duration staleAfter) {
-  if (!b.attempted || !b.valid) return BoardStatus::NotPresent;
+  if (!b.valid) return BoardStatus::NotPresent;
   if (b.last != Status::Ok) return BoardStatus::CommFault;
   return elapsed(b.takenAt, now) > staleAfter ? BoardStatus::Stale : BoardStatus::Valid;
 }

@@ -27,11 +27,10 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   // fault (its line at once, its status with each fresh scan); the freshness rules' values are 1 while the
   // data is stale or the link is lost. A board that never answered counts as stale from start-up.
   const PackView* pack = in.pack;
-  const PackTotals* t = pack != nullptr ? &pack->totals : nullptr;
-  const bool fresh = in.fresh && t != nullptr;
+  const PackTotals* t = &pack->totals;
   int32_t value[kFaultCount] = {};
   FaultMask evaluated = bit(FaultId::StaleData);
-  if (fresh) {
+  if (in.fresh) {
     if (t->cells) {
       value[0] = t->extreme[kMaxCell];
       value[1] = t->extreme[kMinCell];
@@ -47,9 +46,9 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
       evaluated |= bit(FaultId::Overtemperature) | bit(FaultId::Undertemperature);
     }
   }
-  value[6] = in.faultLine || (fresh && pack->deviceFault);
+  value[6] = in.faultLine || (in.fresh && pack->deviceFault);
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
-  value[7] = (t != nullptr ? elapsed(t->oldest, now).us : now.us) > config_.staleAfter.us;
+  value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
   value[8] = s_.failedScans >= config_.commLossScans;
   if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
 

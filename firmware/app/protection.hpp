@@ -85,7 +85,7 @@ struct ProtectionConfig {
 // One evaluation's inputs. Value limits are evaluated only when `fresh` (a scan just validated) and only over
 // the boards whose status is Valid; the freshness rules look at every board of `pack` on every evaluation.
 struct ProtectionInputs {
-  const PackView* pack = nullptr;  // the measured pack (may be null before the first scan)
+  const PackView* pack = nullptr;  // the measured pack (required; all zero before the first scan)
   bool fresh = false;              // a scan just completed and validated
   bool scanFailed = false;         // a scan attempt just failed
   bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own

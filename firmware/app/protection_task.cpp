@@ -9,7 +9,7 @@ void ProtectionTask::run(sched::EventMask events) {
   ProtectionInputs in{};
   in.pack = &pack_;
   in.fresh = (events & kNewData) != 0;
-  in.scanFailed = (events & kScanFailed) != 0 && !in.fresh;
+  in.scanFailed = (events & kScanFailed) != 0;
   in.faultLine = (events & kFaultLine) != 0;
   if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
     status_.pendingCleared |= protection_.clearLatched();

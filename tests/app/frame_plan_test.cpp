@@ -32,7 +32,7 @@ struct Pack {
     view.tempsPerBoard = 2;
     view.rawCells = &raw[0][0];
     for (int b = 0; b < 2; ++b) {
-      boards[b].attempted = boards[b].valid = true;
+      boards[b].valid = true;
       boards[b].last = fw::Status::Ok;
       for (int c = 0; c < 16; ++c) {
         boards[b].cellMv[c] = static_cast<int16_t>(3000 + 100 * b + c);

@@ -65,7 +65,7 @@ struct Sampler {
   ProtectionInputs fresh(uint32_t tMs) {
     board.takenAt = fw::Instant{tMs * 1000};
     board.last = fw::Status::Ok;
-    board.attempted = board.valid = true;
+    board.valid = true;
     for (size_t i = 0; i < cells.size(); ++i)
       board.cellMv[i] = cells[i];
     for (size_t i = 0; i < temps.size(); ++i)
@@ -79,7 +79,6 @@ struct Sampler {
   // A scan attempt that failed.
   ProtectionInputs failed() {
     board.last = fw::Status::Timeout;
-    board.attempted = true;
     ProtectionInputs in;
     in.scanFailed = true;
     in.pack = pack();
@@ -279,7 +278,7 @@ TEST(Protection, OnlyValidBoardsFeedTheLimitsAndALostBoardGoesStale) {
   Protection p(cfg);
   fw::app::BoardSample boards[2]{};
   for (auto& b : boards) {
-    b.valid = b.attempted = true;
+    b.valid = true;
     b.last = fw::Status::Ok;
     b.takenAt = at(0);
     for (int c = 0; c < 4; ++c)
@@ -311,7 +310,7 @@ TEST(Protection, DisabledRulesNeverTrip) {
   s.deviceFault = true;
   for (uint32_t t = 0; t < 5000; t += 100)
     EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, 0);
-  EXPECT_EQ(p.evaluate({}, at(100000)).active, 0);
+  EXPECT_EQ(p.evaluate(s.tick(), at(100000)).active, 0);
 }
 
 }  // namespace
