@@ -109,8 +109,9 @@ void Scheduler::fireDueTimers(Instant now) {
     s_.timers = timer.next_;
     timer.next_ = nullptr;
     timer.armed_ = false;
+    const bool supervisor = kWatchdogSupervision && timer.task_ == kSupervisorTask;
 
-    if (kWatchdogSupervision && timer.task_ == kSupervisorTask) {
+    if (supervisor) {
       superviseOnce();
     } else {
       if (timer.period_.us != 0 && (s_.pending[timer.task_] & timer.events_) != 0) {
@@ -125,20 +126,16 @@ void Scheduler::fireDueTimers(Instant now) {
     if (timer.period_.us != 0) {
       // Drift-free: the next deadline is a whole period after the previous *deadline*, not after now.
       timer.deadline_ = timer.deadline_ + timer.period_;
-      if (isDue(timer.deadline_, now)) {
-        // Whole periods were missed. Skip them (keeping the phase) rather than firing a burst. Counted one by
-        // one rather than divided (ARMv6-M has no divide instruction, and this is the only division the
-        // scheduler would need): once per missed period, which on the target is at most the watchdog
-        // timeout over the period, since a main loop held up longer than that resets the MCU.
-        uint32_t missed = 0;
-        do {
-          timer.deadline_ = timer.deadline_ + timer.period_;
-          ++missed;
-        } while (isDue(timer.deadline_, now));
-        if (!kWatchdogSupervision || timer.task_ != kSupervisorTask) {
-          s_.stats[timer.task_].timerOverruns += missed;
-          trace(TraceKind::TimerOverrun, timer.task_, missed);
-        }
+      // Whole periods missed are skipped (keeping the phase) rather than fired in a burst. Counted one by one
+      // rather than divided (ARMv6-M has no divide instruction, and this is the only division the scheduler
+      // would need): once per missed period, which on the target is at most the watchdog timeout over the
+      // period, since a main loop held up longer than that resets the MCU.
+      uint32_t missed = 0;
+      for (; isDue(timer.deadline_, now); ++missed)
+        timer.deadline_ = timer.deadline_ + timer.period_;
+      if (missed != 0 && !supervisor) {
+        s_.stats[timer.task_].timerOverruns += missed;
+        trace(TraceKind::TimerOverrun, timer.task_, missed);
       }
       insertTimer(timer);
     }
