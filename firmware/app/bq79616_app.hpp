@@ -129,16 +129,14 @@ class Bq79616App {
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config,
              Bq79616Storage& storage)
-      : config_(config),
-        limits_(config.limits != nullptr ? *config.limits : kDefaultLimits),
-        view_{.cellsPerBoard = config.chain.activeCells,
+      : view_{.cellsPerBoard = config.chain.activeCells,
               .tempsPerBoard = 2,
               .boards = {storage.samples, config.chain.devices}},
-        plan_(view_, status_, limits_.staleAfter),
+        plan_(view_, status_, limitsOf(config).staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, limits_, view_, status_, actuator_, config.scanPeriod),
+        protection_(scheduler, kProtectionId, limitsOf(config), view_, status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        monitor_(scheduler, io.uart, io.nfault, config_, storage, view_, kProtectionId, kPublisherId) {
+        monitor_(scheduler, io.uart, io.nfault, config, storage, view_, kProtectionId, kPublisherId) {
     view_.rawCells = &storage.raw[0][0];
   }
   void start() {
@@ -154,8 +152,10 @@ class Bq79616App {
   const PublishStatus& status() const { return status_; }
 
  private:
-  const Bq79616AppConfig& config_;
-  const ProtectionConfig& limits_;
+  static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
+    return config.limits != nullptr ? *config.limits : kDefaultLimits;
+  }
+
   PackView view_;
   PublishStatus status_;
   FramePlan plan_;
