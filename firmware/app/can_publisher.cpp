@@ -11,7 +11,6 @@ void CanPublisher::run(sched::EventMask events) {
     if (!s_.recovering) {
       ++s_.stats.busOff;
       s_.recovering = true;
-      ++s_.stats.recoveries;
       can_.recover();
     } else if ((events & kTick) != 0) {
       can_.recover();  // retry once per fast period while the bus stays off
@@ -26,12 +25,9 @@ void CanPublisher::run(sched::EventMask events) {
     if (plan_.active()) ++s_.stats.abandoned;
     if (ti) {
       plan_.beginTi();
-    } else if (s_.tick == 0) {
-      plan_.beginSlow();
     } else {
-      plan_.beginFast();
+      plan_.beginNative(s_.tick, slowEvery_);
     }
-    if (!ti && ++s_.tick == slowEvery_) s_.tick = 0;
     ++s_.stats.cycles;
   }
   pump(scheduler_.now());

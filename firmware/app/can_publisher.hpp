@@ -18,12 +18,11 @@
 namespace fw::app {
 
 struct PublishStats {
-  uint32_t frames = 0;      // frames accepted by the bus
-  uint32_t cycles = 0;      // cycles started
-  uint32_t abandoned = 0;   // cycles dropped unfinished (saturated bus or bus-off)
-  uint32_t busOff = 0;      // bus-off events seen
-  uint32_t recoveries = 0;  // recoveries started
-  uint32_t refused = 0;     // send attempts refused (queue full)
+  uint32_t frames = 0;     // frames accepted by the bus
+  uint32_t cycles = 0;     // cycles started
+  uint32_t abandoned = 0;  // cycles dropped unfinished (saturated bus or bus-off)
+  uint32_t busOff = 0;     // bus-off events seen (each starts a recovery)
+  uint32_t refused = 0;    // send attempts refused (queue full)
 };
 
 class CanPublisher final : public sched::Task {

@@ -43,6 +43,16 @@ class FramePlan {
   void beginFast() { begin(kFast); }
   void beginSlow() { begin(kSlow); }
   void beginTi() { begin(kTi); }
+  // The native cycle of a publish tick: slow every `slowEvery` ticks (`tick` counts them, 0 = slow), fast
+  // otherwise. A build that sends only what every cycle carries (FW_PUBLISH_LEVEL 0) has no slow cycle.
+  void beginNative(uint8_t& tick, uint8_t slowEvery) {
+    if (kCoreMessages && tick == 0) {
+      beginSlow();
+    } else {
+      beginFast();
+    }
+    if (kCoreMessages && ++tick == slowEvery) tick = 0;
+  }
   bool active() const { return step_ != kDone; }
 
   // Fills `data` with the payload of the current frame (all 8 bytes) and returns its standard identifier,

@@ -14,13 +14,7 @@ void SlcanPublisher::run(sched::EventMask events) {
   if ((events & kTick) != 0) {
     if (kStats && plan_.active()) ++s_.stats.abandoned;
     s_.lineFromOldCycle = s_.busy;
-    // A build that sends only what every cycle carries (FW_PUBLISH_LEVEL 0) has no slow cycle.
-    if (kCoreMessages && s_.tick == 0) {
-      plan_.beginSlow();
-    } else {
-      plan_.beginFast();
-    }
-    if (kCoreMessages && ++s_.tick == slowEvery_) s_.tick = 0;
+    plan_.beginNative(s_.tick, slowEvery_);
     if (kStats) ++s_.stats.cycles;
   }
   pump(scheduler_.now());
