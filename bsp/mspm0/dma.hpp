@@ -24,8 +24,8 @@ class DmaChannel {
   // `trigger` is the DMATSEL value of the peripheral event (tsv dmatrig rows). The register addresses are
   // worked out here, at compile time for the constinit board objects.
   constexpr DmaChannel(uintptr_t dmaBase, uint8_t channel, uint8_t trigger)
-      : channel_(dmaBase + 0x1200 + 0x10U * channel),
-        triggerSelect_(dmaBase + 0x1110 + 4U * channel),
+      : channel_(reg::dma::channelAddress(dmaBase, channel)),
+        triggerSelect_(reg::dma::triggerSelectAddress(dmaBase, channel)),
         trigger_(trigger) {}
   constexpr DmaChannel() = default;
 

@@ -17,7 +17,8 @@ struct NoInitRecord {
 // .noinit is neither loaded nor zeroed by the reset handler (see mspm0.ld).
 __attribute__((section(".noinit"))) NoInitRecord gRecord;
 
-[[noreturn]] void recordAndReset(uint32_t moduleLine) {
+[[noreturn]] void recordAndReset(fw::Module module, uint16_t line) {
+  const uint32_t moduleLine = (static_cast<uint32_t>(module) << 16) | line;
   __asm volatile("cpsid i" ::: "memory");
   gRecord.moduleLine = moduleLine;
   gRecord.check = moduleLine ^ kRecordCheck;
@@ -33,7 +34,7 @@ __attribute__((section(".noinit"))) NoInitRecord gRecord;
 void unexpectedInterrupt() {
   uint32_t ipsr;
   __asm volatile("mrs %0, ipsr" : "=r"(ipsr));
-  recordAndReset((static_cast<uint32_t>(fw::Module::Bsp) << 16) | 0xF000 | (ipsr & 0x3F));
+  recordAndReset(fw::Module::Bsp, static_cast<uint16_t>(0xF000 | (ipsr & 0x3F)));
 }
 
 FaultRecord takeFaultRecord() {
@@ -52,19 +53,19 @@ FaultRecord takeFaultRecord() {
 
 namespace fw {
 void onFault(Module module, uint16_t line) {
-  bsp::mspm0::recordAndReset((static_cast<uint32_t>(module) << 16) | line);
+  bsp::mspm0::recordAndReset(module, line);
 }
 }  // namespace fw
 
 extern "C" {
 
 void HardFault_Handler() {
-  bsp::mspm0::recordAndReset((static_cast<uint32_t>(fw::Module::Bsp) << 16) | 0xFFFE);
+  bsp::mspm0::recordAndReset(fw::Module::Bsp, 0xFFFE);
 }
 
 // libstdc++ headers may reference abort on "impossible" paths; newlib's would pull signal() and malloc.
 [[noreturn]] void abort() {
-  bsp::mspm0::recordAndReset((static_cast<uint32_t>(fw::Module::Core) << 16) | 0xFFFD);
+  bsp::mspm0::recordAndReset(fw::Module::Core, 0xFFFD);
 }
 
 }  // extern "C"

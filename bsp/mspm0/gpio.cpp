@@ -11,21 +11,15 @@ namespace bsp::mspm0 {
 namespace gpio = reg::gpio;
 namespace iomux = reg::iomux;
 
-inline void muxGpioOutput(const Pin& pin, bool high) {
-  gpio::Data& data = gpio::data(pin.portBase());
-  // Set the level before enabling the driver so the pin never glitches to the other level.
-  (high ? data.doutset : data.doutclr).write(pin.mask());
-  data.doeset.write(pin.mask());
-  iomux::pincm(pin.pincm).write(iomux::kPc | iomux::kPfGpio);
-}
-
 void muxPeripheral(const PinFunction& function, uint32_t extra) {
   iomux::pincm(function.pin.pincm).write(iomux::kPc | function.pf | extra);
 }
 
 void GpioOut::init(bool high) {
-  level_ = high;
-  muxGpioOutput(pin_, high);
+  // Set the level before enabling the driver so the pin never glitches to the other level.
+  doSet(high);
+  gpio::data(pin_.portBase()).doeset.write(pin_.mask());
+  iomux::pincm(pin_.pincm).write(iomux::kPc | iomux::kPfGpio);
 }
 
 void GpioOut::doSet(bool high) {

@@ -2,8 +2,8 @@
 // (fw::hal::EdgeInput) and the INT_GROUP1 dispatcher that routes GPIO interrupts to them.
 //
 // Contract
-// - muxPeripheral/muxGpioOutput/muxGpioInput write the pin's IOMUX PINCM register once; call them before the
-//   peripheral or pin is used. They are not thread-safe against each other on the same pin.
+// - muxPeripheral/muxGpioInput and GpioOut::init write the pin's IOMUX PINCM register once; call them before
+//   the peripheral or pin is used. They are not thread-safe against each other on the same pin.
 // - GpioOut::set() is callable from any context (DOUTSET/DOUTCLR are single writes, no read-modify-write).
 // - GpioEdgeInput::enable(notify) clears a stale edge, then unmasks the pin; `notify` runs in ISR context
 //   (INT_GROUP1) once per serviced edge. enable()/disable() are for task context.
@@ -31,8 +31,6 @@ enum class Edge : uint8_t { Rising = 1, Falling = 2, Both = 3 };  // GPIO POLARI
 
 // IOMUX PINCM writes. `extra` adds PINCM bits (input enable, pulls, open drain) to PC|PF.
 void muxPeripheral(const PinFunction& function, uint32_t extra = 0);
-// (inline: muxGpioOutput is defined in gpio.cpp, its one caller GpioOut::init is there; muxGpioInput below)
-inline void muxGpioOutput(const Pin& pin, bool high);
 inline void muxGpioInput(const Pin& pin, Pull pull) {
   namespace iomux = reg::iomux;
   const uint32_t pullBits = pull == Pull::Up ? iomux::kPullUp : pull == Pull::Down ? iomux::kPullDown : 0;

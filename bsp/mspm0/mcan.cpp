@@ -1,5 +1,6 @@
 #include "mcan.hpp"
 
+#include "core/bytes.hpp"
 #include "gpio.hpp"
 #include "hal/irq.hpp"
 #include "mmio.hpp"
@@ -86,10 +87,8 @@ Status McanBus::doSend(const CanFrame& frame) {
   mmio::Reg* e = element(config_.base, kTxFifoStart, put);
   e[0].write(frame.extended ? (mcan::kElemXtd | frame.id) : (frame.id << mcan::kElemStdIdShift));
   e[1].write(static_cast<uint32_t>(frame.dlc) << mcan::kElemDlcShift);
-  for (uint32_t word = 0; word < 2; ++word) {
-    const uint8_t* d = &frame.data[4 * word];
-    e[2 + word].write(d[0] | (d[1] << 8) | (d[2] << 16) | (static_cast<uint32_t>(d[3]) << 24));
-  }
+  for (uint32_t word = 0; word < 2; ++word)
+    e[2 + word].write(fw::bytes::loadLe32(&frame.data[4 * word]));
   inFlight_ = inFlight_ | (1U << put);
   q.txbar.write(1U << put);
   return Status::Ok;
@@ -108,11 +107,8 @@ bool McanBus::doReceive(CanFrame& frame) {
   frame.id = frame.extended ? (r0 & 0x1FFFFFFF) : ((r0 >> mcan::kElemStdIdShift) & 0x7FF);
   frame.dlc = static_cast<uint8_t>((r1 >> mcan::kElemDlcShift) & 0xF);
   if (frame.dlc > 8) frame.dlc = 8;  // classic CAN: DLC 9..15 still mean 8 bytes
-  for (uint32_t word = 0; word < 2; ++word) {
-    const uint32_t v = e[2 + word].read();
-    for (uint32_t i = 0; i < 4; ++i)
-      frame.data[4 * word + i] = static_cast<uint8_t>(v >> (8 * i));
-  }
+  for (uint32_t word = 0; word < 2; ++word)
+    fw::bytes::storeLe32(&frame.data[4 * word], e[2 + word].read());
   q.rxf0a.write(get);
   ++rxFrames_;
   return true;

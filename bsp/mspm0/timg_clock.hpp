@@ -41,14 +41,7 @@ class TimgClock final : public fw::hal::Clock {
   static void start(const Config& config) {
     namespace timg = reg::timg;
     const uintptr_t base = config.base;
-    reg::resetAndPowerUp(reg::gprcm(base));
-    // TIMCLK set-up order of the TRM (SLAU846A 23.2.1): source, divider, prescaler, enable.
-    timg::Clock& clock = timg::clock(base);
-    clock.clksel.write(timg::kClkselBusclk);
-    clock.clkdiv.write(0);  // /1
-    timg::Common& common = timg::common(base);
-    common.cps.write(config.prescaler);  // 1 MHz counter clock
-    common.cclkctl.write(timg::kClockEnable);
+    timg::powerUpClock(base, config.prescaler);  // 1 MHz counter clock
     timg::Counter& counter = timg::counter(base);
     counter.load.write(0xFFFF);
     counter.ccctl[0].write(0);  // compare mode, immediate update

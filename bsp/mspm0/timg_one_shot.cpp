@@ -10,20 +10,17 @@ namespace timg = reg::timg;
 
 void TimgOneShot::init() {
   const uintptr_t base = config_.base;
-  reg::resetAndPowerUp(reg::gprcm(base));
-  timg::Clock& clock = timg::clock(base);
-  clock.clksel.write(timg::kClkselBusclk);
-  clock.clkdiv.write(0);
-  timg::Common& common = timg::common(base);
-  common.cps.write(config_.prescaler);  // 1 MHz
-  common.cclkctl.write(timg::kClockEnable);
+  timg::powerUpClock(base, config_.prescaler);  // 1 MHz
   reg::EventBlock& events = reg::cpuInt(base);
   events.iclr.write(0xFFFFFFFF);
   events.imask.write(timg::kIntZero);
   nvic::enable(config_.irq);
 }
 
-void TimgOneShot::load(uint32_t chunk) {
+void TimgOneShot::load(uint32_t microseconds) {
+  // The 16-bit counter runs at most 0xFFFF ticks: the rest is left for onInterrupt() to load.
+  const uint32_t chunk = microseconds > 0xFFFF ? 0xFFFF : microseconds;
+  remaining_ = microseconds - chunk;
   timg::Counter& counter = timg::counter(config_.base);
   counter.ctrctl.write(0);
   counter.load.write(chunk);
@@ -34,11 +31,8 @@ void TimgOneShot::load(uint32_t chunk) {
 }
 
 void TimgOneShot::start(uint32_t microseconds) {
-  if (microseconds == 0) microseconds = 1;
-  const uint32_t chunk = microseconds > 0xFFFF ? 0xFFFF : microseconds;
-  remaining_ = microseconds - chunk;
   running_ = true;
-  load(chunk);
+  load(microseconds == 0 ? 1 : microseconds);
 }
 
 void TimgOneShot::stop() {
@@ -53,9 +47,7 @@ bool TimgOneShot::onInterrupt() {
   events.iclr.write(pending);
   if ((pending & timg::kIntZero) == 0 || !running_) return false;
   if (remaining_ != 0) {
-    const uint32_t chunk = remaining_ > 0xFFFF ? 0xFFFF : remaining_;
-    remaining_ -= chunk;
-    load(chunk);
+    load(remaining_);
     return false;
   }
   running_ = false;

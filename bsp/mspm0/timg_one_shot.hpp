@@ -30,7 +30,8 @@ class TimgOneShot {
   bool onInterrupt();
 
  private:
-  void load(uint32_t chunk);
+  // Loads and starts the next chunk of `microseconds` (at most 0xFFFF); the rest goes to remaining_.
+  void load(uint32_t microseconds);
 
   Config config_;
   uint32_t remaining_ = 0;  // microseconds still to run after the current chunk

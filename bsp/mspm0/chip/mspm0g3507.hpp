@@ -1,6 +1,6 @@
 // MSPM0G3507 facts the BSP uses. Every value is a row of ../shared/reference/mspm0/mspm0g3507.tsv (kind in
-// brackets): memory [mem], bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
-// functions [pinfunc], LaunchPad wiring [example].
+// brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
+// functions [pinfunc], LaunchPad wiring [example]. The memories [mem] are in images/images.cmake.
 #pragma once
 
 #include <cstdint>
@@ -10,15 +10,7 @@
 namespace bsp::mspm0::chip {
 
 struct Mspm0g3507 {
-  static constexpr uint32_t kFlashBase = 0x00000000;
-  static constexpr uint32_t kFlashSize = 128 * 1024;
-  static constexpr uint32_t kSramBase = 0x20200000;
-  static constexpr uint32_t kSramSize = 32 * 1024;
-
-  static constexpr uintptr_t kSysctl = 0x400AF000;
   static constexpr uintptr_t kCpuss = 0x40400000;
-  static constexpr uintptr_t kIomux = 0x40428000;
-
   static constexpr uintptr_t kDma = 0x4042A000;
   static constexpr uintptr_t kI2c0 = 0x400F0000;
   static constexpr uintptr_t kUart0 = 0x40108000;
@@ -40,7 +32,6 @@ struct Mspm0g3507 {
   static constexpr uint8_t kDmaTrigUart0Tx = 18;
   static constexpr uint8_t kDmaTrigUart1Rx = 19;
   static constexpr uint8_t kDmaTrigUart1Tx = 20;
-  static constexpr uint8_t kDmaChannels = 7;
 
   static constexpr PinFunction kI2c0SdaPa0{{0, 0, 1}, 3};
   static constexpr PinFunction kI2c0SclPa1{{0, 1, 2}, 3};

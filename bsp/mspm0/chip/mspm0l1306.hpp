@@ -1,6 +1,6 @@
 // MSPM0L1306 facts the BSP uses. Every value is a row of ../shared/reference/mspm0/mspm0l1306.tsv (kind in
-// brackets): memory [mem], bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
-// functions [pinfunc].
+// brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
+// functions [pinfunc]. The memories [mem] are in images/images.cmake.
 #pragma once
 
 #include <cstdint>
@@ -10,15 +10,7 @@
 namespace bsp::mspm0::chip {
 
 struct Mspm0l1306 {
-  static constexpr uint32_t kFlashBase = 0x00000000;
-  static constexpr uint32_t kFlashSize = 64 * 1024;
-  static constexpr uint32_t kSramBase = 0x20000000;
-  static constexpr uint32_t kSramSize = 4 * 1024;
-
-  static constexpr uintptr_t kSysctl = 0x400AF000;
   static constexpr uintptr_t kCpuss = 0x40400000;
-  static constexpr uintptr_t kIomux = 0x40428000;
-
   static constexpr uintptr_t kDma = 0x4042A000;
   static constexpr uintptr_t kI2c0 = 0x400F0000;
   static constexpr uintptr_t kUart0 = 0x40108000;
@@ -31,7 +23,6 @@ struct Mspm0l1306 {
   static constexpr uint8_t kIrqI2c0 = 24;
 
   static constexpr uint8_t kDmaTrigUart0Tx = 11;
-  static constexpr uint8_t kDmaChannels = 3;
 
   // Pins of the LP-MSPM0L1306 that the images use.
   static constexpr PinFunction kI2c0SdaPa0{{0, 0, 1}, 3};

@@ -1,11 +1,12 @@
 // CPU subsystem interrupt groups and the Cortex-M0+ NVIC, both through the MMIO facade so host tests see
-// them. Source: mspm0*.tsv rows "CPUSS.INT_GROUP[n].IIDX" (CPUSS_BASE + 0x1100 + 0x30 * n), "group_iidx",
-// "NVIC.*" (ARMv6-M ARM B3.4).
+// them. Source: mspm0*.tsv rows "CPUSS.INT_GROUP[n].IIDX" (CPUSS_BASE + 0x1100 + 0x30 * n), "group_iidx";
+// the NVIC addresses are those of bsp/cortex_m/scs.hpp (ARMv6-M ARM B3.4).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
+#include "cortex_m/scs.hpp"
 #include "regs/common.hpp"
 
 namespace bsp::mspm0::reg::cpuss {
@@ -22,16 +23,18 @@ inline constexpr uint32_t kGroup1Gpiob = 2;
 namespace bsp::mspm0::nvic {
 
 struct Regs {
-  mmio::Reg iser;  // 0xE000E100
+  mmio::Reg iser;  // scs::kNvicIser
   mmio::Reg reserved0_[31];
-  mmio::Reg icer;  // 0xE000E180
+  mmio::Reg icer;  // scs::kNvicIcer
   mmio::Reg reserved1_[31];
-  mmio::Reg ispr;  // 0xE000E200
+  mmio::Reg ispr;  // scs::kNvicIspr
   mmio::Reg reserved2_[31];
-  mmio::Reg icpr;  // 0xE000E280
+  mmio::Reg icpr;  // scs::kNvicIcpr
 };
-static_assert(offsetof(Regs, icer) == 0x80 && offsetof(Regs, ispr) == 0x100 && offsetof(Regs, icpr) == 0x180);
-inline constexpr uintptr_t kBase = 0xE000E100;
+inline constexpr uintptr_t kBase = scs::kNvicIser;
+static_assert(kBase + offsetof(Regs, icer) == scs::kNvicIcer &&
+              kBase + offsetof(Regs, ispr) == scs::kNvicIspr &&
+              kBase + offsetof(Regs, icpr) == scs::kNvicIcpr);
 
 inline Regs& regs() {
   return mmio::block<Regs>(kBase);

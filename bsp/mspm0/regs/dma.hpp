@@ -18,11 +18,13 @@ struct Channel {
 };
 static_assert(sizeof(Channel) == 0x10);
 
-inline Channel& channel(uintptr_t base, uint32_t n) {
-  return mmio::block<Channel>(base + 0x1200 + 0x10 * n);
+// Addresses of channel n's registers and of its trigger select DMATRIG[n].DMATCTL (constexpr: DmaChannel
+// works them out at compile time for the constinit board objects).
+constexpr uintptr_t channelAddress(uintptr_t base, uint32_t n) {
+  return base + 0x1200 + 0x10 * n;
 }
-inline Reg& triggerSelect(uintptr_t base, uint32_t n) {
-  return mmio::block<Reg>(base + 0x1110 + 4 * n);
+constexpr uintptr_t triggerSelectAddress(uintptr_t base, uint32_t n) {
+  return base + 0x1110 + 4 * n;
 }
 
 // DMACTL fields: DMAEN bit 1; DMASRCWDTH/DMADSTWDTH 0 = byte; DMASRCINCR 19:16 and DMADSTINCR 23:20,

@@ -56,6 +56,19 @@ inline Counter& counter(uintptr_t base) {
 inline constexpr uint32_t kClkselBusclk = 1U << 3;
 inline constexpr uint32_t kClockEnable = 1U << 0;
 
+// Power-cycles the timer at `base` and starts its counter clock from BUSCLK /1 with CPS = `prescaler`, in
+// the TIMCLK set-up order of the TRM (SLAU846A 23.2.1): source, divider, prescaler, enable. Inline: a
+// caller with a constant base and prescaler gets constant register writes.
+inline void powerUpClock(uintptr_t base, uint32_t prescaler) {
+  resetAndPowerUp(gprcm(base));
+  Clock& clk = clock(base);
+  clk.clksel.write(kClkselBusclk);
+  clk.clkdiv.write(0);  // /1
+  Common& com = common(base);
+  com.cps.write(prescaler);
+  com.cclkctl.write(kClockEnable);
+}
+
 // CTRCTL: EN bit 0, REPEAT 3:1, CM 5:4 (0 down, 2 up), CLC/CAC/CZC 9:7/12:10/15:13 must be written 0 (their
 // reset value 7 is reserved), CVAE 29:28 (2 = start from zero, 0 = start from LOAD).
 inline constexpr uint32_t kCtrEnable = 1U << 0;
