@@ -220,6 +220,7 @@ class CallGraph:
         for name, defs in self.funcs.items():
             for addr, _, _ in defs:
                 self.addr_to_name.setdefault(addr, name)
+        self.thumb = {addr | 1: name for addr, name in self.addr_to_name.items()}  # function pointer -> name
         self.frame = {}  # name -> bytes
         self.dynamic = set()
         self.edges = {}  # name -> set of callee names
@@ -320,21 +321,19 @@ class CallGraph:
     def _address_taken(self):
         """Functions whose Thumb address appears as a data word outside the vector table: vtable entries,
         function pointers in literal pools, initialised data."""
-        thumb = {addr | 1: name for addr, name in self.addr_to_name.items()}
         taken = set()
         for s in self.elf.sections:
             if not s["flags"] & 0x2 or s["type"] == 8 or s["name"] == ".isr_vector":
                 continue
             for w in self.elf.words(dict(s, size=s["size"] & ~3)):
-                if w in thumb:
-                    taken.add(thumb[w])
+                if w in self.thumb:
+                    taken.add(self.thumb[w])
         return taken
 
     def _vtable_entries(self):
         """Functions listed in a vtable (_ZTV* objects): virtual members and their thunks. GCC's .ci label
         says "virtual" for ordinary classes but not for members of class templates, so the vtables are the
         reliable source. A plain function pointer (Notify::fn) can never hold one of these."""
-        thumb = {addr | 1: name for addr, name in self.addr_to_name.items()}
         entries = set()
         for sym in self.elf.symbols:
             if not sym["name"].startswith("_ZTV") or sym["type"] != 1 or sym["shndx"] >= len(self.elf.sections):
@@ -345,8 +344,8 @@ class CallGraph:
             start = sec["offset"] + (sym["value"] - sec["addr"])
             for i in range(sym["size"] // 4):
                 (w,) = struct.unpack_from("<I", self.elf.data, start + 4 * i)
-                if w in thumb:
-                    entries.add(thumb[w])
+                if w in self.thumb:
+                    entries.add(self.thumb[w])
         return entries
 
     def indirect_targets(self, label):
@@ -413,6 +412,15 @@ class CallGraph:
         depth, path, _ = visit(root, frozenset())
         return depth, path
 
+    def deepest(self, roots):
+        """The deepest worst() over `roots` (None entries skipped; ties go to the first in sorted order)."""
+        best, best_path = 0, []
+        for name in sorted(n for n in roots if n):
+            d, p = self.worst(name)
+            if d > best:
+                best, best_path = d, p
+        return best, best_path
+
 
 def analyse_stack(args):
     elf = Elf(args.elf)
@@ -425,18 +433,8 @@ def analyse_stack(args):
     for i in range(4, 48):
         if v[i]:
             isr_names.add(graph.addr_to_name.get(v[i] & ~1))
-    isr_names -= fault_names
-    isr_names.discard(None)
-    isr, isr_path = 0, []
-    for name in sorted(isr_names):
-        d, p = graph.worst(name)
-        if d > isr:
-            isr, isr_path = d, p
-    fault, fault_path = 0, []
-    for name in sorted(n for n in fault_names if n):
-        d, p = graph.worst(name)
-        if d > fault:
-            fault, fault_path = d, p
+    isr, isr_path = graph.deepest(isr_names - fault_names)
+    fault, fault_path = graph.deepest(fault_names)
     total = thread + EXCEPTION_FRAME + isr + EXCEPTION_FRAME + fault
     errors = sorted(set(graph.errors))
     from_disassembly = sorted(n for n, s in graph.source.items() if s == "disassembly" and n in graph.funcs)
