@@ -386,7 +386,7 @@ class CallGraph:
                 self.errors.append(f"{name}: dynamic stack frame")
             best, best_path, clean = 0, [], True
             on_path = path | {name}
-            for callee in self.edges.get(name, ()):
+            for callee in sorted(self.edges.get(name, ())):  # sorted: the same path on every run
                 if callee in on_path:
                     self.errors.append(f"recursion: {name} -> {callee}")
                     continue
@@ -396,7 +396,7 @@ class CallGraph:
                     best, best_path = depth, sub
             for label in self.indirect.get(name, ()):
                 targets, ident = self.indirect_targets(label)
-                for callee in targets:
+                for callee in sorted(targets):
                     if callee in on_path:
                         clean = False
                         continue
