@@ -169,8 +169,9 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
     }
     if (!sendAddress(true)) return ns;
     text += " [";
-    size_t total = txn.read.size() + (txn.pec ? 1 : 0);
-    for (size_t i = 0; i < total; ++i) {
+    const size_t pecBytes = txn.pec ? 1 : 0;
+    size_t dataEnd = txn.read.size();  // a block read's count byte shortens it
+    for (size_t i = 0; i < dataEnd + pecBytes; ++i) {
       fw::Duration stretch{};
       const uint8_t byte = target->onRead(stretch);
       if (!stretched(stretch)) {
@@ -182,7 +183,6 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
       char buf[3];
       std::snprintf(buf, sizeof buf, "%02X", byte);
       text += buf;
-      const size_t dataEnd = total - (txn.pec ? 1 : 0);
       if (i < dataEnd) {
         txn.read[i] = byte;
         txn.readCount = static_cast<uint8_t>(i + 1);
@@ -197,7 +197,7 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
             target->onStop();
             return ns;
           }
-          total = 1 + byte + (txn.pec ? 1 : 0);
+          dataEnd = 1 + byte;
         }
       } else if (byte != pec) {
         text += "] P";

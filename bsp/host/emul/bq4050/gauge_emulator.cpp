@@ -155,8 +155,7 @@ bool take(std::deque<Bq4050Emulator::Fault>& faults, int command,
           const std::function<bool(const Bq4050Emulator::Fault&)>& accept, Bq4050Emulator::Fault& out) {
   for (auto it = faults.begin(); it != faults.end(); ++it) {
     if (!accept(*it)) continue;
-    if (it->command >= 0 && command >= 0 && it->command != command) continue;
-    if (it->command >= 0 && command < 0) continue;
+    if (it->command >= 0 && it->command != command) continue;
     out = *it;
     if (--it->times <= 0) faults.erase(it);
     return true;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <span>
 
+#include "core/bytes.hpp"
 #include "core/crc.hpp"
 #include "regmap/bq7690x.hpp"
 #include "regmap/bq7690x_table.hpp"
@@ -28,6 +29,15 @@ uint8_t crc8(uint8_t crc, uint8_t byte) {
 
 int16_t clamp16(int64_t v) {
   return static_cast<int16_t>(std::clamp<int64_t>(v, INT16_MIN, INT16_MAX));
+}
+
+// The 0x60 checksum of a subcommand transfer (SLUUBY2B section 13.1): the inverted 8-bit sum of the code's
+// two bytes and the data.
+uint8_t transferChecksum(uint16_t code, std::span<const uint8_t> data) {
+  uint8_t sum = static_cast<uint8_t>(code + (code >> 8));
+  for (uint8_t b : data)
+    sum = static_cast<uint8_t>(sum + b);
+  return static_cast<uint8_t>(~sum);
 }
 
 }  // namespace
@@ -103,6 +113,7 @@ void Bq769xEmulator::setDataMemory(uint16_t address, uint32_t value, uint8_t siz
 // --- power, reset ------------------------------------------------------------------------------------------
 
 void Bq769xEmulator::initRegisters() {
+  dm_ = dmDefaults_;
   regs_.fill(0);
   if (commandEvent_ != 0) clock_.cancel(commandEvent_);
   if (bufferEvent_ != 0) clock_.cancel(bufferEvent_);
@@ -134,7 +145,6 @@ void Bq769xEmulator::initRegisters() {
 }
 
 void Bq769xEmulator::powerOn() {
-  dm_ = dmDefaults_;
   initRegisters();
   nackFirst_ = timing_.nackFirstAfterPowerUp;
   bootUntil_ = clock_.nowUs();
@@ -143,7 +153,6 @@ void Bq769xEmulator::powerOn() {
 
 void Bq769xEmulator::reset() {
   ++resets_;
-  dm_ = dmDefaults_;
   initRegisters();
   bootUntil_ = clock_.nowUs() + timing_.boot.us;
   update();
@@ -179,10 +188,7 @@ I2cReply Bq769xEmulator::onStart(bool read) {
     reply.ack = false;
     return reply;
   }
-  if (resetAfter_ > 0 && --resetAfter_ == 0) {
-    resetAfter_ = -1;
-    reset();
-    dead_ = true;
+  if (resetIfDue()) {
     reply.ack = false;
     return reply;
   }
@@ -203,14 +209,8 @@ I2cReply Bq769xEmulator::onWrite(uint8_t byte) {
   I2cReply reply;
   reply.stretch = stretchOnce_;
   stretchOnce_ = {};
-  if (dead_) return {false, reply.stretch};
-  if (resetAfter_ > 0 && --resetAfter_ == 0) {
-    // The device resets while the controller is sending: the byte is not acknowledged.
-    resetAfter_ = -1;
-    reset();
-    dead_ = true;
-    return {false, reply.stretch};
-  }
+  // A device that resets while the controller is sending does not acknowledge the byte.
+  if (dead_ || resetIfDue()) return {false, reply.stretch};
   if (!haveCommand_) {
     haveCommand_ = true;
     cmd_ = ptr_ = byte;
@@ -245,12 +245,8 @@ uint8_t Bq769xEmulator::onRead(fw::Duration& stretch) {
   stretchOnce_ = {};
   const int index = readIndex_++;
   uint8_t byte = 0xFF;  // a released SDA
-  if (!dead_) {
-    if (resetAfter_ > 0 && --resetAfter_ == 0) {
-      resetAfter_ = -1;
-      reset();
-      dead_ = true;
-    } else if (!crc_ || index % 2 == 0) {
+  if (!dead_ && !resetIfDue()) {
+    if (!crc_ || index % 2 == 0) {
       byte = readData_ = regs_[ptr_];
       ptr_ = static_cast<uint8_t>((ptr_ + 1) & 0x7F);
     } else {
@@ -262,6 +258,16 @@ uint8_t Bq769xEmulator::onRead(fw::Duration& stretch) {
     corruptIndex_ = -1;
   }
   return byte;
+}
+
+// Counts one bus byte towards an injected resetAfterBytes(); at the last one the device resets and ignores
+// the rest of the transaction. Returns whether it reset.
+bool Bq769xEmulator::resetIfDue() {
+  if (resetAfter_ <= 0 || --resetAfter_ != 0) return false;
+  resetAfter_ = -1;
+  reset();
+  dead_ = true;
+  return true;
 }
 
 void Bq769xEmulator::onStop() {
@@ -330,10 +336,8 @@ void Bq769xEmulator::commit() {
 // and data, length = data + 4. A wrong one is ignored, as is a data-memory write outside CONFIG_UPDATE.
 void Bq769xEmulator::executeWrite() {
   writePending_ = false;
-  uint8_t sum = static_cast<uint8_t>(writeCode_ + (writeCode_ >> 8));
-  for (uint8_t b : writeData_)
-    sum = static_cast<uint8_t>(sum + b);
-  if (regs_[kChecksum] != static_cast<uint8_t>(~sum) || regs_[kLength] != writeData_.size() + 4) {
+  if (regs_[kChecksum] != transferChecksum(writeCode_, writeData_) ||
+      regs_[kLength] != writeData_.size() + 4) {
     ++rejectedWrites_;
     return;
   }
@@ -385,10 +389,8 @@ void Bq769xEmulator::startCommand(uint16_t code) {
 void Bq769xEmulator::fillResult(uint16_t code, const uint8_t* data, uint8_t n, uint8_t reportedLen) {
   for (uint8_t i = 0; i < n && i < 32; ++i)
     regs_[kBuf + i] = data[i];
-  uint8_t sum = static_cast<uint8_t>(code + (code >> 8));
-  for (uint8_t i = 0; i + 4 < reportedLen && i < 32; ++i)
-    sum = static_cast<uint8_t>(sum + regs_[kBuf + i]);
-  regs_[kChecksum] = static_cast<uint8_t>(~sum);
+  const size_t covered = reportedLen > 4 ? std::min<size_t>(reportedLen - 4, 32) : 0;
+  regs_[kChecksum] = transferChecksum(code, std::span<const uint8_t>(regs_).subspan(kBuf, covered));
   regs_[kLength] = reportedLen;
   if (wrongChecksum_) {
     regs_[kChecksum] ^= 0x5A;
@@ -413,8 +415,7 @@ void Bq769xEmulator::complete(uint16_t code) {
     n = 32;
     reported = 36;  // a data-memory read always fills the whole buffer (SLUUBY2B section 13.1: 0x24)
   } else if (code == m2::sub::DeviceNumber.address) {
-    data[0] = static_cast<uint8_t>(deviceNumber_);
-    data[1] = static_cast<uint8_t>(deviceNumber_ >> 8);
+    fw::bytes::storeLe16(data, deviceNumber_);
     n = 2;
     reported = 6;
   } else if (code == m2::sub::FwVersion.address) {
@@ -444,13 +445,11 @@ void Bq769xEmulator::complete(uint16_t code) {
     const uint16_t status = static_cast<uint16_t>(
         (fetEn_ ? m2::bits::ManufacturingStatus::fet_en_mask : 0) |
         (dataMemory(m2::dm::MfgStatusInit.address, 2) & m2::bits::ManufacturingStatus::pf_en_mask));
-    data[0] = static_cast<uint8_t>(status);
-    data[1] = static_cast<uint8_t>(status >> 8);
+    fw::bytes::storeLe16(data, status);
     n = 2;
     reported = 6;
   } else if (code == m2::sub::CbActiveCells.address) {
-    data[0] = static_cast<uint8_t>(cbActive_);
-    data[1] = static_cast<uint8_t>(cbActive_ >> 8);
+    fw::bytes::storeLe16(data, cbActive_);
     n = bq7690x() ? 1 : 2;
     reported = static_cast<uint8_t>(n + 4);
   }
@@ -670,8 +669,7 @@ void Bq769xEmulator::setAlert(bool asserted) {
 // --- the register image ------------------------------------------------------------------------------------
 
 void Bq769xEmulator::put16(uint8_t cmd, uint16_t v) {
-  regs_[cmd] = static_cast<uint8_t>(v);
-  regs_[cmd + 1] = static_cast<uint8_t>(v >> 8);
+  fw::bytes::storeLe16(&regs_[cmd], v);
 }
 
 uint8_t Bq769xEmulator::reg(uint8_t cmd) {

@@ -135,6 +135,7 @@ class Bq769xEmulator final : public I2cTarget {
   void setAlert(bool asserted);
   void loadDefaults();
   void initRegisters();
+  bool resetIfDue();
   bool dmValid(uint16_t address) const;
   fw::Duration latencyOf(uint16_t code) const;
 

@@ -2,9 +2,11 @@
 #include "bq79616/chain_emulator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/bytes.hpp"
 #include "core/crc.hpp"
 #include "regmap/bq79616.hpp"
 #include "regmap/bq79616_table.hpp"
@@ -45,6 +47,7 @@ constexpr uint16_t kVcell1Lo = at(r::Vcell1Lo);
 constexpr uint16_t kGpio1Hi = at(r::Gpio1Hi);
 constexpr uint16_t kDietemp1Hi = at(r::Dietemp1Hi);
 constexpr uint16_t kShadowEnd = at(r::CustCrcHi);  // NVM-shadow registers 0x000 .. CUST_CRC_HI - 1
+static_assert(kCustCrcLo == kCustCrcHi + 1, "CUST_CRC is one big-endian word");
 
 // FAULT_SUMMARY groups and the registers behind them (SLUSE81E §9.5.4.4, FAULT_SUMMARY).
 struct Group {
@@ -92,15 +95,28 @@ void require(bool ok, const char* what) {
 
 enum Tone : uint8_t { kToneWake, kToneSleepToActive, kToneShutdown, kToneHwReset };
 
-std::vector<uint8_t> defaultRegisters() {
-  std::vector<uint8_t> regs(Bq79616ChainEmulator::kRegisterSpace, 0);
-  for (const auto& e : fw::regmap::bq79616::entries) {
-    if (e.kind == fw::regmap::Kind::Register && e.hasDefault && e.address < regs.size())
-      regs[e.address] = static_cast<uint8_t>(e.dflt);
-  }
-  // An unprogrammed OTP address is 0 (SLUSE81E §9.3.6.1.3.2); the runtime address starts there.
-  regs[kDir0Addr] = 0;
-  return regs;
+using Registers = std::array<uint8_t, Bq79616ChainEmulator::kRegisterSpace>;
+
+// The customer CRC over the NVM-shadow registers.
+uint16_t shadowCrc(const Registers& regs) {
+  return fw::crc::crc16(regs.data(), kShadowEnd);
+}
+
+// The register image a reset loads, built once: the register map's defaults, with CUST_CRC holding the CRC
+// of them (the OTP holds the CRC of its own defaults).
+const Registers& defaultRegisters() {
+  static const Registers defaults = [] {
+    Registers regs{};
+    for (const auto& e : fw::regmap::bq79616::entries) {
+      if (e.kind == fw::regmap::Kind::Register && e.hasDefault && e.address < regs.size())
+        regs[e.address] = static_cast<uint8_t>(e.dflt);
+    }
+    // An unprogrammed OTP address is 0 (SLUSE81E §9.3.6.1.3.2); the runtime address starts there.
+    regs[kDir0Addr] = 0;
+    fw::bytes::storeBe16(&regs[kCustCrcHi], shadowCrc(regs));
+    return regs;
+  }();
+  return defaults;
 }
 
 }  // namespace
@@ -125,19 +141,17 @@ Bq79616ChainEmulator::Bq79616ChainEmulator(SimClock& clock, SimUart& uart, size_
 
 void Bq79616ChainEmulator::resetRegisters(Device& d) {
   // Measurements survive a digital reset (they are the analog front end's, written by the ADC): keep them.
+  // (They lie outside the NVM shadow, so the default CUST_CRC still matches.)
+  static_assert(kVcell16Hi >= kShadowEnd && kGpio1Hi >= kShadowEnd && kDietemp1Hi >= kShadowEnd);
   std::array<uint8_t, 32> cells{};
   std::copy_n(d.regs.begin() + kVcell16Hi, 32, cells.begin());
   std::array<uint8_t, 20> aux{};
   std::copy_n(d.regs.begin() + kGpio1Hi, 16, aux.begin());
   std::copy_n(d.regs.begin() + kDietemp1Hi, 4, aux.begin() + 16);
-  const auto defaults = defaultRegisters();
-  std::copy(defaults.begin(), defaults.end(), d.regs.begin());
+  d.regs = defaultRegisters();
   std::copy(cells.begin(), cells.end(), d.regs.begin() + kVcell16Hi);
   std::copy_n(aux.begin(), 16, d.regs.begin() + kGpio1Hi);
   std::copy_n(aux.begin() + 16, 4, d.regs.begin() + kDietemp1Hi);
-  const uint16_t crc = custCrc(d);  // the OTP holds the CRC of its own defaults
-  d.regs[kCustCrcHi] = static_cast<uint8_t>(crc >> 8);
-  d.regs[kCustCrcLo] = static_cast<uint8_t>(crc);
   d.regs[kFaultSys] = kFaultSysDrst;
   d.addrWr = false;
   d.addressed = false;
@@ -145,7 +159,7 @@ void Bq79616ChainEmulator::resetRegisters(Device& d) {
 }
 
 uint16_t Bq79616ChainEmulator::custCrc(const Device& d) const {
-  return fw::crc::crc16(d.regs.data(), kShadowEnd);
+  return shadowCrc(d.regs);
 }
 
 void Bq79616ChainEmulator::digitalReset(size_t k, uint64_t readyAt) {
@@ -186,9 +200,7 @@ void Bq79616ChainEmulator::setReg(size_t device, uint16_t address, uint8_t value
 void Bq79616ChainEmulator::setCellRaw(size_t device, int cell, int16_t raw) {
   require(cell >= 1 && cell <= 16, "cells are numbered 1..16");
   const uint16_t a = static_cast<uint16_t>(kVcell16Hi + 2 * (16 - cell));  // VCELL16 first
-  auto& regs = devices_.at(device).regs;
-  regs[a] = static_cast<uint8_t>(static_cast<uint16_t>(raw) >> 8);
-  regs[a + 1] = static_cast<uint8_t>(raw);
+  fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
 }
 
 void Bq79616ChainEmulator::setCellMicrovolts(size_t device, int cell, int32_t microvolts) {
@@ -200,20 +212,17 @@ void Bq79616ChainEmulator::setCellMicrovolts(size_t device, int cell, int32_t mi
 
 int16_t Bq79616ChainEmulator::cellRaw(size_t device, int cell) const {
   const uint16_t a = static_cast<uint16_t>(kVcell16Hi + 2 * (16 - cell));
-  const auto& regs = devices_.at(device).regs;
-  return static_cast<int16_t>((regs[a] << 8) | regs[a + 1]);
+  return fw::bytes::loadBeI16(&devices_.at(device).regs[a]);
 }
 
 void Bq79616ChainEmulator::setDieTempRaw(size_t device, int index, int16_t raw) {
   const uint16_t a = static_cast<uint16_t>(kDietemp1Hi + 2 * (index - 1));
-  devices_.at(device).regs[a] = static_cast<uint8_t>(static_cast<uint16_t>(raw) >> 8);
-  devices_.at(device).regs[a + 1] = static_cast<uint8_t>(raw);
+  fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
 }
 
 void Bq79616ChainEmulator::setGpioRaw(size_t device, int gpio, int16_t raw) {
   const uint16_t a = static_cast<uint16_t>(kGpio1Hi + 2 * (gpio - 1));
-  devices_.at(device).regs[a] = static_cast<uint8_t>(static_cast<uint16_t>(raw) >> 8);
-  devices_.at(device).regs[a + 1] = static_cast<uint8_t>(raw);
+  fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
 }
 
 void Bq79616ChainEmulator::attachFaultPin(SimEdgeInput& nfault) {
@@ -364,10 +373,9 @@ void Bq79616ChainEmulator::onHostBytes(std::span<const uint8_t> bytes, uint64_t 
       rxBuf_.erase(rxBuf_.begin());
       continue;
     }
-    const bool read = type == 0 || type == 2 || type == 4;
-    const bool single = type == 0 || type == 1;
-    const size_t dataBytes = read ? 1 : static_cast<size_t>(init & 0x07) + 1;
-    const size_t size = 1 + (single ? 1 : 0) + 2 + dataBytes + 2;
+    const FrameType kind{type, type == 0 || type == 2 || type == 4, type == 0 || type == 1};
+    const size_t dataBytes = kind.read ? 1 : static_cast<size_t>(init & 0x07) + 1;
+    const size_t size = 1 + (kind.single ? 1 : 0) + 2 + dataBytes + 2;
     if (rxBuf_.size() < size) break;  // wait for the rest of the frame
     std::vector<uint8_t> frame(rxBuf_.begin(), rxBuf_.begin() + static_cast<std::ptrdiff_t>(size));
     rxBuf_.erase(rxBuf_.begin(), rxBuf_.begin() + static_cast<std::ptrdiff_t>(size));
@@ -377,15 +385,13 @@ void Bq79616ChainEmulator::onHostBytes(std::span<const uint8_t> bytes, uint64_t 
       continue;
     }
     ++counters_.commandFrames;
-    process(frame, endUs);
+    process(frame, kind, endUs);
   }
   updateFaults();
 }
 
-void Bq79616ChainEmulator::process(const std::vector<uint8_t>& frame, uint64_t endUs) {
-  const uint8_t type = (frame[0] >> 4) & 0x07;
-  const bool single = type == 0 || type == 1;
-  const bool read = type == 0 || type == 2 || type == 4;
+void Bq79616ChainEmulator::process(const std::vector<uint8_t>& frame, FrameType kind, uint64_t endUs) {
+  const auto [type, read, single] = kind;
   const uint8_t target = single ? frame[1] : 0;
   const size_t at = single ? 2 : 1;
   const auto reg = static_cast<uint16_t>((frame[at] << 8) | frame[at + 1]);
@@ -559,8 +565,7 @@ void Bq79616ChainEmulator::updateFaults() {
     Device& d = devices_[k];
     if (d.commCause) d.regs[kFaultComm2] |= kComm2Link;
     const bool crcMasked = (d.regs[kFaultMsk2] & b::FaultMsk2::msk_otp_crc_mask) != 0;
-    if (!crcMasked && (d.power == Power::Active) &&
-        custCrc(d) != static_cast<uint16_t>((d.regs[kCustCrcHi] << 8) | d.regs[kCustCrcLo])) {
+    if (!crcMasked && (d.power == Power::Active) && custCrc(d) != fw::bytes::loadBe16(&d.regs[kCustCrcHi])) {
       d.regs[kFaultOtp] |= kOtpCustCrc;
     }
     if (k > 0 && d.regs[kFaultComm2] != 0) stackComm = true;

@@ -154,7 +154,13 @@ class Bq79616ChainEmulator final : public UartPeer {
   bool reaches(size_t k) const { return brokenAbove_ < 0 || k <= static_cast<size_t>(brokenAbove_); }
   void resetRegisters(Device& d);
   void digitalReset(size_t k, uint64_t readyAt);
-  void process(const std::vector<uint8_t>& frame, uint64_t endUs);
+  // A command frame's INIT byte decoded: request type 0..6, and what the type implies.
+  struct FrameType {
+    uint8_t type;
+    bool read;    // single, stack or broadcast read: one data byte (the count)
+    bool single;  // a device address follows INIT
+  };
+  void process(const std::vector<uint8_t>& frame, FrameType kind, uint64_t endUs);
   void applyWrite(size_t k, uint16_t reg, std::span<const uint8_t> data, uint64_t t);
   void writeReg(size_t k, uint16_t address, uint8_t value, uint64_t t);
   uint8_t readReg(size_t k, uint16_t address, uint64_t t) const;

@@ -59,30 +59,30 @@ int run(int argc, char** argv) {
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      if (i + 1 >= argc) return nullptr;
-      (void)name;
-      return argv[++i];
-    };
+    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
     if (a == "--help" || a == "-h") {
       printHelp();
       return 0;
     } else if (a == "--json") {
       json = true;
     } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout") {
-      const char* v = value(a.c_str());
+      const char* v = value();
       if (v == nullptr) return usage(a + " needs a value");
       (a == "--image"      ? opt.image
        : a == "--scenario" ? scenarioArg
        : a == "--candump"  ? candump
                            : layout) = v;
     } else if (a == "--devices" || a == "--duration") {
-      const char* v = value(a.c_str());
+      const char* v = value();
       uint32_t n = 0;
       if (v == nullptr || !parseUint(v, a == "--devices" ? 64 : 3600000, n) || n == 0) {
         return usage(a + (a == "--devices" ? " needs a number 1..64" : " needs a number of ms, 1..3600000"));
       }
-      (a == "--devices" ? reinterpret_cast<uint32_t&>(opt.devices) : opt.durationMs) = n;
+      if (a == "--devices") {
+        opt.devices = static_cast<int>(n);
+      } else {
+        opt.durationMs = n;
+      }
     } else {
       return usage("unknown option '" + a + "' (try --help)");
     }

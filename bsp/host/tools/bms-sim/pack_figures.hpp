@@ -1,8 +1,9 @@
-// Shared helpers for the image simulations: the per-scan bus meter, and the figures, frames and protection
-// log every binding reads back from its firmware image the same way.
+// Shared helpers for the image simulations: the open-wire sense model, the per-scan bus meter, and the
+// figures, frames and protection log every binding reads back from its firmware image the same way.
 #pragma once
 
 #include <algorithm>
+#include <span>
 #include <vector>
 
 #include "app/pack_view.hpp"
@@ -11,6 +12,16 @@
 #include "sim/can.hpp"
 
 namespace bmssim {
+
+// The voltage a monitor measures across `cell` (numbered from 1) of a board whose true cell voltages are
+// `truth`, with the sense wire below `openCell` disconnected (-1: none): the open cell reads nothing and the
+// cell below it reads both. A change to cell c's truth therefore moves the readings of cells c and c - 1.
+inline int sensedMv(std::span<const int> truth, int cell, int openCell) {
+  const auto i = static_cast<size_t>(cell - 1);
+  if (cell == openCell) return 0;
+  if (cell == openCell - 1) return truth[i] + truth[i + 1];
+  return truth[i];
+}
 
 // The bus cost of one scan. Only a scan that directly follows the previous one in the same link epoch is
 // measured: a gap (failed scans in between) or a new epoch (the link was brought up again) would bill the

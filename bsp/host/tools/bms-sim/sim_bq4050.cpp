@@ -89,10 +89,7 @@ class Bq4050Sim final : public ImageSim {
   void push() {
     int pack = 0;
     for (int c = 1; c <= 4; ++c) {
-      int mv = truth_[static_cast<size_t>(c - 1)];
-      if (c == openCell_) mv = 0;
-      if (c == openCell_ - 1) mv += truth_[static_cast<size_t>(c)];
-      emulator_.setCell(c, static_cast<uint16_t>(mv));
+      emulator_.setCell(c, static_cast<uint16_t>(sensedMv(truth_, c, openCell_)));
       pack += truth_[static_cast<size_t>(c - 1)];
     }
     emulator_.setVoltage(static_cast<uint16_t>(pack));

@@ -122,12 +122,12 @@ class Bq769xSim final : public ImageSim {
   using App = fw::app::Bq769xApp<Driver, Measurement, Publisher>;
 
   // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r"); times are those of
-  // the line's completion on the wire.
-  std::vector<SentFrame> slcanFrames() const {
-    std::vector<SentFrame> out;
+  // the line's completion on the wire. The text and its write times only grow (bms-sim never clears them),
+  // so each call parses only the lines completed since the last one.
+  const std::vector<SentFrame>& slcanFrames() const {
     if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
       const std::string& text = output_.text();
-      size_t pos = 0;
+      size_t pos = slcanParsed_;
       for (size_t end; (end = text.find('\r', pos)) != std::string::npos; pos = end + 1) {
         const std::string line = text.substr(pos, end - pos);
         if (line.size() < 5 || (line[0] != 't' && line[0] != 'T')) continue;
@@ -138,21 +138,19 @@ class Bq769xSim final : public ImageSim {
         for (int i = 0; i < dlc; ++i) {
           f.data.push_back(static_cast<uint8_t>(std::stoul(line.substr(2 + idLen + 2 * i, 2), nullptr, 16)));
         }
-        out.push_back(f);
+        slcan_.push_back(f);
       }
+      slcanParsed_ = pos;
       const auto& times = output_.writeTimes();  // the publisher writes one line per write()
-      for (size_t i = 0; i < out.size() && i < times.size(); ++i)
-        out[i].timeUs = times[i];
+      for (; slcanTimed_ < slcan_.size() && slcanTimed_ < times.size(); ++slcanTimed_)
+        slcan_[slcanTimed_].timeUs = times[slcanTimed_];
     }
-    return out;
+    return slcan_;
   }
 
   void push(int cell) {
     if (cell < 1 || cell > cells_) return;
-    int mv = truth_[static_cast<size_t>(cell - 1)];
-    if (cell == openCell_) mv = 0;
-    if (cell == openCell_ - 1) mv += truth_[static_cast<size_t>(cell)];
-    emulator_.setCellMv(static_cast<uint8_t>(cell), static_cast<int16_t>(mv));
+    emulator_.setCellMv(static_cast<uint8_t>(cell), static_cast<int16_t>(sensedMv(truth_, cell, openCell_)));
   }
 
   bsp::host::Harness h_;
@@ -168,6 +166,10 @@ class Bq769xSim final : public ImageSim {
   bool intermittent_ = false;
   uint64_t tick_ = 0;
   ScanMeter meter_;
+  // slcanFrames()' cache: the frames decoded so far, how much of the text they cover, how many have a time.
+  mutable std::vector<SentFrame> slcan_;
+  mutable size_t slcanParsed_ = 0;
+  mutable size_t slcanTimed_ = 0;
 };
 
 using L1306Bq76952 =

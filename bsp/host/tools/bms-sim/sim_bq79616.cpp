@@ -103,9 +103,8 @@ class Bq79616Sim final : public ImageSim {
   // (the wire is gone) and the cell above reads both.
   void push(int board, int cell) {
     if (cell < 1 || cell > 16) return;
-    int mv = truth_[static_cast<size_t>(board * 16 + cell - 1)];
-    if (board == openBoard_ && cell == openCell_) mv = 0;
-    if (board == openBoard_ && cell == openCell_ - 1) mv += truth_[static_cast<size_t>(board * 16 + cell)];
+    const auto truth = std::span<const int>(truth_).subspan(static_cast<size_t>(board) * 16, 16);
+    const int mv = sensedMv(truth, cell, board == openBoard_ ? openCell_ : -1);
     emulator_.setCellMicrovolts(static_cast<size_t>(board), cell, mv * 1000);
   }
 

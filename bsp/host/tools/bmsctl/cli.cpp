@@ -71,4 +71,37 @@ std::string checkFlags(const TraceRequest& request, const std::vector<std::strin
   return {};
 }
 
+const fw::regmap::EntryInfo* findNamed(std::span<const fw::regmap::EntryInfo> table, fw::regmap::Kind kind,
+                                       const std::string& text) {
+  const bool qualified = text.find("::") != std::string::npos || text.find('.') != std::string::npos;
+  const std::string name = qualified ? text : std::string(fw::regmap::kindNamespace(kind)) + "::" + text;
+  const fw::regmap::EntryInfo* e = fw::regmap::findByName(table, name);
+  return e != nullptr && e->kind == kind ? e : nullptr;
+}
+
+std::string flagsText(uint64_t raw, unsigned size, std::span<const fw::regmap::FieldInfo> fields) {
+  char buf[24];
+  const uint64_t bits = size >= 8 ? raw : raw & ((1ULL << (8 * size)) - 1);
+  std::snprintf(buf, sizeof buf, "0x%0*llX", static_cast<int>(2 * size),
+                static_cast<unsigned long long>(bits));
+  std::string set;
+  for (const auto& f : fields) {
+    const uint64_t field = (raw >> f.lsb) & ((1ULL << f.width) - 1);
+    if (field == 0) continue;
+    set += (set.empty() ? "" : " ") + std::string(f.title);
+    if (f.width > 1) set += "=" + std::to_string(field);
+  }
+  return set.empty() ? buf : buf + (" (" + set + ")");
+}
+
+std::string hexJoin(std::span<const uint8_t> bytes, const char* before) {
+  std::string s;
+  char buf[4];
+  for (uint8_t b : bytes) {
+    std::snprintf(buf, sizeof buf, "%s%02X", s.empty() ? "" : " ", b);
+    s += buf;
+  }
+  return s.empty() ? s : before + s;
+}
+
 }  // namespace bmsctl

@@ -10,8 +10,11 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "regmap/table.hpp"
 
 namespace bmsctl {
 
@@ -49,5 +52,18 @@ std::optional<std::vector<uint8_t>> parseHexBytes(const std::vector<std::string>
 bool hasFlag(const TraceRequest& request, const std::string& flag);
 // Rejects any flag not in `allowed`; returns an error message or an empty string.
 std::string checkFlags(const TraceRequest& request, const std::vector<std::string>& allowed);
+
+// The entry of `kind` that `text` names, matched as fw::regmap::findByName() matches; a qualified name
+// ("dm::EnabledProtectionsA", "mac.SafetyStatus") must be qualified with the namespace of `kind`. nullptr if
+// there is none.
+const fw::regmap::EntryInfo* findNamed(std::span<const fw::regmap::EntryInfo> table, fw::regmap::Kind kind,
+                                       const std::string& text);
+
+// Output helpers for the '#' lines.
+// A bit-field value of `size` bytes: "0x00C0 (DSG INIT)", the hex value then the titles of the fields that
+// are set ("TITLE=n" for a multi-bit field); just "0x0000" when none is.
+std::string flagsText(uint64_t raw, unsigned size, std::span<const fw::regmap::FieldInfo> fields);
+// Bytes as two hex digits each, separated by spaces ("82 F0"), preceded by `before`; "" for no bytes.
+std::string hexJoin(std::span<const uint8_t> bytes, const char* before = "");
 
 }  // namespace bmsctl

@@ -58,10 +58,8 @@ Target resolve(const std::string& text, rm::Kind kind, uint32_t max, std::string
     t.entry = rm::findByAddress(rm::bq4050::entries, kind, t.code);
     return t;
   }
-  const bool qualified = text.find("::") != std::string::npos || text.find('.') != std::string::npos;
-  const std::string name = qualified ? text : std::string(rm::kindNamespace(kind)) + "::" + text;
-  t.entry = rm::findByName(rm::bq4050::entries, name);
-  if (t.entry == nullptr || t.entry->kind != kind) {
+  t.entry = bmsctl::findNamed(rm::bq4050::entries, kind, text);
+  if (t.entry == nullptr) {
     error = "'" + text + "' is neither a hex " + (kind == rm::Kind::Mac ? "subcommand" : "command") +
             " nor a BQ4050 " + std::string(rm::kindName(kind)) + " name";
     return t;
@@ -77,24 +75,8 @@ std::string unitText(rm::Unit u) {
 // "15000 mV", "298.2 K", "0x00C0 (DSG INIT)" (the bit fields that are set), "-1500 mA".
 std::string formatScalar(const rm::EntryInfo& e, int64_t raw) {
   char buf[96];
-  const int hexDigits = 2 * e.size;
-  if (!e.fields.empty() || e.unit == rm::Unit::None) {
-    const uint64_t bits =
-        e.size >= 8 ? static_cast<uint64_t>(raw) : static_cast<uint64_t>(raw) & ((1ULL << (8 * e.size)) - 1);
-    std::string s = "0x";
-    for (int i = hexDigits - 1; i >= 0; --i)
-      s += "0123456789ABCDEF"[(bits >> (4 * i)) & 0xF];
-    std::string set;
-    for (const auto& f : e.fields) {
-      const uint64_t v = (static_cast<uint64_t>(raw) >> f.lsb) & ((1ULL << f.width) - 1);
-      if (v == 0) continue;
-      set += set.empty() ? "" : " ";
-      set += f.title;
-      if (f.width > 1) set += "=" + std::to_string(v);
-    }
-    if (!set.empty()) s += " (" + set + ")";
-    return s;
-  }
+  if (!e.fields.empty() || e.unit == rm::Unit::None)
+    return bmsctl::flagsText(static_cast<uint64_t>(raw), e.size, e.fields);
   if (e.scale.den == 1) {
     std::snprintf(buf, sizeof buf, "%lld %s", static_cast<long long>(raw * e.scale.num),
                   unitText(e.unit).c_str());
@@ -107,16 +89,6 @@ std::string formatScalar(const rm::EntryInfo& e, int64_t raw) {
                 static_cast<double>(raw) * e.scale.num / e.scale.den, unitText(e.unit).c_str(),
                 static_cast<long long>(raw));
   return buf;
-}
-
-std::string formatBytes(const uint8_t* data, size_t n) {
-  std::string s = "[" + std::to_string(n) + " bytes]";
-  char buf[4];
-  for (size_t i = 0; i < n; ++i) {
-    std::snprintf(buf, sizeof buf, " %02X", data[i]);
-    s += buf;
-  }
-  return s;
 }
 
 std::string nameOf(const Target& t, int digits) {
@@ -132,7 +104,7 @@ std::string formatBlock(const Target& t, const uint8_t* data, size_t n) {
   if (t.entry != nullptr && t.entry->scalar && n == t.entry->size) {
     return formatScalar(*t.entry, rm::decodeRaw(*t.entry, std::span<const uint8_t>(data, n)));
   }
-  return formatBytes(data, n);
+  return "[" + std::to_string(n) + " bytes]" + bmsctl::hexJoin({data, n}, " ");
 }
 
 int run(const bmsctl::TraceRequest& request) {

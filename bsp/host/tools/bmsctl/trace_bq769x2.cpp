@@ -71,25 +71,13 @@ std::string hex(uint64_t v, int digits) {
 // "3700 mV", "298.2 K", "0x5082 (SSA FULLSCAN)".
 std::string formatValue(const EntryInfo& e, std::span<const uint8_t> bytes) {
   if (!e.scalar || bytes.size() < e.size) {
-    std::string raw;
-    for (uint8_t b : bytes.first(std::min<size_t>(bytes.size(), e.size == 0 ? bytes.size() : e.size)))
-      raw += (raw.empty() ? "" : " ") + hex(b, 2).substr(2);
-    return "[" + raw + "]";
+    return "[" +
+           bmsctl::hexJoin(bytes.first(std::min<size_t>(bytes.size(), e.size == 0 ? bytes.size() : e.size))) +
+           "]";
   }
   const int64_t v = fw::regmap::decodeRaw(e, bytes);
   const bool flags = !e.fields.empty() || (e.type != nullptr && e.type[0] == 'H');
-  if (flags) {
-    std::string text =
-        hex(static_cast<uint64_t>(v) & ((e.size >= 8) ? ~0ULL : ((1ULL << (8 * e.size)) - 1)), 2 * e.size);
-    std::string set;
-    for (const auto& f : e.fields) {
-      const uint64_t field = (static_cast<uint64_t>(v) >> f.lsb) & ((1ULL << f.width) - 1);
-      if (field == 0) continue;
-      set += (set.empty() ? "" : " ") + std::string(f.title);
-      if (f.width > 1) set += "=" + std::to_string(field);
-    }
-    return set.empty() ? text : text + " (" + set + ")";
-  }
+  if (flags) return bmsctl::flagsText(static_cast<uint64_t>(v), e.size, e.fields);
   if (e.unit == fw::regmap::Unit::None && !e.isSigned && e.scale.num == 1 && e.scale.den == 1) {
     return hex(static_cast<uint64_t>(v), 2 * e.size) + " (" + std::to_string(v) +
            ")";  // codes: DEVICE_NUMBER
@@ -121,13 +109,9 @@ std::optional<uint32_t> resolve(std::span<const EntryInfo> table, Kind kind, con
     if (v) *entry = fw::regmap::findByAddress(table, kind, *v);
     return v;
   }
-  for (const auto& e : table) {
-    if (e.kind == kind && fw::regmap::findByName(std::span<const EntryInfo>(&e, 1), text) != nullptr) {
-      *entry = &e;
-      return e.address;
-    }
-  }
-  return std::nullopt;
+  *entry = bmsctl::findNamed(table, kind, text);
+  if (*entry == nullptr) return std::nullopt;
+  return (*entry)->address;
 }
 
 // Prints "# Name = value" for every entry of `kind` lying inside [start, start + bytes.size()).
@@ -141,10 +125,8 @@ void decodeRange(std::span<const EntryInfo> table, Kind kind, uint32_t start,
     any = true;
   }
   if (!any) {
-    std::string raw;
-    for (uint8_t b : bytes)
-      raw += " " + hex(b, 2).substr(2);
-    std::printf("# %s:%s\n", hex(start, kind == Kind::Command ? 2 : 4).c_str(), raw.c_str());
+    std::printf("# %s:%s\n", hex(start, kind == Kind::Command ? 2 : 4).c_str(),
+                bmsctl::hexJoin(bytes, " ").c_str());
   }
 }
 
@@ -319,10 +301,7 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
     if (entry != nullptr && entry->scalar && n >= entry->size) {
       std::printf("# %s = %s\n", name, formatValue(*entry, {d, entry->size}).c_str());
     } else {
-      std::string raw;
-      for (uint8_t i = 0; i < n; ++i)
-        raw += " " + hex(d[i], 2).substr(2);
-      std::printf("# %s:%s\n", name, raw.c_str());
+      std::printf("# %s:%s\n", name, bmsctl::hexJoin({d, n}, " ").c_str());
     }
     std::printf("# length %u (%u data bytes), checksum ok\n", static_cast<unsigned>(n + 4),
                 static_cast<unsigned>(n));
@@ -330,13 +309,9 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
     decodeRange(table, Kind::DataMemory, target, {d, length});
   } else {
     const std::string name = entry != nullptr ? entry->name : hex(target, 4);
-    std::string value;
-    if (entry != nullptr && entry->address == target && entry->scalar && bytes.size() == entry->size) {
-      value = formatValue(*entry, bytes);
-    } else {
-      for (uint8_t b : bytes)
-        value += (value.empty() ? "" : " ") + hex(b, 2).substr(2);
-    }
+    const bool scalar =
+        entry != nullptr && entry->address == target && entry->scalar && bytes.size() == entry->size;
+    const std::string value = scalar ? formatValue(*entry, bytes) : bmsctl::hexJoin(bytes);
     if (monitor.written() == 0) {
       std::printf("# %s already %s: CONFIG_UPDATE not entered\n", name.c_str(), value.c_str());
     } else {
