@@ -10,6 +10,8 @@ checks:
                first, 4 frames per device), and can-utils' log2asc converts every frame
   native-dbc   every frame of an idle run decodes with bms_native.dbc (python3-canmatrix) to plausible values
   faults       comm-loss, bus-off, open-wire and stale: no stale value is published as fresh, and nothing stalls
+  open-wire-update  with the sense wire below cell 3 open, cell 2 reads cells 2 and 3 together, and keeps doing
+               so when cell 3 changes afterwards
 Prints REPORT lines with the figures it measured."""
 import json
 import os
@@ -170,6 +172,20 @@ def check_faults(sim, image, scratch):
               f"frames={len(frames)} events={[e['fault'] for e in summary['protection_events']]}")
 
 
+def check_open_wire_update(sim, image, scratch):
+    # Cell 2 at 2.0 V, the wire below cell 3 opens, then cell 3 drops to 3.0 V: cell 2 must read 2.0 + 3.0 V.
+    # (It once kept 2.0 + 3.7 V, the sum from when the wire opened.) Every other cell reads 3.7 V or, cell 3,
+    # nothing, so the highest cell is cell 2.
+    path = os.path.join(scratch, f"{image}-open-wire-update.txt")
+    with open(path, "w") as f:
+        f.write("0 cell 0 2 2000\n500 open-wire 0 3\n1000 cell 0 3 3000\n")
+    summary = json.loads(run(sim, "--image", image, "--scenario", path, "--duration", "2000", "--json"))
+    expected = 2000 + 3000
+    print(f"REPORT sim.{image}.open_wire_update.max_cell_mv={summary['max_cell_mv']} (expected {expected})")
+    if abs(summary["max_cell_mv"] - expected) > 2:
+        fail(f"cell 2 reads {summary['max_cell_mv']} mV, not cells 2 and 3 together ({expected} mV)")
+
+
 def main():
     if len(sys.argv) < 4:
         print(__doc__)
@@ -186,6 +202,8 @@ def main():
         check_native_dbc(sim, dbc_dir, image, scratch)
     elif check == "faults":
         check_faults(sim, image, scratch)
+    elif check == "open-wire-update":
+        check_open_wire_update(sim, image, scratch)
     else:
         print(__doc__)
         return 2

@@ -47,7 +47,7 @@ class Bq769xSim final : public ImageSim {
   void setCellMv(int, int cell, int mv) override {
     truth_[static_cast<size_t>(cell - 1)] = mv;
     push(cell);
-    if (cell < cells_) push(cell + 1);
+    push(cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int ma) override { emulator_.setCurrentMa(ma); }
   void setTempDeciK(int, int sensor, int deciK) override {

@@ -46,7 +46,7 @@ class Bq79616Sim final : public ImageSim {
   void setCellMv(int board, int cell, int mv) override {
     truth_[static_cast<size_t>(board * 16 + cell - 1)] = mv;
     push(board, cell);
-    if (cell < 16) push(board, cell + 1);  // an open wire below cell+1 makes it read this cell too
+    push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int) override {}
   void setTempDeciK(int board, int sensor, int deciK) override {
@@ -100,7 +100,7 @@ class Bq79616Sim final : public ImageSim {
   const fw::app::PublishStatus& status() const { return app_->status(); }
 
   // The voltage the device measures across `cell`: its own, or with an open sense wire below it, nothing
-  // (the wire is gone) and the cell above reads both.
+  // (the wire is gone) and the cell below reads both.
   void push(int board, int cell) {
     if (cell < 1 || cell > 16) return;
     const auto truth = std::span<const int>(truth_).subspan(static_cast<size_t>(board) * 16, 16);
