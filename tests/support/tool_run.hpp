@@ -18,6 +18,7 @@ namespace test {
 struct ToolRun {
   int status = -1;  // exit status, -1 if the tool did not exit normally
   std::vector<std::string> out;
+  std::string text;  // stdout exactly as printed (for checks of the whole output, final newline included)
   std::string err;
 
   bool has(const std::string& line) const {
@@ -51,6 +52,7 @@ inline ToolRun runTool(const std::string& command) {
     text.append(buf, n);
   const int raw = pclose(p);
   run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  run.text = text;
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);)
     run.out.push_back(line);

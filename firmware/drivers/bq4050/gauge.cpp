@@ -175,38 +175,39 @@ Status Gauge::startWriteBlock(uint8_t cmd, std::span<const uint8_t> data) {
 
 Status Gauge::startReadBlock(uint8_t cmd, std::span<uint8_t> out, uint8_t& length) {
   if (busy()) return Status::Busy;
+  const uint8_t capacity = startRead(out, length);
+  if (capacity == 0) return Status::InvalidArgument;
   b_.tx[0] = cmd;
-  return startRead(1, out, length, kBlock, 0);
+  access(1, static_cast<uint8_t>(1 + capacity), kBlock);
+  return Status::Ok;
 }
 
 Status Gauge::startReadMac(uint16_t subcommand, std::span<uint8_t> out, uint8_t& length) {
   if (busy()) return Status::Busy;
-  b_.tx[0] = kBlockAccess;
-  b_.tx[1] = kMacEcho;
-  bytes::storeLe16(b_.tx + 2, subcommand);
-  s_.readCmd = kBlockAccess;
-  return startRead(4, out, length, kBlock | kTwoPhase | kEcho, subcommand);
+  const uint8_t capacity = startRead(out, length);
+  if (capacity == 0) return Status::InvalidArgument;
+  readMac(subcommand, capacity, 0);
+  return Status::Ok;
 }
 
 Status Gauge::startReadMacData(uint16_t subcommand, std::span<uint8_t> out, uint8_t& length) {
   if (busy()) return Status::Busy;
-  b_.tx[0] = kManufacturerAccess;
-  bytes::storeLe16(b_.tx + 1, subcommand);
+  const uint8_t capacity = startRead(out, length);
+  if (capacity == 0) return Status::InvalidArgument;
   s_.readCmd = kManufacturerData;
-  return startRead(3, out, length, kBlock | kTwoPhase, subcommand);
+  macAccess(subcommand, static_cast<uint8_t>(1 + capacity), kBlock | kTwoPhase);
+  return Status::Ok;
 }
 
-// The common tail of the raw block reads: the read is sized from the caller's buffer (at most 32 data
+// The common start of the raw block reads: the read is sized from the caller's buffer (at most 32 data
 // bytes), so a count the gauge reports beyond it is refused by the bus and nothing past `out` is written.
-Status Gauge::startRead(uint8_t txLen, std::span<uint8_t> out, uint8_t& length, uint8_t flags,
-                        uint16_t code) {
-  if (out.empty()) return Status::InvalidArgument;
+// Returns that capacity, or 0 (nothing started) for an empty buffer.
+uint8_t Gauge::startRead(std::span<uint8_t> out, uint8_t& length) {
+  if (out.empty()) return 0;
   begin(Op::Single);
   s_.outBytes = out.data();
   s_.outLength = &length;
-  const size_t capacity = out.size() < kMaxBlock ? out.size() : kMaxBlock;
-  access(txLen, static_cast<uint8_t>(1 + capacity + ((flags & kEcho) ? kMacEcho : 0)), flags, code);
-  return Status::Ok;
+  return static_cast<uint8_t>(out.size() < kMaxBlock ? out.size() : kMaxBlock);
 }
 
 Status Gauge::startSendMac(uint16_t subcommand) {
@@ -250,8 +251,7 @@ Progress Gauge::onEvent(sched::EventMask events) {
       // The bus never reported back. Its transaction (and our buffers) may still be in use: stay busy until
       // the completion arrives, but end the operation now so the owner's wait is bounded.
       s_.busLost = true;
-      ++b_.stats.failures[static_cast<uint8_t>(Status::Timeout)];
-      finish(Status::Timeout);
+      countAndFinish(Status::Timeout);
     }
   }
   if (!s_.done) return Progress::Running;
@@ -287,9 +287,15 @@ void Gauge::readMac(uint16_t subcommand, uint8_t capacity, uint8_t exact) {
 }
 
 void Gauge::sendMac(uint16_t subcommand) {
+  macAccess(subcommand, 0, kToggle);
+}
+
+// ManufacturerAccess: the subcommand written to 0x00 (a read then reads s_.readCmd). Inlined into its two
+// callers, so sendMac (the path the images link) pays nothing for the read's parameters.
+[[gnu::always_inline]] inline void Gauge::macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags) {
   b_.tx[0] = kManufacturerAccess;
   bytes::storeLe16(b_.tx + 1, subcommand);
-  access(3, 0, kToggle, subcommand);
+  access(3, readLen, flags, subcommand);
 }
 
 // Starts the next transaction once the bus has been idle for `gap` (LANDSCAPE.md: polling a BQ40zxy gauge
@@ -426,10 +432,7 @@ void Gauge::accessDone(Status status) {
   }
   if (s_.step == 1) {
     s_.probe[1] = bytes::loadLe16(data());
-    if (s_.probe[1] != kDeviceType) {
-      ++b_.stats.failures[static_cast<uint8_t>(Status::DeviceId)];
-      return finish(Status::DeviceId);
-    }
+    if (s_.probe[1] != kDeviceType) return countAndFinish(Status::DeviceId);
     ++s_.step;
     return readMac(lo(rm::mac::FirmwareVersion.address), kMaxBlock, 0);
   }
@@ -472,7 +475,7 @@ void Gauge::nextFet(Status status) {
     const uint8_t actual =
         static_cast<uint8_t>((op.chg() ? Mfg::chg_test_mask : 0) | (op.dsg() ? Mfg::dsg_test_mask : 0) |
                              (op.pchg() ? Mfg::pchg_test_mask : 0));
-    if ((want & Mfg::fet_en_mask) == 0 && actual != want) return verifyFailed();
+    if ((want & Mfg::fet_en_mask) == 0 && actual != want) return countAndFinish(Status::VerifyFailed);
     FetState& out = *static_cast<FetState*>(s_.out);
     out.manufacturingStatus = Mfg::fromRaw(s_.probe[0]);
     out.operationStatus = op;
@@ -494,13 +497,14 @@ void Gauge::nextFet(Status status) {
   if (toggle == 0) return readMac(lo(rm::mac::OperationStatus.address), 4, 4);
   // The same toggle again after it was accepted means the gauge ignored it (SEALED, or a FET it will not
   // drive); the step bound ends a gauge that keeps changing its mind.
-  if (toggle == s_.toggled || ++s_.step > kMaxToggles) return verifyFailed();
+  if (toggle == s_.toggled || ++s_.step > kMaxToggles) return countAndFinish(Status::VerifyFailed);
   sendMac(toggle);
 }
 
-void Gauge::verifyFailed() {
-  ++b_.stats.failures[static_cast<uint8_t>(Status::VerifyFailed)];
-  finish(Status::VerifyFailed);
+// The operation fails with a status that no transaction reported (fail() counts those): counted here.
+void Gauge::countAndFinish(Status status) {
+  ++b_.stats.failures[static_cast<uint8_t>(status)];
+  finish(status);
 }
 
 void Gauge::finish(Status status) {

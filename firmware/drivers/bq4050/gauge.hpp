@@ -207,11 +207,12 @@ class Gauge {
   enum class Wait : uint8_t { None, Bus, Timer };
 
   Status begin(Op op);
-  Status startRead(uint8_t txLen, std::span<uint8_t> out, uint8_t& length, uint8_t flags, uint16_t code);
+  uint8_t startRead(std::span<uint8_t> out, uint8_t& length);
   void access(uint8_t txLen, uint8_t readLen, uint8_t flags, uint16_t code = 0, uint8_t exact = 0);
   void readWord(uint8_t command);
   void readMac(uint16_t subcommand, uint8_t capacity, uint8_t exact);
   void sendMac(uint16_t subcommand);
+  void macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags);
   void schedule(Duration gap);
   void issue();
   void onTransaction();
@@ -219,7 +220,7 @@ class Gauge {
   void accessDone(Status status);
   void nextScan();
   void nextFet(Status status);
-  void verifyFailed();
+  void countAndFinish(Status status);
   void finish(Status status);
   uint16_t word() const;
   const uint8_t* data() const;

@@ -129,6 +129,7 @@ class Link {
   uint8_t reported() const { return s_.reported; }
   bool crc() const { return cfg_.crc; }
   void setCrc(bool on) { cfg_.crc = on; }  // when idle (the CRC-mode probe)
+  Duration pollInterval() const { return cfg_.pollInterval; }
   const LinkStats& stats() const { return b_.stats; }
 
  private:

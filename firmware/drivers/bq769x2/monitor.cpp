@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "core/bytes.hpp"
+
 namespace fw::drivers::bq769x2 {
 
 FW_MODULE(Module::DriverBq769x2);
@@ -85,8 +87,9 @@ Status Monitor::startBalance(uint16_t cells) {
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   s_.tmp = static_cast<uint16_t>(cells << facts().cbShift);
-  const uint8_t bytes[2] = {static_cast<uint8_t>(s_.tmp), static_cast<uint8_t>(s_.tmp >> 8)};
-  return begin(Op::Balance, link_.startSubcommandWrite(sub::CbActiveCells.address, {bytes, facts().cbBytes}));
+  uint8_t mask[2];
+  bytes::storeLe16(mask, s_.tmp);
+  return begin(Op::Balance, link_.startSubcommandWrite(sub::CbActiveCells.address, {mask, facts().cbBytes}));
 }
 
 Progress Monitor::onEvent(sched::EventMask events) {
@@ -96,7 +99,7 @@ Progress Monitor::onEvent(sched::EventMask events) {
 }
 
 Status Monitor::readStatus() {
-  return link_.startRead(kBatteryStatus, 2, 0, pollDelay_);
+  return link_.startRead(kBatteryStatus, 2, 0, link_.pollInterval());
 }
 
 Status Monitor::readFetEn() {
@@ -167,7 +170,7 @@ inline void Monitor::probeStep(Status r) {
   }
   const uint8_t* d = link_.data();
   if (s_.step++ == 0) {
-    s_.tmp = static_cast<uint16_t>(d[0] | (d[1] << 8));
+    s_.tmp = bytes::loadLe16(d);
     return (void)link_.startSubcommandRead(sub::FwVersion.address, 6);
   }
   Identity& id = *static_cast<Identity*>(s_.out);
@@ -248,10 +251,9 @@ bool Monitor::matches() const {
 Status Monitor::nextSetting(bool write) {
   const Setting& s = s_.settings[s_.index];
   if (!write) return link_.startSubcommandRead(s.address, s.size);
-  uint8_t bytes[4];
-  for (uint8_t i = 0; i < 4; ++i)
-    bytes[i] = static_cast<uint8_t>(s.value >> (8 * i));
-  return link_.startSubcommandWrite(s.address, {bytes, s.size});
+  uint8_t value[4];
+  bytes::storeLe32(value, s.value);
+  return link_.startSubcommandWrite(s.address, {value, s.size});
 }
 
 inline void Monitor::configStep(Status r) {

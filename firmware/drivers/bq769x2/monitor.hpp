@@ -220,7 +220,6 @@ class Monitor {
         allowAdjacent_(config.allowAdjacentBalancing),
         clock_(clock),
         variant_(variant),
-        pollDelay_(config.link.pollInterval),
         link_(bus, context, config.link) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
@@ -313,7 +312,6 @@ class Monitor {
   State s_{};
   const hal::Clock& clock_;
   const Variant& variant_;
-  Duration pollDelay_;
   Link link_;  // with its buffers: last
 };
 

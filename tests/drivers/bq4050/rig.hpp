@@ -28,15 +28,6 @@ constexpr fw::sched::EventMask kTimer = 0x2;
 
 // CRC-8, polynomial x^8 + x^2 + x + 1, init 0, MSB first: written out bit by bit from the definition
 // (SMBus 2.0 5.4.1.2), sharing nothing with fw::crc or the emulator's table.
-inline uint8_t referenceCrc8(std::initializer_list<uint8_t> bytes) {
-  unsigned crc = 0;
-  for (uint8_t b : bytes) {
-    crc ^= b;
-    for (int i = 0; i < 8; ++i)
-      crc = (crc & 0x80) ? ((crc << 1) ^ 0x07) & 0xFF : (crc << 1) & 0xFF;
-  }
-  return static_cast<uint8_t>(crc);
-}
 inline uint8_t referenceCrc8(const std::vector<uint8_t>& bytes) {
   unsigned crc = 0;
   for (uint8_t b : bytes) {
@@ -45,6 +36,9 @@ inline uint8_t referenceCrc8(const std::vector<uint8_t>& bytes) {
       crc = (crc & 0x80) ? ((crc << 1) ^ 0x07) & 0xFF : (crc << 1) & 0xFF;
   }
   return static_cast<uint8_t>(crc);
+}
+inline uint8_t referenceCrc8(std::initializer_list<uint8_t> bytes) {
+  return referenceCrc8(std::vector<uint8_t>(bytes));
 }
 
 inline std::string hex(std::initializer_list<uint8_t> bytes) {
