@@ -86,9 +86,9 @@ TEST(L1306App, SlcanCarriesPackSummaryOnlyEveryCycle) {
     ASSERT_EQ(l.size(), 21u) << l;
     EXPECT_EQ(l.substr(0, 5), "t1008") << l;
   }
-  // The last summary: 16 x 3.700 V = 59.20 V in 10 mV, data valid, both paths on, no fault.
+  // The last summary: 16 x 3.700 V = 59.2 V in 0.1 V, data valid, both paths on, no fault.
   const std::string& last = lines.back();
-  EXPECT_EQ(last.substr(5, 4), "2017");  // 5920 = 0x1720, little-endian
+  EXPECT_EQ(last.substr(5, 4), "5002");  // 592 = 0x0250, little-endian
   const int flags = std::stoi(last.substr(15, 2), nullptr, 16);
   EXPECT_EQ(flags & 0x0F, 0x0B);  // ChargeFet, DischargeFet, DataValid
   EXPECT_EQ(last.substr(17, 4), "0000");
