@@ -117,6 +117,13 @@ class Bq769xSim final : public ImageSim {
       return slcanFrames();
     }
   }
+  const bsp::host::SimSerialTx* slcanUart() const override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+      return &output_;
+    } else {
+      return nullptr;
+    }
+  }
 
  private:
   using App = fw::app::Bq769xApp<Driver, Measurement, Publisher>;
