@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 
+#include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
 #include "mmio.hpp"
 #include "regs/uart.hpp"
@@ -258,20 +259,22 @@ TEST_F(UartLinkTest, StartRejectsEmptyAndBusy) {
 
 class SerialTxTest : public RegisterTest {
  protected:
-  // L1306 back-channel: UART0 (same base on both parts), PA23 PINCM24 PF 2, DMA channel 0, trigger 11
+  // L1306 back-channel: UART0 (same base on both parts) on its back-channel TX pin, DMA channel 0, trigger 11
   // (mspm0l1306.tsv dmatrig DMA_UART0_TX_TRIG).
   UartSerialTx serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
-                       PinFunction{Pin{0, 23, 24}, 2}, DmaChannel{kDma, 0, 11}}};
+                       chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}}};
   int done = 0;
 };
 
-TEST_F(SerialTxTest, InitSets115200Baud) {
+TEST_F(SerialTxTest, InitSets115200BaudOnTheBackChannelPin) {
   serial.init();
   // 32 MHz / (16 * 115200) = 17.361: IBRD 17, FBRD round(0.361 * 64) = 23.
   EXPECT_EQ(regs().lastWrite(kIbrd), 17U);
   EXPECT_EQ(regs().lastWrite(kFbrd), 23U);
-  EXPECT_EQ(regs().lastWrite(0x40428060), 0x80U | 2U);  // PINCM24 = PA23 UART0_TX
-  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 15);    // UART0 is IRQ 15
+  // PINCM9 = PA8, PF 2 = UART0_TX (mspm0l130x.h IOMUX_PINCM9_PF_UART0_TX; the LP-MSPM0L1306 back-channel,
+  // tsv note "LP-MSPM0L1306 backchannel UART").
+  EXPECT_EQ(regs().lastWrite(0x40428024), 0x80U | 2U);
+  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 15);  // UART0 is IRQ 15
 }
 
 TEST_F(SerialTxTest, WriteFeedsTheFifoByDmaAndCompletesAtEndOfTransmission) {
