@@ -50,7 +50,8 @@ void checkStep(const Step& st) {
       break;
   }
   const bool indexed = st.action == Action::Cell || st.action == Action::RampCell ||
-                       st.action == Action::OpenWire || st.action == Action::Temp || st.action == Action::RampTemp;
+                       st.action == Action::OpenWire || st.action == Action::Temp ||
+                       st.action == Action::RampTemp;
   if (indexed) require(st.board >= 0 && st.board <= 63 && st.index >= 1 && st.index <= 16);
 }
 
