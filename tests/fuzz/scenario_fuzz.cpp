@@ -9,7 +9,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "scenario.hpp"
+// Relative to this file, so the target needs no include directory of its own.
+#include "../../bsp/host/tools/bms-sim/scenario.hpp"
 
 namespace {
 

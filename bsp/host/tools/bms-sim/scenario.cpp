@@ -10,11 +10,12 @@ namespace {
 
 // What an argument is: its name in messages and its range. The ranges are what the scenario.hpp header
 // promises; why each is what it is:
-//   cell mV 0..5000: inside every monitor's cell input range (BQ7690x and BQ76972 differential cell input
-//     -0.2..5.5 V, SLUSE97 and SLUSFC9 6.12; BQ79616 VCELL 190.73 uV per LSB in 16 bits, +-6.25 V) and the
-//     sum of two cells (an open sense wire) still fits the 16-bit mV registers;
-//   current mA: CC2 Current is 16-bit signed in userA (1 mA by default, SLUUBY2B 4.x direct commands) and
-//     the BQ4050's Current() 16-bit signed mA (SBS 1.1 0x0A): a larger value could only wrap;
+//   cell mV 0..5000: inside every monitor's cell input range (BQ76905 differential cell input -0.2..5.5 V,
+//     SLUSE97 6.12, the same in the BQ76972's ADC table, SLUSFC9; BQ79616 VCELL 16-bit two's complement at
+//     190.73 uV per LSB, +-6.25 V, SLUSE81 register map) and the sum of two cells (an open sense wire) still
+//     fits the 16-bit mV registers;
+//   current mA: CC2 Current (0x3A) is 16-bit signed in userA, 1 mA by default (SLUUBY2B direct commands),
+//     and the BQ4050's Current() (0x0A) 16-bit signed mA (SBS 1.1): a larger value could only wrap;
 //   temperature 0.1 K: -55..+150 degC, past the firmware's limits (-20 and 60 degC) with margin and within
 //     every emulated sensor register (BQ7690x whole degC, BQ79616 DIETEMP 0.025 degC per LSB in 16 bits);
 //   board 0..63: the longest BQ79616 chain --devices accepts; cell 1..16 (BQ76952, BQ79616); sensor 1..3
