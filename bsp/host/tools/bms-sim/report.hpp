@@ -1,6 +1,8 @@
 // Output of a bms-sim run: the live view, the --json summary, the candump log and the SLCAN text.
 #pragma once
 
+#include <cstdio>
+#include <optional>
 #include <string>
 
 #include "image_sim.hpp"
@@ -10,6 +12,16 @@
 
 namespace bmssim {
 
+// A protection event's latency, from the onset of the condition it answers (its fault's expect, else the
+// `any` expect) to the FET-off / fault output. Never negative: without an onset, with the fault detected
+// before the onset, or with the action still pending there is no latency and `note` says which.
+struct EventLatency {
+  std::optional<uint64_t> onsetUs;
+  std::optional<uint64_t> latencyUs;
+  const char* note = nullptr;  // "no expected onset", "fault before onset", "action pending"
+};
+EventLatency latencyOf(const fw::app::ProtectionRecord& event, const Onsets& onsets);
+
 class Report {
  public:
   Report(ImageSim& sim, const SimOptions& options, const Scenario& scenario, bool json)
@@ -17,11 +29,13 @@ class Report {
 
   // --slcan: the SLCAN output the run feeds (the image must have an SLCAN UART).
   void attachSlcan(SlcanOutput& out) { slcan_ = &out; }
+  // Where the live view goes (flushed line by line, so a slow run shows its progress); nullptr: nowhere.
+  void setLiveOutput(FILE* out) { live_ = out; }
   // Called after every millisecond of simulated time: feeds the SLCAN output, prints the live view every
-  // 500 ms unless --json.
+  // 500 ms of simulated time.
   void tick(uint64_t nowUs);
   // Prints the JSON summary (with --json) or the final view and the protection events.
-  void finish(double onsetMs, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog);
+  void finish(const Onsets& onsets, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog);
   // candump -l format: "(seconds.micros) can0 ID#DATA", one frame per line. Times are absolute, as candump
   // writes them: the run starts at kEpochSeconds (so can-utils' log2asc sees one start, not "time 0").
   bool writeCandump(const std::string& path) const;
@@ -32,6 +46,7 @@ class Report {
   const SimOptions& options_;
   const Scenario& scenario_;
   bool json_;
+  FILE* live_ = nullptr;
   uint64_t nextView_ = 0;
   SlcanOutput* slcan_ = nullptr;
 };
