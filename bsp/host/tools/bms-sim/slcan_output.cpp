@@ -1,6 +1,7 @@
 #include "slcan_output.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
@@ -49,24 +50,28 @@ class PtyOutput final : public SlcanOutput {
     master_ = ::posix_openpt(O_RDWR | O_NOCTTY);
     const char* name =
         master_ >= 0 && ::grantpt(master_) == 0 && ::unlockpt(master_) == 0 ? ::ptsname(master_) : nullptr;
-    // bms-sim keeps the terminal's other end open too, in raw mode (no echo, no CR to LF), so text written
-    // before a reader opens it waits there unchanged.
-    if (name != nullptr) slave_ = ::open(name, O_RDWR | O_NOCTTY);
+    // The terminal's other end in raw mode (no echo, no CR to LF), closed again: the master then reports a
+    // hang-up until a reader opens it.
+    const int slave = name != nullptr ? ::open(name, O_RDWR | O_NOCTTY) : -1;
     termios raw{};
-    if (slave_ < 0 || ::tcgetattr(slave_, &raw) != 0) {
+    if (slave < 0 || ::tcgetattr(slave, &raw) != 0) {
       error = std::string("cannot open a pseudo-terminal: ") + std::strerror(errno);
+      if (slave >= 0) ::close(slave);
       return false;
     }
     ::cfmakeraw(&raw);
     ::cfsetspeed(&raw, B115200);
-    ::tcsetattr(slave_, TCSANOW, &raw);
+    ::tcsetattr(slave, TCSANOW, &raw);
+    ::close(slave);
     ::fcntl(master_, F_SETFL, ::fcntl(master_, F_GETFL) | O_NONBLOCK);
+    path_ = name;
     std::fprintf(stderr, "bms-sim: SLCAN on %s (the board's back-channel UART, 115200 8N1)\n", name);
     std::fflush(stderr);
     return true;
   }
 
   void step(const bsp::host::SimSerialTx& uart, uint64_t nowUs) override {
+    if (!started_) waitForReader();
     // Paced: simulated time runs no faster than the wall clock.
     const auto now = Clock::now();
     if (!started_) start_ = now - std::chrono::microseconds(nowUs), started_ = true;
@@ -77,22 +82,24 @@ class PtyOutput final : public SlcanOutput {
   }
 
   bool finish(const bsp::host::SimSerialTx& uart, std::string&) override {
+    if (!started_) waitForReader();
     collect(uart, UINT64_MAX);
     // Wait for the reader to take the rest, as long as it keeps taking some: at most 5 s, and 1 s without
-    // progress (no reader, or one that stopped).
+    // progress (no reader, or one that stopped). Text written to the master reaches the reader's queue a
+    // little later (the kernel moves it), so the queue must be seen empty twice, 20 ms apart.
     const auto end = Clock::now() + std::chrono::seconds(5);
     auto lastProgress = Clock::now();
     size_t lastQueued = SIZE_MAX;
-    for (;;) {
+    for (int empty = 0; empty < 2;) {
       pump();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
       int queued = 0;
-      ::ioctl(slave_, FIONREAD, &queued);
+      if (slave_ >= 0) ::ioctl(slave_, FIONREAD, &queued);
       const size_t left = pending_.size() + static_cast<size_t>(queued);
-      if (left == 0) break;
+      empty = left == 0 ? empty + 1 : 0;
       const auto now = Clock::now();
       if (left < lastQueued) lastQueued = left, lastProgress = now;
       if (now > end || now - lastProgress > std::chrono::seconds(1)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     if (dropped_ != 0)
       std::fprintf(stderr, "bms-sim: the SLCAN reader fell behind: %zu bytes dropped\n", dropped_);
@@ -101,6 +108,19 @@ class PtyOutput final : public SlcanOutput {
 
  private:
   static constexpr size_t kMaxPending = 64 * 1024;
+
+  // Until a reader opens the terminal (the master stops reporting a hang-up), at most 60 s, and 250 ms more
+  // for it to finish opening (pyserial discards what is queued once it has set the port up). Then bms-sim
+  // opens the terminal's other end too: the text stays queued if the reader leaves, and finish() can see how
+  // much the reader has not taken yet.
+  void waitForReader() {
+    pollfd p{master_, POLLIN, 0};
+    const auto end = Clock::now() + std::chrono::seconds(60);
+    while (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0 && Clock::now() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY);
+  }
 
   // Takes the text whose write has finished by `nowUs`. Writes go one at a time (the UART is busy until its
   // last byte left), so only the newest can still be on the line: its bytes are what arrived since the step
@@ -133,6 +153,7 @@ class PtyOutput final : public SlcanOutput {
 
   int master_ = -1;
   int slave_ = -1;
+  std::string path_;
   bool started_ = false;
   Clock::time_point start_{};
   std::string pending_;

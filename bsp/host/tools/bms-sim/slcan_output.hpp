@@ -2,14 +2,16 @@
 //
 //   --slcan FILE  the exact bytes the simulated UART carried (the SlcanPublisher's lines), written when the
 //                 run ends.
-//   --slcan pty   a pseudo-terminal; its path goes to stderr before the run starts. Each write reaches the
-//                 terminal once its last byte has left the simulated 115 200 Bd UART, and the run is paced to
-//                 the wall clock, so python-can's slcan interface or slcand see the board at its real rate.
-//                 What a reader sends (slcand's and python-can's C, S6, O commands) is read and ignored: the
-//                 board's firmware does not listen. Nothing waits without a bound: a reader that stops
-//                 reading loses the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART
-//                 sends into a full buffer), and at the end the run waits at most 5 s for a reader that has
-//                 talked to it to take the rest.
+//   --slcan pty   a pseudo-terminal in raw mode; its path goes to stderr, and the run starts once a reader
+//   has
+//                 opened it (a serial port that is opened discards what arrived before, so the board is
+//                 switched on after the PC is listening) or after 60 s. Each write reaches the terminal once
+//                 its last byte has left the simulated 115 200 Bd UART, and the run is paced to the wall
+//                 clock, so python-can's slcan interface or slcand see the board at its real rate. What a
+//                 reader sends (slcand's and python-can's C, S6, O commands) is read and ignored: the board's
+//                 firmware does not listen. Nothing waits without a bound: a reader that stops reading loses
+//                 the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART sends into a
+//                 full buffer), and at the end the run waits at most 5 s for the reader to take the rest.
 #pragma once
 
 #include <chrono>
