@@ -41,13 +41,16 @@ enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPrese
 inline constexpr int16_t kNoReading = INT16_MIN;
 
 // Open sense wire, seen in the readings alone (the same rule for every monitor): when the tap between two
-// cells is disconnected, one of the two reads about nothing and the other the voltage across both, or as
-// much as its input can read (BQ769x2: 7 400 mV and 0 mV for two 3.7 V cells; BQ79616: its 6 250 mV full
-// scale and 0 mV; bms-sim's open-wire scenario). Two working cells never differ by more than
-// kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit (the
+// cells is disconnected, its node discharges and the two differential measurements beside it go one over,
+// one under (SLUUCG7 / SLUUBY2B, Settings:Cell Open-Wire:Check Time: "an over-voltage or under-voltage event
+// will be triggered on that cell or an adjacent cell"; SLUSCM3K 8.3.2.3: OV and UV usually come before the
+// open-wire fault). In bms-sim one reads about nothing and the other both cells, or its input's full scale
+// (BQ769x2: 7 400 and 0 mV for two 3.7 V cells; BQ79616: 6 250 and 0 mV). Two working cells never differ by
+// more than kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit (the
 // firmware's cell_ov trips at 4.25 V). So two neighbours further apart are an open wire between them, and
-// neither reading is a cell voltage. A tap at either end of the stack, or a wire whose neighbours do not
-// give this pattern, is not caught here (the cell limits still act on such readings).
+// neither reading is a cell voltage. A tap at either end of the stack, a node that still holds its charge,
+// or a wire whose neighbours do not give this pattern, is not caught here (the cell limits still act on
+// such readings; regmaps/README.md lists what is open).
 inline constexpr int16_t kOpenWireStepMv = 4500;
 // The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire between them.
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);

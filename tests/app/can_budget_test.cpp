@@ -24,12 +24,7 @@
 namespace {
 
 namespace bms = fw::can::bms;
-using fw::app::BoardSample;
-using fw::app::CanLayout;
-using fw::app::CanPublisher;
-using fw::app::FramePlan;
-using fw::app::PackView;
-using fw::app::PublishStatus;
+namespace app = fw::app;
 
 constexpr double kBitrate = bms::kBitrate;
 static_assert(bms::kBitrate == 500000);
@@ -126,7 +121,7 @@ TEST(CanBudget, EveryConfigurationFitsItsStatedPeriodsInTheWorstCase) {
 class FakeMonitor final : public fw::sched::Task {
  public:
   static constexpr fw::sched::TaskId kId = 1;
-  FakeMonitor(fw::sched::Scheduler& s, PackView& view, std::vector<BoardSample>& boards)
+  FakeMonitor(fw::sched::Scheduler& s, app::PackView& view, std::vector<app::BoardSample>& boards)
       : s_(s), view_(view), boards_(boards) {}
   void start() {
     s_.addTask(kId, *this);
@@ -136,28 +131,28 @@ class FakeMonitor final : public fw::sched::Task {
     for (auto& b : boards_)
       b.takenAt = s_.now();
     fw::app::summarize(view_, s_.now());
-    s_.post(0, CanPublisher::kScanDone);
+    s_.post(0, app::CanPublisher::kScanDone);
   }
 
  private:
   fw::sched::Scheduler& s_;
-  PackView& view_;
-  std::vector<BoardSample>& boards_;
+  app::PackView& view_;
+  std::vector<app::BoardSample>& boards_;
   fw::sched::Timer timer_;
 };
 
 struct Rig {
   bsp::host::Harness h;
   bsp::host::SimCan can{h.clock, h.irq, bms::kBitrate, 8};
-  std::vector<BoardSample> boards;
+  std::vector<app::BoardSample> boards;
   std::vector<int16_t> raw;
-  PackView view;
-  PublishStatus status;
-  FramePlan plan{view, status, fw::ms(300)};
-  CanPublisher publisher;
+  app::PackView view;
+  app::PublishStatus status;
+  app::FramePlan plan{view, status, fw::ms(300)};
+  app::CanPublisher publisher;
   FakeMonitor monitor{h.sched, view, boards};
 
-  Rig(int n, CanLayout layout)
+  Rig(int n, app::CanLayout layout)
       : boards(n), raw(n * 16, 0x4BC7), publisher(h.sched, 0, can, plan, layout, fw::ms(100), 10) {
     view.boards = boards;
     view.cellsPerBoard = 16;
@@ -187,7 +182,7 @@ std::map<std::tuple<uint32_t, int, int>, std::vector<double>> instances(const bs
 
 TEST(CanBudget, EveryNativeMessageGoesOutAtItsStatedPeriodUpTo64Boards) {
   for (int n : {1, 2, 16, 40, 63, 64}) {
-    Rig r(n, CanLayout::Native);
+    Rig r(n, app::CanLayout::Native);
     r.h.runFor(fw::ms(4050));
     const auto got = instances(r.can);
     const std::map<uint32_t, double> period = {
@@ -214,7 +209,7 @@ TEST(CanBudget, EveryNativeMessageGoesOutAtItsStatedPeriodUpTo64Boards) {
 
 TEST(CanBudget, EveryScanGetsACompleteTiSetUpTo64Boards) {
   for (int n : {1, 2, 16, 64}) {
-    Rig r(n, CanLayout::Ti);
+    Rig r(n, app::CanLayout::Ti);
     r.h.runFor(fw::ms(1100));
     const auto& sent = r.can.sent();
     ASSERT_EQ(sent.size(), 10u * 4 * n) << n << " boards: one whole set per scan";
