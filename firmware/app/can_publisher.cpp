@@ -25,7 +25,7 @@ void CanPublisher::run(sched::EventMask events) {
   const bool ti = layout_ == CanLayout::Ti;
   if ((events & (ti ? kScanDone : kTick)) != 0) {
     if (ti) {
-      plan_.beginTi(now);
+      plan_.beginTi();
     } else if (plan_.beginNative(s_.tick, slowEvery_)) {
       ++s_.stats.abandoned;
     }

@@ -226,12 +226,12 @@ bool FramePlan::begin(bool slow) {
   return dropped;
 }
 
-void FramePlan::beginTi(Instant now) {
+void FramePlan::beginTi() {
   if constexpr (!kTiLayout) return;
   if (active()) return;  // a set is going out: it finishes whole, and carries this scan's data from here on
-  for (uint16_t b = 0; b < pack_.boardCount(); ++b) {
-    if (boardStatus(pack_.boards[b], now, staleAfter_) != BoardStatus::Valid) return;
-  }
+  // Only after a scan (it has just ended) that validated every board and shows no open wire: those codes are
+  // not cell voltages, and the layout cannot say so.
+  if (!pack_.totals.complete) return;
   step_ = kTiCells;
   index_ = 0;
   settle();
@@ -302,7 +302,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
-      const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
+      const uint32_t open = isCells ? pack_.totals.openCells[board] >> (frame * 3) : 0;
       v[0] = board, v[1] = frame, v[2] = static_cast<uint8_t>(st);
       if (st != BoardStatus::Valid) break;
       if ((open & 7U) != 0) v[2] = kOpenWireStatus;

@@ -17,10 +17,10 @@
 //                         stopped. Only a slow cycle drops what is left of the previous one.
 //   ti (after each scan)  seed 001's layout: per board, top of stack first, four TiCellVoltages frames with
 //                         cells 16..13, 12..9, 8..5, 4..1 as raw big-endian codes. Only whole sets: a set
-//                         begins only when every board is Valid (the layout has no board index or status,
-//                         so a receiver counts frames from the top), a scan that ends while a set is going
-//                         out starts none (the rest of the set carries its data), and a board that stops
-//                         being Valid mid-set ends the set there.
+//                         begins only after a fresh scan that validated every board with no open wire (the
+//                         layout has no board index or status, so a receiver counts frames from the top),
+//                         a scan that ends while a set is going out starts none (the rest of the set
+//                         carries its data), and a board that stops being Valid mid-set ends the set there.
 // Images short of flash may build the native cycles with fewer messages (FW_PUBLISH_LEVEL,
 // app/publish_status.hpp); a message a build leaves out never comes up in a cycle.
 // Contract: thread mode (the publish task); the referenced pack and status must outlive the plan.
@@ -53,8 +53,8 @@ class FramePlan {
   // bus): the fast part of the last cycle, or, for a slow cycle, what was left of the last slow part.
   bool beginFast() { return kCoreMessages ? begin(false) : startFast(); }
   bool beginSlow() { return begin(true); }
-  // A TI set after a scan (`now`: to see that every board is Valid); none while a set is going out.
-  void beginTi(Instant now);
+  // A TI set after a scan; none while a set is going out.
+  void beginTi();
   // The native cycle of a publish tick: slow every `slowEvery` ticks (`tick` counts them, 0 = slow), fast
   // otherwise. A build that sends only what every cycle carries (FW_PUBLISH_LEVEL 0) has no slow cycle.
   bool beginNative(uint8_t& tick, uint8_t slowEvery) {

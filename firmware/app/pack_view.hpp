@@ -46,14 +46,22 @@ inline constexpr int16_t kNoReading = INT16_MIN;
 // will be triggered on that cell or an adjacent cell"; SLUSCM3K 8.3.2.3: OV and UV usually come before the
 // open-wire fault). In bms-sim one reads about nothing and the other both cells, or its input's full scale
 // (BQ769x2: 7 400 and 0 mV for two 3.7 V cells; BQ79616: 6 250 and 0 mV). Two working cells never differ by
-// more than kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit (the
-// firmware's cell_ov trips at 4.25 V). So two neighbours further apart are an open wire between them, and
-// neither reading is a cell voltage. A tap at either end of the stack, a node that still holds its charge,
-// or a wire whose neighbours do not give this pattern, is not caught here (the cell limits still act on
-// such readings; regmaps/README.md lists what is open).
+// more than kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit
+// (the firmware's cell_ov trips at 4.25 V). So two neighbours further apart are an open wire between them,
+// and neither reading is a cell voltage. A tap at either end of the stack, a node that still holds its
+// charge, or a wire whose neighbours do not give this pattern, is not caught here (the cell limits still act
+// on such readings; regmaps/README.md lists what is open).
 inline constexpr int16_t kOpenWireStepMv = 4500;
 // The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire between them.
-uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);
+// Inline: summarize() is its one caller in the firmware (it keeps the result in PackTotals::openCells).
+constexpr uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
+  uint32_t open = 0;
+  for (uint32_t pair = 3; cells-- > 1; pair <<= 1, ++cellMv) {
+    const int32_t step = cellMv[1] - cellMv[0];
+    if (step > kOpenWireStepMv || step < -kOpenWireStepMv) open |= pair;
+  }
+  return static_cast<uint16_t>(open);
+}
 
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {
@@ -82,7 +90,9 @@ struct PackTotals {
   bool cells;     // at least one board validated in the scan (the cell extremes are meaningful)
   bool temps;     // ... and reported temperatures (the temperature extremes are meaningful)
   bool complete;  // every board validated in the scan and no open wire: packMv is the whole pack
-  bool openWire;  // a validated board's readings show an open sense wire, or the monitor reports one
+  bool openWire;  // a validated board's readings show an open sense wire (or the monitor says so)
+  uint16_t openCells[kMaxBoards];  // per board, openWireCells() of its readings in the scan (0: none, or
+                                   // the board did not validate)
 };
 
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
@@ -91,7 +101,6 @@ struct PackView {
   uint8_t tempsPerBoard = 0;    // temperature sensors per board
   bool hasCurrent = false;      // pack-level values, valid with board 0's measurement
   bool deviceFault = false;     // a monitor reports a tripped protection of its own
-  bool senseFault = false;      // a monitor reports an open sense line of its own (counted as an open wire)
   uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
@@ -109,7 +118,8 @@ struct PackView {
 
 // Recomputes view.totals from the boards whose last attempt validated (without the slots that hold no
 // reading), and counts the boards whose last attempt failed into view.commErrors; `scanEnd` is when the scan
-// ended. Monitors call it exactly once per scan, after recording every board's attempt and senseFault.
+// ended. Monitors call it exactly once per scan, after recording every board's attempt; a monitor that
+// learns of an open sense line otherwise (the BQ4050's refused cell word) sets totals.openWire after it.
 void summarize(PackView& view, Instant scanEnd);
 
 constexpr BoardStatus boardStatus(const BoardSample& b, Instant now, Duration staleAfter) {

@@ -51,7 +51,6 @@ struct Sampler {
   std::vector<int16_t> temps = std::vector<int16_t>(2, 2982);
   int32_t current = 0;
   bool deviceFault = false;
-  bool senseFault = false;
   fw::app::BoardSample board{};
   fw::app::PackView view;
 
@@ -62,7 +61,6 @@ struct Sampler {
     view.hasCurrent = true;
     view.currentMa = current;
     view.deviceFault = deviceFault;
-    view.senseFault = senseFault;
     return &view;
   }
   // A scan that validated at tMs.
@@ -326,16 +324,16 @@ TEST(Protection, AnOpenSenseWireIsAFaultOfItsOwnNotAnOvervoltage) {
 
 TEST(Protection, AMonitorReportedSenseFaultIsAnOpenWireNotACommLoss) {
   // BQ4050: the gauge answers with a cell above its 5 V input range, so the scan brings no cells (the board
-  // is not Valid) yet the link works: the monitor reports kNewData with senseFault.
+  // is not Valid) yet the link works: the monitor reports kNewData and sets totals.openWire itself.
   const auto cfg = baseConfig();
   Protection p(cfg);
   Sampler s;
   EXPECT_EQ(p.evaluate(s.fresh(0), at(0)).active, 0);
-  s.senseFault = true;
   for (uint32_t t = 100; t <= 300; t += 100) {
     auto in = s.fresh(t);
     s.board.last = fw::Status::Implausible;
     fw::app::summarize(s.view, at(t));
+    s.view.totals.openWire = true;
     EXPECT_EQ(p.evaluate(in, at(t)).active & (bit(FaultId::OpenWire) | bit(FaultId::CommLoss)),
               bit(FaultId::OpenWire))
         << t;
