@@ -167,6 +167,7 @@ void Bq79616ChainEmulator::resetRegisters(Device& d) {
   d.addrWr = false;
   d.addressed = false;
   d.adcRunning = false;
+  d.adcFrozen = false;
   // The CRC state machine starts over on the reloaded shadow registers, whose CUST_CRC matches them.
   if (d.crcCheck != 0) clock_.cancel(d.crcCheck);
   d.crcCheck = 0;
@@ -295,7 +296,7 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
   const Device& d = devices_.at(k);
   if (address >= kVcell16Hi && address <= kVcell1Lo) {
     // No conversion yet: the result registers hold 0x8000.
-    if (!d.adcRunning || t < d.adcSince + timing_.adcSettleUs)
+    if (!d.adcRunning || d.adcFrozen || t < d.adcSince + timing_.adcSettleUs)
       return (address - kVcell16Hi) % 2 == 0 ? 0x80 : 0x00;
   }
   if (address == kCustCrcRsltHi) return static_cast<uint8_t>(custCrcResult(d, t) >> 8);
@@ -325,6 +326,7 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
 std::string Bq79616ChainEmulator::onPing(fw::Duration low, uint64_t endUs) {
   ++counters_.pings;
   tick(endUs);
+  if (disconnected_) return "";  // the base never sees the line go low
   const uint64_t tNs = static_cast<uint64_t>(low.us) * 1000;
   const uint64_t tol = timing_.pingTolerancePercent;
   const uint64_t bitNs = uart_.byteTimeUs() * 100;  // 10 bit periods per byte
@@ -427,7 +429,7 @@ void Bq79616ChainEmulator::toneUp(size_t from, uint64_t t, uint8_t kind) {
 void Bq79616ChainEmulator::onHostBytes(std::span<const uint8_t> bytes, uint64_t endUs) {
   tick(endUs);
   Device& base = devices_[0];
-  if (!activeAt(base, endUs) || desync_) {
+  if (!activeAt(base, endUs) || desync_ || disconnected_) {
     counters_.ignoredBytes += bytes.size();
     return;
   }
@@ -707,6 +709,12 @@ void Bq79616ChainEmulator::resetDevice(size_t device) {
 }
 void Bq79616ChainEmulator::hangDevice(size_t device) {
   devices_.at(device).hung = true;
+}
+void Bq79616ChainEmulator::setDisconnected(bool cut) {
+  disconnected_ = cut;
+}
+void Bq79616ChainEmulator::freezeAdc(size_t device) {
+  devices_.at(device).adcFrozen = true;
 }
 
 }  // namespace bsp::host

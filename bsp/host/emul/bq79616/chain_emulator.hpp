@@ -57,7 +57,9 @@
 // above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),
 // corrupted bytes in a device's next response(s) on the UART, a truncated next response, a sticky (optionally
 // persistent) communication fault, a base receiver stuck mid-frame (until COMM CLEAR or a ping), the whole
-// chain asleep, a device's digital reset (address lost), a hung device (only HW_RESET brings it back).
+// chain asleep, a device's digital reset (address lost), a hung device (only HW_RESET brings it back), the
+// link to the base cut both ways (nothing reaches the base, nothing comes back), a device whose main ADC
+// stops delivering results while DEV_STAT[MAIN_RUN] still reads 1 (until its next digital reset).
 #pragma once
 
 #include <array>
@@ -133,6 +135,8 @@ class Bq79616ChainEmulator final : public UartPeer {
   void shutdownAll();
   void resetDevice(size_t device);  // digital reset: registers to defaults, address and role lost
   void hangDevice(size_t device);   // ignores frames, tones and pings until a HW_RESET
+  void setDisconnected(bool cut);   // the MCU-to-base link is cut both ways
+  void freezeAdc(size_t device);    // VCELLn read 0x8000 until the device's next digital reset
 
   struct Counters {
     uint64_t commandFrames = 0;  // command frames with a good CRC the base accepted
@@ -156,6 +160,7 @@ class Bq79616ChainEmulator final : public UartPeer {
     bool addressed = false;
     bool muted = false;
     bool hung = false;
+    bool adcFrozen = false;
     bool commCause = false;
     int corruptTimes = 0;
     size_t corruptIndex = 0;
@@ -202,6 +207,7 @@ class Bq79616ChainEmulator final : public UartPeer {
   std::vector<uint8_t> rxBuf_;
   int brokenAbove_ = -1;
   bool desync_ = false;
+  bool disconnected_ = false;
   int wakesSinceShutdownPing_ = 2;  // 2 = the daisy-chain port is on
   size_t truncateAt_ = SIZE_MAX;
   SimEdgeInput* nfault_ = nullptr;
