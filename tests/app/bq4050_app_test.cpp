@@ -8,40 +8,19 @@
 
 #include <memory>
 
-#include "app/bq4050_app.hpp"
-#include "bq4050/gauge_emulator.hpp"
+#include "bq4050/board.hpp"
 #include "outage_sweep.hpp"
-#include "sim/can.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace {
 
 enum Outage : int { kVanish, kVanishAndReset };
 
-struct Board {
-  Board() {
-    bus.attach(bsp::host::Bq4050Emulator::kAddress, gauge);
-    app.start();
-  }
+struct Board : bsp::host::Bq4050Board {
   static const char* outageName(int kind) { return kind == kVanish ? "vanish" : "vanish+reset"; }
   void setOutage(int kind, bool on) {
-    if (on) {
-      bus.detach(bsp::host::Bq4050Emulator::kAddress);
-      if (kind == kVanishAndReset) gauge.reset();
-    } else {
-      bus.attach(bsp::host::Bq4050Emulator::kAddress, gauge);
-    }
+    attachGauge(!on);
+    if (on && kind == kVanishAndReset) gauge.reset();
   }
-
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {100000, fw::ms(25), fw::us(4)}};
-  bsp::host::Bq4050Emulator gauge;
-  bsp::host::SimCan can{h.clock, h.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut{h.clock, true};  // the board asserts it from reset
-  fw::app::Bq4050AppConfig config;
-  fw::app::Bq4050App app{h.sched, fw::app::Bq4050App::Io{bus, can, faultOut}, config};
 };
 
 // The loss must first be noticed (three failed scans); once it is, the gauge is probed again within one scan

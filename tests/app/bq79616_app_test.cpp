@@ -7,13 +7,19 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "bq79616_board.hpp"
+#include "bq79616/board.hpp"
 
 namespace {
 
 // Two devices, as in TI's example.
-struct G3507 : test::Bq79616Board {
+struct G3507 : bsp::host::Bq79616Board {
   G3507() : Bq79616Board(2) {}
+  // When the fault output was last driven high at or after `fromUs`, or 0.
+  uint64_t assertedAt(uint64_t fromUs) const {
+    for (const auto& [t, level] : faultOut.history())
+      if (t >= fromUs && level) return t;
+    return 0;
+  }
 };
 
 TEST(Bq79616App, FaultOutputStaysAssertedUntilTheChainHasBeenMeasured) {

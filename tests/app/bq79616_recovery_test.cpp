@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "bq79616_board.hpp"
+#include "bq79616/board.hpp"
 #include "outage_sweep.hpp"
 
 namespace {
@@ -21,7 +21,7 @@ namespace b616 = fw::drivers::bq79616;
 
 enum Outage : int { kMute, kCut, kPowerLoss };
 
-struct Board : test::Bq79616Board {
+struct Board : bsp::host::Bq79616Board {
   explicit Board(size_t devices) : Bq79616Board(devices) {}
   static const char* outageName(int kind) {
     return kind == kMute ? "mute" : kind == kCut ? "cut" : "power-loss";
@@ -75,7 +75,7 @@ TEST(Bq79616Recovery, OutageSweepSixtyFourDevices) {
 // SLEEPtoACTIVE pass their probe yet bring back no good scan, so the next recoveries climb to the full
 // bring-up, whose WAKE restarts the device. Fails on the code before: every recovery started at COMM CLEAR.
 TEST(Bq79616Recovery, ALighterRungThatBringsBackNoGoodScanIsFollowedByAHigherOne) {
-  test::Bq79616Board b(2);
+  bsp::host::Bq79616Board b(2);
   ASSERT_TRUE(
       b.h.runUntil([&] { return b.app.monitor().stats().scans >= 3 && !b.faultOut.level(); }, fw::s(2)));
   b.emu.freezeAdc(1);

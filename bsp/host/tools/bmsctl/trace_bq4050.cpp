@@ -20,17 +20,14 @@
 #include <string>
 #include <vector>
 
-#include "app/bq4050_app.hpp"
-
 #include "bmsctl/cli.hpp"
+#include "bq4050/board.hpp"
 #include "bq4050/gauge_emulator.hpp"
 #include "core/status.hpp"
 #include "drivers/bq4050/gauge.hpp"
 #include "regmap/bq4050_table.hpp"
-#include "sim/can.hpp"
 #include "sim/harness.hpp"
 #include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace {
 
@@ -119,33 +116,26 @@ std::string formatBlock(const Target& t, const uint8_t* data, size_t n) {
 // probe): every transaction, a "# at" line before each one that follows more than 2 ms of idle bus, then the
 // outcome.
 int appStart() {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus(h.clock, h.irq, {100000, fw::ms(25), fw::us(4)});
-  bsp::host::Bq4050Emulator emulator;
-  bsp::host::SimCan can(h.clock, h.irq, 500000, 8);
-  bsp::host::SimDigitalOut faultOut(h.clock, true);  // the board asserts it from reset
-  bus.attach(bsp::host::Bq4050Emulator::kAddress, emulator);
-  const fw::app::Bq4050AppConfig config{};
-  fw::app::Bq4050App app(h.sched, {bus, can, faultOut}, config);
+  bsp::host::Bq4050Board b;
   uint64_t last = 0;
-  bus.onRecord([&](const bsp::host::I2cWireRecord& r) {
+  b.bus.onRecord([&](const bsp::host::I2cWireRecord& r) {
     if (r.startUs > last + 2000) std::printf("# at %.1f ms\n", static_cast<double>(r.startUs) / 1000.0);
     last = r.endUs;
     std::printf("%s\n", r.text.c_str());
   });
-  app.start();
-  const bool scanned = h.runUntil([&] { return app.monitor().stats().scans >= 1; }, fw::s(10));
-  bus.onRecord({});
+  const bool scanned = b.h.runUntil([&] { return b.app.monitor().stats().scans >= 1; }, fw::s(10));
+  b.bus.onRecord({});
   if (!scanned) {
     std::printf("# app-start: no complete scan within 10 s\n");
     return 1;
   }
-  const bool valid = app.pack().boards[0].last == Status::Ok;
+  const bool valid = b.app.pack().boards[0].last == Status::Ok;
   std::printf(
       "# app-start: first complete scan at %.1f ms (%s), pec=%s, %llu transactions, %llu us of bus time\n",
-      static_cast<double>(h.nowUs()) / 1000.0, valid ? "valid" : "failed",
-      app.monitor().gauge().pecEnabled() ? "on" : "off", static_cast<unsigned long long>(bus.transactions()),
-      static_cast<unsigned long long>(bus.busTimeUs()));
+      static_cast<double>(b.h.nowUs()) / 1000.0, valid ? "valid" : "failed",
+      b.app.monitor().gauge().pecEnabled() ? "on" : "off",
+      static_cast<unsigned long long>(b.bus.transactions()),
+      static_cast<unsigned long long>(b.bus.busTimeUs()));
   return valid ? 0 : 1;
 }
 

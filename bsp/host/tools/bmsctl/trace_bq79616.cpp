@@ -18,22 +18,18 @@
 // devices) from reset until its first complete scan and traces everything it sends and receives, with
 // "# at <ms>" lines where the line was quiet for a millisecond or more.
 #include <cstdio>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "app/bq79616_app.hpp"
-
 #include "bmsctl/cli.hpp"
+#include "bq79616/board.hpp"
 #include "bq79616/chain_emulator.hpp"
 #include "core/status.hpp"
 #include "drivers/bq79616/chain.hpp"
 #include "drivers/bq79616/frame.hpp"
 #include "regmap/bq79616_table.hpp"
-#include "sim/can.hpp"
 #include "sim/harness.hpp"
-#include "sim/peripherals.hpp"
 #include "sim/uart.hpp"
 
 namespace {
@@ -154,39 +150,27 @@ double msSince(const Rig& rig, uint64_t startUs) {
 // The application from reset to its first complete scan: every wire line, a "# at" line before each line that
 // follows a millisecond or more of quiet, then the outcome.
 int appStart(uint8_t devices) {
-  bsp::host::Harness h;
-  bsp::host::SimUart uart(h.clock, h.irq, 1000000);
-  bsp::host::Bq79616ChainEmulator emulator(h.clock, uart, devices);
-  bsp::host::SimEdgeInput nfault(h.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true);
-  bsp::host::SimCan can(h.clock, h.irq, 500000, 8);
-  bsp::host::SimDigitalOut faultOut(h.clock, true);  // the board asserts it from reset
-  uart.attach(emulator);
-  emulator.attachFaultPin(nfault);
-  const fw::app::Bq79616AppConfig config{.chain = {.devices = devices}};
-  auto storage = std::make_unique<fw::app::Bq79616Storage>();
-  fw::app::Bq79616App app(h.sched, {uart, nfault, can, faultOut}, config, *storage);
+  bsp::host::Bq79616Board b(devices);
   uint64_t last = 0;
-  uart.onRecord([&](const std::string& line) {
-    if (h.nowUs() >= last + 1000) std::printf("# at %.1f ms\n", static_cast<double>(h.nowUs()) / 1000.0);
-    last = h.nowUs();
+  b.uart.onRecord([&](const std::string& line) {
+    if (b.h.nowUs() >= last + 1000) std::printf("# at %.1f ms\n", static_cast<double>(b.h.nowUs()) / 1000.0);
+    last = b.h.nowUs();
     std::printf("%s\n", line.c_str());
   });
-  app.start();
-  const bool scanned = h.runUntil([&] { return app.monitor().stats().scans >= 1; }, fw::s(10));
-  uart.onRecord({});
+  const bool scanned = b.h.runUntil([&] { return b.app.monitor().stats().scans >= 1; }, fw::s(10));
+  b.uart.onRecord({});
   if (!scanned) {
     std::printf("# app-start: no complete scan within 10 s\n");
     return 1;
   }
-  const auto& pack = app.pack();
   uint16_t valid = 0;
-  for (const auto& board : pack.boards)
+  for (const auto& board : b.app.pack().boards)
     valid = static_cast<uint16_t>(valid + (board.last == Status::Ok ? 1 : 0));
   std::printf(
       "# app-start: first complete scan at %.1f ms, %u of %u devices valid, %u command frames, "
       "%llu response bytes\n",
-      static_cast<double>(h.nowUs()) / 1000.0, valid, devices, app.monitor().chain().stats().commandFrames,
-      static_cast<unsigned long long>(uart.rxBytes()));
+      static_cast<double>(b.h.nowUs()) / 1000.0, valid, devices,
+      b.app.monitor().chain().stats().commandFrames, static_cast<unsigned long long>(b.uart.rxBytes()));
   return valid == devices ? 0 : 1;
 }
 
