@@ -77,7 +77,7 @@ inline void Bq79616Monitor::recovered(Status result) {
   if (wasRecovery && f_.from < RecoveryLevel::Rewake) f_.from = RecoveryLevel::Rewake;
 }
 
-inline void Bq79616Monitor::finished(Instant now) {
+[[gnu::always_inline]] inline void Bq79616Monitor::finished(Instant now) {
   const Status result = chain_.result();
   if (!f_.scanning) {
     recovered(result);
