@@ -29,10 +29,23 @@ static_assert(bms::PackSummary::kPackVoltageNotAvailable == 0xFFFF &&
               "bms.yaml's not-available values are the ones this plan sends");
 static_assert(bms::CellVoltages::kCellTotal == kMaxCellsPerBoard &&
               bms::Temperatures::kTempTotal == kMaxTempsPerBoard);
+static_assert(
+    [] {
+      for (size_t i = 0; i < 4; ++i) {
+        const can::Field a = bms::CellExtremes::kFields[i], b = bms::TemperatureExtremes::kFields[i];
+        if (a.start != b.start || a.length != b.length) return false;
+      }
+      return true;
+    }(),
+    "CellExtremes and TemperatureExtremes share one layout (fill() builds both alike)");
 constexpr uint8_t kOpenWireStatus =
     4;  // CellVoltages.Status: some cells of the frame are beside an open wire
-[[gnu::noinline]] uint16_t clampU16(int32_t v) {
+uint16_t clampU16(int32_t v) {
   return static_cast<uint16_t>(v < 0 ? 0 : (v > 0xFFFE ? 0xFFFE : v));
+}
+// A 16-bit reading (mV, 0.1 K) never reaches the not-available value: only a negative one needs clamping.
+[[gnu::always_inline]] inline uint32_t reading(int32_t v) {
+  return static_cast<uint32_t>(v & ~(v >> 31));
 }
 int16_t clampI16(int32_t v) {
   return static_cast<int16_t>(v < -32767 ? -32767 : (v > 32767 ? 32767 : v));
@@ -268,17 +281,16 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       v[8] = status_.active;
       break;
     case kExtremes:
-      if (cells) {
-        v[0] = clampU16(t.extreme[kMaxCell]), v[1] = t.at[kMaxCell];
-        v[2] = clampU16(t.extreme[kMinCell]), v[3] = t.at[kMinCell];
+    case kTempExtremes: {
+      // CellExtremes and TemperatureExtremes share their layout (highest, where, lowest, where), as
+      // PackTotals keeps both pairs alike.
+      const uint8_t e = step_ == kExtremes ? kMaxCell : kMaxTemp;
+      if (step_ == kExtremes ? cells : temps) {
+        v[0] = reading(t.extreme[e]), v[1] = t.at[e];
+        v[2] = reading(t.extreme[e + 1]), v[3] = t.at[e + 1];
       }
       break;
-    case kTempExtremes:
-      if (temps) {
-        v[0] = clampU16(t.extreme[kMaxTemp]), v[1] = clampU16(t.extreme[kMinTemp]);
-        v[2] = t.at[kMaxTemp], v[3] = t.at[kMinTemp];
-      }
-      break;
+    }
     case kEvent:
       v[0] = status_.active, v[1] = status_.pendingTripped, v[2] = status_.pendingCleared;
       v[3] = pack_.commErrors;
@@ -302,12 +314,12 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
-      const uint32_t open = isCells ? pack_.totals.openCells[board] >> (frame * 3) : 0;
+      const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
       v[0] = board, v[1] = frame, v[2] = static_cast<uint8_t>(st);
       if (st != BoardStatus::Valid) break;
       if ((open & 7U) != 0) v[2] = kOpenWireStatus;
       for (uint8_t j = 0, i = static_cast<uint8_t>(frame * 3); j < 3; ++j, ++i) {
-        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading) v[3 + j] = clampU16(values[i]);
+        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading) v[3 + j] = reading(values[i]);
       }
       break;
     }

@@ -25,6 +25,15 @@ namespace {
 
 }  // namespace
 
+uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
+  uint32_t open = 0;
+  for (uint32_t pair = 3; cells-- > 1; pair <<= 1, ++cellMv) {
+    const int32_t step = cellMv[1] - cellMv[0];
+    if (step > kOpenWireStepMv || step < -kOpenWireStepMv) open |= pair;
+  }
+  return static_cast<uint16_t>(open);
+}
+
 void summarize(PackView& view, Instant scanEnd) {
   PackTotals& t = view.totals;
   t = PackTotals{};
@@ -47,9 +56,7 @@ void summarize(PackView& view, Instant scanEnd) {
     ++validated;
     // A board with an open sense wire keeps its cells out of the extremes and the cell limits: two of its
     // readings are not cell voltages, and open_wire, which opens both paths, stands in for its limits.
-    const uint16_t wires = openWireCells(s.cellMv, view.cellsPerBoard);
-    if (kCoreMessages) t.openCells[b] = wires;  // the cell frames mark the two cells (FW_PUBLISH_LEVEL >= 1)
-    if (wires != 0) {
+    if (openWireCells(s.cellMv, view.cellsPerBoard) != 0) {
       open = true;
     } else {
       t.packMv += fold(&t.extreme[kMaxCell], &t.at[kMaxCell], t.cells, s.cellMv, view.cellsPerBoard,

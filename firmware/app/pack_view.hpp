@@ -53,15 +53,7 @@ inline constexpr int16_t kNoReading = INT16_MIN;
 // on such readings; regmaps/README.md lists what is open).
 inline constexpr int16_t kOpenWireStepMv = 4500;
 // The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire between them.
-// Inline: summarize() is its one caller in the firmware (it keeps the result in PackTotals::openCells).
-constexpr uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
-  uint32_t open = 0;
-  for (uint32_t pair = 3; cells-- > 1; pair <<= 1, ++cellMv) {
-    const int32_t step = cellMv[1] - cellMv[0];
-    if (step > kOpenWireStepMv || step < -kOpenWireStepMv) open |= pair;
-  }
-  return static_cast<uint16_t>(open);
-}
+uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);
 
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {
@@ -91,8 +83,6 @@ struct PackTotals {
   bool temps;     // ... and reported temperatures (the temperature extremes are meaningful)
   bool complete;  // every board validated in the scan and no open wire: packMv is the whole pack
   bool openWire;  // a validated board's readings show an open sense wire (or the monitor says so)
-  uint16_t openCells[kMaxBoards];  // per board, openWireCells() of its readings in the scan (0: none, or
-                                   // the board did not validate)
 };
 
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.

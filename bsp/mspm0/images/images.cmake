@@ -55,6 +55,8 @@ function(bms_image_info image)
   # The G3507 applications only transmit on CAN: no MCAN reception (bsp/mspm0/mcan.hpp).
   if(image MATCHES "^lp-mspm0g3507-")
     list(APPEND defines BSP_MCAN_RX=0)
+    # No protection delays: no image's limits use one (firmware/app/default_limits.hpp), as on the L1306.
+    list(APPEND defines FW_PROTECTION_DELAYS=0)
   endif()
   # No SMBus PEC in the I2C driver where nothing uses it (bsp/mspm0/i2c.hpp).
   if(image MATCHES "-bq76952$")
