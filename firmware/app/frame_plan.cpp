@@ -345,7 +345,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 }
 
 void FramePlan::advance() {
-  if (step_ == kDone) return;
+  // On a finished plan this only counts index_ up: settle() leaves kDone alone.
   if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;

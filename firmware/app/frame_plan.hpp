@@ -93,7 +93,7 @@ class FramePlan {
   bool startFast() {
     const bool dropped = step_ <= kEvent;
     if (kCoreMessages && step_ >= kCells && step_ <= kTempExtremes) resume_ = step_, resumeIndex_ = index_;
-    event_ = sent(kEvent) && (status_.pendingTripped | status_.pendingCleared) != 0;
+    if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
     step_ = kSummary;
     index_ = 0;
     return dropped;

@@ -39,8 +39,7 @@ void summarize(PackView& view, Instant scanEnd) {
   t = PackTotals{};
   t.takenAt = scanEnd;
   t.oldest = scanEnd;
-  bool open = false;
-  uint16_t validated = 0;
+  uint16_t whole = 0;  // boards whose cells validated with no open wire
   for (uint16_t b = 0; b < view.boardCount(); ++b) {
     const BoardSample& s = view.boards[b];
     if (!s.valid) {
@@ -53,20 +52,19 @@ void summarize(PackView& view, Instant scanEnd) {
       continue;
     }
     if (!s.valid) continue;
-    ++validated;
     // A board with an open sense wire keeps its cells out of the extremes and the cell limits: two of its
     // readings are not cell voltages, and open_wire, which opens both paths, stands in for its limits.
     if (openWireCells(s.cellMv, view.cellsPerBoard) != 0) {
-      open = true;
+      t.openWire = true;
     } else {
+      ++whole;
       t.packMv += fold(&t.extreme[kMaxCell], &t.at[kMaxCell], t.cells, s.cellMv, view.cellsPerBoard,
                        static_cast<uint16_t>(b * kMaxCellsPerBoard));
     }
     fold(&t.extreme[kMaxTemp], &t.at[kMaxTemp], t.temps, s.tempDeciK, view.tempsPerBoard,
          static_cast<uint16_t>(b * kMaxTempsPerBoard));
   }
-  t.openWire = open;
-  t.complete = validated == view.boardCount() && !open;
+  t.complete = whole == view.boardCount();
 }
 
 }  // namespace fw::app

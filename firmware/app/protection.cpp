@@ -46,14 +46,14 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
       value[5] = t->extreme[kMinTemp];
       evaluated |= bit(FaultId::Overtemperature) | bit(FaultId::Undertemperature);
     }
+    value[9] = t->openWire;
+    evaluated |= bit(FaultId::OpenWire);
   }
   value[6] = in.faultLine || (in.fresh && pack->deviceFault);
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
   value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
   value[8] = s_.failedScans >= config_.commLossScans;
   if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
-  value[9] = t->openWire;
-  if (in.fresh) evaluated |= bit(FaultId::OpenWire);
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
   // of the actions (ChargeOff and DischargeOff are bits) of every active fault.
