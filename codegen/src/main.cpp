@@ -12,6 +12,7 @@
 #include "check/check.hpp"
 #include "diag/diag.hpp"
 #include "emit/emit.hpp"
+#include "import/headings.hpp"
 #include "import/import.hpp"
 #include "model/model.hpp"
 #include "model/schema.hpp"
