@@ -1,5 +1,6 @@
 #include "import/cells.hpp"
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -43,6 +44,15 @@ bool isNoValue(std::string_view t) {
 std::string number(std::string_view cell) {
   std::string t(scan::trimmed(cell));
   if (isNoValue(t)) return "";
+  // "HW Reset Default = 0x00 Factory Configuration Default = 0x01" (BQ79616 OTP-backed registers): the
+  // factory value, which is what a device leaves the factory with; else the first value given.
+  if (const std::size_t eq = t.find('='); eq != std::string::npos) {
+    const std::size_t factory = t.find("Factory");
+    const std::size_t at =
+        factory != std::string::npos && t.find('=', factory) != std::string::npos ? t.find('=', factory) : eq;
+    const std::string_view rest = scan::trimmed(std::string_view(t).substr(at + 1));
+    t = std::string(rest.substr(0, rest.find(' ')));
+  }
   for (std::string_view dash : {"\xE2\x80\x93", "\xE2\x88\x92", "\xE2\x80\x92", "\xE2\x80\x90"})
     replaceAll(t, dash, "-");
   for (std::string_view space : {" ", "\xE2\x80\x89", "\xE2\x80\xAF"})
@@ -51,7 +61,10 @@ std::string number(std::string_view cell) {
 }
 
 Unit unit(std::string_view cell) {
-  const std::vector<std::string> w = words(scan::trimmed(cell));
+  std::vector<std::string> w = words(scan::trimmed(cell));
+  // The unit of each field of a subcommand's payload, one per line: "Hex Hex Hex" is Hex.
+  if (w.size() > 1 && std::all_of(w.begin(), w.end(), [&](const std::string& x) { return x == w[0]; }))
+    w.resize(1);
   std::string joined;
   for (const std::string& s : w)
     joined += s;
@@ -87,13 +100,13 @@ Unit unit(std::string_view cell) {
     }
   }
   static const std::map<std::string, std::string, std::less<>> spellings = {
-      {"°C", "degC"},     {"℃", "degC"},        {"degC", "degC"}, {"摄氏度", "degC"},  {"°K", "K"},
-      {"µV", "uV"},       {"μV", "uV"},         {"µs", "us"},     {"μs", "us"},        {"mΩ", "mOhm"},
-      {"mohm", "mOhm"},   {"milliohm", "mOhm"}, {"%", "percent"}, {"sec", "s"},        {"secs", "s"},
-      {"seconds", "s"},   {"秒", "s"},          {"毫秒", "ms"},   {"微秒", "us"},      {"minutes", "min"},
-      {"分钟", "min"},    {"hr", "h"},          {"hrs", "h"},     {"hour", "h"},       {"hours", "h"},
-      {"小时", "h"},      {"毫伏", "mV"},       {"毫安", "mA"},   {"count", "counts"}, {"byte", "bytes"},
-      {"cycle", "cycles"}};
+      {"°C", "degC"},      {"℃", "degC"},      {"degC", "degC"},     {"摄氏度", "degC"}, {"°K", "K"},
+      {"µV", "uV"},        {"μV", "uV"},       {"µs", "us"},         {"μs", "us"},       {"mΩ", "mOhm"},
+      {"m\u2126", "mOhm"}, {"mohm", "mOhm"},   {"milliohm", "mOhm"}, {"%", "percent"},   {"sec", "s"},
+      {"secs", "s"},       {"seconds", "s"},   {"秒", "s"},          {"毫秒", "ms"},     {"微秒", "us"},
+      {"minutes", "min"},  {"分钟", "min"},    {"hr", "h"},          {"hrs", "h"},       {"hour", "h"},
+      {"hours", "h"},      {"小时", "h"},      {"毫伏", "mV"},       {"毫安", "mA"},     {"count", "counts"},
+      {"byte", "bytes"},   {"cycle", "cycles"}};
   std::string u(t);
   if (auto it = spellings.find(u); it != spellings.end()) u = it->second;
   if (!findUnit(u)) {
@@ -113,8 +126,8 @@ std::optional<std::string> access(std::string_view cell) {
       found = "r";
     } else if (k == "w") {
       found = "w";
-    } else if (k == "r/w" || k == "rw") {
-      found = "rw";
+    } else if (k == "r/w" || k == "rw" || k == "nvm") {
+      found = "rw";  // NVM: an OTP-backed register, read and written like RW (BQ79616)
     } else if (k == "w1c" || k == "rw1c" || k == "r/w1c") {
       found = "rw1c";
     }
@@ -127,19 +140,22 @@ std::string name(std::string_view cell) {
   for (const std::string& w : words(cell))
     out.append(out.empty() ? "" : " ").append(w);
   if (out.size() > 2 && out.ends_with("()")) out.resize(out.size() - 2);
-  return out;
+  return std::string(scan::trimmed(out));
 }
 
-std::optional<std::string> fieldsType(std::string_view cell) {
+std::optional<std::string> fieldsType(std::string_view cell, bool bigEndian) {
   const std::vector<std::string> w = words(cell);
   if (w.size() < 2) return std::nullopt;
   int bytes = 0;
+  bool same = true;
   for (const std::string& code : w) {
     const auto t = parseType(code);
     if (!t || t->variable || t->size() == 0) return std::nullopt;
     bytes += t->size();
     if (bytes > 32) return std::nullopt;
+    same = same && code == w[0] && t->integer();
   }
+  if (same && !bigEndian) return std::to_string(w.size()) + "x" + w[0];
   return "B" + std::to_string(bytes);
 }
 
@@ -151,6 +167,13 @@ std::optional<std::string> typeFromWords(std::string_view type, std::string_view
   int n = 0;
   if (scan::all(sz, scan::isDigit) && sz.size() <= 2) n = std::stoi(sz);
   if (n == 0) n = f == "word" ? 2 : f == "byte" ? 1 : 0;
+  // Blocks first: the BQ4050 MAC table prints Type "Hex" for block data (Format "Block").
+  const bool text = t == "string" || t == "ascii" || f == "string";
+  if (text || t == "block" || f == "block") {
+    const char base = text ? 'S' : 'B';
+    if (n > 0 && n <= 32) return std::string(1, base) + std::to_string(n);
+    return std::string(1, base);
+  }
   const auto sized = [&](char base) -> std::optional<std::string> {
     if (n == 1 || n == 2 || n == 4) return std::string(1, base) + std::to_string(n);
     if (base == 'H' && n > 0 && n <= 32) return "B" + std::to_string(n);
@@ -160,12 +183,6 @@ std::optional<std::string> typeFromWords(std::string_view type, std::string_view
   if (t == "unsigned int" || t == "unsigned" || t == "unsigned integer") return sized('U');
   if (t == "signed int" || t == "signed" || t == "integer" || t == "signed integer") return sized('I');
   if (t == "float" || t == "floating point") return std::optional<std::string>("F4");
-  const bool text = t == "string" || t == "ascii";
-  if (text || t == "block" || f == "block" || f == "string") {
-    const char base = text || f == "string" ? 'S' : 'B';
-    if (n > 0 && n <= 32) return std::string(1, base) + std::to_string(n);
-    return std::string(1, base);
-  }
   return std::nullopt;
 }
 

@@ -14,7 +14,7 @@ struct Heading {
 
 // Spellings seen in TI's documents: the BQ769x2/BQ7690x TRMs and app notes (Command, Subcommand, Class,
 // Subclass, Min Value...), the BQ4050 TRM (SBS Cmd, Mode, Function, Format, Protocol, Size in Bytes, the
-// SE/US/FA access columns) and the BQ79616 data sheet (Acronym, Register Name, Reset).
+// SE/US/FA access columns) and the BQ79616 data sheet (Register Name, Addr Hex, RW Type, Reset Value, Data).
 const std::vector<Heading>& headings() {
   static const std::vector<Heading> table = {
       {Role::Address,
@@ -24,25 +24,27 @@ const std::vector<Heading>& headings() {
       {Role::EnglishName, "English name", {"英文名称", "english name", "name (en)", "name(en)"}},
       {Role::Name,
        "name",
-       {"名称", "参数", "参数名称", "name", "parameter", "acronym", "function", "command name"}},
+       {"名称", "参数", "参数名称", "name", "parameter", "acronym", "function", "command name",
+        "register name"}},
       {Role::Unit, "unit", {"单位", "unit", "units", "unit(s)"}},
       {Role::Type, "type", {"类型", "数据类型", "type", "data type"}},
       {Role::Format, "format (with size: the type)", {"format", "protocol"}},
       {Role::Size, "size", {"size", "size in bytes", "bytes", "length"}},
       {Role::Offset, "offset (fields of one payload)", {"offset"}},
-      {Role::Description,
-       "description",
-       {"说明", "描述", "备注", "description", "comment", "notes", "note", "register name"}},
+      {Role::Description, "description", {"说明", "描述", "备注", "description", "comment", "notes", "note"}},
       {Role::Category, "class", {"类别", "类", "class", "category"}},
       {Role::Subcategory, "subclass", {"子类别", "子类", "subclass", "subcategory"}},
       {Role::Min, "min", {"最小值", "min", "min value", "minimum", "minimum value"}},
       {Role::Max, "max", {"最大值", "max", "max value", "maximum", "maximum value"}},
       {Role::Default, "default", {"默认值", "default", "default value", "reset", "reset value"}},
-      {Role::Data, "data (appended to the description)", {"数据", "data"}},
+      {Role::Data,
+       "data (appended to the description)",
+       {"数据", "data", "bit7", "bit6", "bit5", "bit4", "bit3", "bit2", "bit1", "bit0", "bit 7", "bit 6",
+        "bit 5", "bit 4", "bit 3", "bit 2", "bit 1", "bit 0"}},
       {Role::Access,
        "access",
-       {"访问", "访问权限", "读写", "access", "r/w", "rw", "mode", "se", "us", "fa", "sealed", "unsealed",
-        "full access"}},
+       {"访问", "访问权限", "读写", "access", "r/w", "rw", "rw type", "mode", "se", "us", "fa", "sealed",
+        "unsealed", "full access"}},
   };
   return table;
 }

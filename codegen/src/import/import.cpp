@@ -106,6 +106,84 @@ StatedWidth statedWidth(const std::string& description) {
   return {};
 }
 
+// An address cell: "0x14", "0x0022 (R)", or a range of codes "0x4000–0x5FFF", "0x4000...0x5FFF",
+// "0x4000 to 0x5FFF". The hex digits of the first and (for a range) the last code.
+struct AddressCell {
+  std::string first, last;
+};
+std::optional<AddressCell> addressCell(const std::string& cell) {
+  std::string t;
+  for (std::size_t i = 0; i < cell.size(); ++i) {
+    const std::string_view rest = std::string_view(cell).substr(i);
+    if (rest.starts_with("\xE2\x80\x93") || rest.starts_with("\xE2\x80\x94") || rest.starts_with("...") ||
+        rest.starts_with("\xE2\x80\xA6")) {
+      t += '-';
+      i += rest[0] == '.' ? 2 : 2;
+    } else if (rest.starts_with(" to ")) {
+      t += '-';
+      i += 3;
+    } else if (cell[i] != ' ') {
+      t += cell[i];
+    }
+  }
+  const std::size_t end = std::min(t.find_first_not_of("0123456789abcdefABCDEFxX-"), t.size());
+  const std::string range = t.substr(0, end);
+  const std::string a = range.substr(0, range.find('-'));
+  if (!scan::isHexLiteral(a)) return std::nullopt;
+  const std::string b = range.find('-') == std::string::npos ? "" : range.substr(range.find('-') + 1);
+  return AddressCell{a.substr(2), scan::isHexLiteral(b) ? b.substr(2) : ""};
+}
+
+// Hex digits as an address of `digits` digits ("14" -> "0x14", "22" -> "0x0022"); a value too wide for any
+// kind is kept as written, for check to report.
+std::string addressText(const std::string& hex, int digits) {
+  const std::size_t significant = std::min(hex.find_first_not_of('0'), hex.size());
+  if (hex.size() - significant > 8) return "0x" + upperCase(hex);
+  return hexAddress(std::stoull(hex, nullptr, 16), digits);
+}
+
+// "CB_CELL16_CTRL through CB_CELL1_CTRL", "OTP_PROG_UNLOCK1A through OTP_PROG_UNLOCK1D": the names of a run
+// of registers, in the order of their rows (TI names the first row of a run with both ends and leaves the
+// name of the others empty). Empty unless the ends differ in one number or one letter.
+std::vector<std::string> runNames(const std::string& name) {
+  const std::size_t at = name.find(" through ");
+  if (at == std::string::npos) return {};
+  const std::string a = name.substr(0, at), b = name.substr(at + 9);
+  std::size_t pre = 0;
+  while (pre < a.size() && pre < b.size() && a[pre] == b[pre])
+    ++pre;
+  std::size_t post = 0;
+  while (post < a.size() - pre && post < b.size() - pre && a[a.size() - 1 - post] == b[b.size() - 1 - post])
+    ++post;
+  std::vector<std::string> out;
+  const auto middle = [&](const std::string& s) { return s.substr(pre, s.size() - pre - post); };
+  if (middle(a).size() == 1 && middle(b).size() == 1 && scan::isAlpha(middle(a)[0]) &&
+      scan::isAlpha(middle(b)[0])) {
+    const char from = middle(a)[0], to = middle(b)[0];
+    for (char c = from;; c = static_cast<char>(c + (from <= to ? 1 : -1))) {
+      out.push_back(a.substr(0, pre) + c + a.substr(a.size() - post));
+      if (c == to) break;
+    }
+    return out;
+  }
+  // A number: widen the differing part to whole numbers ("CELL16" / "CELL1" differ in "6" / "").
+  while (pre > 0 && scan::isDigit(a[pre - 1]))
+    --pre;
+  while (post > 0 && scan::isDigit(a[a.size() - post]))
+    --post;
+  const std::string ma = middle(a), mb = middle(b);
+  if (ma.empty() || mb.empty() || ma.size() > 3 || mb.size() > 3 || !scan::all(ma, scan::isDigit) ||
+      !scan::all(mb, scan::isDigit)) {
+    return {};
+  }
+  const int from = std::stoi(ma), to = std::stoi(mb);
+  for (int n = from;; n += from <= to ? 1 : -1) {
+    out.push_back(a.substr(0, pre) + std::to_string(n) + a.substr(a.size() - post));
+    if (n == to) break;
+  }
+  return out;
+}
+
 // The cells of one row by role. Several cells may share a role: descriptions are joined, the last access
 // cell wins (the BQ4050 SE/US/FA columns: full access is last).
 class RowCells {
@@ -122,8 +200,9 @@ class RowCells {
         if (i >= roles.size()) beyondHeadings.push_back(&c);
         continue;
       }
-      if (role == Role::Description) {
-        if (!c.text.empty()) description_.append(description_.empty() ? "" : " ").append(c.text);
+      if (role == Role::Description || role == Role::Data) {
+        std::string& joined = role == Role::Data ? data_ : description_;
+        if (!c.text.empty()) joined.append(joined.empty() ? "" : " ").append(c.text);
         if (cells_.count(role)) continue;
       }
       if (role == Role::Access && cells_.count(role) && !cells::access(c.text)) continue;
@@ -133,6 +212,7 @@ class RowCells {
   bool has(Role r) const { return cells_.count(r) != 0; }
   std::string get(Role r) const {
     if (r == Role::Description) return description_;
+    if (r == Role::Data) return data_;
     auto it = cells_.find(r);
     return it == cells_.end() ? std::string() : it->second->text;
   }
@@ -152,6 +232,7 @@ class RowCells {
   const TableEvent& row_;
   std::map<Role, const TableCell*> cells_;
   std::string description_;  // every description cell, joined
+  std::string data_;         // every data cell (BQ79616: the field names under Bit7..Bit0), joined
 };
 
 // At most this many bytes of a value go into the YAML, which limits its lines to 4096 bytes.
@@ -315,11 +396,19 @@ class Importer {
   // The type of a row: a TI code, the fields of one payload, words with a size, or the repairs of fixType.
   std::string typeOf(const RowCells& c, const std::string& typeCell, Imported& e) {
     const int line = c.line(Role::Type), col = c.col(Role::Type);
-    if (auto fields = cells::fieldsType(typeCell)) {
-      e.notes.push_back("import: payload fields " + typeCell + " (" + fields->substr(1) + " bytes)");
+    const std::string about = c.get(Role::Data) + " " + c.get(Role::Description);
+    const bool bigEndian =
+        about.find("Big-Endian") != std::string::npos || about.find("big-endian") != std::string::npos;
+    if (auto fields = cells::fieldsType(typeCell, bigEndian)) {
+      e.notes.push_back("import: payload fields " + typeCell + (bigEndian ? " (big-endian)" : "") +
+                        " read as " + *fields);
       return *fields;
     }
     if (parseType(typeCell)) return typeCell;
+    if (c.has(Role::Format) && cells::number(c.get(Role::Format)).empty()) {
+      e.notes.push_back("import: no data format in the table, so no data");
+      return "none";  // BQ4050 MAC: Format "—" (a command that carries no data)
+    }
     if (auto words = cells::typeFromWords(typeCell, c.get(Role::Format), c.get(Role::Size))) {
       e.notes.push_back("import: type " + *words + " from '" + typeCell +
                         (c.get(Role::Format).empty() ? "" : "', format '" + c.get(Role::Format)) +
@@ -368,9 +457,9 @@ class Importer {
 
     // Kind, from the address's digits or the class column.
     const std::string addrText(scan::trimmed(c.get(Role::Address)));
-    const std::string addrToken = addrText.substr(0, addrText.find(' '));
-    const bool hasAddr = scan::isHexLiteral(addrToken);
-    e.kind = kindOf(c, hasAddr ? addrToken.substr(2) : "");
+    const std::optional<AddressCell> address = addressCell(addrText);
+    const bool hasAddr = address.has_value();
+    e.kind = kindOf(c, hasAddr ? address->first : "");
     if (c.has(Role::Address) && !hasAddr) {
       warn(r.line, c.col(Role::Address), "'" + addrText + "' is not a hex address; row skipped");
       skipped_.push_back(r.line);
@@ -403,6 +492,17 @@ class Importer {
                              "' is not in the glossary");
       }
     }
+    if (const std::vector<std::string> run = runNames(name); !run.empty()) {
+      e.notes.push_back("import: one of the registers '" + name + "'");
+      run_.assign(run.begin() + 1, run.end());
+      name = run.front();
+    } else if (name.empty() && !run_.empty()) {
+      e.notes.push_back("import: name from the run of registers above");
+      name = run_.front();
+      run_.erase(run_.begin());
+    } else {
+      run_.clear();
+    }
     if (name.empty()) {
       warn(r.line, 1, "row has no name; row skipped");
       skipped_.push_back(r.line);
@@ -411,14 +511,21 @@ class Importer {
     e.keys.emplace_back("name", name);
 
     // Address.
-    std::string addr;
+    std::string addr, span;
     if (hasAddr) {
-      const std::string hex = addrToken.substr(2);
-      const std::size_t significant = hex.find_first_not_of('0');
-      if (hex.size() - std::min(significant, hex.size()) > 8) {
-        addr = "0x" + upperCase(hex);  // too wide for any kind: check reports it
-      } else {
-        addr = hexAddress(std::stoull(hex, nullptr, 16), e.kind->addrDigits);
+      addr = addressText(address->first, e.kind->addrDigits);
+      if (!address->last.empty() && addr.size() <= 10) {
+        const std::string last = addressText(address->last, e.kind->addrDigits);
+        const auto lo = std::stoull(addr.substr(2), nullptr, 16);
+        const auto hi = last.size() <= 10 ? std::stoull(last.substr(2), nullptr, 16) : 0;
+        if (e.kind->allowSpan && hi > lo) {
+          span = hexAddress(hi - lo + 1);
+          e.notes.push_back("import: codes " + addr + ".." + last);
+        } else {
+          warn(r.line, c.col(Role::Address),
+               "'" + addrText + "' is a range; " + std::string(e.kind->listName) +
+                   " entries have no span: the first address is used");
+        }
       }
     }
     e.category = translateOr(cells::name(c.get(Role::Category)));
@@ -460,6 +567,7 @@ class Importer {
       addr = "TODO";
     }
     e.keys.emplace_back("addr", addr);
+    if (!span.empty()) e.keys.emplace_back("span", span);
 
     // Type.
     std::string description = c.get(Role::Description);
@@ -668,6 +776,7 @@ class Importer {
   Model map_;
   std::vector<Imported> entries_;
   std::vector<int> skipped_;
+  std::vector<std::string> run_;  // names left of a run "A through B"
   struct Mention {
     std::string address;
     int line;

@@ -76,7 +76,8 @@ Span trimmedSpan(const Glyphs& g, Span s) {
 }
 
 // Joins a wrapped fragment to the text above it: "Proto-" + "col" -> "Protocol", "SEND_" + "SHUTDOWN" ->
-// "SEND_SHUTDOWN", "Big-" + "Endian" -> "Big-Endian", anything else with a space ("50.6" + "mV").
+// "SEND_SHUTDOWN", "NO_ADJ" + "_CB" -> "NO_ADJ_CB", "Big-" + "Endian" -> "Big-Endian", anything else with a
+// space ("50.6" + "mV").
 void appendWrapped(std::string& to, std::string_view more) {
   if (more.empty()) return;
   if (to.empty()) {
@@ -86,10 +87,19 @@ void appendWrapped(std::string& to, std::string_view more) {
   const char last = to.back();
   if (last == '-' && to.size() >= 2 && scan::isLower(to[to.size() - 2]) && scan::isLower(more[0])) {
     to.pop_back();
-  } else if (last != '-' && last != '_' && last != '/') {
+  } else if (last != '-' && last != '_' && last != '/' && more[0] != '_' && !more.starts_with("()")) {
     to += ' ';
   }
   to += more;
+}
+
+// Capitals, digits and '_' only: part of an identifier-style TRM name (FW_VERSION, MANUFACTURINGSTATUS).
+bool identifierPart(std::string_view s) {
+  return scan::all(s, [](char c) { return scan::isUpper(c) || scan::isDigit(c) || c == '_'; });
+}
+
+bool isNameRole(Role r) {
+  return r == Role::Name || r == Role::EnglishName;
 }
 
 struct Column {
@@ -128,15 +138,16 @@ std::vector<Column> headingColumns(const Glyphs& g, int line) {
 }
 
 // Adds the chunks of a heading's second line to the columns they sit under ("Min" over "Value"), or as
-// columns of their own. Returns false if a chunk is neither under a column nor a known heading.
-bool mergeHeadingLine(std::vector<Column>& cols, const Glyphs& g, int line) {
+// columns of their own ("Bit7" ... "Bit0" under "Data"). Returns false if a chunk is neither under a column
+// nor a known heading, unless `anyColumns`.
+bool mergeHeadingLine(std::vector<Column>& cols, const Glyphs& g, int line, bool anyColumns = false) {
   for (const Span c : chunks(g)) {
     const std::string_view t = g.slice(c.from, c.to);
     auto under = std::find_if(cols.begin(), cols.end(), [&](const Column& col) {
       return c.from <= col.span.to && col.span.from <= c.to;
     });
     if (under == cols.end()) {
-      if (roleOf(t) == Role::Unknown) return false;
+      if (roleOf(t) == Role::Unknown && !anyColumns) return false;
       const auto at =
           std::find_if(cols.begin(), cols.end(), [&](const Column& col) { return col.span.from > c.from; });
       cols.insert(at, Column{c, std::string(t), roleOf(t), line});
@@ -152,29 +163,51 @@ bool mergeHeadingLine(std::vector<Column>& cols, const Glyphs& g, int line) {
 }
 
 // Cuts a line into one span per column at `bounds` (bound k separates column k from column k + 1). A word
-// across a bound is cut at the nearest blank within three positions instead.
+// across a bound is cut at the nearest blank within three positions instead, or else not at all (it belongs
+// to the column it starts in).
 std::vector<Span> slice(const Glyphs& g, const std::vector<std::size_t>& bounds) {
   std::vector<Span> out;
   std::size_t from = 0;
   for (std::size_t k = 0; k <= bounds.size(); ++k) {
     std::size_t to = k < bounds.size() ? bounds[k] : std::max(g.size(), from);
     if (k < bounds.size() && to > 0 && !g.blank(to - 1) && !g.blank(to)) {
-      for (std::size_t d = 1; d <= 3; ++d) {
+      bool cut = false;
+      for (std::size_t d = 1; d <= 3 && !cut; ++d) {
         if (to >= d && g.blank(to - d)) {
           to -= d;
-          break;
-        }
-        if (to + d < g.size() && g.blank(to + d)) {
+          cut = true;
+        } else if (to + d < g.size() && g.blank(to + d)) {
           to += d;
-          break;
+          cut = true;
         }
       }
+      while (!cut && to < g.size() &&
+             !g.blank(to))  // a cell spanning columns ("ADDRESS[5:0]" over Bit5..Bit0)
+        ++to;
     }
     to = std::max(to, from);
     out.push_back(trimmedSpan(g, {from, to}));
     from = to;
   }
   return out;
+}
+
+// "Addr Hex" columns (BQ79616 register summary) print addresses without "0x": "30D" reads as 0x30D.
+bool saysHex(std::string_view heading) {
+  for (std::size_t i = 0; i + 3 <= heading.size(); ++i) {
+    const std::string_view w = heading.substr(i, 3);
+    if ((w[0] == 'h' || w[0] == 'H') && (w[1] == 'e' || w[1] == 'E') && (w[2] == 'x' || w[2] == 'X'))
+      return true;
+  }
+  return false;
+}
+
+bool isBareHex(std::string_view t) {
+  return t.size() <= 4 && scan::all(t, scan::isHexDigit);
+}
+
+bool endsWithDash(std::string_view t) {
+  return t.ends_with("-") || t.ends_with("\xE2\x80\x93") || t.ends_with("\xE2\x80\x94") || t.ends_with("...");
 }
 
 bool hasSeparators(std::string_view line) {
@@ -307,6 +340,10 @@ class Reader {
     for (const TableCell& c : cells)
       roles.push_back(roleOf(c.text));
     if (isHeadingRow(roles)) {
+      hexColumn_ = -1;
+      for (std::size_t k = 0; k < roles.size(); ++k) {
+        if (roles[k] == Role::Address && saysHex(cells[k].text)) hexColumn_ = static_cast<int>(k);
+      }
       TableEvent e;
       e.kind = TableEvent::Kind::Heading;
       e.line = l.number;
@@ -317,6 +354,10 @@ class Reader {
       return;
     }
     if (!separated_) return;  // a separated line outside any table is not prose either
+    if (hexColumn_ >= 0 && static_cast<std::size_t>(hexColumn_) < cells.size() &&
+        isBareHex(cells[static_cast<std::size_t>(hexColumn_)].text)) {
+      cells[static_cast<std::size_t>(hexColumn_)].text.insert(0, "0x");
+    }
     TableEvent e;
     e.kind = TableEvent::Kind::Row;
     e.line = l.number;
@@ -330,16 +371,20 @@ class Reader {
     std::vector<Column> cols;
     std::size_t key = 0;  // the column whose cell starts a row
     Role keyRole = Role::Unknown;
+    bool hexKeys = false;              // an "Addr Hex" key column: addresses without "0x"
     std::vector<std::size_t> anchors;  // preliminary bounds: each column's heading start
     std::vector<std::pair<int, Glyphs>> body;
     int blankRun = 0;
-    bool continued = false;
+    bool continued = false;    // repeats the previous table's headings: one table
+    bool mayContinue = false;  // a page break or "(continued)" caption came before the heading
     int headingLine = 0;
   };
 
-  static std::optional<Layout> layoutFor(std::vector<Column> cols, int line) {
+  // The table a heading row starts; nothing if the row is not a heading. `extended`: columns were added from
+  // the heading's second line ("Bit7" ... "Bit0"), so only the first line must read as a heading.
+  static std::optional<Layout> layoutFor(std::vector<Column> cols, int line, bool extended = false) {
     const std::vector<Role> roles = rolesOf(cols);
-    if (cols.size() < 3 || !isHeadingRow(roles)) return std::nullopt;
+    if (cols.size() < 3 || (!extended && !isHeadingRow(roles))) return std::nullopt;
     Layout t;
     t.cols = std::move(cols);
     t.headingLine = line;
@@ -349,6 +394,7 @@ class Reader {
     if (key == roles.end()) key = roles.begin();
     t.key = static_cast<std::size_t>(key - roles.begin());
     t.keyRole = *key;
+    t.hexKeys = t.keyRole == Role::Address && saysHex(t.cols[t.key].text);
     for (std::size_t k = 1; k < t.cols.size(); ++k)
       t.anchors.push_back(t.cols[k].span.from);
     return t;
@@ -357,13 +403,21 @@ class Reader {
   // Starts a layout table at line i (a heading, possibly over two lines), or reports the line as prose.
   std::size_t startOrProse(std::size_t i) {
     const SourceLine& l = lines_[i];
+    if (isTableCaption(l.text)) {
+      prose(l);
+      return i;
+    }
     const Glyphs g(l.text);
     std::vector<Column> cols = headingColumns(g, l.number);
     if (auto t = layoutFor(cols, l.number)) {
       begin(std::move(*t));
       return i;
     }
-    if (i + 1 < lines_.size()) {
+    // A heading over two lines: the first already names at least two columns ("SBS" above "Cmd" next to
+    // "Name", "Access", ...).
+    const auto known =
+        std::count_if(cols.begin(), cols.end(), [](const Column& c) { return c.role != Role::Unknown; });
+    if (known >= 2 && i + 1 < lines_.size()) {
       const SourceLine& next = lines_[i + 1];
       if (!next.pageBreak && !hasSeparators(next.text) && !isPageFurniture(next.text) &&
           !scan::trimmed(next.text).empty() && mergeHeadingLine(cols, Glyphs(next.text), next.number)) {
@@ -379,7 +433,8 @@ class Reader {
 
   void begin(Layout t) {
     // The same headings again after a page break: the table goes on.
-    if (lastRoles_ == rolesOf(t.cols) && pendingContinuation_) t.continued = true;
+    t.mayContinue = pendingContinuation_;
+    t.continued = t.mayContinue && lastRoles_ == rolesOf(t.cols);
     layout_ = std::move(t);
     pendingContinuation_ = false;
   }
@@ -387,14 +442,15 @@ class Reader {
   bool validKey(std::string_view key) const {
     if (key.empty()) return false;
     if (layout_->keyRole == Role::Address) {
-      const std::string_view first = key.substr(0, key.find(' '));
-      return scan::isHexLiteral(first);
+      // "0x14", "0x4000–0x5FFF" (a range), "30D" under "Addr Hex".
+      const std::string_view first = key.substr(0, key.find_first_not_of("0123456789abcdefABCDEFxX"));
+      return scan::isHexLiteral(first) || (layout_->hexKeys && isBareHex(first));
     }
     if (layout_->keyRole == Role::Category) return !scan::isDigit(key[0]);
     return true;
   }
 
-  // A chunk of text running across three or more columns is a sentence, not a row.
+  // A chunk of text running across three or more columns is a sentence, not the continuation of a row.
   bool proseLike(const Glyphs& g) const {
     for (const Span c : chunks(g)) {
       int crossed = 0;
@@ -430,18 +486,23 @@ class Reader {
     }
     const std::vector<Span> cells = slice(g, t.anchors);
     const std::string_view key = g.slice(cells[t.key].from, cells[t.key].to);
-    const bool prose = proseLike(g);
-    if (!key.empty()) {
-      if (!validKey(key) || prose || t.blankRun > 3) return false;
-    } else if (t.body.empty() && t.blankRun == 0 && !prose) {
-      // Before the first row: the heading's second line ("SE US FA" under "Access", "Value" under "Min").
+    // A row's cells may fill their columns ("2.98262E+03 4.193046E+08 2230042.463"); only lines without a key
+    // are judged as prose by their width.
+    const bool prose = key.empty() && proseLike(g);
+    if (t.body.empty() && t.blankRun == 0 && !prose && !validKey(key)) {
+      // Before the first row, a line without a key is the heading's second line ("SE US FA" under "Access",
+      // "Value" under "Min", "Hex" under "Addr").
       std::vector<Column> merged = t.cols;
-      if (!mergeHeadingLine(merged, g, l.number)) return false;
-      std::optional<Layout> joined = layoutFor(std::move(merged), t.headingLine);
+      if (!mergeHeadingLine(merged, g, l.number, true)) return false;
+      std::optional<Layout> joined = layoutFor(std::move(merged), t.headingLine, true);
       if (!joined) return false;
-      joined->continued = t.continued;
+      joined->mayContinue = t.mayContinue;
+      joined->continued = t.continued || (t.mayContinue && lastRoles_ == rolesOf(joined->cols));
       layout_ = std::move(joined);
       return true;
+    }
+    if (!key.empty()) {
+      if (!validKey(key) || t.blankRun > 3) return false;
     } else if (t.blankRun > 0 || prose || t.body.empty()) {
       return false;
     }
@@ -492,8 +553,13 @@ class Reader {
     bool open = false;
     for (const auto& [number, g] : t.body) {
       const std::vector<Span> cells = slice(g, b);
-      if (!cells[t.key].empty() || !open) {
-        if (open) emitRow(std::move(row));
+      // "0x4000–" over "0x5FFF": a range of codes wrapped in its cell continues the row.
+      const bool rangeGoesOn = open && endsWithDash(row.cells[t.key].text);
+      if ((!cells[t.key].empty() && !rangeGoesOn) || !open) {
+        if (open) {
+          prefixHexKey(row);
+          emitRow(std::move(row));
+        }
         row = TableEvent{};
         row.kind = TableEvent::Kind::Row;
         row.line = number;
@@ -507,11 +573,25 @@ class Reader {
           c.line = number;
           c.col = static_cast<int>(cells[k].from) + 1;
         }
-        appendWrapped(c.text, g.slice(cells[k].from, cells[k].to));
+        const std::string_view more = g.slice(cells[k].from, cells[k].to);
+        if (identifierPart(c.text) && identifierPart(more) && isNameRole(t.cols[k].role)) {
+          c.text += more;  // "MANUFACTURINGSTAT" over "US": TI breaks a long identifier where the cell ends
+        } else {
+          appendWrapped(c.text, more);
+        }
       }
     }
-    if (open) emitRow(std::move(row));
+    if (open) {
+      prefixHexKey(row);
+      emitRow(std::move(row));
+    }
     layout_.reset();
+  }
+
+  void prefixHexKey(TableEvent& row) const {
+    if (!layout_->hexKeys) return;
+    std::string& key = row.cells[layout_->key].text;
+    if (isBareHex(key.substr(0, key.find(' ')))) key.insert(0, "0x");
   }
 
   // An empty class or subclass cell means the one of the row above (a merged cell printed once).
@@ -533,6 +613,7 @@ class Reader {
   std::vector<SourceLine> lines_;
   TableText result_;
   bool separated_ = false;  // inside a '|' or tab separated table
+  int hexColumn_ = -1;      // its "Addr Hex" column
   std::optional<Layout> layout_;
   std::vector<Role> lastRoles_;       // headings of the last layout table
   bool pendingContinuation_ = false;  // a page break, a "(continued)" caption or a repeated heading since

@@ -11,9 +11,9 @@
 //   is filled starts a row; a line with the key cell empty continues the row above: its cells are appended to
 //   the row's (wrapped names, descriptions, units such as "50.6" above "mV"). Page furniture (furniture.hpp)
 //   is skipped, and a table continued on the next page under a repeated heading row is one table. A line
-//   whose key cell holds something that is not a key, a line running across three or more columns (prose),
-//   a caption of another table, or a continuation line after a blank line ends the table. An empty class or
-//   subclass cell takes the value of the row above (TI prints a merged cell once).
+//   whose key cell holds something that is not a key, a continuation line running across three or more
+//   columns (prose), a caption of another table, or a continuation line after a blank line ends the table. An
+//   empty class or subclass cell takes the value of the row above (TI prints a merged cell once).
 // Everything outside tables comes back as prose, in order, so the caller can read addresses named in the
 // text.
 //
