@@ -20,7 +20,7 @@ const std::vector<Heading>& headings() {
       {Role::Address,
        "address",
        {"命令", "命令代码", "子命令", "地址", "寄存器", "command", "cmd", "sbs cmd", "command code",
-        "subcommand", "address", "addr", "register", "reg"}},
+        "subcommand", "address", "addr", "addr hex", "register", "reg"}},
       {Role::EnglishName, "English name", {"英文名称", "english name", "name (en)", "name(en)"}},
       {Role::Name,
        "name",

@@ -581,7 +581,9 @@ class Importer {
       typeCell.clear();
     }
     std::string type = typeOf(c, typeCell, e);
-    type = widthFromDescription(type, description, c.line(Role::Type), c.col(Role::Type), e);
+    // Registers are one byte whatever width the reading they are part of has ("16-bit ... read HI first").
+    if (e.kind->kind != EntryKind::Register)
+      type = widthFromDescription(type, description, c.line(Role::Type), c.col(Role::Type), e);
     e.keys.emplace_back("type", type);
 
     // Access.

@@ -163,20 +163,25 @@ bool mergeHeadingLine(std::vector<Column>& cols, const Glyphs& g, int line, bool
 }
 
 // Cuts a line into one span per column at `bounds` (bound k separates column k from column k + 1). A word
-// across a bound is cut at the nearest blank within three positions instead, or else not at all (it belongs
-// to the column it starts in).
+// across a bound is cut at the blank before it (within three positions), else the blank after it, or else not
+// at all (it belongs to the column it starts in).
 std::vector<Span> slice(const Glyphs& g, const std::vector<std::size_t>& bounds) {
   std::vector<Span> out;
   std::size_t from = 0;
   for (std::size_t k = 0; k <= bounds.size(); ++k) {
     std::size_t to = k < bounds.size() ? bounds[k] : std::max(g.size(), from);
     if (k < bounds.size() && to > 0 && !g.blank(to - 1) && !g.blank(to)) {
+      // Before the word first: text starts left of its heading (rounding, centred headings), while a cell
+      // never runs into the next column of a real table.
       bool cut = false;
       for (std::size_t d = 1; d <= 3 && !cut; ++d) {
         if (to >= d && g.blank(to - d)) {
           to -= d;
           cut = true;
-        } else if (to + d < g.size() && g.blank(to + d)) {
+        }
+      }
+      for (std::size_t d = 1; d <= 3 && !cut; ++d) {
+        if (to + d < g.size() && g.blank(to + d)) {
           to += d;
           cut = true;
         }
