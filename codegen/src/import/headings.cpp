@@ -1,6 +1,7 @@
 #include "import/headings.hpp"
 
 #include <sstream>
+#include <unordered_map>
 
 namespace regmapgen {
 
@@ -51,34 +52,47 @@ const std::vector<Heading>& headings() {
 
 // Lower-case ASCII, runs of spaces as one, and a heading printed twice ("类型 类型") as one.
 std::string normalise(std::string_view s) {
-  std::istringstream in{std::string(s)};
-  std::vector<std::string> words;
-  for (std::string w; in >> w;) {
-    for (char& c : w) {
-      if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  // Words (runs without spaces or tabs), lower-cased, joined by one space.
+  std::vector<std::string_view> words;
+  for (std::size_t i = 0; i < s.size();) {
+    if (s[i] == ' ' || s[i] == '\t') {
+      ++i;
+      continue;
     }
-    words.push_back(w);
+    std::size_t j = i;
+    while (j < s.size() && s[j] != ' ' && s[j] != '\t')
+      ++j;
+    words.push_back(s.substr(i, j - i));
+    i = j;
   }
   bool repeated = words.size() > 1;
-  for (const std::string& w : words)
+  for (std::string_view w : words)
     repeated = repeated && w == words[0];
   if (repeated) words.resize(1);
   std::string out;
-  for (const std::string& w : words)
-    out.append(out.empty() ? "" : " ").append(w);
+  for (std::string_view w : words) {
+    if (!out.empty()) out += ' ';
+    for (char c : w)
+      out += (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+  }
   return out;
 }
 
 }  // namespace
 
 Role roleOf(std::string_view heading) {
-  const std::string h = normalise(heading);
-  for (const Heading& entry : headings()) {
-    for (const std::string& s : entry.spellings) {
-      if (h == s) return entry.role;
+  // Every spelling, once: the importer asks for each chunk of each line of a text.
+  static const std::unordered_map<std::string, Role> bySpelling = [] {
+    std::unordered_map<std::string, Role> m;
+    for (const Heading& entry : headings()) {
+      for (const std::string& s : entry.spellings)
+        m.emplace(s, entry.role);
     }
-  }
-  return Role::Unknown;
+    return m;
+  }();
+  if (heading.size() > 64) return Role::Unknown;  // longer than any heading
+  const auto it = bySpelling.find(normalise(heading));
+  return it == bySpelling.end() ? Role::Unknown : it->second;
 }
 
 std::string headingHelp() {

@@ -235,8 +235,9 @@ class RowCells {
   std::string data_;         // every data cell (BQ79616: the field names under Bit7..Bit0), joined
 };
 
-// At most this many bytes of a value go into the YAML, which limits its lines to 4096 bytes.
-constexpr std::size_t kMaxValueBytes = 2000;
+// At most this many bytes of a value go into the YAML: escaped (\xNN, four per byte at most) and with its
+// key, a line stays within the reader's 4096 bytes.
+constexpr std::size_t kMaxValueBytes = 1000;
 
 std::string capped(const std::string& v) {
   if (v.size() <= kMaxValueBytes) return v;
