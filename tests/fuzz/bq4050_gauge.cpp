@@ -9,31 +9,24 @@
 
 #include "drivers/bq4050/gauge.hpp"
 #include "fuzz_i2c_target.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
 
 namespace {
 
 namespace bq = fw::drivers::bq4050;
-constexpr fw::sched::TaskId kTask = 1;
-constexpr fw::sched::EventMask kBus = 0x1, kTimer = 0x2;
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   bms_fuzz::Input in(data, size);
   const uint8_t flags = in.byte();
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus(h.clock, h.irq, bsp::host::SimI2cConfig{100000, fw::ms(25), fw::us(4)});
-  bms_fuzz::FuzzI2cTarget device(in, (flags & 1) != 0, (flags & 2) != 0);
-  bus.attach(bq::kAddress, device);
+  bms_fuzz::Bench bench(in, flags, bq::kAddress, bsp::host::SimI2cConfig{100000, fw::ms(25), fw::us(4)});
   bq::GaugeConfig config;
   config.pec = static_cast<bq::PecMode>(((flags >> 2) & 3) % 3);
   config.cells = static_cast<uint8_t>(1 + ((flags >> 4) & 3));
   config.retries = static_cast<uint8_t>((flags >> 6) & 3);
-  bq::Gauge gauge(bus, h.clock, fw::drivers::DriverContext{h.sched, kTask, kBus, kTimer}, config);
+  bq::Gauge gauge(bench.bus, bench.harness.clock, bench.context(), config);
   bms_fuzz::DriverTask<bq::Gauge> task(gauge);
-  h.sched.addTask(kTask, task);
+  bench.harness.sched.addTask(bms_fuzz::Bench::kTask, task);
 
   bq::Measurement m;
   bq::DeviceInfo info;
@@ -83,12 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
     }
     if (started != fw::Status::Ok) continue;
-    const int before = task.done;
-    const bool ended = h.runUntil([&] { return task.done > before; }, fw::s(60));
-    // A transaction that outlives config.busGuard ends the operation (Timeout) while the bus still runs; the
-    // driver stays busy until the bus completes, which must happen within the bus's own bound.
-    const bool idle = h.runUntil([&] { return !gauge.busy(); }, fw::s(5));
-    if (!ended || !idle || task.done != before + 1) __builtin_trap();
+    bench.finish(gauge, task, fw::s(60), fw::s(5));
     if ((what == 4 || what == 6 || what == 7) && gauge.result() == fw::Status::Ok && length > room)
       __builtin_trap();
   }

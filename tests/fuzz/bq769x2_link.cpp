@@ -8,31 +8,24 @@
 
 #include "drivers/bq769x2/link.hpp"
 #include "fuzz_i2c_target.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
 
 namespace {
 
 namespace drv = fw::drivers::bq769x2;
-constexpr fw::sched::TaskId kTask = 1;
-constexpr fw::sched::EventMask kBus = 0x1, kTimer = 0x2;
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   bms_fuzz::Input in(data, size);
   const uint8_t flags = in.byte();
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus(h.clock, h.irq);
-  bms_fuzz::FuzzI2cTarget device(in, (flags & 1) != 0, (flags & 2) != 0);
-  bus.attach(drv::kDefaultAddress, device);
+  bms_fuzz::Bench bench(in, flags, drv::kDefaultAddress);
   drv::LinkConfig config;
   config.crc = (flags & 4) != 0;
   config.retries = static_cast<uint8_t>((flags >> 3) & 3);
   config.maxPolls = static_cast<uint8_t>(1 + ((flags >> 5) & 7));
-  drv::Link link(bus, fw::drivers::DriverContext{h.sched, kTask, kBus, kTimer}, config);
+  drv::Link link(bench.bus, bench.context(), config);
   bms_fuzz::DriverTask<drv::Link> task(link);
-  h.sched.addTask(kTask, task);
+  bench.harness.sched.addTask(bms_fuzz::Bench::kTask, task);
 
   for (int op = 0; op < 4 && !in.empty(); ++op) {
     const uint8_t what = in.byte() % 5;
@@ -60,9 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         break;
     }
     if (started != fw::Status::Ok) continue;
-    const int before = task.done;
-    const bool ended = h.runUntil([&] { return task.done > before; }, fw::s(10));
-    if (!ended || task.done != before + 1 || link.busy()) __builtin_trap();
+    bench.finish(link, task, fw::s(10));
     if (link.result() == fw::Status::Ok && what == 3) {
       // A validated result: its bytes are readable and the reported length is a buffer length.
       unsigned sum = 0;
