@@ -2,14 +2,18 @@
 #   -DTARGET=<fuzz binary> -DNAME=<target name> -DMODE=corpus|fuzz -DCORPUS=<dirs;...> -DWORK=<scratch dir>
 #   fuzz mode also: -DSECONDS=<n> -DFINDINGS=<dir for crashing inputs> [-DMAX_LEN=<bytes>]
 # corpus: every input of CORPUS once (libFuzzer -runs=0 still executes the whole initial corpus).
-# fuzz:   mutates for SECONDS, keeping new inputs in WORK/corpus (so later runs start further on), and prints
-#         "REPORT fuzz <name>: ..." with the executions; fails on any crash, leak, timeout or out-of-memory.
+# fuzz:   mutates for SECONDS from CORPUS, writing new inputs to WORK/corpus, and prints
+#         "REPORT fuzz.<name>.executions=..." (with seconds, rate, coverage edges and new inputs); fails on any
+#         crash, leak, timeout or out-of-memory.
 set(corpus_dirs "")
 foreach(c IN LISTS CORPUS)
   if(IS_DIRECTORY ${c})
     list(APPEND corpus_dirs ${c})
   endif()
 endforeach()
+# A fresh working corpus each run: a corpus that grew over many runs would take the whole time budget just to
+# be loaded (what a run found stays in WORK/corpus until the next run; seeds are what persists).
+file(REMOVE_RECURSE ${WORK}/corpus)
 file(MAKE_DIRECTORY ${WORK}/corpus)
 # -timeout: an input that runs 10 s is a hang (a finding). -rss_limit_mb: as libFuzzer's default, stated.
 set(common -timeout=10 -rss_limit_mb=2048 -print_final_stats=1)
@@ -55,4 +59,4 @@ if(execs STREQUAL "")
   message(FATAL_ERROR "fuzz_${NAME}: no statistics in libFuzzer's output:\n${err}")
 endif()
 math(EXPR rate "${execs} / ${SECONDS}")
-message("REPORT fuzz ${NAME}: ${execs} executions in ${SECONDS} s (${rate}/s), ${cov} coverage edges, ${added} new inputs")
+message("REPORT fuzz.${NAME}.executions=${execs} seconds=${SECONDS} per_s=${rate} coverage_edges=${cov} new_inputs=${added}")

@@ -118,7 +118,7 @@ std::optional<AddressCell> addressCell(const std::string& cell) {
     if (rest.starts_with("\xE2\x80\x93") || rest.starts_with("\xE2\x80\x94") || rest.starts_with("...") ||
         rest.starts_with("\xE2\x80\xA6")) {
       t += '-';
-      i += rest[0] == '.' ? 2 : 2;
+      i += 2;  // every one of these separators is three bytes
     } else if (rest.starts_with(" to ")) {
       t += '-';
       i += 3;
