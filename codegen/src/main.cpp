@@ -62,8 +62,9 @@ bool readInput(const std::string& path, std::string& text) {
   return true;
 }
 
-// Loads, builds and checks the files; prints diagnostics. Returns false on any error.
-bool load(const std::vector<std::string>& files, Sources& sources, Model& model) {
+// Loads, builds and (unless `checked` is false) checks the files; prints diagnostics. Returns false on any
+// error. Unchecked is for diff: one file of a family may name a fieldset another defines.
+bool load(const std::vector<std::string>& files, Sources& sources, Model& model, bool checked = true) {
   for (const std::string& f : files) {
     std::string text;
     if (!readInput(f, text)) {
@@ -74,7 +75,7 @@ bool load(const std::vector<std::string>& files, Sources& sources, Model& model)
   }
   Diagnostics diag(sources);
   model = build(sources, diag);
-  check(model, diag);
+  if (checked) check(model, diag);
   diag.render(std::cerr);
   if (diag.errorCount() > 0 || diag.warningCount() > 0) {
     std::cerr << "regmapgen: " << diag.errorCount() << " error(s), " << diag.warningCount()
@@ -167,25 +168,6 @@ std::vector<std::string> yamlFiles(const std::string& path) {
   return files;
 }
 
-// Reads and builds map files for a diff: syntax and model errors count (printed), `check`'s do not (one file
-// of a family may name a fieldset another defines).
-bool loadForDiff(const std::vector<std::string>& files, Sources& sources, Model& model) {
-  for (const std::string& f : files) {
-    std::string text;
-    if (!readFile(f, text)) {
-      std::cerr << "regmapgen: error: cannot read " << f << "\n";
-      return false;
-    }
-    sources.add(f, std::move(text));
-  }
-  Diagnostics diag(sources);
-  model = build(sources, diag);
-  if (diag.errorCount() == 0) return true;
-  diag.render(std::cerr);
-  std::cerr << "regmapgen: " << diag.errorCount() << " error(s)\n";
-  return false;
-}
-
 // Prints a diff; the exit status: 0 same, 1 different.
 int printDiff(const MapDiff& d) {
   for (const std::string& l : d.lines)
@@ -203,8 +185,8 @@ int cmdDiff(const std::vector<std::string>& args) {
   }
   Sources oldSources, newSources;
   Model oldModel, newModel;
-  if (!loadForDiff(yamlFiles(args[0]), oldSources, oldModel) ||
-      !loadForDiff(yamlFiles(args[1]), newSources, newModel)) {
+  if (!load(yamlFiles(args[0]), oldSources, oldModel, false) ||
+      !load(yamlFiles(args[1]), newSources, newModel, false)) {
     return 2;
   }
   return printDiff(diffModels(oldModel, newModel));
@@ -289,7 +271,7 @@ int cmdImport(const std::vector<std::string>& args) {
   if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0) return 2;
   Sources oldSources, newSources;
   Model oldModel, newModel;
-  if (!loadForDiff(against, oldSources, oldModel)) return 2;
+  if (!load(against, oldSources, oldModel, false)) return 2;
   newSources.add("(import of " + file + ")", yaml.str());
   Diagnostics diag(newSources);
   newModel = build(newSources, diag);
