@@ -115,10 +115,11 @@ void Link::phase(Phase p) {
 }
 
 // Builds and starts one transaction. With CRC on, a CRC follows every data byte: the first covers
-// addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4).
+// addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4). Without CRC no CRC
+// is computed at all (the common case: every scan read).
 inline void Link::transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen) {
-  const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
-  uint8_t crc = crcStep(crcStep(0, addressW), cmd);
+  uint8_t crc = 0;
+  if (cfg_.crc) crc = crcStep(crcStep(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
   uint8_t k = 0;
   b_.tx[k++] = cmd;
   for (uint8_t i = 0; i < count; ++i) {
