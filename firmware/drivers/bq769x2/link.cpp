@@ -40,7 +40,6 @@ Status Link::startSubcommandRead(uint16_t code, uint8_t len) {
 }
 
 Status Link::startSubcommandWrite(uint16_t code, std::span<const uint8_t> bytes) {
-  if (!kConfigPaths && !bytes.empty()) return Status::InvalidArgument;
   return request(Op::SubWrite, code, bytes, 0);
 }
 
@@ -101,7 +100,6 @@ void Link::phase(Phase p) {
       readLen = kWindowBytes;
       break;
     case Phase::Commit:
-      if constexpr (!kConfigPaths) break;
       // SLUAA11B section 3.3: the checksum covers 0x3E, 0x3F and the data; the length counts them plus
       // 0x60 and 0x61 (data + 4).
       tail[0] = transferChecksum(s_.code, b_.data + 2, s_.dataLen);
@@ -177,7 +175,7 @@ void Link::onBus() {
         s_.phase = Phase::Poll;
         return wait(cfg_.pollInterval);
       }
-      if (kConfigPaths && s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
+      if (s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
       return finish(Status::Ok);
     case Phase::Poll: {
       // 0x3E/0x3F read FF FF while the subcommand runs and echo the code when its result is in the buffer;

@@ -48,10 +48,10 @@
 // power-up is therefore absorbed (E2E 1515940). Every wait is bounded: a bus transaction by the I2cBus
 // contract (wire time + stretch limit), every other wait by this driver's timer.
 //
-// What only the monitor's configure and balance operations use (subcommand writes with data: the
-// CONFIG_UPDATE settings, the balancing mask; a delay before a read: the CFGUPDATE polls) is built unless
-// FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
-// startSubcommandWrite() with data and startRead() with a delay are InvalidArgument.
+// What only the monitor's configure operation uses (a delay before a read: the CFGUPDATE polls) is built
+// unless FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
+// startRead() with a delay is InvalidArgument. Subcommand writes with data are always built: FET_CONTROL
+// (the monitor's FET commands) needs them.
 //
 // Memory: one scratch buffer (kScratchBytes) that holds the longest read with its CRC bytes; the data stay
 // there until the next operation starts (data() is only meaningful after an Ok result).

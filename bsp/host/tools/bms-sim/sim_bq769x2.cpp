@@ -29,7 +29,7 @@ class Bq769xSim final : public ImageSim {
             DriverArgs&&... args)
       : emulator_(h_.clock, model), cells_(cells), truth_(cells, 3700) {
     bus_.attach(0x08, emulator_);
-    emulator_.onAlert([this](bool asserted) { alert_.drive(!asserted); });  // ALERT is active low
+    emulator_.onAlertLine([this](bool high) { alert_.drive(high); });  // as ALERT Pin Config drives it
     for (int c = 1; c <= cells; ++c)
       emulator_.setCellMv(static_cast<uint8_t>(c), 3700);
     config_.settings = settings;
