@@ -68,6 +68,9 @@ struct Bq769xAppConfig {
   uint8_t cells = 16;                                     // cells connected
   drivers::bq769x2::MonitorConfig monitor{};
   Duration scanPeriod = ms(100);
+  // After a set-up step past the probe failed (the device answers but refuses its configuration): the wait
+  // before the next attempt, so CONFIG_UPDATE (which stops the device's protections) is not entered over and
+  // over. A device that does not answer is probed again every scan period instead.
   Duration retryInterval = s(1);
   // Driven high while protection holds a path off, low while both are on (the G3507 image's fault output,
   // PB26); nullptr: none. The FETs stay the device's to switch: this pin only tells the outside.
@@ -206,12 +209,12 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     f_.op = s == Status::Ok ? op : Op::None;
   }
 
-  // Starts over from the probe after the retry interval (the device may have reset or be absent; a reset
-  // loses its RAM configuration).
-  void retryLater() {
+  // Starts over from the probe after `wait` (the device may have reset or be absent; a reset loses its RAM
+  // configuration).
+  void retryLater(Duration wait) {
     f_.phase = Phase::Probe;
     f_.retryDue = false;
-    scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryInterval);
+    scheduler_.startTimer(r_.retryTimer, kId, kRetry, wait);
   }
 
   void finished() {
@@ -220,7 +223,11 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     const Op op = f_.op;
     f_.op = Op::None;
     if (op == Op::Setup) {
-      if (result != Status::Ok) return retryLater();
+      // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless),
+      // so a device that comes back is set up within one scan period plus one bring-up. A later step that
+      // failed waits the retry interval.
+      if (result != Status::Ok)
+        return retryLater(f_.phase == Phase::Probe ? config_.scanPeriod : config_.retryInterval);
       if (kStats && kConfigUpdate && f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
       // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
       f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) +
@@ -259,11 +266,11 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       }
     } else {
       if (kStats) ++r_.stats.scanFailures;
-      // The device stopped answering or keeps failing: go through probe and configuration again, at most
-      // once per retry interval.
+      // The device stopped answering or keeps failing: go through probe and configuration again, starting
+      // with a probe at the next scan period.
       if (++f_.failedInRow >= 3) {
         f_.failedInRow = 0;
-        retryLater();
+        retryLater(config_.scanPeriod);
       }
     }
     summarize(view_, now);

@@ -141,7 +141,7 @@ void decodeRange(std::span<const EntryInfo> table, Kind kind, uint32_t start,
 // lp-mspm0l1306-bq76907 for the BQ7690x, SLCAN out), from reset until its first complete scan.
 template <class Driver, class Measurement, class Publisher, class Output, class... DriverArgs>
 int appStart(Bq769xEmulator::Model model, std::span<const drv::Setting> settings, uint8_t cells,
-             DriverArgs... driverArgs) {
+             const DriverArgs&... driverArgs) {
   bsp::host::Harness h;
   bsp::host::SimI2cBus bus(h.clock, h.irq, {400000, fw::ms(4), fw::us(4)});
   Bq769xEmulator emu(h.clock, model);
