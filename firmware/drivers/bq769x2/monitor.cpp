@@ -252,24 +252,23 @@ inline void Monitor::fetEnableStep(Status r) {
 inline void Monitor::runtimeSetupStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t* d = link_.data();
-  switch (s_.step++) {
-    case 0:  // SLEEP_DISABLE has run (echo); its effect shows in Battery Status[SLEEP_EN] (SLUUBY2B 7.3)
-      return (void)link_.startRead(kBatteryStatus, 2);
-    case 1:
-      if ((d[0] & facts().sleepEnMask) != 0) return finish(Status::VerifyFailed);
-      for (const Setting& m : s_.settings) {
-        if (m.address != facts().alarmMaskAddress) continue;
-        s_.tmp = static_cast<uint16_t>(m.value);
-        uint8_t mask[2];
-        bytes::storeLe16(mask, s_.tmp);
-        return (void)link_.startWrite(kAlarmEnable, mask);
-      }
-      return finish(Status::Ok);
-    case 2:  // Alarm Enable written: read it back
-      return (void)link_.startRead(kAlarmEnable, 2);
-    default:
-      finish(bytes::loadLe16(d) == s_.tmp ? Status::Ok : Status::VerifyFailed);
+  const uint8_t step = s_.step++;
+  // Step 0: SLEEP_DISABLE has run (echo); its effect shows in Battery Status[SLEEP_EN] (SLUUBY2B 7.3).
+  if (step == 0) return (void)link_.startRead(kBatteryStatus, 2);
+  if (step == 1 && (d[0] & facts().sleepEnMask) != 0) return finish(Status::VerifyFailed);
+  // Alarm Enable from the table: a table only exists where the configuration paths are built.
+  if constexpr (kConfigPaths) {
+    if (step == 2) return (void)link_.startRead(kAlarmEnable, 2);  // written: read it back
+    if (step == 3) return finish(bytes::loadLe16(d) == s_.tmp ? Status::Ok : Status::VerifyFailed);
+    for (const Setting& m : s_.settings) {
+      if (m.address != facts().alarmMaskAddress) continue;
+      s_.tmp = static_cast<uint16_t>(m.value);
+      uint8_t mask[2];
+      bytes::storeLe16(mask, s_.tmp);
+      return (void)link_.startWrite(kAlarmEnable, mask);
+    }
   }
+  finish(Status::Ok);
 }
 
 inline void Monitor::balanceStep(Status r) {
