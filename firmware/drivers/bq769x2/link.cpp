@@ -180,9 +180,11 @@ void Link::onBus() {
     case Phase::Poll: {
       // 0x3E/0x3F read FF FF while the subcommand runs and echo the code when its result is in the buffer;
       // anything else means the device lost the command (reset, bus error): start over.
+      // An echo is taken only from the minPolls-th poll on (LinkConfig).
       const uint16_t echo = static_cast<uint16_t>(b_.scratch[0] | (b_.scratch[1] << 8));
-      if (echo == s_.code) return s_.op == Op::Sub ? finish(Status::Ok) : phase(Phase::Fetch);
-      if (echo != 0xFFFF) return fail(Status::EchoMismatch);
+      const bool early = s_.polls + 1 < cfg_.minPolls;
+      if (echo == s_.code && !early) return s_.op == Op::Sub ? finish(Status::Ok) : phase(Phase::Fetch);
+      if (echo != 0xFFFF && echo != s_.code) return fail(Status::EchoMismatch);
       if (++s_.polls >= cfg_.maxPolls) return fail(Status::Timeout);
       if (kStats) ++b_.stats.polls;
       return wait(cfg_.pollInterval);

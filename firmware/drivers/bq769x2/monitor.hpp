@@ -129,6 +129,7 @@ struct Variant {
   uint8_t sleepEnMask;        // Battery Status[SLEEP_EN] in its low byte
   uint8_t alarmOffset;        // Alarm Status in the scan record
   uint16_t alarmMaskAddress;  // data memory Default Alarm Mask
+  uint8_t minEchoPolls;       // LinkConfig::minPolls at least this (BQ7690x: the echo is not documented)
 };
 
 namespace variant_detail {
@@ -177,7 +178,8 @@ constexpr Variant bq7690x(uint8_t cells) {
           1,
           map7690x::bits::BatteryStatus::sleep_en_mask,
           26,
-          map7690x::dm::DefaultAlarmMask.address};
+          map7690x::dm::DefaultAlarmMask.address,
+          8};  // 8 polls of 250 us: 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -198,7 +200,8 @@ inline constexpr Variant kBq76952{
     0,
     map::bits::BatteryStatus::sleep_en_mask,
     50,
-    map::dm::DefaultAlarmMask.address};
+    map::dm::DefaultAlarmMask.address,
+    0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
@@ -255,7 +258,7 @@ class Monitor {
         allowAdjacent_(config.allowAdjacentBalancing),
         clock_(clock),
         variant_(variant),
-        link_(bus, context, config.link) {}
+        link_(bus, context, linkConfig(config.link, variant)) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
 
@@ -278,6 +281,10 @@ class Monitor {
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
+  static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
+    if (c.minPolls < v.minEchoPolls) c.minPolls = v.minEchoPolls;
+    return c;
+  }
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers.

@@ -75,4 +75,23 @@ TEST(Bq7690xDriver, Bq76905HasFiveCells) {
   EXPECT_EQ(r.driver.startBalance(0x0040), Status::InvalidArgument);
 }
 
+// No TI document found says the BQ7690x reads FF FF at 0x3E/0x3F while a subcommand runs (SLUAAM4 writes the
+// command and reads 0x40; TI's examples wait 2 ms): the driver takes the buffer no earlier than 2 ms after
+// the command, even if the echo is there sooner (here after the emulator's 400 us).
+TEST(Bq7690xDriver, SubcommandResultIsFetchedNoEarlierThanTwoMilliseconds) {
+  Rig7690x r;
+  drv::Identity id;
+  ASSERT_EQ(r.run(r.driver.startProbe(id)), Status::Ok);
+  uint64_t written = 0, fetched = 0;
+  for (const auto& rec : r.bus.wireLog()) {
+    if (written == 0 && rec.text == "S 10 3E 01 00 P") written = rec.endUs;
+    if (fetched == 0 && rec.text.rfind("S 10 40 Sr 11 [", 0) == 0) fetched = rec.startUs;
+  }
+  ASSERT_NE(written, 0u);
+  ASSERT_NE(fetched, 0u);
+  EXPECT_GE(fetched - written, 2000u);
+  EXPECT_LT(fetched - written, 3500u);  // eight polls, each 250 us plus its own wire time
+  EXPECT_EQ(id.deviceNumber, 0x7607);
+}
+
 }  // namespace
