@@ -173,18 +173,16 @@ void Link::onBus() {
     case Phase::Main:
       if (s_.op >= Op::SubRead) {
         s_.phase = Phase::Poll;
-        return wait(cfg_.pollInterval);
+        return wait(cfg_.pollInterval < cfg_.firstPoll ? cfg_.firstPoll : cfg_.pollInterval);
       }
       if (s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
       return finish(Status::Ok);
     case Phase::Poll: {
       // 0x3E/0x3F read FF FF while the subcommand runs and echo the code when its result is in the buffer;
       // anything else means the device lost the command (reset, bus error): start over.
-      // An echo is taken only from the minPolls-th poll on (LinkConfig).
       const uint16_t echo = static_cast<uint16_t>(b_.scratch[0] | (b_.scratch[1] << 8));
-      const bool early = s_.polls + 1 < cfg_.minPolls;
-      if (echo == s_.code && !early) return s_.op == Op::Sub ? finish(Status::Ok) : phase(Phase::Fetch);
-      if (echo != 0xFFFF && echo != s_.code) return fail(Status::EchoMismatch);
+      if (echo == s_.code) return s_.op == Op::Sub ? finish(Status::Ok) : phase(Phase::Fetch);
+      if (echo != 0xFFFF) return fail(Status::EchoMismatch);
       if (++s_.polls >= cfg_.maxPolls) return fail(Status::Timeout);
       if (kStats) ++b_.stats.polls;
       return wait(cfg_.pollInterval);

@@ -129,7 +129,7 @@ struct Variant {
   uint8_t sleepEnMask;        // Battery Status[SLEEP_EN] in its low byte
   uint8_t alarmOffset;        // Alarm Status in the scan record
   uint16_t alarmMaskAddress;  // data memory Default Alarm Mask
-  uint8_t minEchoPolls;       // LinkConfig::minPolls at least this (BQ7690x: the echo is not documented)
+  uint16_t firstPollUs;       // LinkConfig::firstPoll at least this (BQ7690x: the echo is not documented)
 };
 
 namespace variant_detail {
@@ -179,7 +179,7 @@ constexpr Variant bq7690x(uint8_t cells) {
           map7690x::bits::BatteryStatus::sleep_en_mask,
           26,
           map7690x::dm::DefaultAlarmMask.address,
-          8};  // 8 polls of 250 us: 2 ms, as TI's examples wait
+          2000};  // 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -282,7 +282,7 @@ class Monitor {
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
   static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
-    if (c.minPolls < v.minEchoPolls) c.minPolls = v.minEchoPolls;
+    if (c.firstPoll.us < v.firstPollUs) c.firstPoll = us(v.firstPollUs);
     return c;
   }
 
