@@ -8,49 +8,26 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
-#include "bq769x2/emulator.hpp"
+#include "bq769x2/board.hpp"
 #include "can/bms.hpp"
-#include "sim/can.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace {
 
 namespace b769 = fw::drivers::bq769x2;
 using Emulator = bsp::host::Bq769xEmulator;
-using App = fw::app::Bq769xApp<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher>;
-using App7 = fw::app::Bq769xApp<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher>;
-
 constexpr const char* kAllFetsOff = "S 10 3E 95 00";
 
-struct G3507 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, Emulator::Model::Bq76952};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimCan can{h.clock, h.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut{h.clock, true};  // the board asserts it from reset
-  fw::app::Bq769xAppConfig config = [this] {
-    fw::app::Bq769xAppConfig c{fw::app::kBq76952Settings, 16};
-    c.faultIndicator = &faultOut;
-    return c;
-  }();
-  App app{h.sched, bus, alert, can, config};
-
-  explicit G3507(bool present = true) {
-    if (present) bus.attach(0x08, emu);
+struct G3507 : bsp::host::G3507Bq76952Board {
+  explicit G3507(bool present = true)
+      : bsp::host::G3507Bq76952Board(Emulator::Model::Bq76952, fw::app::kBq76952Settings, 16, true) {
+    if (!present) bus.detach(0x08);
     emu.onAlertLine([this](bool high) {
       alert.drive(high);  // the pin as ALERT Pin Config drives it, into the pulled-up falling-edge input
       if (!high) alertFellUs = h.nowUs();
     });
-    for (uint8_t c = 1; c <= 16; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
   }
   uint64_t alertFellUs = 0;
+  bsp::host::SimCan& can = output;
   // End time of the first ALL_FETS_OFF on the wire at or after `fromUs`, or 0.
   uint64_t fetOffDoneUs(uint64_t fromUs) const {
     for (const auto& r : bus.wireLog())
@@ -60,22 +37,10 @@ struct G3507 {
   }
 };
 
-struct L1306Bq76907 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, Emulator::Model::Bq76907};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimSerialTx serial{h.clock, h.irq};
-  fw::app::Bq769xAppConfig config{fw::app::kBq76907Settings, 7};
-  App7 app{h.sched, bus, alert, serial, config, b769::kBq76907};
-
-  L1306Bq76907() {
-    bus.attach(0x08, emu);
-    emu.onAlertLine([this](bool high) { alert.drive(high); });
-    for (uint8_t c = 1; c <= 7; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
-  }
+struct L1306Bq76907 : bsp::host::L1306Bq7690xBoard {
+  L1306Bq76907()
+      : bsp::host::L1306Bq7690xBoard(Emulator::Model::Bq76907, fw::app::kBq76907Settings, 7, false,
+                                     b769::kBq76907) {}
   bool wrote(const std::string& line) const {
     for (const auto& r : bus.wireLog())
       if (r.text == line) return true;

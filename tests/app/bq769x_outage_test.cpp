@@ -15,78 +15,36 @@
 #include <memory>
 #include <string>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
-#include "bq769x2/emulator.hpp"
-#include "sim/can.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
+#include "bq769x2/board.hpp"
 
 namespace {
 
-namespace b769 = fw::drivers::bq769x2;
-namespace rm2 = fw::regmap::bq769x2;
-namespace rm7 = fw::regmap::bq7690x;
-using Emulator = bsp::host::Bq769xEmulator;
+using bsp::host::Bq769xEmulator;
 using fw::app::FaultId;
 
-// One board: the emulator on its bus, ALERT wired as the device drives it, and the application.
-template <class Driver, class Measurement, class Publisher, class Output>
-struct Board {
-  template <class... DriverArgs>
-  Board(Emulator::Model model, std::span<const b769::Setting> settings, uint8_t cells,
-        const DriverArgs&... args)
-      : emu(h.clock, model),
-        config{settings, cells},
-        app(h.sched, bus, alert, output, makeConfig(), args...) {
-    bus.attach(0x08, emu);
-    emu.onAlertLine([this](bool high) { alert.drive(high); });
-    for (uint8_t c = 1; c <= cells; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
-  }
-  const fw::app::Bq769xAppConfig& makeConfig() {
-    config.faultIndicator = &faultOut;
-    return config;
-  }
-  const fw::app::BoardSample& sample() const { return app.pack().boards[0]; }
-  // Recovered: a good scan after `since`, the device configured and its FETs on, no comm_loss or stale_data
-  // and the fault output released.
-  bool recovered(uint64_t since) const {
-    const auto& s = sample();
-    const fw::app::FaultMask lost = fw::app::bit(FaultId::CommLoss) | fw::app::bit(FaultId::StaleData);
-    return s.valid && s.last == fw::Status::Ok && s.takenAt.us > since && !emu.sleepAllowed() &&
-           emu.chgFet() && emu.dsgFet() && (app.status().active & lost) == 0 && !faultOut.level();
-  }
-
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu;
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimDigitalOut faultOut{h.clock, true};
-  Output output{h.clock, h.irq};
-  fw::app::Bq769xAppConfig config;
-  fw::app::Bq769xApp<Driver, Measurement, Publisher> app;
-};
-
-using G3507Bq76952 = Board<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
-using L1306Bq76907 =
-    Board<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
-
-std::unique_ptr<G3507Bq76952> makeBq76952() {
-  return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, fw::app::kBq76952Settings, 16);
+// Recovered: a good scan after `since`, the device configured (SLEEP disabled) with its FETs on, no
+// comm_loss or stale_data, and the fault output (where the board has one) released.
+template <class Board>
+bool recovered(const Board& b, uint64_t since) {
+  const auto& s = b.sample();
+  const fw::app::FaultMask lost = fw::app::bit(FaultId::CommLoss) | fw::app::bit(FaultId::StaleData);
+  return s.valid && s.last == fw::Status::Ok && s.takenAt.us > since && !b.emu.sleepAllowed() &&
+         b.emu.chgFet() && b.emu.dsgFet() && (b.app.status().active & lost) == 0 &&
+         (b.config.faultIndicator == nullptr || !b.faultOut.level());
 }
-std::unique_ptr<L1306Bq76907> makeBq76907() {
-  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, fw::app::kBq76907Settings, 7,
-                                        b769::kBq76907);
+
+auto makeBq76952() {
+  return bsp::host::makeG3507Bq76952Board();
+}
+auto makeBq76907() {
+  return bsp::host::makeL1306Bq7690xBoard(Bq769xEmulator::Model::Bq76907);
 }
 
 // Power-on to the first complete scan, the device fully set up (SLEEP disabled, FETs on).
 template <class Make>
 uint64_t bringUpUs(Make make) {
   auto b = make();
-  EXPECT_TRUE(b->h.runUntil([&] { return b->recovered(0); }, fw::s(2)));
+  EXPECT_TRUE(b->h.runUntil([&] { return recovered(*b, 0); }, fw::s(2)));
   return b->h.nowUs();
 }
 
@@ -102,7 +60,7 @@ Outcome outage(Make make, uint32_t lengthMs, uint32_t offsetUs, bool reset, uint
   auto b = make();
   Outcome o;
   b->h.runFor(fw::ms(1000));
-  EXPECT_TRUE(b->recovered(0)) << "healthy before the outage";
+  EXPECT_TRUE(recovered(*b, 0)) << "healthy before the outage";
   b->h.runFor(fw::us(offsetUs));
   const uint64_t start = b->h.nowUs();
   const uint64_t heal = start + lengthMs * 1000ULL;
@@ -119,7 +77,7 @@ Outcome outage(Make make, uint32_t lengthMs, uint32_t offsetUs, bool reset, uint
     if (s.valid && s.takenAt.us >= start + 2000 && s.takenAt.us < heal) o.publishedDuringOutage = true;
   }
   b->emu.setMuted(false);
-  if (!b->h.runUntil([&] { return b->recovered(heal); }, fw::us(static_cast<uint32_t>(limitUs + 500'000)))) {
+  if (!b->h.runUntil([&] { return recovered(*b, heal); }, fw::us(static_cast<uint32_t>(limitUs + 500'000)))) {
     o.recoveryUs = UINT64_MAX;
     return o;
   }

@@ -8,12 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "app/bq769x_app.hpp"
 #include "app/default_limits.hpp"
-#include "bq769x2/emulator.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
+#include "bq769x2/board.hpp"
 
 static_assert(!fw::app::kConfigUpdate && !fw::app::kCoreMessages && !fw::kStats &&
                   fw::app::ProtectionTask::kLogSize == 0 && !fw::app::kProtectionDelays &&
@@ -24,24 +20,12 @@ namespace {
 
 namespace b769 = fw::drivers::bq769x2;
 using Emulator = bsp::host::Bq769xEmulator;
-using App = fw::app::Bq769xApp<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher>;
 
-struct L1306 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, Emulator::Model::Bq76952};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimSerialTx serial{h.clock, h.irq};
-  fw::app::Bq769xAppConfig config{{}, 16};
-  App app{h.sched, bus, alert, serial, config};
-
-  L1306() {
-    bus.attach(0x08, emu);
-    emu.onAlertLine([this](bool high) { alert.drive(high); });  // as the device drives it
-    for (uint8_t c = 1; c <= 16; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
-  }
+// The L1306-BQ76952 board, without a settings table (no CONFIG_UPDATE in this build).
+struct L1306 : bsp::host::Bq769xBoard<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher,
+                                      bsp::host::SimSerialTx> {
+  L1306() : Bq769xBoard(Emulator::Model::Bq76952, {}, 16, false) {}
+  bsp::host::SimSerialTx& serial = output;
   // The SLCAN lines written so far.
   std::vector<std::string> lines() const {
     std::vector<std::string> out;

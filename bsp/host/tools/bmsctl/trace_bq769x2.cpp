@@ -30,19 +30,16 @@
 #include <string>
 #include <vector>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
 #include "bmsctl/cli.hpp"
+#include "bq769x2/board.hpp"
 #include "bq769x2/emulator.hpp"
 #include "drivers/bq769x2/monitor.hpp"
 #include "regmap/bq7690x.hpp"
 #include "regmap/bq7690x_table.hpp"
 #include "regmap/bq769x2.hpp"
 #include "regmap/bq769x2_table.hpp"
-#include "sim/can.hpp"
 #include "sim/harness.hpp"
 #include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace {
 
@@ -139,28 +136,17 @@ void decodeRange(std::span<const EntryInfo> table, Kind kind, uint32_t start,
 
 // The application of the image that carries `model` (lp-mspm0g3507-bq76952 for the BQ76952, CAN out;
 // lp-mspm0l1306-bq76907 for the BQ7690x, SLCAN out), from reset until its first complete scan.
-template <class Driver, class Measurement, class Publisher, class Output, class... DriverArgs>
-int appStart(Bq769xEmulator::Model model, std::span<const drv::Setting> settings, uint8_t cells,
-             const DriverArgs&... driverArgs) {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus(h.clock, h.irq, {400000, fw::ms(4), fw::us(4)});
-  Bq769xEmulator emu(h.clock, model);
-  bsp::host::SimEdgeInput alert(h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true);
-  emu.onAlertLine([&](bool high) { alert.drive(high); });
-  bus.attach(drv::kDefaultAddress, emu);
-  bus.onRecord([](const bsp::host::I2cWireRecord& r) { std::printf("%s\n", r.text.c_str()); });
-  Output output(h.clock, h.irq);
-  const fw::app::Bq769xAppConfig config{settings, cells};
-  fw::app::Bq769xApp<Driver, Measurement, Publisher> app(h.sched, bus, alert, output, config, driverArgs...);
-  app.start();
-  const bool scanned = h.runUntil([&] { return app.pack().boards[0].valid; }, fw::s(5));
-  if (!scanned) {
+template <class Board>
+int appStart(Board& b) {
+  b.bus.onRecord([](const bsp::host::I2cWireRecord& r) { std::printf("%s\n", r.text.c_str()); });
+  if (!b.h.runUntil([&] { return b.sample().valid; }, fw::s(5))) {
     std::printf("# error: no complete scan within 5 s\n");
     return 1;
   }
   std::printf("# first complete scan at %.3f ms: %llu transactions, %llu us of bus time\n",
-              static_cast<double>(h.nowUs()) / 1000.0, static_cast<unsigned long long>(bus.transactions()),
-              static_cast<unsigned long long>(bus.busTimeUs()));
+              static_cast<double>(b.h.nowUs()) / 1000.0,
+              static_cast<unsigned long long>(b.bus.transactions()),
+              static_cast<unsigned long long>(b.bus.busTimeUs()));
   return 0;
 }
 
@@ -168,14 +154,8 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
   if (req.operation == "app-start") {
     if (auto err = bmsctl::checkFlags(req, {}); !err.empty()) return bmsctl::usageError(err);
     if (!req.args.empty()) return bmsctl::usageError("app-start takes no arguments");
-    using namespace fw::app;
-    if (model == Bq769xEmulator::Model::Bq76952)
-      return appStart<drv::Bq769x2, drv::Bq769x2Measurement, CanPublisher, bsp::host::SimCan>(
-          model, kBq76952Settings, 16);
-    const bool bq76907 = model == Bq769xEmulator::Model::Bq76907;
-    return appStart<drv::Bq7690x, drv::Bq7690xMeasurement, SlcanPublisher, bsp::host::SimSerialTx>(
-        model, bq76907 ? std::span(kBq76907Settings) : std::span(kBq76905Settings), bq76907 ? 7 : 5,
-        bq76907 ? drv::kBq76907 : drv::kBq76905);
+    if (model == Bq769xEmulator::Model::Bq76952) return appStart(*bsp::host::makeG3507Bq76952Board());
+    return appStart(*bsp::host::makeL1306Bq7690xBoard(model));
   }
   const bool family7690x = model != Bq769xEmulator::Model::Bq76952;
   const std::span<const EntryInfo> table =
