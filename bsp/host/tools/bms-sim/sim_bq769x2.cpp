@@ -113,7 +113,7 @@ class Bq769xSim final : public ImageSim {
   }
   const bsp::host::SimSerialTx* slcanUart() const override {
     if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
-      return &output_;
+      return &board_->output;
     } else {
       return nullptr;
     }
