@@ -15,8 +15,10 @@
 // - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
-// - Run-time budgets are built unless FW_SCHED_BUDGETS is 0 (the images, whose tasks all run without one):
-//   then addTask() ignores `budget` and overruns stay 0, as they do for a task registered without a budget.
+// - Run-time measurement is built unless FW_SCHED_BUDGETS is 0 (the images: no task has a budget and nothing
+//   reads the figures): each dispatch then reads the clock once (for the timers) instead of three times,
+//   addTask() ignores `budget`, and stats().worstRun, runs and overruns stay 0 (the trace's RunEnd carries
+//   0).
 // - Watchdog supervision is built unless FW_WATCHDOG_SUPERVISION is 0 (an image without a watchdog, see
 //   bsp/mspm0/images/images.cmake): then checkIn() does nothing and superviseWatchdog() must not be called.
 #pragma once
@@ -49,9 +51,9 @@ inline constexpr bool kWatchdogSupervision = FW_WATCHDOG_SUPERVISION != 0;
 static_assert(kMaxTasks >= 1 && kMaxTasks <= 8, "the ready set is one byte");
 
 struct TaskStats {
-  Duration worstRun{};         // longest single run() so far
-  uint32_t runs = 0;           // completed run() calls
-  uint32_t overruns = 0;       // runs longer than the task's budget
+  Duration worstRun{};         // longest single run() so far (FW_SCHED_BUDGETS)
+  uint32_t runs = 0;           // completed run() calls (FW_SCHED_BUDGETS)
+  uint32_t overruns = 0;       // runs longer than the task's budget (FW_SCHED_BUDGETS)
   uint32_t timerOverruns = 0;  // periodic expiries that found the previous one unconsumed, or were skipped
   uint32_t queueDrops = 0;     // items an EventQueue of this task refused because it was full
 };
@@ -106,7 +108,8 @@ class Scheduler {
   void fireDueTimers(Instant now);
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
-  inline void superviseOnce();  // inline (.cpp): one caller, folded into it
+  inline void superviseOnce();                    // inline (.cpp): one caller, folded into it
+  inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
   void checkInNow(TaskId id);
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
