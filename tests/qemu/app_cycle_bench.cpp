@@ -8,7 +8,7 @@
 //   I2C0      a BQ76952 (bq76952_responder.hpp) whose list completes after its 400 kHz wire time
 //   UART0     SLCAN output whose write completes after its 115 200 Bd wire time
 //   ALERT     an edge input that never fires (no fault in this run)
-//   watchdog  counts feeds (when the image supervises one)
+//   watchdog  counts feeds
 // Time advances only when the scheduler goes idle: the idle probe (FW_SCHED_IDLE_PROBE, called with
 // interrupts masked right before WFI) moves virtual time to the earliest pending completion or alarm and
 // pends that stand-in's interrupt, so the WFI returns at once and its handler runs: no instruction is spent
@@ -76,7 +76,6 @@ class AlertStandIn final : public fw::hal::EdgeInput {
   bool doLevel() const override { return true; }  // released (pulled up)
 };
 
-#if FW_WATCHDOG_SUPERVISION
 class WatchdogStandIn final : public fw::hal::Watchdog {
  public:
   uint32_t feeds = 0;
@@ -85,17 +84,12 @@ class WatchdogStandIn final : public fw::hal::Watchdog {
   void doFeed() override { ++feeds; }
 };
 WatchdogStandIn gWatchdog;
-#endif
 
 VirtualClock gClock;
 qbench::Bq76952Responder gI2c(gClock);
 SerialStandIn gSerial(gClock);
 AlertStandIn gAlert;
-#if FW_WATCHDOG_SUPERVISION
 image::Board gBoard{gClock, gWatchdog, gI2c, gAlert, gSerial};
-#else
-image::Board gBoard{gClock, gI2c, gAlert, gSerial};
-#endif
 
 // The measurement, advanced at each cycle boundary the virtual time reaches.
 struct Meter {
@@ -105,13 +99,7 @@ struct Meter {
   uint64_t startCounts = 0;
   uint32_t startTransactions = 0, startBytes = 0, startFeeds = 0;
 
-  uint32_t feeds() const {
-#if FW_WATCHDOG_SUPERVISION
-    return gWatchdog.feeds;
-#else
-    return 0;
-#endif
-  }
+  uint32_t feeds() const { return gWatchdog.feeds; }
 
   // Every instruction of the cycles before `boundary` has run.
   void onBoundary() {
@@ -131,12 +119,10 @@ struct Meter {
     const uint32_t transactions = gI2c.transactions() - startTransactions;
     const uint32_t bytes = gSerial.bytes - startBytes;
     // The cycles did the application's work: a scan (4 block reads) and SLCAN output every period, and the
-    // watchdog fed where it is supervised.
+    // watchdog fed (every 250 ms).
     QCHECK(transactions >= 4 * kCycles);
     QCHECK(bytes >= kCycles * 10);
-#if FW_WATCHDOG_SUPERVISION
     QCHECK(feeds() - startFeeds >= kCycles / 3);
-#endif
     qbench::reportCenti("app." BENCH_IMAGE ".insns_per_cycle",
                         qbench::InsnCounter::centiInsnPer(counts - startCounts, kCycles));
     qbench::reportCenti("app." BENCH_IMAGE ".i2c_transactions_per_cycle", transactions * 100 / kCycles);
