@@ -1,4 +1,5 @@
-// Worst-case cell over-voltage latency of every image: the onset swept across the whole scan period.
+// Worst-case cell over-voltage latency of an image, built with its option file: the onset swept across the
+// whole scan period (tests/latency/CMakeLists.txt builds one executable per image).
 //
 // One onset in mid-period (the ov-cell scenario) says little: the latency depends on where in the scan period
 // the cell crosses its limit relative to the instant the scan reads it. Each configuration runs the image as
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/protection.hpp"
 #include "image_sim.hpp"
@@ -155,18 +157,22 @@ TEST_P(LatencySweep, WorstOnsetToActionWithinBudget) {
   EXPECT_LE(worstMs, budgetMs);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Images, LatencySweep,
-    ::testing::Values(Config{"lp-mspm0l1306-bq76952", 1}, Config{"lp-mspm0l1306-bq76907", 1},
-                      Config{"lp-mspm0g3507-bq76952", 1}, Config{"lp-mspm0g3507-bq4050", 1},
-                      Config{"lp-mspm0g3507-bq79616", 1}, Config{"lp-mspm0g3507-bq79616", 2},
-                      Config{"lp-mspm0g3507-bq79616", 16}, Config{"lp-mspm0g3507-bq79616", 64}),
-    [](const ::testing::TestParamInfo<Config>& info) {
-      std::string name = keyOf(info.param);
-      for (char& ch : name) {
-        if (ch == '-' || ch == '.') ch = '_';
-      }
-      return name;
-    });
+// This executable's image (BMS_SIM_IMAGE, tests/latency/CMakeLists.txt): the BQ79616 image with 1, 2, 16 and
+// 64 devices.
+std::vector<Config> configs() {
+  const std::string image = BMS_SIM_IMAGE;
+  if (image != "lp-mspm0g3507-bq79616") return {Config{BMS_SIM_IMAGE, 1}};
+  return {Config{BMS_SIM_IMAGE, 1}, Config{BMS_SIM_IMAGE, 2}, Config{BMS_SIM_IMAGE, 16},
+          Config{BMS_SIM_IMAGE, 64}};
+}
+
+INSTANTIATE_TEST_SUITE_P(Images, LatencySweep, ::testing::ValuesIn(configs()),
+                         [](const ::testing::TestParamInfo<Config>& info) {
+                           std::string name = keyOf(info.param);
+                           for (char& ch : name) {
+                             if (ch == '-' || ch == '.') ch = '_';
+                           }
+                           return name;
+                         });
 
 }  // namespace
