@@ -81,17 +81,23 @@ function(bms_sources_of out)
   set(${out} ${all} PARENT_SCOPE)
 endfunction()
 
+# bms_image_family(<image> <out>): the image's device family (bq769x2, bq79616, bq4050), the suffix of its
+# firmware libraries (fw_app_<family>, fw_drv_<family>), emulator and bms-sim binding.
+function(bms_image_family image out)
+  if(image MATCHES "-bq769(52|05|07)$")
+    set(${out} bq769x2 PARENT_SCOPE)
+  elseif(image MATCHES "-bq79616$")
+    set(${out} bq79616 PARENT_SCOPE)
+  else()
+    set(${out} bq4050 PARENT_SCOPE)
+  endif()
+endfunction()
+
 # bms_image_app_sources(<image> <out>): every target-independent firmware source of the image's application
 # (scheduler, application, its device family's app and driver), for builds that compile them with the image's
 # options on another target (the QEMU benchmark, the host tests, bms-sim). Call after firmware/ is added.
 function(bms_image_app_sources image out)
-  if(image MATCHES "-bq769(52|05|07)$")
-    set(family bq769x2)
-  elseif(image MATCHES "-bq79616$")
-    set(family bq79616)
-  else()
-    set(family bq4050)
-  endif()
+  bms_image_family(${image} family)
   bms_sources_of(sources fw_sched fw_app fw_app_${family} fw_drv_${family})
   set(${out} ${sources} PARENT_SCOPE)
 endfunction()
