@@ -6,18 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
 
-#include "app/bq769x_app.hpp"
 #include "app/bq769x_settings.hpp"
 #include "app/default_limits.hpp"
-#include "bq769x2/emulator.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
+#include "bq769x2/board.hpp"
 
 static_assert(fw::app::kConfigUpdate && fw::app::kAllMessages && fw::kStats &&
                   fw::app::ProtectionTask::kLogSize != 0 && fw::drivers::bq769x2::kConfigPaths,
@@ -33,36 +30,29 @@ using Emulator = bsp::host::Bq769xEmulator;
 constexpr bool kBq76952 = b769::kFamily == 1;
 using Driver = std::conditional_t<kBq76952, b769::Bq769x2, b769::Bq7690x>;
 using Measurement = std::conditional_t<kBq76952, b769::Bq769x2Measurement, b769::Bq7690xMeasurement>;
-using App = fw::app::Bq769xApp<Driver, Measurement, fw::app::SlcanPublisher>;
 constexpr uint8_t kCells = kBq76952 ? 16 : 7;
 
-App makeApp(bsp::host::Harness& h, bsp::host::SimI2cBus& bus, bsp::host::SimEdgeInput& alert,
-            bsp::host::SimSerialTx& serial, const fw::app::Bq769xAppConfig& config) {
+// The image's board (bq769x2/board.hpp) with the image's settings table.
+using Board = bsp::host::Bq769xBoard<Driver, Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+std::unique_ptr<Board> makeBoard() {
   if constexpr (kBq76952) {
-    return App(h.sched, bus, alert, serial, config);
+    return std::make_unique<Board>(Emulator::Model::Bq76952, fw::app::kBq76952Settings, kCells, false);
   } else {
-    return App(h.sched, bus, alert, serial, config, b769::kBq76907);
+    return std::make_unique<Board>(Emulator::Model::Bq76907, fw::app::kBq76907Settings, kCells, false,
+                                   b769::kBq76907);
   }
 }
 
 struct L1306 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, kBq76952 ? Emulator::Model::Bq76952 : Emulator::Model::Bq76907};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimSerialTx serial{h.clock, h.irq};
-  fw::app::Bq769xAppConfig config{kBq76952 ? std::span<const b769::Setting>(fw::app::kBq76952Settings)
-                                           : std::span<const b769::Setting>(fw::app::kBq76907Settings),
-                                  kCells};
-  App app = makeApp(h, bus, alert, serial, config);
+  std::unique_ptr<Board> board = makeBoard();
+  bsp::host::Harness& h = board->h;
+  bsp::host::SimI2cBus& bus = board->bus;
+  Emulator& emu = board->emu;
+  bsp::host::SimEdgeInput& alert = board->alert;
+  bsp::host::SimSerialTx& serial = board->output;
+  const fw::app::Bq769xAppConfig& config = board->config;
+  Board::App& app = board->app;
 
-  L1306() {
-    bus.attach(0x08, emu);
-    emu.onAlert([this](bool asserted) { alert.drive(!asserted); });  // ALERT is active low
-    for (uint8_t c = 1; c <= kCells; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
-  }
   // The SLCAN lines written so far.
   std::vector<std::string> lines() const {
     std::vector<std::string> out;
