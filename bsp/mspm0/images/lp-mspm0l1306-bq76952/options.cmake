@@ -1,8 +1,8 @@
 # Build options of this image: one NAME=VALUE per line, each with its reason. Read by images/images.cmake (the
 # image build) and by the host tests and bms-sim, which build this image's application with exactly this set.
 # Every option's default, meaning and dependencies: firmware/sched/config.hpp, firmware/core/config.hpp,
-# firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp. Options not listed
-# keep their default.
+# firmware/app/config.hpp (and the headers it names), firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
+# Options not listed keep their default.
 set(BMS_IMAGE_OPTIONS
   FW_BQ769X_FAMILY=1              # the BQ769x2 family only (BQ76952): the BQ7690x paths compile away
   FW_SCHED_MAX_TASKS=3            # protection, monitor and publisher: the only tasks
