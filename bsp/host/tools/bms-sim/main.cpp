@@ -6,7 +6,9 @@
 // (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
 // L1306 board's SLCAN text (slcan_output.hpp). Exit status: 0 run completed, 2 bad arguments, 1 the run
-// failed.
+// failed. Each image runs in its own simulator built with the image's option file (bms-sim-<preset>, see
+// CMakeLists.txt); this one hands the run to it.
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -103,6 +105,23 @@ int run(int argc, char** argv) {
       known += std::string(known.empty() ? "" : ", ") + e.image;
     return usage("unknown image '" + opt.image + "' (known: " + known + ")");
   }
+#ifdef BMS_SIM_IMAGE
+  if (opt.image != BMS_SIM_IMAGE) return usage("this simulator runs " BMS_SIM_IMAGE " only");
+#else
+  // Each image has its own simulator, built with the image's option set (bms-sim-<preset> beside this one,
+  // CMakeLists.txt): run it with the same arguments, so what bms-sim shows is what the image's options do.
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    std::string path(self, static_cast<size_t>(n));
+    path = path.substr(0, path.rfind('/') + 1) + "bms-sim-" + opt.image;
+    if (access(path.c_str(), X_OK) == 0) {
+      execv(path.c_str(), argv);
+      std::fprintf(stderr, "bms-sim: error: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
+      return 1;
+    }
+  }
+#endif
   std::optional<Scenario> scenario = builtinScenario(scenarioArg);
   const bool builtin = scenario.has_value();
   Diagnostics diag;
