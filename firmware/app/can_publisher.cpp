@@ -11,9 +11,10 @@ void CanPublisher::run(sched::EventMask events) {
     if (!s_.recovering) {
       ++s_.stats.busOff;
       s_.recovering = true;
-      can_.recover();
+      // Busy (a recovery is under way) or NotReady are answered by the retry below: ignoring them is safe.
+      (void)can_.recover();
     } else if ((events & kTick) != 0) {
-      can_.recover();  // retry once per fast period while the bus stays off
+      (void)can_.recover();  // retry once per fast period while the bus stays off: a refusal is retried too
     }
     return;
   }

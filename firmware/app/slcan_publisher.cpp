@@ -28,8 +28,8 @@ void SlcanPublisher::pump(Instant now) {
     plan_.abandon();
     return;
   }
-  // The line is the transmitter's now (s_.line stays untouched until kSent): the plan moves on at once, so a
-  // tick while it is on the wire begins the next cycle from the right place.
+  // The line is the transmitter's now (s_.line stays untouched until kSent): the plan moves on at once,
+  // so a tick while it is on the wire begins the next cycle from the right place.
   plan_.advance();
   s_.busy = true;
 }

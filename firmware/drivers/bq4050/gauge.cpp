@@ -1,10 +1,10 @@
 // BQ4050 SMBus driver (contract in gauge.hpp).
 //
-// One engine runs every access. An access is described by its first transaction's bytes (b_.tx), how many
-// bytes its read takes (s_.readLen, 0 for a write) and flags; a two-phase access (a MAC read) writes its
-// command first and reads in a second transaction. issue() builds a transaction, onTransaction() checks what
-// came back and either completes the access, asks for another transaction (the read phase of a MAC read, a
-// confirming re-read), or hands the failure to fail(), which decides between a retry (after the pace, a
+// One engine runs every access. An access is described by its first transaction's bytes (b_.tx), how
+// many bytes its read takes (s_.readLen, 0 for a write) and flags; a two-phase access (a MAC read) writes
+// its command first and reads in a second transaction. issue() builds a transaction, onTransaction() checks
+// what came back and either completes the access, asks for another transaction (the read phase of a MAC read,
+// a confirming re-read), or hands the failure to fail(), which decides between a retry (after the pace, a
 // back-off or a bus recovery) and giving up. Operations (probe, scan, FET control) chain accesses in
 // accessDone(). Protocol sources:
 //   SMBus 2.0 5.5.4-5.5.7: read/write word, block read/write, the repeated start before the read, and the PEC
@@ -125,7 +125,7 @@ Status Gauge::begin(Op op) {
 Status Gauge::startProbe(DeviceInfo& out) {
   const Status s = begin(Op::Probe);
   if (s != Status::Ok) return s;
-  s_.out = &out;
+  s_.out.info = &out;
   // With Auto, SpecificationInfo is read without PEC: until it says so, the gauge may not support it.
   if (config_.pec == PecMode::Auto) s_.pec = false;
   readWord(lo(rm::sbs::SpecificationInfo.address));
@@ -135,7 +135,7 @@ Status Gauge::startProbe(DeviceInfo& out) {
 Status Gauge::startScan(Measurement& out) {
   const Status s = begin(Op::Scan);
   if (s != Status::Ok) return s;
-  s_.out = &out;
+  s_.out.measurement = &out;
   Measurement m;  // zero, then the two fields no access fills
   m.takenAt = clock_.now();
   m.cellCount = config_.cells;
@@ -148,7 +148,7 @@ Status Gauge::startScan(Measurement& out) {
 Status Gauge::startReadWord(uint8_t cmd, uint16_t& out) {
   const Status s = begin(Op::Single);
   if (s != Status::Ok) return s;
-  s_.out = &out;
+  s_.out.word = &out;
   readWord(cmd);
   return Status::Ok;
 }
@@ -165,7 +165,7 @@ Status Gauge::startWriteWord(uint8_t cmd, uint16_t value) {
 Status Gauge::startWriteBlock(uint8_t cmd, std::span<const uint8_t> data) {
   if (busy()) return Status::Busy;
   if (data.empty() || data.size() > kMaxBlock) return Status::InvalidArgument;
-  begin(Op::Single);
+  (void)begin(Op::Single);  // cannot fail: its only refusal (Busy) was checked above
   b_.tx[0] = cmd;
   b_.tx[1] = static_cast<uint8_t>(data.size());
   std::memcpy(b_.tx + 2, data.data(), data.size());
@@ -204,9 +204,9 @@ Status Gauge::startReadMacData(uint16_t subcommand, std::span<uint8_t> out, uint
 // Returns that capacity, or 0 (nothing started) for an empty buffer.
 uint8_t Gauge::startRead(std::span<uint8_t> out, uint8_t& length) {
   if (out.empty()) return 0;
-  begin(Op::Single);
-  s_.outBytes = out.data();
-  s_.outLength = &length;
+  (void)begin(Op::Single);  // cannot fail: every caller has checked busy(), its only refusal
+  s_.out.block.bytes = out.data();
+  s_.out.block.length = &length;
   return static_cast<uint8_t>(out.size() < kMaxBlock ? out.size() : kMaxBlock);
 }
 
@@ -224,7 +224,7 @@ Status Gauge::startFetControl(const FetRequest& request, FetState& out) {
                                                             : (request.chg ? Mfg::chg_test_mask : 0) |
                                                                   (request.dsg ? Mfg::dsg_test_mask : 0) |
                                                                   (request.pchg ? Mfg::pchg_test_mask : 0));
-  s_.out = &out;
+  s_.out.fet = &out;
   s_.toggled = 0;
   readMac(lo(rm::mac::ManufacturingStatus.address), 2, 2);
   return Status::Ok;
@@ -385,6 +385,8 @@ void Gauge::fail(Status status, bool transport) {
     // A stuck line, or a second transport failure: the gauge may hold a half-finished transaction. Nine
     // clocks and a STOP return every SMBus target to idle (I2C UM10204 3.1.16, SMBus 2.0 4.3.3).
     ++b_.stats.recoveries;
+    // A recovery that fails leaves the line stuck: the retry's access then fails again (BusStuck) and is
+    // counted and retried like this one, so its status adds nothing here.
     (void)bus_.recover();
   }
   if (status != Status::VerifyFailed) s_.phase = 0;  // restart from the command; a disagreement only re-reads
@@ -408,11 +410,11 @@ void Gauge::accessDone(Status status) {
   if (status != Status::Ok) return finish(status);
   if (s_.op == Op::Single) {
     if (s_.readLen == 2 && (s_.flags & kBlock) == 0) {
-      *static_cast<uint16_t*>(s_.out) = word();
+      *s_.out.word = word();
     } else if (s_.readLen != 0) {
       // dataLength() fits the caller's buffer: the read was sized from it.
-      std::memcpy(s_.outBytes, data(), dataLength());
-      *s_.outLength = dataLength();
+      std::memcpy(s_.out.block.bytes, data(), dataLength());
+      *s_.out.block.length = dataLength();
     }
     return finish(Status::Ok);
   }
@@ -436,7 +438,7 @@ void Gauge::accessDone(Status status) {
     ++s_.step;
     return readMac(lo(rm::mac::FirmwareVersion.address), kMaxBlock, 0);
   }
-  DeviceInfo& info = *static_cast<DeviceInfo*>(s_.out);
+  DeviceInfo& info = *s_.out.info;
   info = DeviceInfo{};
   info.specificationInfo = rb::SpecificationInfo::fromRaw(s_.probe[0]);
   info.deviceType = s_.probe[1];
@@ -449,7 +451,8 @@ void Gauge::accessDone(Status status) {
 void Gauge::nextScan() {
   if (s_.step == kFirstCell + config_.cells) s_.step = kFirstCell + kMaxCells;  // skip cells the pack lacks
   if (s_.step == kScanSteps) {
-    std::memcpy(s_.out, b_.scan, sizeof(Measurement));  // every access validated: publish the record whole
+    // Every access validated: publish the record whole.
+    std::memcpy(s_.out.measurement, b_.scan, sizeof(Measurement));
     ++b_.stats.published;
     return finish(Status::Ok);
   }
@@ -476,7 +479,7 @@ void Gauge::nextFet(Status status) {
         static_cast<uint8_t>((op.chg() ? Mfg::chg_test_mask : 0) | (op.dsg() ? Mfg::dsg_test_mask : 0) |
                              (op.pchg() ? Mfg::pchg_test_mask : 0));
     if ((want & Mfg::fet_en_mask) == 0 && actual != want) return countAndFinish(Status::VerifyFailed);
-    FetState& out = *static_cast<FetState*>(s_.out);
+    FetState& out = *s_.out.fet;
     out.manufacturingStatus = Mfg::fromRaw(s_.probe[0]);
     out.operationStatus = op;
     return finish(Status::Ok);

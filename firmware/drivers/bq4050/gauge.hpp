@@ -226,6 +226,18 @@ class Gauge {
   const uint8_t* data() const;
   uint8_t dataLength() const;
 
+  // Where an operation's result goes: the member its start function names (s_.op tells which).
+  union Output {
+    DeviceInfo* info;          // startProbe
+    Measurement* measurement;  // startScan
+    uint16_t* word;            // startReadWord
+    FetState* fet;             // startFetControl
+    struct {
+      uint8_t* bytes;
+      uint8_t* length;
+    } block;  // startReadBlock, startReadMac, startReadMacData
+  };
+
   // Everything that changes, in two blocks zeroed at construction. The byte-sized state every step touches
   // comes first: a Cortex-M0+ byte load reaches only 31 bytes past its base register.
   struct State {
@@ -253,9 +265,7 @@ class Gauge {
     uint16_t toggled;   // the FET toggle last sent successfully (0: none)
     uint16_t probe[2];  // SpecificationInfo and DeviceType until the probe ends; ManufacturingStatus
     Instant lastEnd;
-    void* out;  // the caller's output, written only when the operation ends Ok
-    uint8_t* outBytes;
-    uint8_t* outLength;
+    Output out;  // the caller's output, written only when the operation ends Ok
   };
   // The large parts, after the members the code reaches by small offsets.
   struct Buffers {

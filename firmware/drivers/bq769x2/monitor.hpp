@@ -165,21 +165,21 @@ inline constexpr Check kChecks7690x[] = {
 static_assert(map7690x::bits::SafetyStatusA::fields_mask == 0xFF &&
               map7690x::bits::SafetyB::fields_mask == 0xFF);
 constexpr Variant bq7690x(uint8_t cells) {
-  return {{{0x12, 26}, {0x62, 6}, {0x3A, 2}, {0x02, 4}},
-          kChecks7690x,
-          sizeof kChecks7690x / sizeof kChecks7690x[0],
-          cells,
-          map7690x::bits::BatteryStatus::cfgupdate_mask,
-          1,
-          high(map7690x::bits::BatteryStatus::fet_en_mask),
-          0,
-          map7690x::cmd::FetControl.address,
-          1,
-          1,
-          map7690x::bits::BatteryStatus::sleep_en_mask,
-          26,
-          map7690x::dm::DefaultAlarmMask.address,
-          2000};  // 2 ms, as TI's examples wait
+  return {.blocks = {{0x12, 26}, {0x62, 6}, {0x3A, 2}, {0x02, 4}},
+          .checks = kChecks7690x,
+          .checkCount = sizeof kChecks7690x / sizeof kChecks7690x[0],
+          .cells = cells,
+          .cfgUpdateMask = map7690x::bits::BatteryStatus::cfgupdate_mask,
+          .fetEnByte = 1,
+          .fetEnMask = high(map7690x::bits::BatteryStatus::fet_en_mask),
+          .fetEnCode = 0,
+          .fetControlCmd = map7690x::cmd::FetControl.address,
+          .cbBytes = 1,
+          .cbShift = 1,
+          .sleepEnMask = map7690x::bits::BatteryStatus::sleep_en_mask,
+          .alarmOffset = 26,
+          .alarmMaskAddress = map7690x::dm::DefaultAlarmMask.address,
+          .firstPollUs = 2000};  // 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -187,21 +187,21 @@ static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
 
 // Also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record).
 inline constexpr Variant kBq76952{
-    {{0x0A, 50}, {0x62, 20}, {0x02, 6}, {0x7F, 1}},
-    variant_detail::kChecks769x2,
-    sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
-    16,
-    map::bits::BatteryStatus::cfgupdate_mask,
-    0,
-    map::bits::ManufacturingStatus::fet_en_mask,
-    map::sub::ManufacturingStatus.address,
-    0,
-    2,
-    0,
-    map::bits::BatteryStatus::sleep_en_mask,
-    50,
-    map::dm::DefaultAlarmMask.address,
-    0};
+    .blocks = {{0x0A, 50}, {0x62, 20}, {0x02, 6}, {0x7F, 1}},
+    .checks = variant_detail::kChecks769x2,
+    .checkCount = sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
+    .cells = 16,
+    .cfgUpdateMask = map::bits::BatteryStatus::cfgupdate_mask,
+    .fetEnByte = 0,
+    .fetEnMask = map::bits::ManufacturingStatus::fet_en_mask,
+    .fetEnCode = map::sub::ManufacturingStatus.address,
+    .fetControlCmd = 0,
+    .cbBytes = 2,
+    .cbShift = 0,
+    .sleepEnMask = map::bits::BatteryStatus::sleep_en_mask,
+    .alarmOffset = 50,
+    .alarmMaskAddress = map::dm::DefaultAlarmMask.address,
+    .firstPollUs = 0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
@@ -331,7 +331,10 @@ class Monitor {
     bool yield;    // the scan ends at its next read boundary
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
     std::span<const Setting> settings;
-    void* out;  // the probe's Identity, or the scan's measurement record
+    union {
+      Identity* identity;  // startProbe
+      Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
+    } out;
     uint32_t diff;
     uint32_t scanRetries;
   };
