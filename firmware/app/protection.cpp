@@ -16,9 +16,9 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   ProtectionState out;
 
   if (in.fresh) {
-    s_.failedScans = 0;
-  } else if (in.scanFailed && s_.failedScans < 0xFF) {
-    ++s_.failedScans;
+    state_.failedScans = 0;
+  } else if (in.scanFailed && state_.failedScans < 0xFF) {
+    ++state_.failedScans;
   }
 
   // Every rule compares one value with its thresholds; build the nine values, and the set of rules that have
@@ -52,7 +52,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   value[6] = in.faultLine || (in.fresh && pack->deviceFault);
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
   value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
-  value[8] = s_.failedScans >= config_.commLossScans;
+  value[8] = state_.failedScans >= config_.commLossScans;
   if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
@@ -61,9 +61,9 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const Rule& rule = config_.rules[i];
     if (rule.enabled && (evaluated & (1U << i)) != 0) track(i, value[i], now, out);
-    if ((s_.active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
+    if ((state_.active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
   }
-  out.active = s_.active;
+  out.active = state_.active;
   out.chargeOff = (actions & static_cast<uint8_t>(Action::ChargeOff)) != 0;
   out.dischargeOff = (actions & static_cast<uint8_t>(Action::DischargeOff)) != 0;
   return out;
@@ -77,33 +77,33 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   const bool lower = (kLowerLimits & b) != 0;
   const bool present = lower ? v <= rule.trip : v >= rule.trip;
   const bool absent = lower ? v > rule.clear : v < rule.clear;
-  if (present) s_.conditionNow |= b;
-  if (absent) s_.conditionNow = static_cast<FaultMask>(s_.conditionNow & ~b);
+  if (present) state_.conditionNow |= b;
+  if (absent) state_.conditionNow = static_cast<FaultMask>(state_.conditionNow & ~b);
 
   // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
   // sighting of the other kind restarts the count.
-  const bool tripped = (s_.active & b) != 0;
+  const bool tripped = (state_.active & b) != 0;
   if (tripped ? present : absent) {
-    s_.count[i] = 0;
+    state_.count[i] = 0;
     return;
   }
   if (!(tripped ? absent : present)) return;
 #if FW_PROTECTION_DELAYS
-  if (s_.count[i] == 0) s_.since[i] = now;
+  if (state_.count[i] == 0) state_.since[i] = now;
 #endif
-  if (s_.count[i] < 0xFF) ++s_.count[i];
-  if (s_.count[i] < rule.debounce) return;
+  if (state_.count[i] < 0xFF) ++state_.count[i];
+  if (state_.count[i] < rule.debounce) return;
 #if FW_PROTECTION_DELAYS
-  if (elapsed(s_.since[i], now) < rule.delay) return;
+  if (elapsed(state_.since[i], now) < rule.delay) return;
 #endif
 
-  s_.count[i] = 0;
+  state_.count[i] = 0;
   if (!tripped) {
-    s_.active |= b;
-    s_.tripped[i] = now;
+    state_.active |= b;
+    state_.tripped[i] = now;
     out.newlyTripped |= b;
   } else if (!rule.latch) {
-    s_.active = static_cast<FaultMask>(s_.active & ~b);
+    state_.active = static_cast<FaultMask>(state_.active & ~b);
     out.newlyCleared |= b;
   }
 }
@@ -112,9 +112,9 @@ FaultMask Protection::clearLatched() {
   FaultMask cleared = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const FaultMask b = static_cast<FaultMask>(1U << i);
-    if ((s_.active & b) == 0 || !config_.rules[i].latch || (s_.conditionNow & b) != 0) continue;
-    s_.active = static_cast<FaultMask>(s_.active & ~b);
-    s_.count[i] = 0;
+    if ((state_.active & b) == 0 || !config_.rules[i].latch || (state_.conditionNow & b) != 0) continue;
+    state_.active = static_cast<FaultMask>(state_.active & ~b);
+    state_.count[i] = 0;
     cleared |= b;
   }
   return cleared;

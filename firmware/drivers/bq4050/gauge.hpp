@@ -196,10 +196,10 @@ class Gauge {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return s_.op != Op::None || s_.busLost; }
-  Status result() const { return s_.result; }
-  bool pecEnabled() const { return s_.pec; }
-  const Stats& stats() const { return b_.stats; }
+  bool busy() const { return state_.op != Op::None || state_.busLost; }
+  Status result() const { return state_.result; }
+  bool pecEnabled() const { return state_.pec; }
+  const Stats& stats() const { return buffers_.stats; }
   const GaugeConfig& config() const { return config_; }
 
  private:
@@ -226,7 +226,7 @@ class Gauge {
   const uint8_t* data() const;
   uint8_t dataLength() const;
 
-  // Where an operation's result goes: the member its start function names (s_.op tells which).
+  // Where an operation's result goes: the member its start function names (state_.op tells which).
   union Output {
     DeviceInfo* info;          // startProbe
     Measurement* measurement;  // startScan
@@ -276,7 +276,7 @@ class Gauge {
   };
   static_assert(std::is_trivially_copyable_v<State> && std::is_trivial_v<Buffers>);  // zeroed as blocks
 
-  State s_;
+  State state_;
   hal::I2cBus& bus_;
   const hal::Clock& clock_;
   DriverContext ctx_;
@@ -284,7 +284,7 @@ class Gauge {
   sched::Timer timer_;
   hal::I2cTransaction txn_;
   hal::Notify busDone_;  // posts ctx_.busEvent to the owning task
-  Buffers b_;
+  Buffers buffers_;
 };
 
 }  // namespace fw::drivers::bq4050

@@ -257,12 +257,12 @@ class Monitor {
   sched::EventMask events() const { return link_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return s_.op != Op::Idle; }
+  bool busy() const { return state_.op != Op::Idle; }
   // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
-  void yieldScan() { s_.yield = true; }
-  Status result() const { return s_.result; }
-  FetIntent fetIntent() const { return s_.intent; }
-  uint8_t written() const { return s_.written; }  // settings the last startConfigure wrote
+  void yieldScan() { state_.yield = true; }
+  Status result() const { return state_.result; }
+  FetIntent fetIntent() const { return state_.intent; }
+  uint8_t written() const { return state_.written; }  // settings the last startConfigure wrote
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
@@ -342,7 +342,7 @@ class Monitor {
   uint8_t cfgPolls_;
   bool probeCrc_;
   bool allowAdjacent_;
-  State s_{};
+  State state_{};
   const hal::Clock& clock_;
   const Variant& variant_;
   Link link_;  // with its buffers: last
