@@ -7,7 +7,6 @@
 namespace twin {
 
 namespace {
-constexpr uint32_t kCpuInt = 0x1020;
 constexpr uint32_t kEventBlockSize = 0x30;
 constexpr uint32_t kPwrenKey = 0x26, kRstctlKey = 0xB1;
 }  // namespace
@@ -63,8 +62,8 @@ bool EventRegs::write(uint32_t offset, uint32_t value) {
   }
 }
 
-Peripheral::Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset)
-    : machine_(machine), name_(std::move(name)), gprcmOffset_(gprcmOffset) {}
+Peripheral::Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset, uint32_t cpuIntOffset)
+    : machine_(machine), name_(std::move(name)), gprcmOffset_(gprcmOffset), cpuIntOffset_(cpuIntOffset) {}
 
 void Peripheral::stop(const std::string& why) {
   machine_.stop(name_ + ": " + why);
@@ -106,8 +105,8 @@ bool Peripheral::read(uint32_t offset, unsigned bytes, uint32_t& value) {
     value = 0;
     return true;
   }
-  if (offset - kCpuInt < kEventBlockSize) {
-    const bool ok = cpuInt_.read(offset - kCpuInt, value);
+  if (offset - cpuIntOffset_ < kEventBlockSize) {
+    const bool ok = cpuInt_.read(offset - cpuIntOffset_, value);
     updateInterrupt();  // an IIDX read clears a flag
     return ok;
   }
@@ -140,8 +139,8 @@ bool Peripheral::write(uint32_t offset, unsigned bytes, uint32_t value) {
     stop(buf);
     return true;
   }
-  if (offset - kCpuInt < kEventBlockSize) {
-    const bool ok = cpuInt_.write(offset - kCpuInt, value);
+  if (offset - cpuIntOffset_ < kEventBlockSize) {
+    const bool ok = cpuInt_.write(offset - cpuIntOffset_, value);
     updateInterrupt();
     return ok;
   }

@@ -42,7 +42,8 @@ struct EventRegs {
 
 class Peripheral : public Device {
  public:
-  Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset = 0x800);
+  Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset = 0x800,
+             uint32_t cpuIntOffset = 0x1020);
   const char* name() const override { return name_.c_str(); }
   bool read(uint32_t offset, unsigned bytes, uint32_t& value) final;
   bool write(uint32_t offset, unsigned bytes, uint32_t value) final;
@@ -73,6 +74,7 @@ class Peripheral : public Device {
  private:
   std::string name_;
   uint32_t gprcmOffset_;
+  uint32_t cpuIntOffset_;
   bool powered_ = false;
   bool resetSticky_ = false;
   bool lineLevel_ = false;
