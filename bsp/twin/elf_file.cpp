@@ -15,7 +15,7 @@ constexpr uint32_t kPtLoad = 1;
 constexpr uint32_t kShtSymtab = 2;
 constexpr uint16_t kEtExec = 2;
 constexpr uint16_t kEmArm = 40;
-constexpr uint8_t kSttObject = 1, kSttFunc = 2;
+constexpr uint8_t kSttNotype = 0, kSttObject = 1, kSttFunc = 2;
 // Flash images are bounded by the parts' flash (128 KiB on the G3507); anything far beyond is a bad file.
 constexpr uint32_t kMaxFlashImage = 1U << 20;
 
@@ -91,7 +91,10 @@ bool ElfFile::load(const std::string& path) {
     for (uint32_t at = offset; at + entsize <= offset + size; at += entsize) {
       const uint32_t nameIndex = le32(b, at);
       const uint8_t type = b[at + 12] & 0xF;
-      if ((type != kSttFunc && type != kSttObject) || nameIndex >= strSize) continue;
+      // Functions, objects and linker-script symbols (__stack_top__ and the like have no type).
+      if ((type != kSttFunc && type != kSttObject && type != kSttNotype) || nameIndex == 0 ||
+          nameIndex >= strSize)
+        continue;
       std::string name;
       for (uint32_t k = strOffset + nameIndex; k < strOffset + strSize && b[k] != 0; ++k)
         name += static_cast<char>(b[k]);
@@ -111,7 +114,7 @@ std::optional<ElfSymbol> ElfFile::symbol(const std::string& name) const {
 std::string ElfFile::symbolAt(uint32_t address) const {
   for (const ElfSymbol& s : symbols_) {
     const uint32_t start = s.value & ~1U;  // Thumb function symbols have bit 0 set
-    if (address >= start && address < start + (s.size == 0 ? 1 : s.size)) return demangle(s.name);
+    if (s.size != 0 && address >= start && address < start + s.size) return demangle(s.name);
   }
   return "";
 }

@@ -170,6 +170,13 @@ uint64_t Machine::worldNext() const {
   return us * cyclesPerUs();
 }
 
+void Machine::syncWorld() {
+  if (world_ == nullptr || worldBusy_) return;
+  worldBusy_ = true;
+  world_->advanceTo(std::max(now() / cyclesPerUs(), world_->nowUs()));
+  worldBusy_ = false;
+}
+
 void Machine::fireDue() {
   const uint64_t perUs = cyclesPerUs();
   auto advanceWorld = [&](uint64_t us) {
@@ -190,6 +197,8 @@ void Machine::fireDue() {
     }
   }
   advanceWorld(now() / perUs);
+  for (auto& hook : eventHooks_)
+    hook();
 }
 
 void Machine::run(uint64_t endCycle) {

@@ -66,6 +66,9 @@ class Machine final : public CoreObserver {
   void requestReset(ResetKind kind, const std::string& cause);
 
   void attachWorld(bsp::host::SimClock& clock) { world_ = &clock; }
+  // Brings the world clock up to the CPU's time now (from a register access, outside any world event), so
+  // what the world records at this moment carries the right time.
+  void syncWorld();
   void run(uint64_t endCycle);
   void stop(const std::string& why);  // the run stops after the current instruction
   bool stopped() const { return core_.halted(); }
@@ -87,6 +90,8 @@ class Machine final : public CoreObserver {
   bool busWrite(uint32_t address, unsigned bytes, uint32_t value);
   // Registered by the chip: called on every reset, after the core's state is reset.
   void onReset(std::function<void(ResetKind)> hook) { resetHooks_.push_back(std::move(hook)); }
+  // Called after every batch of events (the board samples signals the emulators drive, e.g. nFAULT).
+  void onEvents(std::function<void()> hook) { eventHooks_.push_back(std::move(hook)); }
   void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
 
   // --- figures --------------------------------------------------------------------------------------------
@@ -114,6 +119,7 @@ class Machine final : public CoreObserver {
   bsp::host::SimClock* world_ = nullptr;
   bool worldBusy_ = false;
   std::vector<std::function<void(ResetKind)>> resetHooks_;
+  std::vector<std::function<void()>> eventHooks_;
   std::function<std::string(uint32_t)> symbolizer_;
   uint64_t busy_ = 0;
   std::array<uint64_t, Nvic::kExceptions> requestedAt_{};

@@ -39,6 +39,7 @@ class Mspm0 {
   const std::string& error() const { return error_; }
 
   Machine& machine() { return *machine_; }
+  const Machine& machine() const { return *machine_; }
   Pins& pins() { return *pins_; }
   Sysctl& sysctl() { return *sysctl_; }
   Gpio& gpio(int port) { return port == 0 ? *gpioA_ : *gpioB_; }

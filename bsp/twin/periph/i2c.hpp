@@ -70,6 +70,7 @@ class I2c final : public Peripheral {
   // The board: which pins carry SDA and SCL with which PF, and who is on the bus.
   void setPins(int sdaPincm, uint32_t sdaPf, int sclPincm, uint32_t sclPf);
   void attach(uint8_t address7, bsp::host::I2cTarget& target) { targets_[address7] = &target; }
+  void detach(uint8_t address7) { targets_.erase(address7); }  // the device left the bus (NACKs from now)
 
   // Each transaction (START .. STOP) as it completes.
   void onTransaction(std::function<void(const I2cWireLog&)> sink) { sink_ = std::move(sink); }

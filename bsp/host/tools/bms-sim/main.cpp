@@ -2,6 +2,7 @@
 //
 //   bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]
 //           [--can-layout ti|native] [--candump <file>] [--json]
+//   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
 // (ARCHITECTURE.md lists its keys). Exit status: 0 run completed, 2 bad arguments, 1 the run failed.
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "report.hpp"
 #include "scenario.hpp"
 #include "sim/peripherals.hpp"
+#include "sim_twin.hpp"
 
 namespace bmssim {
 namespace {
@@ -26,7 +28,10 @@ int usage(const std::string& message) {
 void printHelp() {
   std::printf(
       "usage: bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]\n"
-      "               [--can-layout ti|native] [--candump <file>] [--json]\n\nimages:\n");
+      "               [--can-layout ti|native] [--candump <file>] [--json]\n"
+      "       bms-sim --elf <build/<preset>/<preset>.elf> [--image <preset>] [same options]\n"
+      "               runs the firmware image itself on the MSPM0 instruction-level twin "
+      "(bsp/twin)\n\nimages:\n");
   for (const auto& e : images())
     std::printf("  %-24s %s\n", e.image, e.summary);
   std::printf("\nscenarios:");
@@ -65,12 +70,14 @@ int run(int argc, char** argv) {
       return 0;
     } else if (a == "--json") {
       json = true;
-    } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout") {
+    } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout" ||
+               a == "--elf") {
       const char* v = value();
       if (v == nullptr) return usage(a + " needs a value");
       (a == "--image"      ? opt.image
        : a == "--scenario" ? scenarioArg
        : a == "--candump"  ? candump
+       : a == "--elf"      ? opt.elf
                            : layout) = v;
     } else if (a == "--devices" || a == "--duration") {
       const char* v = value();
@@ -87,15 +94,17 @@ int run(int argc, char** argv) {
       return usage("unknown option '" + a + "' (try --help)");
     }
   }
-  if (opt.image.empty()) return usage("--image is required (try --help)");
+  if (opt.image.empty() && opt.elf.empty()) return usage("--image or --elf is required (try --help)");
   if (layout != "native" && layout != "ti") return usage("--can-layout must be ti or native");
   opt.tiLayout = layout == "ti";
+  if (opt.tiLayout && !opt.elf.empty())
+    return usage("--can-layout applies to host runs; an image has its layout built in");
 
   const ImageEntry* entry = nullptr;
   for (const auto& e : images()) {
     if (opt.image == e.image) entry = &e;
   }
-  if (entry == nullptr) {
+  if (entry == nullptr && opt.elf.empty()) {
     std::string known;
     for (const auto& e : images())
       known += std::string(known.empty() ? "" : ", ") + e.image;
@@ -113,10 +122,10 @@ int run(int argc, char** argv) {
       return 2;
     }
   }
-  if (opt.devices == 0) opt.devices = entry->defaultDevices;
+  if (opt.devices == 0) opt.devices = entry != nullptr ? entry->defaultDevices : 2;
 
   std::string error;
-  std::unique_ptr<ImageSim> sim = entry->make(opt, error);
+  std::unique_ptr<ImageSim> sim = opt.elf.empty() ? entry->make(opt, error) : makeTwinSim(opt, error);
   if (!sim) return usage(error);
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
 
@@ -215,12 +224,16 @@ int run(int argc, char** argv) {
       if (onsetMs < 0 && above && v >= scenario->threshold) onsetMs = static_cast<double>(t) / 1000.0;
     }
     if (t >= endUs) break;
-    h.runFor(fw::us(1000));
+    sim->runFor(fw::us(1000));
+    if (const std::string why = sim->failure(); !why.empty()) {
+      std::fprintf(stderr, "bms-sim: %s\n", why.c_str());
+      return 1;
+    }
     sim->afterStep();
     report.tick(h.nowUs());
   }
 
-  report.finish(onsetMs, busOffUnsupported, watchdog);
+  report.finish(onsetMs, busOffUnsupported, sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;

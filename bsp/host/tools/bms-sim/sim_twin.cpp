@@ -1,0 +1,358 @@
+// bms-sim binding of the twin: the ELF runs on a twin MSPM0 (bsp/twin) wired to the same device emulators the
+// host bindings use, and the scenario moves the same emulated pack. Everything reported comes from what the
+// board does where a user could see it: the frames on CAN or the SLCAN text, the bus traffic, the FETs of the
+// monitor or the fault output pin, the watchdog restarts. Nothing is read out of the firmware's memory.
+//
+// Protection events: a fault's trip is the first published frame (PackSummary or ProtectionEvent) whose
+// active-fault bits show it; its action is the emulated FETs leaving "both on" (BQ769x2/BQ7690x) or the fault
+// output rising (BQ79616, BQ4050) in the scan period before that frame, or the paths already being off. The
+// event's detected time is the earlier of the action and that frame.
+#include "sim_twin.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+
+#include "app/default_limits.hpp"
+#include "app/protection.hpp"
+#include "board/board.hpp"
+#include "can/bms.hpp"
+#include "pack_figures.hpp"
+#include "sim/peripherals.hpp"
+
+namespace bmssim {
+namespace {
+
+using twin::Family;
+namespace bms = fw::can::bms;
+
+constexpr uint32_t kScanPeriodMs = 100;  // every image's scan period (app configs' default)
+
+// "t<iii><l><dd..>" / "T<iiiiiiii><l><dd..>" (firmware/app/slcan.hpp) back into a frame; nullopt if
+// malformed.
+std::optional<SentFrame> decodeSlcan(const std::string& line, uint64_t timeUs) {
+  if (line.empty() || (line[0] != 't' && line[0] != 'T')) return std::nullopt;
+  const bool ext = line[0] == 'T';
+  const size_t idLen = ext ? 8 : 3;
+  auto hexAt = [&](size_t at, size_t n, uint32_t& out) {
+    if (at + n > line.size()) return false;
+    out = 0;
+    for (size_t i = at; i < at + n; ++i) {
+      const char c = line[i];
+      const int v = c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+      if (v < 0) return false;
+      out = out << 4 | static_cast<uint32_t>(v);
+    }
+    return true;
+  };
+  SentFrame f{timeUs, 0, ext, {}};
+  uint32_t dlc = 0;
+  if (!hexAt(1, idLen, f.id) || !hexAt(1 + idLen, 1, dlc) || dlc > 8) return std::nullopt;
+  for (uint32_t i = 0; i < dlc; ++i) {
+    uint32_t b = 0;
+    if (!hexAt(2 + idLen + 2 * i, 2, b)) return std::nullopt;
+    f.data.push_back(static_cast<uint8_t>(b));
+  }
+  return f;
+}
+
+fw::hal::CanFrame toCanFrame(const SentFrame& s) {
+  fw::hal::CanFrame f{s.id, s.extended, static_cast<uint8_t>(s.data.size()), {}};
+  std::copy(s.data.begin(), s.data.end(), f.data.begin());
+  return f;
+}
+
+class TwinSim final : public ImageSim {
+ public:
+  TwinSim(const twin::ImageId& id, const SimOptions& o, std::unique_ptr<twin::ElfFile> elf)
+      : id_(id),
+        elf_(std::move(elf)),
+        devices_(id.family == Family::Bq79616 ? o.devices : 1),
+        board_(id, h_.clock, devices_),
+        watchdog_(h_.clock) {
+    board_.onWatchdogFeed([this] { watchdog_.feed(); });
+    truth_.assign(static_cast<size_t>(devices_ * cellsPerBoard()), 3700);
+    for (int b = 0; b < devices_; ++b) {
+      for (int c = 1; c <= cellsPerBoard(); ++c)
+        push(b, c);
+      for (int t = 1; t <= tempsPerBoard(); ++t)
+        setTempDeciK(b, t, 2982);
+    }
+  }
+
+  bool load(std::string& error) {
+    if (board_.load(*elf_)) return true;
+    error = board_.error();
+    return false;
+  }
+
+  int boards() const override { return devices_; }
+  int cellsPerBoard() const override {
+    return id_.family == Family::Bq76907 ? 7 : id_.family == Family::Bq4050 ? 4 : 16;
+  }
+  int tempsPerBoard() const override {
+    return id_.family == Family::Bq76952 ? 3 : id_.family == Family::Bq79616 ? 2 : 1;
+  }
+  bool hasCurrent() const override { return id_.family != Family::Bq79616; }
+
+  // The emulated pack: the same device inputs as the host bindings (sim_bq769x2.cpp, sim_bq79616.cpp,
+  // sim_bq4050.cpp), through the devices' backend faces.
+  void setCellMv(int board, int cell, int mv) override {
+    truth_[static_cast<size_t>(board * cellsPerBoard() + cell - 1)] = mv;
+    push(board, cell);
+    push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
+  }
+  void setCurrentMa(int ma) override {
+    if (auto* e = board_.bq769x()) e->setCurrentMa(ma);
+    if (auto* e = board_.bq4050()) e->setCurrent(static_cast<int16_t>(ma));
+  }
+  void setTempDeciK(int board, int sensor, int deciK) override {
+    if (auto* e = board_.bq769x()) {
+      if (sensor == 1) {  // internal: BQ7690x in whole degC
+        e->setIntTemp(static_cast<int16_t>(id_.family == Family::Bq76907 ? (deciK - 2732) / 10 : deciK));
+      } else {
+        e->setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
+      }
+    }
+    if (auto* e = board_.bq4050()) e->setTemperature(static_cast<uint16_t>(deciK));
+    // DIETEMP: 0.025 degC per LSB around 0 degC (drivers/bq79616/measurement.hpp).
+    if (auto* e = board_.chain())
+      e->setDieTempRaw(static_cast<size_t>(board), sensor, static_cast<int16_t>(deciK * 4 - 10926));
+  }
+  void setCommLost(bool lost) override { board_.setMonitorPresent(!lost); }
+  void openWire(int board, int cell) override {
+    openBoard_ = board, openCell_ = cell;
+    push(board, cell);
+    push(board, cell - 1);
+  }
+  void setIntermittent(bool on) override {
+    intermittent_ = on;
+    if (!on) board_.setMonitorPresent(true);
+  }
+  bool busOff() override { return board_.injectBusOff(); }
+
+  void runFor(fw::Duration d) override { board_.runUntilUs(h_.nowUs() + d.us); }
+  std::string failure() const override {
+    return board_.machine().stopped() ? "the twin stopped: " + board_.machine().stopReason() : "";
+  }
+  const bsp::host::SimWatchdog* boardWatchdog() const override { return &watchdog_; }
+
+  void afterStep() override {
+    // The same intermittent link as the host bindings: the I2C monitor drops off the bus for 250 ms of every
+    // 350 ms; the BQ79616 base corrupts every other millisecond's response.
+    if (intermittent_) {
+      if (auto* e = board_.chain()) {
+        if (++tick_ % 2 == 0) e->corruptResponse(0, 6, 0x10, 3);
+      } else {
+        board_.setMonitorPresent((tick_++ % 350) >= 250);
+      }
+    }
+    observeScans();
+  }
+
+  bsp::host::Harness& harness() override { return h_; }
+  SimFigures figures() override;
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override;
+  std::vector<SentFrame> frames() const override;
+
+ private:
+  void push(int board, int cell) {
+    if (cell < 1 || cell > cellsPerBoard()) return;
+    const auto truth = std::span<const int>(truth_).subspan(static_cast<size_t>(board * cellsPerBoard()),
+                                                            static_cast<size_t>(cellsPerBoard()));
+    const int mv = sensedMv(truth, cell, board == openBoard_ ? openCell_ : -1);
+    if (auto* e = board_.bq769x()) e->setCellMv(static_cast<uint8_t>(cell), static_cast<int16_t>(mv));
+    if (auto* e = board_.chain()) e->setCellMicrovolts(static_cast<size_t>(board), cell, mv * 1000);
+    if (auto* e = board_.bq4050()) {
+      e->setCell(cell, static_cast<uint16_t>(mv));
+      int pack = 0;
+      for (int t : truth)
+        pack += t;
+      e->setVoltage(static_cast<uint16_t>(pack));
+    }
+  }
+  void observeScans();
+  const char* scanMarker() const {
+    // BQ4050: the Voltage read (gauge.cpp kScan); BQ769x2/BQ7690x: the block read from 0x0A that carries the
+    // cells.
+    return id_.family == Family::Bq4050 ? "S 16 09 " : "S 10 0A ";
+  }
+  uint64_t us(uint64_t cycle) const { return cycle / board_.machine().cyclesPerUs(); }
+
+  twin::ImageId id_;
+  std::unique_ptr<twin::ElfFile> elf_;
+  int devices_;
+  bsp::host::Harness h_;
+  twin::Board board_;
+  bsp::host::SimWatchdog watchdog_;
+  std::vector<int> truth_;
+  int openBoard_ = -1, openCell_ = -1;
+  bool intermittent_ = false;
+  uint64_t tick_ = 0;
+  ScanMeter meter_;
+  uint32_t scans_ = 0;
+  size_t i2cSeen_ = 0, chainSeen_ = 0;
+  uint64_t failedTransactions_ = 0;
+};
+
+void TwinSim::observeScans() {
+  // A scan is counted when its first access appears on the wire: the block read with the cells (BQ769x), the
+  // Voltage read (BQ4050), the stack read of VCELL16 (BQ79616, register 0x568).
+  uint64_t busUs = 0, transactions = 0;
+  if (id_.family == Family::Bq79616) {
+    const auto& cmds = board_.chainCommands();
+    for (; chainSeen_ < cmds.size(); ++chainSeen_) {
+      if (cmds[chainSeen_].reg == 0x568) ++scans_;
+    }
+    busUs = (board_.uartBytes() + board_.uartRxBytes()) * 10;  // 10 bit times per byte at 1 Mbaud
+    transactions = cmds.size();
+  } else {
+    const auto& log = board_.i2cLog();
+    for (; i2cSeen_ < log.size(); ++i2cSeen_) {
+      if (log[i2cSeen_].text.rfind(scanMarker(), 0) == 0) ++scans_;
+      if (log[i2cSeen_].failed) ++failedTransactions_;
+    }
+    busUs = board_.chip().i2c0().busCycles() / board_.machine().cyclesPerUs();
+    transactions = board_.chip().i2c0().transactions();
+  }
+  meter_.observe(scans_, 0, busUs, transactions);
+}
+
+std::vector<SentFrame> TwinSim::frames() const {
+  std::vector<SentFrame> out;
+  for (const auto& f : board_.canFrames())
+    out.push_back({us(f.endCycle),
+                   f.frame.id,
+                   f.frame.extended,
+                   {f.frame.data.begin(), f.frame.data.begin() + f.frame.dlc}});
+  for (const auto& line : board_.slcanLines()) {
+    if (auto f = decodeSlcan(line.text, us(line.cycle))) out.push_back(*f);
+  }
+  return out;
+}
+
+std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
+  // The physical action: the paths going off (FETs) or the fault output asserting.
+  const bool fets = board_.bq769x() != nullptr;
+  const auto& edges = fets ? board_.fetsOn() : board_.faultOutput();
+  auto pathsOffAt = [&](uint64_t t) {  // is the action in effect at time t (us)? and since when?
+    std::optional<uint64_t> since;
+    for (const auto& e : edges) {
+      if (us(e.cycle) > t) break;
+      const bool off = fets ? !e.level : e.level;
+      if (off && !since) since = us(e.cycle);
+      if (!off) since.reset();
+    }
+    return since;
+  };
+  std::vector<fw::app::ProtectionRecord> log;
+  uint16_t active = 0;
+  for (const SentFrame& s : frames()) {
+    uint16_t now;
+    if (s.id == bms::PackSummary::kId) {
+      now = bms::PackSummary::unpack(toCanFrame(s)).activeFaults;
+    } else if (s.id == bms::ProtectionEvent::kId) {
+      now = bms::ProtectionEvent::unpack(toCanFrame(s)).activeFaults;
+    } else {
+      continue;
+    }
+    for (uint8_t i = 0; i < fw::app::kFaultCount; ++i) {
+      if (((now & ~active) >> i & 1U) == 0) continue;
+      fw::app::ProtectionRecord r{};
+      r.fault = static_cast<fw::app::FaultId>(i);
+      r.detected = fw::Instant{static_cast<uint32_t>(s.timeUs)};
+      if (const auto since = pathsOffAt(s.timeUs)) {
+        r.actionDone = true;
+        // Already off for an earlier fault: in effect at once.
+        const uint64_t acted = s.timeUs - *since <= 2 * kScanPeriodMs * 1000 ? *since : s.timeUs;
+        r.acted = fw::Instant{static_cast<uint32_t>(acted)};
+        r.detected = fw::Instant{static_cast<uint32_t>(std::min<uint64_t>(acted, s.timeUs))};
+      }
+      log.push_back(r);
+    }
+    active = now;
+  }
+  return log;
+}
+
+SimFigures TwinSim::figures() {
+  SimFigures f;
+  f.scans = scans_;
+  f.scanPeriodMs = kScanPeriodMs;
+  f.scanBusUs = meter_.meanBusUs();
+  f.scanTransactions = meter_.meanTransactions();
+  f.output = id_.part == twin::Part::G3507 ? "can" : "slcan";
+  const auto sent = frames();
+  f.outputFrames = sent.size();
+  f.boards = devices_;
+  f.commErrors = failedTransactions_;
+  for (const SentFrame& s : sent) {
+    const fw::hal::CanFrame c = toCanFrame(s);
+    if (s.id == bms::PackSummary::kId) {
+      const auto p = bms::PackSummary::unpack(c);
+      f.chargeOn = p.chargeFet != 0;
+      f.dischargeOn = p.dischargeFet != 0;
+      f.faultOutput = p.faultOutput != 0;
+      f.activeFaults = p.activeFaults;
+      f.validBoards = p.dataValid ? devices_ : 0;
+      f.currentMa = hasCurrent() ? p.packCurrent * 10 : 0;
+    } else if (s.id == bms::CellExtremes::kId) {
+      const auto e = bms::CellExtremes::unpack(c);
+      f.maxCellMv = e.maxCellVoltage, f.minCellMv = e.minCellVoltage;
+    } else if (s.id == bms::ProtectionEvent::kId) {
+      f.commErrors = bms::ProtectionEvent::unpack(c).commErrors;  // the board's own count
+    }
+  }
+  if (const auto* chain = board_.chain()) {
+    // Bring-ups after the first: WAKE pings the chain accepted.
+    const uint64_t pings = chain->counters().pings;
+    f.recoveries = pings > 1 ? static_cast<uint32_t>(pings - 1) : 0;
+  }
+  // CPU figures: the twin's own measurements.
+  twin::Machine& m = board_.machine();
+  const double perUs = static_cast<double>(m.cyclesPerUs());
+  uint64_t latency = 0, handler = 0;
+  for (const auto& irq : m.interrupts()) {
+    latency = std::max(latency, irq.worstLatencyCycles);
+    handler = std::max(handler, irq.worstHandlerCycles);
+  }
+  char buf[64];
+  auto add = [&](const char* key, double value) {
+    std::snprintf(buf, sizeof buf, "%.3f", value);
+    f.extra.emplace_back(key, buf);
+  };
+  add("cpu_load_pct",
+      m.now() ? 100.0 * static_cast<double>(m.busyCycles()) / static_cast<double>(m.now()) : 0.0);
+  add("isr_max_us", static_cast<double>(handler) / perUs);
+  add("wake_latency_max_us", static_cast<double>(latency) / perUs);
+  f.extra.emplace_back("twin_instructions", std::to_string(m.core().instructions()));
+  f.extra.emplace_back("twin_resets", std::to_string(m.resets().size() - 1));  // the power-on is not counted
+  f.extra.emplace_back("twin_hard_faults", std::to_string(m.hardFaults().size()));
+  return f;
+}
+
+}  // namespace
+
+std::unique_ptr<ImageSim> makeTwinSim(SimOptions& options, std::string& error) {
+  auto elf = std::make_unique<twin::ElfFile>();
+  if (!elf->load(options.elf)) {
+    error = elf->error();
+    return nullptr;
+  }
+  const std::optional<twin::ImageId> id = twin::identify(*elf, error);
+  if (!id) return nullptr;
+  if (!options.image.empty() && options.image != id->preset) {
+    error = options.elf + " is the " + id->preset + " image, not " + options.image;
+    return nullptr;
+  }
+  options.image = id->preset;
+  if (id->family == Family::Bq79616 && (options.devices < 1 || options.devices > 64)) {
+    error = "--devices must be 1..64 for a BQ79616 chain";
+    return nullptr;
+  }
+  auto sim = std::make_unique<TwinSim>(*id, options, std::move(elf));
+  if (!sim->load(error)) return nullptr;
+  return sim;
+}
+
+}  // namespace bmssim
