@@ -15,6 +15,10 @@ namespace {
 
 constexpr uint32_t kCommonIrqs = i2c::kIntNack | i2c::kIntStop | i2c::kIntArbLost | i2c::kIntTimeoutA;
 constexpr uint32_t kFifoTriggers = i2c::kFifoTxTrigLevel4 | i2c::kFifoRxTrigLevel4;
+// MFIFOSR with both FIFOs empty: all 8 TX entries free, no RX byte.
+constexpr uint32_t kFifosEmpty = i2c::kFifoDepth << i2c::kFifoTxFreeShift;
+// A flush completes within a few functional clocks; 64 polls (several microseconds even at /8) bound it.
+constexpr uint32_t kFlushPolls = 64;
 // Bus recovery runs at 100 kHz or slower whatever the bus speed: 5 us half periods = 40 spin iterations of
 // 4 cycles at 32 MHz.
 constexpr uint32_t kRecoveryHalfPeriodSpins = 40;
@@ -79,13 +83,12 @@ void I2cController::startTransaction() {
     return;
   }
   result_ = Status::Ok;
+  flushFifos();  // first: if it has to reset the controller, the settings below come after the reset
   const bool pec = kI2cPec && t.pec;
   // PECCNT counts the data bytes of the whole transaction (both bursts) including the PEC byte; writing
   // the register also restarts the hardware byte count.
   if (kI2cPec)
     r.pecctl.write(pec ? i2c::kPecEnable | static_cast<uint32_t>(t.write.size() + t.read.size() + 1) : 0);
-  r.mfifoctl.write(kFifoTriggers | i2c::kFifoTxFlush | i2c::kFifoRxFlush);
-  r.mfifoctl.write(kFifoTriggers);
   reg::cpuInt(config_.base).iclr.write(0xFFFFFFFF);
   if (t.write.empty()) {
     beginRead();
@@ -95,7 +98,7 @@ void I2cController::startTransaction() {
   txLeft_ = static_cast<uint16_t>(t.write.size());
   txPecDummy_ = pec && t.read.empty();
   const uint32_t length = t.write.size() + (txPecDummy_ ? 1 : 0);  // before fillTx() consumes the dummy
-  fillTx(i2c::kFifoDepth);
+  fillTx();
   const bool more = txLeft_ != 0 || (kI2cPec && txPecDummy_);
   phase_ = Phase::Write;
   reg::cpuInt(config_.base).imask.write(kCommonIrqs | i2c::kIntTxDone | (more ? i2c::kIntTxFifoTrig : 0));
@@ -119,8 +122,29 @@ void I2cController::beginRead() {
   r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart | i2c::kMctrStop);
 }
 
-void I2cController::fillTx(uint32_t room) {
+// Empties both FIFOs (bytes a NACKed or aborted transfer left behind) the way the TRM asks: set the flush
+// bits, wait until MFIFOSR shows TXFIFOCNT = 8 and RXFIFOCNT = 0, then clear them (hw_i2c.h MFIFOCTL.TXFLUSH
+// and RXFLUSH; TI's DL_I2C_flushControllerTXFIFO / ...RXFIFO). The wait is bounded; a flush that has not
+// finished by then is finished by a controller reset, which empties the FIFOs too.
+void I2cController::flushFifos() {
   i2c::Controller& r = i2c::controller(config_.base);
+  r.mfifoctl.write(kFifoTriggers | i2c::kFifoTxFlush | i2c::kFifoRxFlush);
+  for (uint32_t poll = 0; poll < kFlushPolls; ++poll) {
+    if ((r.mfifosr.read() & (i2c::kFifoTxFreeMask | i2c::kFifoRxCountMask)) == kFifosEmpty) {
+      r.mfifoctl.write(kFifoTriggers);
+      return;
+    }
+  }
+  reg::resetAndPowerUp(reg::gprcm(config_.base));
+  configure();
+}
+
+// Queues as many write bytes as the TX FIFO has free entries (MFIFOSR.TXFIFOCNT), and the PEC dummy after
+// the last one. A write to a full FIFO would be lost; TI's DL_I2C_fillControllerTXFIFO likewise stops at a
+// full FIFO. One status read is enough: the FIFO only drains while we fill it.
+void I2cController::fillTx() {
+  i2c::Controller& r = i2c::controller(config_.base);
+  uint32_t room = (r.mfifosr.read() & i2c::kFifoTxFreeMask) >> i2c::kFifoTxFreeShift;
   while (room != 0 && txLeft_ != 0) {
     r.mtxdata.write(*tx_++);
     --txLeft_;
@@ -171,7 +195,7 @@ void I2cController::onInterrupt() {
   if (kI2cPec && (pending & i2c::kIntPecRxErr) && result_ == Status::Ok) result_ = Status::Pec;
   if (pending & i2c::kIntRxFifoTrig) drainRx();
   if (pending & i2c::kIntTxFifoTrig) {
-    fillTx(i2c::kFifoDepth / 2);  // the trigger fires at 4 or fewer bytes queued: 4 are free
+    fillTx();
     if (txLeft_ == 0 && !(kI2cPec && txPecDummy_)) mmio::clearBits(events.imask, i2c::kIntTxFifoTrig);
   }
   if (pending & i2c::kIntStop) {

@@ -2,8 +2,10 @@
 //
 // Every transaction runs as at most two controller bursts: the write bytes (START, address+W, data) and,
 // when there are bytes to read, a second burst that the controller opens with a repeated START
-// (address+R, data, NACK on the last byte, STOP). The ISR refills the 8-byte TX FIFO and drains the RX FIFO
-// at half level, moves to the next transaction of the list, and ends the list.
+// (address+R, data, NACK on the last byte, STOP). Each transaction starts with both FIFOs flushed (bounded
+// wait for the flush to finish). The ISR refills the 8-byte TX FIFO with as many bytes as it has free
+// entries and drains the RX FIFO at half level, moves to the next transaction of the list, and ends the
+// list.
 //
 // Why no DMA for I2C: at 400 kHz a byte takes 22.5 us, so an ISR that moves 4 bytes every 90 us costs
 // about 2 % of the CPU during a 32-byte block and tolerates 90 us of interrupt latency before the
@@ -85,7 +87,8 @@ class I2cController final : public fw::hal::I2cBus {
   bool recoverBus();
   void startTransaction();
   void beginRead();
-  void fillTx(uint32_t room);
+  void flushFifos();
+  void fillTx();
   void drainRx();
   void complete(fw::Status status);
   inline void finish();  // inline (.cpp): one caller, complete(), folds it in

@@ -40,9 +40,11 @@ Status McanBus::init() {
   reg::resetAndPowerUp(mcan::gprcm(base));
   muxPeripheral(config_.tx);
   muxPeripheral(config_.rx, reg::iomux::kInputEnable);
+  // Request the module clock before setting its divider, as TI's set-up does (DL_MCAN_enableModuleClock, then
+  // DL_MCAN_setClockConfig): CLK_REQEN gates the MCAN functional and register clocks (hw_mcan.h MCAN_CLKEN).
   mcan::SsClock& ssClock = mcan::ssClock(base);
-  ssClock.clkdiv.write(0);  // CANCLK / 1
   ssClock.clken.write(1);   // CLK_REQEN
+  ssClock.clkdiv.write(0);  // CANCLK / 1
   if (!waitFor(mcan::ssStat(base), mcan::kSsMemInitDone, mcan::kSsMemInitDone)) return Status::NotReady;
   // Configuration needs INIT, then CCE (M_CAN user manual 3.1.1); INIT crosses clock domains, so wait.
   mcan::Core& core = mcan::core(base);
@@ -66,7 +68,11 @@ Status McanBus::init() {
   reg::EventBlock& events = mcan::cpuInt(base);
   events.iclr.write(mcan::kIntLine0);
   events.imask.write(mcan::kIntLine0);
-  core.cccr.write(0);  // leave INIT: the controller joins the bus after 11 recessive bits
+  // Leave INIT; the controller joins the bus after 11 recessive bits. INIT reads back only once it has
+  // crossed into the CAN clock domain, and must be seen before INIT is written again (hw_mcan.h MCAN_CCCR):
+  // wait for it, as TI's set-up polls DL_MCAN_getOpMode for normal operation.
+  core.cccr.write(0);
+  if (!waitFor(core.cccr, mcan::kCccrInit, 0)) return Status::NotReady;
   ready_ = true;
   nvic::enable(config_.irq);
   return Status::Ok;
@@ -118,10 +124,14 @@ void McanBus::onInterrupt() {
   const uintptr_t base = config_.base;
   reg::EventBlock& events = mcan::cpuInt(base);
   if ((events.mis.read() & mcan::kIntLine0) == 0) return;
+  events.iclr.write(mcan::kIntLine0);
   mcan::Core& core = mcan::core(base);
   const uint32_t ir = core.ir.read() & kIrqs;
   core.ir.write(ir);  // write 1 to clear, only what we handle
-  events.iclr.write(mcan::kIntLine0);
+  // End of interrupt: the MCAN subsystem holds its line-0 interrupt until EOI is written with 0x01, and
+  // asserts it again at once if a source is still pending (hw_mcan.h MCAN_EOI). TI's DL_MCAN_clearIntrStatus
+  // writes it right after IR, as here; the wrapper flag was cleared first, so a re-assertion is not lost.
+  mcan::ssEoi(base).write(mcan::kSsEoiLine0);
   if (ir & mcan::kIrTc) {
     const uint32_t sent = mcan::queues(base).txbto.read() & inFlight_;
     inFlight_ = inFlight_ & ~sent;

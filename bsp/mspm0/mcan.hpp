@@ -11,8 +11,9 @@
 // gives the same NBTP; from a 32 MHz clock, 1 + 55 + 8 = 64 tq gives 500 kbit/s at 87.5 % as well.
 //
 // Contract (see hal/can_bus.hpp)
-// - init(): thread mode; Ok, or NotReady when the message RAM or the INIT handshake did not come up in
-//   time (bounded polls). Until init() succeeds send() returns NotReady.
+// - init(): thread mode; Ok, or NotReady when the message RAM or an INIT handshake (entering configuration,
+//   then leaving it for normal operation) did not complete in time (bounded polls). Until init() succeeds
+//   send() returns NotReady.
 // - send(): Ok, Overflow (TX FIFO full, counted), BusOff, InvalidArgument (dlc > 8, id out of range),
 //   NotReady. Task context (a short critical section guards the put index).
 // - receive(): task context; pops RX FIFO 0 in arrival order. Reception is built unless BSP_MCAN_RX is 0:
@@ -21,8 +22,9 @@
 // - Bus-off: the MCAN sets CCCR.INIT itself and stops (ISO 11898-1). recover() clears INIT, after which
 //   the controller waits for 129 x 11 recessive bits and returns to error active; the BO interrupt fires on
 //   entering and on leaving bus-off and the registered Notify is called both times.
-// - onInterrupt(): body of CANFD0_IRQHandler: reads the wrapper MIS and the MCAN IR, clears exactly those
-//   bits (IR is write-1-to-clear), updates counters, notifies, returns.
+// - onInterrupt(): body of CANFD0_IRQHandler: reads the wrapper MIS and clears it, reads the MCAN IR and
+//   clears exactly those bits (IR is write-1-to-clear), ends the interrupt at the subsystem (MCANSS_EOI),
+//   updates counters, notifies, returns.
 #pragma once
 
 #include <cstdint>

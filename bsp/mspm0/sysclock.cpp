@@ -13,9 +13,13 @@ fw::Status startHfxt(const Pin& hfxin, const Pin& hfxout) {
   // PINCM = 0: no digital function connected, the pads belong to the oscillator.
   reg::iomux::pincm(hfxin.pincm).write(0);
   reg::iomux::pincm(hfxout.pincm).write(0);
-  // HFXTTIME 10 x 64 us = 640 us (TI example "startup 10"), range 32-48 MHz, start-up monitor on.
-  s.hfclkclkcfg.write(sysctl::kHfclkStartupCheck | sysctl::kHfxtRange32To48 | 10U);
+  // TI's order (DL_SYSCTL_setHFCLKSourceHFXTParams): the HFXT off first, since some of its settings survive
+  // the lower reset levels (the software SYSRST of fw::onFault is one); then range 32-48 MHz and HFXTTIME
+  // 10 x 64 us = 640 us (TI example "startup 10"); the HFXT on; then the start-up monitor.
+  mmio::clearBits(s.hsclken, sysctl::kHfxtEnable);
+  s.hfclkclkcfg.write(sysctl::kHfxtRange32To48 | 10U);
   mmio::setBits(s.hsclken, sysctl::kHfxtEnable);
+  mmio::setBits(s.hfclkclkcfg, sysctl::kHfclkStartupCheck);
   mmio::clearBits(s.genclkcfg, sysctl::kCanClkSrcSysPll);  // CANCLK = HFCLK
   for (uint32_t i = 0; i < 500; ++i) {
     if (sysctl::clkstatus().read() & sysctl::kClkStatusHfclkGood) return fw::Status::Ok;

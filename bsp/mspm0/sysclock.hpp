@@ -5,9 +5,10 @@
 // Contract
 // - initSysosc(): thread mode at start-up; selects SYSOSC base frequency (32 MHz) and MCLK /1 (and on the
 //   G3507 ULPCLK /1). Idempotent.
-// - startHfxt(hfxin, hfxout): G3507 only. Hands PA5/PA6 to the crystal oscillator, starts the 40 MHz HFXT
-//   (range 32-48 MHz, 640 us start-up time, start-up monitor on, as TI's example), selects HFCLK as CANCLK,
-//   and waits (bounded, ~5 ms) for HFCLKGOOD. Ok or Timeout (no crystal, or a broken one).
+// - startHfxt(hfxin, hfxout): G3507 only. Hands PA5/PA6 to the crystal oscillator, stops the HFXT in case a
+//   software reset left it running, configures and starts it at 40 MHz (range 32-48 MHz, 640 us start-up
+//   time, start-up monitor on, in the order of TI's example), selects HFCLK as CANCLK, and waits (bounded,
+//   ~5 ms) for HFCLKGOOD. Ok or Timeout (no crystal, or a broken one).
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // Shared UART set-up for the two UART drivers (uart_serial_tx, uart_link): 8N1, FIFOs on, 16x
-// oversampling from the bus clock, DMA triggers routed (RX: one byte in the FIFO; TX: FIFO at most half
-// full). Thread mode, before the driver's interrupt is enabled.
+// oversampling from the bus clock, DMA triggers routed (RX: one byte in the FIFO; TX: one FIFO entry free,
+// the TX level the DMA trigger needs, regs/uart.hpp). Thread mode, before the driver's interrupt is enabled.
 #pragma once
 
 #include <cstdint>
@@ -22,7 +22,7 @@ inline void uartConfigure(uintptr_t base, uint32_t divisor64, bool receiver) {
   line.ibrd.write(divisor64 >> 6);
   line.fbrd.write(divisor64 & 0x3F);
   line.lcrh.write(uart::kLcrh8N1);
-  line.ifls.write(uart::kIflsTxHalf | uart::kIflsRxOne);
+  line.ifls.write(uart::kIflsTxOneFree | uart::kIflsRxOne);
   uart::dmaTrigTx(base).imask.write(uart::kIntTx);
   if (receiver) uart::dmaTrigRx(base).imask.write(uart::kIntRx);
   reg::cpuInt(base).iclr.write(0xFFFFFFFF);

@@ -1,10 +1,11 @@
-// Shared fixture of the register-level tests: a fresh register model and interrupt controller per test, and
-// a Notify that counts its calls.
+// Shared fixture of the register-level tests: a fresh register model and interrupt controller per test, a
+// Notify that counts its calls, and the check that no peripheral model rule was broken (RegisterModel::flag).
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <string>
 
 #include "hal/notify.hpp"
 #include "mmio_model.hpp"
@@ -17,6 +18,11 @@ class RegisterTest : public ::testing::Test {
   void SetUp() override {
     model().reset();
     bsp::host::simIrq().reset();
+  }
+
+  void TearDown() override {
+    for (const std::string& rule : model().violations())
+      ADD_FAILURE() << "register model rule broken: " << rule;
   }
 
   RegisterModel& regs() { return model(); }

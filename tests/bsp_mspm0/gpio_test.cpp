@@ -1,6 +1,7 @@
-// Register-level tests of GPIO outputs, edge inputs and the INT_GROUP1 dispatch (bsp/mspm0/gpio.*).
-// Addresses: GPIOA 0x400A0000, GPIOB 0x400A2000 + GPIO.* offsets; IOMUX PINCMn at 0x40428000 + 4n;
-// CPUSS INT_GROUP[1].IIDX at 0x40401130 (mspm0g3507.tsv rows and group_iidx: GPIOA 1, GPIOB 2).
+// Register-level tests of GPIO outputs, edge inputs and the INT_GROUP1 dispatch (bsp/mspm0/gpio.*), with
+// the register model's rules for active-low inputs (pin_model.hpp). Addresses: GPIOA 0x400A0000, GPIOB
+// 0x400A2000 + GPIO.* offsets; IOMUX PINCMn at 0x40428000 + 4n; CPUSS INT_GROUP[1].IIDX at 0x40401130
+// (mspm0g3507.tsv rows and group_iidx: GPIOA 1, GPIOB 2).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -10,6 +11,7 @@
 
 #include "fixture.hpp"
 #include "gpio.hpp"
+#include "pin_model.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -34,7 +36,7 @@ class GpioTest : public RegisterTest {
  protected:
   GpioEdgeInput button{Pin{1, 21, 49}, Edge::Falling, Pull::Up};   // PB21 = S2 (PINCM49)
   GpioEdgeInput nfault{Pin{1, 0, 12}, Edge::Falling, Pull::None};  // PB0 (PINCM12)
-  GpioEdgeInput alert{Pin{0, 15, 16}, Edge::Both, Pull::Up};       // PA15
+  GpioEdgeInput alert{Pin{0, 15, 16}, Edge::Falling, Pull::Up};    // PA15 (L1306 ALERT)
   std::array<uintptr_t, 2> ports{kGpioa, kGpiob};
   std::array<GpioEdgeInput*, 3> inputs{&button, &nfault, &alert};
   GpioInterrupts dispatcher{0x40400000, ports, inputs};
@@ -50,8 +52,12 @@ TEST_F(GpioTest, EdgeInputMuxesAnInputAndSelectsItsEdge) {
   // POLARITY31_16 holds DIO16..31 two bits each: DIO21 is bits 11:10, FALL = 2.
   EXPECT_EQ(regs().lastWrite(kGpiob + kPolarity31_16), 2U << 10);
   alert.init();
-  EXPECT_EQ(regs().lastWrite(kGpioa + kPolarity15_0), 3U << 30);  // DIO15 bits 31:30, RISE_FALL = 3
-  EXPECT_FALSE(regs().lastWrite(kGpiob + kImask).has_value());    // masked until enable()
+  EXPECT_EQ(regs().lastWrite(kGpioa + kPolarity15_0), 2U << 30);  // DIO15 bits 31:30, FALL = 2
+  GpioEdgeInput both{Pin{0, 3, 4}, Edge::Both, Pull::None};
+  both.init();
+  EXPECT_EQ(regs().lastWrite(kGpioa + kPolarity15_0), (2U << 30) | (3U << 6));  // DIO3 RISE_FALL = 3
+  EXPECT_EQ(regs().lastWrite(pincm(4)), 0x80U | 1U | (1U << 18));               // no pull
+  EXPECT_FALSE(regs().lastWrite(kGpiob + kImask).has_value());                  // masked until enable()
 }
 
 TEST_F(GpioTest, EnableClearsAStaleEdgeThenUnmasks) {
@@ -129,6 +135,35 @@ TEST_F(GpioTest, InitOfAConstexprCopyWritesWhatTheInputsOwnInitWrites) {
   button.init();
   EXPECT_EQ(writes(), fromCopy);
   EXPECT_FALSE(fromCopy.empty());
+}
+
+TEST_F(GpioTest, AnOpenDrainAlertIsAFallingEdgeInputWithThePullUp) {
+  // The BQ769x2-family images set the BQ76952 ALERT pin active-low, open-drain: the MCU input needs the
+  // internal pull-up (PINCM.PIPU, bit 17) and the falling edge.
+  ActiveLowInput wired{"PA15 ALERT", kGpioa, 15, 16, ActiveLowInput::Output::OpenDrain};
+  wired.attach();
+  alert.init();
+  alert.enable(counter(alertCalls));
+  EXPECT_EQ(regs().lastWrite(pincm(16)), 0x80U | 1U | (1U << 18) | (1U << 17));
+  EXPECT_TRUE(wired.check());
+}
+
+TEST_F(GpioTest, TheModelFlagsAnOpenDrainInputWithoutPullUpOrWithTheWrongEdge) {
+  // The rule itself (pin_model.hpp): it fails when the configuration is wrong.
+  ActiveLowInput wired{"PA15 ALERT", kGpioa, 15, 16, ActiveLowInput::Output::OpenDrain};
+  wired.attach();
+  GpioEdgeInput floating{Pin{0, 15, 16}, Edge::Falling, Pull::None};
+  floating.init();
+  floating.enable(counter(alertCalls));
+  EXPECT_EQ(regs().takeViolations().size(), 1U);
+  GpioEdgeInput rising{Pin{0, 15, 16}, Edge::Rising, Pull::Up};
+  rising.init();
+  EXPECT_FALSE(wired.check());
+  EXPECT_EQ(regs().takeViolations().size(), 1U);
+  // A driven active-low output (BQ79616 nFAULT) needs no pull, only the falling edge.
+  ActiveLowInput driven{"PB0 nFAULT", kGpiob, 0, 12, ActiveLowInput::Output::Driven};
+  nfault.init();
+  EXPECT_TRUE(driven.check());
 }
 
 TEST_F(GpioTest, LevelReadsDin) {

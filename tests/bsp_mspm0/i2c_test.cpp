@@ -1,14 +1,19 @@
-// Register-level tests of the MSPM0 I2C controller driver (bsp/mspm0/i2c.*) against the register model.
-// Addresses: I2C0_BASE 0x400F0000 and the I2C.* register offsets of mspm0l1306.tsv; bits: the I2C_* field
-// rows of the same file; IOMUX PINCMn at IOMUX_BASE + 4n (tsv note "PINCM index").
+// Register-level tests of the MSPM0 I2C controller driver (bsp/mspm0/i2c.*) against the register model and
+// its I2C rules (i2c_model.hpp: 8-byte FIFOs that drop a write when full, flushes that take time, the two
+// readings of the clock-low timeout). Addresses: I2C0_BASE 0x400F0000 and the I2C.* register offsets of
+// mspm0l1306.tsv; bits: the I2C_* field rows of the same file; IOMUX PINCMn at IOMUX_BASE + 4n (tsv note
+// "PINCM index").
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "fixture.hpp"
 #include "i2c.hpp"
+#include "i2c_model.hpp"
+#include "mmio.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -30,6 +35,7 @@ constexpr uintptr_t kMtxdata = 0x400F1220;
 constexpr uintptr_t kMtpr = 0x400F1224;
 constexpr uintptr_t kMcr = 0x400F1228;
 constexpr uintptr_t kMbmon = 0x400F1234;
+constexpr uintptr_t kMfifoctl = 0x400F1238;
 constexpr uintptr_t kMfifosr = 0x400F123C;
 constexpr uintptr_t kPecctl = 0x400F1240;
 constexpr uintptr_t kPincm1 = 0x40428004;  // PA0 = SDA
@@ -69,6 +75,7 @@ class I2cTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
+    fifo.attach();
     i2c.init();
     regs().set(kMbmon, 0x3);  // SCL and SDA high: idle bus
     regs().clearLog();
@@ -80,6 +87,7 @@ class I2cTest : public RegisterTest {
     i2c.onInterrupt();
   }
 
+  I2cModel fifo{0x400F0000};
   I2cController i2c{config(400000, 2000)};
   int done = 0;
 };
@@ -113,14 +121,63 @@ TEST_F(I2cTest, InitFastModeUsesTpr7) {
 }
 
 TEST_F(I2cTest, SmbusStretchLimitDividesTheFunctionalClock) {
-  // 25 ms does not fit 255 units at 32 MHz (16.25 us each); /8 gives 4 MHz: 130 us units, 193 of them, and
-  // TPR 3 for 100 kHz.
+  // Under the header's reading (520 functional clocks per count) 25 ms does not fit 255 counts at 32 MHz
+  // (16.25 us each); /8 gives 4 MHz: 130 us per count, 193 of them, and TPR 3 for 100 kHz. Under the TRM's
+  // reading the same 193 counts are 193 x 16 steps of (1 + 3) x 12 clocks = 37 ms, also >= 25 ms.
   constexpr I2cTiming t = i2cTiming(32000000, 100000, 25000);
   EXPECT_TRUE(t.valid);
   EXPECT_EQ(t.clkdivRatio, 7);
   EXPECT_EQ(t.tpr, 3);
   EXPECT_EQ(t.timeoutCount, 193);
-  EXPECT_FALSE(i2cTiming(32000000, 100000, 40000).valid);  // beyond 255 units even at /8
+  EXPECT_FALSE(i2cTiming(32000000, 100000, 40000).valid);  // beyond 255 header counts even at /8
+}
+
+// The images' bus settings (images/<preset>/board_config.hpp): the timeout the controller is programmed with
+// is never shorter than the device may stretch SCL, whichever of TI's two readings of TIMEOUT_CTL.TCNTLA the
+// silicon follows (i2c_model.hpp).
+struct BusSetting {
+  const char* image;
+  uint32_t bitRate;
+  uint32_t stretchLimitUs;
+};
+constexpr BusSetting kImageBuses[] = {
+    {"lp-mspm0l1306-bq76952 / -bq76907, lp-mspm0g3507-bq76952: BQ769x2 4 ms", 400000, 4000},
+    {"lp-mspm0g3507-bq4050: SMBus tTIMEOUT 25 ms", 100000, 25000},
+};
+
+TEST_F(I2cTest, ImageTimeoutsCoverTheStretchLimitUnderBothReadings) {
+  for (const BusSetting& bus : kImageBuses) {
+    SCOPED_TRACE(bus.image);
+    RegisterTest::SetUp();
+    fifo.attach();
+    I2cController c(config(bus.bitRate, bus.stretchLimitUs));
+    c.init();
+    EXPECT_GE(fifo.timeoutUs(I2cModel::Reading::Header, 32000000), bus.stretchLimitUs);
+    EXPECT_GE(fifo.timeoutUs(I2cModel::Reading::Trm, 32000000), bus.stretchLimitUs);
+  }
+}
+
+TEST_F(I2cTest, TimingHoldsTheLimitUnderBothReadingsAtEveryClock) {
+  // Where the readings differ most: at TPR 1 (functional clock = 20 x bit rate, e.g. 400 kHz from 8 MHz) a
+  // TRM count is 16 x 2 x 12 = 384 clocks, fewer than the header's 520, so a count chosen by the header
+  // alone times out early under the TRM.
+  for (uint32_t bus : {32000000U, 16000000U, 8000000U, 4000000U}) {
+    for (uint32_t rate : {100000U, 400000U}) {
+      for (uint32_t limit : {2000U, 4000U, 25000U}) {
+        const I2cTiming t = i2cTiming(bus, rate, limit);
+        if (!t.valid) continue;
+        SCOPED_TRACE(::testing::Message() << bus << " Hz, " << rate << " bit/s, " << limit << " us");
+        RegisterTest::SetUp();
+        fifo.attach();
+        I2cController c(
+            {0x400F0000, 24, PinFunction{Pin{0, 0, 1}, 3}, PinFunction{Pin{0, 1, 2}, 3}, rate, t});
+        c.init();
+        EXPECT_GE(fifo.timeoutUs(I2cModel::Reading::Header, bus), limit);
+        EXPECT_GE(fifo.timeoutUs(I2cModel::Reading::Trm, bus), limit);
+      }
+    }
+  }
+  EXPECT_TRUE(i2cTiming(8000000, 400000, 4000).valid);
 }
 
 TEST_F(I2cTest, WriteSendsAddressBytesAndStopThenCompletesOnStop) {
@@ -167,8 +224,7 @@ TEST_F(I2cTest, WriteReadUsesRepeatedStartAndStoresTheBytes) {
   EXPECT_EQ(regs().writes(kMctr).size(), 2U);
   EXPECT_EQ(done, 0);
 
-  regs().queueRead(kMfifosr, 2);  // RXFIFOCNT 3:0
-  regs().queueReads(kMrxdata, {0x68, 0x33});
+  fifo.receive({0x68, 0x33});
   interrupt(kStop);
   EXPECT_EQ(done, 1);
   EXPECT_EQ(list[0].status, fw::Status::Ok);
@@ -183,16 +239,93 @@ TEST_F(I2cTest, LongReadDrainsTheFifoAtItsTrigger) {
   list[0].read = data;
   ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
   EXPECT_EQ(regs().lastWrite(kMctr), mctr(12, true));
-  regs().queueRead(kMfifosr, 8);
-  regs().queueReads(kMrxdata, {0, 1, 2, 3, 4, 5, 6, 7});
+  fifo.receive({0, 1, 2, 3, 4, 5, 6, 7});
   interrupt(kRxFifoTrig);
-  regs().queueRead(kMfifosr, 4);
-  regs().queueReads(kMrxdata, {8, 9, 10, 11});
+  fifo.receive({8, 9, 10, 11});
   interrupt(kStop);
   EXPECT_EQ(list[0].readCount, 12);
   EXPECT_EQ(data[7], 7);
   EXPECT_EQ(data[11], 11);
   EXPECT_EQ(done, 1);
+}
+
+TEST_F(I2cTest, StartFlushesBothFifosAndWaitsUntilTheyReadEmpty) {
+  // A write that ended with a NACK left three bytes in the TX FIFO; the next transaction must not send them.
+  fifo.leftInTxFifo({0xAA, 0xBB, 0xCC});
+  fifo.receive({0x55});
+  const std::array<uint8_t, 2> bytes{0x01, 0x02};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = bytes;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  // Flush bits set, MFIFOSR polled until TXFIFOCNT = 8 free and RXFIFOCNT = 0, then the bits cleared
+  // (hw_i2c.h MFIFOCTL.TXFLUSH/RXFLUSH; TI's DL_I2C_flushControllerTXFIFO / ...RXFIFO).
+  constexpr uint32_t kFlushBoth = 0x8080;
+  const long set = regs().findWrite(kMfifoctl, 0x304 | kFlushBoth);
+  const long cleared = regs().findWrite(kMfifoctl, 0x304, static_cast<size_t>(set));
+  ASSERT_GE(set, 0);
+  ASSERT_GT(cleared, set);
+  bool sawEmpty = false;
+  for (long i = set; i < cleared; ++i) {
+    const Access& a = regs().log()[static_cast<size_t>(i)];
+    if (a.kind == Access::Kind::Read && a.address == kMfifosr && (a.value & 0xF0F) == 0x800) sawEmpty = true;
+  }
+  EXPECT_TRUE(sawEmpty);
+  fifo.shiftOut(8);
+  EXPECT_EQ(fifo.wire(), (std::vector<uint8_t>{0x01, 0x02}));
+}
+
+TEST_F(I2cTest, AFlushThatNeverEndsIsFinishedByAControllerReset) {
+  fifo.leftInTxFifo({0xAA});
+  fifo.flushNeverCompletes();
+  const std::array<uint8_t, 1> bytes{0x01};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = bytes;
+  regs().clearLog();
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  // The wait is bounded; then the GPRCM reset empties the FIFOs and the controller is configured again.
+  EXPECT_LE(regs().readCount(kMfifosr), 100U + 1U);
+  EXPECT_GE(regs().findWrite(kRstctl, 0xB1000003), 0);
+  fifo.shiftOut(8);
+  EXPECT_EQ(fifo.wire(), (std::vector<uint8_t>{0x01}));
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(1, true));
+}
+
+TEST_F(I2cTest, LongWriteRefillsOnlyTheFreeEntries) {
+  std::array<uint8_t, 12> bytes{};
+  for (uint8_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<uint8_t>(0x40 + i);
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  list[0].address = 0x08;
+  list[0].write = bytes;
+  ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kMctr), mctr(12, true));
+  EXPECT_EQ(fifo.txLevel(), 8U);  // the flushed FIFO takes 8
+  EXPECT_NE(regs().lastWrite(kImask).value() & kTxFifoTrig, 0U);
+
+  // The TX trigger is taken while only two entries are free (the flag was latched earlier, or the ISR ran
+  // early): the driver writes two, not four (TI's DL_I2C_fillControllerTXFIFO stops at a full FIFO).
+  fifo.shiftOut(2);
+  interrupt(kTxFifoTrig);
+  EXPECT_EQ(fifo.txLevel(), 8U);
+  EXPECT_NE(regs().lastWrite(kImask).value() & kTxFifoTrig, 0U);  // two bytes still to queue
+  fifo.shiftOut(8);
+  interrupt(kTxFifoTrig);
+  EXPECT_EQ(regs().lastWrite(kImask).value() & kTxFifoTrig, 0U);  // all queued
+  fifo.shiftOut(8);
+  interrupt(kTxDone | kStop);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(list[0].status, fw::Status::Ok);
+  EXPECT_EQ(fifo.wire(), std::vector<uint8_t>(bytes.begin(), bytes.end()));
+}
+
+TEST_F(I2cTest, TheModelDropsAndFlagsAWriteToAFullFifo) {
+  // The rule itself (i2c_model.hpp): a ninth byte is lost and reported.
+  for (uint32_t i = 0; i < 9; ++i)
+    mmio::write32(kMtxdata, i);
+  EXPECT_EQ(fifo.txLevel(), 8U);
+  EXPECT_EQ(regs().takeViolations().size(), 1U);
 }
 
 TEST_F(I2cTest, AddressNackEndsTheListAndAbortsTheRest) {
@@ -354,8 +487,7 @@ TEST_F(I2cTest, HardwarePecOnReadSpansTheRepeatedStartAndReportsAMismatch) {
   interrupt(kTxDone);
   EXPECT_EQ(regs().lastWrite(kMctr), mctr(3, true));  // the PEC byte is read too
   EXPECT_NE(regs().lastWrite(kImask).value() & kPecRxErr, 0U);
-  regs().queueRead(kMfifosr, 3);
-  regs().queueReads(kMrxdata, {0x10, 0x3A, 0x55});
+  fifo.receive({0x10, 0x3A, 0x55});
   interrupt(kPecRxErr | kStop);
   EXPECT_EQ(list[0].status, fw::Status::Pec);
   EXPECT_EQ(list[0].readCount, 2);  // the PEC byte is not stored

@@ -1,12 +1,15 @@
-// Register-level tests of the MCAN driver (bsp/mspm0/mcan.*) against the register model. Addresses:
-// CANFD0_BASE 0x40508000 + the MCAN.* offsets of mspm0g3507.tsv (message RAM at the base); bit timing from
-// bq79616-protocol.md section 8; element layout from the tsv "MCAN TX element" rows.
+// Register-level tests of the MCAN driver (bsp/mspm0/mcan.*) against the register model and its MCAN
+// subsystem rules (mcan_model.hpp: clock before divider, INIT read-back, line held until EOI). Addresses:
+// CANFD0_BASE 0x40508000 + the MCAN.* offsets of mspm0g3507.tsv (message RAM at the base), MCANSS_EOI at
+// 0x7220 (TI MSPM0 SDK hw_mcan.h); bit timing from bq79616-protocol.md section 8; element layout from the tsv
+// "MCAN TX element" rows.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 
 #include "fixture.hpp"
 #include "mcan.hpp"
+#include "mcan_model.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -14,7 +17,6 @@ namespace {
 constexpr uintptr_t kBase = 0x40508000;
 constexpr uintptr_t kCccr = kBase + 0x7018;
 constexpr uintptr_t kNbtp = kBase + 0x701C;
-constexpr uintptr_t kPsr = kBase + 0x7044;
 constexpr uintptr_t kIr = kBase + 0x7050;
 constexpr uintptr_t kIe = kBase + 0x7054;
 constexpr uintptr_t kIle = kBase + 0x705C;
@@ -26,11 +28,12 @@ constexpr uintptr_t kTxbc = kBase + 0x70C0;
 constexpr uintptr_t kTxfqs = kBase + 0x70C4;
 constexpr uintptr_t kTxbar = kBase + 0x70D0;
 constexpr uintptr_t kTxbto = kBase + 0x70D8;
-constexpr uintptr_t kSsStat = kBase + 0x7208;
-constexpr uintptr_t kWrapMis = kBase + 0x7838;
+constexpr uintptr_t kSsEoi = kBase + 0x7220;
 constexpr uintptr_t kWrapIclr = kBase + 0x7848;
 constexpr uintptr_t kWrapImask = kBase + 0x7828;
 constexpr uintptr_t kClkEn = kBase + 0x7900;
+constexpr uintptr_t kClkDiv = kBase + 0x7904;
+constexpr uint32_t kEoiLine0 = 0x01;  // hw_mcan.h MCAN_EOI: 0x01 clears the MCAN(0) (line 0) interrupt
 
 // MCAN_IR_* bits.
 constexpr uint32_t kRf0n = 1U << 0;
@@ -41,32 +44,38 @@ class McanTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
-    regs().set(kSsStat, 0x2);  // MEM_INIT_DONE
+    mcan.attach();
     ASSERT_EQ(can.init(), fw::Status::Ok);
     regs().clearLog();
   }
+  // The controller raises IR bits; the CPU takes the CANFD0 interrupt if the wrapper asserts it.
   void interrupt(uint32_t ir) {
-    regs().queueRead(kWrapMis, 0x1);  // INTL0
-    regs().queueRead(kIr, ir);
+    mcan.raise(ir);
+    ASSERT_TRUE(mcan.interruptPending());
     can.onInterrupt();
   }
 
+  McanModel mcan{kBase};
   McanBus can{{kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k}};
   int events = 0;
 };
 
 TEST_F(McanTest, InitProgramsClassic500kAt87_5PercentInConfigurationMode) {
   RegisterTest::SetUp();
-  regs().set(kSsStat, 0x2);
+  mcan.attach();
   McanBus fresh(
       {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
   ASSERT_EQ(fresh.init(), fw::Status::Ok);
   // NBRP 0, NTSEG1 68, NTSEG2 9, NSJW 9 (register values of TI's example): 1 + 69 + 10 = 80 tq of 25 ns at
   // 40 MHz = 500 kbit/s, sample point 70 / 80 = 87.5 %.
   EXPECT_EQ(regs().lastWrite(kNbtp), (9U << 25) | (0U << 16) | (68U << 8) | 9U);
-  // INIT, then INIT|CCE, configuration, then INIT cleared to join the bus.
-  EXPECT_TRUE(
-      regs().wroteInOrder({{kClkEn, 1}, {kCccr, 0x1}, {kCccr, 0x3}, {kNbtp, 0x12004409}, {kCccr, 0x0}}));
+  // Module clock requested before its divider is set (TI's DL_MCAN_enableModuleClock, then
+  // DL_MCAN_setClockConfig); INIT, then INIT|CCE, configuration, then INIT cleared to join the bus.
+  EXPECT_TRUE(regs().wroteInOrder(
+      {{kClkEn, 1}, {kClkDiv, 0}, {kCccr, 0x1}, {kCccr, 0x3}, {kNbtp, 0x12004409}, {kCccr, 0x0}}));
+  // init() returns only once CCCR.INIT has read back 0 (TI's example polls DL_MCAN_getOpMode for NORMAL).
+  EXPECT_FALSE(mcan.initVisible());
+  EXPECT_TRUE(mcan.initReadBack());
   EXPECT_EQ(regs().lastWrite(kTxbc), 8U << 24);             // TFQS 8, TFQM 0 (FIFO), TBSA 0
   EXPECT_EQ(regs().lastWrite(kRxf0c), 0x80U | (8U << 16));  // F0SA 0x80, F0S 8
   EXPECT_EQ(regs().lastWrite(kGfc), 0x3U);                  // accept all data frames in FIFO 0, reject remote
@@ -78,9 +87,23 @@ TEST_F(McanTest, InitProgramsClassic500kAt87_5PercentInConfigurationMode) {
 
 TEST_F(McanTest, InitWithoutMessageRamIsNotReady) {
   RegisterTest::SetUp();
+  mcan.attach();
+  mcan.noMessageRam();
   McanBus fresh(
       {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
   EXPECT_EQ(fresh.init(), fw::Status::NotReady);  // MEM_INIT_DONE never set: bounded wait
+  fw::hal::CanFrame frame;
+  EXPECT_EQ(fresh.send(frame), fw::Status::NotReady);
+}
+
+TEST_F(McanTest, InitThatNeverLeavesInitIsNotReady) {
+  RegisterTest::SetUp();
+  mcan.attach();
+  mcan.stayInInit();  // CCCR.INIT never reads back 0
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
+  EXPECT_EQ(fresh.init(), fw::Status::NotReady);  // bounded wait, then give up
+  EXPECT_TRUE(mcan.initVisible());
   fw::hal::CanFrame frame;
   EXPECT_EQ(fresh.send(frame), fw::Status::NotReady);
 }
@@ -105,6 +128,39 @@ TEST_F(McanTest, TransmitWritesTheElementAtThePutIndexAndRequestsIt) {
   EXPECT_EQ(regs().lastWrite(kIr), kTc);  // IR is write-1-to-clear: exactly the handled bit
   EXPECT_EQ(regs().lastWrite(kWrapIclr), 0x1U);
   EXPECT_EQ(can.counters().txFrames, 1U);
+}
+
+TEST_F(McanTest, EachServicedInterruptEndsWithEoiSoTheNextOneArrives) {
+  regs().set(kTxbto, 1U << 0);
+  interrupt(kTc);
+  // The wrapper clear (ICLR), then IR cleared, then MCANSS_EOI = 0x01 for line 0, as TI's
+  // DL_MCAN_clearIntrStatus does after every ISR: the line drops and nothing is pending any more.
+  EXPECT_TRUE(regs().wroteInOrder({{kWrapIclr, 0x1}, {kIr, kTc}, {kSsEoi, kEoiLine0}}));
+  EXPECT_FALSE(mcan.lineHeld());
+  EXPECT_FALSE(mcan.interruptPending());
+
+  // The next transmission interrupts again (without the EOI the wrapper would hold the first one forever).
+  fw::hal::CanFrame frame;
+  ASSERT_EQ(can.send(frame), fw::Status::Ok);
+  regs().set(kTxbto, 1U << 0);
+  interrupt(kTc);
+  EXPECT_FALSE(mcan.interruptPending());
+  EXPECT_EQ(regs().writes(kSsEoi), (std::vector<uint32_t>{kEoiLine0, kEoiLine0}));
+}
+
+TEST_F(McanTest, AnEventDuringTheHandlerInterruptsAgainAfterEoi) {
+  // The controller reports bus-off while the handler clears TC: IR keeps BO, so the EOI asserts the line
+  // again (hw_mcan.h MCAN_EOI) and the handler runs a second time for it.
+  can.onEvent(counter(events));
+  regs().onWrite(kIr, [this](uint32_t cleared) {
+    if (cleared == kTc) mcan.raise(kBo);
+  });
+  interrupt(kTc);
+  EXPECT_TRUE(mcan.interruptPending());
+  can.onInterrupt();
+  EXPECT_EQ(mcan.ir(), 0U);
+  EXPECT_FALSE(mcan.interruptPending());
+  EXPECT_EQ(events, 2);
 }
 
 TEST_F(McanTest, ExtendedIdAndBadFrames) {
@@ -132,9 +188,9 @@ TEST_F(McanTest, FullTxFifoIsOverflowAndCounted) {
 
 TEST_F(McanTest, BusOffRefusesFramesNotifiesAndRecoversByLeavingInit) {
   can.onEvent(counter(events));
-  regs().set(kPsr, 1U << 7);  // PSR.BO
-  regs().set(kCccr, 0x1);     // the controller set INIT itself
-  interrupt(kBo);
+  mcan.busOff();  // PSR.BO, and the controller sets INIT itself
+  ASSERT_TRUE(mcan.interruptPending());
+  can.onInterrupt();
   EXPECT_EQ(events, 1);
   EXPECT_EQ(can.counters().busOffEvents, 1U);
   EXPECT_EQ(can.state(), fw::hal::CanState::BusOff);
@@ -143,8 +199,8 @@ TEST_F(McanTest, BusOffRefusesFramesNotifiesAndRecoversByLeavingInit) {
 
   EXPECT_EQ(can.recover(), fw::Status::Ok);
   EXPECT_EQ(regs().lastWrite(kCccr), 0x0U);  // INIT cleared: 129 x 11 recessive bits, then error active
-  regs().set(kPsr, 0);
-  interrupt(kBo);  // BO changes again when the controller leaves bus-off
+  mcan.leaveBusOff();                        // BO changes again when the controller leaves bus-off
+  can.onInterrupt();
   EXPECT_EQ(events, 2);
   EXPECT_EQ(can.counters().busOffEvents, 1U);
   EXPECT_EQ(can.state(), fw::hal::CanState::ErrorActive);

@@ -13,7 +13,9 @@ void RegisterModel::reset() {
   current_.clear();
   queued_.clear();
   hooks_.clear();
+  readHooks_.clear();
   log_.clear();
+  violations_.clear();
 }
 
 void RegisterModel::queueReads(uintptr_t address, std::initializer_list<uint32_t> values) {
@@ -32,6 +34,8 @@ uint32_t RegisterModel::read(uintptr_t address) {
   if (q != queued_.end() && !q->second.empty()) {
     v = q->second.front();
     q->second.pop_front();
+  } else if (auto h = readHooks_.find(address); h != readHooks_.end()) {
+    v = h->second();
   } else {
     v = value(address);
   }
@@ -43,7 +47,10 @@ void RegisterModel::write(uintptr_t address, uint32_t v) {
   log_.push_back({Access::Kind::Write, address, v});
   current_[address] = v;
   auto h = hooks_.find(address);
-  if (h != hooks_.end()) h->second(v);
+  if (h == hooks_.end()) return;
+  const auto hooks = h->second;  // a copy: a hook may add hooks
+  for (const auto& hook : hooks)
+    hook(v);
 }
 
 void RegisterModel::spin(uint32_t iterations) {

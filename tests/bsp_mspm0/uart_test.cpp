@@ -1,15 +1,18 @@
 // Register-level tests of the UART drivers (bsp/mspm0/uart_link.*, uart_serial_tx.*) against the register
-// model. Addresses: UART0_BASE 0x40108000 + UART.* offsets, DMA_BASE 0x4042A000 (channel n at +0x1200 +
-// 0x10n, DMATCTL n at +0x1110 + 4n, tsv note "DMA"), TIMG6_BASE 0x40868000 + GPTIMER.* offsets, all from
-// mspm0g3507.tsv; DMA triggers from its dmatrig rows (UART0 RX 17, TX 18).
+// model and its UART TX DMA rules (uart_dma_model.hpp: the TX DMA trigger needs TXIFLSEL = 7). Addresses:
+// UART0_BASE 0x40108000 + UART.* offsets, DMA_BASE 0x4042A000 (channel n at +0x1200 + 0x10n, DMATCTL n at
+// +0x1110 + 4n, tsv note "DMA"), TIMG6_BASE 0x40868000 + GPTIMER.* offsets, all from mspm0g3507.tsv; DMA
+// triggers from its dmatrig rows (UART0 RX 17, TX 18) and mspm0l1306.tsv (UART0 TX 11).
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstdint>
 
+#include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
 #include "mmio.hpp"
 #include "regs/uart.hpp"
+#include "uart_dma_model.hpp"
 #include "uart_link.hpp"
 #include "uart_serial_tx.hpp"
 
@@ -25,6 +28,7 @@ constexpr uintptr_t kDmaTxImask = kUart + 0x1088;  // DMA_TRIG_TX.IMASK
 constexpr uintptr_t kCtl0 = kUart + 0x1100;
 constexpr uintptr_t kLcrh = kUart + 0x1104;
 constexpr uintptr_t kStat = kUart + 0x1108;
+constexpr uintptr_t kIfls = kUart + 0x110C;
 constexpr uintptr_t kIbrd = kUart + 0x1110;
 constexpr uintptr_t kFbrd = kUart + 0x1114;
 constexpr uintptr_t kTxdata = kUart + 0x1120;
@@ -62,6 +66,9 @@ constexpr uint32_t kEot = 1U << 12;
 constexpr uint32_t kDmaDoneRx = 1U << 15;
 constexpr uint32_t kDmaDoneTx = 1U << 16;
 constexpr uint32_t kErrors = kFrmErr | kParErr | kBrkErr | kOvrErr;
+// IFLS: TXIFLSEL 2:0 = 7 (LVL_1, "TX FIFO >= 1 entry free", which hw_uart.h marks as needed for the DMA
+// trigger and every TI UART TX DMA example uses), RXIFLSEL 6:4 = 7 (LVL_1, one entry, likewise for RX DMA).
+constexpr uint32_t kIflsDma = 0x7 | 0x70;
 // DMACTL: DMAEN bit 1, DMADSTINCR 23:20 = 3 (increment), DMASRCINCR 19:16 = 3; byte widths, single mode.
 constexpr uint32_t kDmaRxCtl = (1U << 1) | (3U << 20);
 constexpr uint32_t kDmaTxCtl = (1U << 1) | (3U << 16);
@@ -111,6 +118,7 @@ TEST_F(UartLinkTest, InitSets1MbaudFromThe32MHzBusClock) {
   EXPECT_EQ(regs().lastWrite(kCtl0), 0x1U | 0x8U | 0x10U | 0x20000U);  // ENABLE RXE TXE FEN
   EXPECT_EQ(regs().lastWrite(kDmaRxImask), 1U << 10);                  // RXINT triggers the DMA
   EXPECT_EQ(regs().lastWrite(kDmaTxImask), 1U << 11);                  // TXINT triggers the DMA
+  EXPECT_EQ(regs().lastWrite(kIfls), kIflsDma);
   EXPECT_LT(regs().findWrite(kIbrd, 2), regs().findWrite(kCtl0, 0x1U | 0x8U | 0x10U | 0x20000U));
   EXPECT_EQ(fresh.baudRate(), 1000000U);
 }
@@ -151,6 +159,24 @@ TEST_F(UartLinkTest, DmaReceiveArmsReceiverFirstAndCompletesWhenFull) {
   EXPECT_EQ(regs().lastWrite(dmaCtl(0)), 0U);  // channels stopped
   EXPECT_EQ(regs().lastWrite(dmaCtl(1)), 0U);
   EXPECT_EQ(regs().lastWrite(kTimerCtrctl), 0U);
+}
+
+TEST_F(UartLinkTest, TransmitRunsOnTheTxDmaTriggerAndEndsAtEndOfTransmission) {
+  // BQ79616 TX path: DMA channel 1 on DMA_UART0_TX_TRIG (18), fed one byte per free FIFO entry.
+  UartTxDmaModel line{kUart, kDma, 1, 18};
+  line.attach();
+  const std::array<uint8_t, 7> frame{0x90, 0x00, 0x03, 0x09, 0x20, 0x13, 0x95};
+  fw::hal::UartExchange ex;
+  ex.tx = frame;  // a write: nothing to receive
+  regs().set(kStat, 0x4);
+  ASSERT_EQ(link.start(ex, counter(done)), fw::Status::Ok);
+  line.transmit(100);
+  ASSERT_EQ(line.sent().size(), frame.size());
+  EXPECT_EQ(line.sent().front(), mmio::address(frame.data()));
+  EXPECT_EQ(line.sent().back(), mmio::address(frame.data()) + 6U);
+  link.onUartInterrupt();  // EOT
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(ex.status, fw::Status::Ok);
 }
 
 TEST_F(UartLinkTest, ReceiveTimeoutAfterAGapIsTruncated) {
@@ -258,20 +284,39 @@ TEST_F(UartLinkTest, StartRejectsEmptyAndBusy) {
 
 class SerialTxTest : public RegisterTest {
  protected:
-  // L1306 back-channel: UART0 (same base on both parts), PA23 PINCM24 PF 2, DMA channel 0, trigger 11
+  // L1306 back-channel: UART0 (same base on both parts) on its back-channel TX pin, DMA channel 0, trigger 11
   // (mspm0l1306.tsv dmatrig DMA_UART0_TX_TRIG).
   UartSerialTx serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
-                       PinFunction{Pin{0, 23, 24}, 2}, DmaChannel{kDma, 0, 11}}};
+                       chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}}};
   int done = 0;
 };
 
-TEST_F(SerialTxTest, InitSets115200Baud) {
+TEST_F(SerialTxTest, InitSets115200BaudOnTheBackChannelPin) {
   serial.init();
   // 32 MHz / (16 * 115200) = 17.361: IBRD 17, FBRD round(0.361 * 64) = 23.
   EXPECT_EQ(regs().lastWrite(kIbrd), 17U);
   EXPECT_EQ(regs().lastWrite(kFbrd), 23U);
-  EXPECT_EQ(regs().lastWrite(0x40428060), 0x80U | 2U);  // PINCM24 = PA23 UART0_TX
-  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 15);    // UART0 is IRQ 15
+  EXPECT_EQ(regs().lastWrite(kIfls), kIflsDma);
+  // PINCM9 = PA8, PF 2 = UART0_TX (mspm0l130x.h IOMUX_PINCM9_PF_UART0_TX; the LP-MSPM0L1306 back-channel,
+  // tsv note "LP-MSPM0L1306 backchannel UART").
+  EXPECT_EQ(regs().lastWrite(0x40428024), 0x80U | 2U);
+  EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 15);  // UART0 is IRQ 15
+}
+
+TEST_F(SerialTxTest, SlcanTextLeavesByDmaAtOneFreeEntryAndIsDoneAtEndOfTransmission) {
+  UartTxDmaModel line{kUart, kDma, 0, 11};
+  line.attach();
+  serial.init();
+  const std::array<uint8_t, 12> text{'t', '1', '0', '0', '2', '1', '6', 'C', '0', '1', '6', '\r'};
+  ASSERT_EQ(serial.write(text, counter(done)), fw::Status::Ok);
+  line.transmit(5);  // the DMA keeps the FIFO topped up while the line sends
+  EXPECT_EQ(line.sent().size(), 5U);
+  EXPECT_EQ(line.fifoLevel(), UartTxDmaModel::kFifoDepth);
+  line.transmit(100);
+  ASSERT_EQ(line.sent().size(), text.size());
+  EXPECT_EQ(line.sent().back(), mmio::address(text.data()) + 11U);
+  serial.onInterrupt();  // DMA_DONE_TX: the line is already idle
+  EXPECT_EQ(done, 1);
 }
 
 TEST_F(SerialTxTest, WriteFeedsTheFifoByDmaAndCompletesAtEndOfTransmission) {

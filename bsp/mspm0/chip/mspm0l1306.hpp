@@ -27,12 +27,13 @@ struct Mspm0l1306 {
   // Pins of the LP-MSPM0L1306 that the images use.
   static constexpr PinFunction kI2c0SdaPa0{{0, 0, 1}, 3};
   static constexpr PinFunction kI2c0SclPa1{{0, 1, 2}, 3};
-  static constexpr PinFunction kUart0TxPa23{{0, 23, 24}, 2};
-  static constexpr PinFunction kUart0RxPa22{{0, 22, 23}, 2};
+  // The XDS110 back-channel UART (tsv note "LP-MSPM0L1306 backchannel UART"): UART0 TX on PA8 = PINCM9, PF 2
+  // (mspm0l130x.h IOMUX_PINCM9_PF_UART0_TX); its RX is PA9 = PINCM10, PF 2, unused (SLCAN output only).
+  static constexpr PinFunction kUart0TxPa8{{0, 8, 9}, 2};
   static constexpr Pin kPa14{0, 14, 15};  // LaunchPad button S2
   static constexpr Pin kPa26{0, 26, 27};  // LaunchPad LED (TI's bq769x2 example)
-  // Not in the tsv pin rows: on the L1306 every listed PAn sits on PINCMn+1 (PA0..PA27 above), and PF 1 is
-  // always GPIO, so PA15 is PINCM16. Used for the battery monitor's ALERT input; see bsp/mspm0/README.md.
+  // The battery monitor's ALERT input: PA15 = PINCM16, GPIO PF 1 (mspm0l130x.h IOMUX_PINCM16_PF_GPIOA_DIO15;
+  // not in the tsv pin rows). See bsp/mspm0/README.md for its LaunchPad jumper.
   static constexpr Pin kPa15{0, 15, 16};
 };
 

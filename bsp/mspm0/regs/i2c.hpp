@@ -58,7 +58,8 @@ inline constexpr uint32_t kClkselBusclk = 1U << 3;
 // GFCTL: analog glitch filter enable (bit 8), AGFSEL 10:9 = 50 ns (0x600).
 inline constexpr uint32_t kGfctlAnalog50ns = (1U << 8) | 0x600U;
 
-// TIMEOUT_CTL: TCNTLA 7:0 (SCL-low timeout, units of 520 functional clocks), TCNTAEN bit 15.
+// TIMEOUT_CTL: TCNTLA 7:0 (SCL-low timeout count; its unit is an open question, i2c_timing.hpp), TCNTAEN
+// bit 15.
 inline constexpr uint32_t kTimeoutAEnable = 1U << 15;
 
 // MSA: SADDR 10:1, DIR bit 0 (1 = receive).
@@ -95,8 +96,11 @@ inline constexpr uint32_t kFifoRxTrigLevel4 = 0x300;
 inline constexpr uint32_t kFifoTxFlush = 1U << 7;
 inline constexpr uint32_t kFifoRxFlush = 1U << 15;
 
-// MFIFOSR: RXFIFOCNT 3:0. FIFO depth: param I2C_SYS_FENTRIES = 8.
+// MFIFOSR: RXFIFOCNT 3:0 (bytes to read), TXFIFOCNT 11:8 (bytes that can still be written; 8 = empty).
+// FIFO depth: param I2C_SYS_FENTRIES = 8.
 inline constexpr uint32_t kFifoRxCountMask = 0xF;
+inline constexpr uint32_t kFifoTxFreeShift = 8;
+inline constexpr uint32_t kFifoTxFreeMask = 0xF00;
 inline constexpr uint32_t kFifoDepth = 8;
 
 // CONTROLLER_I2CPECCTL: PECCNT 8:0, PECEN bit 12. CONTROLLER_PECSR: PECSTS_ERROR bit 17.

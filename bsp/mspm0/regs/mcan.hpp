@@ -65,6 +65,7 @@ static_assert(kQueuesOffset + offsetof(Queues, txbto) == 0x70D8 &&
               kQueuesOffset + offsetof(Queues, txbtie) == 0x70E0);
 
 // Subsystem wrapper: GPRCM at 0x6800 (tsv note "GPRCM keys"), MCANSS_STAT 0x7208 (MEM_INIT_DONE bit 1),
+// MCANSS_EOI 0x7220 (EOI 7:0: 0x01 ends the line-0 interrupt, 0x02 line 1; TI MSPM0 SDK hw_mcan.h),
 // TI_WRAPPER.MSP.CPU_INT at 0x7820 (INTL0 bit 0), MCANSS_CLKEN 0x7900 (CLK_REQEN bit 0) and
 // MCANSS_CLKDIV 0x7904 (RATIO 1:0, 0 = /1).
 struct SsClock {
@@ -73,6 +74,7 @@ struct SsClock {
 };
 inline constexpr uintptr_t kGprcmOffset = 0x6800;
 inline constexpr uintptr_t kSsStatOffset = 0x7208;
+inline constexpr uintptr_t kSsEoiOffset = 0x7220;
 inline constexpr uintptr_t kCpuIntOffset = 0x7820;
 inline constexpr uintptr_t kSsClockOffset = 0x7900;
 
@@ -88,6 +90,9 @@ inline Gprcm& gprcm(uintptr_t base) {
 inline Reg& ssStat(uintptr_t base) {
   return mmio::block<Reg>(base + kSsStatOffset);
 }
+inline Reg& ssEoi(uintptr_t base) {
+  return mmio::block<Reg>(base + kSsEoiOffset);
+}
 inline EventBlock& cpuInt(uintptr_t base) {
   return mmio::block<EventBlock>(base + kCpuIntOffset);
 }
@@ -100,6 +105,7 @@ inline Reg* ram(uintptr_t base, uint32_t byteOffset) {
 }
 
 inline constexpr uint32_t kSsMemInitDone = 1U << 1;
+inline constexpr uint32_t kSsEoiLine0 = 0x01;
 inline constexpr uint32_t kIntLine0 = 1U << 0;
 
 // CCCR

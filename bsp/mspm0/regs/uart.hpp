@@ -67,8 +67,11 @@ inline constexpr uint32_t kLcrh8N1 = 0x30;
 inline constexpr uint32_t kStatBusy = 1U << 0;
 inline constexpr uint32_t kStatRxfe = 1U << 2;
 
-// IFLS: TXIFLSEL 2:0 = 1/2 (0x2), RXIFLSEL 6:4 = one entry (0x70).
-inline constexpr uint32_t kIflsTxHalf = 0x2;
+// IFLS: TXIFLSEL 2:0 = 7, "TX FIFO has at least one entry free", and RXIFLSEL 6:4 = 7 (0x70), "at least one
+// entry received": the levels the DMA triggers need (TI MSPM0 SDK hw_uart.h UART_IFLS_TXIFLSEL_LVL_1 and
+// dl_uart.h DL_UART_RX_FIFO_LEVEL_ONE_ENTRY notes; every TI UART DMA example of both LaunchPads selects
+// them).
+inline constexpr uint32_t kIflsTxOneFree = 0x7;
 inline constexpr uint32_t kIflsRxOne = 0x70;
 
 // CPU_INT bits (UART_CPU_INT_IMASK_*).

@@ -4,16 +4,18 @@
 //           [--can-layout ti|native] [--candump <file>] [--json]
 //   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
-// (ARCHITECTURE.md lists its keys). Exit status: 0 run completed, 2 bad arguments, 1 the run failed.
-#include <cmath>
+// (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal. Exit
+// status: 0 run completed, 2 bad arguments, 1 the run failed.
 #include <cstdio>
 #include <cstring>
-#include <map>
 #include <string>
+
+#include <unistd.h>
 
 #include "image_sim.hpp"
 #include "report.hpp"
 #include "scenario.hpp"
+#include "scenario_player.hpp"
 #include "sim/peripherals.hpp"
 #include "sim_twin.hpp"
 
@@ -47,14 +49,6 @@ bool parseUint(const char* text, uint32_t max, uint32_t& out) {
   out = static_cast<uint32_t>(v);
   return true;
 }
-
-// A quantity that drifts linearly from a start time.
-struct Ramp {
-  int board, index;
-  double start, slopePerMs;
-  uint64_t t0;
-  bool temp;
-};
 
 }  // namespace
 
@@ -111,14 +105,15 @@ int run(int argc, char** argv) {
     return usage("unknown image '" + opt.image + "' (known: " + known + ")");
   }
   std::optional<Scenario> scenario = builtinScenario(scenarioArg);
-  if (!scenario) {
-    std::string error;
-    scenario = loadScenario(scenarioArg, error);
+  const bool builtin = scenario.has_value();
+  Diagnostics diag;
+  if (!builtin) {
+    scenario = loadScenario(scenarioArg, diag);
     if (!scenario) {
-      if (error.find("cannot read") != std::string::npos) {
-        return usage("unknown scenario '" + scenarioArg + "' (not a built-in name, and no such file)");
+      if (diag.unreadable) {
+        return usage("unknown scenario '" + scenarioArg + "' (not a built-in name, and not a readable file)");
       }
-      std::fprintf(stderr, "%s\n", error.c_str());
+      std::fprintf(stderr, "%s\n", diag.error.c_str());
       return 2;
     }
   }
@@ -128,102 +123,33 @@ int run(int argc, char** argv) {
   std::unique_ptr<ImageSim> sim = opt.elf.empty() ? entry->make(opt, error) : makeTwinSim(opt, error);
   if (!sim) return usage(error);
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
+  // The steps against this image, before anything runs: a board it does not have is an error at its line.
+  // Warnings are for files (a built-in's steps past --duration or its current on a BQ79616 are expected).
+  const bool fits =
+      checkScenario(*scenario, {sim->boards(), sim->cellsPerBoard(), sim->tempsPerBoard(), sim->hasCurrent()},
+                    opt.durationMs, diag);
+  for (const auto& w : diag.warnings) {
+    if (!builtin) std::fprintf(stderr, "%s\n", w.c_str());
+  }
+  if (!fits) {
+    std::fprintf(stderr, "%s\n", diag.error.c_str());
+    return 2;
+  }
 
   auto& h = sim->harness();
   // The watchdog supervision every image's main() sets up: fed every 250 ms if every watched task made
   // progress. Its longest gap shows whether anything stalled.
   bsp::host::SimWatchdog watchdog(h.clock);
   h.sched.superviseWatchdog(watchdog, fw::ms(250));
-  std::vector<Ramp> ramps;
-  std::map<std::pair<int, int>, double> cells, temps;
-  auto cellNow = [&](int b, int c) {
-    auto it = cells.find({b, c});
-    return it == cells.end() ? 3700.0 : it->second;
-  };
-  auto tempNow = [&](int b, int s) {
-    auto it = temps.find({b, s});
-    return it == temps.end() ? 2982.0 : it->second;
-  };
-  double onsetMs = -1;
-  bool busOffUnsupported = false;
-  auto checkRange = [&](int b, int c, int max) { return b >= 0 && b < sim->boards() && c >= 1 && c <= max; };
-
-  auto apply = [&](const Step& s) -> bool {
-    const auto& a = s.args;
-    const uint64_t now = h.nowUs();
-    if (s.action == "current") {
-      sim->setCurrentMa(static_cast<int>(a[0]));
-    } else if (s.action == "cell" || s.action == "ramp-cell") {
-      const int b = static_cast<int>(a[0]), c = static_cast<int>(a[1]);
-      if (!checkRange(b, c, sim->cellsPerBoard())) return false;
-      if (s.action == "cell") {
-        cells[{b, c}] = a[2];
-        sim->setCellMv(b, c, static_cast<int>(a[2]));
-      } else {
-        ramps.push_back({b, c, cellNow(b, c), a[2] / 1000.0, now, false});
-      }
-    } else if (s.action == "all-cells" || s.action == "ramp-all") {
-      for (int b = 0; b < sim->boards(); ++b) {
-        for (int c = 1; c <= sim->cellsPerBoard(); ++c) {
-          if (s.action == "all-cells") {
-            cells[{b, c}] = a[0];
-            sim->setCellMv(b, c, static_cast<int>(a[0]));
-          } else {
-            ramps.push_back({b, c, cellNow(b, c), a[0] / 1000.0, now, false});
-          }
-        }
-      }
-    } else if (s.action == "temp" || s.action == "ramp-temp") {
-      const int b = static_cast<int>(a[0]), t = static_cast<int>(a[1]);
-      if (!checkRange(b, t, sim->tempsPerBoard())) return false;
-      if (s.action == "temp") {
-        temps[{b, t}] = a[2];
-        sim->setTempDeciK(b, t, static_cast<int>(a[2]));
-      } else {
-        ramps.push_back({b, t, tempNow(b, t), a[2] / 1000.0, now, true});
-      }
-    } else if (s.action == "comm-loss") {
-      sim->setCommLost(s.text == "on");
-    } else if (s.action == "open-wire") {
-      const int b = static_cast<int>(a[0]), c = static_cast<int>(a[1]);
-      if (!checkRange(b, c, sim->cellsPerBoard())) return false;
-      sim->openWire(b, c);
-    } else if (s.action == "intermittent") {
-      sim->setIntermittent(s.text == "on");
-    } else if (s.action == "bus-off") {
-      if (!sim->busOff()) busOffUnsupported = true;
-    } else if (s.action == "onset") {
-      if (onsetMs < 0) onsetMs = static_cast<double>(now) / 1000.0;
-    }
-    return true;
-  };
-
-  // Run: steps at their times, ramps updated every millisecond, the live view every 500 ms.
+  // Run: each millisecond the scenario moves the pack, then the firmware runs. The live view comes every
+  // 500 ms of simulated time; with --json it goes to stderr when that is a terminal (a 64-device chain runs
+  // slower than real time, and stdout then holds only the summary).
+  ScenarioPlayer player(*sim, *scenario);
   Report report(*sim, opt, *scenario, json);
-  size_t next = 0;
-  const uint64_t endUs = static_cast<uint64_t>(opt.durationMs) * 1000;
-  for (uint64_t t = 0;; t += 1000) {
-    while (next < scenario->steps.size() && static_cast<uint64_t>(scenario->steps[next].timeMs) * 1000 <= t) {
-      if (!apply(scenario->steps[next])) {
-        return usage("scenario step at " + std::to_string(scenario->steps[next].timeMs) +
-                     " ms names a board, cell or sensor this image does not have");
-      }
-      ++next;
-    }
-    for (const Ramp& r : ramps) {
-      const double v = r.start + r.slopePerMs * static_cast<double>(t - r.t0) / 1000.0;
-      if (r.temp) {
-        temps[{r.board, r.index}] = v;
-        sim->setTempDeciK(r.board, r.index, static_cast<int>(std::lround(v)));
-      } else {
-        cells[{r.board, r.index}] = v;
-        sim->setCellMv(r.board, r.index, static_cast<int>(std::lround(v)));
-      }
-      // Onset of a threshold scenario: the first millisecond the emulated value reaches the limit.
-      const bool above = scenario->watchKind == (r.temp ? "temp-above" : "cell-above");
-      if (onsetMs < 0 && above && v >= scenario->threshold) onsetMs = static_cast<double>(t) / 1000.0;
-    }
-    if (t >= endUs) break;
+  report.setLiveOutput(!json ? stdout : isatty(fileno(stderr)) ? stderr : nullptr);
+  for (uint32_t t = 0;; ++t) {
+    player.advance(t);
+    if (t >= opt.durationMs) break;
     sim->runFor(fw::us(1000));
     if (const std::string why = sim->failure(); !why.empty()) {
       std::fprintf(stderr, "bms-sim: %s\n", why.c_str());
@@ -233,7 +159,8 @@ int run(int argc, char** argv) {
     report.tick(h.nowUs());
   }
 
-  report.finish(onsetMs, busOffUnsupported, sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
+  report.finish(player.onsets(), player.busOffUnsupported(),
+                sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;

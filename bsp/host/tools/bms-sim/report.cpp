@@ -26,19 +26,43 @@ std::string ms(uint64_t us) {
 
 }  // namespace
 
+EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets) {
+  EventLatency out;
+  auto onset = onsets.find(fw::app::faultName(e.fault));
+  if (onset == onsets.end()) onset = onsets.find("any");
+  if (onset == onsets.end()) {
+    out.note = "no expected onset";
+    return out;
+  }
+  const uint64_t onsetUs = static_cast<uint64_t>(onset->second) * 1000;
+  out.onsetUs = onsetUs;
+  // A fault already present at the onset (found by a scan before it, e.g. stale data while a long chain
+  // comes up) is not the scenario's doing: it has no latency rather than a negative one.
+  if (e.detected.us < onsetUs || (e.actionDone && e.acted.us < onsetUs)) {
+    out.note = "fault before onset";
+  } else if (!e.actionDone) {
+    out.note = "action pending";
+  } else {
+    out.latencyUs = e.acted.us - onsetUs;
+  }
+  return out;
+}
+
 void Report::tick(uint64_t nowUs) {
-  if (json_ || nowUs < nextView_) return;
+  if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();
-  std::printf(
+  std::fprintf(
+      live_,
       "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu\n",
       static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
       f.currentMa / 1000.0, f.chargeOn ? "CHG:on " : "CHG:off", f.dischargeOn ? "DSG:on " : "DSG:off",
       faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
       static_cast<unsigned long long>(f.outputFrames));
+  std::fflush(live_);
 }
 
-void Report::finish(double onsetMs, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog) {
+void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog) {
   const SimFigures f = sim_.figures();
   const auto log = sim_.protectionLog();
   const uint64_t now = sim_.harness().nowUs();
@@ -54,11 +78,12 @@ void Report::finish(double onsetMs, bool busOffUnsupported, const bsp::host::Sim
                 static_cast<double>(watchdog.longestGapUs(0)) / 1000.0);
     if (log.empty()) std::printf("protection events: none\n");
     for (const auto& e : log) {
-      std::printf(
-          "protection event %-13s onset %s ms, detected %s ms, %s %s ms\n", fw::app::faultName(e.fault),
-          onsetMs < 0 ? "?" : ms(static_cast<uint64_t>(onsetMs * 1000)).c_str(), ms(e.detected.us).c_str(),
-          f.output == "can" && !sim_.hasCurrent() ? "fault output at" : "FETs off at",
-          e.actionDone ? ms(e.acted.us).c_str() : "(pending)");
+      const EventLatency l = latencyOf(e, onsets);
+      std::printf("protection event %-13s onset %s, detected %s ms, %s %s: %s\n", fw::app::faultName(e.fault),
+                  l.onsetUs ? (ms(*l.onsetUs) + " ms").c_str() : "-", ms(e.detected.us).c_str(),
+                  f.output == "can" && !sim_.hasCurrent() ? "fault output at" : "FETs off at",
+                  e.actionDone ? (ms(e.acted.us) + " ms").c_str() : "(pending)",
+                  l.latencyUs ? (ms(*l.latencyUs) + " ms after the onset").c_str() : l.note);
     }
     return;
   }
@@ -102,14 +127,14 @@ void Report::finish(double onsetMs, bool busOffUnsupported, const bsp::host::Sim
   std::printf("  \"protection_events\": [");
   first = true;
   for (const auto& e : log) {
+    const EventLatency l = latencyOf(e, onsets);
     std::printf(
         "%s\n    {\"fault\": \"%s\", \"onset_ms\": %s, \"detected_ms\": %s, \"fets_off_ms\": %s, "
-        "\"latency_ms\": %s}",
-        first ? "" : ",", fw::app::faultName(e.fault), onsetMs < 0 ? "null" : num(onsetMs).c_str(),
-        num(static_cast<double>(e.detected.us) / 1000.0).c_str(),
-        e.actionDone ? num(static_cast<double>(e.acted.us) / 1000.0).c_str() : "null",
-        (e.actionDone && onsetMs >= 0) ? num(static_cast<double>(e.acted.us) / 1000.0 - onsetMs).c_str()
-                                       : "null");
+        "\"latency_ms\": %s, \"latency_note\": %s}",
+        first ? "" : ",", fw::app::faultName(e.fault), l.onsetUs ? ms(*l.onsetUs).c_str() : "null",
+        ms(e.detected.us).c_str(), e.actionDone ? ms(e.acted.us).c_str() : "null",
+        l.latencyUs ? ms(*l.latencyUs).c_str() : "null",
+        l.note ? ("\"" + std::string(l.note) + "\"").c_str() : "null");
     first = false;
   }
   std::printf("%s]\n}\n", first ? "" : "\n  ");

@@ -1,133 +1,464 @@
 #include "scenario.hpp"
 
-#include <cstdlib>
-#include <fstream>
-#include <map>
-#include <sstream>
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstdio>
 
 namespace bmssim {
 namespace {
 
-Step step(uint32_t t, std::string action, std::vector<double> args = {}, std::string text = {}) {
-  return Step{t, std::move(action), std::move(args), std::move(text)};
+// What an argument is: its name in messages and its range. The ranges are what the scenario.hpp header
+// promises; why each is what it is:
+//   cell mV 0..5000: inside every monitor's cell input range (BQ76905 differential cell input -0.2..5.5 V,
+//     SLUSE97 6.12, the same in the BQ76972's ADC table, SLUSFC9; BQ79616 VCELL 16-bit two's complement at
+//     190.73 uV per LSB, +-6.25 V, SLUSE81 register map) and the sum of two cells (an open sense wire) still
+//     fits the 16-bit mV registers;
+//   current mA: CC2 Current (0x3A) is 16-bit signed in userA, 1 mA by default (SLUUBY2B direct commands),
+//     and the BQ4050's Current() (0x0A) 16-bit signed mA (SBS 1.1): a larger value could only wrap;
+//   temperature 0.1 K: -55..+150 degC, past the firmware's limits (-20 and 60 degC) with margin and within
+//     every emulated sensor register (BQ7690x whole degC, BQ79616 DIETEMP 0.025 degC per LSB in 16 bits);
+//   board 0..63: the longest BQ79616 chain --devices accepts; cell 1..16 (BQ76952, BQ79616); sensor 1..3
+//     (BQ76952: internal, TS1, TS3), the most any image models.
+enum class Arg : uint8_t {
+  Board,
+  Cell,
+  Sensor,
+  CellMv,
+  CurrentMa,
+  TempDeciK,
+  CellRate,
+  TempRate,
+  OnOff,
+  Fault
+};
+
+struct ArgSpec {
+  const char* name;  // in the usage text
+  const char* what;  // in messages
+  ValueRange range;
+};
+
+const ArgSpec& spec(Arg a) {
+  static const std::array<ArgSpec, 10> specs = {{
+      {"<board>", "a board number", {0, 63}},
+      {"<cell>", "a cell number", {1, 16}},
+      {"<sensor>", "a sensor number", {1, 3}},
+      {"<mV>", "a cell voltage in mV", kCellMvRange},
+      {"<mA>", "a current in mA", kCurrentMaRange},
+      {"<deciK>", "a temperature in 0.1 K", kTempDeciKRange},
+      {"<mV_per_s>", "a cell drift in mV/s", {-5000, 5000}},
+      {"<deciK_per_s>", "a temperature drift in 0.1 K/s", {-2050, 2050}},
+      {"on|off", "on or off", {0, 1}},
+      {"<fault>|any", "a fault name", {0, 0}},
+  }};
+  return specs[static_cast<size_t>(a)];
 }
 
-// Arguments each action takes: numbers, then an optional word (on/off).
-const std::map<std::string, std::pair<int, bool>>& actions() {
-  static const std::map<std::string, std::pair<int, bool>> table = {
-      {"current", {1, false}},     {"cell", {3, false}},     {"ramp-cell", {3, false}},
-      {"all-cells", {1, false}},   {"ramp-all", {1, false}}, {"temp", {3, false}},
-      {"ramp-temp", {3, false}},   {"comm-loss", {0, true}}, {"open-wire", {2, false}},
-      {"intermittent", {0, true}}, {"bus-off", {0, false}},  {"onset", {0, false}},
-  };
-  return table;
+struct ActionSpec {
+  const char* name;
+  Action action;
+  std::array<Arg, 3> args;
+  uint8_t count;
+};
+
+constexpr std::array<ActionSpec, 12> kActions = {{
+    {"current", Action::Current, {Arg::CurrentMa}, 1},
+    {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
+    {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
+    {"ramp-cell", Action::RampCell, {Arg::Board, Arg::Cell, Arg::CellRate}, 3},
+    {"ramp-all", Action::RampAll, {Arg::CellRate}, 1},
+    {"temp", Action::Temp, {Arg::Board, Arg::Sensor, Arg::TempDeciK}, 3},
+    {"ramp-temp", Action::RampTemp, {Arg::Board, Arg::Sensor, Arg::TempRate}, 3},
+    {"comm-loss", Action::CommLoss, {Arg::OnOff}, 1},
+    {"open-wire", Action::OpenWire, {Arg::Board, Arg::Cell}, 2},
+    {"intermittent", Action::Intermittent, {Arg::OnOff}, 1},
+    {"bus-off", Action::BusOff, {}, 0},
+    {"expect", Action::Expect, {Arg::Fault}, 1},  // and an optional limit
+}};
+
+// The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
+// names against the firmware's).
+struct FaultSpec {
+  const char* name;
+  Watch watch;
+};
+constexpr std::array<FaultSpec, 10> kFaults = {{
+    {"cell_ov", Watch::CellAbove},
+    {"cell_uv", Watch::CellBelow},
+    {"occ", Watch::CurrentAbove},
+    {"ocd", Watch::CurrentBelow},
+    {"ot", Watch::TempAbove},
+    {"ut", Watch::TempBelow},
+    {"device_safety", Watch::None},
+    {"stale_data", Watch::None},
+    {"comm_loss", Watch::None},
+    {"any", Watch::None},
+}};
+
+Arg limitArg(Watch w) {
+  switch (w) {
+    case Watch::CellAbove:
+    case Watch::CellBelow:
+      return Arg::CellMv;
+    case Watch::CurrentAbove:
+    case Watch::CurrentBelow:
+      return Arg::CurrentMa;
+    default:
+      return Arg::TempDeciK;
+  }
 }
+
+struct Builtin {
+  const char* name;
+  const char* description;
+  const char* text;
+};
+constexpr std::array<Builtin, 9> kBuiltins = {{
+    {"idle", "a resting pack at 3.70 V per cell, 25 degC", ""},
+    {"charge", "charging at 10 A: cells rise 20 mV/s from 3.70 V", "0 current 10000\n0 ramp-all 20\n"},
+    {"discharge", "discharging at 15 A: cells fall 20 mV/s from 3.70 V",
+     "0 current -15000\n0 ramp-all -20\n"},
+    {"ov-cell", "cell 2 of board 0 drifts up 40 mV/s from 4.20 V past the 4.25 V over-voltage limit",
+     "0 current 5000\n0 cell 0 2 4200\n1000 ramp-cell 0 2 40\n1000 expect cell_ov 4250\n"},
+    {"ot", "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 60 degC limit",
+     "1000 ramp-temp 0 1 50\n1000 expect ot 3332\n"},
+    {"open-wire", "the sense wire between cells 2 and 3 of board 0 opens at 2 s",
+     "2000 open-wire 0 3\n2000 expect any\n"},
+    {"comm-loss", "the battery monitor stops answering at 2 s", "2000 comm-loss on\n2000 expect any\n"},
+    {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n2000 expect any\n"},
+    {"stale", "from 2 s to 6 s most monitor transactions are corrupted, then the link heals",
+     "2000 intermittent on\n2000 expect any\n6000 intermittent off\n"},
+}};
+
+// A token as the message quotes it: printable ASCII, at most 40 characters.
+std::string quoted(std::string_view token) {
+  std::string out = "'";
+  for (size_t i = 0; i < token.size() && i < 40; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7F) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", c);
+      out += hex;
+    }
+  }
+  return out + (token.size() > 40 ? "...'" : "'");
+}
+
+template <class Table>
+std::string namesOf(const Table& table) {
+  std::string out;
+  for (const auto& entry : table)
+    out += std::string(out.empty() ? "" : ", ") + entry.name;
+  return out;
+}
+
+std::string rangeText(ValueRange r) {
+  return std::to_string(r.lo) + ".." + std::to_string(r.hi);
+}
+
+struct Token {
+  std::string_view text;
+  uint32_t column;  // from 1
+};
+
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+// The words of a line up to its comment.
+std::vector<Token> tokens(std::string_view line) {
+  std::vector<Token> out;
+  size_t i = 0;
+  while (i < line.size() && line[i] != '#') {
+    if (isSpace(line[i])) {
+      ++i;
+      continue;
+    }
+    const size_t start = i;
+    while (i < line.size() && !isSpace(line[i]) && line[i] != '#')
+      ++i;
+    out.push_back({line.substr(start, i - start), static_cast<uint32_t>(start + 1)});
+  }
+  return out;
+}
+
+// A whole token as a decimal integer with an optional sign, without going through floating point. An
+// integer too large for 64 bits counts as out of range, not as malformed.
+enum class Parsed { Ok, NotInteger, OutOfRange };
+Parsed parseInteger(std::string_view text, ValueRange range, int32_t& out) {
+  if (text.size() > 1 && text[0] == '+' && text[1] != '-') text.remove_prefix(1);
+  int64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (end != text.data() + text.size() || (ec != std::errc{} && ec != std::errc::result_out_of_range) ||
+      text.empty()) {
+    return Parsed::NotInteger;
+  }
+  if (ec == std::errc::result_out_of_range || v < range.lo || v > range.hi) return Parsed::OutOfRange;
+  out = static_cast<int32_t>(v);
+  return Parsed::Ok;
+}
+
+class Parser {
+ public:
+  Parser(const std::string& source, Diagnostics& diag) : source_(source), diag_(diag) {}
+
+  std::optional<Scenario> parse(std::string_view text) {
+    Scenario s;
+    s.name = source_;
+    uint32_t lineNo = 0;
+    while (!text.empty()) {
+      ++lineNo;
+      const size_t eol = text.find('\n');
+      const std::string_view line = text.substr(0, eol);
+      text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
+      const auto words = tokens(line);
+      if (words.empty()) continue;
+      Step st;
+      st.line = lineNo;
+      if (!parseStep(words, st)) return std::nullopt;
+      s.steps.push_back(std::move(st));
+    }
+    sortByTime(s.steps);
+    return s;
+  }
+
+ private:
+  bool fail(uint32_t line, uint32_t column, const std::string& message) {
+    diag_.error = source_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": error: " + message;
+    return false;
+  }
+
+  bool number(const Step& st, const Token& t, const char* what, ValueRange range, int32_t& out) {
+    switch (parseInteger(t.text, range, out)) {
+      case Parsed::Ok:
+        return true;
+      case Parsed::NotInteger:
+        return fail(st.line, t.column,
+                    std::string("expected ") + what + " (an integer in " + rangeText(range) + "), got " +
+                        quoted(t.text));
+      case Parsed::OutOfRange:
+        break;
+    }
+    return fail(st.line, t.column,
+                std::string(what) + " must be in " + rangeText(range) + ", got " + quoted(t.text));
+  }
+
+  bool parseStep(const std::vector<Token>& words, Step& st) {
+    int32_t time = 0;
+    if (!number(st, words[0], "a time in ms", {0, static_cast<int32_t>(kMaxTimeMs)}, time)) return false;
+    st.timeMs = static_cast<uint32_t>(time);
+    if (words.size() < 2) return fail(st.line, words[0].column, "expected an action after the time");
+    const Token& name = words[1];
+    const auto* action = std::find_if(kActions.begin(), kActions.end(),
+                                      [&](const ActionSpec& a) { return name.text == a.name; });
+    if (action == kActions.end()) {
+      return fail(st.line, name.column,
+                  "unknown action " + quoted(name.text) + " (known: " + namesOf(kActions) + ")");
+    }
+    st.action = action->action;
+    const size_t given = words.size() - 2;
+    const bool optionalLimit = action->action == Action::Expect;
+    if (given != action->count && !(optionalLimit && given == action->count + 1U)) {
+      std::string usage;
+      for (uint8_t i = 0; i < action->count; ++i)
+        usage += std::string(" ") + spec(action->args[i]).name;
+      if (optionalLimit) usage += " [<limit>]";
+      return fail(st.line, name.column,
+                  std::string("'") + action->name + "' takes" + (usage.empty() ? " no arguments" : usage) +
+                      ", got " + std::to_string(given) + " argument(s)");
+    }
+    for (uint8_t i = 0; i < action->count; ++i) {
+      if (!parseArg(action->args[i], words[2 + i], st)) return false;
+    }
+    if (given > action->count) return parseLimit(words.back(), st);
+    return true;
+  }
+
+  bool parseArg(Arg arg, const Token& t, Step& st) {
+    const ArgSpec& sp = spec(arg);
+    switch (arg) {
+      case Arg::OnOff:
+        if (t.text != "on" && t.text != "off")
+          return fail(st.line, t.column, "expected on or off, got " + quoted(t.text));
+        st.on = t.text == "on";
+        return true;
+      case Arg::Fault:
+        return parseFault(t, st);
+      case Arg::Board:
+        st.boardColumn = t.column;
+        return number(st, t, sp.what, sp.range, st.board);
+      case Arg::Cell:
+      case Arg::Sensor:
+        st.indexColumn = t.column;
+        return number(st, t, sp.what, sp.range, st.index);
+      default:
+        return number(st, t, sp.what, sp.range, st.value);
+    }
+  }
+
+  bool parseFault(const Token& t, Step& st) {
+    const auto* f =
+        std::find_if(kFaults.begin(), kFaults.end(), [&](const FaultSpec& fs) { return t.text == fs.name; });
+    if (f == kFaults.end()) {
+      return fail(st.line, t.column,
+                  "unknown fault " + quoted(t.text) + " (known: " + namesOf(kFaults) + ")");
+    }
+    const auto seen = expected_.find(f->name);
+    if (seen != expected_.end()) {
+      return fail(st.line, t.column,
+                  std::string("'") + f->name + "' is already expected on line " +
+                      std::to_string(seen->second) + " (one expect per fault)");
+    }
+    expected_[f->name] = st.line;
+    st.fault = f->name;
+    st.watch = f->watch;
+    return true;
+  }
+
+  bool parseLimit(const Token& t, Step& st) {
+    if (st.watch == Watch::None) {
+      return fail(
+          st.line, t.column,
+          "'" + st.fault + "' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
+    }
+    const ArgSpec& sp = spec(limitArg(st.watch));
+    st.hasLimit = true;
+    return number(st, t, sp.what, sp.range, st.value);
+  }
+
+  // Steps run in time order; same-time steps keep their file order. Each step written after a later one is
+  // named, so the user sees what moved.
+  void sortByTime(std::vector<Step>& steps) {
+    uint32_t latest = 0, latestLine = 0;
+    size_t moved = 0;
+    for (const Step& st : steps) {
+      if (st.timeMs < latest) {
+        if (++moved <= 10) {
+          diag_.warnings.push_back(source_ + ":" + std::to_string(st.line) + ":1: warning: the step at " +
+                                   std::to_string(st.timeMs) + " ms is written after one at " +
+                                   std::to_string(latest) + " ms (line " + std::to_string(latestLine) +
+                                   "): steps run in time order, so it runs first");
+        }
+      } else {
+        latest = st.timeMs, latestLine = st.line;
+      }
+    }
+    if (moved > 10) {
+      diag_.warnings.push_back(source_ + ": warning: " + std::to_string(moved - 10) +
+                               " more steps are out of time order and run in time order");
+    }
+    std::stable_sort(steps.begin(), steps.end(),
+                     [](const Step& a, const Step& b) { return a.timeMs < b.timeMs; });
+  }
+
+  const std::string& source_;
+  Diagnostics& diag_;
+  std::map<std::string, uint32_t> expected_;  // fault -> line of its expect
+};
 
 }  // namespace
 
 std::vector<std::string> builtinNames() {
-  return {"idle", "charge", "discharge", "ov-cell", "ot", "open-wire", "comm-loss", "bus-off", "stale"};
+  std::vector<std::string> out;
+  for (const auto& b : kBuiltins)
+    out.emplace_back(b.name);
+  return out;
+}
+
+std::string_view builtinText(const std::string& name) {
+  for (const auto& b : kBuiltins) {
+    if (name == b.name) return b.text;
+  }
+  return {};
 }
 
 std::optional<Scenario> builtinScenario(const std::string& name) {
-  Scenario s;
-  s.name = name;
-  if (name == "idle") {
-    s.description = "a resting pack at 3.70 V per cell, 25 degC";
-  } else if (name == "charge") {
-    s.description = "charging at 10 A: cells rise 20 mV/s from 3.70 V";
-    s.steps = {step(0, "current", {10000}), step(0, "ramp-all", {20})};
-  } else if (name == "discharge") {
-    s.description = "discharging at 15 A: cells fall 20 mV/s from 3.70 V";
-    s.steps = {step(0, "current", {-15000}), step(0, "ramp-all", {-20})};
-  } else if (name == "ov-cell") {
-    s.description = "cell 2 of board 0 drifts up 40 mV/s from 4.20 V past the 4.25 V over-voltage limit";
-    s.steps = {step(0, "current", {5000}), step(0, "cell", {0, 2, 4200}),
-               step(1000, "ramp-cell", {0, 2, 40})};
-    s.watchKind = "cell-above";
-    s.threshold = 4250;
-  } else if (name == "ot") {
-    s.description = "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 60 degC limit";
-    s.steps = {step(1000, "ramp-temp", {0, 1, 50})};
-    s.watchKind = "temp-above";
-    s.threshold = 3332;
-  } else if (name == "open-wire") {
-    s.description = "the sense wire between cells 2 and 3 of board 0 opens at 2 s";
-    s.steps = {step(2000, "open-wire", {0, 3}), step(2000, "onset")};
-    s.watchKind = "step";
-  } else if (name == "comm-loss") {
-    s.description = "the battery monitor stops answering at 2 s";
-    s.steps = {step(2000, "comm-loss", {}, "on"), step(2000, "onset")};
-    s.watchKind = "step";
-  } else if (name == "bus-off") {
-    s.description = "the CAN controller goes bus-off at 2 s and recovers";
-    s.steps = {step(2000, "bus-off"), step(2000, "onset")};
-    s.watchKind = "step";
-  } else if (name == "stale") {
-    s.description = "from 2 s to 6 s most monitor transactions are corrupted, then the link heals";
-    s.steps = {step(2000, "intermittent", {}, "on"), step(2000, "onset"),
-               step(6000, "intermittent", {}, "off")};
-    s.watchKind = "step";
-  } else {
+  for (const auto& b : kBuiltins) {
+    if (name != b.name) continue;
+    Diagnostics diag;
+    auto s = parseScenario(b.text, name, diag);  // the built-ins are checked by the tests
+    if (s) s->description = b.description;
+    return s;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> expectableFaults() {
+  std::vector<std::string> out;
+  for (const auto& f : kFaults)
+    out.emplace_back(f.name);
+  return out;
+}
+
+std::optional<Scenario> parseScenario(std::string_view text, const std::string& source, Diagnostics& diag) {
+  return Parser(source, diag).parse(text);
+}
+
+std::optional<Scenario> loadScenario(const std::string& path, Diagnostics& diag) {
+  constexpr size_t kMaxBytes = 1 << 20;
+  FILE* in = std::fopen(path.c_str(), "rb");
+  std::string text;
+  bool readable = in != nullptr;
+  if (in != nullptr) {
+    char buf[4096];
+    size_t n = 0;
+    while (text.size() <= kMaxBytes && (n = std::fread(buf, 1, sizeof buf, in)) > 0)
+      text.append(buf, n);
+    readable = std::ferror(in) == 0;  // a directory opens but does not read
+    std::fclose(in);
+  }
+  if (!readable) {
+    diag.unreadable = true;
+    diag.error = path + ": error: cannot read the scenario file";
     return std::nullopt;
   }
+  if (text.size() > kMaxBytes) {
+    diag.error = path + ": error: larger than 1 MiB, which no scenario file needs";
+    return std::nullopt;
+  }
+  auto s = parseScenario(text, path, diag);
+  if (s) s->description = "steps from " + path;
   return s;
 }
 
-std::optional<Scenario> loadScenario(const std::string& path, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
-    error = path + ": error: cannot read the scenario file";
-    return std::nullopt;
+bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t durationMs, Diagnostics& diag) {
+  auto where = [&](const Step& st, uint32_t column) {
+    return scenario.name + ":" + std::to_string(st.line) + ":" + std::to_string(column);
+  };
+  for (const Step& st : scenario.steps) {
+    const bool cellStep =
+        st.action == Action::Cell || st.action == Action::RampCell || st.action == Action::OpenWire;
+    const bool tempStep = st.action == Action::Temp || st.action == Action::RampTemp;
+    if ((cellStep || tempStep) && st.board >= shape.boards) {
+      diag.error = where(st, st.boardColumn) + ": error: board " + std::to_string(st.board) +
+                   " does not exist: this image has boards 0.." + std::to_string(shape.boards - 1);
+      return false;
+    }
+    const int count = cellStep ? shape.cellsPerBoard : shape.tempsPerBoard;
+    if ((cellStep || tempStep) && st.index > count) {
+      diag.error = where(st, st.indexColumn) + ": error: " + (cellStep ? "cell " : "sensor ") +
+                   std::to_string(st.index) + " does not exist: this image has " +
+                   (cellStep ? "cells" : "sensors") + " 1.." + std::to_string(count) + " per board";
+      return false;
+    }
+    if (st.timeMs > durationMs) {
+      diag.warnings.push_back(where(st, 1) + ": warning: the step at " + std::to_string(st.timeMs) +
+                              " ms comes after the end of the run (" + std::to_string(durationMs) +
+                              " ms): it does not happen");
+    }
+    const bool currentStep =
+        st.action == Action::Current ||
+        (st.action == Action::Expect &&
+         (st.watch == Watch::CurrentAbove || st.watch == Watch::CurrentBelow) && st.hasLimit);
+    if (currentStep && !shape.hasCurrent) {
+      diag.warnings.push_back(where(st, 1) +
+                              ": warning: this image measures no current: the step does nothing");
+    }
   }
-  Scenario s;
-  s.name = path;
-  s.watchKind = "step";
-  std::string line;
-  for (int lineNo = 1; std::getline(in, line); ++lineNo) {
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    std::vector<std::pair<std::string, size_t>> tokens;  // word and its column
-    std::string w;
-    size_t pos = 0;
-    while (words >> w) {
-      pos = line.find(w, pos);
-      tokens.emplace_back(w, pos + 1);
-      pos += w.size();
-    }
-    if (tokens.empty()) continue;
-    auto fail = [&](size_t col, const std::string& msg) {
-      error = path + ":" + std::to_string(lineNo) + ":" + std::to_string(col) + ": error: " + msg;
-      return std::nullopt;
-    };
-    char* end = nullptr;
-    const unsigned long t = std::strtoul(tokens[0].first.c_str(), &end, 10);
-    if (*end != '\0') return fail(tokens[0].second, "expected a time in ms, got '" + tokens[0].first + "'");
-    if (tokens.size() < 2) return fail(tokens[0].second, "expected an action after the time");
-    const auto it = actions().find(tokens[1].first);
-    if (it == actions().end()) return fail(tokens[1].second, "unknown action '" + tokens[1].first + "'");
-    const auto [numbers, word] = it->second;
-    const size_t expected = 2 + static_cast<size_t>(numbers) + (word ? 1 : 0);
-    if (tokens.size() != expected) {
-      return fail(tokens[1].second, "'" + tokens[1].first + "' takes " + std::to_string(expected - 2) +
-                                        " argument(s), got " + std::to_string(tokens.size() - 2));
-    }
-    Step st{static_cast<uint32_t>(t), tokens[1].first, {}, {}};
-    for (int i = 0; i < numbers; ++i) {
-      const auto& tok = tokens[2 + static_cast<size_t>(i)];
-      const double v = std::strtod(tok.first.c_str(), &end);
-      if (*end != '\0') return fail(tok.second, "expected a number, got '" + tok.first + "'");
-      st.args.push_back(v);
-    }
-    if (word) {
-      const auto& tok = tokens.back();
-      if (tok.first != "on" && tok.first != "off") return fail(tok.second, "expected on or off");
-      st.text = tok.first;
-    }
-    s.steps.push_back(st);
-  }
-  return s;
+  return true;
 }
 
 }  // namespace bmssim

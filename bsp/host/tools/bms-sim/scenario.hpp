@@ -1,49 +1,128 @@
 // Scenarios: what happens to the emulated pack over time.
 //
-// A scenario is a list of timed steps. Built-in names: idle, charge, discharge, ov-cell, ot, open-wire,
-// comm-loss, bus-off, stale. A file holds one step per line:
-//   <time_ms> current <mA>
-//   <time_ms> cell <board> <cell> <mV>                 cells are numbered from 1
-//   <time_ms> ramp-cell <board> <cell> <mV_per_s>      drift from the current value
+// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale. Each built-in
+// is scenario text in the file format below, so a file can do whatever a built-in does. A file holds one step
+// per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
+//   <time_ms> current <mA>                             the pack current, charge positive
+//   <time_ms> cell <board> <cell> <mV>
 //   <time_ms> all-cells <mV>
+//   <time_ms> ramp-cell <board> <cell> <mV_per_s>      drift from the present value (0 stops the drift)
+//   <time_ms> ramp-all <mV_per_s>                      every cell drifts
 //   <time_ms> temp <board> <sensor> <deciK>
 //   <time_ms> ramp-temp <board> <sensor> <deciK_per_s>
-//   <time_ms> comm-loss on|off
-//   <time_ms> open-wire <board> <cell>
-//   <time_ms> intermittent on|off
-//   <time_ms> bus-off
-//   <time_ms> expect <fault-name> <onset-description>  marks the onset of the condition a fault should catch
-// '#' starts a comment. Errors name the file, line and column.
+//   <time_ms> comm-loss on|off                         the monitor stops answering
+//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens
+//   <time_ms> intermittent on|off                      most monitor transactions fail
+//   <time_ms> bus-off                                  the CAN controller goes bus-off
+//   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
+//
+// Numbers are decimal integers (no fractions, exponents, nan or inf). Each must lie in its range, or the
+// parser stops with "file:line:col: error: ..." naming the range:
+//   time 0..3600000 ms (the longest --duration); cell 0..5000 mV; current -32768..32767 mA;
+//   temperature 2182..4232 (0.1 K, -55..+150 degC); ramps -5000..5000 mV/s and -2050..2050 0.1 K/s (at most
+//   the whole range in a second); board 0..63, cell 1..16, sensor 1..3. Before the run starts,
+//   checkScenario() checks boards, cells and sensors against the image (the same file:line:col errors) and
+//   warns about steps the run will not reach or that the image ignores.
+// A value set on a cell or sensor replaces its drift; a new drift replaces the old; a drift stops at the
+// range's ends. Steps run in time order, steps with the same time in file order: a file written out of order
+// is sorted so, with a warning naming each line that moved.
+//
+// expect names a protection fault (cell_ov, cell_uv, occ, ocd, ot, ut, device_safety, stale_data, comm_loss)
+// or `any` (every fault), once each. Without a limit the onset is the step's time. With one (cell_ov,
+// cell_uv: mV; occ, ocd: mA; ot, ut: 0.1 K) the onset is the first millisecond from the step's time at which
+// the emulated pack reaches it: any cell >= limit (cell_ov) or <= limit (cell_uv), the current >= (occ) or <=
+// (ocd), any sensor >= (ot) or <= (ut). The summary gives each protection event's latency from its fault's
+// onset (or the `any` onset); an event detected before that onset is reported as "fault before onset".
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace bmssim {
 
+struct ValueRange {
+  int32_t lo, hi;
+};
+inline constexpr uint32_t kMaxTimeMs = 3600000;
+inline constexpr ValueRange kCellMvRange{0, 5000};
+inline constexpr ValueRange kCurrentMaRange{-32768, 32767};
+inline constexpr ValueRange kTempDeciKRange{2182, 4232};
+// The pack every image binding starts with: cells at 3.700 V, sensors at 25 degC.
+inline constexpr int32_t kStartCellMv = 3700;
+inline constexpr int32_t kStartTempDeciK = 2982;
+
+enum class Action : uint8_t {
+  Current,
+  Cell,
+  AllCells,
+  RampCell,
+  RampAll,
+  Temp,
+  RampTemp,
+  CommLoss,
+  OpenWire,
+  Intermittent,
+  BusOff,
+  Expect,
+};
+
+// The emulated quantity an expected fault's limit applies to, and which way it is crossed.
+enum class Watch : uint8_t { None, CellAbove, CellBelow, CurrentAbove, CurrentBelow, TempAbove, TempBelow };
+
 struct Step {
   uint32_t timeMs = 0;
-  std::string action;
-  std::vector<double> args;
-  std::string text;  // on|off, fault names
+  Action action = Action::BusOff;
+  int32_t board = 0;
+  int32_t index = 0;  // cell or sensor, from 1
+  int32_t value = 0;  // mV, mA, 0.1 K, a drift per second, or expect's limit
+  bool on = false;    // comm-loss, intermittent
+  std::string fault;  // expect: a fault name or "any"
+  Watch watch = Watch::None;
+  bool hasLimit = false;  // expect with a limit
+  uint32_t line = 0;
+  uint32_t boardColumn = 0, indexColumn = 0;  // where board and cell/sensor were written
 };
 
 struct Scenario {
-  std::string name;
+  std::string name;  // the built-in's name or the file's path: the prefix of every message
   std::string description;
-  std::vector<Step> steps;
-  // A limit the scenario's condition crosses, so its onset time can be found: onset is when the emulated
-  // value first reaches `threshold` (a cell in mV or a temperature in 0.1 K), for the fault named.
-  std::string watchFault;
-  std::string watchKind;  // "cell-above", "cell-below", "temp-above", "step" (onset = a step's time)
-  double threshold = 0;
+  std::vector<Step> steps;  // in time order
 };
 
-std::optional<Scenario> builtinScenario(const std::string& name);
+// When each expected condition began, in ms of simulated time, by fault name ("any": every fault).
+using Onsets = std::map<std::string, uint32_t>;
+
+// Messages for the user, each "<source>:<line>:<col>: error|warning: ...".
+struct Diagnostics {
+  std::string error;
+  std::vector<std::string> warnings;
+  bool unreadable = false;  // loadScenario: no such file, or not a readable file
+};
+
+// The image's side of the checks the parser cannot make.
+struct PackShape {
+  int boards = 1, cellsPerBoard = 1, tempsPerBoard = 1;
+  bool hasCurrent = true;
+};
+
 std::vector<std::string> builtinNames();
-// Parses a scenario file; on error returns nullopt and sets `error` to "file:line:col: error: ...".
-std::optional<Scenario> loadScenario(const std::string& path, std::string& error);
+std::optional<Scenario> builtinScenario(const std::string& name);
+// The text a built-in is made of (the file format above); empty when there is no such built-in.
+std::string_view builtinText(const std::string& name);
+// The fault names expect accepts, in FaultId order, then "any".
+std::vector<std::string> expectableFaults();
+
+// Parses scenario text; `source` names it in messages. On error returns nullopt and sets diag.error; adds a
+// warning for each step that was out of time order.
+std::optional<Scenario> parseScenario(std::string_view text, const std::string& source, Diagnostics& diag);
+// Reads (at most 1 MiB) and parses a scenario file.
+std::optional<Scenario> loadScenario(const std::string& path, Diagnostics& diag);
+// Checks the steps against the image: false with diag.error for a board, cell or sensor it does not have;
+// warnings for steps after `durationMs` and current steps on an image that measures no current.
+bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t durationMs, Diagnostics& diag);
 
 }  // namespace bmssim

@@ -51,7 +51,10 @@ constinit I2cController monitorLink({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0Sda
 
 constinit TimgClock clock({Chip::kTimg0, Chip::kIrqTimg0, reg::timg::prescalerFor1MHz(kBusClockHz)});
 constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
-constinit GpioEdgeInput monitorSignal(Chip::kPb0, Edge::Falling, Pull::Up);  // ALERT or nFAULT
+// The monitor's active-low signal on PB0, taken on its falling edge: the BQ76952 ALERT, which the images set
+// open-drain, needs the internal pull-up (IOMUX PINCM.PIPU, bit 17; hw_iomux.h IOMUX_PINCM_PIPU); the
+// BQ79616 nFAULT is driven by the device (TI's example reads it with no pull) and the pull-up does no harm.
+constinit GpioEdgeInput monitorSignal(Chip::kPb0, Edge::Falling, Pull::Up);
 #if BMS_BOARD_LED_BUTTON
 constinit GpioEdgeInput button(Chip::kPb21, Edge::Falling, Pull::Up);
 constinit GpioOut led(Chip::kPb22);

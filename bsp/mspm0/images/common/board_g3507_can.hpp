@@ -10,7 +10,7 @@
 //                     back-channel jumpers must be removed)
 //     UART1_PA8_PA9   (TI's SDK example):        UART1 TX PA8, RX PA9 (IRQ 13)
 //     1 Mbaud 8N1, RX on DMA channel 0, TX on DMA channel 1, TIMG6 (IRQ 17) times pings and RX timeouts
-//   the monitor's ALERT (BQ76952) or nFAULT (BQ79616) on PB0 (falling edge, pull-up)
+//   the monitor's ALERT (BQ76952, open-drain) or nFAULT (BQ79616, driven) on PB0 (falling edge, pull-up)
 //   CANFD0 TX PA12, RX PA13 to the TCAN1046 (seed 001), CANCLK = HFXT 40 MHz (PA5/PA6)
 //   button S2 PB21 (falling edge, pull-up) and LED PB22 when built (BMS_BOARD_LED_BUTTON) (LED2 channel),
 //   fault output PB26 (LED2 red, high = fault) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, CANFD0

@@ -36,6 +36,8 @@ constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chi
                              config::kI2cBitRate, kI2cTiming});
 // Set-up runs on constexpr copies of the inputs (their init() is const and inline), so its register writes
 // are constants.
+// ALERT: the BQ769x2-family images set the monitor's ALERT pin active-low, open-drain, so the input takes the
+// falling edge and the internal pull-up (IOMUX PINCM.PIPU, bit 17; hw_iomux.h IOMUX_PINCM_PIPU).
 constexpr GpioEdgeInput kAlert(Chip::kPa15, Edge::Falling, Pull::Up);
 constinit GpioEdgeInput alert = kAlert;
 #if BMS_BOARD_LED_BUTTON
@@ -45,7 +47,7 @@ constinit GpioOut led(Chip::kPa26);
 #endif
 constexpr UartSerialTx::Config kSerialConfig{
     Chip::kUart0, Chip::kIrqUart0,
-    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)), Chip::kUart0TxPa23,
+    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)), Chip::kUart0TxPa8,
     DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}};
 constinit UartSerialTx serial(kSerialConfig);
 

@@ -3,8 +3,9 @@
 //
 // Wiring (pins from mspm0l1306.tsv; see bsp/mspm0/README.md for the jumpers):
 //   I2C0 SDA PA0, SCL PA1 (seed 000 table 2-1, TI's example), bit rate and stretch limit from the image's
-//        board_config.hpp; ALERT of the monitor on PA15 (falling edge, pull-up: open-drain ALERT)
-//   UART0 TX PA23 -> XDS110 back-channel (SLCAN text), DMA channel 0
+//        board_config.hpp; ALERT of the monitor on PA15 (falling edge, internal pull-up: the images set the
+//        BQ76952 ALERT active-low open-drain)
+//   UART0 TX PA8 -> XDS110 back-channel (SLCAN text; jumpers J16 1:2 and J101 9:10), DMA channel 0
 //   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1 (see below)
 //   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15, INT_GROUP1 IRQ 1 (GPIOA)
 //

@@ -1,0 +1,76 @@
+// Bring-up of the LP-MSPM0G3507 board with the monitor on I2C0 (images/common/board_g3507_can.cpp with the
+// board_config.hpp of lp-mspm0g3507-bq76952) on the register model: crystal, CAN, ALERT input and I2C
+// timeout, checked against TI's facts and the model's rules (sysctl_model, mcan_model, i2c_model, pin_model).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "board_g3507_can.hpp"
+#include "chip/mspm0g3507.hpp"
+#include "fixture.hpp"
+#include "i2c_model.hpp"
+#include "mcan_model.hpp"
+#include "pin_model.hpp"
+#include "sysclock.hpp"
+#include "sysctl_model.hpp"
+
+extern "C" {
+uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
+void CANFD0_IRQHandler();
+}
+
+namespace bsp::mspm0::test {
+namespace {
+
+using Chip = chip::Mspm0g3507;
+constexpr uint32_t kBq769x2StretchLimitUs = 4000;  // board_config.hpp: the BQ769x2 stretches SCL up to 4 ms
+
+class G3507I2cBoardTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    i2c.attach();
+    sysctl.attach();
+    can.attach();
+    alert.attach();
+    image::bringUp();
+  }
+
+  I2cModel i2c{Chip::kI2c0};
+  SysctlModel sysctl;
+  McanModel can{Chip::kCanfd0};
+  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PB0 (PINCM12).
+  ActiveLowInput alert{"PB0 ALERT", kGpioaBase + kGpioPortStride, 0, 12, ActiveLowInput::Output::OpenDrain};
+  int calls = 0;
+};
+
+TEST_F(G3507I2cBoardTest, CanRunsOnTheCrystalAndEveryInterruptIsAcknowledged) {
+  ASSERT_EQ(image::board().canStatus, fw::Status::Ok);
+  EXPECT_FALSE(can.initVisible());  // the controller left INIT before bring-up went on
+  fw::hal::CanFrame frame;
+  frame.id = 0x100;
+  frame.dlc = 1;
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_EQ(image::board().can.send(frame), fw::Status::Ok);
+    regs().set(Chip::kCanfd0 + 0x70D8, 1U);  // TXBTO: element 0 sent
+    can.raise(1U << 9);                      // IR.TC
+    ASSERT_TRUE(can.interruptPending());
+    CANFD0_IRQHandler();
+    EXPECT_FALSE(can.lineHeld());  // MCANSS_EOI written: the next transmission can interrupt again
+  }
+  EXPECT_EQ(image::board().can.counters().txFrames, 2U);
+}
+
+TEST_F(G3507I2cBoardTest, AlertIsAFallingEdgeInputWithThePullUp) {
+  image::board().alert.enable(counter(calls));  // the pin model checks PB0 when it is unmasked
+  EXPECT_TRUE(alert.check());
+  image::board().alert.disable();
+}
+
+TEST_F(G3507I2cBoardTest, I2cTimeoutCoversTheStretchLimitUnderBothReadings) {
+  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Header, kBusClockHz), kBq769x2StretchLimitUs);
+  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Trm, kBusClockHz), kBq769x2StretchLimitUs);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

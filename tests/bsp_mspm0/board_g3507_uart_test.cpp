@@ -1,0 +1,66 @@
+// Bring-up of the LP-MSPM0G3507 board with a BQ79616 chain on UART0 (images/common/board_g3507_can.cpp with
+// the board_config.hpp of lp-mspm0g3507-bq79616, default UART0_PA10_PA11) on the register model: the link's
+// TX DMA and the nFAULT input, checked against the model's rules (uart_dma_model, pin_model).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "board_g3507_can.hpp"
+#include "chip/mspm0g3507.hpp"
+#include "fixture.hpp"
+#include "mcan_model.hpp"
+#include "pin_model.hpp"
+#include "sysctl_model.hpp"
+#include "uart_dma_model.hpp"
+
+extern "C" {
+uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
+void UART0_IRQHandler();
+}
+
+namespace bsp::mspm0::test {
+namespace {
+
+using Chip = chip::Mspm0g3507;
+
+class G3507UartBoardTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    sysctl.attach();
+    can.attach();
+    link.attach();
+    nfault.attach();
+    image::bringUp();
+  }
+
+  SysctlModel sysctl;
+  McanModel can{Chip::kCanfd0};
+  UartTxDmaModel link{Chip::kUart0, Chip::kDma, 1, Chip::kDmaTrigUart0Tx};
+  // BQ79616 nFAULT: active low, driven by the device, on PB0 (PINCM12).
+  ActiveLowInput nfault{"PB0 nFAULT", kGpioaBase + kGpioPortStride, 0, 12, ActiveLowInput::Output::Driven};
+  int calls = 0;
+};
+
+TEST_F(G3507UartBoardTest, Bq79616FramesLeaveByDmaAtOneFreeEntry) {
+  // The frame TI prints in its BQ79600-Q1 documents (SLUUC56B): single write of CONTROL1 = 0x20 to device 0.
+  const std::array<uint8_t, 7> frame{0x90, 0x00, 0x03, 0x09, 0x20, 0x13, 0x95};
+  fw::hal::UartExchange exchange;
+  exchange.tx = frame;
+  ASSERT_EQ(image::board().bq79616.start(exchange, counter(calls)), fw::Status::Ok);
+  link.transmit(100);
+  EXPECT_EQ(link.sent().size(), frame.size());
+  UART0_IRQHandler();  // EOT
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(exchange.status, fw::Status::Ok);
+}
+
+TEST_F(G3507UartBoardTest, NfaultIsAFallingEdgeInput) {
+  image::board().nfault.enable(counter(calls));  // the pin model checks PB0 when it is unmasked
+  EXPECT_TRUE(nfault.check());
+  image::board().nfault.disable();
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

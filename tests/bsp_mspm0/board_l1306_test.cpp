@@ -1,0 +1,81 @@
+// Bring-up of the LP-MSPM0L1306 board (images/common/board_l1306_i2c_slcan.cpp with the board_config.hpp of
+// lp-mspm0l1306-bq76952) on the register model: the pins, settings and interrupt paths the image programs,
+// checked against TI's LaunchPad facts and the model's rules (i2c_model, uart_dma_model, pin_model).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "board_l1306_i2c_slcan.hpp"
+#include "chip/mspm0l1306.hpp"
+#include "fixture.hpp"
+#include "i2c_model.hpp"
+#include "pin_model.hpp"
+#include "sysclock.hpp"
+#include "uart_dma_model.hpp"
+
+extern "C" {
+void UART0_IRQHandler();
+void GROUP1_IRQHandler();
+}
+
+namespace bsp::mspm0::test {
+namespace {
+
+using Chip = chip::Mspm0l1306;
+constexpr uintptr_t pincm(uint32_t n) {
+  return 0x40428000 + 4 * n;
+}
+constexpr uint32_t kBq769x2StretchLimitUs = 4000;  // board_config.hpp: the BQ769x2 stretches SCL up to 4 ms
+
+class L1306BoardTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    i2c.attach();
+    serial.attach();
+    alert.attach();
+    image::bringUp();
+  }
+
+  I2cModel i2c{Chip::kI2c0};
+  UartTxDmaModel serial{Chip::kUart0, Chip::kDma, 0, Chip::kDmaTrigUart0Tx};
+  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16).
+  ActiveLowInput alert{"PA15 ALERT", kGpioaBase, 15, 16, ActiveLowInput::Output::OpenDrain};
+  int calls = 0;
+};
+
+TEST_F(L1306BoardTest, SlcanLeavesOnTheBackChannelPinPa8) {
+  // The LP-MSPM0L1306's XDS110 back-channel is UART0 TX on PA8 = PINCM9, PF 2 (mspm0l130x.h
+  // IOMUX_PINCM9_PF_UART0_TX; TI's LP_MSPM0L1306 uart_tx_console_multibyte_repeated_fifo_dma README: jumpers
+  // J16 1:2 and J101 9:10). PA23 (PINCM24) reaches only BoosterPack pin J2_12, so it is left alone.
+  EXPECT_EQ(regs().lastWrite(pincm(9)), 0x80U | 2U);
+  EXPECT_FALSE(regs().lastWrite(pincm(24)).has_value());
+}
+
+TEST_F(L1306BoardTest, SlcanTextReachesTheLineAndCompletesAtEndOfTransmission) {
+  const std::array<uint8_t, 6> text{'t', '1', '0', '0', '0', '\r'};
+  ASSERT_EQ(image::board().serial.write(text, counter(calls)), fw::Status::Ok);
+  serial.transmit(100);
+  EXPECT_EQ(serial.sent().size(), text.size());
+  UART0_IRQHandler();
+  EXPECT_EQ(calls, 1);
+}
+
+TEST_F(L1306BoardTest, AlertIsAFallingEdgeInputWithThePullUpAndReachesItsHandler) {
+  image::board().alert.enable(counter(calls));  // the pin model checks PA15 when it is unmasked
+  EXPECT_TRUE(alert.check());
+  regs().queueRead(Chip::kCpuss + 0x1130, 1);  // INT_GROUP1 IIDX: GPIOA
+  regs().queueRead(kGpioaBase + 0x1038, 1U << 15);
+  GROUP1_IRQHandler();
+  EXPECT_EQ(calls, 1);
+  image::board().alert.disable();
+}
+
+TEST_F(L1306BoardTest, I2cTimeoutCoversTheStretchLimitUnderBothReadings) {
+  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Header, kBusClockHz), kBq769x2StretchLimitUs);
+  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Trm, kBusClockHz), kBq769x2StretchLimitUs);
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test

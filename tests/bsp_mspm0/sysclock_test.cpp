@@ -1,0 +1,57 @@
+// Register-level tests of the G3507's crystal start-up (bsp/mspm0/sysclock.*) against the register model and
+// its SYSCTL rules (sysctl_model.hpp). Addresses: SYSCTL_BASE 0x400AF000 + the SYSCTL.SOCLOCK.* offsets of
+// mspm0g3507.tsv; fields: its SYSCTL_HSCLKEN_*, SYSCTL_HFCLKCLKCFG_*, SYSCTL_GENCLKCFG_* rows; pins: its
+// example row "HFXT" (PA5 PINCM10, PA6 PINCM11).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "fixture.hpp"
+#include "sysclock.hpp"
+#include "sysctl_model.hpp"
+
+namespace bsp::mspm0::test {
+namespace {
+
+constexpr uintptr_t kSysctl = 0x400AF000;
+constexpr uintptr_t kHsclken = kSysctl + 0x1108;
+constexpr uintptr_t kHfclkclkcfg = kSysctl + 0x1110;
+constexpr uintptr_t kGenclkcfg = kSysctl + 0x1138;
+constexpr uintptr_t kClkstatus = kSysctl + 0x1204;
+// HFXTRSEL 13:12 = 3 (32..48 MHz), HFXTTIME 7:0 = 10 (x 64 us), HFCLKFLTCHK bit 28 (start-up monitor).
+constexpr uint32_t kRangeAndTime = 0x3000 | 10;
+constexpr uint32_t kMonitor = 1U << 28;
+
+class SysclockTest : public RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    sysctl.attach();
+  }
+  fw::Status start() { return startHfxt(Pin{0, 5, 10}, Pin{0, 6, 11}); }
+
+  SysctlModel sysctl;
+};
+
+TEST_F(SysclockTest, HfxtIsDisabledBeforeItIsConfiguredThenStartedAndMonitored) {
+  sysctl.hfxtLeftRunning();  // a software SYSRST (the fault path) kept the oscillator on
+  EXPECT_EQ(start(), fw::Status::Ok);
+  // TI's DL_SYSCTL_setHFCLKSourceHFXTParams: HFXTEN off, range and start-up time, HFXTEN on, then the
+  // start-up monitor, then wait for HFCLKGOOD.
+  EXPECT_TRUE(regs().wroteInOrder({{kHsclken, 0x0},
+                                   {kHfclkclkcfg, kRangeAndTime},
+                                   {kHsclken, 0x1},
+                                   {kHfclkclkcfg, kRangeAndTime | kMonitor}}));
+  EXPECT_EQ(regs().value(kGenclkcfg) & (1U << 8), 0U);  // CANCLKSRC 0 = HFCLK
+  EXPECT_EQ(regs().lastWrite(0x40428028), 0U);          // PINCM10 (PA5, HFXIN): no digital function
+  EXPECT_EQ(regs().lastWrite(0x4042802C), 0U);          // PINCM11 (PA6, HFXOUT)
+}
+
+TEST_F(SysclockTest, WithoutACrystalTheWaitIsBoundedAndTimesOut) {
+  sysctl.crystalMissing();
+  EXPECT_EQ(start(), fw::Status::Timeout);
+  EXPECT_EQ(regs().readCount(kClkstatus), 500U);  // ~5 ms of polls, then give up
+}
+
+}  // namespace
+}  // namespace bsp::mspm0::test
