@@ -85,7 +85,15 @@ void Peripheral::updateInterrupt() {
 }
 
 bool Peripheral::read(uint32_t offset, unsigned bytes, uint32_t& value) {
-  if (bytes != 4) return false;
+  if ((offset & 3U) != 0) return false;
+  if (bytes != 4) {
+    // A narrower access to a register's lowest byte lanes (the DMA moving bytes to and from TXDATA/RXDATA
+    // with DMASRCWDTH/DMADSTWDTH = byte, as TI's UART DMA examples do) reads the register's low bits.
+    uint32_t word = 0;
+    const bool ok = read(offset, 4, word);
+    value = word & ((1U << (8 * bytes)) - 1);
+    return ok;
+  }
   if (offset == gprcmOffset_) {
     value = powered_ ? 1U : 0U;
     return true;
@@ -114,7 +122,8 @@ bool Peripheral::read(uint32_t offset, unsigned bytes, uint32_t& value) {
 }
 
 bool Peripheral::write(uint32_t offset, unsigned bytes, uint32_t value) {
-  if (bytes != 4) return false;
+  if ((offset & 3U) != 0) return false;
+  if (bytes != 4) return write(offset, 4, value & ((1U << (8 * bytes)) - 1));  // low byte lanes (DMA)
   if (offset == gprcmOffset_) {
     if ((value >> 24) == kPwrenKey) powered_ = (value & 1U) != 0;  // without the key: ignored
     return true;

@@ -11,7 +11,9 @@
 // firmware expects and the twin must not paper over it):
 // - a register access other than GPRCM while PWREN.ENABLE is 0 ("a peripheral's registers are accessible
 //   only when its power is enabled", TRM "Peripheral power enable control");
-// - a non-32-bit access (the peripheral register files are 32-bit; hw_*.h declare every register uint32_t);
+// - an access that is not at a register's address (the register files are 32-bit, hw_*.h declare every
+//   register uint32_t); a byte or halfword access at the register's address (the DMA's byte transfers to
+//   TXDATA, from RXDATA) reads or writes its low bits;
 // - an offset the model does not implement.
 // RESETASSERT puts the peripheral's registers back to their reset values (resetRegisters()) and sets
 // RESETSTKY; a system reset does the same and also removes power (PWREN resets to 0).

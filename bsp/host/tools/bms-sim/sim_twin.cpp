@@ -3,10 +3,7 @@
 // board does where a user could see it: the frames on CAN or the SLCAN text, the bus traffic, the FETs of the
 // monitor or the fault output pin, the watchdog restarts. Nothing is read out of the firmware's memory.
 //
-// Protection events: a fault's trip is the first published frame (PackSummary or ProtectionEvent) whose
-// active-fault bits show it; its action is the emulated FETs leaving "both on" (BQ769x2/BQ7690x) or the fault
-// output rising (BQ79616, BQ4050) in the scan period before that frame, or the paths already being off. The
-// event's detected time is the earlier of the action and that frame.
+// Protection events come from what the board publishes and does (TwinSim::protectionLog).
 #include "sim_twin.hpp"
 
 #include <algorithm>
@@ -75,8 +72,12 @@ class TwinSim final : public ImageSim {
     for (int b = 0; b < devices_; ++b) {
       for (int c = 1; c <= cellsPerBoard(); ++c)
         push(b, c);
-      for (int t = 1; t <= tempsPerBoard(); ++t)
-        setTempDeciK(b, t, 2982);
+      // As the host bindings: 25 degC on the BQ79616 dies and the BQ4050; the BQ769x2/BQ7690x emulators keep
+      // their own defaults.
+      if (id_.family == Family::Bq79616 || id_.family == Family::Bq4050) {
+        for (int t = 1; t <= tempsPerBoard(); ++t)
+          setTempDeciK(b, t, 2982);
+      }
     }
   }
 
@@ -172,10 +173,12 @@ class TwinSim final : public ImageSim {
     }
   }
   void observeScans();
+  // The first read of a scan (drivers: bq4050 gauge.cpp kScan, the bq769x2 measurement blocks): Voltage on
+  // the BQ4050, the block with the cells from 0x0A (BQ76952) or 0x12 (BQ7690x).
   const char* scanMarker() const {
-    // BQ4050: the Voltage read (gauge.cpp kScan); BQ769x2/BQ7690x: the block read from 0x0A that carries the
-    // cells.
-    return id_.family == Family::Bq4050 ? "S 16 09 " : "S 10 0A ";
+    return id_.family == Family::Bq4050    ? "S 16 09 "
+           : id_.family == Family::Bq76907 ? "S 10 12 "
+                                           : "S 10 0A ";
   }
   uint64_t us(uint64_t cycle) const { return cycle / board_.machine().cyclesPerUs(); }
 
@@ -231,11 +234,18 @@ std::vector<SentFrame> TwinSim::frames() const {
   return out;
 }
 
+// A trip is published: in a ProtectionEvent's NewlyTripped bits (the G3507 images), else as a bit rising in
+// PackSummary.ActiveFaults (the L1306 images send nothing else). Its detection is the protection's action on
+// the board in the two scan periods before that frame: the FET command on the monitor's bus (BQ76952
+// subcommand 0x0093..0x0097 to 0x3E, BQ7690x FET Control 0x68) or the fault output rising; without one (the
+// paths were already off) the frame's time. It took effect when the FETs left "both on" / the output rose, or
+// at once if they already had.
 std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
-  // The physical action: the paths going off (FETs) or the fault output asserting.
+  // A trip is published at the next publish slot, up to a scan period later, and the slot may just miss it.
+  const uint64_t window = 2 * kScanPeriodMs * 1000;
   const bool fets = board_.bq769x() != nullptr;
   const auto& edges = fets ? board_.fetsOn() : board_.faultOutput();
-  auto pathsOffAt = [&](uint64_t t) {  // is the action in effect at time t (us)? and since when?
+  auto offSince = [&](uint64_t t) {  // the paths are off at time t: since when?
     std::optional<uint64_t> since;
     for (const auto& e : edges) {
       if (us(e.cycle) > t) break;
@@ -245,32 +255,59 @@ std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
     }
     return since;
   };
+  auto actionBefore = [&](uint64_t t) -> std::optional<uint64_t> {
+    std::optional<uint64_t> last;
+    if (fets) {
+      for (const auto& tr : board_.i2cLog()) {
+        const uint64_t at = us(tr.startCycle);
+        if (at > t) break;
+        const bool command =
+            tr.text.rfind("S 10 68 ", 0) == 0 || (tr.text.rfind("S 10 3E 9", 0) == 0 && tr.text.size() > 9 &&
+                                                  tr.text[9] >= '3' && tr.text[9] <= '7');
+        if (command && at + window >= t) last = at;
+      }
+    } else {
+      for (const auto& e : edges) {
+        if (us(e.cycle) <= t && us(e.cycle) + window >= t && e.level) last = us(e.cycle);
+      }
+    }
+    return last;
+  };
+  const auto sent = frames();
+  const bool events = std::any_of(sent.begin(), sent.end(),
+                                  [](const SentFrame& s) { return s.id == bms::ProtectionEvent::kId; });
   std::vector<fw::app::ProtectionRecord> log;
   uint16_t active = 0;
-  for (const SentFrame& s : frames()) {
-    uint16_t now;
-    if (s.id == bms::PackSummary::kId) {
-      now = bms::PackSummary::unpack(toCanFrame(s)).activeFaults;
-    } else if (s.id == bms::ProtectionEvent::kId) {
-      now = bms::ProtectionEvent::unpack(toCanFrame(s)).activeFaults;
-    } else {
-      continue;
+  for (const SentFrame& s : sent) {
+    uint16_t tripped = 0;
+    if (events && s.id == bms::ProtectionEvent::kId) {
+      tripped = bms::ProtectionEvent::unpack(toCanFrame(s)).newlyTripped;
+    } else if (!events && s.id == bms::PackSummary::kId) {
+      const uint16_t now = bms::PackSummary::unpack(toCanFrame(s)).activeFaults;
+      tripped = now & ~active;
+      active = now;
     }
     for (uint8_t i = 0; i < fw::app::kFaultCount; ++i) {
-      if (((now & ~active) >> i & 1U) == 0) continue;
+      if (((tripped >> i) & 1U) == 0) continue;
       fw::app::ProtectionRecord r{};
       r.fault = static_cast<fw::app::FaultId>(i);
-      r.detected = fw::Instant{static_cast<uint32_t>(s.timeUs)};
-      if (const auto since = pathsOffAt(s.timeUs)) {
-        r.actionDone = true;
-        // Already off for an earlier fault: in effect at once.
-        const uint64_t acted = s.timeUs - *since <= 2 * kScanPeriodMs * 1000 ? *since : s.timeUs;
-        r.acted = fw::Instant{static_cast<uint32_t>(acted)};
-        r.detected = fw::Instant{static_cast<uint32_t>(std::min<uint64_t>(acted, s.timeUs))};
+      const uint64_t detected = actionBefore(s.timeUs).value_or(s.timeUs);
+      r.detected = fw::Instant{static_cast<uint32_t>(detected)};
+      // In effect: the first moment at or after detection when the paths are off.
+      for (const auto& e : edges) {
+        const bool off = fets ? !e.level : e.level;
+        if (off && us(e.cycle) >= detected && us(e.cycle) <= s.timeUs) {
+          r.actionDone = true;
+          r.acted = fw::Instant{static_cast<uint32_t>(us(e.cycle))};
+          break;
+        }
+      }
+      if (!r.actionDone && offSince(detected)) {
+        r.actionDone = true;  // already off for an earlier fault
+        r.acted = r.detected;
       }
       log.push_back(r);
     }
-    active = now;
   }
   return log;
 }
