@@ -285,6 +285,7 @@ void Core::exceptionReturn(uint32_t excReturn) {
   spsel_ = excReturn == kReturnThreadPsp;
   next_ = words[6] & ~1U;
   event_ = true;
+  extraCycles_ = cycles::kExceptionReturn;
 }
 
 uint32_t Core::step() {
@@ -307,6 +308,7 @@ uint32_t Core::step() {
   uint16_t op = 0;
   if (!fetch(pc_, op)) return 0;
   faulted_ = false;
+  extraCycles_ = 0;
   next_ = pc_ + 2;
   ++instructions_;
   uint32_t spent;
@@ -319,7 +321,7 @@ uint32_t Core::step() {
     spent = execute(op);
   }
   if (!faulted_) pc_ = next_;  // a faulting instruction returns to itself (HardFault's ReturnAddress)
-  return spent;
+  return spent + extraCycles_;
 }
 
 uint32_t Core::execute(uint16_t op) {

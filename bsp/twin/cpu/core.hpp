@@ -125,7 +125,8 @@ class Core {
   bool primask_ = false, spsel_ = false, npriv_ = false;
   uint32_t vtor_ = 0;
   bool sleeping_ = false, waitForEvent_ = false, event_ = false;
-  bool faulted_ = false;  // the current instruction raised HardFault
+  bool faulted_ = false;      // the current instruction raised HardFault
+  uint32_t extraCycles_ = 0;  // an exception return inside the current instruction (its frame pop)
   bool halted_ = false;
   std::string haltReason_;
   uint64_t instructions_ = 0;

@@ -23,8 +23,9 @@ inline constexpr uint32_t kBarrier = 3;          // DSB, DMB, ISB
 inline constexpr uint32_t kHint = 1;             // NOP, YIELD, SEV
 inline constexpr uint32_t kWait = 2;             // WFI, WFE
 // Exception entry: "the worst case interrupt latency ... in a zero wait-state system ... is 15 cycles"
-// (DDI 0484C 5.3; TI SWCU193 "Cortex-M0+ ... interrupt latency"). Return has no table entry: it is charged
-// as the POP of the eight-word frame with PC (3 + 8), an estimate (README, open questions).
+// (DDI 0484C 5.3; TI SWCU193 "Cortex-M0+ ... interrupt latency"). Return has no table entry: the instruction
+// that returns (BX LR, POP {..., PC}) is charged its own cycles plus the pop of the eight-word frame with PC
+// (3 + 8), an estimate (README, open questions).
 inline constexpr uint32_t kExceptionEntry = 15;
 inline constexpr uint32_t kExceptionReturn = 11;
 
