@@ -23,6 +23,7 @@ bool AddressMap::load(uint32_t address, unsigned bytes, uint32_t& value) {
 }
 
 bool AddressMap::store(uint32_t address, unsigned bytes, uint32_t value) {
+  if (storeHook_) storeHook_(address, value);
   const Range* r = find(address);
   return r != nullptr && r->device->write(address - r->base, bytes, value);
 }

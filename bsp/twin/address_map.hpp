@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,8 @@ class AddressMap final : public CoreBus {
   void add(uint32_t base, uint32_t size, Device& device);
   bool load(uint32_t address, unsigned bytes, uint32_t& value) override;
   bool store(uint32_t address, unsigned bytes, uint32_t value) override;
+  // Called before every store through the map (tests find the instruction that writes a register).
+  void onStore(std::function<void(uint32_t address, uint32_t value)> hook) { storeHook_ = std::move(hook); }
   // "I2C0 + 0x1234" for a mapped address, "no model" otherwise.
   std::string describe(uint32_t address) const override;
 
@@ -41,6 +44,7 @@ class AddressMap final : public CoreBus {
   const Range* find(uint32_t address) const;
 
   std::vector<Range> ranges_;
+  std::function<void(uint32_t, uint32_t)> storeHook_;
   mutable const Range* last_ = nullptr;
 };
 

@@ -224,6 +224,7 @@ void Machine::run(uint64_t endCycle) {
     }
   }
   if (!core_.halted()) fireDue();
+  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_);
 }
 
 }  // namespace twin

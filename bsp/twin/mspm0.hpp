@@ -47,6 +47,8 @@ class Mspm0 {
   I2c& i2c0() { return *i2c0_; }
   Uart& uart(int n) { return n == 0 ? *uart0_ : *uart1_; }
   Mcan* mcan() { return mcan_.get(); }  // G3507 only
+  const Mcan* mcan() const { return mcan_.get(); }
+  const Pins& pins() const { return *pins_; }
   // PINCM index of port/bit (0 if the part has no such pin).
   int pincm(int port, int bit) const;
 

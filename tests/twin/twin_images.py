@@ -75,6 +75,8 @@ def check_healthy(summary):
         fail(f"the MCU reset {summary['twin_resets']} times")
     if summary["twin_hard_faults"] != 0:
         fail(f"{summary['twin_hard_faults']} HardFaults")
+    if summary["twin_warnings"]:
+        fail(f"the twin noticed: {summary['twin_warnings']}")
 
 
 def pack_summaries(frames):

@@ -9,7 +9,7 @@ namespace {
 // PINCM indices of the board's signals (tsv pin rows, mspm0g350x.h / mspm0l130x.h IOMUX_PINCMn).
 constexpr int kPa0 = 1, kPa1 = 2, kPf2 = 2;
 constexpr int kL1306Pa8 = 9, kL1306Pa15 = 16;
-constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pb0 = 12, kG3507Pb26 = 57;
+constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb26 = 57;
 constexpr uint8_t kBq769xAddress = 0x08;
 
 bool contains(const std::string& s, const char* what) {
@@ -191,6 +191,7 @@ void Board::noteChainByte(uint8_t byte) {
 
 void Board::wireCan() {
   chip_.mcan()->onFrame([this](const CanWireFrame& f) { canFrames_.push_back(f); });
+  chip_.pins().setExternal(kG3507Pa13, Drive::High);  // the transceiver's RXD: recessive while idle
 }
 
 void Board::samplePins() {
@@ -221,6 +222,33 @@ void Board::setMonitorPresent(bool present) {
     for (size_t d = 0; d < chain_->size(); ++d)
       chain_->setMuted(d, !present);
   }
+}
+
+void Board::driveMonitorSignal(bool level) {
+  if (nfault_) {
+    nfault_->drive(level);  // the chain's own output: the sampler keeps the pin in step
+    samplePins();
+  } else if (signalPincm_ != 0) {
+    chip_.pins().setExternal(signalPincm_, level ? Drive::None : Drive::Low);  // open drain
+  }
+}
+
+std::vector<std::string> Board::warnings() const {
+  std::vector<std::string> out;
+  for (const std::string& pin : chip_.pins().floatingReads())
+    out.push_back(pin + " read while floating (no drive, no pull)");
+  if (const Mcan* mcan = chip_.mcan()) {
+    for (const std::string& n : mcan->notes())
+      out.push_back("CANFD0: " + n);
+    for (int line = 0; line < 2; ++line) {
+      const uint64_t waiting = mcan->awaitingEoiCycles(line) / chip_.machine().cyclesPerUs();
+      if (waiting > 10000) {
+        out.push_back("CANFD0 interrupt line " + std::to_string(line) + " waiting for MCANSS_EOI for " +
+                      std::to_string(waiting / 1000) + " ms: its later interrupts are lost");
+      }
+    }
+  }
+  return out;
 }
 
 bool Board::injectBusOff() {

@@ -92,6 +92,8 @@ class Board {
   void setMonitorPresent(bool present);
   // Called at every watchdog restart, with the world clock at that moment.
   void onWatchdogFeed(std::function<void()> hook) { feedHook_ = std::move(hook); }
+  // Drives the monitor's ALERT (BQ769x2/BQ7690x) or nFAULT (BQ79616) line: low = asserted.
+  void driveMonitorSignal(bool level);
   // The CAN controller goes bus-off; false on a board without CAN.
   bool injectBusOff();
 
@@ -104,6 +106,9 @@ class Board {
   const std::vector<uint64_t>& watchdogFeeds() const { return watchdogFeeds_; }
   const std::vector<I2cWireLog>& i2cLog() const { return i2cLog_; }
   const std::vector<ChainCommand>& chainCommands() const { return chainCommands_; }
+  // What the twin noticed that the part would do silently: floating inputs read, protected MCAN writes
+  // ignored, an MCAN interrupt line waiting for its EOI longer than 10 ms. Empty for a healthy image.
+  std::vector<std::string> warnings() const;
   uint64_t uartBytes() const { return uartBytes_; }
   uint64_t uartRxBytes() const { return uartRxBytes_; }
   uint64_t unroutedBytes() const { return unroutedBytes_; }  // UART bytes that left on no connected pin

@@ -55,7 +55,9 @@ bool Gpio::readRegister(uint32_t offset, uint32_t& value) {
       for (int bit = 0; bit < 32; ++bit) {
         const PinId* pin = pins_.find(port_, bit);
         if (pin == nullptr || (pins_.pincm(pin->pincm) & Pins::kInputEnable) == 0) continue;
-        if (pins_.floating(pin->pincm)) pins_.noteFloatingRead(*pin);
+        // A floating GPIO input reads anything on the part; the twin reads 0 and records it.
+        if (pins_.routed(pin->pincm, Pins::kPfGpio) && pins_.floating(pin->pincm))
+          pins_.noteFloatingRead(*pin);
         if (pins_.level(pin->pincm)) value |= 1U << bit;
       }
       return true;

@@ -105,9 +105,15 @@ void Mcan::updateLines() {
     const bool pending = (ile_ & (1U << n)) && (ir_ & ie_ & selected) != 0;
     if (pending && !lineHeld_[static_cast<size_t>(n)]) {
       lineHeld_[static_cast<size_t>(n)] = true;  // held until EOI
-      raise(1U << n);                            // wrapper RIS.INTLn
+      heldSince_[static_cast<size_t>(n)] = machine_.now();
+      raise(1U << n);  // wrapper RIS.INTLn
     }
   }
+}
+
+uint64_t Mcan::awaitingEoiCycles(int line) const {
+  const auto n = static_cast<size_t>(line);
+  return lineHeld_[n] ? machine_.now() - heldSince_[n] : 0;
 }
 
 void Mcan::tryTransmit() {

@@ -70,6 +70,9 @@ class Mcan final : public Peripheral {
   void onFrame(std::function<void(const CanWireFrame&)> sink) { sink_ = std::move(sink); }
   void injectBusOff();
   const std::vector<std::string>& notes() const { return notes_; }
+  // How long line n has been waiting for its EOI (0 if it is not asserted): an ISR that never writes
+  // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
+  uint64_t awaitingEoiCycles(int line) const;
   bool busOff() const { return busOff_; }
 
  private:
@@ -115,6 +118,7 @@ class Mcan final : public Peripheral {
   uint32_t clken_ = 0, clkdiv_ = 0;
   uint64_t clockRequestedAt_ = UINT64_MAX;
   std::array<bool, 2> lineHeld_{};  // asserted, waiting for EOI
+  std::array<uint64_t, 2> heldSince_{};
 };
 
 }  // namespace twin

@@ -365,6 +365,14 @@ SimFigures TwinSim::figures() {
   f.extra.emplace_back("twin_instructions", std::to_string(m.core().instructions()));
   f.extra.emplace_back("twin_resets", std::to_string(m.resets().size() - 1));  // the power-on is not counted
   f.extra.emplace_back("twin_hard_faults", std::to_string(m.hardFaults().size()));
+  std::string warnings = "[";
+  for (const std::string& w : board_.warnings()) {
+    warnings += warnings.size() > 1 ? ", \"" : "\"";
+    for (char c : w)
+      warnings += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    warnings += '"';
+  }
+  f.extra.emplace_back("twin_warnings", warnings + "]");
   return f;
 }
 
