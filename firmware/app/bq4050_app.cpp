@@ -57,10 +57,11 @@ inline void Bq4050Monitor::finished(Instant now) {
   } else {
     ++r_.stats.scanFailures;
     if (++f_.failedInRow >= 3) {
-      // Three failed scans in a row: the gauge may have reset or gone; probe it again after the interval.
+      // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every
+      // interval.
       f_.probed = false;
       f_.failedInRow = 0;
-      scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryInterval);
+      f_.retryDue = true;
     }
   }
   summarize(view_, now);

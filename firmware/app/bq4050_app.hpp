@@ -3,7 +3,8 @@
 // Tasks (priority = TaskId, higher first):
 //   2 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
 //   1 monitor      probe (device type, PEC detection), then a scan every scan period; after three failed
-//                  scans in a row it probes again, at most once per retry interval
+//                  scans in a row it probes again at once (the gauge may have reset: PEC and device type are
+//                  checked anew), and while probes fail, again every retry interval
 //   0 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
 // The gauge protects the pack with its own FETs (SafetyStatus); the firmware layer adds its limits and acts
 // through the fault output, as on the BQ79616 image.
@@ -27,7 +28,7 @@ namespace fw::app {
 struct Bq4050AppConfig {
   drivers::bq4050::GaugeConfig gauge{};
   Duration scanPeriod = ms(100);
-  Duration retryInterval = s(1);
+  Duration retryInterval = ms(100);  // between failed probes (a probe of an absent gauge is a few NACKs)
 };
 
 struct Bq4050Stats {

@@ -37,7 +37,7 @@ inline void Bq79616Monitor::startNext(Instant now) {
     f_.retryDue = false;
     ++r_.stats.recoveries;
     // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
-    if ((f_.phase == Phase::BringUp ? chain_.startBringUp() : chain_.startRecovery()) == Status::Ok)
+    if ((f_.phase == Phase::BringUp ? chain_.startBringUp() : chain_.startRecovery(f_.from)) == Status::Ok)
       r_.opStarted = now;
     return;
   }
@@ -53,33 +53,55 @@ inline void Bq79616Monitor::startNext(Instant now) {
   f_.early = false;
 }
 
-inline void Bq79616Monitor::finished(Instant now) {
+// Bring-up or recovery ended: run with the devices that answer (CommFault names the missing one); otherwise
+// try again.
+inline void Bq79616Monitor::recovered(Status result) {
+  using b616::RecoveryLevel;
+  const bool wasRecovery = f_.phase == Phase::Recovering;
+  if (result == Status::Ok || (result == Status::CommFault && chain_.devices() > 0)) {
+    f_.phase = Phase::Running;
+    f_.failedInRow = 0;
+    f_.scanDue = true;
+    // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
+    // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
+    const RecoveryLevel reached = chain_.lastRecovery();
+    if (wasRecovery) {
+      f_.from = reached == RecoveryLevel::HardwareReset
+                    ? reached
+                    : static_cast<RecoveryLevel>(static_cast<uint8_t>(reached) + 1);
+    }
+    return;
+  }
+  // A failed ladder has sent a WAKE at least (its last rungs are full bring-ups), so the registers are reset:
+  // only a full bring-up can bring the chain back, whatever a lighter rung's probe would say.
+  if (wasRecovery && f_.from < RecoveryLevel::Rewake) f_.from = RecoveryLevel::Rewake;
+}
+
+[[gnu::always_inline]] inline void Bq79616Monitor::finished(Instant now) {
   const Status result = chain_.result();
   if (!f_.scanning) {
-    // Bring-up or recovery: run with the devices that answer (CommFault names the missing one); otherwise
-    // try again after the interval.
-    if (result == Status::Ok || (result == Status::CommFault && chain_.devices() > 0)) {
-      f_.phase = Phase::Running;
-      f_.failedInRow = 0;
-      f_.scanDue = true;
-    } else {
-      scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.recoveryInterval);
-    }
+    recovered(result);
+    if (f_.phase != Phase::Running)
+      scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryAfterFailure);
     return;
   }
   f_.scanning = false;
   ++r_.stats.scans;
   r_.stats.lastScan = elapsed(r_.opStarted, now);
   publishScan(now);
+  // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
+  // over, and the next recovery may start at the lightest rung again.
+  if (chain_.devices() != 0 && r_.summary.validDevices == chain_.devices()) f_.from = b616::RecoveryLevel{};
   if (result == Status::Ok) {
     f_.failedInRow = 0;
   } else {
     ++r_.stats.scanFailures;
     if (++f_.failedInRow >= 3) {
-      // Repeated failures: climb the recovery ladder, at most once per recoveryInterval.
+      // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
+      // otherwise at most once per recoveryInterval.
       f_.phase = Phase::Recovering;
       scheduler_.startTimer(r_.retryTimer, kId, kRetry,
-                            f_.failedInRow == 3 ? Duration{} : config_.recoveryInterval);
+                            f_.from == b616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
     }
   }
 }

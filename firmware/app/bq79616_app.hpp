@@ -2,7 +2,16 @@
 //
 // Tasks (priority = TaskId, higher first):
 //   2 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
-//   1 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery
+//   1 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery after
+//                  three failed scans in a row: at once if a scan validated since the last recovery,
+//                  otherwise recoveryInterval later. Recovery climbs the driver's ladder (chain.hpp) from
+//                  where it must: from COMM CLEAR after a scan that validated every device in use; one rung
+//                  above the last successful rung when the scans failed again since; and from the full
+//                  bring-up (WAKE, addressing, configuration, ADC start) after a recovery that failed,
+//                  because its WAKE has reset every register. So scans that keep failing always end in a full
+//                  bring-up. A bring-up or recovery that found no chain at all is tried again
+//                  retryAfterFailure after it ended (the link is down, the bus idle): a healed link is then
+//                  up again within about one failed attempt plus one bring-up.
 //   0 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
 // The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
 // The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
@@ -29,7 +38,8 @@ struct Bq79616AppConfig {
   Duration scanPeriod = ms(100);
   const ProtectionConfig* limits = nullptr;  // null: kDefaultLimits (default_limits.hpp)
   CanLayout layout = CanLayout::Native;
-  Duration recoveryInterval = s(1);  // at most one recovery attempt per interval
+  Duration recoveryInterval = s(1);      // wait before another recovery while scans keep failing
+  Duration retryAfterFailure = ms(100);  // after a bring-up or recovery that brought no chain back
 };
 
 struct Bq79616Storage {
@@ -82,6 +92,7 @@ class Bq79616Monitor final : public sched::Task {
   // inline (.cpp): each has one caller and is folded into it.
   inline void startNext(Instant now);
   inline void finished(Instant now);
+  inline void recovered(Status result);
   void publishScan(Instant now);
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
@@ -94,6 +105,7 @@ class Bq79616Monitor final : public sched::Task {
     bool retryDue;  // start() posts kRetry: bring-up starts at once
     bool early;
     uint8_t failedInRow;
+    drivers::bq79616::RecoveryLevel from;  // the rung the next recovery starts at
   };
   struct Records {
     Instant opStarted;

@@ -4,45 +4,16 @@
 // output's start-up state.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
-#include <memory>
 
-#include "app/bq79616_app.hpp"
-#include "bq79616/chain_emulator.hpp"
-#include "sim/can.hpp"
-#include "sim/harness.hpp"
-#include "sim/peripherals.hpp"
-#include "sim/uart.hpp"
+#include "bq79616/board.hpp"
 
 namespace {
 
-struct G3507 {
-  static constexpr size_t kDevices = 2;
-  bsp::host::Harness h;
-  bsp::host::SimUart uart{h.clock, h.irq, 1000000};
-  bsp::host::Bq79616ChainEmulator emu{h.clock, uart, kDevices};
-  bsp::host::SimEdgeInput nfault{h.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimCan can{h.clock, h.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut{h.clock, true};  // the board asserts it from reset
-  fw::app::Bq79616AppConfig config = [] {
-    fw::app::Bq79616AppConfig c;
-    c.chain.devices = kDevices;
-    return c;
-  }();
-  std::unique_ptr<fw::app::Bq79616Storage> storage = std::make_unique<fw::app::Bq79616Storage>();
-  fw::app::Bq79616App app{h.sched, fw::app::Bq79616App::Io{uart, nfault, can, faultOut}, config, *storage};
-
-  G3507() {
-    uart.attach(emu);
-    emu.attachFaultPin(nfault);
-    for (size_t d = 0; d < kDevices; ++d) {
-      for (int c = 1; c <= 16; ++c)
-        emu.setCellMicrovolts(d, c, 3700000);
-      for (int t = 1; t <= 2; ++t)
-        emu.setDieTempRaw(d, t, static_cast<int16_t>(2982 * 4 - 10926));  // 25 degC, 0.025 degC per LSB
-    }
-    app.start();
-  }
+// Two devices, as in TI's example.
+struct G3507 : bsp::host::Bq79616Board {
+  G3507() : Bq79616Board(2) {}
   // When the fault output was last driven high at or after `fromUs`, or 0.
   uint64_t assertedAt(uint64_t fromUs) const {
     for (const auto& [t, level] : faultOut.history())

@@ -71,7 +71,8 @@ enum Kind : uint8_t {
   kRDllSync,   // DLL-sync dummies: broadcast reads of kDllSyncFrames consecutive registers, responses unused
   kRDiscover,  // single reads of DIR0_ADDR from address 0 up until a device does not answer
   kRVerify,    // broadcast read of DIR0_ADDR: every address, top first; a failure ends the operation
-  kRProbe,     // the same as a recovery probe: success ends the ladder at rung `value`
+  kRProbe,     // broadcast read of DEV_STAT as a recovery probe: success ends the ladder at rung `value`
+  kRCrcDone,   // broadcast reads of DEV_STAT until every device reported CUST_CRC_DONE (bounded)
   kRCrc,       // broadcast read of CUST_CRC_RSLT, for kWCrc
   kRFaults,    // broadcast read of FAULT_SUMMARY: every device clear
   kRScan,      // a scan part (`value` = ValidBits), with retry and per-device fallback
@@ -79,6 +80,10 @@ enum Kind : uint8_t {
 
 constexpr uint8_t kDllSyncFrames = 8;  // TI's table 9-19: 8 dummy writes, then 8 dummy reads
 
+// Waiting for CUST_CRC_DONE: TI gives no time for a CRC pass, so the driver polls DEV_STAT every
+// kCrcPollInterval, at most kCrcPolls times (about 50 ms plus the reads), then fails with Timeout.
+constexpr uint8_t kCrcPolls = 50;
+constexpr Duration kCrcPollInterval = ms(1);
 // INIT bytes of the frames the scripts send (a write's data length − 1 goes into bits 2:0).
 constexpr uint8_t kInitSingleRead = initByte(R::SingleRead, 0);
 constexpr uint8_t kInitBroadcastRead = initByte(R::BroadcastRead, 0);
@@ -136,12 +141,25 @@ constexpr Step kBringUp[] = {
     frame(kWTop, regs::kCommCtrl, 1),
     frame(kRVerify, regs::kDir0Addr),
     kPhase,
-    // Configure. NVM-shadow writes first, so the CRC refresh covers them (chain.hpp).
+    // Configure, in TI's order (its bq79616 example masks the CRC fault with FAULT_MSK2 = 0x40 before it
+    // changes the NVM shadow registers): mask, write, wait until a CRC pass over the new contents has ended
+    // (SLUSF21 DEV_STAT[CUST_CRC_DONE]), copy each device's CUST_CRC_RSLT to its CUST_CRC, clear, unmask.
+    // FAULT_MSK2 is an NVM shadow register itself, inside the customer CRC (SLUSF21 register-map summary),
+    // so unmasking changes the contents once more and the refresh is repeated over the final contents.
+    delay(kOnce,
+          4400),  // TI's example: 4 ms of "AFE settling" after addressing (no document gives one) + 10 %
+    frame(kWBcast, regs::kFaultMsk2, regs::kFaultMsk2CustCrc),
     frame(kWActiveCell, regs::kActiveCell),
     frame(kWAdcConf1, regs::kAdcConf1),
+    frame(kRCrcDone, regs::kDevStat),
     frame(kRCrc, regs::kCustCrcRsltHi, 0, 2),
     frame(kWCrc, regs::kCustCrcHi, 0, 2),
     frame(kWBcast, regs::kFaultRst1, 0xFF, 2),  // FAULT_RST1 and FAULT_RST2
+    frame(kWBcast, regs::kFaultMsk2, 0x00),
+    frame(kRCrcDone, regs::kDevStat),
+    frame(kRCrc, regs::kCustCrcRsltHi, 0, 2),
+    frame(kWCrc, regs::kCustCrcHi, 0, 2),
+    frame(kWBcast, regs::kFaultRst1, 0xFF, 2),
     frame(kWBcast, regs::kAdcCtrl1, regs::kAdcCtrl1Continuous),
     delay(kAdcSettle, 5),  // + config adcSettle: LPF settling, 5 us per device as TI's bring-up waits
     kEnd,
@@ -173,11 +191,11 @@ constexpr Step kRecovery[] = {
     {code(Op::Drain)},
     ping(kCommClearPing),
     delay(kOnce, 100),  // tUART(RXMIN) after COMM CLEAR, before the next frame, rounded up
-    frame(kRProbe, regs::kDir0Addr, static_cast<uint8_t>(RecoveryLevel::CommClear)),
+    frame(kRProbe, regs::kDevStat, static_cast<uint8_t>(RecoveryLevel::CommClear)),
     ping(kSleepToActivePing),
     delay(kPerDevice, 1000),  // tSU(SLP2ACT) 230 us + the SLEEPtoACTIVE tone per device (estimate)
     {code(Op::Drain)},
-    frame(kRProbe, regs::kDir0Addr, static_cast<uint8_t>(RecoveryLevel::SleepToActive)),
+    frame(kRProbe, regs::kDevStat, static_cast<uint8_t>(RecoveryLevel::SleepToActive)),
     call(RecoveryLevel::Rewake),
     frame(kWBase, regs::kControl2, regs::kControl2SendHwReset),
     delay(kPerDevice, 2000),  // the HW_RESET tone up the stack, per device (estimate)
@@ -186,6 +204,10 @@ constexpr Step kRecovery[] = {
     call(RecoveryLevel::HardwareReset),
     kEnd,
 };
+// Where startRecovery(from) enters the ladder, by RecoveryLevel.
+constexpr uint8_t kRungStart[] = {0, 4, 8, 9};
+static_assert(opOf(kRecovery[kRungStart[1]]) == Op::Ping && opOf(kRecovery[kRungStart[2]]) == Op::Call &&
+              kRecovery[kRungStart[3]].code == code(Op::Frame, kWBase));
 // After a COMM CLEAR or SLEEPtoACTIVE rung: those set FAULT_COMM1[COMMCLR_DET, STOP_DET] themselves.
 constexpr Step kRecovered[] = {
     frame(kWBcast, regs::kFaultRst2, regs::kFaultRst2AllComm),
@@ -294,10 +316,10 @@ Status Chain::startClearFaults() {
   return begin(kClearFaults, false);
 }
 
-Status Chain::startRecovery() {
+Status Chain::startRecovery(RecoveryLevel from) {
   if (active_) return Status::Busy;
   ++stats_.recoveryAttempts;
-  return begin(kRecovery, false);
+  return begin(kRecovery + kRungStart[static_cast<uint8_t>(from)], false);
 }
 
 Status Chain::startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data) {
@@ -348,9 +370,9 @@ Progress Chain::onEvent(sched::EventMask events) {
       uart_.abort();
       count(Status::Timeout);
       fail(Status::Timeout);
-    } else {
+    } else if (w == Wait::Timer) {
       advance();
-    }
+    }  // Wait::Poll: run() sends the same step's next poll
   }
   run();  // returns at once unless a step above ended
   // Operations start only from start*(), never inside onEvent(): an operation that was running and is not
@@ -533,6 +555,10 @@ void Chain::issue(const Step& s) {
       // that re-discover it.
       if (devices_ < configured_) reps = 0;
       break;
+    case code(Op::Frame, kRCrcDone):
+      if (loop_ == 0) crcDone_[0] = crcDone_[1] = 0;
+      reps = kCrcPolls + 1;  // onRead() ends the step: all done, or Timeout after the last poll
+      break;
     case code(Op::Frame, kRScan):
       if ((parts_ & s.value) == 0) {
         reps = 0;
@@ -621,8 +647,17 @@ void Chain::issue(const Step& s) {
       switch (s.code) {
         case code(Op::Frame, kRDiscover):
         case code(Op::Frame, kRVerify):
-        case code(Op::Frame, kRProbe):
           if ((v & kMaxAddress) != dev) r = Status::VerifyFailed;
+          break;
+        case code(Op::Frame, kRProbe):
+          // The device answered with its own address (checked above); a chain only counts as recovered if
+          // its main ADC still runs (a WAKE or reset in between stops it: scans would never validate).
+          if ((v & regs::kDevStatMainRun) == 0) r = Status::NotReady;
+          break;
+        case code(Op::Frame, kRCrcDone):
+          // The first read only clears a CUST_CRC_DONE left from a pass over the old contents (the flag is
+          // cleared on read); from the second on, a device that reports it is done.
+          if (loop_ != 0 && (v & regs::kDevStatCustCrcDone) != 0) crcDone_[dev >> 5] |= 1U << (dev & 31U);
           break;
         case code(Op::Frame, kRFaults):
           // The lowest stack device with a fault is named: the base's FCOMM_DET only echoes a stack fault.
@@ -657,6 +692,7 @@ void Chain::issue(const Step& s) {
       return fail((faultBits_ & regs::kSummaryFaultComm) != 0 ? Status::CommFault : Status::VerifyFailed,
                   faulted_);
     }
+    if (s.code == code(Op::Frame, kRCrcDone)) return crcPolled();
     ++loop_;
     if (s.code == code(Op::Frame, kRDiscover)) found_ = loop_;
     return;  // issue() sends the next frame of the step or moves on
@@ -704,6 +740,19 @@ void Chain::issue(const Step& s) {
     default:
       return fail(r, dev);
   }
+}
+
+// A DEV_STAT read of the CRC wait validated: go on once every device has reported CUST_CRC_DONE; otherwise
+// poll again after kCrcPollInterval, or, after the last poll, fail with Timeout naming the first device that
+// never reported it (not a link error: the stats do not count it).
+void Chain::crcPolled() {
+  uint8_t d = 0;
+  while (d < devices_ && ((crcDone_[d >> 5] >> (d & 31U)) & 1U) != 0)
+    ++d;
+  if (d == devices_) return advance();
+  if (loop_ >= kCrcPolls) return fail(Status::Timeout, d);
+  ++loop_;
+  wait(Wait::Poll, kCrcPollInterval);
 }
 
 void Chain::endDiscovery(Status r) {

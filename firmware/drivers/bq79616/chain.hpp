@@ -26,11 +26,15 @@
 //                       VerifyFailed when a device above the configured count answered (the chain runs
 //                       with the configured count and lastFault() names the extra device);
 //                       NoResponse/Crc/... when not even the base answered or an address read back wrong.
-//   startConfigure()    ACTIVE_CELL and ADC_CONF1 first, then the customer CRC refresh (broadcast read of
-//                       CUST_CRC_RSLT, each device's result written to its CUST_CRC), then FAULT_RST1/2 =
-//                       FF FF, ADC_CTRL1 continuous run, and the LPF settling time before the first read.
-//                       (Writing the NVM-shadow registers before the CRC refresh means no CRC fault needs
-//                       masking; TI's example masks it with FAULT_MSK2 instead.)
+//   startConfigure()    4.4 ms after addressing (TI waits 4 ms for "AFE settling"), then TI's order for
+//                       changing NVM shadow registers: FAULT_MSK2 = MSK_OTP_CRC (mask the
+//                       customer CRC fault), ACTIVE_CELL, ADC_CONF1, then the CRC refresh: one DEV_STAT read
+//                       to clear a CUST_CRC_DONE left from before the writes, DEV_STAT polled every 1 ms
+//                       until every device reports CUST_CRC_DONE (at most 50 polls, then Timeout naming the
+//                       device), a broadcast read of CUST_CRC_RSLT and each device's result written to its
+//                       CUST_CRC, FAULT_RST1/2 = FF FF; then FAULT_MSK2 = 0 (unmask) and the same refresh
+//                       again, because FAULT_MSK2 is inside the CRC itself; last ADC_CTRL1 continuous run
+//                       with the cell LPF, and the LPF settling time before the first read.
 //   startBringUp()      the three above in order; the result is the worst of them (CommFault with fewer
 //                       devices still configures the devices found).
 //   startScan(records, summary)
@@ -52,13 +56,16 @@
 //                       Ok when every device is clear, CommFault (a FAULT_COMM bit stayed) or VerifyFailed
 //                       (another fault stayed) naming the device otherwise. Call it deliberately: clearing
 //                       on every scan would hide a fault that keeps coming back.
-//   startRecovery()     the recovery ladder, stopping at the first rung after which every configured device
-//                       answers a broadcast read of its address: (0) drain the line, COMM CLEAR, (1)
-//                       SLEEPtoACTIVE, (2) full bring-up (WAKE resets every register, so re-address and
-//                       reconfigure), (3) HW_RESET tone up the stack and HW_RESET ping, then full bring-up.
-//                       Rungs 0 and 1 end with FAULT_RST2 clearing the communication faults the recovery
-//                       itself caused. Result: Ok, or the last bring-up's result (e.g. CommFault with fewer
-//                       devices).
+//   startRecovery(from) the recovery ladder from rung `from` on, stopping at the first rung after which the
+//                       chain works: (0) drain the line, COMM CLEAR, (1) SLEEPtoACTIVE, each followed by a
+//                       probe, a broadcast read of DEV_STAT that passes when every configured device answers
+//                       in order and reports DEV_STAT[MAIN_RUN] (a chain that answers but whose ADC stopped
+//                       is not recovered: NotReady, next rung); (2) full bring-up (WAKE resets every
+//                       register, so re-address and reconfigure), (3) HW_RESET tone up the stack and HW_RESET
+//                       ping, then full bring-up. Rungs 0 and 1 end with FAULT_RST2 clearing the
+//                       communication faults the recovery itself caused. A caller whose scans still fail
+//                       after a recovery starts the next one a rung higher (the application does). Result:
+//                       Ok, or the last bring-up's result (e.g. CommFault with fewer devices).
 //   startWrite(type, device, reg, data) / startRead(type, device, reg, count, rx)
 //                       one raw frame (tools, balancing, diagnostics): a read expects one response frame
 //                       for a single read, devices()−1 for a stack read and devices() for a broadcast read;
@@ -109,7 +116,7 @@ inline constexpr size_t kRxBufferBytes = kMaxDevices * responseSize(32);
 
 namespace detail {
 
-enum class Wait : uint8_t { None, Bus, Timer };
+enum class Wait : uint8_t { None, Bus, Timer, Poll };  // Poll: a timer, then the same step again
 struct Step;  // one instruction of a bring-up/scan/recovery script (chain.cpp)
 
 // Chain's state: an implementation detail of chain.cpp, not part of the interface. It is a base class of
@@ -149,6 +156,7 @@ struct ChainState {
   const Step* ret_;  // where a nested bring-up returns to (recovery)
   DeviceRecord* records_;
   ScanSummary* summary_;
+  uint32_t crcDone_[2];  // devices that reported CUST_CRC_DONE in the CRC wait, one bit each
   std::span<uint8_t> userRx_;
   hal::EdgeInput* nfault_;
   sched::EventMask faultEvent_;
@@ -177,7 +185,7 @@ class Chain : private detail::ChainState {
   Status startBringUp();
   Status startScan(std::span<DeviceRecord> records, ScanSummary& summary);
   Status startClearFaults();
-  Status startRecovery();
+  Status startRecovery(RecoveryLevel from = RecoveryLevel::CommClear);
   Status startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data);
   Status startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t count, std::span<uint8_t> rx);
 
@@ -214,6 +222,7 @@ class Chain : private detail::ChainState {
   void onBus();
   void onRead(const Step& s);
   void endDiscovery(Status r);
+  void crcPolled();
   void store(uint8_t part, uint8_t device, const uint8_t* data);
   void markFailed(uint8_t device, Status status);
   void endScan();

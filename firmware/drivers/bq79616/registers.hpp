@@ -32,7 +32,9 @@ inline constexpr uint16_t kAdcConf1 = addr(r::AdcConf1);
 inline constexpr uint16_t kCustCrcHi = addr(r::CustCrcHi);
 inline constexpr uint16_t kCustCrcRsltHi = addr(r::CustCrcRsltHi);
 inline constexpr uint16_t kAdcCtrl1 = addr(r::AdcCtrl1);
+inline constexpr uint16_t kDevStat = addr(r::DevStat);
 // Faults.
+inline constexpr uint16_t kFaultMsk2 = addr(r::FaultMsk2);
 inline constexpr uint16_t kFaultRst1 = addr(r::FaultRst1);
 inline constexpr uint16_t kFaultRst2 = addr(r::FaultRst2);
 inline constexpr uint16_t kFaultSummary = addr(r::FaultSummary);
@@ -74,12 +76,18 @@ inline constexpr uint8_t kFaultRst2AllComm = b::FaultRst2{}
                                                  .with_rst_comm3_fcomm(true)
                                                  .raw();
 inline constexpr uint8_t kSummaryFaultComm = b::FaultSummary::fault_comm_mask;
-// ADC_CTRL1 = 0x0E exactly as TI's bring-up writes it ("continuous run, LPF enabled, MAIN_GO"). The fields
-// the register map and TI agree on are checked below; bit 3 is TI's LPF enable, which the (unverified) map
-// places at bit 4 instead, so the value stays TI's proven one until the datasheet settles it.
-inline constexpr uint8_t kAdcCtrl1Continuous = 0x0E;
-static_assert(b::AdcCtrl1::fromRaw(kAdcCtrl1Continuous).main_mode() == e::MainAdcMode::Continuous);
-static_assert(b::AdcCtrl1::fromRaw(kAdcCtrl1Continuous).main_go());
+// ADC_CTRL1 (SLUSF21): the cell LPF on (its corner is ADC_CONF1[LPF_VCELL]), continuous run, MAIN_GO. TI's
+// bring-up writes the same byte, 0x0E ("continuous run, LPF enabled, MAIN_GO").
+inline constexpr uint8_t kAdcCtrl1Continuous =
+    b::AdcCtrl1{}.with_lpf_vcell_en(true).with_main_go(true).with_main_mode(e::MainAdcMode::Continuous).raw();
+static_assert(kAdcCtrl1Continuous == 0x0E, "TI's bq79616 example writes ADC_CTRL1 = 0x0E");
+// FAULT_MSK2[MSK_OTP_CRC]: keeps the customer CRC fault out of FAULT_SUMMARY and NFAULT while the CRC is
+// refreshed. TI's bq79616 example writes the same byte, 0x40, "to mask CUST_CRC".
+inline constexpr uint8_t kFaultMsk2CustCrc = b::FaultMsk2{}.with_msk_otp_crc(true).raw();
+static_assert(kFaultMsk2CustCrc == 0x40, "TI's bq79616 example masks the CRC fault with FAULT_MSK2 = 0x40");
+// DEV_STAT (SLUSF21): CUST_CRC_DONE (cleared on read), MAIN_RUN.
+inline constexpr uint8_t kDevStatCustCrcDone = b::DevStat::cust_crc_done_mask;
+inline constexpr uint8_t kDevStatMainRun = b::DevStat::main_run_mask;
 // ACTIVE_CELL NUM_CELL: 0x0 = 6 cells ... 0xA = 16 cells.
 inline constexpr uint8_t kActiveCellMin = 6;
 static_assert(static_cast<uint8_t>(e::ActiveCells::Cells16) == 16 - kActiveCellMin);

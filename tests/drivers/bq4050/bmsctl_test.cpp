@@ -97,5 +97,21 @@ TEST(Bq4050Bmsctl, FailedOperationPrintsTheTraceAndTheErrorWithStatus1) {
   EXPECT_EQ(r.out.back(), "# error: DataNack");
 }
 
+// Issue 12: `app-start` is the application's own start-up: the probe (SpecificationInfo read until two reads
+// agree, then PEC on; DeviceType, FirmwareVersion through ManufacturerBlockAccess), then the first scan.
+TEST(Bq4050Bmsctl, AppStartTracesTheApplicationFromResetToItsFirstScan) {
+  const ToolRun r = bmsctl("app-start");
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_GE(r.out.size(), 8u);
+  EXPECT_EQ(r.out[0], "S 16 1A Sr 17 [31 00] P");  // SpecificationInfo without PEC...
+  EXPECT_EQ(r.out[1], "S 16 1A Sr 17 [31 00] P");  // ...twice: the two reads must agree
+  EXPECT_EQ(r.out[2], "S 16 44 02 01 00 " + hex({referenceCrc8({0x16, 0x44, 0x02, 0x01, 0x00})}) + " P");
+  EXPECT_TRUE(r.has("S 16 44 02 54 00 " + hex({referenceCrc8({0x16, 0x44, 0x02, 0x54, 0x00})}) + " P"))
+      << "the scan ends with OperationStatus";
+  EXPECT_EQ(r.out.back().rfind("# app-start: first complete scan at ", 0), 0u) << r.out.back();
+  EXPECT_NE(r.out.back().find("(valid), pec=on"), std::string::npos) << r.out.back();
+  EXPECT_EQ(bmsctl("--pec app-start").status, 2);
+}
+
 }  // namespace
 }  // namespace bq4050_test

@@ -127,4 +127,46 @@ TEST(Bq79616Bmsctl, BadArgumentsAreUsageErrors) {
   }
 }
 
+// Issue 12: `app-start` is the application's own start-up, reviewable line by line against TI's sequence:
+// the wake, TI's auto-addressing, the CRC refresh in TI's order, the ADC start, then the first scan.
+TEST(Bq79616Bmsctl, AppStartTracesTheApplicationFromResetToItsFirstScan) {
+  const ToolRun run = bmsctl("app-start");  // --devices defaults to 2, as the image
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::vector<std::string> wire;
+  for (const auto& l : run.out)
+    if (l.rfind("TX ", 0) == 0 || l.rfind("PING ", 0) == 0) wire.push_back(l);
+  ASSERT_GE(wire.size(), 3u);
+  EXPECT_EQ(wire[0], "PING WAKE 2250us");
+  EXPECT_EQ(wire[1], "PING WAKE 2250us");
+  EXPECT_EQ(wire[2], "TX 90 00 03 09 20 13 95");
+  // TI's frames (bq79616-protocol.md section 3), in the order the application must send them.
+  const std::vector<std::string> order = {
+      "TX D0 03 09 01 0F 74",     // CONTROL1 = ADDR_WR
+      "TX D0 03 08 02 4E E5",     // COMM_CTRL = stack
+      "TX D0 03 32 03 9D 85",     // FAULT_RST2: the start-up comm faults
+      "TX D0 00 17 40 36 E4",     // FAULT_MSK2 = MSK_OTP_CRC
+      "TX D0 00 03 0A B8 13",     // ACTIVE_CELL = 16
+      "TX D0 00 07 02 BB 15",     // ADC_CONF1 = 26 Hz LPF
+      "TX C0 05 0C 01 E8 E5",     // CUST_CRC_RSLT
+      "TX D1 03 31 FF FF 88 29",  // FAULT_RST1/2
+      "TX D0 03 0D 0E 4D B0",     // ADC_CTRL1 = continuous, LPF, MAIN_GO
+      "TX C0 05 68 1F 42 2D",     // the first scan's cells
+  };
+  size_t at = 0;
+  for (const auto& want : order) {
+    while (at < wire.size() && wire[at] != want)
+      ++at;
+    EXPECT_LT(at, wire.size()) << "missing or out of order: " << want;
+  }
+  EXPECT_EQ(run.out.back().rfind("# app-start: first complete scan at ", 0), 0u) << run.out.back();
+  EXPECT_NE(run.out.back().find("2 of 2 devices valid"), std::string::npos) << run.out.back();
+}
+
+TEST(Bq79616Bmsctl, AppStartRunsSixtyFourDevices) {
+  const ToolRun run = bmsctl("--devices 64 app-start");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.back().find("64 of 64 devices valid"), std::string::npos) << run.out.back();
+  EXPECT_EQ(bmsctl("app-start now").status, 2);
+}
+
 }  // namespace

@@ -107,26 +107,79 @@ TEST(Bq79616BringUpSequence, AutoAddressSendsTiSequenceForTwoDevices) {
   EXPECT_EQ(tx[27].substr(0, 14), "TX C0 03 06 00");
 }
 
-TEST(Bq79616BringUpSequence, ConfigureRefreshesEachDevicesCustomerCrc) {
+// The TX lines of a configure, with each run of identical DEV_STAT polls folded into one "<line> xN".
+std::vector<std::string> folded(const std::vector<std::string>& tx) {
+  std::vector<std::string> out;
+  size_t run = 0;
+  for (size_t i = 0; i < tx.size(); ++i) {
+    ++run;
+    if (i + 1 < tx.size() && tx[i + 1] == tx[i]) continue;
+    out.push_back(run > 1 ? tx[i] + " x" + std::to_string(run) : tx[i]);
+    run = 0;
+  }
+  return out;
+}
+
+// Issue 12 item 8, TI's order (its bq79616 example: FAULT_MSK2 = 0x40 before the NVM shadow writes, then the
+// CUST_CRC refresh): mask, write, wait for DEV_STAT[CUST_CRC_DONE] (SLUSF21), copy, clear, unmask, and the
+// refresh once more because FAULT_MSK2 itself is inside the customer CRC. Fails on the code before: it
+// copied CUST_CRC_RSLT right after the writes, before a CRC pass over them had ended, so the copy was the
+// old CRC and every device latched FAULT_OTP[CUST_CRC] at the next pass.
+TEST(Bq79616BringUpSequence, ConfigureMasksWaitsForTheCrcPassCopiesClearsAndUnmasks) {
   ChainRig rig(3);
   ASSERT_EQ(rig.finish(rig.chain.startWake()), Status::Ok);
   ASSERT_EQ(rig.finish(rig.chain.startAutoAddress()), Status::Ok);
   rig.uart.clearWireLog();
   ASSERT_EQ(rig.finish(rig.chain.startConfigure()), Status::Ok);
-  const auto tx = txLines(rig);
-  ASSERT_EQ(tx.size(), 8u);
-  EXPECT_EQ(tx[0], "TX D0 00 03 0A B8 13");       // ACTIVE_CELL = 16 cells (TI's vector)
-  EXPECT_EQ(tx[1], "TX D0 00 07 02 BB 15");       // ADC_CONF1 = 0x02 (TI's vector)
-  EXPECT_EQ(tx[2], "TX C0 05 0C 01 E8 E5");       // broadcast read of CUST_CRC_RSLT (TI's vector)
-  EXPECT_EQ(tx[3].substr(0, 11), "TX 91 02 00");  // each device's own result to its CUST_CRC, top first
-  EXPECT_EQ(tx[4].substr(0, 11), "TX 91 01 00");
-  EXPECT_EQ(tx[5].substr(0, 11), "TX 91 00 00");
-  EXPECT_EQ(tx[6], "TX D1 03 31 FF FF 88 29");  // FAULT_RST1/2 (TI's vector)
-  EXPECT_EQ(tx[7], "TX D0 03 0D 0E 4D B0");     // ADC_CTRL1 continuous (TI's vector)
+  const auto tx = folded(txLines(rig));
+  ASSERT_EQ(tx.size(), 17u);
+  EXPECT_EQ(tx[0], "TX D0 00 17 40 36 E4");  // FAULT_MSK2 = MSK_OTP_CRC (TI's vector)
+  EXPECT_EQ(tx[1], "TX D0 00 03 0A B8 13");  // ACTIVE_CELL = 16 cells (TI's vector)
+  EXPECT_EQ(tx[2], "TX D0 00 07 02 BB 15");  // ADC_CONF1 = 0x02 (TI's vector)
+  for (size_t refresh : {3u, 10u}) {
+    // DEV_STAT: the read that clears an old CUST_CRC_DONE, then the polls until every device reports it.
+    EXPECT_EQ(tx[refresh].substr(0, 20), "TX C0 05 2C 00 30 E5");
+    EXPECT_NE(tx[refresh].find(" x"), std::string::npos) << "cleared, then polled";
+    EXPECT_EQ(tx[refresh + 1], "TX C0 05 0C 01 E8 E5");       // CUST_CRC_RSLT (TI's vector)
+    EXPECT_EQ(tx[refresh + 2].substr(0, 11), "TX 91 02 00");  // each device's own result, top first
+    EXPECT_EQ(tx[refresh + 3].substr(0, 11), "TX 91 01 00");
+    EXPECT_EQ(tx[refresh + 4].substr(0, 11), "TX 91 00 00");
+    EXPECT_EQ(tx[refresh + 5], "TX D1 03 31 FF FF 88 29");  // FAULT_RST1/2 (TI's vector)
+  }
+  EXPECT_EQ(tx[9], "TX D0 00 17 00 37 14");   // FAULT_MSK2 = 0: unmasked
+  EXPECT_EQ(tx[16], "TX D0 03 0D 0E 4D B0");  // ADC_CTRL1 continuous with the cell LPF (TI's vector)
   for (uint8_t k = 0; k < 3; ++k) {
     EXPECT_EQ(rig.emulator.reg(k, r::CustCrcHi.address), rig.emulator.reg(k, r::CustCrcRsltHi.address));
     EXPECT_EQ(rig.emulator.reg(k, r::CustCrcLo.address), rig.emulator.reg(k, r::CustCrcRsltLo.address));
-    EXPECT_EQ(rig.emulator.reg(k, r::FaultSummary.address), 0) << "no CRC fault without FAULT_MSK2";
+    EXPECT_EQ(rig.emulator.reg(k, r::FaultMsk2.address), 0) << "unmasked";
+    EXPECT_EQ(rig.emulator.reg(k, r::FaultOtp.address), 0) << "no CRC fault left";
+    EXPECT_EQ(rig.emulator.reg(k, r::FaultSummary.address), 0);
+  }
+  // And it stays so: the next passes of every device's CRC match.
+  rig.harness.runFor(fw::ms(20));
+  for (uint8_t k = 0; k < 3; ++k)
+    EXPECT_EQ(rig.emulator.reg(k, r::FaultOtp.address), 0);
+}
+
+// The copy waits for a pass that began after the writes, however long a pass takes (TI gives no time); no
+// wait is without a bound: a CRC state machine that never finishes ends the configuration with Timeout,
+// naming the device, well before the pass would have ended.
+TEST(Bq79616BringUpSequence, TheCrcWaitFollowsSlowPassesAndIsBounded) {
+  for (const uint32_t passUs : {20000u, 1000000u}) {
+    Bq79616ChainEmulator::Timing timing;
+    timing.custCrcUs = passUs;
+    ChainRig rig(2, test::configFor(2), timing);
+    const Status s = rig.bringUp();
+    if (passUs < 50000) {
+      ASSERT_EQ(s, Status::Ok);
+      for (uint8_t k = 0; k < 2; ++k)
+        EXPECT_EQ(rig.emulator.reg(k, r::FaultSummary.address), 0) << "no CRC fault: the copy was current";
+    } else {
+      EXPECT_EQ(s, Status::Timeout);
+      EXPECT_EQ(rig.chain.lastFault().status, Status::Timeout);
+      EXPECT_EQ(rig.chain.lastFault().device, 0);
+      EXPECT_LT(rig.harness.nowUs(), 500000u);
+    }
   }
 }
 

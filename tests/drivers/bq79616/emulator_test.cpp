@@ -273,4 +273,124 @@ TEST(Bq79616Emulator, CellsReadNotConvertedUntilTheAdcHasSettled) {
   EXPECT_EQ(w.rx[5], 0xC0);
 }
 
+// SLUSF21 FAULT_SYS (0x536): LFO 7, RSVD 6, GPIO 5, DRST 4, CTL 3, CTS 2, TSHUT 1, TWARN 0. A WAKE is a
+// digital reset. Fails on the emulator before the fix, which set bit 5 (GPIO).
+TEST(Bq79616Emulator, AWakeLatchesDrstInFaultSysBit4) {
+  Wire w(1);
+  w.bringUp(1);
+  EXPECT_EQ(w.emu.reg(0, r::FaultSys.address), 0x10);
+  EXPECT_EQ(w.emu.reg(0, kFaultSummary), fw::regmap::bq79616::bits::FaultSummary::fault_sys_mask);
+}
+
+// The customer CRC (SLUSF21 DEV_STAT[CUST_CRC_DONE], CUST_CRC_RSLT, FAULT_OTP[CUST_CRC] = bit 4): the device
+// computes it in passes, not at once. Fails on the emulator before the fix, which returned the new CRC at
+// once and latched FAULT_OTP bit 0 (GBLOVERR) at once.
+struct CrcWire : Wire {
+  CrcWire() : Wire(1) {
+    bringUp(1);
+    write(RequestType::BroadcastWrite, 0, r::FaultRst1.address, {0xFF, 0xFF});  // wake-up leftovers
+    h.runFor(us(pass));
+  }
+  uint16_t result() {
+    EXPECT_EQ(read(RequestType::SingleRead, 0, r::CustCrcRsltHi.address, 2, 1), Status::Ok);
+    return static_cast<uint16_t>(rx[4] << 8 | rx[5]);
+  }
+  uint8_t devStat() {
+    EXPECT_EQ(read(RequestType::SingleRead, 0, r::DevStat.address, 1, 1), Status::Ok);
+    return rx[4];
+  }
+  const uint32_t pass = Bq79616ChainEmulator::Timing{}.custCrcUs;
+};
+
+constexpr uint8_t kCustCrcDone = 0x20;  // DEV_STAT bit 5
+constexpr uint8_t kOtpCustCrc = 0x10;   // FAULT_OTP bit 4
+constexpr uint8_t kSummaryOtp = 0x20;   // FAULT_SUMMARY bit 5
+
+TEST(Bq79616Emulator, TheCustomerCrcResultFollowsAShadowWriteOnlyAfterAPass) {
+  CrcWire w;
+  const uint16_t before = w.result();
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kAdcConf1, {0x02}), Status::Ok);
+  EXPECT_EQ(w.result(), before) << "no pass over the new contents has ended yet";
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), 0);
+  w.h.runFor(us(w.pass));
+  const uint16_t after = w.result();
+  EXPECT_NE(after, before);
+  // CUST_CRC still holds the old value: the pass latched the mismatch, and it reaches the summary.
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), kOtpCustCrc);
+  EXPECT_EQ(w.emu.reg(0, kFaultSummary), kSummaryOtp);
+}
+
+TEST(Bq79616Emulator, CustCrcDoneIsClearedByReadingDevStatAndSetByTheNextPass) {
+  CrcWire w;
+  EXPECT_EQ(w.devStat() & kCustCrcDone, kCustCrcDone) << "passes ended since the reset";
+  EXPECT_EQ(w.devStat() & kCustCrcDone, 0) << "cleared on read";
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.devStat() & kCustCrcDone, kCustCrcDone);
+  // A write restarts the pass: a flag read right after it still comes from the pass before (stale).
+  w.h.runFor(us(w.pass));
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kAdcConf1, {0x02}), Status::Ok);
+  EXPECT_EQ(w.devStat() & kCustCrcDone, kCustCrcDone) << "left from the pass before the write";
+  EXPECT_EQ(w.devStat() & kCustCrcDone, 0);
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.devStat() & kCustCrcDone, kCustCrcDone) << "the pass over the new contents";
+}
+
+TEST(Bq79616Emulator, MaskedCrcFaultLatchesButStaysOutOfTheSummaryAndNfault) {
+  CrcWire w;
+  bsp::host::SimEdgeInput nfault(w.h.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true);
+  w.emu.attachFaultPin(nfault);
+  ASSERT_TRUE(nfault.level());
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, r::FaultMsk2.address, {0x40}), Status::Ok);
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kAdcConf1, {0x02}), Status::Ok);
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), kOtpCustCrc) << "the flag latches, masked or not";
+  EXPECT_EQ(w.emu.reg(0, kFaultSummary), 0);
+  EXPECT_TRUE(nfault.level());
+  // Refreshed and cleared while masked: unmasking changes FAULT_MSK2, which is inside the CRC again.
+  const uint16_t crc = w.result();
+  ASSERT_EQ(w.write(RequestType::SingleWrite, 0, r::CustCrcHi.address,
+                    {static_cast<uint8_t>(crc >> 8), static_cast<uint8_t>(crc)}),
+            Status::Ok);
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kFaultRst2, {0x40}), Status::Ok);  // RST_OTP_CRC
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), 0);
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, r::FaultMsk2.address, {0x00}), Status::Ok);
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), kOtpCustCrc);
+  EXPECT_EQ(w.emu.reg(0, kFaultSummary), kSummaryOtp);
+  EXPECT_FALSE(nfault.level());
+}
+
+TEST(Bq79616Emulator, AClearedCrcFaultLatchesAgainUntilCustCrcMatches) {
+  CrcWire w;
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kAdcConf1, {0x02}), Status::Ok);
+  w.h.runFor(us(w.pass));
+  ASSERT_EQ(w.emu.reg(0, r::FaultOtp.address), kOtpCustCrc);
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kFaultRst2, {0x40}), Status::Ok);
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), 0);
+  w.h.runFor(us(w.pass));
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), kOtpCustCrc) << "the mismatch is still there";
+  const uint16_t crc = w.result();
+  ASSERT_EQ(w.write(RequestType::SingleWrite, 0, r::CustCrcHi.address,
+                    {static_cast<uint8_t>(crc >> 8), static_cast<uint8_t>(crc)}),
+            Status::Ok);
+  ASSERT_EQ(w.write(RequestType::BroadcastWrite, 0, kFaultRst2, {0x40}), Status::Ok);
+  w.h.runFor(us(3 * w.pass));
+  EXPECT_EQ(w.emu.reg(0, r::FaultOtp.address), 0);
+  EXPECT_EQ(w.emu.reg(0, kFaultSummary), 0);
+}
+
+// SLUSF21 ADC_CTRL1: MAIN_GO (bit 2) with MAIN_MODE = 10 starts the main ADC, DEV_STAT[MAIN_RUN] shows it.
+TEST(Bq79616Emulator, MainGoInContinuousModeStartsTheAdcAndDevStatShowsIt) {
+  Wire w(1);
+  w.bringUp(1);
+  EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0);
+  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0A});  // continuous + LPF, no GO
+  EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0) << "nothing starts without MAIN_GO";
+  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0E});
+  EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0x01);
+  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x04});  // MAIN_MODE 00 + GO: stop
+  EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0);
+}
+
 }  // namespace

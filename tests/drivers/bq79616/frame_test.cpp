@@ -190,3 +190,34 @@ TEST(Bq79616Frame, Section7CellFrameLayout) {
 }
 
 }  // namespace
+
+namespace {
+
+namespace bits = fw::regmap::bq79616::bits;
+namespace enums = fw::regmap::bq79616::enums;
+
+// Issue 12 item 9: the register map's fields against the datasheet's bit positions and TI's example literals.
+// Fails on the map before the fix (LPF_VCELL_EN at bit 4: the fields built 0x16, not TI's 0x0E).
+TEST(Bq79616RegisterFields, AdcCtrl1BuildsTisLiteral) {
+  // SLUSF21 ADC_CTRL1: LPF_BB_EN 4, LPF_VCELL_EN 3, MAIN_GO 2, MAIN_MODE 1:0 (10 = continuous). TI's example
+  // writes 0x0E "continuous run, LPF enabled, MAIN_GO".
+  const auto v = bits::AdcCtrl1{}.with_lpf_vcell_en(true).with_main_go(true).with_main_mode(
+      enums::MainAdcMode::Continuous);
+  EXPECT_EQ(v.raw(), 0x0E);
+  const auto ti = bits::AdcCtrl1::fromRaw(0x0E);
+  EXPECT_TRUE(ti.lpf_vcell_en());
+  EXPECT_FALSE(ti.lpf_bb_en());
+  EXPECT_TRUE(ti.main_go());
+  EXPECT_EQ(ti.main_mode(), enums::MainAdcMode::Continuous);
+}
+
+TEST(Bq79616RegisterFields, FaultAndStatusBitsAreTheDatasheets) {
+  EXPECT_EQ(bits::FaultSys::drst_mask, 0x10);                       // SLUSF21 FAULT_SYS bit 4
+  EXPECT_EQ(bits::FaultOtp::cust_crc_mask, 0x10);                   // SLUSF21 FAULT_OTP bit 4
+  EXPECT_EQ(bits::DevStat::cust_crc_done_mask, 0x20);               // SLUSF21 DEV_STAT bit 5
+  EXPECT_EQ(bits::DevStat::main_run_mask, 0x01);                    // SLUSF21 DEV_STAT bit 0
+  EXPECT_EQ(bits::FaultMsk2{}.with_msk_otp_crc(true).raw(), 0x40);  // TI's example: FAULT_MSK2 = 0x40
+  EXPECT_EQ(bits::FaultRst2::rst_otp_crc_mask, 0x40);               // the same position in FAULT_RST2
+}
+
+}  // namespace

@@ -257,6 +257,17 @@ void Bq4050Emulator::onStop() {
   phase_ = Phase::Idle;
 }
 
+void Bq4050Emulator::reset() {
+  macCode_ = 0;
+  macResult_.clear();
+  calibration_ = false;
+  manufacturing_ = 0x0018;  // GAUGE_EN | FET_EN, as constructed
+  firmwareChg_ = firmwareDsg_ = true;
+  phase_ = Phase::Idle;
+  written_.clear();
+  hasActive_ = false;
+}
+
 void Bq4050Emulator::onBusRecovery() {
   ++counters_.recoveries;
   phase_ = Phase::Idle;  // a half-done transaction is abandoned, never executed

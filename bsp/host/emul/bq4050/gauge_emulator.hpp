@@ -132,6 +132,12 @@ class Bq4050Emulator final : public I2cTarget {
   bool pchgFet() const;
   bool calibrationOutput() const { return calibration_; }
 
+  // A reset of the gauge (power loss, watchdog): its run-time state returns to power-on values (no MAC
+  // result, calibration output off, ManufacturingStatus as configured for production, no transaction in
+  // progress); the pack's values and the backend's settings stay. Tests detach the gauge from the bus around
+  // it.
+  void reset();
+
   void inject(const Fault& fault) { faults_.push_back(fault); }
   void clearFaults() { faults_.clear(); }
   size_t pendingFaults() const { return faults_.size(); }

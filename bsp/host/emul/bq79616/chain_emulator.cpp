@@ -42,12 +42,17 @@ constexpr uint16_t kFaultComm2 = at(r::FaultComm2);
 constexpr uint16_t kFaultComm3 = at(r::FaultComm3);
 constexpr uint16_t kFaultOtp = at(r::FaultOtp);
 constexpr uint16_t kFaultSys = at(r::FaultSys);
+constexpr uint16_t kDevStat = at(r::DevStat);
 constexpr uint16_t kVcell16Hi = at(r::Vcell16Hi);
 constexpr uint16_t kVcell1Lo = at(r::Vcell1Lo);
 constexpr uint16_t kGpio1Hi = at(r::Gpio1Hi);
 constexpr uint16_t kDietemp1Hi = at(r::Dietemp1Hi);
 constexpr uint16_t kShadowEnd = at(r::CustCrcHi);  // NVM-shadow registers 0x000 .. CUST_CRC_HI - 1
 static_assert(kCustCrcLo == kCustCrcHi + 1, "CUST_CRC is one big-endian word");
+// A write to any NVM shadow register, CUST_CRC included, restarts the customer CRC pass in progress.
+constexpr bool isShadow(uint16_t address) {
+  return address <= kCustCrcLo;
+}
 
 // FAULT_SUMMARY groups and the registers behind them (SLUSE81E §9.5.4.4, FAULT_SUMMARY).
 struct Group {
@@ -77,12 +82,18 @@ const std::vector<Group>& groups() {
   return g;
 }
 
-constexpr uint8_t kFaultSysDrst = 0x20;    // emulator's choice of the DRST bit (see header)
+constexpr uint8_t kFaultSysDrst = b::FaultSys::drst_mask;  // bit 4 (SLUSF21 FAULT_SYS)
+static_assert(kFaultSysDrst == 0x10, "SLUSF21 FAULT_SYS: LFO 7, RSVD 6, GPIO 5, DRST 4");
 constexpr uint8_t kComm1CommClear = 0x03;  // FAULT_COMM1: COMMCLR_DET | STOP_DET (bits 1, 0)
 constexpr uint8_t kComm1UartRc = 0x04;     // FAULT_COMM1: UART_RC, a bad command frame
 constexpr uint8_t kComm2Link = 0x01;       // FAULT_COMM2 bit 0: the injected link fault
 constexpr uint8_t kComm3Fcomm = 0x10;      // FAULT_COMM3 bit 4: FCOMM_DET at the base
-constexpr uint8_t kOtpCustCrc = 0x01;      // FAULT_OTP bit 0: customer CRC mismatch (emulator's choice)
+constexpr uint8_t kOtpCustCrc = b::FaultOtp::cust_crc_mask;  // bit 4 (SLUSF21 FAULT_OTP)
+static_assert(kOtpCustCrc == 0x10, "SLUSF21 FAULT_OTP: DED 6, SEC 5, CUST_CRC 4, FACT_CRC 3");
+// What FAULT_MSK2[MSK_OTP_CRC] keeps out of FAULT_SUMMARY (SLUSE48B fault-masking table).
+constexpr uint8_t kOtpCrcBits = b::FaultOtp::cust_crc_mask | b::FaultOtp::fact_crc_mask;
+constexpr uint8_t kDevStatCustCrcDone = b::DevStat::cust_crc_done_mask;  // bit 5, cleared on read
+static_assert(kDevStatCustCrcDone == 0x20, "SLUSF21 DEV_STAT: FACT_CRC_DONE 6, CUST_CRC_DONE 5");
 
 // Misuse of the backend face is a test bug: report it and stop (the firmware options build without
 // exceptions).
@@ -156,10 +167,60 @@ void Bq79616ChainEmulator::resetRegisters(Device& d) {
   d.addrWr = false;
   d.addressed = false;
   d.adcRunning = false;
+  d.adcFrozen = false;
+  // The CRC state machine starts over on the reloaded shadow registers, whose CUST_CRC matches them.
+  if (d.crcCheck != 0) clock_.cancel(d.crcCheck);
+  d.crcCheck = 0;
+  d.crcEpoch = d.crcLastRead = clock_.nowUs();
+  d.crcResult = shadowCrc(d.regs);
+  d.crcDoneLatched = false;
 }
 
-uint16_t Bq79616ChainEmulator::custCrc(const Device& d) const {
-  return shadowCrc(d.regs);
+// --- the customer CRC state machine ----------------------------------------------------------------------
+
+uint64_t Bq79616ChainEmulator::lastPassEnd(const Device& d, uint64_t t) const {
+  const uint64_t pass = timing_.custCrcUs;
+  if (t < d.crcEpoch + pass) return 0;
+  return d.crcEpoch + (t - d.crcEpoch) / pass * pass;
+}
+
+// CUST_CRC_RSLT at time t: the shadow contents once a pass over them has ended, the previous result before.
+uint16_t Bq79616ChainEmulator::custCrcResult(const Device& d, uint64_t t) const {
+  return lastPassEnd(d, t) != 0 ? shadowCrc(d.regs) : d.crcResult;
+}
+
+// DEV_STAT[CUST_CRC_DONE] at time t: a pass has ended since DEV_STAT was last read.
+bool Bq79616ChainEmulator::custCrcDone(const Device& d, uint64_t t) const {
+  return d.crcDoneLatched || lastPassEnd(d, t) > d.crcLastRead;
+}
+
+// A shadow register is about to change at time t: the passes that ended over the old contents are folded
+// into the result and the done flag, and a new pass starts now.
+void Bq79616ChainEmulator::restartCustCrc(size_t k, uint64_t t) {
+  Device& d = devices_[k];
+  if (const uint64_t end = lastPassEnd(d, t); end != 0) {
+    d.crcResult = shadowCrc(d.regs);
+    if (end > d.crcLastRead) d.crcDoneLatched = true;
+  }
+  d.crcEpoch = t;
+  scheduleCrcCheck(k, t + timing_.custCrcUs);
+}
+
+void Bq79616ChainEmulator::scheduleCrcCheck(size_t k, uint64_t at) {
+  Device& d = devices_[k];
+  if (d.crcCheck != 0) clock_.cancel(d.crcCheck);
+  d.crcCheck = clock_.schedule(at, [this, k] { checkCustCrc(k); });
+}
+
+// A pass ends: a result that differs from CUST_CRC latches FAULT_OTP[CUST_CRC], masked or not.
+void Bq79616ChainEmulator::checkCustCrc(size_t k) {
+  Device& d = devices_[k];
+  d.crcCheck = 0;
+  if (d.power != Power::Active) return;
+  if (shadowCrc(d.regs) != fw::bytes::loadBe16(&d.regs[kCustCrcHi])) {
+    d.regs[kFaultOtp] |= kOtpCustCrc;
+    updateFaults();
+  }
 }
 
 void Bq79616ChainEmulator::digitalReset(size_t k, uint64_t readyAt) {
@@ -167,6 +228,7 @@ void Bq79616ChainEmulator::digitalReset(size_t k, uint64_t readyAt) {
   resetRegisters(d);
   d.power = Power::Active;
   d.readyAt = readyAt;
+  d.crcEpoch = d.crcLastRead = readyAt;
 }
 
 void Bq79616ChainEmulator::tick(uint64_t now) {
@@ -234,16 +296,23 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
   const Device& d = devices_.at(k);
   if (address >= kVcell16Hi && address <= kVcell1Lo) {
     // No conversion yet: the result registers hold 0x8000.
-    if (!d.adcRunning || t < d.adcSince + timing_.adcSettleUs)
+    if (!d.adcRunning || d.adcFrozen || t < d.adcSince + timing_.adcSettleUs)
       return (address - kVcell16Hi) % 2 == 0 ? 0x80 : 0x00;
   }
-  if (address == kCustCrcRsltHi) return static_cast<uint8_t>(custCrc(d) >> 8);
-  if (address == kCustCrcRsltLo) return static_cast<uint8_t>(custCrc(d));
+  if (address == kCustCrcRsltHi) return static_cast<uint8_t>(custCrcResult(d, t) >> 8);
+  if (address == kCustCrcRsltLo) return static_cast<uint8_t>(custCrcResult(d, t));
+  if (address == kDevStat) {
+    return static_cast<uint8_t>((custCrcDone(d, t) ? kDevStatCustCrcDone : 0) |
+                                (d.adcRunning ? b::DevStat::main_run_mask : 0));
+  }
   if (address == kFaultSummary) {
+    // A masked CRC fault stays latched in FAULT_OTP but does not reach the summary (SLUSE48B).
+    const bool crcMasked = (d.regs[kFaultMsk2] & b::FaultMsk2::msk_otp_crc_mask) != 0;
     uint8_t summary = 0;
     for (const Group& g : groups()) {
       for (uint16_t a : g.regs) {
-        if (d.regs[a] != 0) summary = static_cast<uint8_t>(summary | g.summaryBit);
+        const uint8_t visible = a == kFaultOtp && crcMasked ? d.regs[a] & ~kOtpCrcBits : d.regs[a];
+        if (visible != 0) summary = static_cast<uint8_t>(summary | g.summaryBit);
       }
     }
     return summary;
@@ -257,6 +326,7 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
 std::string Bq79616ChainEmulator::onPing(fw::Duration low, uint64_t endUs) {
   ++counters_.pings;
   tick(endUs);
+  if (disconnected_) return "";  // the base never sees the line go low
   const uint64_t tNs = static_cast<uint64_t>(low.us) * 1000;
   const uint64_t tol = timing_.pingTolerancePercent;
   const uint64_t bitNs = uart_.byteTimeUs() * 100;  // 10 bit periods per byte
@@ -359,7 +429,7 @@ void Bq79616ChainEmulator::toneUp(size_t from, uint64_t t, uint8_t kind) {
 void Bq79616ChainEmulator::onHostBytes(std::span<const uint8_t> bytes, uint64_t endUs) {
   tick(endUs);
   Device& base = devices_[0];
-  if (!activeAt(base, endUs) || desync_) {
+  if (!activeAt(base, endUs) || desync_ || disconnected_) {
     counters_.ignoredBytes += bytes.size();
     return;
   }
@@ -466,6 +536,11 @@ void Bq79616ChainEmulator::respond(const std::vector<size_t>& order, uint16_t re
     f.push_back(static_cast<uint8_t>(reg));
     for (size_t i = 0; i < count; ++i)
       f.push_back(reg + i < kRegisterSpace ? readReg(k, static_cast<uint16_t>(reg + i), reachedAt[k]) : 0);
+    if (reg <= kDevStat && reg + count > kDevStat) {
+      // Reading DEV_STAT clears CUST_CRC_DONE (SLUSF21 DEV_STAT).
+      d.crcDoneLatched = false;
+      d.crcLastRead = reachedAt[k];
+    }
     const uint16_t crc = fw::crc::crc16(f.data(), f.size());
     f.push_back(static_cast<uint8_t>(crc));
     f.push_back(static_cast<uint8_t>(crc >> 8));
@@ -490,6 +565,7 @@ void Bq79616ChainEmulator::applyWrite(size_t k, uint16_t reg, std::span<const ui
 
 void Bq79616ChainEmulator::writeReg(size_t k, uint16_t address, uint8_t value, uint64_t t) {
   Device& d = devices_[k];
+  if (isShadow(address) && d.regs[address] != value) restartCustCrc(k, t);
   if (address == kDir0Addr) {
     if (d.addrWr) {  // only in auto-addressing mode (SLUSE81E §9.5.4.3.9)
       d.regs[kDir0Addr] = value & 0x3F;
@@ -533,8 +609,12 @@ void Bq79616ChainEmulator::writeReg(size_t k, uint16_t address, uint8_t value, u
                   b::FaultRst2::rst_comm3_fcomm_mask)) != 0) {
       d.regs[kFaultComm3] = 0;
     }
-    if ((value & (b::FaultRst2::rst_otp_crc_mask | b::FaultRst2::rst_otp_data_mask)) != 0)
+    if ((value & (b::FaultRst2::rst_otp_crc_mask | b::FaultRst2::rst_otp_data_mask)) != 0) {
       d.regs[kFaultOtp] = 0;
+      // A mismatch that is still there latches again when the next pass ends.
+      const uint64_t pass = timing_.custCrcUs;
+      if (t >= d.crcEpoch) scheduleCrcCheck(k, d.crcEpoch + ((t - d.crcEpoch) / pass + 1) * pass);
+    }
     return;
   }
   if (address == kAdcCtrl1) {
@@ -564,10 +644,6 @@ void Bq79616ChainEmulator::updateFaults() {
   for (size_t k = 0; k < devices_.size(); ++k) {
     Device& d = devices_[k];
     if (d.commCause) d.regs[kFaultComm2] |= kComm2Link;
-    const bool crcMasked = (d.regs[kFaultMsk2] & b::FaultMsk2::msk_otp_crc_mask) != 0;
-    if (!crcMasked && (d.power == Power::Active) && custCrc(d) != fw::bytes::loadBe16(&d.regs[kCustCrcHi])) {
-      d.regs[kFaultOtp] |= kOtpCustCrc;
-    }
     if (k > 0 && d.regs[kFaultComm2] != 0) stackComm = true;
   }
   // The base learns of a stack device's communication fault through the fault signal and latches FCOMM_DET;
@@ -633,6 +709,12 @@ void Bq79616ChainEmulator::resetDevice(size_t device) {
 }
 void Bq79616ChainEmulator::hangDevice(size_t device) {
   devices_.at(device).hung = true;
+}
+void Bq79616ChainEmulator::setDisconnected(bool cut) {
+  disconnected_ = cut;
+}
+void Bq79616ChainEmulator::freezeAdc(size_t device) {
+  devices_.at(device).adcFrozen = true;
 }
 
 }  // namespace bsp::host

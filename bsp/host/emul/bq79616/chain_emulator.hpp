@@ -30,12 +30,24 @@
 //   back to back once the first frame arrives. Defaults hopUs = 3, responseUs = 100 come from TI's bound for
 //   a stack read, tWAIT_READ_MAX = (n - 1) x 3 us x 2 + m x 10 us + 100 us (BQ79600-Q1 datasheet): the
 //   emulator answers as late as that bound allows, so throughput measured against it is not flattered.
-// - Measurements: VCELLn read 0x8000 until the main ADC has run in continuous mode for `adcSettleUs` (38 ms,
-//   TI's LPF settling); GPIOs read 0x8000 (not configured as ADC inputs) unless a test sets them; die
-//   temperatures default to 25 degC. CUST_CRC_RSLT is a CRC over the NVM-shadow registers 0x000..0x035; when
-//   it differs from CUST_CRC the device latches an OTP CRC fault (unless FAULT_MSK2[MSK_OTP_CRC]).
-// - Faults: FAULT_SUMMARY is computed from the FAULT_* registers; FAULT_RST1/2 clear their groups. A WAKE or
-//   a digital reset leaves FAULT_SYS[DRST] set (bit 5 here; the bit position is the emulator's choice).
+// - Measurements: ADC_CTRL1 as SLUSF21 lays it out (LPF_VCELL_EN bit 3, MAIN_GO bit 2, MAIN_MODE 1:0):
+//   MAIN_GO with MAIN_MODE = continuous starts the main ADC (DEV_STAT[MAIN_RUN] = 1), MAIN_MODE = 00 stops
+//   it. VCELLn read 0x8000 until the main ADC has run for `adcSettleUs` (38 ms, TI's LPF settling at 26 Hz);
+//   GPIOs read 0x8000 (not configured as ADC inputs) unless a test sets them; die temperatures default to
+//   25 degC.
+// - Customer CRC (SLUSF21 DEV_STAT, CUST_CRC_RSLT_HI/LO, FAULT_OTP; register-map summary: the NVM shadow
+//   registers are in the OTP CRC check): a CRC state machine runs passes back to back, each `custCrcUs` long
+//   (an estimate: TI gives no figure). A pass ends by setting CUST_CRC_RSLT to the CRC of the shadow
+//   registers 0x000..0x035 (the emulator's own CRC choice), setting DEV_STAT[CUST_CRC_DONE] (cleared when
+//   DEV_STAT is read) and, when the result differs from CUST_CRC, latching FAULT_OTP[CUST_CRC] (bit 4). A
+//   write to a shadow register (0x000..0x037) restarts the pass in progress, so CUST_CRC_RSLT shows the new
+//   contents only `custCrcUs` after the last such write, and a CUST_CRC_DONE still latched from before the
+//   write says nothing about it. FAULT_MSK2[MSK_OTP_CRC] keeps FAULT_OTP[CUST_CRC/FACT_CRC] out of
+//   FAULT_SUMMARY and nFAULT while the flag itself still latches (SLUSE48B fault-masking table, BQ79656-Q1
+//   sibling; TI's bq79616 example masks with FAULT_MSK2 = 0x40).
+// - Faults: FAULT_SUMMARY is computed from the FAULT_* registers; FAULT_RST1/2 clear their groups (a CRC
+//   mismatch that is still there latches again at the next pass). A WAKE or a digital reset leaves
+//   FAULT_SYS[DRST] (bit 4, SLUSF21 FAULT_SYS) set.
 //   A communication fault injected into a stack device latches there (FAULT_COMM2 bit 0) and, through the
 //   fault signal, in the base (FAULT_COMM3 bit 4, FCOMM_DET): the base's latch comes back while any stack
 //   device still holds its fault, so it clears only when base and stack are both cleared (LANDSCAPE.md
@@ -45,7 +57,9 @@
 // above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),
 // corrupted bytes in a device's next response(s) on the UART, a truncated next response, a sticky (optionally
 // persistent) communication fault, a base receiver stuck mid-frame (until COMM CLEAR or a ping), the whole
-// chain asleep, a device's digital reset (address lost), a hung device (only HW_RESET brings it back).
+// chain asleep, a device's digital reset (address lost), a hung device (only HW_RESET brings it back), the
+// link to the base cut both ways (nothing reaches the base, nothing comes back), a device whose main ADC
+// stops delivering results while DEV_STAT[MAIN_RUN] still reads 1 (until its next digital reset).
 #pragma once
 
 #include <array>
@@ -73,6 +87,7 @@ class Bq79616ChainEmulator final : public UartPeer {
     uint32_t sleepToActiveToneUs = 270;
     uint32_t hwResetUs = 75000;
     uint32_t adcSettleUs = 38000;
+    uint32_t custCrcUs = 2000;  // one pass of the customer CRC state machine (estimate, see above)
     uint32_t pingTolerancePercent = 5;
   };
 
@@ -120,6 +135,8 @@ class Bq79616ChainEmulator final : public UartPeer {
   void shutdownAll();
   void resetDevice(size_t device);  // digital reset: registers to defaults, address and role lost
   void hangDevice(size_t device);   // ignores frames, tones and pings until a HW_RESET
+  void setDisconnected(bool cut);   // the MCU-to-base link is cut both ways
+  void freezeAdc(size_t device);    // VCELLn read 0x8000 until the device's next digital reset
 
   struct Counters {
     uint64_t commandFrames = 0;  // command frames with a good CRC the base accepted
@@ -143,10 +160,17 @@ class Bq79616ChainEmulator final : public UartPeer {
     bool addressed = false;
     bool muted = false;
     bool hung = false;
+    bool adcFrozen = false;
     bool commCause = false;
     int corruptTimes = 0;
     size_t corruptIndex = 0;
     uint8_t corruptMask = 0;
+    // The customer CRC state machine: passes end at crcEpoch + k x custCrcUs (k >= 1).
+    uint64_t crcEpoch = 0;        // start of the first pass over the current shadow contents
+    uint64_t crcLastRead = 0;     // last read of DEV_STAT (clears CUST_CRC_DONE)
+    uint16_t crcResult = 0;       // CUST_CRC_RSLT until a pass over the current contents ends
+    bool crcDoneLatched = false;  // a pass ended before crcEpoch and DEV_STAT was not read since
+    SimClock::EventId crcCheck = 0;
   };
 
   bool activeAt(const Device& d, uint64_t t) const;
@@ -168,7 +192,13 @@ class Bq79616ChainEmulator final : public UartPeer {
                const std::vector<uint64_t>& reachedAt);
   void toneUp(size_t from, uint64_t t, uint8_t kind);
   void updateFaults();
-  uint16_t custCrc(const Device& d) const;
+  // The customer CRC engine (see the header comment).
+  uint64_t lastPassEnd(const Device& d, uint64_t t) const;  // 0: no pass has ended since crcEpoch
+  uint16_t custCrcResult(const Device& d, uint64_t t) const;
+  bool custCrcDone(const Device& d, uint64_t t) const;
+  void restartCustCrc(size_t k, uint64_t t);
+  void scheduleCrcCheck(size_t k, uint64_t at);
+  void checkCustCrc(size_t k);
 
   SimClock& clock_;
   SimUart& uart_;
@@ -177,6 +207,7 @@ class Bq79616ChainEmulator final : public UartPeer {
   std::vector<uint8_t> rxBuf_;
   int brokenAbove_ = -1;
   bool desync_ = false;
+  bool disconnected_ = false;
   int wakesSinceShutdownPing_ = 2;  // 2 = the daisy-chain port is on
   size_t truncateAt_ = SIZE_MAX;
   SimEdgeInput* nfault_ = nullptr;

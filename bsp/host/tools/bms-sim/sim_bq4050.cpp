@@ -4,12 +4,9 @@
 
 #include "app/bq4050_app.hpp"
 #include "app/default_limits.hpp"
-#include "bq4050/gauge_emulator.hpp"
+#include "bq4050/board.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
-#include "sim/can.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace bmssim {
 namespace {
@@ -17,13 +14,9 @@ namespace {
 class Bq4050Sim final : public ImageSim {
  public:
   Bq4050Sim() {
-    bus_.attach(bsp::host::Bq4050Emulator::kAddress, emulator_);
     for (int c = 1; c <= 4; ++c)
       setCellMv(0, c, 3700);
     setTempDeciK(0, 1, 2982);
-    app_ = std::make_unique<fw::app::Bq4050App>(h_.sched, fw::app::Bq4050App::Io{bus_, can_, faultOut_},
-                                                config_);
-    app_->start();
   }
 
   int boards() const override { return 1; }
@@ -35,73 +28,60 @@ class Bq4050Sim final : public ImageSim {
     truth_[static_cast<size_t>(cell - 1)] = mv;
     push();
   }
-  void setCurrentMa(int ma) override { emulator_.setCurrent(static_cast<int16_t>(ma)); }
-  void setTempDeciK(int, int, int deciK) override { emulator_.setTemperature(static_cast<uint16_t>(deciK)); }
-  void setCommLost(bool lost) override { attach(!lost); }
+  void setCurrentMa(int ma) override { b_.gauge.setCurrent(static_cast<int16_t>(ma)); }
+  void setTempDeciK(int, int, int deciK) override { b_.gauge.setTemperature(static_cast<uint16_t>(deciK)); }
+  void setCommLost(bool lost) override { b_.attachGauge(!lost); }
   void openWire(int, int cell) override {
     openCell_ = cell;
     push();
   }
   void setIntermittent(bool on) override {
     intermittent_ = on;
-    if (!on) attach(true);
+    if (!on) b_.attachGauge(true);
   }
   bool busOff() override {
-    can_.injectBusOff();
+    b_.can.injectBusOff();
     return true;
   }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.
-    if (intermittent_) attach((tick_++ % 350) >= 250);
-    meter_.observe(app_->monitor().stats().scans, 0, bus_.busTimeUs(), bus_.transactions());
+    if (intermittent_) b_.attachGauge((tick_++ % 350) >= 250);
+    meter_.observe(b_.app.monitor().stats().scans, 0, b_.bus.busTimeUs(), b_.bus.transactions());
   }
 
-  bsp::host::Harness& harness() override { return h_; }
+  bsp::host::Harness& harness() override { return b_.h; }
 
   SimFigures figures() override {
     SimFigures f;
-    const auto& st = app_->monitor().stats();
-    fillScanFigures(f, st, config_.scanPeriod, meter_);
-    const auto& gs = app_->monitor().gauge().stats();
+    const auto& st = b_.app.monitor().stats();
+    fillScanFigures(f, st, b_.config.scanPeriod, meter_);
+    const auto& gs = b_.app.monitor().gauge().stats();
     for (uint32_t e : gs.failures)
       f.commErrors += e;
     f.recoveries = st.probes > 0 ? st.probes - 1 : 0;
-    f.outputFrames = can_.sent().size();
+    f.outputFrames = b_.can.sent().size();
     f.output = "can";
-    fillPackFigures(f, app_->pack(), app_->status(), fw::Instant{static_cast<uint32_t>(h_.nowUs())},
+    fillPackFigures(f, b_.app.pack(), b_.app.status(), fw::Instant{static_cast<uint32_t>(b_.h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(*app_); }
-  std::vector<SentFrame> frames() const override { return canFrames(can_); }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(b_.app); }
+  std::vector<SentFrame> frames() const override { return canFrames(b_.can); }
 
  private:
-  void attach(bool present) {
-    if (present) {
-      bus_.attach(bsp::host::Bq4050Emulator::kAddress, emulator_);
-    } else {
-      bus_.detach(bsp::host::Bq4050Emulator::kAddress);
-    }
-  }
   // The gauge measures each cell across its sense lines: an open line reads 0 below and the sum above.
   void push() {
     int pack = 0;
     for (int c = 1; c <= 4; ++c) {
-      emulator_.setCell(c, static_cast<uint16_t>(sensedMv(truth_, c, openCell_)));
+      b_.gauge.setCell(c, static_cast<uint16_t>(sensedMv(truth_, c, openCell_)));
       pack += truth_[static_cast<size_t>(c - 1)];
     }
-    emulator_.setVoltage(static_cast<uint16_t>(pack));
+    b_.gauge.setVoltage(static_cast<uint16_t>(pack));
   }
 
-  bsp::host::Harness h_;
-  bsp::host::SimI2cBus bus_{h_.clock, h_.irq, {100000, fw::ms(25), fw::us(4)}};
-  bsp::host::Bq4050Emulator emulator_;
-  bsp::host::SimCan can_{h_.clock, h_.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut_{h_.clock, true};  // the board asserts it from reset
-  fw::app::Bq4050AppConfig config_;
-  std::unique_ptr<fw::app::Bq4050App> app_;
+  bsp::host::Bq4050Board b_;
   std::vector<int> truth_ = std::vector<int>(4, 3700);
   int openCell_ = -1;
   bool intermittent_ = false;

@@ -5,18 +5,23 @@
 //   bmsctl trace bq4050 [--pec] block <cmd>     SMBus block read
 //   bmsctl trace bq4050 [--pec] mac <subcmd>    ManufacturerBlockAccess read (command-only subcommands are
 //                                               sent as a ManufacturerAccess word write instead)
+//   bmsctl trace bq4050 app-start               the lp-mspm0g3507-bq4050 application (firmware/app/
+//                                               bq4050_app.hpp) from reset until its first complete scan
 //
 // <cmd> is an SBS command in hex (0x09 or 09) or its register-map name (Voltage, RelativeStateOfCharge);
 // <subcmd> a MAC subcommand in hex (0x0001) or its name (DeviceType, SafetyStatus, FETControl). With --pec
 // every transaction carries a PEC; without it each value is read twice and must agree (the driver's rule).
 // The bus runs at 100 kHz with the image's 25 ms stretch limit. Output: one line per transaction as it
 // happens, then '#' lines decoding the result; exit 0. A failed access prints its trace, then
-// "# error: <status>", exit 1. Bad arguments: "bmsctl: error: ..." on stderr, exit 2.
+// "# error: <status>", exit 1. Bad arguments: "bmsctl: error: ..." on stderr, exit 2. app-start adds a
+// "# at <ms>" line before each transaction that follows more than 2 ms of idle bus (the driver keeps 1 ms
+// between any two).
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "bmsctl/cli.hpp"
+#include "bq4050/board.hpp"
 #include "bq4050/gauge_emulator.hpp"
 #include "core/status.hpp"
 #include "drivers/bq4050/gauge.hpp"
@@ -107,14 +112,48 @@ std::string formatBlock(const Target& t, const uint8_t* data, size_t n) {
   return "[" + std::to_string(n) + " bytes]" + bmsctl::hexJoin({data, n}, " ");
 }
 
+// The application from reset to its first complete scan, as the image composes it (PEC detected by the
+// probe): every transaction, a "# at" line before each one that follows more than 2 ms of idle bus, then the
+// outcome.
+int appStart() {
+  bsp::host::Bq4050Board b;
+  uint64_t last = 0;
+  b.bus.onRecord([&](const bsp::host::I2cWireRecord& r) {
+    if (r.startUs > last + 2000) std::printf("# at %.1f ms\n", static_cast<double>(r.startUs) / 1000.0);
+    last = r.endUs;
+    std::printf("%s\n", r.text.c_str());
+  });
+  const bool scanned = b.h.runUntil([&] { return b.app.monitor().stats().scans >= 1; }, fw::s(10));
+  b.bus.onRecord({});
+  if (!scanned) {
+    std::printf("# app-start: no complete scan within 10 s\n");
+    return 1;
+  }
+  const bool valid = b.app.pack().boards[0].last == Status::Ok;
+  std::printf(
+      "# app-start: first complete scan at %.1f ms (%s), pec=%s, %llu transactions, %llu us of bus time\n",
+      static_cast<double>(b.h.nowUs()) / 1000.0, valid ? "valid" : "failed",
+      b.app.monitor().gauge().pecEnabled() ? "on" : "off",
+      static_cast<unsigned long long>(b.bus.transactions()),
+      static_cast<unsigned long long>(b.bus.busTimeUs()));
+  return valid ? 0 : 1;
+}
+
 int run(const bmsctl::TraceRequest& request) {
   if (std::string e = bmsctl::checkFlags(request, {"--pec"}); !e.empty()) return bmsctl::usageError(e);
   if (bmsctl::hasFlag(request, "--pec") && !request.flags.at("--pec").empty()) {
     return bmsctl::usageError("--pec takes no value");
   }
   const std::string& op = request.operation;
+  if (op == "app-start") {
+    if (!request.args.empty() || bmsctl::hasFlag(request, "--pec")) {
+      return bmsctl::usageError("app-start takes no arguments (the application detects PEC itself)");
+    }
+    return appStart();
+  }
   if (op != "word" && op != "block" && op != "mac") {
-    return bmsctl::usageError("unknown bq4050 operation '" + op + "' (expected word, block or mac)");
+    return bmsctl::usageError("unknown bq4050 operation '" + op +
+                              "' (expected word, block, mac or app-start)");
   }
   if (request.args.size() != 1) {
     return bmsctl::usageError("bq4050 " + op + " takes exactly one " +
@@ -183,6 +222,6 @@ int run(const bmsctl::TraceRequest& request) {
 }
 
 const bmsctl::Registrar registrar{
-    {"bq4050", "BQ4050 gas gauge on SMBus: word|block|mac <cmd> [--pec]", &run}};
+    {"bq4050", "BQ4050 gas gauge on SMBus: word|block|mac <cmd> [--pec], app-start", &run}};
 
 }  // namespace

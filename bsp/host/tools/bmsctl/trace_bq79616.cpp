@@ -7,18 +7,23 @@
 //   bmsctl trace bq79616 [--devices N] read stack|broadcast <reg> <len>
 //   bmsctl trace bq79616 [--devices N] write single <dev> <reg> <byte>...
 //   bmsctl trace bq79616 [--devices N] write stack|broadcast|reverse <reg> <byte>...
+//   bmsctl trace bq79616 [--devices N] app-start
 //
 // <reg> is a register address in hex (0x0309, or 309) or a generated register-map name (Control1, CONTROL1,
 // vcell16_hi, Vcell16); <dev> and <len> are decimal; bytes are hex (20, 0x20). --devices defaults to 2 (TI's
 // example). Output: the wire lines (TX/RX/PING), then '#' lines decoding the result. `wake` starts from a
 // chain in SHUTDOWN; `autoaddress` wakes the chain first without tracing; read and write bring the chain up
-// (wake, auto-address, configure) without tracing, then trace only the requested frame.
+// (wake, auto-address, configure) without tracing, then trace only the requested frame. `app-start` runs the
+// lp-mspm0g3507-bq79616 application itself (firmware/app/bq79616_app.hpp, as the image composes it with N
+// devices) from reset until its first complete scan and traces everything it sends and receives, with
+// "# at <ms>" lines where the line was quiet for a millisecond or more.
 #include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bmsctl/cli.hpp"
+#include "bq79616/board.hpp"
 #include "bq79616/chain_emulator.hpp"
 #include "core/status.hpp"
 #include "drivers/bq79616/chain.hpp"
@@ -142,6 +147,33 @@ double msSince(const Rig& rig, uint64_t startUs) {
   return static_cast<double>(rig.harness.nowUs() - startUs) / 1000.0;
 }
 
+// The application from reset to its first complete scan: every wire line, a "# at" line before each line that
+// follows a millisecond or more of quiet, then the outcome.
+int appStart(uint8_t devices) {
+  bsp::host::Bq79616Board b(devices);
+  uint64_t last = 0;
+  b.uart.onRecord([&](const std::string& line) {
+    if (b.h.nowUs() >= last + 1000) std::printf("# at %.1f ms\n", static_cast<double>(b.h.nowUs()) / 1000.0);
+    last = b.h.nowUs();
+    std::printf("%s\n", line.c_str());
+  });
+  const bool scanned = b.h.runUntil([&] { return b.app.monitor().stats().scans >= 1; }, fw::s(10));
+  b.uart.onRecord({});
+  if (!scanned) {
+    std::printf("# app-start: no complete scan within 10 s\n");
+    return 1;
+  }
+  uint16_t valid = 0;
+  for (const auto& board : b.app.pack().boards)
+    valid = static_cast<uint16_t>(valid + (board.last == Status::Ok ? 1 : 0));
+  std::printf(
+      "# app-start: first complete scan at %.1f ms, %u of %u devices valid, %u command frames, "
+      "%llu response bytes\n",
+      static_cast<double>(b.h.nowUs()) / 1000.0, valid, devices,
+      b.app.monitor().chain().stats().commandFrames, static_cast<unsigned long long>(b.uart.rxBytes()));
+  return valid == devices ? 0 : 1;
+}
+
 std::optional<bq::RequestType> parseKind(const std::string& kind, bool write) {
   if (kind == "single") return write ? bq::RequestType::SingleWrite : bq::RequestType::SingleRead;
   if (kind == "stack") return write ? bq::RequestType::StackWrite : bq::RequestType::StackRead;
@@ -201,13 +233,14 @@ int run(const bmsctl::TraceRequest& request) {
     }
     if (*type == bq::RequestType::StackRead && devices < 2)
       return bmsctl::usageError("a stack read needs --devices 2 or more");
-  } else if (op != "wake" && op != "autoaddress") {
+  } else if (op != "wake" && op != "autoaddress" && op != "app-start") {
     return bmsctl::usageError(
         "unknown bq79616 operation '" + op +
-        "' (wake, autoaddress, read single|stack|broadcast, write single|stack|broadcast)");
+        "' (wake, autoaddress, read single|stack|broadcast, write single|stack|broadcast, app-start)");
   } else if (!a.empty()) {
     return bmsctl::usageError(op + " takes no arguments");
   }
+  if (op == "app-start") return appStart(devices);
 
   Rig rig(devices);
   if (op == "wake") {
@@ -263,6 +296,7 @@ int run(const bmsctl::TraceRequest& request) {
 }
 
 const bmsctl::Registrar kRegistrar{
-    {"bq79616", "BQ79616 daisy chain on UART (--devices N): wake, autoaddress, read, write", &run}};
+    {"bq79616", "BQ79616 daisy chain on UART (--devices N): wake, autoaddress, read, write, app-start",
+     &run}};
 
 }  // namespace

@@ -1,0 +1,40 @@
+// Bq4050Board: the lp-mspm0g3507-bq4050 board on the host BSP, as bms-sim, `bmsctl trace bq4050 app-start`
+// and the application tests run it: the image's application (firmware/app/bq4050_app.hpp) with the gauge
+// emulator on a 100 kHz SMBus with the image's 25 ms stretch limit, CAN at 500 kbit/s and the fault output
+// (asserted from reset). The application is started by the constructor; nothing happens until the harness
+// runs. Header-only: users link fw_app_bq4050 and emul_bq4050.
+#pragma once
+
+#include "app/bq4050_app.hpp"
+#include "bq4050/gauge_emulator.hpp"
+#include "sim/can.hpp"
+#include "sim/harness.hpp"
+#include "sim/i2c_bus.hpp"
+#include "sim/peripherals.hpp"
+
+namespace bsp::host {
+
+struct Bq4050Board {
+  Bq4050Board() {
+    bus.attach(Bq4050Emulator::kAddress, gauge);
+    app.start();
+  }
+  // The gauge on the bus, or gone from it (a cable, a gauge in reset): its address is then NACKed.
+  void attachGauge(bool present) {
+    if (present) {
+      bus.attach(Bq4050Emulator::kAddress, gauge);
+    } else {
+      bus.detach(Bq4050Emulator::kAddress);
+    }
+  }
+
+  Harness h;
+  SimI2cBus bus{h.clock, h.irq, {100000, fw::ms(25), fw::us(4)}};
+  Bq4050Emulator gauge;
+  SimCan can{h.clock, h.irq, 500000, 8};
+  SimDigitalOut faultOut{h.clock, true};
+  fw::app::Bq4050AppConfig config;
+  fw::app::Bq4050App app{h.sched, fw::app::Bq4050App::Io{bus, can, faultOut}, config};
+};
+
+}  // namespace bsp::host

@@ -1,0 +1,39 @@
+// The lp-mspm0g3507-bq4050 board (firmware/app/bq4050_app.hpp) on the host BSP against the gauge emulator on
+// a 100 kHz SMBus with the image's 25 ms stretch limit: issue 15's outage sweep. The gauge vanishes from the
+// bus (a cable, a gauge in reset) for 50 ms .. 10 s starting at points across the 100 ms scan period, either
+// coming back as it was or having reset in between; good scans must resume within the bound below after it
+// returns, with the fault output and comm_loss/stale_data cleared, and no scan in between may be published as
+// valid.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "bq4050/board.hpp"
+#include "outage_sweep.hpp"
+
+namespace {
+
+enum Outage : int { kVanish, kVanishAndReset };
+
+struct Board : bsp::host::Bq4050Board {
+  static const char* outageName(int kind) { return kind == kVanish ? "vanish" : "vanish+reset"; }
+  void setOutage(int kind, bool on) {
+    attachGauge(!on);
+    if (on && kind == kVanishAndReset) gauge.reset();
+  }
+};
+
+// The loss must first be noticed (three failed scans); once it is, the gauge is probed again within one scan
+// period of answering again; then one probe and one scan run (`bootUs`, from power-on to the first good scan,
+// is one of each). Fails on the code before, which waited a whole second between probes (worst 1005 ms).
+uint64_t bound(const Board& b, uint64_t bootUs) {
+  return 4 * b.config.scanPeriod.us + bootUs;
+}
+
+TEST(Bq4050Recovery, OutageSweep) {
+  test::outageSweep<Board>(
+      "app.bq4050.outage_recovery_worst_ms", [] { return std::make_unique<Board>(); },
+      {{50, 250, 350, 500, 1000, 2500, 10000}, {0, 5, 30, 60, 90}, {kVanish, kVanishAndReset}}, bound);
+}
+
+}  // namespace
