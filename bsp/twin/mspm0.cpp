@@ -33,6 +33,23 @@ constexpr uint32_t kGpioa = 0x400A0000, kGpiob = 0x400A2000, kTimg0 = 0x40084000
 constexpr uint32_t kI2c0 = 0x400F0000, kI2c1 = 0x400F2000, kUart0 = 0x40108000, kUart1 = 0x40100000;
 constexpr uint32_t kCanfd0 = 0x40508000, kCanfdSpan = 0x8000;
 
+// The timers and UARTs each part has: base, IRQ, name and (UARTs) the DMA trigger of RX and TX.
+struct Slot {
+  uint32_t base;
+  int irq;
+  const char* name;
+  int dmaRx = 0, dmaTx = 0;
+};
+constexpr Slot kG3507Timers[] = {
+    {kTimg0, 16, "TIMG0"}, {0x40868000, 17, "TIMG6"}, {0x4086A000, 20, "TIMG7"}, {0x40090000, 2, "TIMG8"}};
+constexpr Slot kL1306Timers[] = {
+    {kTimg0, 16, "TIMG0"}, {0x40086000, 2, "TIMG1"}, {0x40088000, 18, "TIMG2"}, {0x4008C000, 20, "TIMG4"}};
+constexpr Slot kG3507Uarts[] = {{kUart0, 15, "UART0", 17, 18},
+                                {kUart1, 13, "UART1", 19, 20},
+                                {0x40102000, 14, "UART2", 21, 22},
+                                {0x40500000, 3, "UART3", 15, 16}};
+constexpr Slot kL1306Uarts[] = {{kUart0, 15, "UART0", 10, 11}, {kUart1, 13, "UART1", 12, 13}};
+
 }  // namespace
 
 template <class Model, class... Args>
@@ -76,15 +93,15 @@ Mspm0::Mspm0(Part part) : part_(part) {
   i2c1_.reset(add<I2c>(kI2c1, kPeripheralSpan, 25, "I2C1", *pins_));
   // I2C0 on PA0 (SDA, PINCM1) / PA1 (SCL, PINCM2), PF 3 on both parts (device headers).
   i2c0_->setPins(1, 3, 2, 3);
+  const std::span<const Slot> timers(g ? std::span<const Slot>(kG3507Timers) : kL1306Timers);
+  for (size_t i = 0; i < timers.size(); ++i)
+    timg_[i].reset(add<Timg>(timers[i].base, kPeripheralSpan, timers[i].irq, timers[i].name));
+  const std::span<const Slot> uarts(g ? std::span<const Slot>(kG3507Uarts) : kL1306Uarts);
+  for (size_t i = 0; i < uarts.size(); ++i) {
+    const Slot& u = uarts[i];
+    uart_[i].reset(add<Uart>(u.base, kPeripheralSpan, u.irq, u.name, *dma_, u.dmaRx, u.dmaTx));
+  }
   if (g) {
-    timg_[0].reset(add<Timg>(kTimg0, kPeripheralSpan, 16, "TIMG0"));
-    timg_[1].reset(add<Timg>(0x40868000, kPeripheralSpan, 17, "TIMG6"));
-    timg_[2].reset(add<Timg>(0x4086A000, kPeripheralSpan, 20, "TIMG7"));
-    timg_[3].reset(add<Timg>(0x40090000, kPeripheralSpan, 2, "TIMG8"));
-    uart0_.reset(add<Uart>(kUart0, kPeripheralSpan, 15, "UART0", *dma_, 17, 18));
-    uart1_.reset(add<Uart>(kUart1, kPeripheralSpan, 13, "UART1", *dma_, 19, 20));
-    uart2_.reset(add<Uart>(0x40102000, kPeripheralSpan, 14, "UART2", *dma_, 21, 22));
-    uart3_.reset(add<Uart>(0x40500000, kPeripheralSpan, 3, "UART3", *dma_, 15, 16));
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
     mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
     // Output functions idle high: UART0 TX on PA10 (PINCM21) / PA0 (PINCM1), UART1 TX on PA8 (PINCM19), CAN
@@ -93,12 +110,6 @@ Mspm0::Mspm0(Part part) : part_(part) {
     pins_->setFunctionDrive(19, 2, Drive::High);
     pins_->setFunctionDrive(34, 5, Drive::High);
   } else {
-    timg_[0].reset(add<Timg>(kTimg0, kPeripheralSpan, 16, "TIMG0"));
-    timg_[1].reset(add<Timg>(0x40086000, kPeripheralSpan, 2, "TIMG1"));
-    timg_[2].reset(add<Timg>(0x40088000, kPeripheralSpan, 18, "TIMG2"));
-    timg_[3].reset(add<Timg>(0x4008C000, kPeripheralSpan, 20, "TIMG4"));
-    uart0_.reset(add<Uart>(kUart0, kPeripheralSpan, 15, "UART0", *dma_, 10, 11));
-    uart1_.reset(add<Uart>(kUart1, kPeripheralSpan, 13, "UART1", *dma_, 12, 13));
     // UART0 TX idles high on PA8 (PINCM9, PF 2) and PA23 (PINCM24, PF 2).
     pins_->setFunctionDrive(9, 2, Drive::High);
     pins_->setFunctionDrive(24, 2, Drive::High);

@@ -45,8 +45,8 @@ class Mspm0 {
   Gpio& gpio(int port) { return port == 0 ? *gpioA_ : *gpioB_; }
   Wwdt& wwdt0() { return *wwdt0_; }
   I2c& i2c0() { return *i2c0_; }
-  Uart& uart(int n) { return n == 0 ? *uart0_ : *uart1_; }
-  Mcan* mcan() { return mcan_.get(); }  // G3507 only
+  Uart& uart(int n) { return *uart_[n]; }  // 0..3 on the G3507, 0..1 on the L1306
+  Mcan* mcan() { return mcan_.get(); }     // G3507 only
   const Mcan* mcan() const { return mcan_.get(); }
   const Pins& pins() const { return *pins_; }
   // PINCM index of port/bit (0 if the part has no such pin).
@@ -67,7 +67,7 @@ class Mspm0 {
   std::unique_ptr<Timg> timg_[4];
   std::unique_ptr<Wwdt> wwdt0_;
   std::unique_ptr<I2c> i2c0_, i2c1_;
-  std::unique_ptr<Uart> uart0_, uart1_, uart2_, uart3_;
+  std::unique_ptr<Uart> uart_[4];
   std::unique_ptr<Mcan> mcan_;
   const ElfFile* elf_ = nullptr;
 };

@@ -192,18 +192,15 @@ def check_agreement(sim, elf, image, scratch):
                 changes.append((t, (chg, dsg, out, faults)))
                 last = (chg, dsg, out, faults)
         return changes
-    sh, st = states(host), states(twin)
-    if [s for _, s in sh] != [s for _, s in st]:
-        fail(f"the published states differ: host {sh}, twin {st}")
-    for (a, _), (b, _) in zip(sh, st):
-        if abs(a - b) > period:
-            fail(f"a published state change at {a:.3f} ms on the host comes at {b:.3f} ms on the twin")
-    th, tt = trips(host), trips(twin)
-    if [f for _, f in th] != [f for _, f in tt]:
-        fail(f"published trips differ: host {th}, twin {tt}")
-    for (a, f), (b, _) in zip(th, tt):
-        if abs(a - b) > period:
-            fail(f"the {FAULTS[f]} trip published at {a:.3f} ms on the host comes at {b:.3f} ms on the twin")
+    # The same changes in the same order, each within one scan period of the host's.
+    for what, h, t, name in (("state", states(host), states(twin), str),
+                             ("trip", trips(host), trips(twin), lambda f: FAULTS[f])):
+        if [s for _, s in h] != [s for _, s in t]:
+            fail(f"the published {what}s differ: host {h}, twin {t}")
+        for (a, s), (b, _) in zip(h, t):
+            if abs(a - b) > period:
+                fail(f"the {what} {name(s)} published at {a:.3f} ms on the host comes at {b:.3f} ms on the twin")
+    tt = trips(twin)
     print(f"REPORT twin.{image}.agreement: {n} frames ({len(ids)} messages) and {len(tt)} trips as on the host, "
           f"worst frame time difference {worst:.3f} ms; first valid data at {host_start:.1f} ms (host) and "
           f"{twin_start:.1f} ms (twin, from reset)")

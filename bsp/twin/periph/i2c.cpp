@@ -8,7 +8,7 @@ namespace twin {
 
 namespace {
 
-constexpr uint32_t kClkdiv = 0x1000, kClksel = 0x1004, kGfctl = 0x1200, kTimeoutCtl = 0x1204;
+constexpr uint32_t kClksel = 0x1004, kGfctl = 0x1200, kTimeoutCtl = 0x1204;
 constexpr uint32_t kTimeoutCnt = 0x1208, kMsa = 0x1210, kMctr = 0x1214, kMsr = 0x1218, kMrxdata = 0x121C;
 constexpr uint32_t kMtxdata = 0x1220, kMtpr = 0x1224, kMcr = 0x1228, kMbmon = 0x1234, kMfifoctl = 0x1238;
 constexpr uint32_t kMfifosr = 0x123C, kPecctl = 0x1240, kPecsr = 0x1244;
@@ -55,7 +55,8 @@ void I2c::setPins(int sdaPincm, uint32_t sdaPf, int sclPincm, uint32_t sclPf) {
 }
 
 void I2c::resetRegisters() {
-  clkdiv_ = clksel_ = gfctl_ = timeoutCtl_ = msa_ = mctr_ = mtpr_ = mcr_ = 0;
+  clock_ = ClockRegs(kClksel);
+  gfctl_ = timeoutCtl_ = msa_ = mctr_ = mtpr_ = mcr_ = 0;
   mfifoctl_ = pecctl_ = pecsr_ = 0;
   adrNack_ = dataNack_ = err_ = false;
   tx_.clear();
@@ -71,13 +72,13 @@ void I2c::resetRegisters() {
 }
 
 uint64_t I2c::bitCycles() const {
-  return static_cast<uint64_t>((mtpr_ & 0x7F) + 1) * 10 * ((clkdiv_ & 7U) + 1);
+  return static_cast<uint64_t>((mtpr_ & 0x7F) + 1) * 10 * clock_.divider();
 }
 
 uint64_t I2c::timeoutCycles() const {
   if ((timeoutCtl_ & kTimeoutAEnable) == 0 || (timeoutCtl_ & 0xFF) <= 1) return 0;
   const uint64_t counts = static_cast<uint64_t>(timeoutCtl_ & 0xFF) << 4;  // upper 8 of 12 bits
-  return counts * ((mtpr_ & 0x7F) + 1) * 12 * ((clkdiv_ & 7U) + 1);
+  return counts * ((mtpr_ & 0x7F) + 1) * 12 * clock_.divider();
 }
 
 bool I2c::routed() const {
@@ -320,13 +321,8 @@ void I2c::watchRecovery(bool sdaChanged) {
 }
 
 bool I2c::readRegister(uint32_t offset, uint32_t& value) {
+  if (clock_.read(offset, value)) return true;
   switch (offset) {
-    case kClkdiv:
-      value = clkdiv_;
-      return true;
-    case kClksel:
-      value = clksel_;
-      return true;
     case kGfctl:
       value = gfctl_;
       return true;
@@ -394,14 +390,11 @@ bool I2c::readRegister(uint32_t offset, uint32_t& value) {
 }
 
 bool I2c::writeRegister(uint32_t offset, uint32_t value) {
+  if (clock_.write(offset, value)) {
+    if (offset == kClksel && !clock_.busclk()) stop("CLKSEL selects a clock other than BUSCLK, not modelled");
+    return true;
+  }
   switch (offset) {
-    case kClkdiv:
-      clkdiv_ = value;
-      return true;
-    case kClksel:
-      if ((value & (1U << 3)) == 0) stop("CLKSEL selects a clock other than BUSCLK, not modelled");
-      clksel_ = value;
-      return true;
     case kGfctl:
       gfctl_ = value;
       return true;
@@ -430,7 +423,7 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       return true;
     case kMfifoctl:
       mfifoctl_ = value;
-      if (value & (kTxFlush | kRxFlush)) flush_.after((clkdiv_ & 7U) + 1);
+      if (value & (kTxFlush | kRxFlush)) flush_.after(clock_.divider());
       return true;
     case kPecctl:
       pecctl_ = value;

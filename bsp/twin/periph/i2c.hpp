@@ -110,7 +110,8 @@ class I2c final : public Peripheral {
   int sdaPincm_ = 0, sclPincm_ = 0;
   uint32_t sdaPf_ = 0, sclPf_ = 0;
 
-  uint32_t clkdiv_ = 0, clksel_ = 0, gfctl_ = 0, timeoutCtl_ = 0, msa_ = 0, mctr_ = 0, mtpr_ = 0, mcr_ = 0;
+  ClockRegs clock_{0x1004};
+  uint32_t gfctl_ = 0, timeoutCtl_ = 0, msa_ = 0, mctr_ = 0, mtpr_ = 0, mcr_ = 0;
   uint32_t mfifoctl_ = 0, pecctl_ = 0, pecsr_ = 0;
   bool adrNack_ = false, dataNack_ = false, err_ = false;
   std::deque<uint8_t> tx_, rx_;

@@ -62,6 +62,18 @@ bool EventRegs::write(uint32_t offset, uint32_t value) {
   }
 }
 
+bool ClockRegs::read(uint32_t offset, uint32_t& value) const {
+  if (offset != 0x1000 && offset != selOffset) return false;
+  value = offset == 0x1000 ? div : sel;
+  return true;
+}
+
+bool ClockRegs::write(uint32_t offset, uint32_t value) {
+  if (offset != 0x1000 && offset != selOffset) return false;
+  (offset == 0x1000 ? div : sel) = value;
+  return true;
+}
+
 Peripheral::Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset, uint32_t cpuIntOffset)
     : machine_(machine), name_(std::move(name)), gprcmOffset_(gprcmOffset), cpuIntOffset_(cpuIntOffset) {}
 

@@ -42,6 +42,20 @@ struct EventRegs {
   bool write(uint32_t offset, uint32_t value);
 };
 
+// CLKDIV (+0x1000, RATIO 2:0 divides the functional clock by RATIO + 1) and CLKSEL (BUSCLK_SEL bit 3) of
+// the peripherals clocked from BUSCLK; CLKSEL is at +0x1004 in hw_i2c.h, +0x1008 in hw_uart.h and
+// hw_gptimer.h. Each model decides what it refuses (a clock the twin does not model stops the run).
+struct ClockRegs {
+  explicit ClockRegs(uint32_t selOffset) : selOffset(selOffset) {}
+  uint32_t selOffset;
+  uint32_t div = 0, sel = 0;
+  uint32_t divider() const { return (div & 7U) + 1; }
+  bool busclk() const { return (sel & (1U << 3)) != 0; }
+  // False for offsets other than CLKDIV and CLKSEL.
+  bool read(uint32_t offset, uint32_t& value) const;
+  bool write(uint32_t offset, uint32_t value);
+};
+
 class Peripheral : public Device {
  public:
   Peripheral(Machine& machine, std::string name, uint32_t gprcmOffset = 0x800,

@@ -8,14 +8,13 @@ namespace twin {
 
 namespace {
 
-constexpr uint32_t kClkdiv = 0x1000, kClksel = 0x1008, kCclkctl = 0x1108, kCps = 0x110C;
+constexpr uint32_t kClksel = 0x1008, kCclkctl = 0x1108, kCps = 0x110C;
 constexpr uint32_t kCtr = 0x1800, kCtrctl = 0x1804, kLoadReg = 0x1808, kCc0 = 0x1810, kCcctl0 = 0x1830;
 
 constexpr uint32_t kEn = 1U << 0;
 constexpr uint32_t kRepeatMask = 0xE;
 constexpr uint32_t kCmMask = 0x30, kCmDown = 0x00, kCmUp = 0x20;
 constexpr uint32_t kCvaeMask = 0x30000000, kCvaeLoad = 0x00000000, kCvaeZero = 0x20000000;
-constexpr uint32_t kClkselBusclk = 1U << 3;
 constexpr uint32_t kCounterMask = 0xFFFF;  // TIMGx here are 16-bit timers
 constexpr uint32_t kCcctlCoc = 1U << 17;   // capture (1) or compare (0)
 constexpr uint32_t kCcctlAcond = 0x70, kCcctlLcond = 0x700, kCcctlZcond = 0x7000;
@@ -26,7 +25,8 @@ Timg::Timg(Machine& machine, const char* name)
     : Peripheral(machine, name), event_(machine.timeline(), [this] { onTick(); }) {}
 
 void Timg::resetRegisters() {
-  clkdiv_ = clksel_ = cclkctl_ = cps_ = load_ = 0;
+  clock_ = ClockRegs(kClksel);
+  cclkctl_ = cps_ = load_ = 0;
   ctrctl_ = (7U << 7) | (7U << 10) | (7U << 13);  // CLC/CAC/CZC reset to 7 (reserved encodings)
   cc_[0] = cc_[1] = ccctl_[0] = ccctl_[1] = 0;
   baseValue_ = 0;
@@ -36,11 +36,11 @@ void Timg::resetRegisters() {
 }
 
 bool Timg::running() const {
-  return (ctrctl_ & kEn) && (cclkctl_ & 1U) && (clksel_ & kClkselBusclk) && powered();
+  return (ctrctl_ & kEn) && (cclkctl_ & 1U) && clock_.busclk() && powered();
 }
 
 uint64_t Timg::tickCycles() const {
-  return static_cast<uint64_t>((clkdiv_ & 7U) + 1) * ((cps_ & 0xFFU) + 1);
+  return static_cast<uint64_t>(clock_.divider()) * ((cps_ & 0xFFU) + 1);
 }
 
 uint32_t Timg::counterNow() const {
@@ -133,13 +133,8 @@ void Timg::onTick() {
 }
 
 bool Timg::readRegister(uint32_t offset, uint32_t& value) {
+  if (clock_.read(offset, value)) return true;
   switch (offset) {
-    case kClkdiv:
-      value = clkdiv_;
-      return true;
-    case kClksel:
-      value = clksel_;
-      return true;
     case kCclkctl:
       value = cclkctl_;
       return true;
@@ -170,15 +165,13 @@ bool Timg::readRegister(uint32_t offset, uint32_t& value) {
 
 bool Timg::writeRegister(uint32_t offset, uint32_t value) {
   rebase();
+  if (clock_.write(offset, value)) {
+    // CLKSEL: LFCLK_SEL bit 1, MFCLK_SEL bit 2 are not modelled; 0 (no clock) is a valid reset value.
+    if ((clock_.sel & 0x6U) != 0 && !clock_.busclk()) stop("CLKSEL selects LFCLK or MFCLK, not modelled");
+    schedule();
+    return true;
+  }
   switch (offset) {
-    case kClkdiv:
-      clkdiv_ = value;
-      break;
-    case kClksel:
-      if ((value & 0xE) != 0 && (value & kClkselBusclk) == 0)
-        stop("CLKSEL selects LFCLK or MFCLK, not modelled");
-      clksel_ = value;
-      break;
     case kCclkctl:
       cclkctl_ = value;
       break;

@@ -47,7 +47,8 @@ class Timg final : public Peripheral {
   void checkControl();
 
   TimedEvent event_;
-  uint32_t clkdiv_ = 0, clksel_ = 0, cclkctl_ = 0, cps_ = 0;
+  ClockRegs clock_{0x1008};
+  uint32_t cclkctl_ = 0, cps_ = 0;
   uint32_t ctrctl_ = 0, load_ = 0;
   uint32_t cc_[2] = {0, 0}, ccctl_[2] = {0, 0};
   uint32_t baseValue_ = 0;  // counter value at baseCycle_

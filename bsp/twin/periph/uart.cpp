@@ -8,7 +8,7 @@ namespace twin {
 
 namespace {
 
-constexpr uint32_t kClkdiv = 0x1000, kClksel = 0x1008, kDmaTrigRx = 0x1050, kDmaTrigTx = 0x1080;
+constexpr uint32_t kClksel = 0x1008, kDmaTrigRx = 0x1050, kDmaTrigTx = 0x1080;
 constexpr uint32_t kCtl0 = 0x1100, kLcrh = 0x1104, kStat = 0x1108, kIfls = 0x110C, kIbrd = 0x1110;
 constexpr uint32_t kFbrd = 0x1114, kGfctl = 0x1118, kTxdata = 0x1120, kRxdata = 0x1124;
 
@@ -17,7 +17,6 @@ constexpr uint32_t kModeMask = 0x700, kRtsen = 1U << 13, kCtsen = 1U << 14, kHse
 constexpr uint32_t kPen = 1U << 1, kStp2 = 1U << 3;
 constexpr uint32_t kStatBusy = 1U << 0, kStatRxfe = 1U << 2, kStatRxff = 1U << 3, kStatTxfe = 1U << 6;
 constexpr uint32_t kStatTxff = 1U << 7;
-constexpr uint32_t kClkselBusclk = 1U << 3;
 constexpr size_t kFifoDepth = 4;
 constexpr uint32_t kLevelDma = 7;  // "TX FIFO >= 1 entry free" / "RX FIFO >= 1 entry available"
 
@@ -63,7 +62,8 @@ Uart::Uart(Machine& machine, const char* name, Dma& dma, int rxTrigger, int txTr
 }
 
 void Uart::resetRegisters() {
-  clkdiv_ = clksel_ = ctl0_ = lcrh_ = ibrd_ = fbrd_ = gfctl_ = 0;
+  clock_ = ClockRegs(kClksel);
+  ctl0_ = lcrh_ = ibrd_ = fbrd_ = gfctl_ = 0;
   ifls_ = 0x22;  // TX 1/2 and RX 1/2: "(default)" in hw_uart.h IFLS
   dmaRx_ = {};
   dmaTx_ = {};
@@ -87,7 +87,7 @@ uint64_t Uart::frameCycles64() const {
   const uint32_t hse = (ctl0_ >> kHseShift) & 3U;
   const uint64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
   const uint64_t bits = 1 + (5 + ((lcrh_ >> 4) & 3U)) + ((lcrh_ & kPen) ? 1 : 0) + ((lcrh_ & kStp2) ? 2 : 1);
-  return bits * oversampling * divisor64 * ((clkdiv_ & 7U) + 1);
+  return bits * oversampling * divisor64 * clock_.divider();
 }
 
 void Uart::checkMode() {
@@ -98,7 +98,7 @@ void Uart::checkMode() {
                   ctl0_);
     stop(buf);
   }
-  if ((clksel_ & kClkselBusclk) == 0) stop("enabled without BUSCLK as its clock (CLKSEL)");
+  if (!clock_.busclk()) stop("enabled without BUSCLK as its clock (CLKSEL)");
   if ((ibrd_ & 0xFFFF) == 0) stop("enabled with IBRD = 0");
 }
 
@@ -187,13 +187,8 @@ void Uart::dmaDone(int trigger) {
 bool Uart::readRegister(uint32_t offset, uint32_t& value) {
   if (offset - kDmaTrigRx < 0x30) return dmaRx_.read(offset - kDmaTrigRx, value);
   if (offset - kDmaTrigTx < 0x30) return dmaTx_.read(offset - kDmaTrigTx, value);
+  if (clock_.read(offset, value)) return true;
   switch (offset) {
-    case kClkdiv:
-      value = clkdiv_;
-      return true;
-    case kClksel:
-      value = clksel_;
-      return true;
     case kCtl0:
       value = ctl0_;
       return true;
@@ -247,13 +242,8 @@ bool Uart::writeRegister(uint32_t offset, uint32_t value) {
     if (dmaTx_.mis() & kTxInt) dma_.requestRaised(txTrigger_);
     return ok;
   }
+  if (clock_.write(offset, value)) return true;  // BUSCLK is checked when the UART is enabled
   switch (offset) {
-    case kClkdiv:
-      clkdiv_ = value;
-      return true;
-    case kClksel:
-      clksel_ = value;
-      return true;
     case kLcrh:
       lcrh_ = value;
       return true;

@@ -82,7 +82,8 @@ class Uart final : public Peripheral, public DmaRequester {
   bool shifting_ = false;
   uint8_t shiftByte_ = 0;
   uint64_t frameRemainder64_ = 0;  // fractional cycles carried between frames
-  uint32_t clkdiv_ = 0, clksel_ = 0, ctl0_ = 0, lcrh_ = 0, ifls_ = 0, ibrd_ = 0, fbrd_ = 0, gfctl_ = 0;
+  ClockRegs clock_{0x1008};
+  uint32_t ctl0_ = 0, lcrh_ = 0, ifls_ = 0, ibrd_ = 0, fbrd_ = 0, gfctl_ = 0;
 };
 
 }  // namespace twin
