@@ -123,7 +123,14 @@ def check_comm_loss(sim, elf, image, scratch):
         fail(f"comm_loss is never published after the monitor went silent: {late[-1]}")
     if any(s[4] for s in late):
         fail("a PackSummary calls the data valid a second after the monitor went silent")
+    # The wire shows the board trying again (bms-sim counts what it sees: failed transactions and scans,
+    # recoveries).
+    tries = summary["comm_errors"] + summary["scan_failures"] + summary["recoveries"]
+    if tries == 0:
+        fail("the wire shows no failed transaction, failed scan or recovery after the monitor went silent")
     twin_report(summary, seconds, image, "comm-loss")
+    print(f"REPORT twin.{image}.comm-loss.wire: {summary['scans']} scans ({summary['scan_failures']} failed), "
+          f"{summary['comm_errors']} comm errors, {summary['recoveries']} recoveries")
 
 
 def check_bus_off(sim, elf, image, scratch):

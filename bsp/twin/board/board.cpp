@@ -169,6 +169,7 @@ void Board::wireChain(int devices) {
     } else if (pingStart_ != 0) {
       const auto us = static_cast<uint32_t>((now - pingStart_) / chip_.machine().cyclesPerUs());
       chain_->onPing(fw::us(us), world_.nowUs());
+      chainPings_.push_back(now);
       pingStart_ = 0;
     }
   });
@@ -185,7 +186,8 @@ void Board::noteChainByte(uint8_t byte) {
   const size_t header = single ? 2 : 1;
   if (chainFrame_.size() < header + 2 + (read ? 1U : (init & 7U) + 1U) + 2) return;
   chainCommands_.push_back({chip_.machine().now(), init,
-                            static_cast<uint16_t>(chainFrame_[header] << 8 | chainFrame_[header + 1])});
+                            static_cast<uint16_t>(chainFrame_[header] << 8 | chainFrame_[header + 1]),
+                            uartRxBytes_});
   chainFrame_.clear();
 }
 

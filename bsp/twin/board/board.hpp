@@ -57,6 +57,7 @@ struct ChainCommand {
   uint64_t cycle;
   uint8_t init;
   uint16_t reg;
+  uint64_t rxBytesBefore;  // bytes the MCU had received from the chain when this command was complete
 };
 
 struct SlcanLine {
@@ -106,6 +107,7 @@ class Board {
   const std::vector<uint64_t>& watchdogFeeds() const { return watchdogFeeds_; }
   const std::vector<I2cWireLog>& i2cLog() const { return i2cLog_; }
   const std::vector<ChainCommand>& chainCommands() const { return chainCommands_; }
+  const std::vector<uint64_t>& chainPings() const { return chainPings_; }  // cycle each ping on TX ended
   // What the twin noticed that the part would do silently: floating inputs read, protected MCAN writes
   // ignored, an MCAN interrupt line waiting for its EOI longer than 10 ms. Empty for a healthy image.
   std::vector<std::string> warnings() const;
@@ -139,6 +141,7 @@ class Board {
   std::function<void()> feedHook_;
   std::vector<I2cWireLog> i2cLog_;
   std::vector<ChainCommand> chainCommands_;
+  std::vector<uint64_t> chainPings_;
   std::vector<uint8_t> chainFrame_;
   uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
   uint64_t pingStart_ = 0;

@@ -180,6 +180,14 @@ class TwinSim final : public ImageSim {
            : id_.family == Family::Bq76907 ? "S 10 12 "
                                            : "S 10 0A ";
   }
+  // The probe that starts the monitor's set-up (firmware/drivers startProbe): the subcommand DEVICE_NUMBER
+  // 0x0001 written to 0x3E (regmaps/bq769x2, bq7690x subcommands.yaml), with the CRC byte after each byte
+  // when the image uses CRC (as `bmsctl trace bq76952 --crc subcmd 0x0001` prints it), or the BQ4050's
+  // SpecificationInfo read (0x1A).
+  bool isProbe(const std::string& text) const {
+    if (id_.family == Family::Bq4050) return text.rfind("S 16 1A ", 0) == 0;
+    return text.rfind("S 10 3E 01 00 ", 0) == 0 || text.rfind("S 10 3E 01 8A 00 ", 0) == 0;
+  }
   uint64_t us(uint64_t cycle) const { return cycle / board_.machine().cyclesPerUs(); }
 
   twin::ImageId id_;
@@ -193,32 +201,62 @@ class TwinSim final : public ImageSim {
   bool intermittent_ = false;
   uint64_t tick_ = 0;
   ScanMeter meter_;
-  uint32_t scans_ = 0;
-  size_t i2cSeen_ = 0, chainSeen_ = 0;
+  uint32_t scans_ = 0, scanFailures_ = 0, operations_ = 0;
+  size_t i2cSeen_ = 0, chainSeen_ = 0, pingsSeen_ = 0;
   uint64_t failedTransactions_ = 0;
+  bool scanOpen_ = false, scanFailed_ = false;
+  uint64_t scanRxBytes_ = 0, lastPing_ = 0, lastProbe_ = 0;
 };
 
 void TwinSim::observeScans() {
-  // A scan is counted when its first access appears on the wire: the block read with the cells (BQ769x), the
-  // Voltage read (BQ4050), the stack read of VCELL16 (BQ79616, register 0x568).
+  // What the wire shows of the firmware's scans, probes and recoveries (its own counters are inside the
+  // image). A scan is counted when its first access appears on the wire: the block read with the cells
+  // (BQ769x), the Voltage read (BQ4050), the stack read of VCELL16 (BQ79616, register 0x568). A BQ79616 scan
+  // failed when no byte came back before the next one; an I2C scan when one of its transactions failed. An
+  // I2C attempt whose address nobody acknowledged shows no register: it counts as a comm error only.
   uint64_t busUs = 0, transactions = 0;
+  auto startScan = [this](bool previousFailed) {
+    if (scanOpen_ && previousFailed) ++scanFailures_;
+    scanOpen_ = true, scanFailed_ = false;
+    ++scans_;
+  };
   if (id_.family == Family::Bq79616) {
     const auto& cmds = board_.chainCommands();
     for (; chainSeen_ < cmds.size(); ++chainSeen_) {
-      if (cmds[chainSeen_].reg == 0x568) ++scans_;
+      if (cmds[chainSeen_].reg != 0x568) continue;
+      startScan(cmds[chainSeen_].rxBytesBefore == scanRxBytes_);
+      scanRxBytes_ = cmds[chainSeen_].rxBytesBefore;
+    }
+    // Bring-ups and recoveries begin with a ping; inside one the longest wait between two pings is tHWRST
+    // (83 ms, firmware/drivers/bq79616/chain.cpp): a ping after a longer quiet starts the next operation.
+    const auto& pings = board_.chainPings();
+    const uint64_t quiet = 120000 * board_.machine().cyclesPerUs();
+    for (; pingsSeen_ < pings.size(); ++pingsSeen_) {
+      if (operations_ == 0 || pings[pingsSeen_] - lastPing_ > quiet) ++operations_;
+      lastPing_ = pings[pingsSeen_];
     }
     busUs = (board_.uartBytes() + board_.uartRxBytes()) * 10;  // 10 bit times per byte at 1 Mbaud
     transactions = cmds.size();
   } else {
     const auto& log = board_.i2cLog();
     for (; i2cSeen_ < log.size(); ++i2cSeen_) {
-      if (log[i2cSeen_].text.rfind(scanMarker(), 0) == 0) ++scans_;
-      if (log[i2cSeen_].failed) ++failedTransactions_;
+      const std::string& text = log[i2cSeen_].text;
+      if (text.rfind(scanMarker(), 0) == 0) startScan(scanFailed_);
+      if (isProbe(text)) {
+        if (scanOpen_ && scanFailed_) ++scanFailures_;
+        scanOpen_ = false;
+        // The driver sends the subcommand again when its first read-back does not echo it: the same probe.
+        if (operations_ == 0 ||
+            log[i2cSeen_].startCycle - lastProbe_ > 50000 * board_.machine().cyclesPerUs())
+          ++operations_;
+        lastProbe_ = log[i2cSeen_].startCycle;
+      }
+      if (log[i2cSeen_].failed) ++failedTransactions_, scanFailed_ = true;
     }
     busUs = board_.chip().i2c0().busCycles() / board_.machine().cyclesPerUs();
     transactions = board_.chip().i2c0().transactions();
   }
-  meter_.observe(scans_, 0, busUs, transactions);
+  meter_.observe(scans_, operations_, busUs, transactions);
 }
 
 std::vector<SentFrame> TwinSim::frames() const {
@@ -315,6 +353,8 @@ std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
 SimFigures TwinSim::figures() {
   SimFigures f;
   f.scans = scans_;
+  f.scanFailures = scanFailures_;
+  f.recoveries = operations_ > 1 ? operations_ - 1 : 0;  // the first is the bring-up
   f.scanPeriodMs = kScanPeriodMs;
   f.scanBusUs = meter_.meanBusUs();
   f.scanTransactions = meter_.meanTransactions();
@@ -339,11 +379,6 @@ SimFigures TwinSim::figures() {
     } else if (s.id == bms::ProtectionEvent::kId) {
       f.commErrors = bms::ProtectionEvent::unpack(c).commErrors;  // the board's own count
     }
-  }
-  if (const auto* chain = board_.chain()) {
-    // Bring-ups after the first: WAKE pings the chain accepted.
-    const uint64_t pings = chain->counters().pings;
-    f.recoveries = pings > 1 ? static_cast<uint32_t>(pings - 1) : 0;
   }
   // CPU figures: the twin's own measurements.
   twin::Machine& m = board_.machine();
