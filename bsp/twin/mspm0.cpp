@@ -104,8 +104,7 @@ Mspm0::Mspm0(Part part) : part_(part) {
   if (g) {
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
     mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
-    // Output functions idle high: UART0 TX on PA10 (PINCM21) / PA0 (PINCM1), UART1 TX on PA8 (PINCM19), CAN
-    // TX.
+    // Output functions idle high: UART0 TX on PA10 (PINCM21), UART1 TX on PA8 (PINCM19), CAN TX.
     pins_->setFunctionDrive(21, 2, Drive::High);
     pins_->setFunctionDrive(19, 2, Drive::High);
     pins_->setFunctionDrive(34, 5, Drive::High);

@@ -3,10 +3,9 @@
 // (bsp/mspm0/README.md) and the ARCHITECTURE.md image table, not the firmware's choices: if an image muxes a
 // signal to another pin, nothing arrives where the board expects it.
 //
-//   L1306 + BQ76952 / BQ76907 EVM: I2C0 PA0 SDA / PA1 SCL (pull-ups on the board), the monitor's ALERT to
-//   PA15
-//       (open drain, low when asserted), the XDS110 back-channel's receive line on PA8 (UART0 TX, PF 2):
-//       SLCAN.
+//   L1306 + BQ76952 / BQ76907 EVM: I2C0 PA0 SDA / PA1 SCL (pull-ups on the board), the monitor's ALERT
+//       to PA15 (open drain, low when asserted), the XDS110 back-channel's receive line on PA8 (UART0 TX,
+//       PF 2): SLCAN.
 //   G3507 + BQ76952 or BQ4050: I2C0 PA0 / PA1 (pull-ups), BQ76952 ALERT to PB0; CAN on PA12 TX / PA13 RX to
 //       a bus with one listener that acknowledges every frame (the candump log); the fault output PB26.
 //   G3507 + BQ79616 chain (seed 001): UART0 PA10 TX / PA11 RX at the chain's base device, nFAULT to PB0, CAN

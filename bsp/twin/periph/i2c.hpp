@@ -24,7 +24,7 @@
 // they are set, and only if they are still set then ("Before clearing this bit to stop Flush the TXFIFOCNT
 // should be checked", hw_i2c.h MFIFOCTL).
 //
-// Clock-low timeout A (SLAU846B 20.2.x / SLAU847D 21.2.x "Timeout detection"): TCNTLA is the upper 8 bits of
+// Clock-low timeout A (SLAU846B 20.2 / SLAU847D 21.2, "clock low timeout"): TCNTLA is the upper 8 bits of
 // a 12-bit counter, "each count is equal to a timeout period of (1 + TPR) x 12 of functional clocks",
 // counting while SCL is held low continuously and reloaded when it goes high; at zero TIMEOUTA is set and the
 // controller stops where it is until it is reset. hw_i2c.h describes the count as "520 times the timeout
