@@ -1,5 +1,6 @@
 // regmapgen: validates register-map YAML, generates C++ and Markdown from it, lists entries, and imports TRM
 // tables. See `regmapgen help` and regmaps/README.md.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,8 +12,11 @@
 #include "can/can_model.hpp"
 #include "check/check.hpp"
 #include "diag/diag.hpp"
+#include "diff/diff.hpp"
 #include "emit/emit.hpp"
+#include "import/headings.hpp"
 #include "import/import.hpp"
+#include "import/pdf.hpp"
 #include "model/model.hpp"
 #include "model/schema.hpp"
 
@@ -33,8 +37,16 @@ constexpr const char* kUsage =
     "                                  writes just the references); files are only rewritten when their "
     "content\n"
     "                                  changes; --stamp is touched on success\n"
-    "  regmapgen import [--family NAME] [--kind KIND] [--map FILE]... [--source SRC] FILE|-\n"
-    "                                  turn a TRM / app-note table into YAML on stdout\n"
+    "  regmapgen import [--family NAME] [--kind KIND] [--map FILE]... [--source SRC]\n"
+    "                   [--pages A-B] [--against FILE|DIR]... FILE|-\n"
+    "                                  turn TRM / app-note tables into YAML on stdout: '|' or tab separated\n"
+    "                                  text, pdftotext -layout text, or a PDF (runs pdftotext; --pages\n"
+    "                                  limits it); --against prints what the import changes instead, as "
+    "diff\n"
+    "  regmapgen diff OLD NEW          entries added (+), removed (-) and changed (~: address, type, range,\n"
+    "                                  default, unit), one line each; OLD and NEW are YAML files or "
+    "folders;\n"
+    "                                  exit 0 if nothing differs, 1 if something does, 2 on errors\n"
     "  regmapgen can --out DIR [--dbc-dir DIR] FILE\n"
     "                                  CAN catalogue: DIR/can/<name>.hpp packers and <name>_<layout>.dbc\n"
     "                                  (in --dbc-dir, default DIR/can); every error as file:line:col\n"
@@ -50,8 +62,9 @@ bool readInput(const std::string& path, std::string& text) {
   return true;
 }
 
-// Loads, builds and checks the files; prints diagnostics. Returns false on any error.
-bool load(const std::vector<std::string>& files, Sources& sources, Model& model) {
+// Loads, builds and (unless `checked` is false) checks the files; prints diagnostics. Returns false on any
+// error. Unchecked is for diff: one file of a family may name a fieldset another defines.
+bool load(const std::vector<std::string>& files, Sources& sources, Model& model, bool checked = true) {
   for (const std::string& f : files) {
     std::string text;
     if (!readInput(f, text)) {
@@ -62,7 +75,7 @@ bool load(const std::vector<std::string>& files, Sources& sources, Model& model)
   }
   Diagnostics diag(sources);
   model = build(sources, diag);
-  check(model, diag);
+  if (checked) check(model, diag);
   diag.render(std::cerr);
   if (diag.errorCount() > 0 || diag.warningCount() > 0) {
     std::cerr << "regmapgen: " << diag.errorCount() << " error(s), " << diag.warningCount()
@@ -143,9 +156,58 @@ int cmdGenerate(const std::vector<std::string>& args) {
   return ok ? 0 : 1;
 }
 
+// The YAML files a diff side names: the file, or every *.yaml in the folder (sorted).
+std::vector<std::string> yamlFiles(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return {path};
+  std::vector<std::string> files;
+  for (const auto& f : fs::directory_iterator(path, ec)) {
+    if (f.path().extension() == ".yaml") files.push_back(f.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Prints a diff; the exit status: 0 same, 1 different.
+int printDiff(const MapDiff& d) {
+  for (const std::string& l : d.lines)
+    std::cout << l << "\n";
+  std::cerr << "regmapgen: " << d.added << " added, " << d.removed << " removed, " << d.changed
+            << " changed, " << d.unchanged << " unchanged\n";
+  return d.differs() ? 1 : 0;
+}
+
+int cmdDiff(const std::vector<std::string>& args) {
+  if (args.size() != 2 || args[0].rfind("--", 0) == 0 || args[1].rfind("--", 0) == 0) {
+    std::cerr << "regmapgen: error: diff takes two arguments, OLD and NEW (YAML files or folders)\n"
+              << kUsage;
+    return 2;
+  }
+  Sources oldSources, newSources;
+  Model oldModel, newModel;
+  if (!load(yamlFiles(args[0]), oldSources, oldModel, false) ||
+      !load(yamlFiles(args[1]), newSources, newModel, false)) {
+    return 2;
+  }
+  return printDiff(diffModels(oldModel, newModel));
+}
+
+// "--pages 3-5" or "--pages 7": first and last page, 1-based; false if malformed.
+bool parsePages(const std::string& s, int& first, int& last) {
+  const std::size_t dash = s.find('-');
+  const std::string a = s.substr(0, dash), b = dash == std::string::npos ? a : s.substr(dash + 1);
+  const auto page = [](const std::string& t, int& v) {
+    if (t.empty() || t.size() > 6 || t.find_first_not_of("0123456789") != std::string::npos) return false;
+    v = std::stoi(t);
+    return v >= 1;
+  };
+  return page(a, first) && page(b, last) && first <= last;
+}
+
 int cmdImport(const std::vector<std::string>& args) {
   ImportOptions opts;
-  std::string file;
+  std::string file, pages;
+  std::vector<std::string> against;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     const bool hasValue = i + 1 < args.size();
@@ -157,6 +219,11 @@ int cmdImport(const std::vector<std::string>& args) {
       opts.mapFiles.push_back(args[++i]);
     } else if (a == "--source" && hasValue) {
       opts.source = args[++i];
+    } else if (a == "--pages" && hasValue) {
+      pages = args[++i];
+    } else if (a == "--against" && hasValue) {
+      for (const std::string& f : yamlFiles(args[++i]))
+        against.push_back(f);
     } else if (a == "--help") {
       std::cout << kUsage << "\nRecognised column headings:\n" << headingHelp();
       return 0;
@@ -171,12 +238,50 @@ int cmdImport(const std::vector<std::string>& args) {
     std::cerr << "regmapgen: error: import needs a FILE (or - for stdin)\n" << kUsage;
     return 2;
   }
+  int first = 0, last = 0;
+  if (!pages.empty() && !parsePages(pages, first, last)) {
+    std::cerr << "regmapgen: error: --pages takes A-B or A (page numbers from 1, A <= B), not '" << pages
+              << "'\n";
+    return 2;
+  }
+  const int failed = against.empty() ? 1 : 2;  // with --against, 1 means "differs"
   std::string text;
   if (!readInput(file, text)) {
     std::cerr << "regmapgen: error: cannot read " << file << "\n";
-    return 1;
+    return failed;
   }
-  return runImport(file, text, opts, std::cout, std::cerr);
+  if (looksLikePdf(text)) {
+    if (file == "-") {
+      std::cerr << "regmapgen: error: a PDF must be given as a file, not on standard input\n";
+      return 2;
+    }
+    PdfText pdf = pdfToText(file, first, last);
+    if (!pdf.ok) {
+      std::cerr << "regmapgen: error: " << file << ": " << pdf.error << "\n";
+      return failed;
+    }
+    text = std::move(pdf.text);
+  } else if (!pages.empty()) {
+    std::cerr << "regmapgen: error: --pages applies to PDF input; " << file << " is text\n";
+    return 2;
+  }
+  if (against.empty()) return runImport(file, text, opts, std::cout, std::cerr);
+
+  std::ostringstream yaml;
+  if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0) return 2;
+  Sources oldSources, newSources;
+  Model oldModel, newModel;
+  if (!load(against, oldSources, oldModel, false)) return 2;
+  newSources.add("(import of " + file + ")", yaml.str());
+  Diagnostics diag(newSources);
+  newModel = build(newSources, diag);
+  if (diag.errorCount() > 0) {
+    std::cerr
+        << "regmapgen: the imported YAML has " << diag.errorCount()
+        << " error(s) (run without --against to see it); entries with errors are compared as far as they "
+           "go\n";
+  }
+  return printDiff(diffModels(oldModel, newModel, true));
 }
 
 int cmdCan(const std::vector<std::string>& args) {
@@ -243,6 +348,7 @@ int main(int argc, char** argv) {
   }
   if (cmd == "generate") return cmdGenerate(args);
   if (cmd == "import") return cmdImport(args);
+  if (cmd == "diff") return cmdDiff(args);
   if (cmd == "can") return cmdCan(args);
   if (cmd == "schema") {
     std::cout << schemaMarkdown();

@@ -3,14 +3,21 @@
 //
 // Tasks (priority = TaskId, higher first):
 //   2 protection   firmware limits on every new scan, on ALERT at once, and every scan period
-//   1 monitor      probe, configuration (one CONFIG_UPDATE, only if the device differs), FET enable, a scan
-//                  every scan period; FET commands from protection go ahead of the next scan
+//   1 monitor      probe, configuration (one CONFIG_UPDATE, only if the device differs), FET enable, the
+//                  run-time set-up (SLEEP disabled as TI's examples do: in SLEEP the device measures only
+//                  every few seconds; Alarm Enable from the table's Default Alarm Mask), a scan every scan
+//                  period; FET commands from protection go ahead of the next scan
+// A scan whose Battery Status says SLEEP is allowed again means the device reset since the set-up (a reset
+// reloads SLEEP_EN from Power Config and loses the RAM configuration: settings, FET_EN, SLEEP_DISABLE): the
+// monitor goes through the set-up again at once, and then sends protection's last FET request again (a reset
+// device has forgotten it).
 //   0 publisher    SLCAN lines (L1306) or CAN frames (G3507)
-// ALERT is configured (DefaultAlarmMask) to assert on the device's safety alerts, safety status and
-// permanent-fail flags only, so the line itself is a fault signal: protection opens the FETs without waiting
-// for a scan, and the scan that follows says which fault it was.
-// Bq769xMonitor is a template over the driver class (Bq769x2 or Bq7690x) so each image carries one copy
-// of exactly the code it uses.
+// ALERT is configured (the settings table: Default Alarm Mask, and on the BQ769x2 ALERT Pin Config:
+// active-low, open drain) to assert on the device's safety alerts, safety status and permanent-fail flags
+// only, so the line itself is a fault signal: its falling edge makes protection open the FETs without waiting
+// for a scan, and the scan that follows says which fault it was and clears Alarm Status, so the next event is
+// a new edge. Bq769xMonitor is a template over the driver class (Bq769x2 or Bq7690x) so each image carries
+// one copy of exactly the code it uses.
 //
 // The start-up CONFIG_UPDATE is built unless FW_BQ769X_CONFIG_UPDATE is 0 (default 1: the host, bms-sim and
 // the G3507 image). With 0 (the L1306 images, whose 8 KiB budget has no room for it) the monitor goes from
@@ -61,6 +68,9 @@ struct Bq769xAppConfig {
   uint8_t cells = 16;                                     // cells connected
   drivers::bq769x2::MonitorConfig monitor{};
   Duration scanPeriod = ms(100);
+  // After a set-up step past the probe failed (the device answers but refuses its configuration): the wait
+  // before the next attempt, so CONFIG_UPDATE (which stops the device's protections) is not entered over and
+  // over. A device that does not answer is probed again every scan period instead.
   Duration retryInterval = s(1);
   // Driven high while protection holds a path off, low while both are on (the G3507 image's fault output,
   // PB26); nullptr: none. The FETs stay the device's to switch: this pin only tells the outside.
@@ -128,6 +138,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     constexpr FetCommand kCommand[4] = {FetCommand::AllOn, FetCommand::DischargeOff, FetCommand::ChargeOff,
                                         FetCommand::AllOff};
     f_.fetWanted = true;
+    f_.fetRequested = true;
     f_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
     // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault
     // it was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets)
@@ -165,7 +176,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kAlert = 0x4, kScanTick = 0x8, kRetry = 0x10,
                                     kKick = 0x20;
-  enum class Phase : uint8_t { Probe, Configure, FetEnable, Running };
+  enum class Phase : uint8_t { Probe, Configure, FetEnable, RuntimeSetup, Running };
   enum class Op : uint8_t { None, Setup, Scan, Fet };
 
   void startNext() {
@@ -180,6 +191,8 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       if (f_.phase == Phase::Probe) {
         if (kStats) ++r_.stats.setupAttempts;
         s = driver_.startProbe(r_.identity);
+      } else if (f_.phase == Phase::RuntimeSetup) {
+        s = driver_.startRuntimeSetup(config_.settings);
       } else {
         s = kConfigUpdate && f_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
                                                           : driver_.startFetEnable();
@@ -196,12 +209,12 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     f_.op = s == Status::Ok ? op : Op::None;
   }
 
-  // Starts over from the probe after the retry interval (the device may have reset or be absent; a reset
-  // loses its RAM configuration).
-  void retryLater() {
+  // Starts over from the probe after `wait` (the device may have reset or be absent; a reset loses its RAM
+  // configuration).
+  void retryLater(Duration wait) {
     f_.phase = Phase::Probe;
     f_.retryDue = false;
-    scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryInterval);
+    scheduler_.startTimer(r_.retryTimer, kId, kRetry, wait);
   }
 
   void finished() {
@@ -210,12 +223,19 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     const Op op = f_.op;
     f_.op = Op::None;
     if (op == Op::Setup) {
-      if (result != Status::Ok) return retryLater();
+      // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless),
+      // so a device that comes back is set up within one scan period plus one bring-up. A later step that
+      // failed waits the retry interval.
+      if (result != Status::Ok)
+        return retryLater(f_.phase == Phase::Probe ? config_.scanPeriod : config_.retryInterval);
       if (kStats && kConfigUpdate && f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
       // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
       f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) +
                                     (!kConfigUpdate && f_.phase == Phase::Probe ? 2 : 1));
-      if (f_.phase == Phase::Running) f_.scanDue = true;
+      if (f_.phase == Phase::Running) {
+        f_.scanDue = true;
+        f_.fetWanted = f_.fetRequested;  // protection's last request, again: the device may have reset
+      }
       return;
     }
     if (op == Op::Fet) {
@@ -239,13 +259,18 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
       toSample(r_.measurement, config_.cells, sample_, view_);
       toProtection = ProtectionTask::kNewData;
       f_.failedInRow = 0;
+      if (r_.measurement.reg.batteryStatus.sleep_en()) {
+        // The device reset since the set-up: set it up again now (the measurement itself is valid).
+        f_.phase = Phase::Probe;
+        f_.retryDue = true;
+      }
     } else {
       if (kStats) ++r_.stats.scanFailures;
-      // The device stopped answering or keeps failing: go through probe and configuration again, at most
-      // once per retry interval.
+      // The device stopped answering or keeps failing: go through probe and configuration again, starting
+      // with a probe at the next scan period.
       if (++f_.failedInRow >= 3) {
         f_.failedInRow = 0;
-        retryLater();
+        retryLater(config_.scanPeriod);
       }
     }
     summarize(view_, now);
@@ -262,6 +287,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     bool scanDue;
     bool retryDue;
     bool fetWanted;
+    bool fetRequested;  // protection has made a request (f_.fet is its latest)
     bool fetBackoff;
     drivers::bq769x2::FetCommand fet;  // meaningful while fetWanted
     uint8_t failedInRow;

@@ -7,8 +7,21 @@
 // example uses the EVM's 0.75 V simulation thresholds, which are outside the TRM ranges). The device's own
 // limits sit just above the firmware's (default_limits.hpp: 4.25 V / 2.70 V), as the backstop. The alarm
 // mask keeps ALERT to safety and permanent-fail events (no scan-complete alerts), so ALERT means a fault.
-// BQ76907 (seed 004, SLUAAM4 / SLUUCJ0): 7 cells, COV/CUV/SCD/OCD1 enabled.
+// ALERT Pin Config is 0x82, not TI's 0x2A: ALERT function (PIN_FXN = 2), active-low (OPT5), tri-stated
+// while deasserted (OPT1 = 0, so no REG1 drive, OPT3 = 0) and no weak pull-up or pull-down (OPT2, OPT0): an
+// open-drain output that the MCU pin's pull-up holds high and the device pulls low on an alarm, a falling
+// edge (SLUUCG7 / SLUUBY1B ALERT Pin Config; TI's 0x2A drives it active-high from REG1, which a pulled-up
+// falling-edge input never sees assert).
+// BQ7690x (seed 004, SLUAAM4 / SLUUCJ0 / SLUUCI8): the cell count (Vcell Mode is a count), COV/CUV/SCD/
+// REGOUT enabled, FET Options with HOST_FETOFF_EN (bit 6) added to its default 0x18 so FET Control's OFF
+// bits act at all (SLUUCJ0 FET Control, SLUUCI8 FET Options: without it host FET-off is ignored), and the
+// same ALERT policy as the BQ76952 (Alarm Enable loads from Default Alarm Mask at reset and at the exit of
+// CONFIG_UPDATE, SLUUCJ0): safety status A/B and safety alerts A/B. The BQ7690x ALERT pin itself needs no
+// configuration: it is asserted low (SLUUCJ0 Alarm Status).
 #pragma once
+
+#include <array>
+#include <cstdint>
 
 #include "drivers/bq769x2/monitor.hpp"
 #include "regmap/bq7690x.hpp"
@@ -20,6 +33,22 @@ namespace settings_detail {
 namespace m2 = ::fw::regmap::bq769x2;
 namespace m7 = ::fw::regmap::bq7690x;
 using drivers::bq769x2::setting;
+
+inline constexpr m2::bits::AlertPinConfig kAlertActiveLowOpenDrain =
+    m2::bits::AlertPinConfig{}.with_opt5(true).with_pin_fxn(2);
+static_assert(kAlertActiveLowOpenDrain.raw() == 0x82);
+
+inline constexpr m7::bits::Alarm kBq7690xAlarmMask =
+    m7::bits::Alarm{}.with_ssa(true).with_ssb(true).with_saa(true).with_sab(true);
+inline constexpr m7::bits::FetOptions kBq7690xFetOptions =
+    m7::dm::FetOptions.defaultValue().with_host_fetoff_en(true);
+static_assert(kBq7690xFetOptions.raw() == 0x58);
+
+constexpr std::array<drivers::bq769x2::Setting, 4> bq7690xSettings(uint8_t cells) {
+  return {setting(m7::dm::EnabledProtectionsA, m7::bits::EnabledProtectionsA::fromRaw(0xE1)),
+          setting(m7::dm::VcellMode, cells), setting(m7::dm::FetOptions, kBq7690xFetOptions),
+          setting(m7::dm::DefaultAlarmMask, kBq7690xAlarmMask.raw())};
+}
 }  // namespace settings_detail
 
 inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
@@ -27,7 +56,8 @@ inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
     settings_detail::setting(settings_detail::m2::dm::Reg0Config, 0x01),
     settings_detail::setting(settings_detail::m2::dm::Reg12Config, 0x0D),
     settings_detail::setting(settings_detail::m2::dm::DfetoffPinConfig, 0x42),
-    settings_detail::setting(settings_detail::m2::dm::AlertPinConfig, 0x2A),
+    settings_detail::setting(settings_detail::m2::dm::AlertPinConfig,
+                             settings_detail::kAlertActiveLowOpenDrain),
     settings_detail::setting(settings_detail::m2::dm::Ts1Config, 0x07),
     settings_detail::setting(settings_detail::m2::dm::Ts3Config, 0x0F),
     settings_detail::setting(settings_detail::m2::dm::HdqPinConfig, 0x00),
@@ -43,10 +73,7 @@ inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
     settings_detail::setting(settings_detail::m2::dm::Ocd1Threshold, 50),
 };
 
-inline constexpr drivers::bq769x2::Setting kBq76907Settings[] = {
-    settings_detail::setting(settings_detail::m7::dm::EnabledProtectionsA,
-                             settings_detail::m7::bits::EnabledProtectionsA::fromRaw(0xE1)),
-    settings_detail::setting(settings_detail::m7::dm::VcellMode, uint8_t{0x07}),
-};
+inline constexpr auto kBq76907Settings = settings_detail::bq7690xSettings(7);
+inline constexpr auto kBq76905Settings = settings_detail::bq7690xSettings(5);
 
 }  // namespace fw::app

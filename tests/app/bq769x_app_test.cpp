@@ -1,54 +1,50 @@
 // The BQ769x2-family application as the lp-mspm0g3507-bq76952 image composes it (CAN out, fault output), on
-// the host BSP against the BQ76952 emulator: the fault output, and the ALERT fast path against its budget
-// (ARCHITECTURE.md: fault visible in the device -> FET-off command complete <= 2 ms on ALERT).
+// the host BSP against the BQ76952 emulator: the fault output, the start-up configuration, and the ALERT fast
+// path against its budget (ARCHITECTURE.md: fault visible in the device -> FET-off command complete <= 2 ms
+// on ALERT). And as the lp-mspm0l1306-bq76907 image composes it (SLCAN out) with the host defaults, against
+// the BQ76907 emulator: the start-up configuration the BQ7690x needs (FET Options, alarm mask, SLEEP).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
-#include "bq769x2/emulator.hpp"
+#include "bq769x2/board.hpp"
 #include "can/bms.hpp"
-#include "sim/can.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace {
 
 namespace b769 = fw::drivers::bq769x2;
 using Emulator = bsp::host::Bq769xEmulator;
-using App = fw::app::Bq769xApp<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher>;
-
 constexpr const char* kAllFetsOff = "S 10 3E 95 00";
 
-struct G3507 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, Emulator::Model::Bq76952};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimCan can{h.clock, h.irq, 500000, 8};
-  bsp::host::SimDigitalOut faultOut{h.clock, true};  // the board asserts it from reset
-  fw::app::Bq769xAppConfig config = [this] {
-    fw::app::Bq769xAppConfig c{fw::app::kBq76952Settings, 16};
-    c.faultIndicator = &faultOut;
-    return c;
-  }();
-  App app{h.sched, bus, alert, can, config};
-
-  explicit G3507(bool present = true) {
-    if (present) bus.attach(0x08, emu);
-    for (uint8_t c = 1; c <= 16; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
+struct G3507 : bsp::host::G3507Bq76952Board {
+  explicit G3507(bool present = true)
+      : bsp::host::G3507Bq76952Board(Emulator::Model::Bq76952, fw::app::kBq76952Settings, 16, true) {
+    if (!present) bus.detach(0x08);
+    emu.onAlertLine([this](bool high) {
+      alert.drive(high);  // the pin as ALERT Pin Config drives it, into the pulled-up falling-edge input
+      if (!high) alertFellUs = h.nowUs();
+    });
   }
+  uint64_t alertFellUs = 0;
+  bsp::host::SimCan& can = output;
   // End time of the first ALL_FETS_OFF on the wire at or after `fromUs`, or 0.
   uint64_t fetOffDoneUs(uint64_t fromUs) const {
     for (const auto& r : bus.wireLog())
       if (r.startUs >= fromUs && r.text.rfind(kAllFetsOff, 0) == 0 && r.status == fw::Status::Ok)
         return r.endUs;
     return 0;
+  }
+};
+
+struct L1306Bq76907 : bsp::host::L1306Bq7690xBoard {
+  L1306Bq76907()
+      : bsp::host::L1306Bq7690xBoard(Emulator::Model::Bq76907, fw::app::kBq76907Settings, 7, false,
+                                     b769::kBq76907) {}
+  bool wrote(const std::string& line) const {
+    for (const auto& r : bus.wireLog())
+      if (r.text == line) return true;
+    return false;
   }
 };
 
@@ -97,8 +93,22 @@ TEST(Bq769xApp, ProtectionEventCountsTheFailedMeasurements) {
   EXPECT_EQ(b.app.pack().commErrors, failures);
 }
 
-// ALERT may come at any point of a scan. Swept over one scan period in 50 us steps, the FET-off command
-// completes within 2 ms of the edge every time: a scan in progress gives way at its next read.
+// The start-up writes the ALERT configuration the fast path relies on (ALERT Pin Config 0x82: active-low,
+// open drain, SLUUCG7 / SLUUBY1B), leaves SLEEP off (SLEEP_DISABLE, verified) and sets Alarm Enable.
+TEST(Bq769xApp, StartUpWritesTheAlertConfigurationAndDisablesSleep) {
+  G3507 b;
+  b.h.runFor(fw::ms(500));
+  ASSERT_TRUE(b.app.monitor().running());
+  EXPECT_EQ(b.emu.dataMemory(fw::regmap::bq769x2::dm::AlertPinConfig.address, 1), 0x82u);
+  EXPECT_FALSE(b.emu.sleepAllowed());
+  EXPECT_EQ(b.emu.reg(0x66) | (b.emu.reg(0x67) << 8), 0xF800);
+  EXPECT_TRUE(b.alert.level()) << "released: the pull-up holds the line high";
+}
+
+// A device fault asserts ALERT at any point of a scan: swept over one scan period in 50 us steps, the
+// FET-off command completes within 2 ms of the line falling every time (a scan in progress gives way at its
+// next read). The fault is the device's own COV alert (4400 mV > COV Threshold 85 x 50.6 mV), so the edge
+// comes only if the configured ALERT pin gives one.
 TEST(Bq769xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
   uint64_t worst = 0, worstAt = 0;
   for (uint64_t offset = 0; offset < 2600; offset += 50) {
@@ -107,7 +117,8 @@ TEST(Bq769xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
     ASSERT_TRUE(b.app.monitor().running());
     b.h.runFor(fw::us(static_cast<uint32_t>(offset)));
     const uint64_t t0 = b.h.nowUs();
-    b.alert.drive(false);
+    b.emu.setCellMv(5, 4400);
+    ASSERT_EQ(b.alertFellUs, t0) << "ALERT falls with the device's alarm, offset " << offset;
     ASSERT_TRUE(b.h.runUntil([&] { return b.fetOffDoneUs(t0) != 0; }, fw::ms(20))) << "offset " << offset;
     const uint64_t took = b.fetOffDoneUs(t0) - t0;
     if (took > worst) worst = took, worstAt = offset;
@@ -117,6 +128,115 @@ TEST(Bq769xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
   }
   std::printf("REPORT app.bq76952.alert_to_fet_off_worst_us=%llu (at %llu us into the period; budget 2000)\n",
               static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+}
+
+// Alarm Status is latched (SLUUBY2B "Alarm Status"): the scan after an alarm clears it, so ALERT releases and
+// the next fault is a new edge that takes the fast path again.
+TEST(Bq769xApp, EveryAlarmIsANewEdge) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  for (int event = 0; event < 3; ++event) {
+    const uint64_t t0 = b.h.nowUs();
+    b.emu.setCellMv(5, 4400);
+    ASSERT_EQ(b.alertFellUs, t0) << "event " << event;
+    ASSERT_TRUE(b.h.runUntil([&] { return b.fetOffDoneUs(t0) != 0; }, fw::ms(5))) << "event " << event;
+    EXPECT_LE(b.fetOffDoneUs(t0) - t0, 2000u);
+    b.emu.setCellMv(5, 3700);
+    b.h.runFor(fw::ms(300));  // scans clear the latch; protection lets the FETs on again
+    ASSERT_TRUE(b.alert.level()) << "ALERT released after event " << event;
+    ASSERT_TRUE(b.app.status().chargeOn && b.app.status().dischargeOn) << "event " << event;
+  }
+}
+
+// In SLEEP the device measures only every Voltage Time (5 s); the application disables SLEEP at start-up, so
+// a cell over its limit after seconds of idle (7 mA, below Sleep Current) is seen within a scan period.
+TEST(Bq769xApp, IdlePackIsStillMeasuredEveryScan) {
+  G3507 b;
+  b.h.runFor(fw::s(3));
+  ASSERT_FALSE(b.emu.sleeping());
+  const uint64_t t0 = b.h.nowUs();
+  b.emu.setCellMv(7, 4280);  // over the firmware's 4250 mV, under the device's COV
+  ASSERT_TRUE(b.h.runUntil([&] { return !b.app.status().chargeOn; }, fw::ms(400)));
+  EXPECT_LE(b.h.nowUs() - t0, 250'000u);
+}
+
+// A device that resets while running loses its RAM configuration (SLUUBY2B: settings, FET_EN, SLEEP_DISABLE)
+// and allows SLEEP again: the next scan sees Battery Status[SLEEP_EN], the monitor sets the device up again
+// and sends protection's last FET request again.
+TEST(Bq769xApp, AResetDeviceIsSetUpAgain) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  b.emu.setCellMv(5, 4280);  // firmware over-voltage: charge off (and discharge, the default action)
+  b.h.runFor(fw::ms(300));
+  ASSERT_FALSE(b.app.status().chargeOn);
+  ASSERT_FALSE(b.emu.chgFet());
+  b.emu.reset();
+  b.h.runFor(fw::ms(500));
+  EXPECT_EQ(b.emu.dataMemory(fw::regmap::bq769x2::dm::AlertPinConfig.address, 1), 0x82u);
+  EXPECT_FALSE(b.emu.sleepAllowed());
+  EXPECT_TRUE(b.emu.fetEnabled());
+  EXPECT_FALSE(b.emu.chgFet()) << "protection's request reached the reset device again";
+  b.emu.setCellMv(5, 3700);
+  b.h.runFor(fw::ms(500));
+  EXPECT_TRUE(b.emu.chgFet() && b.emu.dsgFet());
+}
+
+// "Charge allowed, discharge off" after both off must reach the device as such (only ALL_FETS_ON or
+// FET_CONTROL re-allow a FET, SLUUBY2B 5.2.3.2): a cell over its limit opens both paths; when it is back and
+// another is under its limit, charging must be possible again.
+TEST(Bq769xApp, UnderVoltageAfterBothOffLetsChargeBackOn) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  b.emu.setCellMv(5, 4280);
+  b.h.runFor(fw::ms(300));
+  ASSERT_FALSE(b.emu.chgFet() || b.emu.dsgFet());
+  b.emu.setCellMv(5, 3700);
+  b.emu.setCellMv(6, 2650);  // under the firmware's 2700 mV, over the device's own CUV (2631 mV)
+  b.h.runFor(fw::ms(300));
+  EXPECT_TRUE(b.app.status().chargeOn);
+  EXPECT_FALSE(b.app.status().dischargeOn);
+  EXPECT_TRUE(b.emu.chgFet()) << "the device lets the pack charge";
+  EXPECT_FALSE(b.emu.dsgFet());
+}
+
+// The BQ7690x obeys FET Control's OFF bits only with FET Options[HOST_FETOFF_EN] (SLUUCJ0, default 0x18 has
+// it clear): the start-up sets it (a data-memory write of 0x58 at 0x901E, read back), so protection's FET-off
+// reaches the FETs.
+TEST(Bq7690xApp, StartUpEnablesHostFetOffAndProtectionOpensTheFets) {
+  L1306Bq76907 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  EXPECT_TRUE(b.wrote("S 10 3E 1E 90 58 P")) << "FET Options with HOST_FETOFF_EN";
+  EXPECT_EQ(b.emu.dataMemory(fw::regmap::bq7690x::dm::FetOptions.address, 1), 0x58u);
+  EXPECT_FALSE(b.emu.sleepAllowed());
+  EXPECT_EQ(b.emu.reg(0x66) | (b.emu.reg(0x67) << 8), 0xF000) << "ALERT on safety status and alerts A/B";
+  ASSERT_TRUE(b.emu.chgFet() && b.emu.dsgFet());
+  b.emu.setCellMv(3, 4280);  // over the firmware's limit
+  b.h.runFor(fw::ms(300));
+  EXPECT_FALSE(b.app.status().chargeOn || b.app.status().dischargeOn);
+  EXPECT_FALSE(b.emu.chgFet() || b.emu.dsgFet()) << "the device obeyed FET Control";
+  b.emu.setCellMv(3, 3700);
+  b.emu.setCellMv(4, 2650);
+  b.h.runFor(fw::ms(300));
+  EXPECT_TRUE(b.emu.chgFet()) << "charge allowed again after both off";
+  EXPECT_FALSE(b.emu.dsgFet());
+}
+
+// A BQ7690x REGOUT fault (Safety Status A bit 0, SLUUCJ0) asserts ALERT and is a device fault: protection
+// opens the FETs at once, and the scans go on (it is not a corrupt read).
+TEST(Bq7690xApp, RegoutFaultIsADeviceFaultNotACommunicationFailure) {
+  L1306Bq76907 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  const uint32_t failures = b.app.monitor().stats().scanFailures;
+  b.emu.setRegoutFault(true);
+  EXPECT_FALSE(b.alert.level()) << "ALERT asserted low";
+  b.h.runFor(fw::ms(300));
+  EXPECT_EQ(b.app.monitor().stats().scanFailures, failures);
+  EXPECT_NE(b.app.status().active & fw::app::bit(fw::app::FaultId::DeviceSafety), 0);
+  EXPECT_EQ(b.app.status().active & fw::app::bit(fw::app::FaultId::CommLoss), 0);
+  EXPECT_FALSE(b.emu.chgFet() || b.emu.dsgFet());
 }
 
 }  // namespace

@@ -8,12 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "app/bq769x_app.hpp"
 #include "app/default_limits.hpp"
-#include "bq769x2/emulator.hpp"
-#include "sim/harness.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
+#include "bq769x2/board.hpp"
 
 static_assert(!fw::app::kConfigUpdate && !fw::app::kCoreMessages && !fw::kStats &&
                   fw::app::ProtectionTask::kLogSize == 0 && !fw::app::kProtectionDelays &&
@@ -24,24 +20,12 @@ namespace {
 
 namespace b769 = fw::drivers::bq769x2;
 using Emulator = bsp::host::Bq769xEmulator;
-using App = fw::app::Bq769xApp<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher>;
 
-struct L1306 {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emu{h.clock, Emulator::Model::Bq76952};
-  bsp::host::SimEdgeInput alert{h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  bsp::host::SimSerialTx serial{h.clock, h.irq};
-  fw::app::Bq769xAppConfig config{{}, 16};
-  App app{h.sched, bus, alert, serial, config};
-
-  L1306() {
-    bus.attach(0x08, emu);
-    emu.onAlert([this](bool asserted) { alert.drive(!asserted); });  // ALERT is active low
-    for (uint8_t c = 1; c <= 16; ++c)
-      emu.setCellMv(c, 3700);
-    app.start();
-  }
+// The L1306-BQ76952 board, without a settings table (no CONFIG_UPDATE in this build).
+struct L1306 : bsp::host::Bq769xBoard<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher,
+                                      bsp::host::SimSerialTx> {
+  L1306() : Bq769xBoard(Emulator::Model::Bq76952, {}, 16, false) {}
+  bsp::host::SimSerialTx& serial = output;
   // The SLCAN lines written so far.
   std::vector<std::string> lines() const {
     std::vector<std::string> out;
@@ -63,6 +47,7 @@ TEST(L1306App, StartsWithoutConfigUpdateEnablesTheFetsAndScans) {
   b.h.runFor(fw::ms(1000));
   EXPECT_TRUE(b.app.monitor().running());
   EXPECT_TRUE(b.emu.fetEnabled()) << "FET_ENABLE sent after the probe";
+  EXPECT_FALSE(b.emu.sleepAllowed()) << "SLEEP_DISABLE needs no CONFIG_UPDATE: sent all the same";
   EXPECT_EQ(b.count("S 10 3E 90 00"), 0u) << "no SET_CFGUPDATE: the image applies no settings";
   EXPECT_EQ(b.count("S 10 60 "), 0u) << "no data-memory write";
   EXPECT_GE(b.count("S 10 0A Sr 11 ["), 8u) << "a scan every 100 ms";
@@ -129,11 +114,10 @@ TEST(L1306App, AlertOpensThePathsWithoutWaitingForAScan) {
 TEST(L1306App, TheDriverHasNoConfigurationPaths) {
   L1306 b;
   b.h.runFor(fw::ms(1000));
-  // Link operations the configure and balance operations need are refused rather than sent half-built.
+  // The link operation only the configure operation needs (a delayed read: the CFGUPDATE polls) is refused
+  // rather than sent half-built. Subcommand writes with data stay: FET_CONTROL needs them.
   b769::Link& link = const_cast<b769::Bq769x2&>(b.app.monitor().driver()).link();
   ASSERT_TRUE(b.h.runUntil([&] { return !link.busy(); }, fw::ms(100)));  // between two scans
-  const uint8_t data[1] = {0x53};
-  EXPECT_EQ(link.startSubcommandWrite(0x9278, data), fw::Status::InvalidArgument);
   EXPECT_EQ(link.startRead(0x12, 2, 0, fw::us(250)), fw::Status::InvalidArgument);
   const b769::Setting one[] = {{0x9278, 1, 83}};
   b769::Bq769x2& driver = const_cast<b769::Bq769x2&>(b.app.monitor().driver());

@@ -20,7 +20,7 @@
 #                           8 KiB L1306 what its budget has no room for (bsp/mspm0/README.md, "What the L1306
 #                           images leave out"). Host builds use the defaults, so tests and bms-sim cover every
 #                           path.
-# Budgets: ARCHITECTURE.md gives lp-mspm0l1306-bq76952 (flash 8 240 B, SRAM 2 KiB) and lp-mspm0g3507-bq79616
+# Budgets: ARCHITECTURE.md gives each L1306 image (flash 10 240 B, SRAM 2 KiB) and lp-mspm0g3507-bq79616
 # (flash 12 KiB). The other images take their sibling's budget on the same chip (provisional, set here);
 # G3507 images get 16 KiB of SRAM (half the part).
 set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-bq79616 lp-mspm0g3507-bq4050
@@ -63,9 +63,9 @@ function(bms_image_info image)
     list(APPEND defines FW_BQ769X_FAMILY=2 FW_BQ769X_PROBE_CRC=0 BSP_I2C_PEC=0)
   endif()
   if(image STREQUAL "lp-mspm0l1306-bq76952")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 8240 2048 "ARCHITECTURE.md" "${l1306_irqs}")
+    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "ARCHITECTURE.md" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0l1306-bq76907")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 8240 2048 "provisional (sibling lp-mspm0l1306-bq76952)"
+    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "provisional (sibling lp-mspm0l1306-bq76952)"
         "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0g3507-bq79616")
     if(BMS_BQ79616_UART STREQUAL "UART1_PA8_PA9")

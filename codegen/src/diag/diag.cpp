@@ -7,8 +7,40 @@
 
 namespace regmapgen {
 
+namespace {
+
+// The part of `line` shown under a diagnostic: all of it when short, otherwise a window of kWindow code
+// points around column `col` with "..." marking what was cut. Updates `col` to the caret's column in the
+// result.
+constexpr int kLongLine = 160;
+// A file broken on every line (a binary, a wrong file) would print pages of the same problem; the counts
+// printed by the callers still include every diagnostic.
+constexpr std::size_t kMaxShown = 200;
+constexpr int kWindow = 120;
+
+std::string window(const std::string& line, int& col) {
+  std::vector<std::size_t> starts;  // byte offset of each code point
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if ((static_cast<unsigned char>(line[i]) & 0xC0) != 0x80) starts.push_back(i);
+  }
+  const int count = static_cast<int>(starts.size());
+  if (count <= kLongLine) return line;
+  const int first = std::clamp(col - 1 - kWindow / 2, 0, count - kWindow);
+  const int last = first + kWindow;  // one past
+  const std::size_t from = starts[static_cast<std::size_t>(first)];
+  const std::size_t to = last < count ? starts[static_cast<std::size_t>(last)] : line.size();
+  std::string out = (first > 0 ? "..." : "") + line.substr(from, to - from) + (last < count ? "..." : "");
+  col = col - first + (first > 0 ? 3 : 0);
+  return out;
+}
+
+}  // namespace
+
 int Sources::add(std::string path, std::string text) {
-  files_.push_back({std::move(path), std::move(text)});
+  File f{std::move(path), std::move(text), {0}};
+  for (std::size_t pos = f.text.find('\n'); pos != std::string::npos; pos = f.text.find('\n', pos + 1))
+    f.lineStarts.push_back(pos + 1);
+  files_.push_back(std::move(f));
   return static_cast<int>(files_.size() - 1);
 }
 
@@ -23,16 +55,13 @@ bool readFile(const std::string& path, std::string& text) {
 
 std::string Sources::lineText(int file, int line) const {
   if (file < 0 || static_cast<std::size_t>(file) >= files_.size() || line < 1) return {};
-  const std::string& t = text(file);
-  std::size_t pos = 0;
-  for (int l = 1; l < line; ++l) {
-    pos = t.find('\n', pos);
-    if (pos == std::string::npos) return {};
-    ++pos;
-  }
-  std::size_t end = t.find('\n', pos);
-  if (end == std::string::npos) end = t.size();
-  std::string s = t.substr(pos, end - pos);
+  const File& f = files_[static_cast<std::size_t>(file)];
+  const auto index = static_cast<std::size_t>(line - 1);
+  if (index >= f.lineStarts.size()) return {};
+  const std::size_t pos = f.lineStarts[index];
+  std::size_t end = f.text.find('\n', pos);
+  if (end == std::string::npos) end = f.text.size();
+  std::string s = f.text.substr(pos, end - pos);
   if (!s.empty() && s.back() == '\r') s.pop_back();
   return s;
 }
@@ -74,7 +103,12 @@ void Diagnostics::render(std::ostream& out) const {
   std::stable_sort(groups.begin(), groups.end(),
                    [&](const auto& a, const auto& b) { return key(a.front()) < key(b.front()); });
 
+  std::size_t shown = 0;
   for (const auto& group : groups) {
+    if (shown++ == kMaxShown) {
+      out << "regmapgen: " << groups.size() - kMaxShown << " more diagnostic(s) not shown\n";
+      break;
+    }
     for (const Diagnostic* d : group) {
       const char* label = d->severity == Severity::Error     ? "error"
                           : d->severity == Severity::Warning ? "warning"
@@ -86,11 +120,12 @@ void Diagnostics::render(std::ostream& out) const {
       }
       out << label << ": " << d->message << '\n';
       if (d->loc.file >= 0 && d->loc.line > 0) {
-        std::string line = sources_.lineText(d->loc.file, d->loc.line);
+        int col = d->loc.col;
+        std::string line = window(sources_.lineText(d->loc.file, d->loc.line), col);
         // Show tabs as spaces so the caret stays aligned in any terminal.
         std::replace(line.begin(), line.end(), '\t', ' ');
-        out << "  " << line << "\n  "
-            << std::string(static_cast<std::size_t>(std::max(d->loc.col - 1, 0)), ' ') << "^\n";
+        out << "  " << line << "\n  " << std::string(static_cast<std::size_t>(std::max(col - 1, 0)), ' ')
+            << "^\n";
       }
     }
   }

@@ -6,7 +6,9 @@
 // - Diagnostics collects errors and warnings and never stops early: the reader, the model builder and the
 //   checker all report into one sink so a single run shows every problem.
 // - render() prints each as "file:line:col: error: message", then the source line and a caret line, sorted by
-//   file, line and column (stable for equal positions), so golden tests are deterministic.
+//   file, line and column (stable for equal positions), so golden tests are deterministic. A source line
+//   longer than 160 code points is shown as a window of it around the caret. At most 200 diagnostics are
+//   printed, then how many more there were.
 #pragma once
 
 #include <cstddef>
@@ -36,6 +38,7 @@ class Sources {
   struct File {
     std::string path;
     std::string text;
+    std::vector<std::size_t> lineStarts;  // offset of each line, so lineText() does not rescan the file
   };
   std::vector<File> files_;
 };

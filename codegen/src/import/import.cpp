@@ -1,151 +1,25 @@
 #include "import/import.hpp"
 
-#include <cctype>
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <ostream>
-#include <regex>
+#include <set>
 #include <sstream>
 
 #include "check/check.hpp"
 #include "diag/diag.hpp"
 #include "emit/emit.hpp"
+#include "import/cells.hpp"
+#include "import/table_reader.hpp"
 #include "model/model.hpp"
 #include "model/names.hpp"
 #include "model/schema.hpp"
+#include "text/scan.hpp"
 
 namespace regmapgen {
 
 namespace {
-
-enum class Role {
-  Address,
-  Name,
-  EnglishName,
-  Unit,
-  Type,
-  Description,
-  Category,
-  Subcategory,
-  Min,
-  Max,
-  Default,
-  Data,
-  Access,
-  Unknown
-};
-
-struct Heading {
-  Role role;
-  std::vector<std::string> spellings;  // Chinese as printed; English lower-case
-};
-
-const std::vector<Heading>& headings() {
-  static const std::vector<Heading> table = {
-      {Role::Address,
-       {"命令", "命令代码", "子命令", "地址", "寄存器", "command", "cmd", "subcommand", "address", "addr",
-        "register", "reg"}},
-      {Role::EnglishName, {"英文名称", "english name", "name (en)", "name(en)"}},
-      {Role::Name, {"名称", "参数", "参数名称", "name", "parameter"}},
-      {Role::Unit, {"单位", "unit", "units"}},
-      {Role::Type, {"类型", "数据类型", "type", "data type"}},
-      {Role::Description, {"说明", "描述", "备注", "description", "comment"}},
-      {Role::Category, {"类别", "类", "class", "category"}},
-      {Role::Subcategory, {"子类别", "子类", "subclass", "subcategory"}},
-      {Role::Min, {"最小值", "min", "min value", "minimum"}},
-      {Role::Max, {"最大值", "max", "max value", "maximum"}},
-      {Role::Default, {"默认值", "default", "default value"}},
-      {Role::Data, {"数据", "data"}},
-      {Role::Access, {"访问", "访问权限", "读写", "access", "r/w"}},
-  };
-  return table;
-}
-
-std::string trim(std::string_view s) {
-  const auto space = [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  while (!s.empty() && space(static_cast<unsigned char>(s.front())))
-    s.remove_prefix(1);
-  while (!s.empty() && space(static_cast<unsigned char>(s.back())))
-    s.remove_suffix(1);
-  // U+3000 ideographic spaces at either end
-  while (s.size() >= 3 && s.substr(0, 3) == "\xE3\x80\x80")
-    s.remove_prefix(3);
-  while (s.size() >= 3 && s.substr(s.size() - 3) == "\xE3\x80\x80")
-    s.remove_suffix(3);
-  return std::string(s);
-}
-
-std::string lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// "类型 类型" (a heading repeated by PDF extraction) reads as "类型".
-std::string collapseRepeat(const std::string& s) {
-  std::istringstream in(s);
-  std::vector<std::string> words;
-  for (std::string w; in >> w;)
-    words.push_back(w);
-  bool same = words.size() > 1;
-  for (const std::string& w : words)
-    same = same && w == words[0];
-  return same ? words[0] : s;
-}
-
-Role roleOf(const std::string& cell) {
-  const std::string c = lower(collapseRepeat(trim(cell)));
-  for (const Heading& h : headings()) {
-    for (const std::string& s : h.spellings) {
-      if (c == s) return h.role;
-    }
-  }
-  return Role::Unknown;
-}
-
-struct Cell {
-  std::string text;
-  int col = 1;  // 1-based column (code points) of the cell's first character
-};
-
-struct Row {
-  int line = 0;
-  std::vector<Cell> cells;
-};
-
-// Splits a line into cells at '|' or tabs; empty when the line has no separator.
-std::vector<Cell> splitCells(const std::string& line) {
-  std::vector<Cell> cells;
-  const bool pipe = line.find('|') != std::string::npos;
-  const bool tab = line.find('\t') != std::string::npos;
-  if (!pipe && !tab) return cells;
-  const char sep = pipe ? '|' : '\t';
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t end = line.find(sep, start);
-    const std::string raw = line.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    std::size_t lead = 0;
-    while (lead < raw.size() && (raw[lead] == ' ' || raw[lead] == '\t'))
-      ++lead;
-    cells.push_back({trim(raw), columnOf(line, 0, start + lead)});
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  // "| a | b |": the empty cells outside the outer bars are not columns.
-  if (pipe) {
-    if (!cells.empty() && cells.front().text.empty()) cells.erase(cells.begin());
-    if (!cells.empty() && cells.back().text.empty()) cells.pop_back();
-  }
-  return cells;
-}
-
-bool isRule(const std::vector<Cell>& cells) {
-  static const std::regex rule(R"(:?-{3,}:?)");
-  for (const Cell& c : cells) {
-    if (!std::regex_match(c.text, rule)) return false;
-  }
-  return !cells.empty();
-}
 
 struct Imported {
   const KindInfo* kind = nullptr;
@@ -153,6 +27,8 @@ struct Imported {
   std::vector<std::string> comments;                      // shown above the entry
   std::vector<std::pair<std::string, std::string>> keys;  // in output order
   std::vector<std::string> notes;
+  std::string category, subcategory;  // for making identifiers unique
+  bool idFromMap = false;
 };
 
 // The kind a `--kind` value names (its `list` word or YAML key), or nullptr.
@@ -163,13 +39,222 @@ const KindInfo* findKind(const std::string& k) {
   return nullptr;
 }
 
+// Which kinds a family's tables hold: 8-bit codes, 16-bit codes, and tables with a class column.
+struct FamilyKinds {
+  std::string_view family, byteCodes, wordCodes, memory;
+};
+const FamilyKinds& kindsOf(const std::string& family) {
+  static const FamilyKinds table[] = {
+      {"bq79616", "registers", "registers", "registers"},
+      {"bq4050", "sbs", "mac", "dataflash"},
+      {"", "commands", "subcommands", "datamem"},  // BQ769x2, BQ7690x and anything else
+  };
+  for (const FamilyKinds& f : table) {
+    if (f.family == family) return f;
+  }
+  return table[std::size(table) - 1];
+}
+
+// "Address 0x9261", "地址 0x9261", "写入 0x9304", "write to 0x9304": the 4-digit address after the keyword.
+std::vector<std::string> addressMentions(const std::string& line) {
+  static const std::string_view keywords[] = {"地址", "写入", "Address", "address", "Write to", "write to"};
+  std::vector<std::pair<std::size_t, std::string>> found;
+  for (std::string_view k : keywords) {
+    for (std::size_t p = line.find(k); p != std::string::npos; p = line.find(k, p + 1)) {
+      std::size_t q = p + k.size();
+      while (q < line.size() && (line[q] == ' ' || line[q] == '\t'))
+        ++q;
+      const std::string_view rest = std::string_view(line).substr(q);
+      const bool wordAfter =
+          rest.size() > 6 && (scan::isAlpha(rest[6]) || scan::isDigit(rest[6]) || rest[6] == '_');
+      if (rest.size() >= 6 && scan::isHexLiteral(rest.substr(0, 6)) && !wordAfter)
+        found.emplace_back(p, "0x" + upperCase(rest.substr(2, 4)));
+    }
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> out;
+  for (const auto& f : found)
+    out.push_back(f.second);
+  return out;
+}
+
+// "16 位", "16-bit", "32 bit" in a description: the width it states and the words that state it.
+struct StatedWidth {
+  int bits = 0;
+  std::string text;
+};
+StatedWidth statedWidth(const std::string& description) {
+  for (std::size_t p = 0; p < description.size(); ++p) {
+    std::size_t unit = 0, end = p;
+    if (description.compare(p, 3, "位") == 0) {
+      unit = 3;
+    } else if (description.compare(p, 3, "bit") == 0) {
+      unit = 3;
+      if (p > 0 && description[p - 1] == '-') --end;
+    } else {
+      continue;
+    }
+    while (end > 0 && (description[end - 1] == ' ' || description[end - 1] == '\t'))
+      --end;
+    for (const std::string width : {"16", "32", "8"}) {
+      if (end >= width.size() && description.compare(end - width.size(), width.size(), width) == 0) {
+        const std::size_t from = end - width.size();
+        return {std::stoi(width), description.substr(from, p + unit - from)};
+      }
+    }
+  }
+  return {};
+}
+
+// An address cell: "0x14", "0x0022 (R)", or a range of codes "0x4000–0x5FFF", "0x4000...0x5FFF",
+// "0x4000 to 0x5FFF". The hex digits of the first and (for a range) the last code.
+struct AddressCell {
+  std::string first, last;
+};
+std::optional<AddressCell> addressCell(const std::string& cell) {
+  std::string t;
+  for (std::size_t i = 0; i < cell.size(); ++i) {
+    const std::string_view rest = std::string_view(cell).substr(i);
+    if (rest.starts_with("\xE2\x80\x93") || rest.starts_with("\xE2\x80\x94") || rest.starts_with("...") ||
+        rest.starts_with("\xE2\x80\xA6")) {
+      t += '-';
+      i += 2;  // every one of these separators is three bytes
+    } else if (rest.starts_with(" to ")) {
+      t += '-';
+      i += 3;
+    } else if (cell[i] != ' ') {
+      t += cell[i];
+    }
+  }
+  const std::size_t end = std::min(t.find_first_not_of("0123456789abcdefABCDEFxX-"), t.size());
+  const std::string range = t.substr(0, end);
+  const std::string a = range.substr(0, range.find('-'));
+  if (!scan::isHexLiteral(a)) return std::nullopt;
+  const std::string b = range.find('-') == std::string::npos ? "" : range.substr(range.find('-') + 1);
+  return AddressCell{a.substr(2), scan::isHexLiteral(b) ? b.substr(2) : ""};
+}
+
+// Hex digits as an address of `digits` digits ("14" -> "0x14", "22" -> "0x0022"); a value too wide for any
+// kind is kept as written, for check to report.
+std::string addressText(const std::string& hex, int digits) {
+  const std::size_t significant = std::min(hex.find_first_not_of('0'), hex.size());
+  if (hex.size() - significant > 8) return "0x" + upperCase(hex);
+  return hexAddress(std::stoull(hex, nullptr, 16), digits);
+}
+
+// "CB_CELL16_CTRL through CB_CELL1_CTRL", "OTP_PROG_UNLOCK1A through OTP_PROG_UNLOCK1D": the names of a run
+// of registers, in the order of their rows (TI names the first row of a run with both ends and leaves the
+// name of the others empty). Empty unless the ends differ in one number or one letter.
+std::vector<std::string> runNames(const std::string& name) {
+  const std::size_t at = name.find(" through ");
+  if (at == std::string::npos) return {};
+  const std::string a = name.substr(0, at), b = name.substr(at + 9);
+  std::size_t pre = 0;
+  while (pre < a.size() && pre < b.size() && a[pre] == b[pre])
+    ++pre;
+  std::size_t post = 0;
+  while (post < a.size() - pre && post < b.size() - pre && a[a.size() - 1 - post] == b[b.size() - 1 - post])
+    ++post;
+  std::vector<std::string> out;
+  const auto middle = [&](const std::string& s) { return s.substr(pre, s.size() - pre - post); };
+  if (middle(a).size() == 1 && middle(b).size() == 1 && scan::isAlpha(middle(a)[0]) &&
+      scan::isAlpha(middle(b)[0])) {
+    const char from = middle(a)[0], to = middle(b)[0];
+    for (char c = from;; c = static_cast<char>(c + (from <= to ? 1 : -1))) {
+      out.push_back(a.substr(0, pre) + c + a.substr(a.size() - post));
+      if (c == to) break;
+    }
+    return out;
+  }
+  // A number: widen the differing part to whole numbers ("CELL16" / "CELL1" differ in "6" / "").
+  while (pre > 0 && scan::isDigit(a[pre - 1]))
+    --pre;
+  while (post > 0 && scan::isDigit(a[a.size() - post]))
+    --post;
+  const std::string ma = middle(a), mb = middle(b);
+  if (ma.empty() || mb.empty() || ma.size() > 3 || mb.size() > 3 || !scan::all(ma, scan::isDigit) ||
+      !scan::all(mb, scan::isDigit)) {
+    return {};
+  }
+  const int from = std::stoi(ma), to = std::stoi(mb);
+  for (int n = from;; n += from <= to ? 1 : -1) {
+    out.push_back(a.substr(0, pre) + std::to_string(n) + a.substr(a.size() - post));
+    if (n == to) break;
+  }
+  return out;
+}
+
+// The cells of one row by role. Several cells may share a role: descriptions are joined, the last access
+// cell wins (the BQ4050 SE/US/FA columns: full access is last).
+class RowCells {
+ public:
+  RowCells(const TableEvent& row, const std::vector<Role>& roles, const std::vector<TableCell>& headings)
+      : row_(row) {
+    for (std::size_t i = 0; i < row.cells.size(); ++i) {
+      const Role role = i < roles.size() ? roles[i] : Role::Unknown;
+      const TableCell& c = row.cells[i];
+      if (role == Role::Unknown) {
+        if (c.text.empty()) continue;
+        const std::string label = i < headings.size() ? headings[i].text : "column " + std::to_string(i + 1);
+        extra.append(extra.empty() ? "" : " ").append(label).append(": ").append(c.text);
+        if (i >= roles.size()) beyondHeadings.push_back(&c);
+        continue;
+      }
+      if (role == Role::Description || role == Role::Data) {
+        std::string& joined = role == Role::Data ? data_ : description_;
+        if (!c.text.empty()) joined.append(joined.empty() ? "" : " ").append(c.text);
+        if (cells_.count(role)) continue;
+      }
+      if (role == Role::Access && cells_.count(role) && !cells::access(c.text)) continue;
+      if (!cells_.count(role) || !c.text.empty()) cells_[role] = &c;
+    }
+  }
+  bool has(Role r) const { return cells_.count(r) != 0; }
+  std::string get(Role r) const {
+    if (r == Role::Description) return description_;
+    if (r == Role::Data) return data_;
+    auto it = cells_.find(r);
+    return it == cells_.end() ? std::string() : it->second->text;
+  }
+  int col(Role r) const {
+    auto it = cells_.find(r);
+    return it == cells_.end() ? 1 : it->second->col;
+  }
+  int line(Role r) const {
+    auto it = cells_.find(r);
+    return it == cells_.end() || it->second->line == 0 ? row_.line : it->second->line;
+  }
+
+  std::string extra;  // "Heading: text" of the columns no role claims
+  std::vector<const TableCell*> beyondHeadings;
+
+ private:
+  const TableEvent& row_;
+  std::map<Role, const TableCell*> cells_;
+  std::string description_;  // every description cell, joined
+  std::string data_;         // every data cell (BQ79616: the field names under Bit7..Bit0), joined
+};
+
+// At most this many bytes of a value go into the YAML: escaped (\xNN, four per byte at most) and with its
+// key, a line stays within the reader's 4096 bytes.
+constexpr std::size_t kMaxValueBytes = 1000;
+
+std::string capped(const std::string& v) {
+  if (v.size() <= kMaxValueBytes) return v;
+  std::size_t cut = kMaxValueBytes;
+  while (cut > 0 && (static_cast<unsigned char>(v[cut]) & 0xC0) == 0x80)
+    --cut;
+  return v.substr(0, cut) + "...";
+}
+
 class Importer {
  public:
   Importer(std::string path, const ImportOptions& opts, std::ostream& err)
       : path_(std::move(path)), opts_(opts), err_(err) {}
 
+  // Reads the --map files: only their entries are needed (names, addresses, ids), so problems `check` would
+  // find in one file of a family (a fieldset defined in fields.yaml) do not matter; syntax errors do.
   bool loadMaps() {
-    if (opts_.mapFiles.empty()) return true;
     for (const std::string& f : opts_.mapFiles) {
       std::string text;
       if (!readFile(f, text)) {
@@ -178,9 +263,9 @@ class Importer {
       }
       mapSources_.add(f, std::move(text));
     }
+    if (opts_.mapFiles.empty()) return true;
     Diagnostics diag(mapSources_);
     map_ = build(mapSources_, diag);
-    check(map_, diag);
     if (diag.errorCount() > 0) {
       diag.render(err_);
       err_ << "regmapgen: error: the --map files have errors; fix them first\n";
@@ -189,48 +274,60 @@ class Importer {
     return true;
   }
 
+  std::string family() const {
+    if (!opts_.family.empty()) return opts_.family;
+    if (!map_.families.empty()) return map_.families.front().name;
+    return "imported";
+  }
+
   int run(const std::string& text) {
-    std::istringstream in(text);
-    std::string line;
-    int number = 0;
-    std::vector<Role> roles;
-    std::vector<std::string> headingText;
-    bool inTable = false;
-    int tables = 0;
-    while (std::getline(in, line)) {
-      ++number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      const std::vector<Cell> cells = splitCells(line);
-      if (cells.empty()) {
-        if (inTable) mentions_.clear();  // prose after a table starts a new context
-        inTable = false;
-        notePlaces(line, number);
-        continue;
-      }
-      if (isRule(cells)) continue;
-      if (isHeader(cells)) {
-        roles.clear();
-        headingText.clear();
-        for (const Cell& c : cells) {
-          roles.push_back(roleOf(c.text));
-          headingText.push_back(c.text);
-          if (roles.back() == Role::Unknown) {
-            warn(number, c.col, "unknown column heading '" + c.text + "': its cells go into the description");
-          }
-        }
-        inTable = true;
-        ++tables;
-        continue;
-      }
-      if (!inTable) continue;
-      row(Row{number, cells}, roles, headingText);
-    }
-    if (tables == 0) {
-      err_ << path_
-           << ": error: no table found (expected a heading row such as '命令 | 名称 | 单位 | 类型 | 说明' or "
-           << "'Address<TAB>Name<TAB>Type')\n";
+    const TableText tables = readTables(text);
+    if (!tables.errors.empty()) {
+      for (const auto& e : tables.errors)
+        err_ << path_ << ":" << e.line << ":" << e.col << ": error: " << e.message << "\n";
+      err_ << "regmapgen: error: " << path_ << " is not a table text; nothing imported\n";
       return 1;
     }
+    kinds_ = &kindsOf(family());
+    std::vector<Role> roles;
+    std::vector<TableCell> headingCells;
+    bool afterTable = false;
+    int tables_ = 0;
+    for (const TableEvent& e : tables.events) {
+      switch (e.kind) {
+        case TableEvent::Kind::Prose:
+          if (afterTable) mentions_.clear();  // prose after a table starts a new context
+          afterTable = false;
+          for (const std::string& a : addressMentions(e.text))
+            mentions_.push_back({a, e.line});
+          break;
+        case TableEvent::Kind::Heading:
+          roles = e.roles;
+          headingCells = e.cells;
+          if (!e.continued) {
+            for (std::size_t i = 0; i < roles.size(); ++i) {
+              if (roles[i] == Role::Unknown && !e.cells[i].text.empty()) {
+                warn(e.cells[i].line, e.cells[i].col,
+                     "unknown column heading '" + e.cells[i].text + "': its cells go into the description");
+              }
+            }
+          }
+          afterTable = true;
+          ++tables_;
+          break;
+        case TableEvent::Kind::Row:
+          row(e, roles, headingCells);
+          break;
+      }
+    }
+    if (tables_ == 0) {
+      err_ << path_
+           << ": error: no table found (expected a heading row such as '命令 | 名称 | 单位 | 类型 | 说明', "
+           << "'Address<TAB>Name<TAB>Type' or, in pdftotext -layout text, 'Class  Subclass  Address  Name  "
+              "Type ...')\n";
+      return 1;
+    }
+    uniqueIdentifiers();
     write();
     return 0;
   }
@@ -242,30 +339,8 @@ class Importer {
     err_ << path_ << ":" << line << ":" << col << ": warning: " << msg << "\n";
   }
 
-  // Records data-memory addresses the prose names ("地址 0x9261", "写入 0x9304", "address 0x9261").
-  void notePlaces(const std::string& line, int number) {
-    static const std::regex mention(R"((?:地址|写入|[Aa]ddress|[Ww]rite to)\s*(0[xX][0-9A-Fa-f]{4})\b)");
-    for (auto it = std::sregex_iterator(line.begin(), line.end(), mention); it != std::sregex_iterator();
-         ++it) {
-      mentions_.push_back({"0x" + upperCase((*it)[1].str().substr(2)), number});
-    }
-  }
-
-  static bool isHeader(const std::vector<Cell>& cells) {
-    int known = 0;
-    bool addr = false, name = false, cat = false;
-    for (const Cell& c : cells) {
-      const Role r = roleOf(c.text);
-      if (r != Role::Unknown) ++known;
-      addr = addr || r == Role::Address;
-      name = name || r == Role::Name || r == Role::EnglishName;
-      cat = cat || r == Role::Category;
-    }
-    return (addr || cat) && name && known * 2 >= static_cast<int>(cells.size());
-  }
-
   // Repairs a type cell damaged by PDF text extraction; records what changed.
-  std::string fixType(std::string t, const Row& r, int col, Imported& e) {
+  std::string fixType(std::string t, int line, int col, Imported& e) {
     const std::string original = t;
     std::string compact;
     for (char c : t) {
@@ -273,6 +348,12 @@ class Importer {
     }
     if (compact.empty() || compact == "-" || compact == "—") return "none";
     if (parseType(compact)) return compact;
+    if (auto block = cells::blockForWideHex(compact)) {
+      warn(line, col,
+           "type '" + original + "' is a " + block->substr(1) + "-byte hex block; written " + *block);
+      e.notes.push_back("import: type '" + original + "' written " + *block);
+      return *block;
+    }
     // Take the last whitespace-separated token that is a type code ("l H2" -> H2).
     std::istringstream in(t);
     std::string tok, last;
@@ -286,98 +367,102 @@ class Importer {
       fixed = std::string("I") + compact[1];
     }
     if (fixed.empty()) {
-      warn(r.line, col,
+      warn(line, col,
            "type '" + original + "' is not a TI type code; kept as written (check will report it)");
       return compact;
     }
-    warn(r.line, col, "type '" + original + "' read as " + fixed + " (text-extraction damage)");
+    warn(line, col, "type '" + original + "' read as " + fixed + " (text-extraction damage)");
     e.notes.push_back("import: type '" + original + "' read as " + fixed);
     return fixed;
   }
 
   // A 1-byte scalar type whose description says the value has 16 (or 32) bits takes that width.
-  std::string widthFromDescription(const std::string& type, const std::string& description, const Row& r,
-                                   int col, Imported& e) {
+  std::string widthFromDescription(const std::string& type, const std::string& description, int line, int col,
+                                   Imported& e) {
     auto t = parseType(type);
     if (!t || !t->scalar() || t->base == TypeInfo::Base::Float) return type;
-    static const std::regex bits(R"((8|16|32)\s*(位|-?bit))");
-    std::smatch m;
-    if (!std::regex_search(description, m, bits)) return type;
-    const int said = std::stoi(m[1].str());
-    if (said == t->size() * 8) return type;
-    const std::string fixed = std::string(1, type[0]) + std::to_string(said / 8);
+    const StatedWidth said = statedWidth(description);
+    if (said.bits == 0 || said.bits == t->size() * 8) return type;
+    const std::string fixed = std::string(1, type[0]) + std::to_string(said.bits / 8);
     if (!parseType(fixed)) return type;
-    warn(r.line, col,
+    const std::string& stated = said.text;
+    warn(line, col,
          "type " + type + " has " + std::to_string(t->size() * 8) + " bits but the description says " +
-             m[0].str() + "; using " + fixed);
-    e.notes.push_back("import: table type " + type + " contradicts its description (" + m[0].str() +
-                      "); used " + fixed);
+             stated + "; using " + fixed);
+    e.notes.push_back("import: table type " + type + " contradicts its description (" + stated + "); used " +
+                      fixed);
     return fixed;
   }
 
-  // Unit cell -> unit and scale keys. Hex / 十六进制 means a flag word: no unit.
-  void unit(const std::string& cell, const Row& r, int col, Imported& e) {
-    std::string u = trim(cell);
-    if (u.empty() || u == "-" || u == "十六进制" || lower(u) == "hex" || u == "ASCII") return;
-    static const std::map<std::string, std::string> words = {
-        {"毫伏", "mV"},   {"毫安", "mA"},   {"秒", "s"},    {"毫秒", "ms"}, {"微秒", "us"},
-        {"分钟", "min"},  {"小时", "h"},    {"°C", "degC"}, {"℃", "degC"},  {"摄氏度", "degC"},
-        {"%", "percent"}, {"mohm", "mOhm"}, {"hrs", "h"},   {"mΩ", "mOhm"}};
-    static const std::regex scaled(R"(([0-9]+(?:\.[0-9]+)?)\s*(.+))");
-    std::string scale;
-    std::smatch m;
-    if (std::regex_match(u, m, scaled)) {
-      scale = m[1].str();
-      u = trim(m[2].str());
+  // The type of a row: a TI code, the fields of one payload, words with a size, or the repairs of fixType.
+  std::string typeOf(const RowCells& c, const std::string& typeCell, Imported& e) {
+    const int line = c.line(Role::Type), col = c.col(Role::Type);
+    const std::string about = c.get(Role::Data) + " " + c.get(Role::Description);
+    const bool bigEndian =
+        about.find("Big-Endian") != std::string::npos || about.find("big-endian") != std::string::npos;
+    if (auto fields = cells::fieldsType(typeCell, bigEndian)) {
+      e.notes.push_back("import: payload fields " + typeCell + (bigEndian ? " (big-endian)" : "") +
+                        " read as " + *fields);
+      return *fields;
     }
-    if (auto it = words.find(u); it != words.end()) u = it->second;
-    if (auto it = words.find(lower(u)); it != words.end()) u = it->second;
-    if (!findUnit(u)) {
-      warn(r.line, col, "unit '" + trim(cell) + "' is not a known unit; left out (recorded in notes)");
-      e.notes.push_back("import: unit '" + trim(cell) + "' not recognised");
-      return;
+    if (parseType(typeCell)) return typeCell;
+    if (c.has(Role::Format) && cells::number(c.get(Role::Format)).empty()) {
+      e.notes.push_back("import: no data format in the table, so no data");
+      return "none";  // BQ4050 MAC: Format "—" (a command that carries no data)
     }
-    e.keys.emplace_back("unit", u);
-    if (!scale.empty() && scale != "1") e.keys.emplace_back("scale", scale);
+    if (auto words = cells::typeFromWords(typeCell, c.get(Role::Format), c.get(Role::Size))) {
+      e.notes.push_back("import: type " + *words + " from '" + typeCell +
+                        (c.get(Role::Format).empty() ? "" : "', format '" + c.get(Role::Format)) +
+                        (c.get(Role::Size).empty() ? "" : "', size " + c.get(Role::Size)) + "'");
+      return *words;
+    }
+    if (typeCell.empty() || cells::number(typeCell).empty()) {
+      if (e.kind->kind == EntryKind::Register) {
+        e.comments.push_back("type is not in the table: 'U1' assumed (registers are one byte)");
+        return "U1";
+      }
+      return "none";
+    }
+    return fixType(typeCell, line, col, e);
   }
 
-  void row(const Row& r, const std::vector<Role>& roles, const std::vector<std::string>& headingText) {
+  // Unit cell -> unit and scale keys.
+  void unit(const RowCells& c, Imported& e) {
+    const std::string cell(scan::trimmed(c.get(Role::Unit)));
+    const cells::Unit u = cells::unit(cell);
+    if (!u.understood) {
+      warn(c.line(Role::Unit), c.col(Role::Unit),
+           "unit '" + cell + "' is not a known unit; left out (recorded in notes)");
+      e.notes.push_back("import: unit '" + cell + "' not recognised");
+      return;
+    }
+    if (u.unit.empty()) return;
+    e.keys.emplace_back("unit", u.unit);
+    if (!u.scale.empty()) e.keys.emplace_back("scale", u.scale);
+  }
+
+  const KindInfo* kindOf(const RowCells& c, const std::string& digits) const {
+    if (!opts_.kind.empty()) return findKind(opts_.kind);
+    if (c.has(Role::Category)) return kindByYamlKey(kinds_->memory);
+    if (digits.empty()) return nullptr;
+    return kindByYamlKey(digits.size() <= 2 ? kinds_->byteCodes : kinds_->wordCodes);
+  }
+
+  void row(const TableEvent& r, const std::vector<Role>& roles, const std::vector<TableCell>& headings) {
+    const RowCells c(r, roles, headings);
+    for (const TableCell* extra : c.beyondHeadings)
+      warn(extra->line, extra->col,
+           "more cells than headings; '" + extra->text + "' goes into the description");
     Imported e;
     e.line = r.line;
-    std::map<Role, Cell> cell;
-    std::string description;
-    for (std::size_t i = 0; i < r.cells.size(); ++i) {
-      const Role role = i < roles.size() ? roles[i] : Role::Unknown;
-      const Cell& c = r.cells[i];
-      if (role == Role::Unknown) {
-        if (!c.text.empty()) {
-          const std::string label =
-              i < headingText.size() ? headingText[i] : "column " + std::to_string(i + 1);
-          if (i >= roles.size())
-            warn(r.line, c.col, "more cells than headings; '" + c.text + "' goes into the description");
-          description.append(description.empty() ? "" : " ").append(label).append(": ").append(c.text);
-        }
-        continue;
-      }
-      cell[role] = c;
-    }
-    auto get = [&](Role role) { return cell.count(role) ? cell[role].text : std::string(); };
-    auto col = [&](Role role) { return cell.count(role) ? cell[role].col : 1; };
 
-    // Kind.
-    const std::string addrText = get(Role::Address);
-    static const std::regex hexAddr(R"(0[xX]([0-9A-Fa-f]+))");
-    std::smatch m;
-    const bool hasAddr = std::regex_match(addrText, m, hexAddr);
-    if (!opts_.kind.empty()) {
-      e.kind = findKind(opts_.kind);
-    } else if (cell.count(Role::Category)) {
-      e.kind = kindByYamlKey("datamem");
-    } else if (hasAddr) {
-      e.kind = kindByYamlKey(m[1].length() <= 2 ? "commands" : "subcommands");
-    }
-    if (cell.count(Role::Address) && !hasAddr) {
-      warn(r.line, col(Role::Address), "'" + addrText + "' is not a hex address; row skipped");
+    // Kind, from the address's digits or the class column.
+    const std::string addrText(scan::trimmed(c.get(Role::Address)));
+    const std::optional<AddressCell> address = addressCell(addrText);
+    const bool hasAddr = address.has_value();
+    e.kind = kindOf(c, hasAddr ? address->first : "");
+    if (c.has(Role::Address) && !hasAddr) {
+      warn(r.line, c.col(Role::Address), "'" + addrText + "' is not a hex address; row skipped");
       skipped_.push_back(r.line);
       return;
     }
@@ -389,8 +474,8 @@ class Importer {
     }
 
     // Name.
-    std::string name = get(Role::Name);
-    const std::string english = get(Role::EnglishName);
+    std::string name = cells::name(c.get(Role::Name));
+    const std::string english = cells::name(c.get(Role::EnglishName));
     std::string translated;
     if (!english.empty() && isAscii(english)) {
       if (!isAscii(name)) e.comments.push_back("name in the table: " + name);
@@ -401,12 +486,23 @@ class Importer {
         e.notes.push_back("import: name translated from '" + name + "'");
         name = translated;
       } else {
-        warn(r.line, col(Role::Name),
+        warn(r.line, c.col(Role::Name),
              "cannot translate name '" + name +
                  "' (not in the glossary); kept as is: replace it with the English TRM name");
         e.comments.push_back("TODO: replace with the English TRM name; '" + name +
                              "' is not in the glossary");
       }
+    }
+    if (const std::vector<std::string> run = runNames(name); !run.empty()) {
+      e.notes.push_back("import: one of the registers '" + name + "'");
+      run_.assign(run.begin() + 1, run.end());
+      name = run.front();
+    } else if (name.empty() && !run_.empty()) {
+      e.notes.push_back("import: name from the run of registers above");
+      name = run_.front();
+      run_.erase(run_.begin());
+    } else {
+      run_.clear();
     }
     if (name.empty()) {
       warn(r.line, 1, "row has no name; row skipped");
@@ -416,21 +512,40 @@ class Importer {
     e.keys.emplace_back("name", name);
 
     // Address.
-    std::string addr = hasAddr ? "0x" + upperCase(m[1].str()) : "";
-    if (addr.size() == 3) addr = "0x0" + addr.substr(2);
-    std::string category = translateOr(get(Role::Category));
-    std::string subcategory = translateOr(get(Role::Subcategory));
-    if (const Entry* known = lookup(*e.kind, name, category, subcategory)) {
+    std::string addr, span;
+    if (hasAddr) {
+      addr = addressText(address->first, e.kind->addrDigits);
+      if (!address->last.empty() && addr.size() <= 10) {
+        const std::string last = addressText(address->last, e.kind->addrDigits);
+        const auto lo = std::stoull(addr.substr(2), nullptr, 16);
+        const auto hi = last.size() <= 10 ? std::stoull(last.substr(2), nullptr, 16) : 0;
+        if (e.kind->allowSpan && hi > lo) {
+          span = hexAddress(hi - lo + 1);
+          e.notes.push_back("import: codes " + addr + ".." + last);
+        } else {
+          warn(r.line, c.col(Role::Address),
+               "'" + addrText + "' is a range; " + std::string(e.kind->listName) +
+                   " entries have no span: the first address is used");
+        }
+      }
+    }
+    e.category = translateOr(cells::name(c.get(Role::Category)));
+    e.subcategory = translateOr(cells::name(c.get(Role::Subcategory)));
+    if (const Entry* known = lookup(*e.kind, name, e.category, e.subcategory)) {
       if (addr.empty()) {
         addr = hexAddress(*known->addr, e.kind->addrDigits);
         e.comments.push_back("address from " + displayPath(mapSources_.path(known->loc.file)) + ":" +
                              std::to_string(known->loc.line));
-      } else if (std::stoul(addr, nullptr, 16) != *known->addr) {
-        warn(r.line, col(Role::Address),
+      } else if (addr.size() <= 10 && std::stoull(addr.substr(2), nullptr, 16) != *known->addr) {
+        warn(r.line, c.col(Role::Address),
              "address " + addr + " of '" + name + "' differs from the map (" +
                  hexAddress(*known->addr, e.kind->addrDigits) + " at " +
                  displayPath(mapSources_.path(known->loc.file)) + ":" + std::to_string(known->loc.line) +
                  ")");
+      }
+      if (known->id.present) {
+        e.keys.emplace_back("id", known->id.value);
+        e.idFromMap = true;
       }
     }
     if (addr.empty() && !mentions_.empty()) {
@@ -453,48 +568,61 @@ class Importer {
       addr = "TODO";
     }
     e.keys.emplace_back("addr", addr);
+    if (!span.empty()) e.keys.emplace_back("span", span);
 
     // Type.
-    description = get(Role::Description) +
-                  (description.empty() || get(Role::Description).empty() ? "" : " ") + description;
-    if (!get(Role::Data).empty()) description = "Data: " + get(Role::Data) + ". " + description;
-    description = trim(description);
-    std::string type = cell.count(Role::Type) ? fixType(get(Role::Type), r, col(Role::Type), e) : "none";
-    type = widthFromDescription(type, description, r, col(Role::Type), e);
+    std::string description = c.get(Role::Description);
+    if (!c.extra.empty()) description.append(description.empty() ? "" : " ").append(c.extra);
+    if (!c.get(Role::Data).empty()) description = "Data: " + c.get(Role::Data) + ". " + description;
+    description = std::string(scan::trimmed(description));
+    std::string typeCell(scan::trimmed(c.get(Role::Type)));
+    std::string accessCell = c.get(Role::Access);
+    if (!c.has(Role::Access) && cells::access(typeCell) && !parseType(typeCell)) {
+      accessCell = typeCell;  // register tables print R/RW in their "Type" column
+      typeCell.clear();
+    }
+    std::string type = typeOf(c, typeCell, e);
+    // Registers are one byte whatever width the reading they are part of has ("16-bit ... read HI first").
+    if (e.kind->kind != EntryKind::Register)
+      type = widthFromDescription(type, description, c.line(Role::Type), c.col(Role::Type), e);
     e.keys.emplace_back("type", type);
 
     // Access.
-    std::string access = lower(get(Role::Access));
-    if (access == "r/w") access = "rw";
-    if (!findAccess(access)) {
-      if (!access.empty())
-        warn(r.line, col(Role::Access), "access '" + get(Role::Access) + "' not understood");
-      if (e.kind->kind == EntryKind::DataMemory) {
-        access = "config_update";
-      } else if (type == "none") {
-        access = "cmd";
-      } else {
-        access = "r";
-      }
-      e.comments.push_back("access is not in the table: '" + access + "' assumed; check the TRM");
+    std::optional<std::string> access = cells::access(accessCell);
+    if (access && e.kind->kind == EntryKind::DataMemory) {
+      e.notes.push_back("import: table access '" + accessCell + "'; data memory is config_update");
+      access = "config_update";
+    } else if (access && type == "none" && *access != "cmd") {
+      e.notes.push_back("import: table access '" + accessCell + "'; no data, so cmd");
+      access = "cmd";
     }
-    e.keys.emplace_back("access", access);
+    if (!access) {
+      if (!scan::trimmed(accessCell).empty() && !cells::number(accessCell).empty())
+        warn(c.line(Role::Access), c.col(Role::Access), "access '" + accessCell + "' not understood");
+      access = e.kind->kind == EntryKind::DataMemory  ? "config_update"
+               : type == "none"                       ? "cmd"
+               : e.kind->kind == EntryKind::DataFlash ? "rw"
+                                                      : "r";
+      e.comments.push_back("access is not in the table: '" + *access + "' assumed; check the TRM");
+    }
+    e.keys.emplace_back("access", *access);
 
-    unit(get(Role::Unit), r, col(Role::Unit), e);
+    unit(c, e);
     for (auto [role, key] :
          {std::pair{Role::Min, "min"}, std::pair{Role::Max, "max"}, std::pair{Role::Default, "default"}}) {
-      const std::string v = get(role);
-      if (v.empty() || v == "-") continue;
+      const std::string v = cells::number(c.get(role));
+      if (v.empty()) continue;
       if (!parseNumber(v)) {
-        warn(r.line, col(role), std::string(key) + " '" + v + "' is not a number; recorded in notes");
-        e.notes.push_back(std::string("import: ") + key + " '" + v + "'");
+        warn(c.line(role), c.col(role),
+             std::string(key) + " '" + c.get(role) + "' is not a number; recorded in notes");
+        e.notes.push_back(std::string("import: ") + key + " '" + c.get(role) + "'");
         continue;
       }
       e.keys.emplace_back(key, v);
     }
     if (e.kind->allowCategory) {
-      if (!category.empty()) e.keys.emplace_back("category", category);
-      if (!subcategory.empty()) e.keys.emplace_back("subcategory", subcategory);
+      if (!e.category.empty()) e.keys.emplace_back("category", e.category);
+      if (!e.subcategory.empty()) e.keys.emplace_back("subcategory", e.subcategory);
     }
     e.keys.emplace_back("description",
                         description.empty() ? "Imported; the table gives no description." : description);
@@ -537,38 +665,93 @@ class Importer {
     return hits.size() == 1 ? hits.front() : nullptr;
   }
 
-  static std::string yamlScalar(const std::string& v) {
+  // A TRM name that repeats in several subclasses ("Threshold", "Delay") derives the same identifier; the
+  // later ones get an `id:` made of their subclass (or class and subclass) and name, with a comment. Ids
+  // taken from the --map files are kept.
+  void uniqueIdentifiers() {
+    std::map<std::string, int> uses;  // namespace::identifier
+    const auto key = [](const Imported& e, const std::string& id) {
+      return std::string(e.kind->ns) + "::" + id;
+    };
+    const auto idOf = [](const Imported& e) {
+      for (const auto& [k, v] : e.keys) {
+        if (k == "id") return v;
+      }
+      return pascalCase(e.keys.front().second);
+    };
+    for (const Imported& e : entries_)
+      ++uses[key(e, idOf(e))];
+    std::set<std::string> taken;
+    for (Imported& e : entries_) {
+      const std::string id = idOf(e);
+      if (e.idFromMap || uses[key(e, id)] < 2 || taken.insert(key(e, id)).second) continue;
+      for (const std::string& candidate :
+           {pascalCase(e.subcategory + " " + e.keys.front().second),
+            pascalCase(e.category + " " + e.subcategory + " " + e.keys.front().second)}) {
+        if (!isIdentifier(candidate) || uses.count(key(e, candidate)) ||
+            !taken.insert(key(e, candidate)).second)
+          continue;
+        e.keys.insert(e.keys.begin() + 1, {"id", candidate});
+        e.comments.push_back("id: '" + id + "' is taken by an entry above; made unique by import");
+        break;
+      }
+    }
+  }
+
+  // A value as a YAML scalar: plain when that reads back the same, else double-quoted with escapes (control
+  // characters as \xNN), so any cell text gives well-formed YAML.
+  static std::string yamlScalar(const std::string& value) {
+    const std::string v = capped(value);
     bool plain = !v.empty() && isAscii(v);
     static const std::string indicators = "-?:,[]{}#&*!|>'\"%@`";
     if (plain && indicators.find(v[0]) != std::string::npos &&
-        !(v[0] == '-' && v.size() > 1 && std::isdigit(static_cast<unsigned char>(v[1])))) {
+        !(v[0] == '-' && v.size() > 1 && scan::isDigit(v[1]))) {
       plain = false;
     }
     if (plain && (v.find(": ") != std::string::npos || v.find(" #") != std::string::npos || v.back() == ' ' ||
-                  v.back() == ':')) {
+                  v.back() == ':' || v.front() == ' ')) {
       plain = false;
     }
+    for (char ch : v)
+      plain = plain && static_cast<unsigned char>(ch) >= 0x20 && ch != 0x7F;
     if (plain) return v;
     std::string out = "\"";
-    for (char c : v) {
-      if (c == '"' || c == '\\') out += '\\';
-      if (c == '\t') {
+    for (char ch : v) {
+      const auto u = static_cast<unsigned char>(ch);
+      if (ch == '"' || ch == '\\') {
+        out += '\\';
+        out += ch;
+      } else if (ch == '\t') {
         out += "\\t";
-        continue;
+      } else if (u < 0x20 || u == 0x7F) {
+        static const char hex[] = "0123456789ABCDEF";
+        out += "\\x";
+        out += hex[u >> 4];
+        out += hex[u & 0xF];
+      } else {
+        out += ch;
       }
-      out += c;
     }
     return out + "\"";
   }
 
+  // A comment line's text without control characters (they would end or garble the line).
+  static std::string commentText(const std::string& s) {
+    std::string out = capped(s);
+    for (char& ch : out) {
+      if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7F) ch = ' ';
+    }
+    return out;
+  }
+
   void write() {
     std::ostream& o = *out;
-    o << "# Generated by `regmapgen import` from " << displayPath(path_)
+    o << "# Generated by `regmapgen import` from " << commentText(displayPath(path_))
       << ". Review every entry before merging it\n"
       << "# into regmaps/<family>/: TI's tables do not give access, and 'source' stays 'unverified' until "
          "the\n"
       << "# values are checked against the TRM (or pass --source with the document's literature number).\n"
-      << "family: " << opts_.family << "\n";
+      << "family: " << yamlScalar(family()) << "\n";
     for (const KindInfo& k : kinds()) {
       bool any = false;
       for (const Imported& e : entries_) {
@@ -576,7 +759,7 @@ class Importer {
         if (!any) o << k.yamlKey << ":\n";
         any = true;
         for (const std::string& c : e.comments)
-          o << "  # " << c << "\n";
+          o << "  # " << commentText(c) << "\n";
         bool first = true;
         for (const auto& [key, value] : e.keys) {
           o << (first ? "  - " : "    ") << key << ": " << yamlScalar(value) << "\n";
@@ -585,16 +768,18 @@ class Importer {
       }
     }
     for (int line : skipped_)
-      o << "# skipped: line " << line << " of " << displayPath(path_) << " (see warnings)\n";
+      o << "# skipped: line " << line << " of " << commentText(displayPath(path_)) << " (see warnings)\n";
   }
 
   std::string path_;
   const ImportOptions& opts_;
   std::ostream& err_;
+  const FamilyKinds* kinds_ = nullptr;
   Sources mapSources_;
   Model map_;
   std::vector<Imported> entries_;
   std::vector<int> skipped_;
+  std::vector<std::string> run_;  // names left of a run "A through B"
   struct Mention {
     std::string address;
     int line;
@@ -614,21 +799,6 @@ int runImport(const std::string& path, const std::string& text, const ImportOpti
   }
   if (!imp.loadMaps()) return 1;
   return imp.run(text);
-}
-
-std::string headingHelp() {
-  std::ostringstream s;
-  const char* names[] = {"address", "name",        "English name", "unit",
-                         "type",    "description", "class",        "subclass",
-                         "min",     "max",         "default",      "data (appended to the description)",
-                         "access"};
-  for (const Heading& h : headings()) {
-    s << "  " << names[static_cast<int>(h.role)] << ":";
-    for (const std::string& sp : h.spellings)
-      s << " " << sp;
-    s << "\n";
-  }
-  return s.str();
 }
 
 }  // namespace regmapgen

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <numeric>
-#include <regex>
 
 #include "model/names.hpp"
+#include "text/scan.hpp"
 
 namespace regmapgen {
 
@@ -70,8 +70,7 @@ std::optional<Number> parseNumber(const std::string& text) {
   }
   if (base != 10) return std::nullopt;
   // A decimal real such as 7.4768, 1.00E-02 or 4.193046E+08 (F4 values).
-  static const std::regex real(R"([-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?)");
-  if (!std::regex_match(text, real)) return std::nullopt;
+  if (!scan::isDecimalReal(text)) return std::nullopt;
   errno = 0;
   char* end = nullptr;
   n.real = std::strtod(text.c_str(), &end);
@@ -83,22 +82,27 @@ std::optional<Scale> parseScale(const std::string& text) {
   Scale s;
   s.text = text;
   s.present = true;
-  static const std::regex ratio(R"((\d+)/(\d+))");
-  static const std::regex decimal(R"((\d+)(?:\.(\d+))?)");
-  std::smatch m;
-  if (std::regex_match(text, m, ratio)) {
-    if (m[1].length() > 9 || m[2].length() > 9) return std::nullopt;
-    s.num = std::stoll(m[1].str());
-    s.den = std::stoll(m[2].str());
-  } else if (std::regex_match(text, m, decimal)) {
-    const std::string digits = m[1].str() + (m[2].matched ? m[2].str() : "");
-    if (digits.size() > 9) return std::nullopt;
-    s.num = std::stoll(digits);
-    s.den = 1;
-    for (std::size_t i = 0; m[2].matched && i < m[2].str().size(); ++i)
-      s.den *= 10;
+  const std::string_view t = text;
+  const std::size_t first = scan::run(t, 0, scan::isDigit);
+  if (first == 0) return std::nullopt;
+  if (first < t.size() && t[first] == '/') {
+    // A ratio "n/d".
+    const std::string_view den = t.substr(first + 1);
+    if (!scan::all(den, scan::isDigit) || first > 9 || den.size() > 9) return std::nullopt;
+    s.num = std::stoll(std::string(t.substr(0, first)));
+    s.den = std::stoll(std::string(den));
   } else {
-    return std::nullopt;
+    // A decimal "n" or "n.f": at most 9 significant digits, so the ratio fits comfortably.
+    std::string_view fraction;
+    if (first < t.size()) {
+      fraction = t.substr(first + 1);
+      if (t[first] != '.' || !scan::all(fraction, scan::isDigit)) return std::nullopt;
+    }
+    if (first + fraction.size() > 9) return std::nullopt;
+    s.num = std::stoll(std::string(t.substr(0, first)) + std::string(fraction));
+    s.den = 1;
+    for (std::size_t i = 0; i < fraction.size(); ++i)
+      s.den *= 10;
   }
   if (s.num <= 0 || s.den <= 0) return std::nullopt;
   const std::int64_t g = std::gcd(s.num, s.den);
@@ -124,6 +128,29 @@ std::size_t distance(std::string_view a, std::string_view b) {
     std::swap(prev, cur);
   }
   return prev[b.size()];
+}
+
+// A TI literature number: "SL", two capital letters, then two to five capitals or digits (SLUUBY2B,
+// SLUSE81E).
+bool isLiteratureNumber(std::string_view t) {
+  const auto alnum = [](char c) { return scan::isUpper(c) || scan::isDigit(c); };
+  return t.size() >= 6 && t.size() <= 9 && t.substr(0, 2) == "SL" && scan::isUpper(t[2]) &&
+         scan::isUpper(t[3]) && scan::all(t.substr(4), alnum);
+}
+
+// The highest bit a field may name: fieldsets are 8, 16 or 32 bits wide.
+constexpr int kMaxBit = 31;
+
+// "7" or "9:8": one or two decimal digits each. Fills msb and lsb as written (not yet ordered).
+bool parseBits(std::string_view t, int& msb, int& lsb) {
+  const std::size_t a = scan::run(t, 0, scan::isDigit);
+  if (a == 0 || a > 2) return false;
+  msb = lsb = std::stoi(std::string(t.substr(0, a)));
+  if (a == t.size()) return true;
+  const std::string_view rest = t.substr(a + 1);
+  if (t[a] != ':' || rest.size() > 2 || !scan::all(rest, scan::isDigit)) return false;
+  lsb = std::stoi(std::string(rest));
+  return true;
 }
 
 class Builder {
@@ -222,7 +249,6 @@ class Builder {
   Text source(const Node& map, const std::string& what) {
     Text t = text(map, "source", what);
     if (!t.present) return t;
-    static const std::regex literature(R"(SL[A-Z]{2}[A-Z0-9]{2,5})");
     std::vector<std::string> tokens;
     std::string cur;
     for (char c : t.value + " ") {
@@ -236,7 +262,7 @@ class Builder {
     bool unverified = false;
     for (const std::string& tok : tokens) {
       if (tok == "unverified") unverified = true;
-      if (!isSourceToken(tok) && !std::regex_match(tok, literature)) {
+      if (!isSourceToken(tok) && !isLiteratureNumber(tok)) {
         diag_.error(t.loc, "source of " + what + ": '" + tok +
                                "' is not a TI literature number (e.g. SLUUBY2B), SBS1.1 or 'unverified'");
       }
@@ -296,9 +322,9 @@ class Builder {
     checkKeys(root, object("file"), "the file");
     Family* fam = nullptr;
     const Text family = text(root, "family", "the file");
-    static const std::regex familyRe("[a-z][a-z0-9_]*");
     std::string famName = family.present ? family.value : "";
-    if (family.present && !std::regex_match(famName, familyRe)) {
+    const auto familyChar = [](char c) { return scan::isLower(c) || scan::isDigit(c) || c == '_'; };
+    if (family.present && !(scan::isLower(famName[0]) && scan::all(famName, familyChar))) {
       diag_.error(family.loc, "family '" + famName + "' must be a lowercase id such as bq769x2");
     }
     for (Family& existing : model_.families) {
@@ -471,17 +497,18 @@ class Builder {
     f.cppName = f.id.present ? f.id.value : snakeCase(f.name.value);
     if (const Text b = text(item, "bits", what); b.present) {
       f.bitsLoc = b.loc;
-      static const std::regex bits(R"((\d{1,2})(?::(\d{1,2}))?)");
-      std::smatch m;
-      if (!std::regex_match(b.value, m, bits)) {
+      if (!parseBits(b.value, f.msb, f.lsb)) {
         diag_.error(b.loc, what + ": bits '" + b.value + "' must be a bit number or \"msb:lsb\"");
-      } else {
-        f.msb = std::stoi(m[1].str());
-        f.lsb = m[2].matched ? std::stoi(m[2].str()) : f.msb;
-        if (f.lsb > f.msb) {
-          diag_.error(b.loc, what + ": bits '" + b.value + "' must be written msb:lsb (high bit first)");
-          std::swap(f.msb, f.lsb);
-        }
+        f.msb = f.lsb = -1;
+      } else if (f.msb > kMaxBit || f.lsb > kMaxBit) {
+        // Without this bound a field at bit 70 of a fieldset with no width shifted a 64-bit mask by 70
+        // (undefined behaviour; UBSan aborted before the error was printed, issue 15).
+        diag_.error(b.loc, what + ": bit " + std::to_string(std::max(f.msb, f.lsb)) + " is beyond bit " +
+                               std::to_string(kMaxBit) + " (fieldsets are at most 32 bits wide)");
+        f.msb = f.lsb = -1;
+      } else if (f.lsb > f.msb) {
+        diag_.error(b.loc, what + ": bits '" + b.value + "' must be written msb:lsb (high bit first)");
+        std::swap(f.msb, f.lsb);
       }
     }
     f.enumRef = identifier(item, "enum", what);

@@ -81,6 +81,15 @@ class Parser {
       if (last) end = text_.size();
       std::size_t stop = end;
       if (stop > start && text_[stop - 1] == '\r') --stop;
+      if (stop - start > kMaxLineLength) {
+        // Reported and then treated as blank: every later step can rely on short lines.
+        diag_.error(Loc{file_, number, columnOf(text_, start, start + kMaxLineLength)},
+                    "line is " + std::to_string(stop - start) + " bytes long; lines are limited to " +
+                        std::to_string(kMaxLineLength) + " bytes");
+        if (last) break;
+        start = end + 1;
+        continue;
+      }
 
       std::size_t p = start;
       bool tab = false;
@@ -134,6 +143,23 @@ class Parser {
 
   void skipLine() { ++pos_; }
 
+  // One level of nesting for the lifetime of the guard.
+  struct Nested {
+    explicit Nested(int& depth) : depth_(depth) { ++depth_; }
+    ~Nested() { --depth_; }
+    Nested(const Nested&) = delete;
+    Nested& operator=(const Nested&) = delete;
+    int& depth_;
+  };
+
+  // Reports nesting past kMaxNesting at `offset` of line `l`; the caller skips the subtree. Recursion
+  // depth stays bounded however deeply a file nests (issue 15: 10 000 levels overflowed the stack).
+  bool tooDeep(const Line& l, std::size_t offset) {
+    if (depth_ < kMaxNesting) return false;
+    error(l, offset, "nesting deeper than " + std::to_string(kMaxNesting) + " levels");
+    return true;
+  }
+
   // Skips every following line indented deeper than `indent` (the children of a line already rejected).
   void skipDeeper(int indent) {
     while (pos_ < lines_.size() && lines_[pos_].indent > indent)
@@ -157,6 +183,12 @@ class Parser {
     Node map;
     map.type = Node::Type::Map;
     map.loc = locAt(l, l.content);
+    if (tooDeep(l, l.content)) {
+      while (pos_ < lines_.size() && lines_[pos_].indent >= indent)
+        ++pos_;
+      return map;
+    }
+    const Nested nested(depth_);
     parseMapEntries(map, indent);
     return map;
   }
@@ -233,6 +265,15 @@ class Parser {
     Node seq;
     seq.type = Node::Type::Seq;
     seq.loc = locAt(lines_[pos_], lines_[pos_].content);
+    if (tooDeep(lines_[pos_], lines_[pos_].content)) {
+      // Skip this sequence's items and everything under them.
+      while (pos_ < lines_.size() &&
+             (lines_[pos_].indent > indent || (lines_[pos_].indent == indent && isSeqItem(lines_[pos_])))) {
+        ++pos_;
+      }
+      return seq;
+    }
+    const Nested nested(depth_);
     while (pos_ < lines_.size()) {
       const Line& l = lines_[pos_];
       if (l.indent < indent) break;
@@ -323,6 +364,7 @@ class Parser {
     switch (c) {
       case '[': {
         std::size_t p = offset;
+        flowAbandoned_ = false;
         Node n = parseFlowSeq(l, p);
         expectLineEnd(l, p);
         return n;
@@ -495,13 +537,20 @@ class Parser {
     Node seq;
     seq.type = Node::Type::Seq;
     seq.loc = locAt(l, p);
+    if (tooDeep(l, p)) {
+      p = l.end;
+      flowAbandoned_ = true;  // the enclosing sequences end here without another message each
+      return seq;
+    }
+    const Nested nested(depth_);
     const std::size_t open = p;
     ++p;
     for (;;) {
       while (p < l.end && isSpace(text_[p]))
         ++p;
       if (p >= l.end || text_[p] == '#') {
-        error(l, open, "unterminated flow sequence (']' must close it on the same line)");
+        if (!flowAbandoned_)
+          error(l, open, "unterminated flow sequence (']' must close it on the same line)");
         p = l.end;
         return seq;
       }
@@ -554,6 +603,8 @@ class Parser {
   Diagnostics& diag_;
   std::vector<Line> lines_;
   std::size_t pos_ = 0;
+  int depth_ = 0;               // blocks and flow sequences currently open
+  bool flowAbandoned_ = false;  // a flow sequence on this line nested too deeply (already reported)
 };
 
 }  // namespace

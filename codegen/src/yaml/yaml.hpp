@@ -11,6 +11,10 @@
 // - The reader never stops at the first problem: it reports into Diagnostics, skips or repairs the offending
 //   line and carries on, so one run shows every syntax error (and the checker still sees the rest of the
 //   file).
+// - Input is bounded, never trusted: a line longer than kMaxLineLength bytes and nesting deeper than
+//   kMaxNesting levels (blocks or flow sequences) are errors with a position, and the offending line or
+//   subtree is skipped. Parsing time and stack depth are linear in the input and bounded, whatever the file
+//   holds.
 // - Scalars are returned as text; typing (integers, type codes...) is the model builder's job, so that its
 //   errors can say which key expected what.
 #pragma once
@@ -22,6 +26,10 @@
 #include "diag/diag.hpp"
 
 namespace regmapgen::yaml {
+
+// Limits far above what any register map needs (lines of a few hundred bytes, 5 levels of nesting).
+inline constexpr std::size_t kMaxLineLength = 4096;
+inline constexpr int kMaxNesting = 32;
 
 struct Node {
   enum class Type { Null, Scalar, Map, Seq };

@@ -40,7 +40,6 @@ Status Link::startSubcommandRead(uint16_t code, uint8_t len) {
 }
 
 Status Link::startSubcommandWrite(uint16_t code, std::span<const uint8_t> bytes) {
-  if (!kConfigPaths && !bytes.empty()) return Status::InvalidArgument;
   return request(Op::SubWrite, code, bytes, 0);
 }
 
@@ -101,7 +100,6 @@ void Link::phase(Phase p) {
       readLen = kWindowBytes;
       break;
     case Phase::Commit:
-      if constexpr (!kConfigPaths) break;
       // SLUAA11B section 3.3: the checksum covers 0x3E, 0x3F and the data; the length counts them plus
       // 0x60 and 0x61 (data + 4).
       tail[0] = transferChecksum(s_.code, b_.data + 2, s_.dataLen);
@@ -115,10 +113,11 @@ void Link::phase(Phase p) {
 }
 
 // Builds and starts one transaction. With CRC on, a CRC follows every data byte: the first covers
-// addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4).
+// addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4). Without CRC no CRC
+// is computed at all (the common case: every scan read).
 inline void Link::transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen) {
-  const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
-  uint8_t crc = crcStep(crcStep(0, addressW), cmd);
+  uint8_t crc = 0;
+  if (cfg_.crc) crc = crcStep(crcStep(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
   uint8_t k = 0;
   b_.tx[k++] = cmd;
   for (uint8_t i = 0; i < count; ++i) {
@@ -174,9 +173,9 @@ void Link::onBus() {
     case Phase::Main:
       if (s_.op >= Op::SubRead) {
         s_.phase = Phase::Poll;
-        return wait(cfg_.pollInterval);
+        return wait(cfg_.pollInterval < cfg_.firstPoll ? cfg_.firstPoll : cfg_.pollInterval);
       }
-      if (kConfigPaths && s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
+      if (s_.op == Op::SubWrite && s_.dataLen != 0) return phase(Phase::Commit);
       return finish(Status::Ok);
     case Phase::Poll: {
       // 0x3E/0x3F read FF FF while the subcommand runs and echo the code when its result is in the buffer;

@@ -23,7 +23,8 @@
 //                                   0x3E write while one runs would replace it). Without await it ends at the
 //                                   write: for RESET, SHUTDOWN and DEEPSLEEP, after which the device does not
 //                                   echo. Effects are for the caller to verify (e.g. the CFGUPDATE flag).
-//   startSubcommandRead(code, len)  write 3E lo hi; poll 3E/3F every pollInterval until it echoes `code`
+//   startSubcommandRead(code, len)  write 3E lo hi; poll 3E/3F every pollInterval (the first poll after
+//                                   firstPoll if that is longer) until it echoes `code`
 //                                   (at most maxPolls polls: Timeout; any other echo than FF FF or the code:
 //                                   EchoMismatch); read 0x40..0x61 (32 + checksum + length); the length must
 //                                   be 4..36 and cover `len` data bytes (Length); the checksum is checked
@@ -48,10 +49,10 @@
 // power-up is therefore absorbed (E2E 1515940). Every wait is bounded: a bus transaction by the I2cBus
 // contract (wire time + stretch limit), every other wait by this driver's timer.
 //
-// What only the monitor's configure and balance operations use (subcommand writes with data: the
-// CONFIG_UPDATE settings, the balancing mask; a delay before a read: the CFGUPDATE polls) is built unless
-// FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
-// startSubcommandWrite() with data and startRead() with a delay are InvalidArgument.
+// What only the monitor's configure operation uses (a delay before a read: the CFGUPDATE polls) is built
+// unless FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
+// startRead() with a delay is InvalidArgument. Subcommand writes with data are always built: FET_CONTROL
+// (the monitor's FET commands) needs them.
 //
 // Memory: one scratch buffer (kScratchBytes) that holds the longest read with its CRC bytes; the data stay
 // there until the next operation starts (data() is only meaningful after an Ok result).
@@ -89,6 +90,10 @@ struct LinkConfig {
   bool crc = false;       // per-byte CRC-8 on the wire (must match the device's Comm Type)
   uint8_t retries = 2;    // extra attempts of a failed operation
   uint8_t maxPolls = 40;  // echo polls of a subcommand read: 40 x 250 us >= 10 ms (IROM_SIG takes ~8.5 ms)
+  // The first echo poll comes no earlier than this after the command (pollInterval when shorter). The
+  // BQ7690x variant raises it to 2 ms: no TI document found says the BQ7690x reads FF FF while a subcommand
+  // runs (regmaps/README.md), so its result is fetched no earlier than TI's examples fetch one.
+  Duration firstPoll{};
   Duration retryDelay = us(500);
   Duration pollInterval = us(250);
 };

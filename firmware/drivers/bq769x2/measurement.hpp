@@ -93,11 +93,11 @@ struct Bq7690xRegisters {
   map7690x::bits::Alarm alarmStatus;            // 0x62
   map7690x::bits::Alarm alarmRaw;
   map7690x::bits::Alarm alarmEnable;
-  int16_t current;                        // 0x3A CC2, userA
-  map7690x::bits::SafetyA safetyAlertA;   // 0x02
-  map7690x::bits::SafetyA safetyStatusA;  // 0x03
-  uint8_t safetyAlertB;                   // 0x04 (no layout found: regmaps/README.md deviation 10)
-  uint8_t safetyStatusB;                  // 0x05
+  int16_t current;                              // 0x3A CC2, userA
+  map7690x::bits::SafetyAlertA safetyAlertA;    // 0x02 (bits 1:0 reserved)
+  map7690x::bits::SafetyStatusA safetyStatusA;  // 0x03 (bits 1:0 CURLATCH, REGOUT: faults)
+  map7690x::bits::SafetyB safetyAlertB;         // 0x04
+  map7690x::bits::SafetyB safetyStatusB;        // 0x05
 };
 static_assert(offsetof(Bq7690xRegisters, alarmStatus) == 26 && offsetof(Bq7690xRegisters, current) == 32);
 static_assert(offsetof(Bq7690xRegisters, safetyStatusB) == 37);
@@ -105,7 +105,7 @@ static_assert(offsetof(Bq7690xRegisters, safetyStatusB) == 37);
 struct Bq7690xMeasurement {
   Instant takenAt{};
   Bq7690xRegisters reg{};
-  bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB) != 0; }
+  bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw()) != 0; }
 };
 
 // Milliamps from a CC2 reading in userA: lsbTenthMilliamp is the userA LSB in 0.1 mA (1, 10, 100 or 1000

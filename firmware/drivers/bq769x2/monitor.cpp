@@ -21,14 +21,19 @@ static_assert(sub::DeviceNumber.address == map7690x::sub::DeviceNumber.address &
               sub::FetEnable.address == map7690x::sub::FetEnable.address &&
               sub::CbActiveCells.address == map7690x::sub::CbActiveCells.address);
 
-// BQ769x2 host FET subcommands, indexed by FetCommand.
-constexpr uint8_t kFetSubcommand[] = {sub::AllFetsOn.address, sub::AllFetsOff.address,
-                                      sub::DsgPdsgOff.address, sub::ChgPchgOff.address};
-static_assert(sub::AllFetsOn.address < 0x100 && sub::ChgPchgOff.address < 0x100);
+static_assert(sub::SleepDisable.address == map7690x::sub::SleepDisable.address);
 
-// BQ7690x FET Control (SLUUCJ0, "FET Control"): a 1 forces the driver off.
-constexpr uint8_t kFet7690xChgOff = 0x08;
-constexpr uint8_t kFet7690xDsgOff = 0x04;
+// BQ769x2 FET_CONTROL (SLUUCW9, E2E 1453973): a 1 forces that FET off, a 0 allows it, all four at once.
+using Fc = map::bits::FetControl;
+constexpr uint8_t kChargeOff = Fc::pchg_off_mask | Fc::chg_off_mask;
+constexpr uint8_t kDischargeOff = Fc::pdsg_off_mask | Fc::dsg_off_mask;
+// BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET.
+using Fc7 = map7690x::bits::FetControl;
+
+constexpr uint8_t kAlarmStatus = map::cmd::AlarmStatus.address;
+constexpr uint8_t kAlarmEnable = map::cmd::AlarmEnable.address;
+static_assert(kAlarmStatus == map7690x::cmd::AlarmStatus.address &&
+              kAlarmEnable == map7690x::cmd::AlarmEnable.address);
 
 }  // namespace
 
@@ -82,6 +87,12 @@ Status Monitor::startFetEnable() {
   return begin(Op::FetEnable, readFetEn());
 }
 
+Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
+  if (busy()) return Status::Busy;
+  s_.settings = settings;
+  return begin(Op::RuntimeSetup, link_.startSubcommand(sub::SleepDisable.address));
+}
+
 Status Monitor::startBalance(uint16_t cells) {
   if (!kConfigPaths || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
@@ -108,32 +119,26 @@ Status Monitor::readFetEn() {
 }
 
 Status Monitor::sendFet() {
-  if (facts().fetControlCmd == 0)
-    return link_.startSubcommand(kFetSubcommand[static_cast<uint8_t>(s_.command)]);
-  // BQ7690x: the register is written from the intent alone (never from what the FETs report).
+  // Written from the intent alone (never from what the FETs report).
   const FetIntent next = nextIntent();
-  const uint8_t value = static_cast<uint8_t>((next.chargeOff ? kFet7690xChgOff : 0) |
-                                             (next.dischargeOff ? kFet7690xDsgOff : 0));
-  return link_.startWrite(facts().fetControlCmd, {&value, 1});
+  if (facts().fetControlCmd != 0) {
+    const uint8_t value = static_cast<uint8_t>((next.chargeOff ? Fc7::chg_off_mask : 0) |
+                                               (next.dischargeOff ? Fc7::dsg_off_mask : 0));
+    return link_.startWrite(facts().fetControlCmd, {&value, 1});
+  }
+  // BQ769x2: both paths the same way is one command-only subcommand (ALL_FETS_OFF is the ALERT fast path);
+  // one path off is FET_CONTROL, which also re-allows the other path after ALL_FETS_OFF.
+  if (next.chargeOff == next.dischargeOff)
+    return link_.startSubcommand(next.chargeOff ? sub::AllFetsOff.address : sub::AllFetsOn.address);
+  const uint8_t value = next.chargeOff ? kChargeOff : kDischargeOff;
+  return link_.startSubcommandWrite(sub::FetControl.address, {&value, 1});
 }
 
+// Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off).
 FetIntent Monitor::nextIntent() const {
-  FetIntent next = s_.intent;
-  switch (s_.command) {
-    case FetCommand::AllOn:
-      next = {};
-      break;
-    case FetCommand::AllOff:
-      next = {true, true};
-      break;
-    case FetCommand::DischargeOff:
-      next.dischargeOff = true;
-      break;
-    case FetCommand::ChargeOff:
-      next.chargeOff = true;
-      break;
-  }
-  return next;
+  const FetCommand c = s_.command;
+  return {c == FetCommand::AllOff || c == FetCommand::ChargeOff,
+          c == FetCommand::AllOff || c == FetCommand::DischargeOff};
 }
 
 void Monitor::step(Status r) {
@@ -151,6 +156,8 @@ void Monitor::step(Status r) {
       return fetStep(r);
     case Op::FetEnable:
       return fetEnableStep(r);
+    case Op::RuntimeSetup:
+      return runtimeSetupStep(r);
     case Op::Balance:
       if constexpr (kConfigPaths) balanceStep(r);
       return;
@@ -180,8 +187,12 @@ inline void Monitor::probeStep(Status r) {
   finish(Status::Ok);
 }
 
+// Scan steps: the variant's reads, then the Alarm Status clear when a read bit was set.
+constexpr uint8_t kScanClear = sizeof(Variant::blocks) / sizeof(ScanBlock);
+
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
+  if (s_.step == kScanClear) return publish();
   if (s_.yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
   s_.bytes = static_cast<uint8_t>(s_.bytes + v.blocks[s_.step].len);
@@ -201,9 +212,20 @@ inline void Monitor::scanStep(Status r) {
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
+  // Alarm Status is latched: 1s written to the bits read clear them (SLUUBY2B / SLUUCJ0 "Alarm Status"), so
+  // ALERT releases and the next event asserts it again. A write does not touch the scratch buffer.
+  const uint8_t* alarm = raw + v.alarmOffset;
+  if ((alarm[0] | alarm[1]) != 0) {
+    s_.step = kScanClear;
+    return (void)link_.startWrite(kAlarmStatus, {alarm, 2});
+  }
+  publish();
+}
+
+void Monitor::publish() {
   // The record is the time stamp followed by the registers (the front ends check the layout).
   Instant* record = static_cast<Instant*>(s_.out);
-  std::memcpy(record + 1, raw, s_.bytes);
+  std::memcpy(record + 1, link_.scratch(), s_.bytes);
   *record = clock_.now();
   finish(Status::Ok);
 }
@@ -225,6 +247,28 @@ inline void Monitor::fetEnableStep(Status r) {
     default:
       return finish(enabled ? Status::Ok : Status::VerifyFailed);
   }
+}
+
+inline void Monitor::runtimeSetupStep(Status r) {
+  if (r != Status::Ok) return finish(r);
+  const uint8_t* d = link_.data();
+  const uint8_t step = s_.step++;
+  // Step 0: SLEEP_DISABLE has run (echo); its effect shows in Battery Status[SLEEP_EN] (SLUUBY2B 7.3).
+  if (step == 0) return (void)link_.startRead(kBatteryStatus, 2);
+  if (step == 1 && (d[0] & facts().sleepEnMask) != 0) return finish(Status::VerifyFailed);
+  // Alarm Enable from the table: a table only exists where the configuration paths are built.
+  if constexpr (kConfigPaths) {
+    if (step == 2) return (void)link_.startRead(kAlarmEnable, 2);  // written: read it back
+    if (step == 3) return finish(bytes::loadLe16(d) == s_.tmp ? Status::Ok : Status::VerifyFailed);
+    for (const Setting& m : s_.settings) {
+      if (m.address != facts().alarmMaskAddress) continue;
+      s_.tmp = static_cast<uint16_t>(m.value);
+      uint8_t mask[2];
+      bytes::storeLe16(mask, s_.tmp);
+      return (void)link_.startWrite(kAlarmEnable, mask);
+    }
+  }
+  finish(Status::Ok);
 }
 
 inline void Monitor::balanceStep(Status r) {

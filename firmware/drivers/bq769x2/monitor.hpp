@@ -27,18 +27,38 @@
 //                         0x62..0x75, 0x02..0x07, 0x7F; BQ7690x: 0x12..0x2B, 0x62..0x67, 0x3A, 0x02..0x05).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
 //                         never stitched across a disturbance). Reserved bits set or a negative stack voltage
-//                         or temperature (what a released SDA reads: 0xFF) end it with Implausible.
+//                         or temperature (what a released SDA reads: 0xFF) end it with Implausible. Alarm
+//                         Status is latched and holds ALERT asserted until the host writes 1s to its bits
+//                         (SLUUBY2B / SLUUCJ0 "Alarm Status"): a scan that read bits set writes exactly those
+//                         back (one more transaction, S addr 62 lo hi P), so ALERT releases and the next
+//                         event makes a new edge; the record is written after that write succeeded.
 //                         yieldScan() makes a running scan end with Aborted instead of starting its next
 //                         read (the record is not written): a FET command need not wait for a whole scan.
-//   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff. BQ769x2: the subcommands
-//                         ALL_FETS_ON 0x0096, ALL_FETS_OFF 0x0095, DSG_PDSG_OFF 0x0093, CHG_PCHG_OFF 0x0094.
-//                         BQ7690x: FET Control written from the intent (CHG_OFF bit 3, DSG_OFF bit 2,
-//                         SLUUCJ0). fetIntent() is the host's last accepted command, kept apart from the
-//                         FET status the device reports (FET_CONTROL is documented wrongly, E2E 1453973:
-//                         the driver never writes a status back as a command).
+//   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
+//                         both paths. BQ769x2: ALL_FETS_ON 0x0096 and ALL_FETS_OFF 0x0095; one path off is
+//                         FET_CONTROL 0x0097 with that path's OFF bits (0x03 discharge, 0x0C charge), because
+//                         DSG_PDSG_OFF / CHG_PCHG_OFF only add an off state: after ALL_FETS_OFF they would
+//                         leave the other path off too (only ALL_FETS_ON or FET_CONTROL re-allow a FET,
+//                         SLUUBY2B 5.2.3.2, SLUUCW9 FET_CONTROL). BQ7690x: FET Control written from the
+//                         intent (CHG_OFF bit 3, DSG_OFF bit 2, SLUUCJ0; obeyed only with FET Options
+//                         [HOST_FETOFF_EN], which the application's settings table sets). fetIntent() is the
+//                         host's last accepted command, kept apart from the FET status the device reports
+//                         (FET_CONTROL is documented wrongly in SLUUBY2B, E2E 1453973: the driver never
+//                         writes a status back as a command).
 //   startFetEnable()      leaves FET test mode: reads FET_EN (BQ769x2 MANUFACTURINGSTATUS bit 4, BQ7690x
 //                         Battery Status bit 8) and only if it is 0 sends FET_ENABLE (0x0022, which
 //                         toggles it) and checks it reads 1 (VerifyFailed). Never toggles it off.
+//   startRuntimeSetup(set) what the start-up configuration needs beyond data memory (RAM state a reset
+//                         loses, and Alarm Enable): SLEEP_DISABLE (0x009A, as TI's examples send it after
+//                         start-up), Battery Status read back (VerifyFailed unless [SLEEP_EN] is clear);
+//                         then, if `set` holds a Default Alarm Mask, Alarm Enable (0x66) written with it and
+//                         read back (VerifyFailed). In SLEEP the device measures only every
+//                         Power:Sleep:Voltage Time (default 5 s, SLUUBY2B 7.3): a 100 ms scan would republish
+//                         old values. Alarm Enable: the BQ7690x reloads it from Default Alarm Mask at the
+//                         exit of CONFIG_UPDATE (SLUUCJ0), but for the BQ769x2 no TI document found says so
+//                         (regmaps/README.md): it is written directly. A reset allows SLEEP again, so Battery
+//                         Status[SLEEP_EN] in a scan tells the application that the device lost its RAM
+//                         configuration.
 //   startBalance(cells)   CB_ACTIVE_CELLS (0x0083) = bit mask of cells (bit 0 = cell 1; the BQ7690x puts
 //                         cell 1 at bit 1 on the wire, SLUAAM4 2.4 / E2E 1572792), read back (VerifyFailed).
 //                         Cells beyond the variant's count are InvalidArgument, and so are adjacent cells
@@ -102,10 +122,14 @@ struct Variant {
   uint8_t cfgUpdateMask;  // in Battery Status low byte
   uint8_t fetEnByte;      // FET_EN: byte and mask of ...
   uint8_t fetEnMask;
-  uint16_t fetEnCode;     // ... this subcommand's result, or of Battery Status when 0
-  uint8_t fetControlCmd;  // BQ7690x FET Control direct command; 0: BQ769x2 FET subcommands
-  uint8_t cbBytes;        // CB_ACTIVE_CELLS width
-  uint8_t cbShift;        // CB_ACTIVE_CELLS bit of cell 1 (BQ7690x: bit 1, E2E 1572792)
+  uint16_t fetEnCode;         // ... this subcommand's result, or of Battery Status when 0
+  uint8_t fetControlCmd;      // BQ7690x FET Control direct command; 0: BQ769x2 FET subcommands
+  uint8_t cbBytes;            // CB_ACTIVE_CELLS width
+  uint8_t cbShift;            // CB_ACTIVE_CELLS bit of cell 1 (BQ7690x: bit 1, E2E 1572792)
+  uint8_t sleepEnMask;        // Battery Status[SLEEP_EN] in its low byte
+  uint8_t alarmOffset;        // Alarm Status in the scan record
+  uint16_t alarmMaskAddress;  // data memory Default Alarm Mask
+  uint16_t firstPollUs;       // LinkConfig::firstPoll at least this (BQ7690x: the echo is not documented)
 };
 
 namespace variant_detail {
@@ -130,13 +154,16 @@ inline constexpr Check kChecks769x2[] = {
     {67, 0x80},
     {69, 0x80},  // temperatures >= 0 K
 };
+// Safety Status A and B and Safety Alert B have no reserved bit (SLUUCJ0: Status A bits 1:0 are CURLATCH and
+// REGOUT, real faults); only Safety Alert A keeps bits 1:0 clear (SLUUCI8).
 inline constexpr Check kChecks7690x[] = {
     {0, static_cast<uint8_t>(~map7690x::bits::BatteryStatus::fields_mask)},         // Battery Status bit 0
     {1, high(static_cast<uint16_t>(~map7690x::bits::BatteryStatus::fields_mask))},  // bit 9
-    {34, static_cast<uint8_t>(~map7690x::bits::SafetyA::fields_mask)},
-    {35, static_cast<uint8_t>(~map7690x::bits::SafetyA::fields_mask)},
-    {21, 0x80},  // Stack Voltage >= 0
+    {34, static_cast<uint8_t>(~map7690x::bits::SafetyAlertA::fields_mask)},         // Safety Alert A bits 1:0
+    {21, 0x80},                                                                     // Stack Voltage >= 0
 };
+static_assert(map7690x::bits::SafetyStatusA::fields_mask == 0xFF &&
+              map7690x::bits::SafetyB::fields_mask == 0xFF);
 constexpr Variant bq7690x(uint8_t cells) {
   return {{{0x12, 26}, {0x62, 6}, {0x3A, 2}, {0x02, 4}},
           kChecks7690x,
@@ -148,8 +175,14 @@ constexpr Variant bq7690x(uint8_t cells) {
           0,
           map7690x::cmd::FetControl.address,
           1,
-          1};
+          1,
+          map7690x::bits::BatteryStatus::sleep_en_mask,
+          26,
+          map7690x::dm::DefaultAlarmMask.address,
+          2000};  // 2 ms, as TI's examples wait
 }
+static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
+              map::bits::BatteryStatus::sleep_en_mask < 0x100);
 }  // namespace variant_detail
 
 // Also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record).
@@ -164,6 +197,10 @@ inline constexpr Variant kBq76952{
     map::sub::ManufacturingStatus.address,
     0,
     2,
+    0,
+    map::bits::BatteryStatus::sleep_en_mask,
+    50,
+    map::dm::DefaultAlarmMask.address,
     0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
@@ -203,6 +240,7 @@ struct Identity {
   uint16_t fwBuild() const { return static_cast<uint16_t>((fw[4] << 8) | fw[5]); }
 };
 
+// The state both paths are to be in: DischargeOff is "charge allowed, discharge off", ChargeOff the reverse.
 enum class FetCommand : uint8_t { AllOn, AllOff, DischargeOff, ChargeOff };
 
 struct FetIntent {
@@ -220,7 +258,7 @@ class Monitor {
         allowAdjacent_(config.allowAdjacentBalancing),
         clock_(clock),
         variant_(variant),
-        link_(bus, context, config.link) {}
+        link_(bus, context, linkConfig(config.link, variant)) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
 
@@ -228,6 +266,7 @@ class Monitor {
   Status startConfigure(std::span<const Setting> settings);
   Status startFet(FetCommand command);
   Status startFetEnable();
+  Status startRuntimeSetup(std::span<const Setting> settings);
   Status startBalance(uint16_t cells);
 
   sched::EventMask events() const { return link_.events(); }
@@ -242,6 +281,10 @@ class Monitor {
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
+  static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
+    if (c.firstPoll.us < v.firstPollUs) c.firstPoll = us(v.firstPollUs);
+    return c;
+  }
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers.
@@ -256,7 +299,7 @@ class Monitor {
  private:
   // Each operation is a step function that runs on every link completion until it calls finish(). The
   // configure and balance operations exist only where the link has the writes they need (kConfigPaths).
-  enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, Balance };
+  enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, RuntimeSetup, Balance };
   // The variant's facts: constants when the build serves one family (kFamily).
   const Variant& facts() const {
     if constexpr (kFamily == 1) return kBq76952;
@@ -272,6 +315,7 @@ class Monitor {
   inline void scanStep(Status r);
   inline void fetStep(Status r);
   inline void fetEnableStep(Status r);
+  inline void runtimeSetupStep(Status r);
   inline void balanceStep(Status r);
   bool matches() const;
   Status nextSetting(bool write);
@@ -281,6 +325,7 @@ class Monitor {
   Status readStatus();
   Status readFetEn();
   Status sendFet();
+  void publish();
   FetIntent nextIntent() const;
   void finish(Status s);
 

@@ -110,12 +110,53 @@ TEST(Bq769x2Bmsctl, BadArgumentsExitTwoWithoutTouchingTheBus) {
   for (const char* args :
        {"trace bq76952 read Nope 2", "trace bq76952 read 0x14", "trace bq76952 read 0x14 99",
         "trace bq76952 frobnicate 0x14", "trace bq76952 --pec read 0x14 2", "trace bq76952 write 0x66 XYZ",
-        "trace bq76952 dm-read Cell1Voltage 2", "trace bq76952 --fault=gremlins subcmd 0x22"}) {
+        "trace bq76952 dm-read Cell1Voltage 2", "trace bq76952 --fault=gremlins subcmd 0x22",
+        "trace bq76952 app-start now", "trace bq76907 --crc app-start"}) {
     const ToolRun o = bmsctl(args);
     EXPECT_EQ(o.status, 2) << args << "\n" << printed(o);
     EXPECT_NE(o.err.find("bmsctl: error:"), std::string::npos) << args;
     EXPECT_EQ(printed(o).find("S 10"), std::string::npos) << args;
   }
+}
+
+// Each prefix starts a printed line, and the first such lines come in the order given.
+void expectInOrder(const ToolRun& o, const std::vector<std::string>& prefixes) {
+  long previous = -1;
+  for (const auto& p : prefixes) {
+    long found = -1;
+    for (size_t i = 0; i < o.out.size() && found < 0; ++i) {
+      if (o.out[i].rfind(p, 0) == 0) found = static_cast<long>(i);
+    }
+    ASSERT_GE(found, 0) << "no line " << p << "\n" << printed(o);
+    EXPECT_LT(previous, found) << p << " out of order\n" << printed(o);
+    previous = found;
+  }
+}
+
+// app-start prints what the application sends from reset to its first complete scan (issue 12): on the
+// BQ76952 the ALERT Pin Config write (0x92FC <- 0x82) inside CONFIG_UPDATE, then FET_ENABLE, SLEEP_DISABLE
+// and Alarm Enable, then the scan's four reads.
+TEST(Bq769x2Bmsctl, AppStartShowsTheStartUpSequence) {
+  const ToolRun o = bmsctl("trace bq76952 app-start");
+  ASSERT_EQ(o.status, 0) << printed(o);
+  expectInOrder(
+      o, {"S 10 3E 01 00 P", "S 10 3E 90 00 P", "S 10 3E FC 92 82 P", "S 10 60 EF 05 P", "S 10 3E 92 00 P",
+          "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F8 P", "S 10 0A Sr 11 [", "S 10 62 Sr 11 [",
+          "S 10 02 Sr 11 [", "S 10 7F Sr 11 [", "# first complete scan at "});
+  EXPECT_EQ(o.out.back().rfind("# first complete scan at ", 0), 0u);
+}
+
+// On the BQ76907: the data-memory write of FET Options 0x901E with HOST_FETOFF_EN (bit 6) set, the alarm
+// mask, FET_ENABLE and SLEEP_DISABLE.
+TEST(Bq7690xBmsctl, AppStartWritesFetOptionsAndDisablesSleep) {
+  const ToolRun o = bmsctl("trace bq76907 app-start");
+  ASSERT_EQ(o.status, 0) << printed(o);
+  expectInOrder(o, {"S 10 3E 90 00 P", "S 10 3E 1E 90 58 P", "S 10 3E 1C 90 00 F0 P", "S 10 3E 92 00 P",
+                    "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F0 P", "S 10 62 Sr 11 [",
+                    "S 10 3A Sr 11 [", "# first complete scan at "});
+  const ToolRun five = bmsctl("trace bq76905 app-start");
+  ASSERT_EQ(five.status, 0) << printed(five);
+  EXPECT_TRUE(five.has("S 10 3E 1B 90 05 P")) << "Vcell Mode: 5 cells\n" << printed(five);
 }
 
 }  // namespace

@@ -25,7 +25,7 @@ static_assert(!fw::regmap::inRange(dm::OccThreshold, 0x01) && !fw::regmap::inRan
 constexpr drv::Setting kPackConfig[] = {
     drv::setting(dm::PowerConfig, 0x2D80), drv::setting(dm::Reg0Config, 0x01),
     drv::setting(dm::Reg12Config, 0x0D), drv::setting(dm::DfetoffPinConfig, 0x42),
-    drv::setting(dm::AlertPinConfig, 0x2A),
+    drv::setting(dm::AlertPinConfig, bits::AlertPinConfig::fromRaw(0x2A)),  // TI's value: active-high
     drv::setting(dm::Ts1Config, 0x07),  // = the default: compared, not written
     drv::setting(dm::Ts3Config, 0x0F), drv::setting(dm::HdqPinConfig, 0x00),  // = the default
     drv::setting(dm::VCellMode, 0xFFFF), drv::setting(dm::EnabledProtectionsA, bits::SafetyA::fromRaw(0xBC)),

@@ -14,29 +14,6 @@ using namespace test769;
 namespace map = fw::regmap::bq769x2;
 namespace map7 = fw::regmap::bq7690x;
 
-struct Raw {
-  bsp::host::Harness h;
-  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(20), fw::us(4)}};
-  Emu emu;
-  bool done = false;
-  explicit Raw(Emu::Model model = Emu::Model::Bq76952) : emu(h.clock, model) { bus.attach(0x08, emu); }
-  Status run(std::vector<fw::hal::I2cTransaction> list) {
-    done = false;
-    const Status s =
-        bus.start(list, fw::hal::Notify{[](void* c, uint32_t) { *static_cast<bool*>(c) = true; }, &done});
-    if (s != Status::Ok) return s;
-    h.runUntil([&] { return done; }, fw::ms(50));
-    return list.back().status;
-  }
-  Status write(std::vector<uint8_t> bytes) { return run({{0x08, bytes, {}}}); }
-  std::vector<uint8_t> read(uint8_t cmd, size_t n) {
-    std::vector<uint8_t> rx(n);
-    EXPECT_EQ(run({{0x08, {&cmd, 1}, rx}}), Status::Ok);
-    return rx;
-  }
-  std::string last() const { return bus.wireLog().back().text; }
-};
-
 TEST(Bq769x2Emulator, BlockReadAutoIncrementsThroughTheCellVoltages) {
   Raw r;
   for (uint8_t c = 1; c <= 16; ++c)
@@ -101,15 +78,16 @@ TEST(Bq769x2Emulator, AlarmStatusIsWriteOneToClear) {
   EXPECT_EQ(r.emu.alarmStatus(), 0x0000);
 }
 
-// The device's own COV protection with the ALERT output wired to an edge input (active low), as the
-// simulator will do: Safety Alert A[COV] follows the condition and, through Alarm Status[MSK_SFALERT] (in the
-// Default Alarm Mask 0xF800, SF Alert Mask A 0xFC), asserts ALERT at once; Safety Status A[COV] trips after
-// COV Delay and opens CHG; everything releases below threshold minus hysteresis and ALERT when the host
-// clears the latch.
+// The device's own COV protection with the ALERT output (ALERT Pin Config 0x82: active-low, open drain)
+// wired to a pulled-up falling-edge input, as the simulator does: Safety Alert A[COV] follows the condition
+// and, through Alarm Status[MSK_SFALERT] (in the Default Alarm Mask 0xF800, SF Alert Mask A 0xFC), asserts
+// ALERT at once; Safety Status A[COV] trips after COV Delay and opens CHG; everything releases below
+// threshold minus hysteresis and ALERT when the host clears the latch.
 TEST(Bq769x2Emulator, CovTripsAfterItsDelayAndAssertsAlert) {
   Raw r;
   bsp::host::SimEdgeInput alert(r.h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true);
-  r.emu.onAlert([&](bool asserted) { alert.drive(!asserted); });
+  r.emu.onAlertLine([&](bool high) { alert.drive(high); });
+  r.emu.setDataMemory(map::dm::AlertPinConfig.address, 0x82, 1);
   ASSERT_EQ(r.write({0x3E, 0x22, 0x00}), Status::Ok);  // FET_ENABLE: leave FET test mode
   r.h.runFor(fw::ms(1));
   ASSERT_TRUE(r.emu.chgFet());
@@ -140,6 +118,33 @@ TEST(Bq769x2Emulator, CovTripsAfterItsDelayAndAssertsAlert) {
   ASSERT_EQ(r.write({0x62, 0xFF, 0xFF}), Status::Ok);
   EXPECT_FALSE(r.emu.alertAsserted());
   EXPECT_TRUE(alert.level());
+}
+
+// ALERT Pin Config decides what the pin does with the alarm (SLUUCG7 / SLUUBY1B ALERT Pin Config): 0x00
+// (after reset) is not ALERT, TI's 0x2A drives it active-high from REG1, 0x82 pulls it low (open drain). Only
+// the last gives a pulled-up falling-edge input an edge when the alarm asserts.
+TEST(Bq769x2Emulator, AlertLineFollowsAlertPinConfig) {
+  struct Case {
+    uint8_t config;
+    bool idle;      // the line before the alarm
+    bool asserted;  // the line while the alarm is latched
+  };
+  for (const Case c : {Case{0x00, true, true}, Case{0x2A, false, true}, Case{0x82, true, false}}) {
+    Raw r;
+    bsp::host::SimEdgeInput alert(r.h.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true);
+    r.emu.onAlertLine([&](bool high) { alert.drive(high); });
+    r.emu.setDataMemory(map::dm::AlertPinConfig.address, c.config, 1);
+    EXPECT_EQ(r.emu.alertLine(), c.idle) << std::hex << int(c.config);
+    const size_t edgesBefore = alert.edges();
+    ASSERT_EQ(r.write({0x66, 0x80, 0x00}), Status::Ok);  // Alarm Enable: FULLSCAN
+    r.emu.completeScan();
+    EXPECT_TRUE(r.emu.alertAsserted());
+    EXPECT_EQ(r.emu.alertLine(), c.asserted) << std::hex << int(c.config);
+    EXPECT_EQ(alert.edges() - edgesBefore, c.idle && !c.asserted ? 1u : 0u)
+        << "a falling edge when the alarm asserts, config 0x" << std::hex << int(c.config);
+    ASSERT_EQ(r.write({0x62, 0x80, 0x00}), Status::Ok);  // clear the latch
+    EXPECT_EQ(r.emu.alertLine(), c.idle);
+  }
 }
 
 TEST(Bq769x2Emulator, FetCommandsAndTestMode) {
@@ -201,19 +206,26 @@ TEST(Bq769x2Emulator, MutedDeviceNacksEverything) {
   EXPECT_EQ(r.run({{0x08, {&cmd, 1}, buf}}), Status::Ok);
 }
 
-TEST(Bq7690xEmulator, FetControlAndBatteryStatus) {
+// FET Control's OFF bits act only with FET Options[HOST_FETOFF_EN] (SLUUCJ0 FET Control), which is clear in
+// the default 0x18 (SLUUCI8 FET Options): until the host sets it, writing DSG_OFF changes nothing.
+TEST(Bq7690xEmulator, FetControlActsOnlyWithHostFetOffEnabled) {
   Raw r(Emu::Model::Bq76907);
   auto status = [&] {
     const auto rx = r.read(0x12, 2);
     return map7::bits::BatteryStatus::fromRaw(static_cast<uint16_t>(rx[0] | (rx[1] << 8)));
   };
+  EXPECT_EQ(r.emu.dataMemory(map7::dm::FetOptions.address, 1), 0x18u);
   EXPECT_FALSE(status().fet_en());
   EXPECT_FALSE(status().chg() || status().dsg());
   ASSERT_EQ(r.write({0x3E, 0x22, 0x00}), Status::Ok);  // FET_ENABLE: autonomous control
   r.h.runFor(fw::ms(1));
   EXPECT_TRUE(status().fet_en());
   EXPECT_TRUE(status().chg() && status().dsg());
-  ASSERT_EQ(r.write({map7::cmd::FetControl.address, 0x04}), Status::Ok);  // DSG_OFF
+  ASSERT_EQ(r.write({map7::cmd::FetControl.address, 0x0C}), Status::Ok);  // CHG_OFF | DSG_OFF
+  EXPECT_TRUE(status().chg() && status().dsg()) << "ignored: HOST_FETOFF_EN is clear";
+  r.emu.setDataMemory(map7::dm::FetOptions.address, 0x58, 1);  // + HOST_FETOFF_EN
+  EXPECT_FALSE(status().chg() || status().dsg());
+  ASSERT_EQ(r.write({map7::cmd::FetControl.address, 0x04}), Status::Ok);  // DSG_OFF only
   EXPECT_TRUE(status().chg());
   EXPECT_FALSE(status().dsg());
   ASSERT_EQ(r.write({map7::cmd::FetControl.address, 0x00}), Status::Ok);

@@ -149,12 +149,15 @@ TEST(Bq769x2Landscape, FetsStayOffUntilFetEnable) {
   EXPECT_TRUE(r.emu.fetEnabled());
 }
 
-// (6) Host intent apart from FET status; FET_STATUS is never written back (FET_CONTROL errata, E2E 1453973).
+// (6) Host intent apart from FET status; FET_STATUS is never written back (FET_CONTROL errata, E2E 1453973):
+// "discharge off" is FET_CONTROL with the intent's OFF bits (DSG_OFF | PDSG_OFF = 0x03, SLUUCW9), whatever
+// the FETs report.
 TEST(Bq769x2Landscape, FetIntentIsKeptApartFromFetStatus) {
   Rig r;
   ASSERT_EQ(r.run(r.driver.startFetEnable()), Status::Ok);
   ASSERT_EQ(r.run(r.driver.startFet(drv::FetCommand::DischargeOff)), Status::Ok);
-  EXPECT_TRUE(r.sawLine("S 10 3E 93 00 P"));  // DSG_PDSG_OFF
+  EXPECT_TRUE(r.sawLine("S 10 3E 97 00 03 P"));  // FET_CONTROL: PDSG_OFF | DSG_OFF
+  EXPECT_TRUE(r.sawLine("S 10 60 65 05 P"));     // checksum ~(0x97 + 0x00 + 0x03), length 1 + 4
   r.harness.runFor(fw::ms(1));
   drv::Bq769x2Measurement m;
   ASSERT_EQ(r.scan(m), Status::Ok);
@@ -175,7 +178,7 @@ TEST(Bq769x2Landscape, FetIntentIsKeptApartFromFetStatus) {
   EXPECT_FALSE(r.driver.fetIntent().dischargeOff);
   EXPECT_TRUE(r.emu.dsgFet());
   EXPECT_FALSE(r.emu.chgFet());
-  EXPECT_EQ(r.count("S 10 3E 97 00 "), 0u) << "no FET_CONTROL write built from a status";
+  EXPECT_EQ(r.count("S 10 3E 97 00 "), 1u) << "no FET_CONTROL write built from a status";
 }
 
 // (7) Current and cell voltages are signed; 1 mA userA saturates at +-32.767 A.

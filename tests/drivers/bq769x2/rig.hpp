@@ -148,4 +148,28 @@ struct Rig7690x : RigT<drv::Bq7690x> {
   }
 };
 
+// The emulator alone on a bus, driven by raw transactions (no driver).
+struct Raw {
+  bsp::host::Harness h;
+  bsp::host::SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(20), fw::us(4)}};
+  Emu emu;
+  bool done = false;
+  explicit Raw(Emu::Model model = Emu::Model::Bq76952) : emu(h.clock, model) { bus.attach(0x08, emu); }
+  Status run(std::vector<fw::hal::I2cTransaction> list) {
+    done = false;
+    const Status s =
+        bus.start(list, fw::hal::Notify{[](void* c, uint32_t) { *static_cast<bool*>(c) = true; }, &done});
+    if (s != Status::Ok) return s;
+    h.runUntil([&] { return done; }, fw::ms(50));
+    return list.back().status;
+  }
+  Status write(std::vector<uint8_t> bytes) { return run({{0x08, bytes, {}}}); }
+  std::vector<uint8_t> read(uint8_t cmd, size_t n) {
+    std::vector<uint8_t> rx(n);
+    EXPECT_EQ(run({{0x08, {&cmd, 1}, rx}}), Status::Ok);
+    return rx;
+  }
+  std::string last() const { return bus.wireLog().back().text; }
+};
+
 }  // namespace test769

@@ -86,6 +86,12 @@ void Bq769xEmulator::loadDefaults() {
     if (e.kind != fw::regmap::Kind::DataMemory || !e.hasDefault) continue;
     fw::regmap::encodeRaw(e, e.dflt, std::span<uint8_t>(dm_).subspan(e.address - lo));
   }
+  if (bq7690x()) {
+    // The BQ7690x Power:Sleep values have no default in the map: the assumed ones (Timing).
+    fw::bytes::storeLe16(&dm_[m7::dm::SleepCurrent.address - lo],
+                         static_cast<uint16_t>(timing_.sleepCurrent7690xMa));
+    dm_[m7::dm::VoltageTime.address - lo] = timing_.sleepVoltageTime7690xS;
+  }
   dmDefaults_ = dm_;
 }
 
@@ -128,11 +134,22 @@ void Bq769xEmulator::initRegisters() {
   alarmRaw_ = 0;
   safetyAlertA_ = 0;
   safetyStatusA_ = 0;
+  safetyAlertB_ = 0;
+  safetyStatusB_ = 0;
   covSince_ = cuvSince_ = UINT64_MAX;
-  hostChgOn_ = hostDsgOn_ = false;
+  fetControl_ = 0;
+  // SLEEP is allowed after a reset (Power Config[SLEEP], set by default: SLUUBY2B 7.3); the device wakes
+  // into NORMAL mode.
+  if (sleepEvent_ != 0) clock_.cancel(sleepEvent_);
+  sleepEvent_ = 0;
+  sleepAllowed_ = true;
+  sleeping_ = false;
+  relaxSince_ = UINT64_MAX;
   if (bq7690x()) {
+    // Alarm Enable and Battery Status[FET_EN] load from Default Alarm Mask and FET Options[FET_EN] (default
+    // 0: no autonomous FET control) at reset (SLUUCJ0 Default Alarm Mask, SLUUCI8 Battery Status).
     alarmEnable_ = static_cast<uint16_t>(dataMemory(m7::dm::DefaultAlarmMask.address, 2));
-    fetEn_ = false;  // FET Options has no documented default in the map: autonomous FET control off
+    fetEn_ = (dataMemory(m7::dm::FetOptions.address, 1) & m7::bits::FetOptions::fet_en_mask) != 0;
     hostChgOff_ = hostDsgOff_ = false;
   } else {
     alarmEnable_ = static_cast<uint16_t>(dataMemory(m2::dm::DefaultAlarmMask.address, 2));
@@ -308,12 +325,9 @@ void Bq769xEmulator::commit() {
       alarmEnable_ = a == 0x66 ? static_cast<uint16_t>((alarmEnable_ & 0xFF00) | p.value)
                                : static_cast<uint16_t>((alarmEnable_ & 0x00FF) | (p.value << 8));
     } else if (bq7690x() && a == m7::cmd::FetControl.address) {
-      // BQ7690x FET Control (SLUUCJ0): bit 3 CHG_OFF, bit 2 DSG_OFF, bit 1 CHG_ON, bit 0 DSG_ON.
+      // BQ7690x FET Control (SLUUCJ0): kept as written; update() applies the bits FET Options lets act.
       regs_[a] = p.value;
-      hostChgOff_ = (p.value & 0x08) != 0;
-      hostDsgOff_ = (p.value & 0x04) != 0;
-      hostChgOn_ = (p.value & 0x02) != 0;
-      hostDsgOn_ = (p.value & 0x01) != 0;
+      fetControl_ = p.value;
     }
     // Other direct commands are read-only: a write has no effect.
   }
@@ -358,8 +372,11 @@ void Bq769xEmulator::executeWrite() {
     // BQ769x2: bit 0 = cell 1; BQ7690x: bit 1 = cell 1 (SLUAAM4 section 2.4, E2E 1572792).
     const unsigned shift = bq7690x() ? 1 : 0;
     cbActive_ = static_cast<uint16_t>(value & (((1U << cellCount()) - 1) << shift));
-  } else if (!bq7690x() && code == m2::sub::FetControl.address) {
-    // FET_CONTROL (E2E 1453973, regmaps/README.md deviation 1): bit 2 CHG_OFF, bit 0 DSG_OFF.
+  } else if (!bq7690x() && code == m2::sub::FetControl.address &&
+             (dataMemory(m2::dm::FetOptions.address, 1) & m2::bits::FetOptions::host_fet_en_mask) != 0) {
+    // FET_CONTROL (SLUUCW9, E2E 1453973, regmaps/README.md deviation 1): sets every host-off state at once,
+    // bit 2 CHG_OFF, bit 0 DSG_OFF (a 0 re-allows the FET); obeyed with FET Options[HOST_FET_EN] as the
+    // other host FET commands.
     hostChgOff_ = (value & m2::bits::FetControl::chg_off_mask) != 0;
     hostDsgOff_ = (value & m2::bits::FetControl::dsg_off_mask) != 0;
   }
@@ -459,9 +476,18 @@ void Bq769xEmulator::complete(uint16_t code) {
     const bool enter = code == m2::sub::SetCfgupdate.address;
     clock_.scheduleIn(timing_.configUpdate, [this, enter] {
       cfgUpdate_ = enter;
-      // EXIT_CFGUPDATE clears Battery Status[POR] (SLUAA11B table 3-2); the new settings take effect now
-      // (update() reads them). Alarm Enable keeps its value: Default Alarm Mask loads it at reset.
-      if (!enter) por_ = false;
+      // EXIT_CFGUPDATE clears Battery Status[POR] (SLUAA11B table 3-2, SLUAAM4 table 3-2); the new settings
+      // take effect now (update() reads them). BQ7690x: Alarm Enable reloads from Default Alarm Mask and
+      // Battery Status[FET_EN] from FET Options[FET_EN] (SLUUCJ0 Default Alarm Mask, SLUUCI8 Battery
+      // Status). BQ769x2: no TI document found says Alarm Enable reloads here; it keeps its value (the safe
+      // side: the firmware writes Alarm Enable itself, regmaps/README.md).
+      if (!enter) {
+        por_ = false;
+        if (bq7690x()) {
+          alarmEnable_ = static_cast<uint16_t>(dataMemory(m7::dm::DefaultAlarmMask.address, 2));
+          fetEn_ = (dataMemory(m7::dm::FetOptions.address, 1) & m7::bits::FetOptions::fet_en_mask) != 0;
+        }
+      }
       update();
     });
   } else if (code == m2::sub::FetEnable.address) {
@@ -469,7 +495,16 @@ void Bq769xEmulator::complete(uint16_t code) {
   } else if (code == m2::sub::Reset.address) {
     reset();
     return;
+  } else if (code == m2::sub::SleepEnable.address || code == m2::sub::SleepDisable.address) {
+    // SLEEP_ENABLE / SLEEP_DISABLE set Battery Status[SLEEP_EN] (SLUUBY2B 7.3); a device in SLEEP leaves it
+    // when SLEEP is disallowed (SLUSE14B, SLUSE96: "or through a subcommand"). Ignored in CONFIG_UPDATE: seen
+    // on hardware (LibreSolar bms-firmware 82195d2), not in a TI document, and TI's examples send
+    // SLEEP_DISABLE after EXIT_CFGUPDATE: the safe side (regmaps/README.md).
+    if (!cfgUpdate_) sleepAllowed_ = code == m2::sub::SleepEnable.address;
   } else if (!bq7690x()) {
+    // Host FET commands act only with FET Options[HOST_FET_EN] (SLUUBY1B FET Options). Each ALL_FETS_* sets
+    // both host-off states; DSG_PDSG_OFF and CHG_PCHG_OFF only add one: after ALL_FETS_OFF neither re-allows
+    // the other FET; only ALL_FETS_ON or FET_CONTROL do (SLUUBY2B 5.2.3.2, SLUUCW9 FET_CONTROL).
     const bool hostFets =
         (dataMemory(m2::dm::FetOptions.address, 1) & m2::bits::FetOptions::host_fet_en_mask) != 0;
     if (hostFets && code == m2::sub::AllFetsOn.address) hostChgOff_ = hostDsgOff_ = false;
@@ -495,177 +530,6 @@ void Bq769xEmulator::complete(uint16_t code) {
   update();
 }
 
-// --- measurements and protections --------------------------------------------------------------------------
-
-void Bq769xEmulator::setCellMv(uint8_t cell, int16_t mv) {
-  cells_.at(cell - 1) = mv;
-  update();
-}
-void Bq769xEmulator::setAllCellsMv(int16_t mv) {
-  cells_.fill(mv);
-  update();
-}
-void Bq769xEmulator::setCurrentMa(int32_t ma) {
-  currentMa_ = ma;
-}
-void Bq769xEmulator::setStackOverride(int16_t raw) {
-  stackOverride_ = true;
-  stackRaw_ = raw;
-}
-void Bq769xEmulator::setPackLd(int16_t packRaw, int16_t ldRaw) {
-  packRaw_ = packRaw;
-  ldRaw_ = ldRaw;
-}
-void Bq769xEmulator::setIntTemp(int16_t raw) {
-  intTemp_ = raw;
-}
-void Bq769xEmulator::setTs(uint8_t index, int16_t raw) {
-  ts_.at(index) = raw;
-}
-
-void Bq769xEmulator::completeScan() {
-  const uint16_t scan =
-      bq7690x() ? static_cast<uint16_t>(m7::bits::Alarm::fullscan_mask | m7::bits::Alarm::adscan_mask)
-                : static_cast<uint16_t>(m2::bits::Alarm::fullscan_mask | m2::bits::Alarm::adscan_mask);
-  // A scan completion is an event: the raw bit rises and latches if enabled.
-  alarmStatus_ |= static_cast<uint16_t>(scan & alarmEnable_);
-  setAlert(alarmStatus_ != 0);
-}
-
-void Bq769xEmulator::scheduleProtection(uint64_t atUs) {
-  if (protectionEvent_ != 0) clock_.cancel(protectionEvent_);
-  protectionEvent_ = clock_.schedule(atUs, [this] {
-    protectionEvent_ = 0;
-    update();
-  });
-}
-
-// The device's own COV and CUV protection (SLUUBY2B section 5.2/5.3; SLUUCJ0 for the BQ7690x): the alert flag
-// follows the condition at once, the status flag trips when it has lasted the configured delay and clears
-// once every cell is back past threshold -+ hysteresis. Protections pause in CONFIG_UPDATE.
-void Bq769xEmulator::evaluateProtections() {
-  if (cfgUpdate_) return;
-  const uint8_t n = cellCount();
-  const uint16_t mode = static_cast<uint16_t>(bq7690x() ? dataMemory(m7::dm::VcellMode.address, 1)
-                                                        : dataMemory(m2::dm::VCellMode.address, 2));
-  int maxMv = INT16_MIN;
-  int minMv = INT16_MAX;
-  for (uint8_t i = 0; i < n; ++i) {
-    if (mode != 0 && (mode & (1U << i)) == 0) continue;
-    maxMv = std::max<int>(maxMv, cells_[i]);
-    minMv = std::min<int>(minMv, cells_[i]);
-  }
-  uint8_t covBit, cuvBit;
-  int covMv, cuvMv, covHyst, cuvHyst;
-  uint64_t covDelayUs, cuvDelayUs;
-  uint8_t enabled;
-  if (bq7690x()) {
-    // BQ7690x limits are plain mV (I2); delays are taken as milliseconds (the map gives no unit).
-    covBit = m7::bits::SafetyA::cov_mask;
-    cuvBit = m7::bits::SafetyA::cuv_mask;
-    enabled = static_cast<uint8_t>(dataMemory(m7::dm::EnabledProtectionsA.address, 1));
-    covMv = static_cast<int16_t>(dataMemory(m7::dm::CellOvervoltageProtectionThreshold.address, 2));
-    cuvMv = static_cast<int16_t>(dataMemory(m7::dm::CellUndervoltageProtectionThreshold.address, 2));
-    covHyst = static_cast<int>(dataMemory(m7::dm::CellOvervoltageProtectionRecoveryHysteresis.address, 1));
-    cuvHyst = static_cast<int>(dataMemory(m7::dm::CellUndervoltageProtectionRecoveryHysteresis.address, 1));
-    covDelayUs = dataMemory(m7::dm::CellOvervoltageProtectionDelay.address, 1) * 1000ULL;
-    cuvDelayUs = dataMemory(m7::dm::CellUndervoltageProtectionDelay.address, 1) * 1000ULL;
-  } else {
-    // BQ769x2: thresholds and hysteresis in 50.6 mV steps, delays in 3.3 ms steps (the map's scales).
-    covBit = m2::bits::SafetyA::cov_mask;
-    cuvBit = m2::bits::SafetyA::cuv_mask;
-    enabled = static_cast<uint8_t>(dataMemory(m2::dm::EnabledProtectionsA.address, 1));
-    covMv = static_cast<int>(dataMemory(m2::dm::CovThreshold.address, 1) * 253 / 5);
-    cuvMv = static_cast<int>(dataMemory(m2::dm::CuvThreshold.address, 1) * 253 / 5);
-    covHyst = static_cast<int>(dataMemory(m2::dm::CovRecoveryHysteresis.address, 1) * 253 / 5);
-    cuvHyst = static_cast<int>(dataMemory(m2::dm::CuvRecoveryHysteresis.address, 1) * 253 / 5);
-    covDelayUs = dataMemory(m2::dm::CovDelay.address, 2) * 3300ULL;
-    cuvDelayUs = dataMemory(m2::dm::CuvDelay.address, 2) * 3300ULL;
-  }
-  const uint64_t now = clock_.nowUs();
-  uint64_t next = UINT64_MAX;
-  auto track = [&](bool on, bool condition, bool recovered, uint8_t bit, uint64_t& since, uint64_t delay) {
-    if (!on) {
-      safetyAlertA_ &= static_cast<uint8_t>(~bit);
-      safetyStatusA_ &= static_cast<uint8_t>(~bit);
-      since = UINT64_MAX;
-      return;
-    }
-    if (condition) {
-      safetyAlertA_ |= bit;
-      if (since == UINT64_MAX) since = now;
-      if ((safetyStatusA_ & bit) == 0) {
-        if (now >= since + delay) {
-          safetyStatusA_ |= bit;
-        } else {
-          next = std::min(next, since + delay);
-        }
-      }
-    } else {
-      safetyAlertA_ &= static_cast<uint8_t>(~bit);
-      since = UINT64_MAX;
-      if (recovered) safetyStatusA_ &= static_cast<uint8_t>(~bit);
-    }
-  };
-  track((enabled & covBit) != 0 && covMv > 0, maxMv >= covMv, maxMv < covMv - covHyst, covBit, covSince_,
-        covDelayUs);
-  track((enabled & cuvBit) != 0 && cuvMv > 0, minMv <= cuvMv, minMv > cuvMv + cuvHyst, cuvBit, cuvSince_,
-        cuvDelayUs);
-  if (next != UINT64_MAX) scheduleProtection(next);
-}
-
-void Bq769xEmulator::update() {
-  evaluateProtections();
-  // FETs: FET_EN = 0 is FET test mode (nothing turns on); otherwise a FET is on unless the host forced it
-  // off, CONFIG_UPDATE is active, or a protection configured to open it has tripped.
-  uint8_t chgProt, dsgProt;
-  bool ctrlEn = true;
-  if (bq7690x()) {
-    chgProt = m7::bits::SafetyA::cov_mask;
-    dsgProt = m7::bits::SafetyA::cuv_mask;
-  } else {
-    chgProt = static_cast<uint8_t>(dataMemory(m2::dm::ChgFetProtectionsA.address, 1));
-    dsgProt = static_cast<uint8_t>(dataMemory(m2::dm::DsgFetProtectionsA.address, 1));
-    ctrlEn = (dataMemory(m2::dm::FetOptions.address, 1) & m2::bits::FetOptions::fet_ctrl_en_mask) != 0;
-  }
-  if (fetEn_) {
-    chgOn_ = ctrlEn && !hostChgOff_ && !cfgUpdate_ && (safetyStatusA_ & chgProt) == 0;
-    dsgOn_ = ctrlEn && !hostDsgOff_ && !cfgUpdate_ && (safetyStatusA_ & dsgProt) == 0;
-  } else if (bq7690x()) {
-    chgOn_ = hostChgOn_ && !hostChgOff_ && !cfgUpdate_ && (safetyStatusA_ & chgProt) == 0;
-    dsgOn_ = hostDsgOn_ && !hostDsgOff_ && !cfgUpdate_ && (safetyStatusA_ & dsgProt) == 0;
-  } else {
-    chgOn_ = dsgOn_ = false;
-  }
-
-  // Alarm Raw Status, and Alarm Status latching the enabled bits that rose (SLUUBY2B "Alarm Status").
-  uint16_t raw = 0;
-  if (bq7690x()) {
-    using A = m7::bits::Alarm;
-    if (safetyStatusA_ != 0) raw |= A::ssa_mask;
-    if (safetyAlertA_ != 0) raw |= A::saa_mask;
-    if (!chgOn_) raw |= A::xchg_mask;
-    if (!dsgOn_) raw |= A::xdsg_mask;
-    if (cbActive_ != 0) raw |= A::cb_mask;
-  } else {
-    using A = m2::bits::Alarm;
-    if (safetyStatusA_ != 0) raw |= A::ssa_mask;
-    if ((safetyAlertA_ & dataMemory(m2::dm::SfAlertMaskA.address, 1)) != 0) raw |= A::msk_sfalert_mask;
-    if (!chgOn_) raw |= A::xchg_mask;
-    if (!dsgOn_) raw |= A::xdsg_mask;
-    if (cbActive_ != 0) raw |= A::cb_mask;
-  }
-  alarmStatus_ |= static_cast<uint16_t>(raw & ~alarmRaw_ & alarmEnable_);
-  alarmRaw_ = raw;
-  setAlert(alarmStatus_ != 0);
-}
-
-void Bq769xEmulator::setAlert(bool asserted) {
-  if (asserted == alertAsserted_) return;
-  alertAsserted_ = asserted;
-  if (alertHook_) alertHook_(asserted);
-}
-
 // --- the register image ------------------------------------------------------------------------------------
 
 void Bq769xEmulator::put16(uint8_t cmd, uint16_t v) {
@@ -678,33 +542,39 @@ uint8_t Bq769xEmulator::reg(uint8_t cmd) {
 }
 
 void Bq769xEmulator::refresh() {
+  if (!sleeping_) measure();  // in SLEEP the registers hold the last SLEEP measurement (device.cpp)
+  const Measured& m = measured_;
   const uint8_t n = cellCount();
   int sum = 0;
   for (uint8_t i = 0; i < n; ++i)
-    sum += cells_[i];
+    sum += m.cells[i];
   if (bq7690x()) {
     using B = m7::bits::BatteryStatus;
     regs_[0x02] = safetyAlertA_;
     regs_[0x03] = safetyStatusA_;
+    regs_[0x04] = safetyAlertB_;
+    regs_[0x05] = safetyStatusB_;
     uint16_t bs = static_cast<uint16_t>(1U << 10);  // SEC = FULLACCESS
-    if (safetyStatusA_ != 0) bs |= B::ss_mask;
-    if (safetyAlertA_ != 0) bs |= B::sa_mask;
+    if (safetyStatusA_ != 0 || safetyStatusB_ != 0) bs |= B::ss_mask;
+    if (safetyAlertA_ != 0 || safetyAlertB_ != 0) bs |= B::sa_mask;
     if (fetEn_) bs |= B::fet_en_mask;
     if (por_) bs |= B::por_mask;
+    if (sleepAllowed_) bs |= B::sleep_en_mask;
+    if (sleeping_) bs |= B::sleep_mask;
     if (cfgUpdate_) bs |= B::cfgupdate_mask;
     if (alertAsserted_) bs |= B::alertpin_mask;
     if (chgOn_) bs |= B::chg_mask;
     if (dsgOn_) bs |= B::dsg_mask;
     put16(0x12, bs);
     for (uint8_t i = 0; i < 7; ++i)
-      put16(static_cast<uint8_t>(0x14 + 2 * i), static_cast<uint16_t>(i < n ? cells_[i] : 0));
+      put16(static_cast<uint8_t>(0x14 + 2 * i), static_cast<uint16_t>(i < n ? m.cells[i] : 0));
     put16(0x22, 19153);  // REG18 (SLUAAM4 script output)
     put16(0x24, 3);      // VSS
     put16(0x26, static_cast<uint16_t>(stackOverride_ ? stackRaw_ : clamp16(sum)));
-    put16(0x28, static_cast<uint16_t>(intTemp_));
-    put16(0x2A, static_cast<uint16_t>(ts_[0]));
-    put16(0x3A, static_cast<uint16_t>(clamp16(currentMa_)));
-    put16(0x3C, static_cast<uint16_t>(clamp16(currentMa_)));
+    put16(0x28, static_cast<uint16_t>(m.intTemp));
+    put16(0x2A, static_cast<uint16_t>(m.ts[0]));
+    put16(0x3A, static_cast<uint16_t>(clamp16(m.currentMa)));
+    put16(0x3C, static_cast<uint16_t>(clamp16(m.currentMa)));
   } else {
     using B = m2::bits::BatteryStatus;
     regs_[0x02] = safetyAlertA_;
@@ -712,10 +582,12 @@ void Bq769xEmulator::refresh() {
     uint16_t bs = static_cast<uint16_t>(1U << 8);  // SEC = FULLACCESS
     if (safetyStatusA_ != 0) bs |= B::ss_mask;
     if (por_) bs |= B::por_mask;
+    if (sleepAllowed_) bs |= B::sleep_en_mask;
+    if (sleeping_) bs |= B::sleep_mask;
     if (cfgUpdate_) bs |= B::cfgupdate_mask;
     put16(0x12, bs);
     for (uint8_t i = 0; i < 16; ++i)
-      put16(static_cast<uint8_t>(0x14 + 2 * i), static_cast<uint16_t>(cells_[i]));
+      put16(static_cast<uint8_t>(0x14 + 2 * i), static_cast<uint16_t>(m.cells[i]));
     // Stack, PACK and LD in userV (DA Configuration[USER_VOLTS_CV]: 10 mV), CC2 in userA (USER_AMPS).
     const uint8_t da = static_cast<uint8_t>(dataMemory(m2::dm::DaConfiguration.address, 1));
     const int vLsb = (da & m2::bits::DaConfiguration::user_volts_cv_mask) != 0 ? 10 : 1;
@@ -725,11 +597,11 @@ void Bq769xEmulator::refresh() {
     put16(0x38, static_cast<uint16_t>(ldRaw_ >= 0 ? ldRaw_ : stack));
     static constexpr int64_t kTenthMaPerLsb[4] = {1, 10, 100, 1000};
     put16(0x3A,
-          static_cast<uint16_t>(clamp16(static_cast<int64_t>(currentMa_) * 10 / kTenthMaPerLsb[da & 3])));
-    put16(0x68, static_cast<uint16_t>(intTemp_));
-    put16(0x70, static_cast<uint16_t>(ts_[0]));
-    put16(0x72, static_cast<uint16_t>(ts_[1]));
-    put16(0x74, static_cast<uint16_t>(ts_[2]));
+          static_cast<uint16_t>(clamp16(static_cast<int64_t>(m.currentMa) * 10 / kTenthMaPerLsb[da & 3])));
+    put16(0x68, static_cast<uint16_t>(m.intTemp));
+    put16(0x70, static_cast<uint16_t>(m.ts[0]));
+    put16(0x72, static_cast<uint16_t>(m.ts[1]));
+    put16(0x74, static_cast<uint16_t>(m.ts[2]));
     using F = m2::bits::FetStatus;
     regs_[0x7F] = static_cast<uint8_t>((chgOn_ ? F::chg_fet_mask : 0) | (dsgOn_ ? F::dsg_fet_mask : 0) |
                                        (alertAsserted_ ? F::alrt_pin_mask : 0));

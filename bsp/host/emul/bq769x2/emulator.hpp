@@ -7,13 +7,18 @@
 //                 window, writes committed by 0x60/0x61 only when checksum and length are right, data-memory
 //                 writes accepted only in CONFIG_UPDATE, Alarm Status write-1-to-clear, and the optional
 //                 per-byte CRC-8 (a wrong CRC from the host is refused with a NACK and the write dropped).
+//                 Host FET commands act only where the device's FET Options allow them, SLEEP_ENABLE /
+//                 SLEEP_DISABLE switch SLEEP, and the ALERT pin is driven as ALERT Pin Config says
+//                 (device.cpp).
 //   backend face  the methods below, for tests and the simulator: set cell voltages, current, temperatures;
 //                 read back data memory, FET states, balancing, CONFIG_UPDATE; watch the ALERT output;
 //                 inject faults.
 // Time comes from the SimClock: a subcommand's result appears after its latency (Timing), CONFIG_UPDATE
 // entry and exit take their own time, the device's COV/CUV protections trip after their configured delay
-// and release below threshold minus hysteresis, and the emulator stretches SCL where Timing says so. Wire
-// time itself is SimI2cBus's business.
+// and release below threshold minus hysteresis, in SLEEP the measurements are taken only every Power:Sleep:
+// Voltage Time, and the emulator stretches SCL where Timing says so. Wire time itself is SimI2cBus's
+// business. The files: emulator.cpp the bus face, registers and subcommands; device.cpp the device's own
+// behaviour (measurements and SLEEP, protections, FETs, Alarm Status and the ALERT pin).
 //
 // Register facts come from the generated register maps (regmap/bq769x2*.hpp, regmap/bq7690x*.hpp); data
 // memory starts at the maps' defaults. Where the maps have no default that the protections need (BQ7690x
@@ -42,6 +47,12 @@ struct Bq769xTiming {
   fw::Duration boot = fw::ms(2);          // after a reset: every address is NACKed for this long
   fw::Duration ackStretch{};              // SCL stretch on every address ACK (0: none)
   bool nackFirstAfterPowerUp = false;     // the first transaction after power-up is NACKed (E2E 1515940)
+  // SLEEP: how long the current must stay below Sleep Current before the device enters SLEEP (SLUUBY2B 7.3
+  // gives no time; SLUSE96 a 10 s hysteresis on re-entry for the BQ7690x), and the BQ7690x Power:Sleep
+  // values, which the register map has no default for (the BQ769x2's defaults: 20 mA, 5 s).
+  fw::Duration sleepEntry = fw::s(1);
+  int16_t sleepCurrent7690xMa = 20;
+  uint8_t sleepVoltageTime7690xS = 5;
 };
 
 class Bq769xEmulator final : public I2cTarget {
@@ -68,6 +79,8 @@ class Bq769xEmulator final : public I2cTarget {
   void setPackLd(int16_t packRaw, int16_t ldRaw);
   void setIntTemp(int16_t raw);            // BQ769x2: 0.1 K; BQ7690x: degC
   void setTs(uint8_t index, int16_t raw);  // TS1..TS3 (index 0..2) in 0.1 K; BQ7690x: index 0 = TS counts
+  // BQ7690x: the REGOUT LDO out of regulation (Safety Status A[REGOUT] when that protection is enabled).
+  void setRegoutFault(bool on);
   void setDeviceNumber(uint16_t number) { deviceNumber_ = number; }
   void setCrc(bool on) { crc_ = on; }  // the device's Comm Type CRC setting ("OTP": survives resets)
   bool crc() const { return crc_; }
@@ -87,10 +100,17 @@ class Bq769xEmulator final : public I2cTarget {
   uint16_t alarmStatus() const { return alarmStatus_; }
   uint8_t safetyStatusA() const { return safetyStatusA_; }
   uint8_t safetyAlertA() const { return safetyAlertA_; }
+  uint8_t safetyStatusB() const { return safetyStatusB_; }  // BQ7690x
+  bool sleepAllowed() const { return sleepAllowed_; }       // Battery Status[SLEEP_EN]
+  bool sleeping() const { return sleeping_; }               // Battery Status[SLEEP]
+  // The alarm (Alarm Status non-zero), whatever the pin does with it.
   bool alertAsserted() const { return alertAsserted_; }
-  // ALERT output: called with true when the pin asserts (Alarm Status became non-zero) and false when it
-  // releases. The simulator wires it to a SimEdgeInput (active low: drive(!asserted)).
-  void onAlert(std::function<void(bool asserted)> hook) { alertHook_ = std::move(hook); }
+  // The ALERT net as an MCU input with a pull-up reads it: what the pin drives per its configuration (BQ769x2
+  // ALERT Pin Config; BQ7690x: asserted low), high where it drives nothing. A configuration the input cannot
+  // use (not ALERT, active-high) gives no falling edge when the alarm asserts.
+  bool alertLine() const { return alertLine_; }
+  // Called with the new level whenever alertLine() changes. The simulator wires it to a SimEdgeInput.
+  void onAlertLine(std::function<void(bool high)> hook) { alertHook_ = std::move(hook); }
   // Every subcommand or data-memory address the device executed or served, in order.
   const std::vector<uint16_t>& executed() const { return executed_; }
   // 0x60/0x61 commits refused: wrong checksum or length, data memory outside CONFIG_UPDATE.
@@ -120,8 +140,22 @@ class Bq769xEmulator final : public I2cTarget {
     uint8_t value;
   };
 
+  // What the ADC measured last (in SLEEP: at the last Voltage Time tick; otherwise now).
+  struct Measured {
+    std::array<int16_t, 16> cells{};
+    int32_t currentMa = 0;
+    int16_t intTemp = 0;
+    std::array<int16_t, 3> ts{};
+  };
+
   bool bq7690x() const { return model_ != Model::Bq76952; }
   uint8_t cellCount() const;
+  uint8_t cellsInUse() const;
+  void measure();
+  void updateSleep();
+  void sleepTick();
+  void evaluateTemperatures();
+  bool computeAlertLine() const;
   void refresh();
   void put16(uint8_t cmd, uint16_t v);
   void commit();
@@ -163,10 +197,9 @@ class Bq769xEmulator final : public I2cTarget {
   bool cfgUpdate_ = false;
   bool por_ = true;
   bool fetEn_ = false;
-  bool hostChgOff_ = false;
+  bool hostChgOff_ = false;  // BQ769x2 host-off states (ALL_FETS_*, *_OFF, FET_CONTROL)
   bool hostDsgOff_ = false;
-  bool hostChgOn_ = false;  // BQ7690x FET Control CHG_ON / DSG_ON (manual mode)
-  bool hostDsgOn_ = false;
+  uint8_t fetControl_ = 0;  // BQ7690x FET Control as written (its bits act per FET Options)
   bool chgOn_ = false;
   bool dsgOn_ = false;
   uint16_t cbActive_ = 0;
@@ -175,11 +208,20 @@ class Bq769xEmulator final : public I2cTarget {
   uint16_t alarmEnable_ = 0;
   uint8_t safetyAlertA_ = 0;
   uint8_t safetyStatusA_ = 0;
+  uint8_t safetyAlertB_ = 0;
+  uint8_t safetyStatusB_ = 0;
+  bool regoutFault_ = false;
   bool alertAsserted_ = false;
+  bool alertLine_ = true;
   uint64_t covSince_ = UINT64_MAX;
   uint64_t cuvSince_ = UINT64_MAX;
   SimClock::EventId protectionEvent_ = 0;
   std::function<void(bool)> alertHook_;
+  Measured measured_;
+  bool sleepAllowed_ = true;
+  bool sleeping_ = false;
+  uint64_t relaxSince_ = UINT64_MAX;
+  SimClock::EventId sleepEvent_ = 0;
 
   // Subcommand window state
   uint16_t running_ = 0;  // the command being executed (its result is not in the buffer yet)

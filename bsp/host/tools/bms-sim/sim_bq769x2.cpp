@@ -1,18 +1,14 @@
-// bms-sim bindings of the BQ769x2-family images: the BQ76952 or BQ76907 emulator on a simulated 400 kHz I2C
-// bus, ALERT on a simulated edge input, and SLCAN text on a simulated 115 200 Bd UART (L1306 images) or CAN
-// on a simulated 500 kbit/s controller (G3507 image).
+// bms-sim bindings of the BQ769x2-family images: each image's host board (bq769x2/board.hpp: the BQ76952 or
+// BQ76907 emulator on a simulated 400 kHz I2C bus, ALERT on a simulated edge input, and SLCAN text on a
+// simulated 115 200 Bd UART (L1306 images) or CAN on a simulated 500 kbit/s controller with the fault output
+// (G3507 image)).
 #include <cstdio>
 #include <memory>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
 #include "app/default_limits.hpp"
-#include "bq769x2/emulator.hpp"
+#include "bq769x2/board.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
-#include "sim/can.hpp"
-#include "sim/i2c_bus.hpp"
-#include "sim/peripherals.hpp"
 
 namespace bmssim {
 namespace {
@@ -20,24 +16,18 @@ namespace {
 namespace b769 = fw::drivers::bq769x2;
 using Emulator = bsp::host::Bq769xEmulator;
 
-// The emulated pack and its link, common to the three images.
+// The emulated pack and its link, common to the three images: the image's board (bq769x2/board.hpp).
 template <class Driver, class Measurement, class Publisher, class Output>
 class Bq769xSim final : public ImageSim {
  public:
+  using Board = bsp::host::Bq769xBoard<Driver, Measurement, Publisher, Output>;
+
   template <class... DriverArgs>
-  Bq769xSim(Emulator::Model model, uint8_t cells, std::span<const b769::Setting> settings,
-            DriverArgs&&... args)
-      : emulator_(h_.clock, model), cells_(cells), truth_(cells, 3700) {
-    bus_.attach(0x08, emulator_);
-    emulator_.onAlert([this](bool asserted) { alert_.drive(!asserted); });  // ALERT is active low
-    for (int c = 1; c <= cells; ++c)
-      emulator_.setCellMv(static_cast<uint8_t>(c), 3700);
-    config_.settings = settings;
-    config_.cells = cells;
-    app_ =
-        std::make_unique<App>(h_.sched, bus_, alert_, output_, config_, static_cast<DriverArgs&&>(args)...);
-    app_->start();
-  }
+  Bq769xSim(Emulator::Model model, uint8_t cells, std::span<const b769::Setting> settings, bool faultOutput,
+            const DriverArgs&... args)
+      : board_(std::make_unique<Board>(model, settings, cells, faultOutput, args...)),
+        cells_(cells),
+        truth_(cells, 3700) {}
 
   int boards() const override { return 1; }
   int cellsPerBoard() const override { return cells_; }
@@ -49,17 +39,17 @@ class Bq769xSim final : public ImageSim {
     push(cell);
     push(cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
-  void setCurrentMa(int ma) override { emulator_.setCurrentMa(ma); }
+  void setCurrentMa(int ma) override { board_->emu.setCurrentMa(ma); }
   void setTempDeciK(int, int sensor, int deciK) override {
     // Sensor 1 is the internal one (BQ7690x: whole degC), 2 and 3 are TS1 and TS3.
     if (sensor == 1) {
-      const bool bq7690x = emulator_.model() != Emulator::Model::Bq76952;
-      emulator_.setIntTemp(static_cast<int16_t>(bq7690x ? (deciK - 2732) / 10 : deciK));
+      const bool bq7690x = board_->emu.model() != Emulator::Model::Bq76952;
+      board_->emu.setIntTemp(static_cast<int16_t>(bq7690x ? (deciK - 2732) / 10 : deciK));
     } else {
-      emulator_.setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
+      board_->emu.setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
     }
   }
-  void setCommLost(bool lost) override { emulator_.setMuted(lost); }
+  void setCommLost(bool lost) override { board_->emu.setMuted(lost); }
   void openWire(int, int cell) override {
     openCell_ = cell;
     push(cell);
@@ -68,7 +58,7 @@ class Bq769xSim final : public ImageSim {
   void setIntermittent(bool on) override { intermittent_ = on; }
   bool busOff() override {
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
-      output_.injectBusOff();
+      board_->output.injectBusOff();
       return true;
     } else {
       return false;
@@ -79,54 +69,56 @@ class Bq769xSim final : public ImageSim {
     // An intermittent link: the device drops off the bus for 250 ms of every 350 ms, so scans fail in runs
     // and the data ages past the stale limit between the good ones. (Silent bit flips are not used here:
     // without CRC they are undetectable by design; the CRC-mode tests cover them.)
-    if (intermittent_) emulator_.setMuted((tick_++ % 350) < 250);
+    if (intermittent_) board_->emu.setMuted((tick_++ % 350) < 250);
     if (!intermittent_ && tick_ != 0) {
-      emulator_.setMuted(false);
+      board_->emu.setMuted(false);
       tick_ = 0;
     }
-    meter_.observe(app_->monitor().stats().scans, 0, bus_.busTimeUs(), bus_.transactions());
+    meter_.observe(board_->app.monitor().stats().scans, 0, board_->bus.busTimeUs(),
+                   board_->bus.transactions());
   }
 
-  bsp::host::Harness& harness() override { return h_; }
+  bsp::host::Harness& harness() override { return board_->h; }
 
   SimFigures figures() override {
     SimFigures f;
-    const auto& st = app_->monitor().stats();
-    fillScanFigures(f, st, config_.scanPeriod, meter_);
-    for (uint16_t e : app_->monitor().driver().stats().errors)
+    const auto& st = board_->app.monitor().stats();
+    fillScanFigures(f, st, board_->config.scanPeriod, meter_);
+    for (uint16_t e : board_->app.monitor().driver().stats().errors)
       f.commErrors += e;
     f.recoveries = st.setupAttempts > 0 ? st.setupAttempts - 1 : 0;
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
-      f.outputFrames = output_.sent().size();
+      f.outputFrames = board_->output.sent().size();
       f.output = "can";
     } else {
       f.outputFrames = slcanFrames().size();
       f.output = "slcan";
     }
-    fillPackFigures(f, app_->pack(), app_->status(), fw::Instant{static_cast<uint32_t>(h_.nowUs())},
+    fillPackFigures(f, board_->app.pack(), board_->app.status(),
+                    fw::Instant{static_cast<uint32_t>(board_->h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(*app_); }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
+    return protectionLogOf(board_->app);
+  }
 
   std::vector<SentFrame> frames() const override {
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
-      return canFrames(output_);
+      return canFrames(board_->output);
     } else {
       return slcanFrames();
     }
   }
 
  private:
-  using App = fw::app::Bq769xApp<Driver, Measurement, Publisher>;
-
   // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r"); times are those of
   // the line's completion on the wire. The text and its write times only grow (bms-sim never clears them),
   // so each call parses only the lines completed since the last one.
   const std::vector<SentFrame>& slcanFrames() const {
     if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
-      const std::string& text = output_.text();
+      const std::string& text = board_->output.text();
       size_t pos = slcanParsed_;
       for (size_t end; (end = text.find('\r', pos)) != std::string::npos; pos = end + 1) {
         const std::string line = text.substr(pos, end - pos);
@@ -141,7 +133,7 @@ class Bq769xSim final : public ImageSim {
         slcan_.push_back(f);
       }
       slcanParsed_ = pos;
-      const auto& times = output_.writeTimes();  // the publisher writes one line per write()
+      const auto& times = board_->output.writeTimes();  // the publisher writes one line per write()
       for (; slcanTimed_ < slcan_.size() && slcanTimed_ < times.size(); ++slcanTimed_)
         slcan_[slcanTimed_].timeUs = times[slcanTimed_];
     }
@@ -150,16 +142,11 @@ class Bq769xSim final : public ImageSim {
 
   void push(int cell) {
     if (cell < 1 || cell > cells_) return;
-    emulator_.setCellMv(static_cast<uint8_t>(cell), static_cast<int16_t>(sensedMv(truth_, cell, openCell_)));
+    board_->emu.setCellMv(static_cast<uint8_t>(cell),
+                          static_cast<int16_t>(sensedMv(truth_, cell, openCell_)));
   }
 
-  bsp::host::Harness h_;
-  bsp::host::SimI2cBus bus_{h_.clock, h_.irq, {400000, fw::ms(4), fw::us(4)}};
-  Emulator emulator_;
-  bsp::host::SimEdgeInput alert_{h_.irq, "alert", bsp::host::SimEdgeInput::Edge::Falling, true};
-  Output output_{h_.clock, h_.irq};
-  fw::app::Bq769xAppConfig config_;
-  std::unique_ptr<App> app_;
+  std::unique_ptr<Board> board_;
   int cells_;
   std::vector<int> truth_;
   int openCell_ = -1;
@@ -180,14 +167,14 @@ using G3507Bq76952 =
     Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
 
 std::unique_ptr<ImageSim> makeL1306Bq76952(const SimOptions&, std::string&) {
-  return std::make_unique<L1306Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings);
+  return std::make_unique<L1306Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, false);
 }
 std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
-  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings,
+  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,
                                         b769::kBq76907);
 }
 std::unique_ptr<ImageSim> makeG3507Bq76952(const SimOptions&, std::string&) {
-  return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings);
+  return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, true);
 }
 
 const ImageRegistrar kL1306Bq76952{

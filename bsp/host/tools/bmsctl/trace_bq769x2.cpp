@@ -8,6 +8,9 @@
 //     dm-read <addr> <len>      data-memory read
 //     dm-write <addr> <bytes..> data-memory write as a CONFIG_UPDATE transaction (skipped when the value is
 //                               already there)
+//     app-start                 the image's application (firmware/app/bq769x_app.hpp with the host defaults,
+//                               i.e. the full application and its settings table) from reset to its first
+//                               complete scan: every transaction it sends, then when the scan completed
 //   <cmd>, <code> and <addr> are hex (0x14, 14) or generated names (Cell1Voltage, FET_ENABLE,
 //   EnabledProtectionsA); lengths are decimal; bytes are hex.
 //   --crc         both the emulated device and the driver use the per-byte I2C CRC
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "bmsctl/cli.hpp"
+#include "bq769x2/board.hpp"
 #include "bq769x2/emulator.hpp"
 #include "drivers/bq769x2/monitor.hpp"
 #include "regmap/bq7690x.hpp"
@@ -130,7 +134,29 @@ void decodeRange(std::span<const EntryInfo> table, Kind kind, uint32_t start,
   }
 }
 
+// The application of the image that carries `model` (lp-mspm0g3507-bq76952 for the BQ76952, CAN out;
+// lp-mspm0l1306-bq76907 for the BQ7690x, SLCAN out), from reset until its first complete scan.
+template <class Board>
+int appStart(Board& b) {
+  b.bus.onRecord([](const bsp::host::I2cWireRecord& r) { std::printf("%s\n", r.text.c_str()); });
+  if (!b.h.runUntil([&] { return b.sample().valid; }, fw::s(5))) {
+    std::printf("# error: no complete scan within 5 s\n");
+    return 1;
+  }
+  std::printf("# first complete scan at %.3f ms: %llu transactions, %llu us of bus time\n",
+              static_cast<double>(b.h.nowUs()) / 1000.0,
+              static_cast<unsigned long long>(b.bus.transactions()),
+              static_cast<unsigned long long>(b.bus.busTimeUs()));
+  return 0;
+}
+
 int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
+  if (req.operation == "app-start") {
+    if (auto err = bmsctl::checkFlags(req, {}); !err.empty()) return bmsctl::usageError(err);
+    if (!req.args.empty()) return bmsctl::usageError("app-start takes no arguments");
+    if (model == Bq769xEmulator::Model::Bq76952) return appStart(*bsp::host::makeG3507Bq76952Board());
+    return appStart(*bsp::host::makeL1306Bq7690xBoard(model));
+  }
   const bool family7690x = model != Bq769xEmulator::Model::Bq76952;
   const std::span<const EntryInfo> table =
       family7690x ? fw::regmap::bq7690x::entries : fw::regmap::bq769x2::entries;
@@ -221,7 +247,7 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
     }
   } else {
     return bmsctl::usageError("unknown operation '" + op +
-                              "' (read, write, subcmd, subcmd-read, dm-read, dm-write)");
+                              "' (read, write, subcmd, subcmd-read, dm-read, dm-write, app-start)");
   }
 
   // The simulated board: 400 kHz bus, the emulated device at 0x08, the driver on its own task.

@@ -1,0 +1,87 @@
+// Bq769xBoard: the BQ769x2-family boards on the host BSP, as bms-sim, `bmsctl trace bq76952|bq76907|bq76905
+// app-start` and the application tests run them: the image's application (firmware/app/bq769x_app.hpp) with
+// the monitor emulator on a 400 kHz I2C bus (4 ms stretch limit), the device's ALERT line into a pulled-up
+// falling-edge input (as the device's configuration drives it), the output (CAN at 500 kbit/s on the
+// G3507, SLCAN text at 115 200 Bd on the L1306) and a fault output asserted from reset (the L1306 boards have
+// none: the application is then given no pin). Every cell at 3.700 V. The application is started by the
+// constructor; nothing happens until the harness runs. Header-only: users link fw_app_bq769x2 and
+// emul_bq769x2.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "app/bq769x_app.hpp"
+#include "app/bq769x_settings.hpp"
+#include "bq769x2/emulator.hpp"
+#include "sim/can.hpp"
+#include "sim/harness.hpp"
+#include "sim/i2c_bus.hpp"
+#include "sim/peripherals.hpp"
+
+namespace bsp::host {
+
+template <class Driver, class Measurement, class Publisher, class Output>
+struct Bq769xBoard {
+  using App = fw::app::Bq769xApp<Driver, Measurement, Publisher>;
+
+  // `driverArgs` (the BQ7690x variant) must outlive the board: the driver keeps a reference.
+  template <class... DriverArgs>
+  Bq769xBoard(Bq769xEmulator::Model model, std::span<const fw::drivers::bq769x2::Setting> settings,
+              uint8_t cells, bool faultOutput, const DriverArgs&... driverArgs)
+      : emu(h.clock, model),
+        config(makeConfig(settings, cells, faultOutput ? &faultOut : nullptr)),
+        app(h.sched, bus, alert, output, config, driverArgs...) {
+    bus.attach(0x08, emu);
+    emu.onAlertLine([this](bool high) { alert.drive(high); });
+    for (uint8_t c = 1; c <= cells; ++c)
+      emu.setCellMv(c, 3700);
+    app.start();
+  }
+  Bq769xBoard(const Bq769xBoard&) = delete;
+  Bq769xBoard& operator=(const Bq769xBoard&) = delete;
+
+  const fw::app::BoardSample& sample() const { return app.pack().boards[0]; }
+
+  static fw::app::Bq769xAppConfig makeConfig(std::span<const fw::drivers::bq769x2::Setting> settings,
+                                             uint8_t cells, fw::hal::DigitalOut* faultIndicator) {
+    fw::app::Bq769xAppConfig c{settings, cells};
+    c.faultIndicator = faultIndicator;
+    return c;
+  }
+
+  Harness h;
+  SimI2cBus bus{h.clock, h.irq, {400000, fw::ms(4), fw::us(4)}};
+  Bq769xEmulator emu;
+  SimEdgeInput alert{h.irq, "alert", SimEdgeInput::Edge::Falling, true};
+  SimDigitalOut faultOut{h.clock, true};
+  Output output{h.clock, h.irq};
+  fw::app::Bq769xAppConfig config;
+  App app;
+};
+
+// The boards of the images whose family this build's driver serves (FW_BQ769X_FAMILY; the host: both), with
+// their images' settings tables (as the application builds with the host defaults).
+#if FW_BQ769X_FAMILY != 2
+// lp-mspm0g3507-bq76952: BQ76952, CAN, fault output.
+using G3507Bq76952Board = Bq769xBoard<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
+                                      fw::app::CanPublisher, SimCan>;
+inline std::unique_ptr<G3507Bq76952Board> makeG3507Bq76952Board() {
+  return std::make_unique<G3507Bq76952Board>(Bq769xEmulator::Model::Bq76952, fw::app::kBq76952Settings, 16,
+                                             true);
+}
+#endif
+#if FW_BQ769X_FAMILY != 1
+// lp-mspm0l1306-bq76907 (also with a BQ76905): SLCAN, no fault output.
+using L1306Bq7690xBoard = Bq769xBoard<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769x2::Bq7690xMeasurement,
+                                      fw::app::SlcanPublisher, SimSerialTx>;
+inline std::unique_ptr<L1306Bq7690xBoard> makeL1306Bq7690xBoard(Bq769xEmulator::Model model) {
+  const bool bq76907 = model == Bq769xEmulator::Model::Bq76907;
+  return std::make_unique<L1306Bq7690xBoard>(
+      model, bq76907 ? std::span(fw::app::kBq76907Settings) : std::span(fw::app::kBq76905Settings),
+      bq76907 ? 7 : 5, false, bq76907 ? fw::drivers::bq769x2::kBq76907 : fw::drivers::bq769x2::kBq76905);
+}
+#endif
+
+}  // namespace bsp::host
