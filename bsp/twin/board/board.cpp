@@ -131,10 +131,11 @@ void Board::wireI2cMonitor() {
       world_, image_.family == Family::Bq76907 ? Model::Bq76907 : Model::Bq76952);
   i2cAddress_ = kBq769xAddress;
   chip_.i2c0().attach(i2cAddress_, *bq769x_);
-  // ALERT: open drain, low while asserted (the images configure it so; the MCU's pull-up makes the high).
+  // ALERT: the line as the device's ALERT Pin Config drives it (the emulator's alertLine()); where it drives
+  // nothing or high, the MCU's own pull-up must make the high (an input left floating is a twin warning).
   signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;
-  bq769x_->onAlert(
-      [this](bool asserted) { chip_.pins().setExternal(signalPincm_, asserted ? Drive::Low : Drive::None); });
+  bq769x_->onAlertLine(
+      [this](bool high) { chip_.pins().setExternal(signalPincm_, high ? Drive::None : Drive::Low); });
 }
 
 void Board::wireChain(int devices) {
