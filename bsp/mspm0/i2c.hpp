@@ -37,22 +37,13 @@
 
 #include "hal/i2c_bus.hpp"
 #include "i2c_timing.hpp"
+#include "mspm0/config.hpp"
 #include "pin.hpp"
 #include "regs/i2c.hpp"
 
-// SMBus PEC is built where a driver uses it (BSP_I2C_PEC, default 1: the host tests and the BQ4050 image).
-// Images whose monitor never sets I2cTransaction::pec (the BQ769x2 family) build with 0: PECCTL then keeps
-// its reset value 0, and a transaction that asks for PEC is refused with InvalidArgument rather than sent
-// without it.
-#ifndef BSP_I2C_PEC
-#define BSP_I2C_PEC 1
-#endif
-// Transaction lists longer than one are built where something runs them (BSP_I2C_LISTS, default 1: the host
-// tests). No device driver of the images does (each starts one transaction at a time), so the images build
-// with 0: start() then refuses a list of more than one transaction with InvalidArgument.
-#ifndef BSP_I2C_LISTS
-#define BSP_I2C_LISTS 1
-#endif
+// SMBus PEC (BSP_I2C_PEC) and transaction lists longer than one (BSP_I2C_LISTS) are options
+// (mspm0/config.hpp): without them a transaction asking for PEC, or a longer list, is refused with
+// InvalidArgument.
 
 namespace bsp::mspm0 {
 

@@ -16,9 +16,9 @@
 //   send() returns NotReady.
 // - send(): Ok, Overflow (TX FIFO full, counted), BusOff, InvalidArgument (dlc > 8, id out of range),
 //   NotReady. Task context (a short critical section guards the put index).
-// - receive(): task context; pops RX FIFO 0 in arrival order. Reception is built unless BSP_MCAN_RX is 0:
-//   the images' applications only transmit, and build without it (define BSP_MCAN_RX=1 to receive); then
-//   the global filter rejects every frame and receive() always returns false (no frame).
+// - receive(): task context; pops RX FIFO 0 in arrival order. Reception is built unless BSP_MCAN_RX is 0
+//   (mspm0/config.hpp): then the global filter rejects every frame and receive() always returns false (no
+//   frame).
 // - Bus-off: the MCAN sets CCCR.INIT itself and stops (ISO 11898-1). recover() clears INIT, after which
 //   the controller waits for 129 x 11 recessive bits and returns to error active; the BO interrupt fires on
 //   entering and on leaving bus-off and the registered Notify is called both times.
@@ -30,12 +30,9 @@
 #include <cstdint>
 
 #include "hal/can_bus.hpp"
+#include "mspm0/config.hpp"
 #include "pin.hpp"
 #include "regs/mcan.hpp"
-
-#ifndef BSP_MCAN_RX
-#define BSP_MCAN_RX 1
-#endif
 
 namespace bsp::mspm0 {
 

@@ -19,11 +19,9 @@ int main();
 extern "C" void Reset_Handler() {
   // memcpy/memset are this firmware's own (runtime.cpp), nothing from the C library: safe before .data and
   // .bss exist. Sizes in bytes from the linker symbols (each region is word aligned, possibly empty).
-  // The guard words only the watchdog's feed checks (an image without the watchdog has no use for them).
-#if !defined(FW_WATCHDOG_SUPERVISION) || FW_WATCHDOG_SUPERVISION
+  // The guard words the watchdog's feed checks.
   for (uint32_t i = 0; i < bsp::mspm0::kStackGuardWords; ++i)
     __stack_limit__[i] = bsp::mspm0::kStackGuardPattern;
-#endif
   const auto bytes = [](const uint32_t& begin, const uint32_t& end) {
     return static_cast<size_t>(reinterpret_cast<uintptr_t>(&end) - reinterpret_cast<uintptr_t>(&begin));
   };

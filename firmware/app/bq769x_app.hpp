@@ -19,16 +19,17 @@
 // a new edge. Bq769xMonitor is a template over the driver class (Bq769x2 or Bq7690x) so each image carries
 // one copy of exactly the code it uses.
 //
-// The start-up CONFIG_UPDATE is built unless FW_BQ769X_CONFIG_UPDATE is 0 (default 1: the host, bms-sim and
-// the G3507 image). With 0 (the L1306 images, whose 8 KiB budget has no room for it) the monitor goes from
-// the probe straight to FET enable and runs on the device's stored configuration: the settings table is
-// neither compared nor written (Bq769xAppConfig::settings is ignored, stats().configWrites stays 0).
+// The start-up CONFIG_UPDATE is built unless FW_BQ769X_CONFIG_UPDATE is 0 (app/config.hpp; every image builds
+// it). With 0 the monitor goes from the probe straight to FET enable and runs on the device's stored
+// configuration: the settings table is neither compared nor written (Bq769xAppConfig::settings is ignored,
+// stats().configWrites stays 0).
 #pragma once
 
 #include <cstdint>
 #include <span>
 
 #include "app/can_publisher.hpp"
+#include "app/config.hpp"
 #include "app/default_limits.hpp"
 #include "app/frame_plan.hpp"
 #include "app/pack_view.hpp"
@@ -41,15 +42,6 @@
 #include "hal/i2c_bus.hpp"
 #include "hal/serial.hpp"
 #include "sched/scheduler.hpp"
-
-#ifndef FW_BQ769X_CONFIG_UPDATE
-#define FW_BQ769X_CONFIG_UPDATE 1
-#endif
-// Bq769xAppConfig::faultIndicator is built unless FW_BQ769X_FAULT_INDICATOR is 0 (the L1306 boards, which
-// have no fault output).
-#ifndef FW_BQ769X_FAULT_INDICATOR
-#define FW_BQ769X_FAULT_INDICATOR 1
-#endif
 
 namespace fw::app {
 

@@ -38,7 +38,7 @@ void Scheduler::addTask(TaskId id, Task& task, Duration budget, bool watched) {
   FW_ASSERT(id < kMaxTasks && s_.tasks[id] == nullptr);
   s_.tasks[id] = &task;
   if (kBudgets) s_.budget[id] = budget;
-  if (kWatchdogSupervision && watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
+  if (watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
 }
 
 void Scheduler::post(TaskId id, EventMask events) {
@@ -84,7 +84,7 @@ void Scheduler::removeTimer(Timer& timer) {
 }
 
 void Scheduler::startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period) {
-  FW_ASSERT((kWatchdogSupervision && id == kSupervisorTask) || (id < kMaxTasks && s_.tasks[id] != nullptr));
+  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && s_.tasks[id] != nullptr));
   if (timer.armed_) removeTimer(timer);
   timer.task_ = id;
   timer.events_ = events;
@@ -109,7 +109,7 @@ void Scheduler::fireDueTimers(Instant now) {
     s_.timers = timer.next_;
     timer.next_ = nullptr;
     timer.armed_ = false;
-    const bool supervisor = kWatchdogSupervision && timer.task_ == kSupervisorTask;
+    const bool supervisor = timer.task_ == kSupervisorTask;
 
     if (supervisor) {
       superviseOnce();
@@ -158,19 +158,27 @@ bool Scheduler::dispatchOne() {
   }
 
   trace(TraceKind::Run, id, events);
-  const Instant start = clock_.now();
-  s_.tasks[id]->run(events);
-  const Duration took = elapsed(start, clock_.now());
+  if constexpr (kBudgets) {
+    // Two clock reads around the run: only for the run-time figures, so only where they are built.
+    const Instant start = clock_.now();
+    s_.tasks[id]->run(events);
+    noteRun(id, elapsed(start, clock_.now()));
+  } else {
+    s_.tasks[id]->run(events);
+    trace(TraceKind::RunEnd, id, 0);
+  }
+  return true;
+}
 
+inline void Scheduler::noteRun(TaskId id, Duration took) {
   TaskStats& st = s_.stats[id];
   ++st.runs;
   if (took > st.worstRun) st.worstRun = took;
   trace(TraceKind::RunEnd, id, took.us);
-  if (kBudgets && s_.budget[id].us != 0 && took > s_.budget[id]) {
+  if (s_.budget[id].us != 0 && took > s_.budget[id]) {
     ++st.overruns;
     trace(TraceKind::Overrun, id, took.us);
   }
-  return true;
 }
 
 void Scheduler::idle() {
@@ -194,13 +202,13 @@ void Scheduler::run() {
 }
 
 void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {
-  FW_ASSERT(kWatchdogSupervision && window.us != 0);
+  FW_ASSERT(window.us != 0);
   s_.watchdog = &watchdog;
   s_.checkedIn = 0;
   startTimer(s_.supervisor, kSupervisorTask, 0, window, window);
 }
 
-void Scheduler::checkInNow(TaskId id) {
+void Scheduler::checkIn(TaskId id) {
   s_.checkedIn = static_cast<uint8_t>(s_.checkedIn | (1U << id));
 }
 

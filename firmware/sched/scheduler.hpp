@@ -15,10 +15,11 @@
 // - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
-// - Run-time budgets are built unless FW_SCHED_BUDGETS is 0 (the images, whose tasks all run without one):
-//   then addTask() ignores `budget` and overruns stay 0, as they do for a task registered without a budget.
-// - Watchdog supervision is built unless FW_WATCHDOG_SUPERVISION is 0 (an image without a watchdog, see
-//   bsp/mspm0/images/images.cmake): then checkIn() does nothing and superviseWatchdog() must not be called.
+// - Run-time measurement is built unless FW_SCHED_BUDGETS is 0 (the images: no task has a budget and nothing
+//   reads the figures): each dispatch then reads the clock once (for the timers) instead of three times,
+//   addTask() ignores `budget`, and stats().worstRun, runs and overruns stay 0 (the trace's RunEnd carries
+//   0).
+// - Build options (task slots, run-time measurement, trace): sched/config.hpp.
 #pragma once
 
 #include <cstdint>
@@ -27,31 +28,20 @@
 #include "hal/clock.hpp"
 #include "hal/notify.hpp"
 #include "hal/watchdog.hpp"
+#include "sched/config.hpp"
 #include "sched/task.hpp"
 #include "sched/timer.hpp"
 #include "sched/trace.hpp"
-
-#ifndef FW_SCHED_MAX_TASKS
-#define FW_SCHED_MAX_TASKS 8
-#endif
-#ifndef FW_SCHED_BUDGETS
-#define FW_SCHED_BUDGETS 1
-#endif
-#ifndef FW_WATCHDOG_SUPERVISION
-#define FW_WATCHDOG_SUPERVISION 1
-#endif
 
 namespace fw::sched {
 
 inline constexpr uint8_t kMaxTasks = FW_SCHED_MAX_TASKS;
 inline constexpr bool kBudgets = FW_SCHED_BUDGETS != 0;
-inline constexpr bool kWatchdogSupervision = FW_WATCHDOG_SUPERVISION != 0;
-static_assert(kMaxTasks >= 1 && kMaxTasks <= 8, "the ready set is one byte");
 
 struct TaskStats {
-  Duration worstRun{};         // longest single run() so far
-  uint32_t runs = 0;           // completed run() calls
-  uint32_t overruns = 0;       // runs longer than the task's budget
+  Duration worstRun{};         // longest single run() so far (FW_SCHED_BUDGETS)
+  uint32_t runs = 0;           // completed run() calls (FW_SCHED_BUDGETS)
+  uint32_t overruns = 0;       // runs longer than the task's budget (FW_SCHED_BUDGETS)
   uint32_t timerOverruns = 0;  // periodic expiries that found the previous one unconsumed, or were skipped
   uint32_t queueDrops = 0;     // items an EventQueue of this task refused because it was full
 };
@@ -87,9 +77,7 @@ class Scheduler {
   // Watchdog supervision: every `window`, feed `watchdog` if every watched task checked in, else withhold the
   // feed. The hardware timeout must be longer than `window`.
   void superviseWatchdog(hal::Watchdog& watchdog, Duration window);
-  void checkIn(TaskId id) {
-    if constexpr (kWatchdogSupervision) checkInNow(id);
-  }
+  void checkIn(TaskId id);
 
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
@@ -106,8 +94,8 @@ class Scheduler {
   void fireDueTimers(Instant now);
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
-  inline void superviseOnce();  // inline (.cpp): one caller, folded into it
-  void checkInNow(TaskId id);
+  inline void superviseOnce();                    // inline (.cpp): one caller, folded into it
+  inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
 

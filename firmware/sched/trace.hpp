@@ -16,9 +16,7 @@
 
 #include <cstdint>
 
-#ifndef FW_SCHED_TRACE
-#define FW_SCHED_TRACE 0
-#endif
+#include "sched/config.hpp"
 
 namespace fw::sched {
 

@@ -15,6 +15,7 @@
 #include "uart_dma_model.hpp"
 
 extern "C" {
+uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
 void UART0_IRQHandler();
 void GROUP1_IRQHandler();
 }

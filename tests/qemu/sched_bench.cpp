@@ -1,10 +1,10 @@
-// Deterministic instruction counts of the scheduler's hot paths on ARMv6-M.
+// Deterministic instruction counts of the scheduler's hot paths on ARMv6-M, built with an image's definitions
+// (tests/qemu/CMakeLists.txt): the scheduler the images ship.
 //
-// QEMU runs with -icount shift=0: virtual time advances exactly 1 ns per executed instruction, and SysTick
-// counts that virtual time at 16 MHz, so one SysTick count is 62.5 instructions. Each path is repeated
-// kIterations times and the loop's own overhead (measured with an empty body) is subtracted, giving the
-// instructions per operation to within 0.01 (exception entry/exit is hardware, not instructions, and is not
-// counted; on a real M0+ it adds 15 + 11 cycles).
+// Instructions are counted with SysTick under -icount (insn_counter.hpp). Each path is repeated kIterations
+// times and the loop's own overhead (measured with an empty body) is subtracted, giving the instructions per
+// operation to within 0.01 (exception entry/exit is hardware, not instructions, and is not counted; on a real
+// M0+ it adds 15 + 11 cycles).
 //   post_isr_dispatch:  NVIC set-pending, the handler posting an event, and dispatchOne() running the task
 //   timer_dispatch:     startTimer() of an already-due one-shot, and dispatchOne() firing it and running
 //                       the task
@@ -12,16 +12,15 @@
 // Output lines start with REPORT so ./ci/test can collect them.
 #include <cstdint>
 
+#include "insn_counter.hpp"
 #include "qtest.hpp"
 #include "sched/scheduler.hpp"
 #include "scs.hpp"
-#include "systick_clock.hpp"
 
 namespace {
 
 constexpr unsigned kIrq = 25;
 constexpr uint32_t kIterations = 10000;
-constexpr uint32_t kReload = 0xFFFFFF;
 fw::sched::Scheduler* gSched = nullptr;
 
 struct Empty final : fw::sched::Task {
@@ -29,27 +28,14 @@ struct Empty final : fw::sched::Task {
   void run(fw::sched::EventMask) override { ++runs; }
 };
 
-// A free-running SysTick without interrupts: counts are read directly. The measured loops are far shorter
-// than one 24-bit wrap (16.7 M instructions), and wraps are detected with COUNTFLAG anyway.
-struct Counter {
-  uint64_t total = 0;
-  uint32_t last = kReload;
-  void start() {
-    using bsp::scs::reg;
-    reg(bsp::scs::kSystCsr) = 0;
-    reg(bsp::scs::kSystRvr) = kReload;
-    reg(bsp::scs::kSystCvr) = 0;
-    reg(bsp::scs::kSystCsr) = 0x5;  // CPU clock, enabled, no interrupt
-    last = reg(bsp::scs::kSystCvr);
-    total = 0;
+// A clock that counts its reads (outside the measured loops).
+struct CountingClock final : fw::hal::Clock {
+  mutable uint32_t reads = 0;
+  fw::Instant doNow() const override {
+    ++reads;
+    return fw::Instant{0};
   }
-  uint64_t read() {
-    using bsp::scs::reg;
-    const uint32_t now = reg(bsp::scs::kSystCvr);
-    total += (now <= last) ? (last - now) : (last + (kReload + 1) - now);
-    last = now;
-    return total;
-  }
+  void doWakeAt(fw::Instant) override {}
 };
 
 // A clock that costs nothing: keeps the measurement about the scheduler, not the clock driver.
@@ -59,21 +45,10 @@ struct ZeroClock final : fw::hal::Clock {
   void doWakeAt(fw::Instant) override {}
 };
 
-Counter gCounter;
+qbench::InsnCounter gCounter;
 
-// instructions x 100 per iteration, from SysTick counts (62.5 instructions each).
 uint32_t centiInsnPerIteration(uint64_t counts) {
-  return static_cast<uint32_t>((counts * 6250) / kIterations);
-}
-
-void report(const char* name, uint32_t centi) {
-  bsp::qemu::print("REPORT sched.");
-  bsp::qemu::print(name);
-  bsp::qemu::print("_insns=");
-  bsp::qemu::printUnsigned(centi / 100);
-  bsp::qemu::print(".");
-  bsp::qemu::printUnsigned((centi % 100) / 10);
-  bsp::qemu::print("\n");
+  return qbench::InsnCounter::centiInsnPer(counts, kIterations);
 }
 
 }  // namespace
@@ -123,9 +98,18 @@ int main() {
   const uint64_t timerDispatch = gCounter.read() - start;
 
   QCHECK(task.runs == 3 * kIterations);
+
+  // Built as the images build it (no run-time figures), a dispatch reads the clock once: for the timers.
+  static CountingClock counting;
+  static fw::sched::Scheduler counted(counting);
+  static Empty other;
+  counted.addTask(1, other);
+  counted.post(1, 0x1);
+  QCHECK(counted.dispatchOne());
+  QCHECK(counting.reads == 1);
   QCHECK(isrDispatch > empty && postDispatch > empty && timerDispatch > empty);
-  report("post_isr_dispatch", centiInsnPerIteration(isrDispatch - empty));
-  report("post_dispatch", centiInsnPerIteration(postDispatch - empty));
-  report("timer_dispatch", centiInsnPerIteration(timerDispatch - empty));
+  qbench::reportCenti("sched.post_isr_dispatch_insns", centiInsnPerIteration(isrDispatch - empty));
+  qbench::reportCenti("sched.post_dispatch_insns", centiInsnPerIteration(postDispatch - empty));
+  qbench::reportCenti("sched.timer_dispatch_insns", centiInsnPerIteration(timerDispatch - empty));
   return qtest::finish("qemu_sched_bench");
 }

@@ -54,6 +54,7 @@ class SimClock final : public fw::hal::Clock {
   uint64_t nextSeq_ = 1;
   std::map<std::pair<uint64_t, uint64_t>, Callback> events_;  // (time, seq) -> callback
   EventId alarm_ = 0;
+  uint64_t alarmAt_ = 0;  // the alarm's time: doWakeAt() erases it by key, not by a search of every event
   bool advancing_ = false;
 };
 

@@ -8,81 +8,38 @@
 #   BMS_IMAGE_SRAM_BUDGET   data + bss + measured worst-case stack limit in bytes
 #   BMS_IMAGE_HANDLERS      "<handler>:<irq>" for every peripheral interrupt the image uses
 #   BMS_IMAGE_BUDGET_SOURCE where the budgets come from
-#   BMS_IMAGE_DEFINES       compile definitions every firmware library of the image is built with (through
-#                           fw_options, so all translation units agree): the scheduler's task table size
-#                           (FW_SCHED_MAX_TASKS, the image's three tasks) without run-time budgets
-#                           (FW_SCHED_BUDGETS=0); no latched-fault clearing without a user action to trigger it
-#                           (FW_PROTECTION_CLEAR_LATCHED=0); I2C without transaction lists (BSP_I2C_LISTS=0);
-#                           what a single-board image leaves out (FW_PACK_MAX_BOARDS=1, FW_CAN_TI_LAYOUT=0) and
-#                           the BQ769x2-family driver built for one family without the CRC-mode probe
-#                           (FW_BQ769X_FAMILY, FW_BQ769X_PROBE_CRC=0), the I2C driver without SMBus PEC
-#                           (BSP_I2C_PEC=0) and the MCAN driver without reception (BSP_MCAN_RX=0); and on the
-#                           8 KiB L1306 what its budget has no room for (bsp/mspm0/README.md, "What the L1306
-#                           images leave out"). Host builds use the defaults, so tests and bms-sim cover every
-#                           path.
-# Budgets: ARCHITECTURE.md gives each L1306 image (flash 10 240 B, SRAM 2 KiB) and lp-mspm0g3507-bq79616
-# (flash 12 KiB). The other images take their sibling's budget on the same chip (provisional, set here);
-# G3507 images get 16 KiB of SRAM (half the part).
+#   BMS_IMAGE_DEFINES       the image's build options (<preset>/options.cmake, one NAME=VALUE a line with its
+#                           reason), applied to every firmware library of the image through fw_options so all
+#                           translation units agree; the host tests and bms-sim build the image's application
+#                           with the same file. Defaults and meanings: the config headers the file names.
+# Budgets (issue 14, the full application on every image): each L1306 image flash 10 240 B and SRAM 2 048 B
+# including the worst-case stack; each G3507 image flash 12 288 B, SRAM 16 KiB (half the part, provisional).
+set(BMS_MSPM0_IMAGES_DIR ${CMAKE_CURRENT_LIST_DIR})
 set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-bq79616 lp-mspm0g3507-bq4050
                      lp-mspm0g3507-bq76952)
 
 function(bms_image_info image)
   set(l1306_irqs GROUP1_IRQHandler:1 UART0_IRQHandler:15 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
   set(g3507_i2c_irqs GROUP1_IRQHandler:1 CANFD0_IRQHandler:6 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
-  # Every image runs three tasks (protection, monitor, publisher: firmware/app/*_app.hpp), none has a user
-  # action that clears latched faults yet (firmware/app/protection_task.hpp), and no device driver starts an
-  # I2C transaction list longer than one (bsp/mspm0/i2c.hpp), and no task has a run-time budget
-  # (firmware/sched/scheduler.hpp).
-  set(defines FW_SCHED_MAX_TASKS=3 FW_SCHED_BUDGETS=0 FW_PROTECTION_CLEAR_LATCHED=0 BSP_I2C_LISTS=0)
-  if(image MATCHES "^lp-mspm0l1306-")
-    # No protection delays (the default limits use none), and no fault output pin on these boards.
-    list(APPEND defines FW_PROTECTION_DELAYS=0 FW_BQ769X_FAULT_INDICATOR=0)
-    # Dropped to fit the 8 KiB budget (bsp/mspm0/README.md, "What the L1306 images leave out"): the SLCAN
-    # messages beyond PackSummary, ProtectionEvent and CellVoltages, the start-up CONFIG_UPDATE, and watchdog
-    # supervision.
-    list(APPEND defines FW_PUBLISH_LEVEL=0 FW_BQ769X_CONFIG_UPDATE=0 FW_BQ769X_CONFIG_PATHS=0
-         FW_WATCHDOG_SUPERVISION=0)
-    # Diagnostics nothing in these images reads: the statistics counters and the protection event log.
-    list(APPEND defines FW_STATS=0 FW_PROTECTION_LOG_SIZE=0)
+  if(NOT image IN_LIST BMS_MSPM0_IMAGES)
+    message(FATAL_ERROR "unknown MSPM0 image '${image}' (known: ${BMS_MSPM0_IMAGES})")
   endif()
-  # Single-board images compile the multi-board paths down to one board, and only the BQ79616 image (seed
-  # 001's TI CAN layout) carries the TI layout (firmware/app/pack_view.hpp, frame_plan.hpp).
-  if(NOT image STREQUAL "lp-mspm0g3507-bq79616")
-    list(APPEND defines FW_PACK_MAX_BOARDS=1 FW_CAN_TI_LAYOUT=0)
-  endif()
-  # The BQ769x2-family driver built for the image's one family, without the CRC-mode probe the images'
-  # configurations never ask for (firmware/drivers/bq769x2/monitor.hpp).
-  # The G3507 applications only transmit on CAN: no MCAN reception (bsp/mspm0/mcan.hpp).
-  if(image MATCHES "^lp-mspm0g3507-")
-    list(APPEND defines BSP_MCAN_RX=0)
-  endif()
-  # No SMBus PEC in the I2C driver where nothing uses it (bsp/mspm0/i2c.hpp).
-  if(image MATCHES "-bq76952$")
-    list(APPEND defines FW_BQ769X_FAMILY=1 FW_BQ769X_PROBE_CRC=0 BSP_I2C_PEC=0)
-  elseif(image MATCHES "-bq76907$")
-    list(APPEND defines FW_BQ769X_FAMILY=2 FW_BQ769X_PROBE_CRC=0 BSP_I2C_PEC=0)
-  endif()
+  include(${BMS_MSPM0_IMAGES_DIR}/${image}/options.cmake)
+  set(defines ${BMS_IMAGE_OPTIONS})
   if(image STREQUAL "lp-mspm0l1306-bq76952")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "ARCHITECTURE.md" "${l1306_irqs}")
+    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "issue 14" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0l1306-bq76907")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "provisional (sibling lp-mspm0l1306-bq76952)"
-        "${l1306_irqs}")
+    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "issue 14" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0g3507-bq79616")
     if(BMS_BQ79616_UART STREQUAL "UART1_PA8_PA9")
       set(uart UART1_IRQHandler:13)
     else()
       set(uart UART0_IRQHandler:15)
     endif()
-    set(row mspm0g3507 g3507_can 2048 12288 16384 "ARCHITECTURE.md (flash), SRAM provisional"
+    set(row mspm0g3507 g3507_can 2048 12288 16384 "issue 14 (flash), SRAM provisional"
         "GROUP1_IRQHandler:1;CANFD0_IRQHandler:6;${uart};TIMG0_IRQHandler:16;TIMG6_IRQHandler:17")
-  elseif(image STREQUAL "lp-mspm0g3507-bq4050")
-    set(row mspm0g3507 g3507_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
-        "${g3507_i2c_irqs}")
-  elseif(image STREQUAL "lp-mspm0g3507-bq76952")
-    set(row mspm0g3507 g3507_can 2048 12288 16384 "provisional (sibling lp-mspm0g3507-bq79616)"
-        "${g3507_i2c_irqs}")
-  else()
-    message(FATAL_ERROR "unknown MSPM0 image '${image}' (known: ${BMS_MSPM0_IMAGES})")
+  else()  # lp-mspm0g3507-bq4050, lp-mspm0g3507-bq76952
+    set(row mspm0g3507 g3507_can 2048 12288 16384 "issue 14 (flash), SRAM provisional" "${g3507_i2c_irqs}")
   endif()
   list(GET row 0 chip)
   list(GET row 1 board)
@@ -108,4 +65,39 @@ function(bms_image_info image)
   set(BMS_IMAGE_BUDGET_SOURCE "${source}" PARENT_SCOPE)
   set(BMS_IMAGE_HANDLERS ${handlers} PARENT_SCOPE)
   set(BMS_IMAGE_DEFINES ${defines} PARENT_SCOPE)
+endfunction()
+
+# bms_sources_of(<out> <target>...): the absolute paths of the targets' own sources.
+function(bms_sources_of out)
+  set(all)
+  foreach(target ${ARGN})
+    get_target_property(dir ${target} SOURCE_DIR)
+    get_target_property(sources ${target} SOURCES)
+    foreach(source ${sources})
+      cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${dir})
+      list(APPEND all ${source})
+    endforeach()
+  endforeach()
+  set(${out} ${all} PARENT_SCOPE)
+endfunction()
+
+# bms_image_family(<image> <out>): the image's device family (bq769x2, bq79616, bq4050), the suffix of its
+# firmware libraries (fw_app_<family>, fw_drv_<family>), emulator and bms-sim binding.
+function(bms_image_family image out)
+  if(image MATCHES "-bq769(52|05|07)$")
+    set(${out} bq769x2 PARENT_SCOPE)
+  elseif(image MATCHES "-bq79616$")
+    set(${out} bq79616 PARENT_SCOPE)
+  else()
+    set(${out} bq4050 PARENT_SCOPE)
+  endif()
+endfunction()
+
+# bms_image_app_sources(<image> <out>): every target-independent firmware source of the image's application
+# (scheduler, application, its device family's app and driver), for builds that compile them with the image's
+# options on another target (the QEMU benchmark, the host tests, bms-sim). Call after firmware/ is added.
+function(bms_image_app_sources image out)
+  bms_image_family(${image} family)
+  bms_sources_of(sources fw_sched fw_app fw_app_${family} fw_drv_${family})
+  set(${out} ${sources} PARENT_SCOPE)
 endfunction()

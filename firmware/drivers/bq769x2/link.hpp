@@ -50,7 +50,7 @@
 // contract (wire time + stretch limit), every other wait by this driver's timer.
 //
 // What only the monitor's configure operation uses (a delay before a read: the CFGUPDATE polls) is built
-// unless FW_BQ769X_CONFIG_PATHS is 0 (the images that apply no configuration at start-up). Without it
+// unless FW_BQ769X_CONFIG_PATHS is 0 (drivers/bq769x2/config.hpp). Without it
 // startRead() with a delay is InvalidArgument. Subcommand writes with data are always built: FET_CONTROL
 // (the monitor's FET commands) needs them.
 //
@@ -64,6 +64,7 @@
 
 #include "core/status.hpp"
 #include "core/time.hpp"
+#include "drivers/bq769x2/config.hpp"
 #include "drivers/operation.hpp"
 #include "hal/i2c_bus.hpp"
 #include "sched/timer.hpp"
@@ -80,9 +81,6 @@ inline constexpr uint8_t kMaxReadBytes = 50;                 // the longest dire
 inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC after every byte
 inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
 
-#ifndef FW_BQ769X_CONFIG_PATHS
-#define FW_BQ769X_CONFIG_PATHS 1
-#endif
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 
 struct LinkConfig {

@@ -65,7 +65,7 @@
 //                         unless MonitorConfig::allowAdjacentBalancing: the device itself never balances
 //                         neighbours autonomously and two adjacent cells double the current through the
 //                         shared input resistor (E2E 1505209). 0 stops balancing.
-// A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, link.hpp) has neither
+// A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, config.hpp) has neither
 // startConfigure() nor startBalance(): both return InvalidArgument.
 // The link (link()) may be used directly for raw operations while the monitor is idle (bmsctl, diagnostics);
 // onEvent() forwards to it either way. The configuration is copied at construction; the settings table
@@ -205,23 +205,8 @@ inline constexpr Variant kBq76952{
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
-// The family this build's Monitor serves (FW_BQ769X_FAMILY): 0 both (host tools and tests: the variant is
-// read at run time), 1 BQ769x2 only, 2 BQ7690x only. An image builds for its device's family: every variant
-// fact then is a constant (except the BQ7690x cell count, which tells a BQ76905 from a BQ76907) and the other
-// family's paths compile away. A Monitor built for one family must be given a variant of it: the front ends
-// Bq769x2 / Bq7690x only exist in builds for their family.
-#ifndef FW_BQ769X_FAMILY
-#define FW_BQ769X_FAMILY 0
-#endif
+// The family this build's Monitor serves and the CRC-mode probe: drivers/bq769x2/config.hpp.
 inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
-static_assert(kFamily <= 2, "FW_BQ769X_FAMILY: 0 both, 1 BQ769x2, 2 BQ7690x");
-
-// The CRC-mode probe (MonitorConfig::probeCrc) is built unless FW_BQ769X_PROBE_CRC is 0: the images set 0,
-// as their configuration knows the device's mode (link.crc) and never asks for the probe; with 0, probeCrc
-// is ignored and startProbe() uses the configured mode only.
-#ifndef FW_BQ769X_PROBE_CRC
-#define FW_BQ769X_PROBE_CRC 1
-#endif
 inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
 
 struct MonitorConfig {

@@ -5,7 +5,9 @@
 //   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
 // (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal. Exit
-// status: 0 run completed, 2 bad arguments, 1 the run failed.
+// status: 0 run completed, 2 bad arguments, 1 the run failed. Each image runs in its own simulator built with
+// the image's option file (bms-sim-<preset>, see CMakeLists.txt); this one hands the run to it.
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -104,6 +106,23 @@ int run(int argc, char** argv) {
       known += std::string(known.empty() ? "" : ", ") + e.image;
     return usage("unknown image '" + opt.image + "' (known: " + known + ")");
   }
+#ifdef BMS_SIM_IMAGE
+  if (opt.image != BMS_SIM_IMAGE) return usage("this simulator runs " BMS_SIM_IMAGE " only");
+#else
+  // Each image has its own simulator, built with the image's option set (bms-sim-<preset> beside this one,
+  // CMakeLists.txt): run it with the same arguments, so what bms-sim shows is what the image's options do.
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    std::string path(self, static_cast<size_t>(n));
+    path = path.substr(0, path.rfind('/') + 1) + "bms-sim-" + opt.image;
+    if (access(path.c_str(), X_OK) == 0) {
+      execv(path.c_str(), argv);
+      std::fprintf(stderr, "bms-sim: error: cannot run %s: %s\n", path.c_str(), std::strerror(errno));
+      return 1;
+    }
+  }
+#endif
   std::optional<Scenario> scenario = builtinScenario(scenarioArg);
   const bool builtin = scenario.has_value();
   Diagnostics diag;

@@ -159,19 +159,15 @@ class Bq769xSim final : public ImageSim {
   mutable size_t slcanTimed_ = 0;
 };
 
+// A build for one device family (FW_BQ769X_FAMILY, an image's simulator) has only that family's front end.
+#if FW_BQ769X_FAMILY != 2
 using L1306Bq76952 =
     Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
-using L1306Bq76907 =
-    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
 using G3507Bq76952 =
     Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
 
 std::unique_ptr<ImageSim> makeL1306Bq76952(const SimOptions&, std::string&) {
   return std::make_unique<L1306Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, false);
-}
-std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
-  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,
-                                        b769::kBq76907);
 }
 std::unique_ptr<ImageSim> makeG3507Bq76952(const SimOptions&, std::string&) {
   return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, true);
@@ -179,10 +175,22 @@ std::unique_ptr<ImageSim> makeG3507Bq76952(const SimOptions&, std::string&) {
 
 const ImageRegistrar kL1306Bq76952{
     {"lp-mspm0l1306-bq76952", "BQ76952 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76952}};
-const ImageRegistrar kL1306Bq76907{
-    {"lp-mspm0l1306-bq76907", "BQ76907 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76907}};
 const ImageRegistrar kG3507Bq76952{
     {"lp-mspm0g3507-bq76952", "BQ76952 over I2C, CAN out", 1, &makeG3507Bq76952}};
+#endif
+
+#if FW_BQ769X_FAMILY != 1
+using L1306Bq76907 =
+    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+
+std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
+  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,
+                                        b769::kBq76907);
+}
+
+const ImageRegistrar kL1306Bq76907{
+    {"lp-mspm0l1306-bq76907", "BQ76907 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76907}};
+#endif
 
 }  // namespace
 }  // namespace bmssim

@@ -1,6 +1,6 @@
 // LP-MSPM0G3507 board with CAN out and the battery monitor on one of two links, chosen by the image's
-// board_config.hpp: I2C0 (images lp-mspm0g3507-bq4050 and lp-mspm0g3507-bq76952) or, when it defines
-// BMS_BOARD_MONITOR_ON_UART to 1, a BQ79616 daisy chain on a UART (image lp-mspm0g3507-bq79616).
+// options: I2C0 (images lp-mspm0g3507-bq4050 and lp-mspm0g3507-bq76952) or, with BMS_BOARD_MONITOR_ON_UART=1
+// (bsp/mspm0/config.hpp), a BQ79616 daisy chain on a UART (image lp-mspm0g3507-bq79616).
 //
 // Wiring (pins from mspm0g3507.tsv; see bsp/mspm0/README.md for the jumpers):
 //   I2C link: I2C0 SDA PA0, SCL PA1 (TI's G3507 bq769x2 example; LED1 on PA0 must be disconnected, jumper
@@ -31,16 +31,7 @@
 #include "hal/i2c_bus.hpp"
 #include "hal/uart.hpp"
 #include "hal/watchdog.hpp"
-
-#ifndef BMS_BOARD_MONITOR_ON_UART
-#define BMS_BOARD_MONITOR_ON_UART 0
-#endif
-// The LaunchPad's LED and button S2 are built only for an application that uses them: define
-// BMS_BOARD_LED_BUTTON=1 for the image (target_compile_definitions in its image.cmake). The applications of
-// these images use neither (their fault indication is the fault output), so they are left out by default.
-#ifndef BMS_BOARD_LED_BUTTON
-#define BMS_BOARD_LED_BUTTON 0
-#endif
+#include "mspm0/config.hpp"
 
 namespace image {
 

@@ -29,9 +29,7 @@ static_assert(kI2cTiming.valid, "no I2C clock divider gives this bit rate and st
 constexpr TimgClock::Config kClockConfig{Chip::kTimg0, Chip::kIrqTimg0,
                                          reg::timg::prescalerFor1MHz(kBusClockHz)};
 constinit TimgClock clock(kClockConfig);
-#if FW_WATCHDOG_SUPERVISION
 constinit WindowWatchdog watchdog(Chip::kWwdt0, __stack_limit__);
-#endif
 constinit I2cController i2c({Chip::kI2c0, Chip::kIrqI2c0, Chip::kI2c0SdaPa0, Chip::kI2c0SclPa1,
                              config::kI2cBitRate, kI2cTiming});
 // Set-up runs on constexpr copies of the inputs (their init() is const and inline), so its register writes
@@ -52,19 +50,13 @@ constexpr UartSerialTx::Config kSerialConfig{
 constinit UartSerialTx serial(kSerialConfig);
 
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
-#if FW_WATCHDOG_SUPERVISION
-#define BMS_BOARD_WATCHDOG watchdog,
-#else
-#define BMS_BOARD_WATCHDOG
-#endif
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
-constinit Board instance{clock, BMS_BOARD_WATCHDOG i2c, alert, serial, button, led};
+constinit Board instance{clock, watchdog, i2c, alert, serial, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
-constinit Board instance{clock, BMS_BOARD_WATCHDOG i2c, alert, serial};
+constinit Board instance{clock, watchdog, i2c, alert, serial};
 #endif
-#undef BMS_BOARD_WATCHDOG
 
 }  // namespace
 
@@ -84,9 +76,7 @@ void bringUp() {
   kButton.init();
 #endif
   bsp::mspm0::nvic::enable(Chip::kIrqGroup1);
-#if FW_WATCHDOG_SUPERVISION
   watchdog.start();
-#endif
 }
 
 }  // namespace image

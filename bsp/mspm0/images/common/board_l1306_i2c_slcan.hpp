@@ -6,11 +6,12 @@
 //        board_config.hpp; ALERT of the monitor on PA15 (falling edge, internal pull-up: the images set the
 //        BQ76952 ALERT active-low open-drain)
 //   UART0 TX PA8 -> XDS110 back-channel (SLCAN text; jumpers J16 1:2 and J101 9:10), DMA channel 0
-//   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1 (see below)
-//   TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15, INT_GROUP1 IRQ 1 (GPIOA)
+//   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1
+//   (mspm0/config.hpp) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15,
+//   INT_GROUP1 IRQ 1 (GPIOA)
 //
 // Contract: bringUp() runs once in thread mode, before interrupts are expected: it sets the clocks, powers
-// GPIOA, starts the scheduler clock, the bus, the serial output and the watchdog (when built), and arms
+// GPIOA, starts the scheduler clock, the bus, the serial output and the watchdog, and arms
 // nothing else.
 // board() may be called at any time (it returns the statically built board; drivers work after bringUp()).
 #pragma once
@@ -21,27 +22,13 @@
 #include "hal/i2c_bus.hpp"
 #include "hal/serial.hpp"
 #include "hal/watchdog.hpp"
-
-// The LaunchPad's LED and button S2 are built only for an application that uses them: define
-// BMS_BOARD_LED_BUTTON=1 for the image (target_compile_definitions in its image.cmake). The BQ769x2-family
-// applications of these images use neither, and the 8 KiB flash budget has no room for drivers nobody calls.
-#ifndef BMS_BOARD_LED_BUTTON
-#define BMS_BOARD_LED_BUTTON 0
-#endif
-// The watchdog and the scheduler's supervision of it (with the stack guard check each feed makes) are built
-// unless FW_WATCHDOG_SUPERVISION is 0 (images.cmake: an image short of flash may leave them out;
-// common/main.cpp then runs the scheduler unsupervised).
-#ifndef FW_WATCHDOG_SUPERVISION
-#define FW_WATCHDOG_SUPERVISION 1
-#endif
+#include "mspm0/config.hpp"
 
 namespace image {
 
 struct Board {
   fw::hal::Clock& clock;
-#if FW_WATCHDOG_SUPERVISION
   fw::hal::Watchdog& watchdog;
-#endif
   fw::hal::I2cBus& i2c;       // the battery monitor's bus (I2C0)
   fw::hal::EdgeInput& alert;  // the monitor's ALERT pin
   fw::hal::SerialTx& serial;  // SLCAN text to the PC
@@ -54,9 +41,7 @@ struct Board {
 Board& board();
 void bringUp();
 
-#if FW_WATCHDOG_SUPERVISION
 // The scheduler feeds the watchdog (1.0 s hardware timeout) every window if all watched tasks checked in.
 inline constexpr fw::Duration kWatchdogWindow = fw::ms(250);
-#endif
 
 }  // namespace image

@@ -4,9 +4,6 @@
 
 #include <cstdint>
 
-// The monitor is a BQ79616 chain on a UART, not a device on I2C0 (board_g3507_can.hpp).
-#define BMS_BOARD_MONITOR_ON_UART 1
-
 namespace image::config {
 
 // BQ79616 daisy-chain base link: 1 Mbaud 8N1 (bq79616-protocol.md section 1; IBRD 2, FBRD 0 from 32 MHz).

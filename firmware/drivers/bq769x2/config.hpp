@@ -1,0 +1,26 @@
+// Build options of the BQ769x2 / BQ7690x driver (firmware/drivers/bq769x2): every option's default, meaning
+// and dependencies. An image sets its values in bsp/mspm0/images/<preset>/options.cmake; the host uses these.
+#pragma once
+
+// The family the Monitor serves: 0 both (host tools and tests: the variant is read at run time), 1 BQ769x2
+// only, 2 BQ7690x only. An image builds for its device's family: every variant fact is then a constant
+// (except the BQ7690x cell count, which tells a BQ76905 from a BQ76907) and the other family's paths compile
+// away; the front ends Bq769x2 / Bq7690x exist only in builds for their family.
+#ifndef FW_BQ769X_FAMILY
+#define FW_BQ769X_FAMILY 0
+#endif
+static_assert(FW_BQ769X_FAMILY >= 0 && FW_BQ769X_FAMILY <= 2,
+              "FW_BQ769X_FAMILY: 0 both, 1 BQ769x2, 2 BQ7690x");
+
+// The CRC-mode probe (MonitorConfig::probeCrc). 0 removes only a path the images never ask for: their
+// configuration knows the device's mode (link.crc); probeCrc is then ignored and startProbe() uses that mode.
+#ifndef FW_BQ769X_PROBE_CRC
+#define FW_BQ769X_PROBE_CRC 1
+#endif
+
+// What only the configure and balance operations use (delayed reads: the CFGUPDATE polls; startConfigure(),
+// startBalance()). 0 leaves them out (they return InvalidArgument); the start-up CONFIG_UPDATE
+// (FW_BQ769X_CONFIG_UPDATE, app/config.hpp) needs 1, and every image ships with it.
+#ifndef FW_BQ769X_CONFIG_PATHS
+#define FW_BQ769X_CONFIG_PATHS 1
+#endif
