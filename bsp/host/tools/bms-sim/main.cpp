@@ -19,7 +19,9 @@
 #include "scenario.hpp"
 #include "scenario_player.hpp"
 #include "sim/peripherals.hpp"
+#ifndef BMS_SIM_IMAGE
 #include "sim_twin.hpp"
+#endif
 
 namespace bmssim {
 namespace {
@@ -108,11 +110,13 @@ int run(int argc, char** argv) {
   }
 #ifdef BMS_SIM_IMAGE
   if (opt.image != BMS_SIM_IMAGE) return usage("this simulator runs " BMS_SIM_IMAGE " only");
+  if (!opt.elf.empty()) return usage("--elf runs in bms-sim itself, not in an image's own simulator");
 #else
   // Each image has its own simulator, built with the image's option set (bms-sim-<preset> beside this one,
   // CMakeLists.txt): run it with the same arguments, so what bms-sim shows is what the image's options do.
+  // --elf runs here: the image itself is the option set.
   char self[4096];
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  const ssize_t n = opt.elf.empty() ? readlink("/proc/self/exe", self, sizeof self - 1) : 0;
   if (n > 0) {
     std::string path(self, static_cast<size_t>(n));
     path = path.substr(0, path.rfind('/') + 1) + "bms-sim-" + opt.image;
@@ -139,7 +143,11 @@ int run(int argc, char** argv) {
   if (opt.devices == 0) opt.devices = entry != nullptr ? entry->defaultDevices : 2;
 
   std::string error;
+#ifdef BMS_SIM_IMAGE
+  std::unique_ptr<ImageSim> sim = entry->make(opt, error);
+#else
   std::unique_ptr<ImageSim> sim = opt.elf.empty() ? entry->make(opt, error) : makeTwinSim(opt, error);
+#endif
   if (!sim) return usage(error);
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
   // The steps against this image, before anything runs: a board it does not have is an error at its line.
