@@ -6,8 +6,10 @@ checks:
   ov-cell     the ov-cell scenario trips cell_ov and the FETs / fault output act within one scan period of the
               onset; every native frame decodes with bms_native.dbc; the contract keys and the twin's CPU
               figures are in --json; no reset, no HardFault
-  comm-loss   the monitor stops answering at 2 s: comm_loss is published, the board keeps publishing, no reset
-  bus-off     (CAN images) the controller goes bus-off at 2 s: PackSummary resumes within 150 ms of the onset
+  comm-loss   the monitor stops answering at 2 s: comm_loss is published, the board keeps publishing, no reset;
+              every frame decodes with bms_native.dbc
+  bus-off     (CAN images) the controller goes bus-off at 2 s: PackSummary resumes within 150 ms of the onset;
+              every frame decodes with bms_native.dbc
   agreement   the host build and the image on the twin, same scenario (ov-cell), from the first cycle each
               publishes valid data: the same frames of the messages the image sends, in the same order, each
               within one scan period of its twin, and the same published states and protection trips within
@@ -79,6 +81,16 @@ def check_healthy(summary):
         fail(f"the twin noticed: {summary['twin_warnings']}")
 
 
+def decode_all(dbc_dir, frames):
+    """Every frame the board sent decodes with bms_native.dbc."""
+    db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
+    for t, ident, data in frames:
+        frame = db.frame_by_id(canmatrix.ArbitrationId(ident))
+        if frame is None:
+            fail(f"frame {ident:03X} at {t:.3f} ms is not in bms_native.dbc")
+        frame.decode(bytearray(data))
+
+
 def pack_summaries(frames):
     """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml)."""
     out = []
@@ -100,12 +112,7 @@ def check_ov_cell(sim, dbc_dir, elf, image, scratch):
         fail(f"cell_ov acted {latency:.3f} ms after the onset, over one scan period")
     if summary["scans"] < 30:
         fail(f"only {summary['scans']} scans in 4 s")
-    db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
-    for t, ident, data in frames:
-        frame = db.frame_by_id(canmatrix.ArbitrationId(ident))
-        if frame is None:
-            fail(f"frame {ident:03X} at {t:.3f} ms is not in bms_native.dbc")
-        frame.decode(bytearray(data))
+    decode_all(dbc_dir, frames)
     summaries = pack_summaries(frames)
     if not summaries:
         fail("no PackSummary published")
@@ -118,9 +125,10 @@ def check_ov_cell(sim, dbc_dir, elf, image, scratch):
     twin_report(summary, seconds, image, "ov-cell")
 
 
-def check_comm_loss(sim, elf, image, scratch):
+def check_comm_loss(sim, dbc_dir, elf, image, scratch):
     summary, frames, seconds = simulate(sim, scratch, f"twin-{image}", "comm-loss", 4000, ["--elf", elf])
     check_healthy(summary)
+    decode_all(dbc_dir, frames)
     late = [s for s in pack_summaries(frames) if s[0] > 3000.0]
     if not late:
         fail("no PackSummary after the link went silent")
@@ -138,9 +146,10 @@ def check_comm_loss(sim, elf, image, scratch):
           f"{summary['comm_errors']} comm errors, {summary['recoveries']} recoveries")
 
 
-def check_bus_off(sim, elf, image, scratch):
+def check_bus_off(sim, dbc_dir, elf, image, scratch):
     summary, frames, seconds = simulate(sim, scratch, f"twin-{image}", "bus-off", 4000, ["--elf", elf])
     check_healthy(summary)
+    decode_all(dbc_dir, frames)
     after = [t for t, ident, _ in frames if ident == PACK_SUMMARY and t > 2000.0]
     if not after or after[0] > 2150.0:
         fail(f"PackSummary did not resume after the bus-off at 2000 ms (next at {after[:1]})")
@@ -170,13 +179,13 @@ def first_valid(frames):
 
 def check_agreement(sim, elf, image, scratch):
     period = 100.0  # every image's scan period (ms)
-    # 3 s: past the cell_ov trip (about 2.3 s), before the monitor's own over-voltage protection acts
-    # (3.5 s), which the L1306 images leave at the device's stored configuration (no start-up CONFIG_UPDATE).
-    _, host, _ = simulate(sim, scratch, f"host-{image}", "ov-cell", 3000, ["--image", image])
-    _, twin, _ = simulate(sim, scratch, f"twin-{image}", "ov-cell", 3000, ["--elf", elf])
-    # The host build carries every message; an image may leave some out (the L1306 images send PackSummary
-    # only, bsp/mspm0/README.md): compare the messages the image sends. Both start with the first cycle that
-    # publishes valid data: the image boots and brings its monitor up on real time, the host from t = 0.
+    # 4 s: past the cell_ov trip (about 2.3 s) and the monitor's own over-voltage protection (3.5 s), which
+    # both builds configure at start-up (CONFIG_UPDATE).
+    _, host, _ = simulate(sim, scratch, f"host-{image}", "ov-cell", 4000, ["--image", image])
+    _, twin, _ = simulate(sim, scratch, f"twin-{image}", "ov-cell", 4000, ["--elf", elf])
+    # The host simulator is built with the image's options (bms-sim-<preset>), so both send the same messages;
+    # compare the messages the image sends all the same. Both start with the first cycle that publishes valid
+    # data: the image boots and brings its monitor up on real time, the host from t = 0.
     ids = {i for _, i, _ in twin}
     host_start, twin_start = first_valid(host), first_valid(twin)
     if twin_start is None:
@@ -231,9 +240,9 @@ def main():
     if check == "ov-cell":
         check_ov_cell(sim, dbc_dir, elf, image, scratch)
     elif check == "comm-loss":
-        check_comm_loss(sim, elf, image, scratch)
+        check_comm_loss(sim, dbc_dir, elf, image, scratch)
     elif check == "bus-off":
-        check_bus_off(sim, elf, image, scratch)
+        check_bus_off(sim, dbc_dir, elf, image, scratch)
     elif check == "agreement":
         check_agreement(sim, elf, image, scratch)
     else:
