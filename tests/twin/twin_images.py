@@ -182,7 +182,9 @@ def check_agreement(sim, elf, image, scratch):
     # 4 s: past the cell_ov trip (about 2.3 s) and the monitor's own over-voltage protection (3.5 s), which
     # both builds configure at start-up (CONFIG_UPDATE).
     _, host, _ = simulate(sim, scratch, f"host-{image}", "ov-cell", 4000, ["--image", image])
-    _, twin, _ = simulate(sim, scratch, f"twin-{image}", "ov-cell", 4000, ["--elf", elf])
+    # --image with --elf: bms-sim runs the twin itself, not the image's host simulator (bms-sim-<preset>).
+    summary, twin, _ = simulate(sim, scratch, f"twin-{image}", "ov-cell", 4000, ["--elf", elf, "--image", image])
+    check_healthy(summary)
     # The host simulator is built with the image's options (bms-sim-<preset>), so both send the same messages;
     # compare the messages the image sends all the same. Both start with the first cycle that publishes valid
     # data: the image boots and brings its monitor up on real time, the host from t = 0.
