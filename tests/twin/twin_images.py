@@ -25,8 +25,9 @@ import time
 import canmatrix
 import canmatrix.formats
 
-CONTRACT_KEYS = ["image", "sim_time_ms", "scans", "scan_period_ms", "scan_bus_us", "scan_transactions",
-                 "can_frames", "comm_errors", "recoveries", "protection_events"]
+# The host runs' checks (tests/tools): the same contract keys and the same candump reader (absolute times).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from bms_sim_acceptance import CONTRACT_KEYS, read_candump  # noqa: E402
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "ot", "ut", "device_safety", "stale_data", "comm_loss", "open_wire"]
 PACK_SUMMARY, PROTECTION_EVENT = 0x100, 0x103
@@ -43,16 +44,6 @@ def run(sim, args):
     if result.returncode != 0:
         fail(f"bms-sim {' '.join(args)} exited {result.returncode}: {result.stderr.strip()}")
     return json.loads(result.stdout), time.monotonic() - started
-
-
-def read_candump(path):
-    frames = []
-    with open(path) as f:
-        for line in f:
-            stamp, _, frame = line.split()
-            ident, data = frame.split("#")
-            frames.append((float(stamp[1:-1]) * 1000.0, int(ident, 16), bytes.fromhex(data)))
-    return frames
 
 
 def simulate(sim, scratch, name, scenario, duration, source):

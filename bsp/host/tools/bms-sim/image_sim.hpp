@@ -14,6 +14,10 @@
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 
+namespace bsp::host {
+class SimSerialTx;
+}
+
 namespace bmssim {
 
 struct SimOptions {
@@ -74,7 +78,9 @@ class ImageSim {
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
   virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
-  virtual void afterStep() {}                         // called after each simulation step (bookkeeping)
+  // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
+  virtual const bsp::host::SimSerialTx* slcanUart() const { return nullptr; }
+  virtual void afterStep() {}  // called after each simulation step (bookkeeping)
   // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
   virtual void runFor(fw::Duration d) { harness().runFor(d); }
   // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
