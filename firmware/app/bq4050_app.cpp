@@ -42,6 +42,10 @@ inline void Bq4050Monitor::finished(Instant now) {
   f_.scanning = false;
   ++r_.stats.scans;
   sample_.last = result;
+  // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
+  // (drivers/bq4050/limits.hpp): a cell above 5 V, what the cell below an open sense wire reads, or a
+  // temperature an open thermistor line gives. An open sense line, not a lost link: open_wire, no re-probe.
+  const bool openWire = result == Status::Implausible;
   if (result == Status::Ok) {
     const auto cells = r_.measurement.cells();
     for (size_t c = 0; c < cells.size(); ++c)
@@ -56,7 +60,7 @@ inline void Bq4050Monitor::finished(Instant now) {
     f_.failedInRow = 0;
   } else {
     ++r_.stats.scanFailures;
-    if (++f_.failedInRow >= 3) {
+    if (!openWire && ++f_.failedInRow >= 3) {
       // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every
       // interval.
       f_.probed = false;
@@ -65,7 +69,9 @@ inline void Bq4050Monitor::finished(Instant now) {
     }
   }
   summarize(view_, now);
-  scheduler_.post(protection_, result == Status::Ok ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
+  view_.totals.openWire = openWire;  // the readings cannot show it: the gauge's words were refused
+  scheduler_.post(protection_,
+                  result == Status::Ok || openWire ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
   scheduler_.post(publisher_, CanPublisher::kScanDone);
 }
 

@@ -125,9 +125,9 @@ void Bq79616Monitor::publishScan(Instant now) {
       s->cellMv[c] = static_cast<int16_t>((code * 12500 + 32768) >> 16);
       raw[c] = code;
     }
-    const bool temps = (r->valid & b616::kValidDieTemp) != 0;
-    s->tempDeciK[0] = temps ? r->dieTemp[0] : 0;
-    s->tempDeciK[1] = temps ? r->dieTemp[1] : 0;
+    const bool temps = (r->valid & b616::kValidDieTemp) != 0;  // a failed temperature read is no reading
+    s->tempDeciK[0] = temps ? r->dieTemp[0] : kNoReading;
+    s->tempDeciK[1] = temps ? r->dieTemp[1] : kNoReading;
     deviceFault = deviceFault || ((r->valid & b616::kValidFaults) != 0 && r->faultSummary != 0);
     s->takenAt = r->takenAt;
     s->valid = anyValid = true;

@@ -19,18 +19,19 @@ void CanPublisher::run(sched::EventMask events) {
   }
   s_.recovering = false;
 
-  // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan.
+  // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan (none while a set is
+  // still going out: sets go out whole).
+  const Instant now = scheduler_.now();
   const bool ti = layout_ == CanLayout::Ti;
   if ((events & (ti ? kScanDone : kTick)) != 0) {
-    if (plan_.active()) ++s_.stats.abandoned;
     if (ti) {
       plan_.beginTi();
-    } else {
-      plan_.beginNative(s_.tick, slowEvery_);
+    } else if (plan_.beginNative(s_.tick, slowEvery_)) {
+      ++s_.stats.abandoned;
     }
     ++s_.stats.cycles;
   }
-  pump(scheduler_.now());
+  pump(now);
 }
 
 inline void CanPublisher::pump(Instant now) {

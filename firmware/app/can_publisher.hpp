@@ -1,10 +1,12 @@
 // CanPublisher: sends the publish cycles of a FramePlan on a CAN bus (the G3507 images).
 //
-// Native layout: a fast cycle every `fastPeriod` and a slow one every `slowEvery` fast periods. TI layout:
-// one cycle per new scan (post kScanDone), as TI's demo sends after each read.
+// Native layout: a fast cycle every `fastPeriod` and a slow one every `slowEvery` fast periods (a slow part
+// longer than a fast period continues after the next fast frames: frame_plan.hpp). TI layout: one set per
+// new scan (post kScanDone), as TI's demo sends after each read, and only whole sets.
 // The task fills the controller's TX queue until it refuses (Overflow) and continues when a frame has left
-// (kCan), so it never waits. A cycle still unfinished when the next one is due is abandoned (counted): the
-// bus is saturated, and newer data is worth more than older frames. On bus-off it abandons the cycle, starts
+// (kCan), so it never waits. Frames still unsent when the next cycle drops them (frame_plan.hpp) count as an
+// abandoned cycle: the bus is saturated, and newer data is worth more than older frames. On bus-off it
+// abandons the cycle, starts
 // the controller's recovery (at most once per fast period) and resumes with fresh frames when the bus is
 // back. Thread mode only.
 #pragma once

@@ -4,7 +4,8 @@
 // readings (BQ769x2 per-cell averaging, BQ79616 26 Hz low-pass, BQ4050 gauge filtering), and a second sample
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
 // Current waits for two samples (load steps are real but brief); a discharge over-current latches until
-// cleared. Stale data and lost communication open both paths.
+// cleared. Stale data, lost communication and an open sense wire (the cells beside it are unmonitored)
+// open both paths.
 //
 // One constant table (in flash, referenced, never copied) for the 100 ms scan period every image uses.
 #pragma once
@@ -35,6 +36,7 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   c.rules[static_cast<uint8_t>(FaultId::DeviceSafety)] = limit(1, 1, 1, Action::AllOff);
   c.rules[static_cast<uint8_t>(FaultId::StaleData)] = limit(1, 1, 1, Action::AllOff);
   c.rules[static_cast<uint8_t>(FaultId::CommLoss)] = limit(1, 1, 1, Action::AllOff);
+  c.rules[static_cast<uint8_t>(FaultId::OpenWire)] = limit(1, 1, 1, Action::AllOff);
   c.staleAfter = scanPeriod * 3;
   c.commLossScans = 3;
   return c;

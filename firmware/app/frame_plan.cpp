@@ -9,11 +9,46 @@ namespace bms = fw::can::bms;
 
 namespace {
 
-[[gnu::noinline]] uint16_t clampU16(int32_t v) {
-  return static_cast<uint16_t>(v < 0 ? 0 : (v > 0xFFFF ? 0xFFFF : v));
+// Readings are clamped to their signal's physical range, which stops one short of the not-available value
+// (all ones for the unsigned signals, the most negative value for PackCurrent): a reading never looks
+// missing, and a missing one never looks like a reading.
+constexpr uint32_t kNotAvailable = 0xFFFFFFFFU;  // every unsigned signal's, once packStream() masks it
+static_assert(bms::PackSummary::kPackVoltageNotAvailable == 0xFFFF &&
+                  bms::PackSummary::kStateOfChargeNotAvailable == 0xFF &&
+                  bms::PackSummary::kPackCurrentNotAvailable == INT16_MIN &&
+                  bms::CellExtremes::kMaxCellVoltageNotAvailable == 0xFFFF &&
+                  bms::CellExtremes::kMaxCellIndexNotAvailable == 0xFFFF &&
+                  bms::CellExtremes::kMinCellVoltageNotAvailable == 0xFFFF &&
+                  bms::CellExtremes::kMinCellIndexNotAvailable == 0xFFFF &&
+                  bms::TemperatureExtremes::kMaxTemperatureNotAvailable == 0xFFFF &&
+                  bms::TemperatureExtremes::kMinTemperatureNotAvailable == 0xFFFF &&
+                  bms::TemperatureExtremes::kMaxTemperatureIndexNotAvailable == 0xFFFF &&
+                  bms::TemperatureExtremes::kMinTemperatureIndexNotAvailable == 0xFFFF &&
+                  bms::CellVoltages::kCellNotAvailable == 0xFFFF &&
+                  bms::Temperatures::kTempNotAvailable == 0xFFFF,
+              "bms.yaml's not-available values are the ones this plan sends");
+static_assert(bms::CellVoltages::kCellTotal == kMaxCellsPerBoard &&
+              bms::Temperatures::kTempTotal == kMaxTempsPerBoard);
+static_assert(
+    [] {
+      for (size_t i = 0; i < 4; ++i) {
+        const can::Field a = bms::CellExtremes::kFields[i], b = bms::TemperatureExtremes::kFields[i];
+        if (a.start != b.start || a.length != b.length) return false;
+      }
+      return true;
+    }(),
+    "CellExtremes and TemperatureExtremes share one layout (fill() builds both alike)");
+constexpr uint8_t kOpenWireStatus =
+    4;  // CellVoltages.Status: some cells of the frame are beside an open wire
+uint16_t clampU16(int32_t v) {
+  return static_cast<uint16_t>(v < 0 ? 0 : (v > 0xFFFE ? 0xFFFE : v));
+}
+// A 16-bit reading (mV, 0.1 K) never reaches the not-available value: only a negative one needs clamping.
+[[gnu::always_inline]] inline uint32_t reading(int32_t v) {
+  return static_cast<uint32_t>(v & ~(v >> 31));
 }
 int16_t clampI16(int32_t v) {
-  return static_cast<int16_t>(v < -32768 ? -32768 : (v > 32767 ? 32767 : v));
+  return static_cast<int16_t>(v < -32767 ? -32767 : (v > 32767 ? 32767 : v));
 }
 // Frames of three items (cells or temperatures) per board: ceil(items / 3) as a multiply and shift
 // (exact for items + 2 < 128; items <= kMaxCellsPerBoard), since ARMv6-M has no divide instruction.
@@ -151,15 +186,12 @@ static_assert(sizeof bms::PackSummary::kFields / sizeof(can::Field) == kMaxField
 
 }  // namespace
 
-// A cycle is the steps Summary .. TiCells in order, each with framesIn() frames:
-//   fast: summary, extremes, [event]
-//   slow: the same, then cells (boards x frames per board), temperatures (likewise), temperature extremes
-//   ti:   boards x 4 frames, top of stack first
+// A cycle walks steps in order, each with framesIn() frames:
+//   fast part: summary, extremes, [event]; then the slow part if one is waiting (resume_)
+//   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes
+//   ti:        boards x 4 frames, top of stack first
 inline uint16_t FramePlan::framesIn(Step step) const {
   const uint16_t boards = pack_.boardCount();
-  if (kind_ == kTi) {
-    return kTiLayout && step == kTiCells && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
-  }
   if (!sent(step)) return 0;
   switch (step) {
     case kSummary:
@@ -169,39 +201,64 @@ inline uint16_t FramePlan::framesIn(Step step) const {
       return event_;
     case kCells:
     case kTemps:
-      return kind_ == kSlow
-                 ? static_cast<uint16_t>(
-                       boards * framesPerBoard(step == kCells ? pack_.cellsPerBoard : pack_.tempsPerBoard))
-                 : 0;
+      return static_cast<uint16_t>(
+          boards * framesPerBoard(step == kCells ? pack_.cellsPerBoard : pack_.tempsPerBoard));
     case kTempExtremes:
-      return kind_ == kSlow && pack_.tempsPerBoard != 0;
+      return pack_.tempsPerBoard != 0;
+    case kTiCells:
+      return kTiLayout && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
     default:
       return 0;
   }
 }
 
-// Moves on from steps whose frames are all done (or that have none).
+// Moves on from steps whose frames are all done (or that have none): after the fast part to the slow part
+// waiting (if any), after the slow part or a TI set to the end.
 void FramePlan::settle() {
+  if constexpr (!kCoreMessages && !kTiLayout) {  // PackSummary is the only message
+    if (index_ != 0) step_ = kDone;
+    return;
+  }
   while (step_ != kDone && index_ >= framesIn(step_)) {
-    step_ = static_cast<Step>(step_ + 1);
     index_ = 0;
+    if (kCoreMessages && step_ == kEvent) {
+      step_ = resume_, index_ = resumeIndex_;
+      resume_ = kDone;
+    } else {
+      step_ = step_ == kTempExtremes ? kDone : static_cast<Step>(step_ + 1);
+    }
   }
 }
 
-void FramePlan::begin(Kind kind) {
-  kind_ = kind;
-  event_ = sent(kEvent) && kind != kTi && (status_.pendingTripped | status_.pendingCleared) != 0;
-  step_ = kSummary;
+bool FramePlan::begin(bool slow) {
+  bool dropped = startFast();
+  if (slow) {
+    dropped = dropped || resume_ != kDone;  // the last second's slow part had not finished
+    resume_ = kCells, resumeIndex_ = 0;
+  }
+  return dropped;
+}
+
+void FramePlan::beginTi() {
+  if constexpr (!kTiLayout) return;
+  if (active()) return;  // a set is going out: it finishes whole, and carries this scan's data from here on
+  // Only after a scan (it has just ended) that validated every board and shows no open wire: those codes are
+  // not cell voltages, and the layout cannot say so.
+  if (!pack_.totals.complete) return;
+  step_ = kTiCells;
   index_ = 0;
   settle();
 }
 
 uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   // Steps a build leaves out never come up (framesIn() gives them no frames); saying so drops their code.
-  if (!sent(step_)) return 0;
+  if (!sent(step_) || (!kCoreMessages && !kTiLayout && step_ != kSummary)) return 0;
   // Each step fills the raw values of its message in field order (can/bms.hpp kFields); one call packs them,
-  // so every message costs only its stores and all share one packing loop.
-  uint32_t v[kMaxFields] = {};
+  // so every message costs only its stores and all share one packing loop. A value left unset goes out as
+  // not available.
+  uint32_t v[kMaxFields];
+  for (uint32_t& x : v)
+    x = kNotAvailable;
   const PackTotals& t = pack_.totals;
   // Totals of the last scan go out only while that scan is fresh: never an old value as a current one.
   const bool fresh = elapsed(t.takenAt, now) <= staleAfter_;
@@ -211,37 +268,38 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
     case kDone:
       return 0;
     case kSummary:
-      if (cells) {
-        v[0] = clampU16(divideBy10(t.packMv + 5));
-        v[1] = static_cast<uint16_t>(pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : 0);
-        v[6] = 1;  // DataValid
-      }
-      v[2] = cells ? pack_.stateOfCharge : 255;
+      // The pack voltage is the sum over every board, so only a scan that validated all of them gives it.
+      if (fresh && t.complete) v[0] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
+      v[1] = static_cast<uint16_t>(cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa))
+                                                             : bms::PackSummary::kPackCurrentNotAvailable);
+      if (cells) v[2] = pack_.stateOfCharge;  // 255 (not available) without a gauge
       v[3] = status_.chargeOn;
       v[4] = status_.dischargeOn;
       v[5] = status_.faultOutput;
-      v[7] = counter_ & 0xFU;
+      v[6] = cells;  // DataValid
+      v[7] = counter_;
       v[8] = status_.active;
       break;
     case kExtremes:
-      if (cells) {
-        v[0] = clampU16(t.extreme[kMaxCell]), v[1] = t.at[kMaxCell];
-        v[2] = clampU16(t.extreme[kMinCell]), v[3] = t.at[kMinCell];
+    case kTempExtremes: {
+      // CellExtremes and TemperatureExtremes share their layout (highest, where, lowest, where), as
+      // PackTotals keeps both pairs alike.
+      const uint8_t e = step_ == kExtremes ? kMaxCell : kMaxTemp;
+      if (step_ == kExtremes ? cells : temps) {
+        v[0] = reading(t.extreme[e]), v[1] = t.at[e];
+        v[2] = reading(t.extreme[e + 1]), v[3] = t.at[e + 1];
       }
       break;
-    case kTempExtremes:
-      if (temps) {
-        v[0] = clampU16(t.extreme[kMaxTemp]), v[1] = clampU16(t.extreme[kMinTemp]);
-        v[2] = t.at[kMaxTemp], v[3] = t.at[kMinTemp];
-      }
-      break;
+    }
     case kEvent:
       v[0] = status_.active, v[1] = status_.pendingTripped, v[2] = status_.pendingCleared;
       v[3] = pack_.commErrors;
       break;
     case kCells:
     case kTemps: {
-      // Board, frame index, status, then three slots of cells or temperatures (zero unless Valid).
+      // Board, frame index, status, then three slots of cells or temperatures: readings of a Valid board,
+      // not available otherwise, and for slots with no reading (past the board's items, kNoReading, beside
+      // an open wire).
       const bool isCells = step_ == kCells;
       const uint8_t items = isCells ? pack_.cellsPerBoard : pack_.tempsPerBoard;
       const uint16_t perBoard = framesPerBoard(items);
@@ -256,29 +314,28 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
+      const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
       v[0] = board, v[1] = frame, v[2] = static_cast<uint8_t>(st);
+      if (st != BoardStatus::Valid) break;
+      if ((open & 7U) != 0) v[2] = kOpenWireStatus;
       for (uint8_t j = 0, i = static_cast<uint8_t>(frame * 3); j < 3; ++j, ++i) {
-        if (st == BoardStatus::Valid && i < items) v[3 + j] = clampU16(values[i]);
+        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading) v[3 + j] = reading(values[i]);
       }
       break;
     }
     case kTiCells: {
       if constexpr (!kTiLayout) return 0;  // compiled out: framesIn() gives this step no frames
-      // Top of stack first: slot 0 is the highest board. A board that is not Valid is left out (the layout
-      // has no status field to say so): its four frames are skipped.
-      for (;;) {
-        const auto slot = static_cast<uint16_t>(index_ / 4);
-        const auto b = static_cast<uint16_t>(pack_.boardCount() - 1 - slot);
-        if (boardStatus(pack_.boards[b], now, staleAfter_) == BoardStatus::Valid) {
-          const int16_t* raw = pack_.rawCells + b * kMaxCellsPerBoard + 15 - (index_ % 4) * 4;
-          for (uint8_t j = 0; j < 4; ++j)
-            v[j] = static_cast<uint16_t>(raw[-j]);  // cells 16..1
-          break;
-        }
-        index_ = static_cast<uint16_t>((slot + 1) * 4);
-        settle();
-        if (step_ == kDone) return 0;
+      // Top of stack first: slot 0 is the highest board. A board that stopped being Valid since the set
+      // began ends the set (the layout cannot say so, and a receiver would give the next board's cells to
+      // it).
+      const auto b = static_cast<uint16_t>(pack_.boardCount() - 1 - index_ / 4);
+      if (boardStatus(pack_.boards[b], now, staleAfter_) != BoardStatus::Valid) {
+        step_ = kDone;
+        return 0;
       }
+      const int16_t* raw = pack_.rawCells + b * kMaxCellsPerBoard + 15 - (index_ % 4) * 4;
+      for (uint8_t j = 0; j < 4; ++j)
+        v[j] = static_cast<uint16_t>(raw[-j]);  // cells 16..1
       break;
     }
   }
@@ -288,7 +345,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 }
 
 void FramePlan::advance() {
-  if (step_ == kDone) return;
+  // On a finished plan this only counts index_ up: settle() leaves kDone alone.
   if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;

@@ -3,15 +3,24 @@
 // A cycle is a list of messages; frames are built only when the sink is ready to take them (build()), and the
 // plan moves on only once a frame was accepted (advance()). So a frame held back by a full queue or a bus-off
 // is rebuilt from the current data when it finally goes, never sent with the data it had when the cycle
-// began. Boards whose data is not Valid (pack_view.hpp) are sent with their status and zeroed values.
+// began. A value with no reading behind it goes out as its signal's not-available value (bms.yaml): the
+// cells and sensors of a board whose data is not Valid (pack_view.hpp, sent with its status), slots beyond
+// the board's cells or sensors, cells beside an open sense wire (status open_wire), extremes and totals with
+// nothing fresh behind them.
 //
 // Cycles
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
-//                         TemperatureExtremes
+//                         TemperatureExtremes. The slow part may take longer than 100 ms (64 boards: 449
+//                         frames, about 120 ms at 500 kbit/s): a fast cycle that begins while it is still
+//                         going sends its own frames first and then lets the slow part continue where it
+//                         stopped. Only a slow cycle drops what is left of the previous one.
 //   ti (after each scan)  seed 001's layout: per board, top of stack first, four TiCellVoltages frames with
-//                         cells 16..13, 12..9, 8..5, 4..1 as raw big-endian codes; only Valid boards (the
-//                         layout has no status field, so an invalid board is left out rather than faked)
+//                         cells 16..13, 12..9, 8..5, 4..1 as raw big-endian codes. Only whole sets: a set
+//                         begins only after a fresh scan that validated every board with no open wire (the
+//                         layout has no board index or status, so a receiver counts frames from the top),
+//                         a scan that ends while a set is going out starts none (the rest of the set
+//                         carries its data), and a board that stops being Valid mid-set ends the set there.
 // Images short of flash may build the native cycles with fewer messages (FW_PUBLISH_LEVEL,
 // app/publish_status.hpp); a message a build leaves out never comes up in a cycle.
 // Contract: thread mode (the publish task); the referenced pack and status must outlive the plan.
@@ -29,7 +38,7 @@
 namespace fw::app {
 
 // The TI layout is built only where it is used (FW_CAN_TI_LAYOUT in can_bits.hpp: the lp-mspm0g3507-bq79616
-// image and the host). Images built without it have no TI cycle: beginTi() starts an empty one.
+// image and the host). Images built without it have no TI cycle: beginTi() starts none.
 
 inline constexpr bool kTiLayout = FW_CAN_TI_LAYOUT != 0;
 
@@ -40,18 +49,19 @@ class FramePlan {
   FramePlan(const PackView& pack, PublishStatus& status, Duration staleAfter)
       : pack_(pack), status_(status), staleAfter_(staleAfter) {}
 
-  void beginFast() { begin(kFast); }
-  void beginSlow() { begin(kSlow); }
-  void beginTi() { begin(kTi); }
+  // Each begin returns true when it dropped frames of an earlier cycle that had not gone out (a saturated
+  // bus): the fast part of the last cycle, or, for a slow cycle, what was left of the last slow part.
+  bool beginFast() { return kCoreMessages ? begin(false) : startFast(); }
+  bool beginSlow() { return begin(true); }
+  // A TI set after a scan; none while a set is going out.
+  void beginTi();
   // The native cycle of a publish tick: slow every `slowEvery` ticks (`tick` counts them, 0 = slow), fast
   // otherwise. A build that sends only what every cycle carries (FW_PUBLISH_LEVEL 0) has no slow cycle.
-  void beginNative(uint8_t& tick, uint8_t slowEvery) {
-    if (kCoreMessages && tick == 0) {
-      beginSlow();
-    } else {
-      beginFast();
-    }
-    if (kCoreMessages && ++tick == slowEvery) tick = 0;
+  bool beginNative(uint8_t& tick, uint8_t slowEvery) {
+    if (!kCoreMessages) return startFast();
+    const bool slow = tick == 0;
+    if (++tick == slowEvery) tick = 0;
+    return begin(slow);
   }
   bool active() const { return step_ != kDone; }
 
@@ -69,15 +79,25 @@ class FramePlan {
   }
   // The frame from the last build() was accepted: move to the next one.
   void advance();
-  // Drops the rest of the cycle (bus-off: the next cycle starts from fresh data).
-  void abandon() { step_ = kDone; }
+  // Drops the rest of the cycle and any slow part waiting (bus-off: the next cycle starts from fresh data).
+  void abandon() { step_ = resume_ = kDone; }
 
  private:
-  enum Kind : uint8_t { kFast, kSlow, kTi };
   // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
-  // of (framesIn() == 0).
+  // of (framesIn() == 0). Fast part: kSummary..kEvent; slow part: kCells..kTempExtremes; TI: kTiCells.
   enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
-  void begin(Kind kind);
+  bool begin(bool slow);  // (.cpp) the cycles with a slow part (FW_PUBLISH_LEVEL 1 and up)
+  // The fast part, PackSummary first (every build sends it, so no settle() is needed); a slow part in
+  // progress waits for it (resume_). Inline: a build with PackSummary alone and no statistics keeps only
+  // the stores.
+  bool startFast() {
+    const bool dropped = step_ <= kEvent;
+    if (kCoreMessages && step_ >= kCells && step_ <= kTempExtremes) resume_ = step_, resumeIndex_ = index_;
+    if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
+    step_ = kSummary;
+    index_ = 0;
+    return dropped;
+  }
   inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
   // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
   [[gnu::always_inline]] static constexpr bool sent(Step step) {
@@ -87,11 +107,12 @@ class FramePlan {
   }
   void settle();
 
-  Kind kind_ = kFast;
   Step step_ = kDone;
-  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  Step resume_ = kDone;  // where a slow part continues once the fast part is done (kDone: none)
+  bool event_ = false;   // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
   uint8_t counter_ = 0;
-  uint16_t index_ = 0;  // frame within the current step
+  uint16_t index_ = 0;        // frame within the current step
+  uint16_t resumeIndex_ = 0;  // ... and within resume_
   const PackView& pack_;
   PublishStatus& status_;
   Duration staleAfter_;

@@ -7,7 +7,10 @@
 //                   Stale       the values validated once but are older than staleAfter
 //                   CommFault   the latest attempt failed (the values, if any, are from before)
 //                   NotPresent  the board never answered since start-up
-// Readers must only use values of Valid boards; publishers zero the others (never a stale value as fresh).
+// Readers must only use values of Valid boards; publishers send the others as not available (never a stale
+// value as fresh). Within a Valid board two kinds of slot hold no reading: a temperature the monitor could
+// not read in a scan that otherwise validated (kNoReading), and the cells beside an open sense wire
+// (openWireCells()). Totals, extremes and the CAN frames leave both out.
 // Units: cell voltages in mV, temperatures in 0.1 K, current in mA (positive = charging).
 #pragma once
 
@@ -34,6 +37,24 @@ static_assert(kMaxBoards >= 1);
 
 enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPresent = 3 };
 
+// A temperature slot of a Valid board that holds no reading (the sensor's part of the scan failed).
+inline constexpr int16_t kNoReading = INT16_MIN;
+
+// Open sense wire, seen in the readings alone (the same rule for every monitor): when the tap between two
+// cells is disconnected, its node discharges and the two differential measurements beside it go one over,
+// one under (SLUUCG7 / SLUUBY2B, Settings:Cell Open-Wire:Check Time: "an over-voltage or under-voltage event
+// will be triggered on that cell or an adjacent cell"; SLUSCM3K 8.3.2.3: OV and UV usually come before the
+// open-wire fault). In bms-sim one reads about nothing and the other both cells, or its input's full scale
+// (BQ769x2: 7 400 and 0 mV for two 3.7 V cells; BQ79616: 6 250 and 0 mV). Two working cells never differ by
+// more than kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit
+// (the firmware's cell_ov trips at 4.25 V). So two neighbours further apart are an open wire between them,
+// and neither reading is a cell voltage. A tap at either end of the stack, a node that still holds its
+// charge, or a wire whose neighbours do not give this pattern, is not caught here (the cell limits still act
+// on such readings; regmaps/README.md lists what is open).
+inline constexpr int16_t kOpenWireStepMv = 4500;
+// The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire between them.
+uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);
+
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {
   Instant takenAt;  // when the values were measured (end of the validated transaction)
@@ -53,13 +74,15 @@ enum Extreme : uint8_t { kMaxCell = 0, kMinCell = 1, kMaxTemp = 2, kMinTemp = 3 
 struct PackTotals {
   Instant takenAt;     // end of the scan these totals describe
   Instant oldest;      // oldest takenAt among all boards (Instant{0} if any board never validated)
-  int32_t packMv;      // sum of the validated cells
+  int32_t packMv;      // sum of the validated cells (the pack's voltage when `complete`)
   int16_t extreme[4];  // by Extreme: highest / lowest cell (mV), highest / lowest temperature (0.1 K)
   // Where each extreme is: cells as board * kMaxCellsPerBoard + cell, temperatures as
   // board * kMaxTempsPerBoard + sensor (0-based).
   uint16_t at[4];
-  bool cells;  // at least one board validated in the scan (the cell extremes are meaningful)
-  bool temps;  // ... and reported temperatures (the temperature extremes are meaningful)
+  bool cells;     // at least one board validated in the scan (the cell extremes are meaningful)
+  bool temps;     // ... and reported temperatures (the temperature extremes are meaningful)
+  bool complete;  // every board validated in the scan and no open wire: packMv is the whole pack
+  bool openWire;  // a validated board's readings show an open sense wire (or the monitor says so)
 };
 
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
@@ -83,9 +106,10 @@ struct PackView {
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
 };
 
-// Recomputes view.totals from the boards whose last attempt validated, and counts the boards whose last
-// attempt failed into view.commErrors; `scanEnd` is when the scan ended. Monitors call it exactly once per
-// scan, after recording every board's attempt.
+// Recomputes view.totals from the boards whose last attempt validated (without the slots that hold no
+// reading), and counts the boards whose last attempt failed into view.commErrors; `scanEnd` is when the scan
+// ended. Monitors call it exactly once per scan, after recording every board's attempt; a monitor that
+// learns of an open sense line otherwise (the BQ4050's refused cell word) sets totals.openWire after it.
 void summarize(PackView& view, Instant scanEnd);
 
 constexpr BoardStatus boardStatus(const BoardSample& b, Instant now, Duration staleAfter) {

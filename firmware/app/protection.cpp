@@ -25,7 +25,8 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   // one to look at now, then one loop does the rest. Value limits are only looked at with fresh data:
   // missing data neither trips nor clears them. The device rule's value is 1 while the monitor reports a
   // fault (its line at once, its status with each fresh scan); the freshness rules' values are 1 while the
-  // data is stale or the link is lost. A board that never answered counts as stale from start-up.
+  // data is stale or the link is lost; the open-wire rule's is 1 while the last scan shows an open sense
+  // wire. A board that never answered counts as stale from start-up.
   const PackView* pack = in.pack;
   const PackTotals* t = &pack->totals;
   int32_t value[kFaultCount] = {};
@@ -45,6 +46,8 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
       value[5] = t->extreme[kMinTemp];
       evaluated |= bit(FaultId::Overtemperature) | bit(FaultId::Undertemperature);
     }
+    value[9] = t->openWire;
+    evaluated |= bit(FaultId::OpenWire);
   }
   value[6] = in.faultLine || (in.fresh && pack->deviceFault);
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
@@ -137,6 +140,8 @@ const char* faultName(FaultId id) {
       return "stale_data";
     case FaultId::CommLoss:
       return "comm_loss";
+    case FaultId::OpenWire:
+      return "open_wire";
   }
   return "?";
 }

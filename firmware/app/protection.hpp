@@ -13,7 +13,9 @@
 //   - an action: which FETs open (charge, discharge or both) or, on images without FETs, the fault output.
 // Stale data and lost communication are faults like any other: the evaluation knows when the last valid
 // measurement was taken and how many scans in a row failed. Missing data never clears a fault: value rules
-// are only evaluated on fresh, validated samples.
+// are only evaluated on fresh, validated samples. An open sense wire (PackTotals::openWire: seen in the
+// readings, or reported by the monitor) is a fault of its own: the cells beside it are left out of the cell
+// limits, so the fault stands in for them.
 //
 // Delays are built unless FW_PROTECTION_DELAYS is 0 (the L1306 images, whose limits use none: see
 // default_limits.hpp); a build without them has no Rule::delay and trips on the debounce count alone.
@@ -46,8 +48,9 @@ enum class FaultId : uint8_t {
   DeviceSafety,  // the battery monitor reports a tripped protection of its own
   StaleData,     // no valid measurement for longer than staleAfter
   CommLoss,      // commLossScans scan attempts in a row failed
+  OpenWire,      // a sense wire is open: the readings of the cells beside it are not cell voltages
 };
-inline constexpr uint8_t kFaultCount = 9;
+inline constexpr uint8_t kFaultCount = 10;
 using FaultMask = uint16_t;
 constexpr FaultMask bit(FaultId id) {
   return static_cast<FaultMask>(1U << static_cast<uint8_t>(id));
@@ -86,7 +89,7 @@ struct ProtectionConfig {
 // the boards whose status is Valid; the freshness rules look at every board of `pack` on every evaluation.
 struct ProtectionInputs {
   const PackView* pack = nullptr;  // the measured pack (required; all zero before the first scan)
-  bool fresh = false;              // a scan just completed and validated
+  bool fresh = false;              // a scan just completed and the device answered (what validated: `pack`)
   bool scanFailed = false;         // a scan attempt just failed
   bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own
 };

@@ -7,14 +7,11 @@ namespace fw::app {
 void SlcanPublisher::run(sched::EventMask events) {
   if ((events & kSent) != 0) {
     s_.busy = false;
-    if (!s_.lineFromOldCycle) plan_.advance();  // the line built from the current frame has left
-    s_.lineFromOldCycle = false;
     if (kStats) ++s_.stats.frames;
   }
   if ((events & kTick) != 0) {
-    if (kStats && plan_.active()) ++s_.stats.abandoned;
-    s_.lineFromOldCycle = s_.busy;
-    plan_.beginNative(s_.tick, slowEvery_);
+    const bool dropped = plan_.beginNative(s_.tick, slowEvery_);
+    if (kStats && dropped) ++s_.stats.abandoned;
     if (kStats) ++s_.stats.cycles;
   }
   pump(scheduler_.now());
@@ -31,6 +28,9 @@ void SlcanPublisher::pump(Instant now) {
     plan_.abandon();
     return;
   }
+  // The line is the transmitter's now (s_.line stays untouched until kSent): the plan moves on at once, so a
+  // tick while it is on the wire begins the next cycle from the right place.
+  plan_.advance();
   s_.busy = true;
 }
 

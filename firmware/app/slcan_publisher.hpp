@@ -2,8 +2,8 @@
 // L1306 images: the XDS110 back-channel UART), so a PC reads them with slcand / python-can as a CAN bus.
 //
 // One line is in flight at a time; the next is built (from the live pack) when the previous has left, so
-// nothing waits and nothing stale is sent. A cycle still unfinished when the next is due is abandoned
-// (counted). Thread mode only.
+// nothing waits and nothing stale is sent. Cycles follow FramePlan (a slow part continues after the next
+// fast frames); frames a new cycle drops count as an abandoned cycle. Thread mode only.
 #pragma once
 
 #include <cstdint>
@@ -48,7 +48,6 @@ class SlcanPublisher final : public sched::Task {
   struct State {
     uint8_t tick;
     bool busy;
-    bool lineFromOldCycle;  // the line in flight was built before the current cycle began
     uint8_t line[slcan::kStandardLength];
     sched::Timer timer;
     PublishStats stats;

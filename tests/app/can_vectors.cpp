@@ -1,5 +1,6 @@
 // Prints frames packed by the generated C++ packers, each with the physical values a DBC reader must decode
-// from it. The values were worked out by hand from the catalogue (raw * factor + offset), not computed here.
+// from it. The values were worked out by hand from the catalogue (raw * factor + offset), not computed here;
+// "na" means the signal's not-available value, which the DBC must name "not_available".
 // Output lines: <layout> <id hex> <8 data bytes hex> <Signal>=<value> ...
 #include <cstdio>
 
@@ -29,8 +30,21 @@ int main() {
   s.counter = 9;
   s.activeFaults = 0x0101;
   print("native", s.pack(),
-        "PackVoltage=48.12 PackCurrent=-12.34 StateOfCharge=87 ChargeFet=1 DischargeFet=0 FaultOutput=1 "
+        "PackVoltage=481.2 PackCurrent=-12.34 StateOfCharge=87 ChargeFet=1 DischargeFet=0 FaultOutput=1 "
         "DataValid=1 Counter=9 ActiveFaults=257");
+  s.packVoltage = 51200;  // 64 boards x 16 cells x 5 V
+  s.packCurrent = -32767;
+  s.activeFaults = 0x0200;  // open_wire
+  print("native", s.pack(),
+        "PackVoltage=5120 PackCurrent=-327.67 StateOfCharge=87 ChargeFet=1 DischargeFet=0 FaultOutput=1 "
+        "DataValid=1 Counter=9 ActiveFaults=512");
+  s.packVoltage = 0xFFFF;
+  s.packCurrent = INT16_MIN;
+  s.stateOfCharge = 255;
+  s.dataValid = 0;
+  print("native", s.pack(),
+        "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=1 DischargeFet=0 FaultOutput=1 DataValid=0 "
+        "Counter=9 ActiveFaults=512");
 
   CellExtremes e;
   e.maxCellVoltage = 4201;
@@ -38,6 +52,8 @@ int main() {
   e.minCellVoltage = 2999;
   e.minCellIndex = 1023;
   print("native", e.pack(), "MaxCellVoltage=4201 MaxCellIndex=17 MinCellVoltage=2999 MinCellIndex=1023");
+  e.maxCellVoltage = e.maxCellIndex = e.minCellVoltage = e.minCellIndex = 0xFFFF;
+  print("native", e.pack(), "MaxCellVoltage=na MaxCellIndex=na MinCellVoltage=na MinCellIndex=na");
 
   TemperatureExtremes t;
   t.maxTemperature = 3332;  // 60.05 degC
@@ -46,6 +62,9 @@ int main() {
   t.minTemperatureIndex = 0;
   print("native", t.pack(),
         "MaxTemperature=60.05 MinTemperature=-19.95 MaxTemperatureIndex=3 MinTemperatureIndex=0");
+  t.maxTemperature = t.minTemperature = t.maxTemperatureIndex = t.minTemperatureIndex = 0xFFFF;
+  print("native", t.pack(),
+        "MaxTemperature=na MinTemperature=na MaxTemperatureIndex=na MinTemperatureIndex=na");
 
   ProtectionEvent p;
   p.activeFaults = 0x0001;
@@ -64,18 +83,29 @@ int main() {
   print("native", c.pack(), "Board=5 FrameIndex=2 Status=0 Cell07=3700 Cell08=3701 Cell09=3702");
   c.frameIndex = 5;  // cell 16 only
   c.cell[0] = 4100;
-  c.cell[1] = 0;
-  c.cell[2] = 0;
+  c.cell[1] = 0xFFFF;
+  c.cell[2] = 0xFFFF;
   print("native", c.pack(), "Board=5 FrameIndex=5 Status=0 Cell16=4100");
+  c.board = 63;
+  c.frameIndex = 1;  // cells 4..6, the tap between 4 and 5 open
+  c.status = 4;
+  c.cell[0] = 0xFFFF;
+  c.cell[1] = 0xFFFF;
+  c.cell[2] = 3650;
+  print("native", c.pack(), "Board=63 FrameIndex=1 Status=4 Cell04=na Cell05=na Cell06=3650");
 
   Temperatures tt;
   tt.board = 1;
-  tt.frameIndex = 1;  // sensors 4..6
-  tt.status = 1;
+  tt.frameIndex = 0;  // sensors 1..3
+  tt.status = 0;
   tt.temp[0] = 2982;  // 25.05 degC
   tt.temp[1] = 2732;  // 0.05 degC
-  tt.temp[2] = 3232;  // 50.05 degC
-  print("native", tt.pack(), "Board=1 FrameIndex=1 Status=1 Temp4=25.05 Temp5=0.05 Temp6=50.05");
+  tt.temp[2] = 0xFFFF;
+  print("native", tt.pack(), "Board=1 FrameIndex=0 Status=0 Temp1=25.05 Temp2=0.05 Temp3=na");
+  tt.frameIndex = 1;  // sensor 4 (slots 5 and 6: no sensor, not in the DBC)
+  tt.temp[0] = 3232;  // 50.05 degC
+  tt.temp[1] = 0xFFFF;
+  print("native", tt.pack(), "Board=1 FrameIndex=1 Status=0 Temp4=50.05");
 
   TiCellVoltages ti;
   ti.vCell[0] = 0x16C0;  // 5824 * 190.73 uV = 1.11081152 V (seed 001: "1.1108 V")

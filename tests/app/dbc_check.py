@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Decodes the frames printed by can_vectors with the generated DBC files, using Debian's python3-canmatrix
-(an independent DBC reader), and compares every signal with the value worked out by hand.
+(an independent DBC reader), and compares every signal with the value worked out by hand. An expected value
+"na" means the DBC must name the raw value "not_available" (VAL_) and place it outside the signal's range.
 
 usage: dbc_check.py <vectors-program> <native.dbc> <ti.dbc>
 Exit 0 when every frame decodes to exactly the expected signals and values."""
@@ -28,11 +29,20 @@ def main():
             print(f"FAIL: {layout} has no message with id 0x{ident}")
             failures += 1
             continue
-        decoded = {k: float(v.phys_value) for k, v in frame.decode(bytearray.fromhex(data)).items()}
-        wanted = {k: float(v) for k, v in (item.split("=") for item in expect)}
+        signals = frame.decode(bytearray.fromhex(data))
+        decoded = {k: float(v.phys_value) for k, v in signals.items()}
+        wanted = dict(item.split("=") for item in expect)
         for signal, value in wanted.items():
             got = decoded.get(signal)
-            if got is None or abs(got - value) > 1e-6:
+            if value == "na":
+                s = signals.get(signal)
+                named = s.signal.values.get(int(s.raw_value)) if s is not None else None
+                in_range = s is not None and s.signal.min <= decoded[signal] <= s.signal.max
+                if named != "not_available" or in_range:
+                    print(f"FAIL: {frame.name} {signal}: raw {s and s.raw_value} is named {named!r} and "
+                          f"{'inside' if in_range else 'outside'} the signal's range (frame {data})")
+                    failures += 1
+            elif got is None or abs(got - float(value)) > 1e-6:
                 print(f"FAIL: {frame.name} {signal}: decoded {got}, expected {value} (frame {data})")
                 failures += 1
         extra = set(decoded) - set(wanted)

@@ -1,6 +1,9 @@
-// FramePlan: which frames a publish cycle carries, and that no stale or invalid value goes out as current.
+// FramePlan: which frames a publish cycle carries, that no stale or invalid value goes out as current, and
+// that a value with no reading behind it goes out as its signal's not-available value (bms.yaml).
 #include <gtest/gtest.h>
 
+#include <map>
+#include <set>
 #include <vector>
 
 #include "app/frame_plan.hpp"
@@ -15,31 +18,33 @@ using fw::app::PackView;
 using fw::app::PublishStatus;
 namespace bms = fw::can::bms;
 
+constexpr uint16_t kNa = 0xFFFF;  // every unsigned signal's not-available value in bms.yaml
+
 fw::Instant at(uint32_t tMs) {
   return fw::Instant{tMs * 1000};
 }
 
 struct Pack {
-  BoardSample boards[2]{};
-  int16_t raw[2][16]{};
+  std::vector<BoardSample> boards;
+  std::vector<int16_t> raw;
   PackView view;
   PublishStatus status;
   FramePlan plan{view, status, ms(300)};
 
-  Pack() {
+  explicit Pack(int n = 2, uint8_t cells = 16, uint8_t temps = 2) : boards(n), raw(n * 16) {
     view.boards = boards;
-    view.cellsPerBoard = 16;
-    view.tempsPerBoard = 2;
-    view.rawCells = &raw[0][0];
-    for (int b = 0; b < 2; ++b) {
+    view.cellsPerBoard = cells;
+    view.tempsPerBoard = temps;
+    view.rawCells = raw.data();
+    for (int b = 0; b < n; ++b) {
       boards[b].valid = true;
       boards[b].last = fw::Status::Ok;
       for (int c = 0; c < 16; ++c) {
         boards[b].cellMv[c] = static_cast<int16_t>(3000 + 100 * b + c);
-        raw[b][c] = static_cast<int16_t>(0x1000 + 0x100 * b + c);
+        raw[b * 16 + c] = static_cast<int16_t>(0x1000 + 0x100 * b + c);
       }
-      boards[b].tempDeciK[0] = static_cast<int16_t>(2982 + b);
-      boards[b].tempDeciK[1] = static_cast<int16_t>(2990 + b);
+      for (int t = 0; t < 4; ++t)
+        boards[b].tempDeciK[t] = static_cast<int16_t>(2982 + 8 * t + b);
     }
     scanned(0);
   }
@@ -49,11 +54,11 @@ struct Pack {
     }
     fw::app::summarize(view, at(tMs));
   }
-  // All frames of the current cycle, as built at `tMs`.
-  std::vector<fw::hal::CanFrame> drain(uint32_t tMs) {
+  // All frames of the current cycle, as built at `tMs`; at most `limit` of them.
+  std::vector<fw::hal::CanFrame> drain(uint32_t tMs, size_t limit = SIZE_MAX) {
     std::vector<fw::hal::CanFrame> out;
     fw::hal::CanFrame f;
-    while (plan.build(at(tMs), f)) {
+    while (out.size() < limit && plan.build(at(tMs), f)) {
       out.push_back(f);
       plan.advance();
     }
@@ -96,7 +101,7 @@ TEST(FramePlan, SlowCycleCarriesEveryBoardsCellsAndTemperatures) {
       EXPECT_EQ(m.status, 0) << "valid";
       for (int j = 0; j < 3; ++j) {
         const int cell = k * 3 + j;
-        EXPECT_EQ(m.cell[j], cell < 16 ? 3000 + 100 * b + cell : 0) << "board " << b << " cell " << cell;
+        EXPECT_EQ(m.cell[j], cell < 16 ? 3000 + 100 * b + cell : kNa) << "board " << b << " cell " << cell;
       }
     }
   }
@@ -104,18 +109,52 @@ TEST(FramePlan, SlowCycleCarriesEveryBoardsCellsAndTemperatures) {
   EXPECT_EQ(t1.board, 1);
   EXPECT_EQ(t1.temp[0], 2983);
   EXPECT_EQ(t1.temp[1], 2991);
-  EXPECT_EQ(t1.temp[2], 0);
+  EXPECT_EQ(t1.temp[2], kNa) << "the board has two sensors: the third slot has no reading";
   const auto e = bms::TemperatureExtremes::unpack(frames[16]);
   EXPECT_EQ(e.maxTemperature, 2991);
   EXPECT_EQ(e.minTemperature, 2982);
   const auto s = bms::PackSummary::unpack(frames[0]);
   EXPECT_EQ(s.dataValid, 1);
-  EXPECT_EQ(s.packVoltage, (16 * 3000 + 120 + 16 * 3100 + 120 + 5) / 10);
+  EXPECT_EQ(s.packVoltage, (16 * 3000 + 120 + 16 * 3100 + 120 + 50) / 100) << "0.1 V steps";
   const auto x = bms::CellExtremes::unpack(frames[1]);
   EXPECT_EQ(x.maxCellVoltage, 3115);
   EXPECT_EQ(x.maxCellIndex, 16 + 15);
   EXPECT_EQ(x.minCellVoltage, 3000);
   EXPECT_EQ(x.minCellIndex, 0);
+}
+
+TEST(FramePlan, CellsAndSensorsABoardDoesNotHaveAreNotAvailable) {
+  // A BQ76907 board: 7 cells, 1 sensor; a pack monitor without a current sensor.
+  Pack p(1, 7, 1);
+  p.plan.beginSlow();
+  const auto frames = p.drain(10);
+  ASSERT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x200, 0x200, 0x200, 0x201, 0x102}));
+  const auto c2 = bms::CellVoltages::unpack(frames[4]);  // cells 7..9
+  EXPECT_EQ(c2.cell[0], 3006);
+  EXPECT_EQ(c2.cell[1], kNa) << "cell 8 was sent as 0 mV";
+  EXPECT_EQ(c2.cell[2], kNa);
+  const auto t = bms::Temperatures::unpack(frames[5]);
+  EXPECT_EQ(t.temp[0], 2982);
+  EXPECT_EQ(t.temp[1], kNa) << "sensor 2 was sent as 0 K (-273.15 degC)";
+  EXPECT_EQ(t.temp[2], kNa);
+  const auto s = bms::PackSummary::unpack(frames[0]);
+  EXPECT_EQ(s.packCurrent, bms::PackSummary::kPackCurrentNotAvailable) << "no sensor: not 0 A";
+  EXPECT_EQ(s.stateOfCharge, 255);
+}
+
+TEST(FramePlan, ATemperatureWithNoReadingIsNotAvailableAndLeftOutOfTheExtremes) {
+  Pack p;
+  p.boards[1].tempDeciK[0] = fw::app::kNoReading;  // that part of board 1's scan failed
+  p.scanned(100);
+  p.plan.beginSlow();
+  const auto frames = p.drain(110);
+  const auto t1 = bms::Temperatures::unpack(frames[15]);
+  EXPECT_EQ(t1.status, 0);
+  EXPECT_EQ(t1.temp[0], kNa);
+  EXPECT_EQ(t1.temp[1], 2991);
+  const auto e = bms::TemperatureExtremes::unpack(frames[16]);
+  EXPECT_EQ(e.minTemperature, 2982);
+  EXPECT_EQ(e.minTemperatureIndex, 0);
 }
 
 TEST(FramePlan, AFailedBoardGoesOutWithItsStatusAndNoValues) {
@@ -128,10 +167,15 @@ TEST(FramePlan, AFailedBoardGoesOutWithItsStatusAndNoValues) {
     const auto m = bms::CellVoltages::unpack(frames[2 + 6 + k]);
     EXPECT_EQ(m.board, 1);
     EXPECT_EQ(m.status, 2) << "comm_fault";
-    EXPECT_EQ(m.cell[0] | m.cell[1] | m.cell[2], 0) << "no old value goes out";
+    for (int j = 0; j < 3; ++j)
+      EXPECT_EQ(m.cell[j], kNa) << "no old value, and no 0 mV, goes out";
   }
+  EXPECT_EQ(bms::Temperatures::unpack(frames[15]).temp[0], kNa);
   EXPECT_EQ(bms::CellVoltages::unpack(frames[2]).status, 0) << "board 0 is still valid";
   EXPECT_EQ(bms::CellExtremes::unpack(frames[1]).maxCellVoltage, 3015) << "extremes only over valid boards";
+  const auto s = bms::PackSummary::unpack(frames[0]);
+  EXPECT_EQ(s.dataValid, 1);
+  EXPECT_EQ(s.packVoltage, kNa) << "board 0 alone is not the pack";
 }
 
 TEST(FramePlan, ProtectionEventCountsEveryFailedBoardMeasurementAndSaturates) {
@@ -160,20 +204,83 @@ TEST(FramePlan, ProtectionEventCountsEveryFailedBoardMeasurementAndSaturates) {
   EXPECT_EQ(bms::ProtectionEvent::unpack(frames[2]).commErrors, 65535) << "saturates, never wraps to 0";
 }
 
-TEST(FramePlan, StaleDataIsNeverSentAsCurrent) {
+TEST(FramePlan, StaleDataIsNeverSentAsCurrentNorAsAReading) {
   Pack p;  // scanned at 0 ms; stale after 300 ms
   p.plan.beginSlow();
   const auto frames = p.drain(301);
   const auto s = bms::PackSummary::unpack(frames[0]);
   EXPECT_EQ(s.dataValid, 0);
-  EXPECT_EQ(s.packVoltage, 0);
+  EXPECT_EQ(s.packVoltage, kNa);
+  EXPECT_EQ(s.packCurrent, bms::PackSummary::kPackCurrentNotAvailable);
   EXPECT_EQ(s.stateOfCharge, 255);
-  EXPECT_EQ(bms::CellExtremes::unpack(frames[1]).maxCellVoltage, 0);
+  const auto x = bms::CellExtremes::unpack(frames[1]);
+  EXPECT_EQ(x.maxCellVoltage, kNa) << "was 0 mV";
+  EXPECT_EQ(x.maxCellIndex, kNa);
+  EXPECT_EQ(x.minCellVoltage, kNa);
+  EXPECT_EQ(x.minCellIndex, kNa);
   for (int k = 0; k < 12; ++k) {
     const auto m = bms::CellVoltages::unpack(frames[2 + k]);
     EXPECT_EQ(m.status, 1) << "stale";
-    EXPECT_EQ(m.cell[0] | m.cell[1] | m.cell[2], 0);
+    EXPECT_EQ(m.cell[0] & m.cell[1] & m.cell[2], kNa);
   }
+  const auto e = bms::TemperatureExtremes::unpack(frames[16]);
+  EXPECT_EQ(e.maxTemperature, kNa) << "was 0 K, -273.15 degC";
+  EXPECT_EQ(e.minTemperature, kNa);
+  EXPECT_EQ(e.maxTemperatureIndex, kNa);
+  EXPECT_EQ(e.minTemperatureIndex, kNa);
+}
+
+TEST(FramePlan, PackVoltageOfTheLargestPackFits) {
+  // 64 boards x 16 cells x 5 V = 5 120 V: 0.1 V steps give 51 200 (the 10 mV steps sent 655.35 V).
+  Pack p(64);
+  for (auto& b : p.boards) {
+    for (auto& c : b.cellMv)
+      c = 5000;
+  }
+  p.scanned(100);
+  p.plan.beginFast();
+  EXPECT_EQ(bms::PackSummary::unpack(p.drain(110)[0]).packVoltage, 51200);
+}
+
+TEST(FramePlan, AnOpenSenseWireMarksTheTwoCellsBesideIt) {
+  // The tap between cells 3 and 4 of board 1 (numbered from 1) is open: cell 3 reads both, cell 4 nothing.
+  Pack p;
+  p.boards[1].cellMv[2] = 7400;
+  p.boards[1].cellMv[3] = 0;
+  p.scanned(100);
+  EXPECT_TRUE(p.view.totals.openWire);
+  p.plan.beginSlow();
+  const auto frames = p.drain(110);
+  const auto f0 = bms::CellVoltages::unpack(frames[2 + 6 + 0]);  // board 1, cells 1..3
+  const auto f1 = bms::CellVoltages::unpack(frames[2 + 6 + 1]);  // cells 4..6
+  EXPECT_EQ(f0.status, 4) << "open_wire";
+  EXPECT_EQ(f0.cell[0], 3100);
+  EXPECT_EQ(f0.cell[2], kNa);
+  EXPECT_EQ(f1.status, 4);
+  EXPECT_EQ(f1.cell[0], kNa);
+  EXPECT_EQ(f1.cell[1], 3104);
+  EXPECT_EQ(bms::CellVoltages::unpack(frames[2 + 6 + 2]).status, 0) << "cells 7..9 are fine";
+  EXPECT_EQ(bms::CellVoltages::unpack(frames[2]).status, 0) << "board 0 is fine";
+  const auto x = bms::CellExtremes::unpack(frames[1]);
+  // 7 400 and 0 mV are not cell voltages: board 1 stays out of the extremes (and the cell limits; open_wire
+  // stands in for them) until the wire is back.
+  EXPECT_EQ(x.maxCellVoltage, 3015);
+  EXPECT_EQ(x.maxCellIndex, 15);
+  EXPECT_EQ(x.minCellVoltage, 3000);
+  EXPECT_EQ(bms::PackSummary::unpack(frames[0]).packVoltage, kNa);
+}
+
+TEST(FramePlan, OpenWirePatternNeedsBothAHighAndALowReading) {
+  const int16_t normal[4] = {3700, 4300, 3700, 3700};
+  EXPECT_EQ(fw::app::openWireCells(normal, 4), 0);
+  const int16_t empty[4] = {3700, 0, 3700, 3700};  // a flat cell is a cell_uv matter
+  EXPECT_EQ(fw::app::openWireCells(empty, 4), 0);
+  const int16_t below[4] = {3700, 7400, 0, 3700};  // bms-sim's model: the cell below the open tap reads both
+  EXPECT_EQ(fw::app::openWireCells(below, 4), 0b0110);
+  const int16_t above[4] = {0, 6250, 3700, 3700};  // or the other way round; BQ79616 full scale 6 250 mV
+  EXPECT_EQ(fw::app::openWireCells(above, 4), 0b0011);
+  const int16_t last[4] = {3700, 3700, 3700, 7400};  // beyond the board's cells: not looked at
+  EXPECT_EQ(fw::app::openWireCells(last, 3), 0);
 }
 
 TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {
@@ -185,6 +292,45 @@ TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {
   // The queue refused it; by the time the bus takes it the data went stale.
   ASSERT_TRUE(p.plan.build(at(400), f));
   EXPECT_EQ(bms::PackSummary::unpack(f).dataValid, 0);
+}
+
+TEST(FramePlan, ASlowPartLongerThanAFastPeriodContinuesAfterTheNextFastFrames) {
+  // 64 boards: 384 cell frames, 64 temperature frames and the temperature extremes; at 500 kbit/s more
+  // than one 100 ms period. Each fast cycle's frames go first, then the slow part picks up where it was.
+  Pack p(64);
+  EXPECT_FALSE(p.plan.beginSlow());
+  auto frames = p.drain(10, 200);
+  std::map<std::pair<uint32_t, int>, int> seen;  // (message, board * 16 + frame index) -> times sent
+  auto count = [&](const std::vector<fw::hal::CanFrame>& fs) {
+    for (const auto& f : fs) {
+      if (f.id == 0x200 || f.id == 0x201) ++seen[{f.id, f.data[0] * 16 + (f.data[1] & 0xF)}];
+      if (f.id == 0x102) ++seen[{f.id, 0}];
+    }
+  };
+  count(frames);
+  for (int tick = 1; tick < 10; ++tick) {
+    EXPECT_FALSE(p.plan.beginFast()) << "tick " << tick << ": nothing is dropped";
+    frames = p.drain(10 + 100 * tick, 200);
+    ASSERT_GE(frames.size(), 2u);
+    EXPECT_EQ(frames[0].id, 0x100u) << "the summary goes first";
+    EXPECT_EQ(frames[1].id, 0x101u);
+    count(frames);
+  }
+  EXPECT_FALSE(p.plan.active());
+  EXPECT_EQ(seen.size(), 64u * 6 + 64 + 1);
+  for (const auto& [key, n] : seen)
+    EXPECT_EQ(n, 1) << "message " << key.first << " slot " << key.second;
+}
+
+TEST(FramePlan, ANewSlowCycleDropsWhatIsLeftOfTheLastOne) {
+  Pack p(64);
+  p.plan.beginSlow();
+  p.drain(10, 100);
+  EXPECT_TRUE(p.plan.beginSlow()) << "the last second's cell frames had not all gone out";
+  const auto frames = p.drain(1010, 3);
+  EXPECT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x200}));
+  EXPECT_EQ(bms::CellVoltages::unpack(frames[2]).board, 0) << "the new second starts at board 0";
+  EXPECT_EQ(bms::CellVoltages::unpack(frames[2]).frameIndex, 0);
 }
 
 TEST(FramePlan, TiCycleIsSeed001sLayoutTopOfStackFirst) {
@@ -200,14 +346,51 @@ TEST(FramePlan, TiCycleIsSeed001sLayoutTopOfStackFirst) {
   EXPECT_EQ(frames[4].data, (std::array<uint8_t, 8>{0x10, 0x0F, 0x10, 0x0E, 0x10, 0x0D, 0x10, 0x0C}));
 }
 
-TEST(FramePlan, TiCycleLeavesOutABoardThatIsNotValid) {
+TEST(FramePlan, TiSetGoesOutOnlyWhenEveryBoardIsValid) {
+  // The layout has no board index: leaving board 1 out would make a receiver read board 0's cells as
+  // board 1's, and sending board 1 alone would be a set cut short.
   Pack p;
   p.boards[1].last = fw::Status::Crc;
   p.scanned(100);
   p.plan.beginTi();
-  const auto frames = p.drain(110);
-  ASSERT_EQ(frames.size(), 4u) << "only board 0: the TI layout cannot mark a board invalid";
-  EXPECT_EQ(frames[0].data[0], 0x10);
+  EXPECT_TRUE(p.drain(110).empty());
+  p.boards[1].last = fw::Status::Ok;
+  p.boards[0].last = fw::Status::Crc;
+  p.scanned(200);
+  p.plan.beginTi();
+  EXPECT_TRUE(p.drain(210).empty()) << "not even the top board's frames";
+  p.boards[0].last = fw::Status::Ok;
+  p.boards[0].cellMv[2] = 7400;  // an open sense wire: two codes that are not cell voltages
+  p.boards[0].cellMv[3] = 0;
+  p.scanned(300);
+  p.plan.beginTi();
+  EXPECT_TRUE(p.drain(310).empty()) << "an open wire's codes would go out as cells";
+}
+
+TEST(FramePlan, TiSetThatIsGoingOutIsNotCutByTheNextScan) {
+  // 64 boards: 256 frames, about 60 ms at 500 kbit/s. A scan that ends meanwhile (start-up, an nFAULT
+  // scan) used to restart the set from the top, so boards 0..5 never went out.
+  Pack p(64);
+  p.plan.beginTi();
+  auto frames = p.drain(10, 200);
+  p.scanned(50);
+  p.plan.beginTi();
+  const auto rest = p.drain(50);
+  frames.insert(frames.end(), rest.begin(), rest.end());
+  ASSERT_EQ(frames.size(), 256u);
+  EXPECT_EQ(frames.back().data, (std::array<uint8_t, 8>{0x10, 0x03, 0x10, 0x02, 0x10, 0x01, 0x10, 0x00}))
+      << "the set ends with board 0's cells 4..1";
+}
+
+TEST(FramePlan, TiSetEndsWhereABoardStopsBeingValid) {
+  Pack p(4);
+  p.plan.beginTi();
+  auto frames = p.drain(10, 6);  // boards 3 and half of 2
+  p.boards[1].last = fw::Status::NoResponse;
+  p.scanned(60);
+  const auto rest = p.drain(60);
+  EXPECT_EQ(rest.size(), 2u) << "board 2's last frames, then nothing for board 1 or below";
+  EXPECT_FALSE(p.plan.active());
 }
 
 TEST(FramePlan, AbandonEndsTheCycleAndCounterCountsSummaries) {
@@ -220,9 +403,14 @@ TEST(FramePlan, AbandonEndsTheCycleAndCounterCountsSummaries) {
   p.plan.abandon();
   EXPECT_FALSE(p.plan.active());
   EXPECT_FALSE(p.plan.build(at(10), f));
-  p.plan.beginFast();
+  EXPECT_FALSE(p.plan.beginFast()) << "an abandoned cycle is not dropped twice";
   ASSERT_TRUE(p.plan.build(at(10), f));
   EXPECT_EQ(bms::PackSummary::unpack(f).counter, 1);
+  p.plan.advance();
+  ASSERT_TRUE(p.plan.build(at(10), f));
+  EXPECT_EQ(f.id, 0x101u) << "no slow part waits after abandon()";
+  p.plan.advance();
+  EXPECT_FALSE(p.plan.active());
 }
 
 }  // namespace

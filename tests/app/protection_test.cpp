@@ -1,4 +1,5 @@
-// Firmware protection limits: debounce count, delay, hysteresis, latching, stale data and comm loss.
+// Firmware protection limits: debounce count, delay, hysteresis, latching, stale data, comm loss and an open
+// sense wire.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -38,6 +39,7 @@ ProtectionConfig baseConfig() {
   c.rules[idx(FaultId::DeviceSafety)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::StaleData)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::CommLoss)] = rule(1, 1, 1, ms(0), Action::AllOff);
+  c.rules[idx(FaultId::OpenWire)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.staleAfter = ms(500);
   c.commLossScans = 3;
   return c;
@@ -300,6 +302,42 @@ TEST(Protection, OnlyValidBoardsFeedTheLimitsAndALostBoardGoesStale) {
   boards[0].takenAt = at(600);
   fw::app::summarize(view, at(600));
   EXPECT_EQ(p.evaluate(in, at(600)).active, bit(FaultId::StaleData)) << "board 1's data is 600 ms old";
+}
+
+TEST(Protection, AnOpenSenseWireIsAFaultOfItsOwnNotAnOvervoltage) {
+  // The tap between cells 2 and 3 opens: cell 2 reads both cells, cell 3 nothing. Those two readings are
+  // not cell voltages: open_wire trips at once and opens both paths; cell_ov and cell_uv do not.
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  EXPECT_EQ(p.evaluate(s.fresh(0), at(0)).active, 0);
+  s.cells[1] = 7400;
+  s.cells[2] = 0;
+  for (uint32_t t = 100; t <= 500; t += 100) {
+    const auto st = p.evaluate(s.fresh(t), at(t));
+    EXPECT_EQ(st.active, bit(FaultId::OpenWire)) << t;
+    EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  }
+  s.cells[1] = s.cells[2] = 3700;  // the wire is back
+  EXPECT_EQ(p.evaluate(s.fresh(600), at(600)).newlyCleared, bit(FaultId::OpenWire));
+}
+
+TEST(Protection, AMonitorReportedSenseFaultIsAnOpenWireNotACommLoss) {
+  // BQ4050: the gauge answers with a cell above its 5 V input range, so the scan brings no cells (the board
+  // is not Valid) yet the link works: the monitor reports kNewData and sets totals.openWire itself.
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  EXPECT_EQ(p.evaluate(s.fresh(0), at(0)).active, 0);
+  for (uint32_t t = 100; t <= 300; t += 100) {
+    auto in = s.fresh(t);
+    s.board.last = fw::Status::Implausible;
+    fw::app::summarize(s.view, at(t));
+    s.view.totals.openWire = true;
+    EXPECT_EQ(p.evaluate(in, at(t)).active & (bit(FaultId::OpenWire) | bit(FaultId::CommLoss)),
+              bit(FaultId::OpenWire))
+        << t;
+  }
 }
 
 TEST(Protection, DisabledRulesNeverTrip) {

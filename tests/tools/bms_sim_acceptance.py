@@ -1,17 +1,26 @@
 #!/usr/bin/python3
-"""Acceptance checks of bms-sim (issue 8), run against the built tool. Each check reads what a user sees -
-the --json summary, the candump log, the DBC - and judges it independently of the firmware's own bookkeeping.
+"""Acceptance checks of bms-sim (issues 8 and 16), run against the built tool. Each check reads what a user
+sees - the --json summary, the candump log, the SLCAN text, the DBC - and judges it independently of the
+firmware's own bookkeeping.
 
 usage: bms_sim_acceptance.py <check> <bms-sim> <dbc-dir> <image> [scratch-dir]
 checks:
   ov-cell      the ov-cell scenario ends with the FETs off / the fault output set, within one scan period of the
                onset (ARCHITECTURE.md budget), and every contract key of --json is present
   ti-candump   --can-layout ti writes seed 001's layout (ID 0x004, 8 bytes, 4 big-endian cells, top of stack
-               first, 4 frames per device), and can-utils' log2asc converts every frame
-  native-dbc   every frame of an idle run decodes with bms_native.dbc (python3-canmatrix) to plausible values
+               first, 4 frames per device), with absolute times that can-utils' log2asc converts cleanly (one
+               header, every frame at its offset from the first)
+  ti-64        --devices 64 --can-layout ti: every set is whole (256 frames, top of stack first), from the first
+  native-64    --devices 64: every board's cell and temperature frames and TemperatureExtremes every second
+  native-dbc   every frame of an idle run decodes with bms_native.dbc (python3-canmatrix) to plausible values,
+               and what has no reading decodes as "not_available", never as 0 mV or -273.15 degC
   faults       comm-loss, bus-off, open-wire and stale: no stale value is published as fresh, and nothing stalls
+  open-wire    the open-wire scenario reports open_wire (not comm_loss, not a cell limit), and the cells beside
+               the open tap go out not available
   open-wire-update  with the sense wire below cell 3 open, cell 2 reads cells 2 and 3 together, and keeps doing
                so when cell 3 changes afterwards
+  slcan-pty    an L1306 image's SLCAN text read live through --slcan pty with python3-can's slcan interface is
+               exactly the frames bms-sim reports (--json frames_by_id, --candump) and --slcan FILE's text
 Prints REPORT lines with the figures it measured."""
 import json
 import os
@@ -25,6 +34,8 @@ CONTRACT_KEYS = ["image", "sim_time_ms", "scans", "scan_period_ms", "scan_bus_us
                  "can_frames", "comm_errors", "recoveries", "protection_events"]
 EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
 STALE_AFTER_MS = 300  # firmware/app/default_limits.hpp: three scan periods
+EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
+NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
 
 
 def fail(message):
@@ -47,14 +58,19 @@ def simulate(sim, image, scenario, scratch, duration=10000, extra=()):
 
 
 def read_candump(path):
+    """Frames as (ms since the run started, id, data); candump's times are absolute."""
     frames = []
     with open(path) as f:
         for line in f:
             stamp, iface, frame = line.split()
             if iface != "can0" or not stamp.startswith("(") or "#" not in frame:
                 fail(f"not candump log format: {line!r}")
+            seconds, micros = stamp[1:-1].split(".")
+            if int(seconds) < EPOCH_S:
+                fail(f"candump time {stamp} is not absolute (before the run's start, {EPOCH_S})")
             ident, data = frame.split("#")
-            frames.append((float(stamp[1:-1]) * 1000.0, int(ident, 16), bytes.fromhex(data)))
+            frames.append(((int(seconds) - EPOCH_S) * 1000.0 + int(micros) / 1000.0, int(ident, 16),
+                           bytes.fromhex(data)))
     return frames
 
 
@@ -102,29 +118,122 @@ def check_ti_candump(sim, scratch):
     if result.returncode != 0:
         fail(f"log2asc failed: {result.stderr}")
     with open(asc) as f:
-        converted = [l for l in f if " 4 " in l and " d 8 " in l]
+        lines = f.read().splitlines()
+    # One header (log2asc writes "date ..." again for every frame until it sees a time after 0 s), and every
+    # frame at its offset from the first, as candump times it.
+    headers = [l for l in lines if l.startswith("date ")]
+    if len(headers) != 1:
+        fail(f"log2asc wrote {len(headers)} headers: {headers[:3]}")
+    converted = [l.split() for l in lines if " 4 " in l and " d 8 " in l]
     if len(converted) != len(frames):
         fail(f"log2asc converted {len(converted)} of {len(frames)} frames")
+    for fields, (t, _, _) in zip(converted, frames):
+        if abs(float(fields[0]) * 1000.0 - (t - frames[0][0])) > 0.002:
+            fail(f"log2asc puts a frame at {fields[0]} s, candump at {(t - frames[0][0]) / 1000.0:.6f} s")
     print(f"REPORT sim.ti_layout.frames={len(frames)} scans={summary['scans']} log2asc=ok")
+
+
+def sets_of(frames, gap_ms=5.0):
+    """Frames grouped into bursts: a new burst starts after a pause longer than gap_ms."""
+    out = []
+    for t, ident, data in frames:
+        if not out or t - out[-1][-1][0] > gap_ms:
+            out.append([])
+        out[-1].append((t, ident, data))
+    return out
+
+
+def check_ti_64(sim, scratch):
+    # 64 boards: a set is 256 frames, about 60 ms; the early scans after bring-up come closer together than
+    # that, and used to restart the set from the top, so boards 0..5 were never sent.
+    image = "lp-mspm0g3507-bq79616"
+    # Cell 1 of board b reads 3 000 + b mV, so every frame says which board it is from.
+    scenario = os.path.join(scratch, "ti-64.txt")
+    with open(scenario, "w") as f:
+        f.writelines(f"0 cell {b} 1 {3000 + b}\n" for b in range(64))
+    log = os.path.join(scratch, "ti-64.log")
+    run(sim, "--image", image, "--scenario", scenario, "--duration", "2000", "--devices", "64", "--can-layout",
+        "ti", "--candump", log)
+    frames = read_candump(log)
+    bursts = sets_of(frames)
+    if bursts and bursts[-1][-1][0] > 2000 - 70:
+        bursts.pop()  # the run ended while the last set was going out
+    if not bursts:
+        fail("no TI frames")
+    for n, burst in enumerate(bursts):
+        if len(burst) != 256:
+            fail(f"TI set {n} at {burst[0][0]:.1f} ms has {len(burst)} frames, not 256 (64 boards x 4)")
+        # Top of stack first: slot s is board 63 - s; its fourth frame ends with cell 1 (190.73 uV codes).
+        for s in range(64):
+            cell1 = int.from_bytes(burst[4 * s + 3][2][6:8], "big", signed=True) * 190.73 / 1000
+            if abs(cell1 - (3000 + 63 - s)) > 1:
+                fail(f"TI set {n}, slot {s}: cell 1 reads {cell1:.1f} mV, not board {63 - s}'s")
+    print(f"REPORT sim.ti_layout_64.sets={len(bursts)} whole, first at {bursts[0][0][0]:.1f} ms")
+
+
+def check_native_64(sim, scratch):
+    image = "lp-mspm0g3507-bq79616"
+    _, frames = simulate(sim, image, "idle", scratch, 2600, ("--devices", "64"))
+    seconds = {}
+    for t, ident, data in frames:
+        if t < 1100:  # the chain comes up in about 0.9 s
+            continue
+        key = (ident, data[0], data[1] & 0xF) if ident in (0x200, 0x201) else (ident, 0, 0)
+        seconds.setdefault(key, []).append(t)
+    wanted = {(0x200, b, k) for b in range(64) for k in range(6)} | {(0x201, b, 0) for b in range(64)} | \
+             {(0x102, 0, 0), (0x100, 0, 0), (0x101, 0, 0)}
+    missing = sorted(wanted - set(seconds))
+    if missing:
+        fail(f"64 boards: never sent {len(missing)} instances, e.g. {missing[:4]}")
+    for key in wanted:
+        times = seconds[key]
+        period = 100.0 if key[0] in (0x100, 0x101) else 1000.0
+        gaps = [b - a for a, b in zip(times, times[1:])]
+        if len(times) < 2 or max(gaps) > period + 5.0:
+            fail(f"64 boards: {key} sent at {times[:4]}..., not every {period} ms")
+    print(f"REPORT sim.native_64.instances={len(wanted)} frames={len(frames)} (every message at its period)")
+
+
+def decode(db, t, ident, data):
+    """Signal -> physical value, or None where the DBC names the raw value not_available."""
+    frame = db.frame_by_id(canmatrix.ArbitrationId(ident))
+    if frame is None:
+        fail(f"frame {ident:03X} at {t} ms is not in the DBC")
+    out = {}
+    for name, s in frame.decode(bytearray(data)).items():
+        na = s.signal.values.get(int(s.raw_value)) == "not_available"
+        out[name] = None if na else float(s.phys_value)
+    return frame.name, out
 
 
 def check_native_dbc(sim, dbc_dir, image, scratch):
     db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
-    _, frames = simulate(sim, image, "idle", scratch, 3000)
+    summary, frames = simulate(sim, image, "idle", scratch, 3000)
     decoded = 0
     for t, ident, data in frames:
-        frame = db.frame_by_id(canmatrix.ArbitrationId(ident))
-        if frame is None:
-            fail(f"frame {ident:03X} at {t} ms is not in the DBC")
-        values = {k: float(v.phys_value) for k, v in frame.decode(bytearray(data)).items()}
-        if frame.name == "CellVoltages" and values["Status"] == 0:
-            cells = [v for k, v in values.items() if k.startswith("Cell") and v != 0]
-            if any(not 3600 <= v <= 3800 for v in cells):
-                fail(f"implausible cells {values}")
-        if frame.name == "PackSummary" and t > 200 and values["DataValid"] != 1:
-            fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
+        name, values = decode(db, t, ident, data)
+        if name == "CellVoltages" and values["Status"] == 0:
+            # A cell the board does not have (a BQ76907 has 7) is not available, never 0 mV.
+            for k, v in values.items():
+                if k.startswith("Cell") and v is not None and not 3600 <= v <= 3800:
+                    fail(f"implausible {k} = {v} at {t} ms: {values}")
+        if name in ("Temperatures", "TemperatureExtremes") and t > 200:
+            temps = [v for k, v in values.items() if "Temp" in k and "Index" not in k]
+            if any(v is not None and not 0 < v < 100 for v in temps):
+                fail(f"{name} at {t} ms decodes a temperature outside 0..100 degC: {values}")
+            if all(v is None for v in temps):
+                fail(f"{name} at {t} ms has no temperature at all: {values}")
+        if name == "PackSummary" and t > 200:
+            if values["DataValid"] != 1:
+                fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
+            if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * summary_cells(summary)) > 0.1:
+                fail(f"PackSummary at {t} ms: pack voltage {values['PackVoltage']} V")
         decoded += 1
     print(f"REPORT sim.{image}.native_frames_decoded={decoded}")
+
+
+def summary_cells(summary):
+    return {"lp-mspm0l1306-bq76907": 7, "lp-mspm0g3507-bq4050": 4}.get(summary["image"], 16) * summary["devices"]
 
 
 def summaries(frames, ident):
@@ -158,18 +267,111 @@ def check_faults(sim, image, scratch):
                     fail(f"comm-loss: CellVoltages at {t:.1f} ms still has status valid")
         if scenario == "open-wire":
             # The open sense line makes cell 3 of board 0 read 0 V: no frame after the next scan may show the
-            # old 3.7 V for it as valid.
+            # old 3.7 V for it.
             for t, d in summaries(frames, 0x200):
-                if t > onset + 110.0 and d[0] == 0 and (d[1] & 0x0F) == 0 and (d[1] >> 4) == 0:
+                if t > onset + 110.0 and d[0] == 0 and (d[1] & 0x0F) == 0:
                     cell3 = int.from_bytes(d[6:8], "little")
                     if abs(cell3 - 3700) < 50:
-                        fail(f"open-wire: cell 3 still shows {cell3} mV as valid at {t:.1f} ms")
+                        fail(f"open-wire: cell 3 still shows {cell3} mV at {t:.1f} ms")
         if scenario == "bus-off" and summary.get("output") == "can":
             after = [t for t, _ in summaries(frames, 0x100) if t > onset]
             if not after or after[0] > onset + 150.0:
                 fail("bus-off: frames did not resume after the recovery")
         print(f"REPORT sim.{image}.{scenario}.watchdog_gap_ms={summary['watchdog_longest_gap_ms']:.0f} "
               f"frames={len(frames)} events={[e['fault'] for e in summary['protection_events']]}")
+
+
+def check_open_wire(sim, image, scratch):
+    # The tap between cells 2 and 3 of board 0 opens at 2 s. The BQ769x2 and BQ79616 images read 7 400 (or
+    # the 6 250 mV full scale) and 0 mV; the BQ4050 gauge refuses the cell word. Each must report open_wire
+    # (not comm_loss, not a cell limit on readings that are not cell voltages) and send those cells as not
+    # available.
+    onset = 2000.0
+    summary, frames = simulate(sim, image, "open-wire", scratch, 4000)
+    faults = summary["active_faults"]
+    if "open_wire" not in faults:
+        fail(f"open-wire: active faults {faults}, no open_wire")
+    for wrong in ("comm_loss", "cell_ov", "cell_uv"):
+        if wrong in faults:
+            fail(f"open-wire: {wrong} reported for an open sense wire ({faults})")
+    events = [e for e in summary["protection_events"] if e["fault"] == "open_wire"]
+    if not events or events[0]["fets_off_ms"] is None:
+        fail(f"open-wire: no open_wire protection event that acted: {summary['protection_events']}")
+    late = [(t, d) for t, d in summaries(frames, 0x200) if t > onset + 150.0 and d[0] == 0 and (d[1] & 0xF) == 0]
+    if not late:
+        fail("open-wire: no cell frame of board 0 after the onset")
+    for t, d in late:
+        status = d[1] >> 4
+        cell2, cell3 = int.from_bytes(d[4:6], "little"), int.from_bytes(d[6:8], "little")
+        if status not in (2, 4) or cell2 != NA16 or cell3 != NA16:
+            fail(f"open-wire: cells 1..3 of board 0 at {t:.1f} ms: status {status}, cell 2 {cell2}, cell 3 {cell3}")
+    for t, d in summaries(frames, 0x100):
+        if t > onset + 150.0 and not int.from_bytes(d[6:8], "little") & (1 << 9):
+            fail(f"open-wire: PackSummary at {t:.1f} ms does not carry open_wire (bit 9)")
+    latency = events[0]["fets_off_ms"] - onset
+    print(f"REPORT sim.{image}.open_wire.onset_to_off_ms={latency:.3f} status={late[-1][1][1] >> 4} "
+          f"faults={faults}")
+
+
+def check_slcan_pty(sim, dbc_dir, image, scratch):
+    import can  # python3-can (Debian); imported here so the other checks do not need it
+
+    text_path = os.path.join(scratch, f"{image}-slcan.txt")
+    log = os.path.join(scratch, f"{image}-slcan.log")
+    duration = "2500"
+    # The exact text first (--slcan FILE), then the same run live through a pseudo-terminal.
+    run(sim, "--image", image, "--duration", duration, "--slcan", text_path)
+    proc = subprocess.Popen([sim, "--image", image, "--duration", duration, "--slcan", "pty", "--json",
+                             "--candump", log], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = proc.stderr.readline()
+    if " on /dev/" not in first:
+        proc.kill()
+        fail(f"--slcan pty did not print its terminal: {first!r}")
+    path = first.split(" on ")[1].split()[0]
+    bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
+    received = []
+    while True:
+        try:
+            msg = bus.recv(timeout=0.5)
+        except can.CanError:
+            break  # bms-sim closed the terminal after its reader took everything
+        if msg is None:
+            if proc.poll() is not None:
+                break
+            continue
+        received.append((msg.arbitration_id, bytes(msg.data)))
+    out, err = proc.communicate(timeout=30)
+    try:
+        bus.shutdown()
+    except can.CanError:
+        pass
+    if proc.returncode != 0:
+        fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
+    summary = json.loads(out)
+    logged = [(i, d) for _, i, d in read_candump(log)]
+    by_id = {}
+    for ident, _ in received:
+        by_id[f"0x{ident:03X}"] = by_id.get(f"0x{ident:03X}", 0) + 1
+    if by_id != summary["frames_by_id"] or len(received) != summary["can_frames"]:
+        fail(f"python-can read {len(received)} frames {by_id}, bms-sim reports {summary['can_frames']} "
+             f"{summary['frames_by_id']}")
+    if received != logged:
+        fail("python-can's frames differ from bms-sim's --candump log")
+    with open(text_path, newline="") as f:
+        text = f.read()
+    lines = text.split("\r")
+    if lines[-1] != "" or any(not l.startswith("t") or len(l) != 21 for l in lines[:-1]):
+        fail(f"--slcan FILE is not one 't' line of a standard 8-byte frame per CR: {text[:60]!r}")
+    parsed = [(int(l[1:4], 16), bytes.fromhex(l[5:21])) for l in lines[:-1]]
+    if parsed != received:
+        fail("--slcan FILE's text and the live terminal's frames differ")
+    db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
+    last = [d for i, d in received if i == 0x100][-1]
+    _, values = decode(db, 0, 0x100, last)
+    cells = {"lp-mspm0l1306-bq76907": 7}.get(image, 16)
+    if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * cells) > 0.1:
+        fail(f"PackSummary over SLCAN decodes to {values}")
+    print(f"REPORT sim.{image}.slcan_pty.frames={len(received)} (python-can = --json = --candump = --slcan FILE)")
 
 
 def check_open_wire_update(sim, image, scratch):
@@ -202,6 +404,14 @@ def main():
         check_native_dbc(sim, dbc_dir, image, scratch)
     elif check == "faults":
         check_faults(sim, image, scratch)
+    elif check == "open-wire":
+        check_open_wire(sim, image, scratch)
+    elif check == "slcan-pty":
+        check_slcan_pty(sim, dbc_dir, image, scratch)
+    elif check == "ti-64":
+        check_ti_64(sim, scratch)
+    elif check == "native-64":
+        check_native_64(sim, scratch)
     elif check == "open-wire-update":
         check_open_wire_update(sim, image, scratch)
     else:

@@ -1,7 +1,7 @@
 #include "can/can_emit.hpp"
 
-#include <cmath>
 #include <cstdio>
+#include <map>
 #include <sstream>
 
 #include "model/names.hpp"
@@ -46,13 +46,11 @@ uint32_t dbcId(const Message& m) {
   return m.id | (m.extended ? 0x80000000U : 0U);
 }
 
+// The physical range in a DBC is that of the readings: a not-available value at either end is left out.
 void dbcSignal(std::ostringstream& out, const Signal& s, const std::string& name, const std::string& muxTag,
                uint32_t start) {
-  const double rawMin = s.isSigned ? -std::ldexp(1.0, static_cast<int>(s.length) - 1) : 0.0;
-  const double rawMax = s.isSigned ? std::ldexp(1.0, static_cast<int>(s.length) - 1) - 1
-                                   : std::ldexp(1.0, static_cast<int>(s.length)) - 1;
-  double lo = rawMin * s.factorValue + s.offsetValue;
-  double hi = rawMax * s.factorValue + s.offsetValue;
+  double lo = static_cast<double>(s.readingMin()) * s.factorValue + s.offsetValue;
+  double hi = static_cast<double>(s.readingMax()) * s.factorValue + s.offsetValue;
   if (lo > hi) std::swap(lo, hi);
   out << " SG_ " << name << (muxTag.empty() ? "" : " " + muxTag) << " : " << start << "|" << s.length << "@"
       << (s.bigEndian ? "0" : "1") << (s.isSigned ? "-" : "+") << " (" << s.factor << "," << s.offset << ") ["
@@ -88,16 +86,22 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
         << "  static constexpr uint32_t kCycleMs = " << m.cycleMs << ";\n"
         << "  static constexpr uint16_t kFrames = " << m.framesPerCycle() << ";\n";
     for (const Signal& s : m.signals) {
-      if (!s.isGroup()) continue;
-      out << "  static constexpr uint8_t k" << s.name << "PerFrame = " << s.count << ";\n";
-      if (s.total > 0) out << "  static constexpr uint16_t k" << s.name << "Total = " << s.total << ";\n";
+      if (s.isGroup()) {
+        out << "  static constexpr uint8_t k" << s.name << "PerFrame = " << s.count << ";\n";
+        if (s.total > 0) out << "  static constexpr uint16_t k" << s.name << "Total = " << s.total << ";\n";
+      }
+      if (s.notAvailable) {
+        out << "  static constexpr " << rawType(s) << " k" << s.name << "NotAvailable = " << *s.notAvailable
+            << ";\n";
+      }
     }
     out << "\n";
     for (const Signal& s : m.signals) {
       out << "  " << rawType(s) << " " << lowerFirst(s.name);
       if (s.isGroup()) out << "[" << s.count << "]";
       out << "{};  // " << s.start << "|" << s.length << (s.bigEndian ? " big" : " little") << ", x"
-          << s.factor << (s.offset != "0" ? " + " + s.offset : "") << (s.unit.empty() ? "" : " " + s.unit);
+          << s.factor << (s.offset != "0" ? " + " + s.offset : "") << (s.unit.empty() ? "" : " " + s.unit)
+          << (s.notAvailable ? ", n/a " + std::to_string(*s.notAvailable) : "");
       if (!s.description.empty()) out << ": " << s.description;
       out << "\n";
     }
@@ -154,33 +158,39 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
     out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << cat.node << "\n";
     const Signal* mux = m.multiplexer();
     for (const Signal& s : m.signals) {
-      auto comment = [&](const std::string& name) {
-        if (!s.description.empty())
-          comments << "CM_ SG_ " << id << " " << name << " \"" << escape(s.description) << "\";\n";
+      // Each DBC signal of `s` (one per item of a group) gets its comment and value table; the not-available
+      // value is named in both.
+      std::map<int64_t, std::string> table = s.values;
+      std::string text = s.description;
+      if (s.notAvailable) {
+        table[*s.notAvailable] = "not_available";
+        text += std::string(text.empty() ? "" : " ") + "Raw " + std::to_string(*s.notAvailable) +
+                " = not available (no reading).";
+      }
+      auto describe = [&](const std::string& name) {
+        if (!text.empty()) comments << "CM_ SG_ " << id << " " << name << " \"" << escape(text) << "\";\n";
+        if (table.empty()) return;
+        values << "VAL_ " << id << " " << name;
+        for (const auto& [raw, meaning] : table)
+          values << " " << raw << " \"" << escape(meaning) << "\"";
+        values << " ;\n";
       };
       if (s.multiplexer) {
         dbcSignal(out, s, s.name, "M", s.start);
+        describe(s.name);
       } else if (s.total > 0 && mux != nullptr) {
         for (uint32_t i = 0; i < s.total; ++i) {
           dbcSignal(out, s, itemName(s, i), "m" + std::to_string(i / s.count), s.slotStart(i % s.count));
-          comment(itemName(s, i));
+          describe(itemName(s, i));
         }
-        continue;
       } else if (s.count > 1) {
         for (uint32_t k = 0; k < s.count; ++k) {
           dbcSignal(out, s, itemName(s, k), "", s.slotStart(k));
-          comment(itemName(s, k));
+          describe(itemName(s, k));
         }
-        continue;
       } else {
         dbcSignal(out, s, s.name, "", s.start);
-      }
-      comment(s.name);
-      if (!s.values.empty()) {
-        values << "VAL_ " << id << " " << s.name;
-        for (const auto& [raw, text] : s.values)
-          values << " " << raw << " \"" << escape(text) << "\"";
-        values << " ;\n";
+        describe(s.name);
       }
     }
     out << "\n";

@@ -65,7 +65,7 @@ Signal buildSignal(const Node& node, const std::string& where, Diagnostics& diag
   }
   checkKeys(node,
             {"name", "start", "length", "order", "signed", "factor", "offset", "unit", "multiplexer", "count",
-             "total", "values", "description"},
+             "total", "values", "not_available", "description"},
             {"name", "start", "length"}, "signal of " + where, diag);
   s.name = text(node.find("name"));
   const std::string what = "signal '" + s.name + "' of " + where;
@@ -124,6 +124,18 @@ Signal buildSignal(const Node& node, const std::string& where, Diagnostics& diag
         }
         s.values[k->integer] = vals->values[i].text;
       }
+    }
+  }
+  if (auto v = integer(node.find("not_available"), what + " not_available", diag)) {
+    const Loc at = node.find("not_available")->loc;
+    if (*v < s.rawMin() || *v > s.rawMax()) {
+      diag.error(at, what + ": not_available " + std::to_string(*v) + " is outside the signal's raw range " +
+                         std::to_string(s.rawMin()) + ".." + std::to_string(s.rawMax()));
+    } else if (s.values.count(*v) != 0) {
+      diag.error(
+          at, what + ": not_available " + std::to_string(*v) + " is also the value '" + s.values[*v] + "'");
+    } else {
+      s.notAvailable = *v;
     }
   }
   return s;

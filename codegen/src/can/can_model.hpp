@@ -28,6 +28,11 @@
 //                                  in frame i / count, slot i % count (DBC: one signal per item, muxed)
 //           values:                value descriptions (DBC VAL_)
 //             0: valid
+//           not_available: 0xFFFF  the raw value that means "no reading" (a cell the device does not have,
+//                                  a failed board, an absent sensor). It must fit the signal's raw range
+//                                  (signed signals: a negative number) and is left out of the physical
+//                                  range, so it never decodes as a reading: DBC VAL_ "not_available",
+//                                  comment, [min|max] without it; C++ k<Signal>NotAvailable.
 //           description: ...
 #pragma once
 
@@ -57,11 +62,18 @@ struct Signal {
   uint32_t count = 1;  // slots per frame (1 = a plain signal)
   uint32_t total = 0;  // items across frames (0 = not spread)
   std::map<int64_t, std::string> values;
+  std::optional<int64_t> notAvailable;  // raw value meaning "no reading"
   std::string description;
 
   bool isGroup() const { return count > 1 || total > 0; }
   // Start bit of slot k of a group (Motorola slots are whole bytes apart).
   uint32_t slotStart(uint32_t k) const { return start + k * length; }
+  // The raw range of the signal's bits, and the part of it that carries readings (without notAvailable
+  // when it sits at either end).
+  int64_t rawMin() const { return isSigned ? -(int64_t{1} << (length - 1)) : 0; }
+  int64_t rawMax() const { return isSigned ? (int64_t{1} << (length - 1)) - 1 : (int64_t{1} << length) - 1; }
+  int64_t readingMin() const { return notAvailable == rawMin() ? rawMin() + 1 : rawMin(); }
+  int64_t readingMax() const { return notAvailable == rawMax() ? rawMax() - 1 : rawMax(); }
 };
 
 struct Message {

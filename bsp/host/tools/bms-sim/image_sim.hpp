@@ -13,6 +13,10 @@
 #include "app/protection_task.hpp"
 #include "sim/harness.hpp"
 
+namespace bsp::host {
+class SimSerialTx;
+}
+
 namespace bmssim {
 
 struct SimOptions {
@@ -70,7 +74,9 @@ class ImageSim {
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
   virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
-  virtual void afterStep() {}                         // called after each simulation step (bookkeeping)
+  // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
+  virtual const bsp::host::SimSerialTx* slcanUart() const { return nullptr; }
+  virtual void afterStep() {}  // called after each simulation step (bookkeeping)
 };
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);

@@ -1,11 +1,13 @@
 // bms-sim: the firmware's board application on the host BSP, against emulated devices on virtual time.
 //
 //   bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]
-//           [--can-layout ti|native] [--candump <file>] [--json]
+//           [--can-layout ti|native] [--candump <file>] [--slcan <file>|pty] [--json]
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
-// (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal. Exit
-// status: 0 run completed, 2 bad arguments, 1 the run failed. Each image runs in its own simulator built with
-// the image's option file (bms-sim-<preset>, see CMakeLists.txt); this one hands the run to it.
+// (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
+// --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
+// L1306 board's SLCAN text (slcan_output.hpp). Exit status: 0 run completed, 2 bad arguments, 1 the run
+// failed. Each image runs in its own simulator built with the image's option file (bms-sim-<preset>, see
+// CMakeLists.txt); this one hands the run to it.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -30,7 +32,11 @@ int usage(const std::string& message) {
 void printHelp() {
   std::printf(
       "usage: bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]\n"
-      "               [--can-layout ti|native] [--candump <file>] [--json]\n\nimages:\n");
+      "               [--can-layout ti|native] [--candump <file>] [--slcan <file>|pty] [--json]\n\n"
+      "  --candump FILE   the frames in candump -l format, absolute times from 2025-01-01 00:00:00 UTC\n"
+      "  --slcan FILE     the exact SLCAN text an L1306 board's back-channel UART sends\n"
+      "  --slcan pty      the same, live on a pseudo-terminal (its path goes to stderr; the run keeps\n"
+      "                   wall-clock time) for python-can's slcan interface or slcand\n\nimages:\n");
   for (const auto& e : images())
     std::printf("  %-24s %s\n", e.image, e.summary);
   std::printf("\nscenarios:");
@@ -51,7 +57,7 @@ bool parseUint(const char* text, uint32_t max, uint32_t& out) {
 
 int run(int argc, char** argv) {
   SimOptions opt;
-  std::string scenarioArg = "idle", candump, layout = "native";
+  std::string scenarioArg = "idle", candump, layout = "native", slcan;
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -61,12 +67,14 @@ int run(int argc, char** argv) {
       return 0;
     } else if (a == "--json") {
       json = true;
-    } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout") {
+    } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout" ||
+               a == "--slcan") {
       const char* v = value();
-      if (v == nullptr) return usage(a + " needs a value");
+      if (v == nullptr || *v == '\0') return usage(a + " needs a value");
       (a == "--image"      ? opt.image
        : a == "--scenario" ? scenarioArg
        : a == "--candump"  ? candump
+       : a == "--slcan"    ? slcan
                            : layout) = v;
     } else if (a == "--devices" || a == "--duration") {
       const char* v = value();
@@ -145,6 +153,14 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", diag.error.c_str());
     return 2;
   }
+  std::unique_ptr<SlcanOutput> slcanOut;
+  if (!slcan.empty()) {
+    if (sim->slcanUart() == nullptr) {
+      return usage("--slcan applies to the L1306 images (SLCAN on the back-channel UART); use --candump");
+    }
+    slcanOut = SlcanOutput::open(slcan, error);
+    if (!slcanOut) return usage(error);
+  }
 
   auto& h = sim->harness();
   // The watchdog supervision every image's main() sets up: fed every 250 ms if every watched task made
@@ -156,6 +172,7 @@ int run(int argc, char** argv) {
   // slower than real time, and stdout then holds only the summary).
   ScenarioPlayer player(*sim, *scenario);
   Report report(*sim, opt, *scenario, json);
+  if (slcanOut) report.attachSlcan(*slcanOut);
   report.setLiveOutput(!json ? stdout : isatty(fileno(stderr)) ? stderr : nullptr);
   for (uint32_t t = 0;; ++t) {
     player.advance(t);
@@ -168,6 +185,10 @@ int run(int argc, char** argv) {
   report.finish(player.onsets(), player.busOffUnsupported(), watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
+    return 1;
+  }
+  if (slcanOut && !slcanOut->finish(*sim->slcanUart(), error)) {
+    std::fprintf(stderr, "bms-sim: error: cannot write %s: %s\n", slcan.c_str(), error.c_str());
     return 1;
   }
   return 0;

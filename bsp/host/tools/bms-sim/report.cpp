@@ -1,6 +1,7 @@
 #include "report.hpp"
 
 #include <cstdio>
+#include <map>
 
 #include "app/protection.hpp"
 
@@ -49,6 +50,7 @@ EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets)
 }
 
 void Report::tick(uint64_t nowUs) {
+  if (slcan_ != nullptr) slcan_->step(*sim_.slcanUart(), nowUs);
   if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();
@@ -104,6 +106,14 @@ void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::hos
   std::printf("  \"scan_transactions\": %s,\n", num(f.scanTransactions).c_str());
   std::printf("  \"output\": \"%s\",\n", f.output.c_str());
   std::printf("  \"can_frames\": %llu,\n", static_cast<unsigned long long>(f.outputFrames));
+  // The frames per identifier (CAN, or the SLCAN lines decoded), for tools that check what a reader saw.
+  std::map<uint32_t, unsigned> byId;
+  for (const auto& fr : sim_.frames())
+    ++byId[fr.id];
+  std::printf("  \"frames_by_id\": {");
+  for (auto it = byId.begin(); it != byId.end(); ++it)
+    std::printf("%s\"0x%03X\": %u", it == byId.begin() ? "" : ", ", it->first, it->second);
+  std::printf("},\n");
   std::printf("  \"comm_errors\": %llu,\n", static_cast<unsigned long long>(f.commErrors));
   std::printf("  \"recoveries\": %u,\n", f.recoveries);
   std::printf("  \"bus_off_applicable\": %s,\n", busOffUnsupported ? "false" : "true");
@@ -142,7 +152,8 @@ bool Report::writeCandump(const std::string& path) const {
   FILE* out = std::fopen(path.c_str(), "w");
   if (out == nullptr) return false;
   for (const auto& fr : sim_.frames()) {
-    std::fprintf(out, "(%llu.%06llu) can0 ", static_cast<unsigned long long>(fr.timeUs / 1000000),
+    std::fprintf(out, "(%llu.%06llu) can0 ",
+                 static_cast<unsigned long long>(kEpochSeconds + fr.timeUs / 1000000),
                  static_cast<unsigned long long>(fr.timeUs % 1000000));
     if (fr.extended) {
       std::fprintf(out, "%08X#", fr.id);

@@ -83,7 +83,7 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 10> kFaults = {{
+constexpr std::array<FaultSpec, 11> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
@@ -93,6 +93,7 @@ constexpr std::array<FaultSpec, 10> kFaults = {{
     {"device_safety", Watch::None},
     {"stale_data", Watch::None},
     {"comm_loss", Watch::None},
+    {"open_wire", Watch::None},
     {"any", Watch::None},
 }};
 

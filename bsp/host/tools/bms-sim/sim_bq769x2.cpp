@@ -111,6 +111,13 @@ class Bq769xSim final : public ImageSim {
       return slcanFrames();
     }
   }
+  const bsp::host::SimSerialTx* slcanUart() const override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+      return &board_->output;
+    } else {
+      return nullptr;
+    }
+  }
 
  private:
   // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r"); times are those of

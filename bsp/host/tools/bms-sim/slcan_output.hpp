@@ -1,0 +1,40 @@
+// SlcanOutput: the SLCAN text an L1306 board sends on its back-channel UART, as `bms-sim --slcan` gives it.
+//
+//   --slcan FILE  the exact bytes the simulated UART carried (the SlcanPublisher's lines), written when the
+//                 run ends.
+//   --slcan pty   a pseudo-terminal in raw mode; its path goes to stderr, and the run starts once a reader
+//   has
+//                 opened it (a serial port that is opened discards what arrived before, so the board is
+//                 switched on after the PC is listening) or after 60 s. Each write reaches the terminal once
+//                 its last byte has left the simulated 115 200 Bd UART, and the run is paced to the wall
+//                 clock, so python-can's slcan interface or slcand see the board at its real rate. What a
+//                 reader sends (slcand's and python-can's C, S6, O commands) is read and ignored: the board's
+//                 firmware does not listen. Nothing waits without a bound: a reader that stops reading loses
+//                 the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART sends into a
+//                 full buffer), and at the end the run waits at most 5 s for the reader to take the rest.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace bsp::host {
+class SimSerialTx;
+}
+
+namespace bmssim {
+
+class SlcanOutput {
+ public:
+  // `target` is a file path or "pty". Returns null and sets `error` when it cannot be opened.
+  static std::unique_ptr<SlcanOutput> open(const std::string& target, std::string& error);
+  virtual ~SlcanOutput() = default;
+
+  // After every simulated millisecond: what `uart` finished sending by `nowUs`.
+  virtual void step(const bsp::host::SimSerialTx& uart, uint64_t nowUs) = 0;
+  // At the end of the run; false (and `error`) when the text could not be written.
+  virtual bool finish(const bsp::host::SimSerialTx& uart, std::string& error) = 0;
+};
+
+}  // namespace bmssim
