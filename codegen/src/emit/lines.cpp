@@ -67,7 +67,7 @@ void writeCommented(std::ostringstream& o, const std::vector<std::pair<std::stri
     } else if (fits) {
       o << code << std::string(width + 2 - code.size(), ' ') << "// " << comment << '\n';
     } else {
-      writeComment(o, comment, code.size() - code.find_first_not_of(' '));
+      writeComment(o, comment, code.find_first_not_of(' '));
       o << code << '\n';
     }
   }
