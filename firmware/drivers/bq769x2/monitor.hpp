@@ -102,7 +102,7 @@ requires regmap::FixedSize<D> &&(D::size <= 4) constexpr Setting setting(D d, ty
   if constexpr (std::is_integral_v<typename D::value_type>) {
     FW_ASSERT_MODULE(::fw::Module::DriverBq769x2, regmap::inRange(d, value));
   }
-  return Setting{static_cast<uint16_t>(D::address), static_cast<uint8_t>(D::size), raw};
+  return Setting{regmap::code16(d), static_cast<uint8_t>(D::size), raw};
 }
 
 struct ScanBlock {
@@ -173,12 +173,12 @@ constexpr Variant bq7690x(uint8_t cells) {
           .fetEnByte = 1,
           .fetEnMask = high(map7690x::bits::BatteryStatus::fet_en_mask),
           .fetEnCode = 0,
-          .fetControlCmd = map7690x::cmd::FetControl.address,
+          .fetControlCmd = regmap::code8(map7690x::cmd::FetControl),
           .cbBytes = 1,
           .cbShift = 1,
           .sleepEnMask = map7690x::bits::BatteryStatus::sleep_en_mask,
           .alarmOffset = 26,
-          .alarmMaskAddress = map7690x::dm::DefaultAlarmMask.address,
+          .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
           .firstPollUs = 2000};  // 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
@@ -194,13 +194,13 @@ inline constexpr Variant kBq76952{
     .cfgUpdateMask = map::bits::BatteryStatus::cfgupdate_mask,
     .fetEnByte = 0,
     .fetEnMask = map::bits::ManufacturingStatus::fet_en_mask,
-    .fetEnCode = map::sub::ManufacturingStatus.address,
+    .fetEnCode = regmap::code16(map::sub::ManufacturingStatus),
     .fetControlCmd = 0,
     .cbBytes = 2,
     .cbShift = 0,
     .sleepEnMask = map::bits::BatteryStatus::sleep_en_mask,
     .alarmOffset = 50,
-    .alarmMaskAddress = map::dm::DefaultAlarmMask.address,
+    .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
     .firstPollUs = 0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
