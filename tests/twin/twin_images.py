@@ -14,6 +14,8 @@ checks:
               publishes valid data: the same frames of the messages the image sends, in the same order, each
               within one scan period of its twin, and the same published states and protection trips within
               one scan period
+  slcan       (L1306 images) --slcan FILE on the twin holds exactly the text the image's UART0 sent on PA8: one
+              't' line per CR, the same frames in the same order as --candump's decoded lines
 Prints REPORT lines (CPU load, interrupt latency, longest ISR, the twin's speed).
 Exit 77 (skipped) when the ELF has not been built (./ci/test builds every image before it tests)."""
 import json
@@ -229,6 +231,24 @@ def check_agreement(sim, elf, image, scratch):
           f"{twin_start:.1f} ms (twin, from reset)")
 
 
+def check_slcan(sim, elf, image, scratch):
+    text_path = os.path.join(scratch, f"{image}-twin.slcan")
+    log = os.path.join(scratch, f"{image}-twin-slcan.log")
+    summary, _ = run(sim, ["--elf", elf, "--image", image, "--scenario", "ov-cell", "--duration", "2500",
+                           "--json", "--candump", log, "--slcan", text_path])
+    with open(text_path, newline="") as f:
+        text = f.read()
+    lines = text.split("\r")
+    if lines[-1] != "" or any(not l.startswith("t") or len(l) != 21 for l in lines[:-1]):
+        fail(f"--slcan FILE is not one 't' line of a standard 8-byte frame per CR: {text[:60]!r}")
+    parsed = [(int(l[1:4], 16), bytes.fromhex(l[5:21])) for l in lines[:-1]]
+    logged = [(i, d) for _, i, d in read_candump(log)]
+    if not parsed or parsed != logged or len(parsed) != summary["can_frames"]:
+        fail(f"--slcan FILE has {len(parsed)} frames, --candump {len(logged)}, --json {summary['can_frames']}: "
+             "they differ")
+    print(f"REPORT twin.{image}.slcan_frames={len(parsed)} (--slcan FILE = --candump = --json)")
+
+
 def main():
     if len(sys.argv) != 6:
         print(__doc__)
@@ -247,6 +267,8 @@ def main():
         check_bus_off(sim, dbc_dir, elf, image, scratch)
     elif check == "agreement":
         check_agreement(sim, elf, image, scratch)
+    elif check == "slcan":
+        check_slcan(sim, elf, image, scratch)
     else:
         print(__doc__)
         return 2

@@ -7,12 +7,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/protection_task.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
+#include "slcan_output.hpp"
 
 namespace bsp::host {
 class SimSerialTx;
@@ -79,7 +81,8 @@ class ImageSim {
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
   virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
-  virtual const bsp::host::SimSerialTx* slcanUart() const { return nullptr; }
+  // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
+  virtual std::optional<SentText> slcanText() const { return std::nullopt; }
   virtual void afterStep() {}  // called after each simulation step (bookkeeping)
   // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
   virtual void runFor(fw::Duration d) { harness().runFor(d); }

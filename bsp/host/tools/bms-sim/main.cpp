@@ -104,8 +104,6 @@ int run(int argc, char** argv) {
   opt.tiLayout = layout == "ti";
   if (opt.tiLayout && !opt.elf.empty())
     return usage("--can-layout applies to host runs; an image has its layout built in");
-  if (!slcan.empty() && !opt.elf.empty())
-    return usage("--slcan applies to host runs; on the twin --candump holds the image's SLCAN frames");
 
   const ImageEntry* entry = nullptr;
   for (const auto& e : images()) {
@@ -173,7 +171,7 @@ int run(int argc, char** argv) {
   }
   std::unique_ptr<SlcanOutput> slcanOut;
   if (!slcan.empty()) {
-    if (sim->slcanUart() == nullptr) {
+    if (!sim->slcanText()) {
       return usage("--slcan applies to the L1306 images (SLCAN on the back-channel UART); use --candump");
     }
     slcanOut = SlcanOutput::open(slcan, error);
@@ -210,7 +208,7 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;
   }
-  if (slcanOut && !slcanOut->finish(*sim->slcanUart(), error)) {
+  if (slcanOut && !slcanOut->finish(*sim->slcanText(), error)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s: %s\n", slcan.c_str(), error.c_str());
     return 1;
   }

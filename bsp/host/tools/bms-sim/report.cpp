@@ -50,7 +50,7 @@ EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets)
 }
 
 void Report::tick(uint64_t nowUs) {
-  if (slcan_ != nullptr) slcan_->step(*sim_.slcanUart(), nowUs);
+  if (slcan_ != nullptr) slcan_->step(*sim_.slcanText(), nowUs);
   if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();

@@ -149,6 +149,12 @@ class TwinSim final : public ImageSim {
       }
     }
     observeScans();
+    takeSlcanLines();
+  }
+
+  std::optional<SentText> slcanText() const override {
+    if (id_.part == twin::Part::G3507) return std::nullopt;
+    return SentText{slcanText_, slcanEndsUs_};
   }
 
   bsp::host::Harness& harness() override { return h_; }
@@ -173,6 +179,14 @@ class TwinSim final : public ImageSim {
     }
   }
   void observeScans();
+  // The lines the image's UART finished since the last step, appended to the text --slcan writes.
+  void takeSlcanLines() {
+    const auto& lines = board_.slcanLines();
+    for (; slcanLinesSeen_ < lines.size(); ++slcanLinesSeen_) {
+      slcanText_ += lines[slcanLinesSeen_].text;
+      slcanEndsUs_.push_back(us(lines[slcanLinesSeen_].cycle));
+    }
+  }
   // The first read of a scan (drivers: bq4050 gauge.cpp kScan, the bq769x2 measurement blocks): Voltage on
   // the BQ4050, the block with the cells from 0x0A (BQ76952) or 0x12 (BQ7690x).
   const char* scanMarker() const {
@@ -206,6 +220,9 @@ class TwinSim final : public ImageSim {
   uint64_t failedTransactions_ = 0;
   bool scanOpen_ = false, scanFailed_ = false;
   uint64_t scanRxBytes_ = 0, lastPing_ = 0, lastProbe_ = 0;
+  std::string slcanText_;
+  std::vector<uint64_t> slcanEndsUs_;
+  size_t slcanLinesSeen_ = 0;
 };
 
 void TwinSim::observeScans() {
