@@ -35,6 +35,18 @@ TEST(Bq79616App, FaultOutputStaysAssertedUntilTheChainHasBeenMeasured) {
               static_cast<double>(releasedAt) / 1000.0);
 }
 
+// Issue 14 item 3: one evaluation per scan, not a second one of the same data at the periodic check.
+TEST(Bq79616App, ProtectionEvaluatesOncePerScan) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  const uint32_t evaluations = b.app.protection().evaluations();
+  const uint32_t scans = b.app.monitor().stats().scans;
+  b.h.runFor(fw::ms(2000));
+  const uint32_t scanned = b.app.monitor().stats().scans - scans;
+  EXPECT_EQ(scanned, 20u);
+  EXPECT_EQ(b.app.protection().evaluations() - evaluations, scanned);
+}
+
 // nFAULT may fall at any point of the scan period, including during a scan's frames.
 TEST(Bq79616App, NfaultToFaultOutputWithinTwoMillisecondsWhereverTheScanIs) {
   uint64_t worst = 0;
