@@ -100,6 +100,10 @@ void SimUart::complete(Status status) {
 
 void SimUart::arrive(uint8_t byte, bool framingError) {
   ++rxBytes_;
+  if (tap_) {
+    tap_(byte, framingError);
+    return;
+  }
   if (exchange_ == nullptr || exchange_->received >= exchange_->rx.size()) {
     ++unsolicited_;
     return;

@@ -45,6 +45,10 @@ class SimUart final : public fw::hal::Uart {
 
   uint64_t byteTimeUs() const { return 10000000ULL / baud_; }
 
+  // Hands every byte the peer sends (at its arrival time) to `tap` instead of an exchange: the MSPM0 twin's
+  // UART model receives them there (bsp/twin).
+  void onPeerByte(std::function<void(uint8_t byte, bool framingError)> tap) { tap_ = std::move(tap); }
+
   const std::vector<std::string>& wireLog() const { return log_; }
   void clearWireLog() { log_.clear(); }
   void onRecord(std::function<void(const std::string&)> sink) { sink_ = std::move(sink); }
@@ -83,6 +87,7 @@ class SimUart final : public fw::hal::Uart {
   std::vector<uint8_t> rxLogged_;
   std::vector<std::string> log_;
   std::function<void(const std::string&)> sink_;
+  std::function<void(uint8_t, bool)> tap_;
   uint64_t txBytes_ = 0;
   uint64_t rxBytes_ = 0;
   uint64_t unsolicited_ = 0;

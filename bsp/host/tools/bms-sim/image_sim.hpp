@@ -7,11 +7,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/protection_task.hpp"
 #include "sim/harness.hpp"
+#include "sim/peripherals.hpp"
+#include "slcan_output.hpp"
 
 namespace bsp::host {
 class SimSerialTx;
@@ -24,6 +27,7 @@ struct SimOptions {
   int devices = 0;  // 0 = the image's default
   bool tiLayout = false;
   uint32_t durationMs = 10000;
+  std::string elf;  // --elf: run this image on the MSPM0 twin (sim_twin.hpp)
 };
 
 // Figures every image reports (the --json summary's keys).
@@ -42,6 +46,8 @@ struct SimFigures {
   int minCellMv = 0, maxCellMv = 0;
   int boards = 0, validBoards = 0;
   int32_t currentMa = 0;
+  std::vector<std::pair<std::string, std::string>>
+      extra;  // more --json keys and values (the twin's CPU figures)
 };
 
 struct SentFrame {
@@ -75,8 +81,15 @@ class ImageSim {
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
   virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
-  virtual const bsp::host::SimSerialTx* slcanUart() const { return nullptr; }
+  // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
+  virtual std::optional<SentText> slcanText() const { return std::nullopt; }
   virtual void afterStep() {}  // called after each simulation step (bookkeeping)
+  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
+  virtual void runFor(fw::Duration d) { harness().runFor(d); }
+  // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
+  virtual std::string failure() const { return {}; }
+  // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.
+  virtual const bsp::host::SimWatchdog* boardWatchdog() const { return nullptr; }
 };
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);

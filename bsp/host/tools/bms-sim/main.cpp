@@ -2,12 +2,13 @@
 //
 //   bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]
 //           [--can-layout ti|native] [--candump <file>] [--slcan <file>|pty] [--json]
+//   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
 // (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
 // L1306 board's SLCAN text (slcan_output.hpp). Exit status: 0 run completed, 2 bad arguments, 1 the run
 // failed. Each image runs in its own simulator built with the image's option file (bms-sim-<preset>, see
-// CMakeLists.txt); this one hands the run to it.
+// CMakeLists.txt); this one hands the run to it, except --elf, which it runs itself.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -20,6 +21,9 @@
 #include "scenario.hpp"
 #include "scenario_player.hpp"
 #include "sim/peripherals.hpp"
+#ifndef BMS_SIM_IMAGE
+#include "sim_twin.hpp"
+#endif
 
 namespace bmssim {
 namespace {
@@ -36,7 +40,10 @@ void printHelp() {
       "  --candump FILE   the frames in candump -l format, absolute times from 2025-01-01 00:00:00 UTC\n"
       "  --slcan FILE     the exact SLCAN text an L1306 board's back-channel UART sends\n"
       "  --slcan pty      the same, live on a pseudo-terminal (its path goes to stderr; the run keeps\n"
-      "                   wall-clock time) for python-can's slcan interface or slcand\n\nimages:\n");
+      "                   wall-clock time) for python-can's slcan interface or slcand\n\n"
+      "       bms-sim --elf <build/<preset>/<preset>.elf> [--image <preset>] [same options]\n"
+      "               runs the firmware image itself on the MSPM0 instruction-level twin "
+      "(bsp/twin)\n\nimages:\n");
   for (const auto& e : images())
     std::printf("  %-24s %s\n", e.image, e.summary);
   std::printf("\nscenarios:");
@@ -68,13 +75,14 @@ int run(int argc, char** argv) {
     } else if (a == "--json") {
       json = true;
     } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout" ||
-               a == "--slcan") {
+               a == "--slcan" || a == "--elf") {
       const char* v = value();
       if (v == nullptr || *v == '\0') return usage(a + " needs a value");
       (a == "--image"      ? opt.image
        : a == "--scenario" ? scenarioArg
        : a == "--candump"  ? candump
        : a == "--slcan"    ? slcan
+       : a == "--elf"      ? opt.elf
                            : layout) = v;
     } else if (a == "--devices" || a == "--duration") {
       const char* v = value();
@@ -91,15 +99,17 @@ int run(int argc, char** argv) {
       return usage("unknown option '" + a + "' (try --help)");
     }
   }
-  if (opt.image.empty()) return usage("--image is required (try --help)");
+  if (opt.image.empty() && opt.elf.empty()) return usage("--image or --elf is required (try --help)");
   if (layout != "native" && layout != "ti") return usage("--can-layout must be ti or native");
   opt.tiLayout = layout == "ti";
+  if (opt.tiLayout && !opt.elf.empty())
+    return usage("--can-layout applies to host runs; an image has its layout built in");
 
   const ImageEntry* entry = nullptr;
   for (const auto& e : images()) {
     if (opt.image == e.image) entry = &e;
   }
-  if (entry == nullptr) {
+  if (entry == nullptr && opt.elf.empty()) {
     std::string known;
     for (const auto& e : images())
       known += std::string(known.empty() ? "" : ", ") + e.image;
@@ -107,11 +117,13 @@ int run(int argc, char** argv) {
   }
 #ifdef BMS_SIM_IMAGE
   if (opt.image != BMS_SIM_IMAGE) return usage("this simulator runs " BMS_SIM_IMAGE " only");
+  if (!opt.elf.empty()) return usage("--elf runs in bms-sim itself, not in an image's own simulator");
 #else
   // Each image has its own simulator, built with the image's option set (bms-sim-<preset> beside this one,
   // CMakeLists.txt): run it with the same arguments, so what bms-sim shows is what the image's options do.
+  // --elf runs here: the image itself is the option set.
   char self[4096];
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  const ssize_t n = opt.elf.empty() ? readlink("/proc/self/exe", self, sizeof self - 1) : 0;
   if (n > 0) {
     std::string path(self, static_cast<size_t>(n));
     path = path.substr(0, path.rfind('/') + 1) + "bms-sim-" + opt.image;
@@ -135,10 +147,14 @@ int run(int argc, char** argv) {
       return 2;
     }
   }
-  if (opt.devices == 0) opt.devices = entry->defaultDevices;
+  if (opt.devices == 0) opt.devices = entry != nullptr ? entry->defaultDevices : 2;
 
   std::string error;
+#ifdef BMS_SIM_IMAGE
   std::unique_ptr<ImageSim> sim = entry->make(opt, error);
+#else
+  std::unique_ptr<ImageSim> sim = opt.elf.empty() ? entry->make(opt, error) : makeTwinSim(opt, error);
+#endif
   if (!sim) return usage(error);
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
   // The steps against this image, before anything runs: a board it does not have is an error at its line.
@@ -155,7 +171,7 @@ int run(int argc, char** argv) {
   }
   std::unique_ptr<SlcanOutput> slcanOut;
   if (!slcan.empty()) {
-    if (sim->slcanUart() == nullptr) {
+    if (!sim->slcanText()) {
       return usage("--slcan applies to the L1306 images (SLCAN on the back-channel UART); use --candump");
     }
     slcanOut = SlcanOutput::open(slcan, error);
@@ -177,17 +193,22 @@ int run(int argc, char** argv) {
   for (uint32_t t = 0;; ++t) {
     player.advance(t);
     if (t >= opt.durationMs) break;
-    h.runFor(fw::us(1000));
+    sim->runFor(fw::us(1000));
+    if (const std::string why = sim->failure(); !why.empty()) {
+      std::fprintf(stderr, "bms-sim: %s\n", why.c_str());
+      return 1;
+    }
     sim->afterStep();
     report.tick(h.nowUs());
   }
 
-  report.finish(player.onsets(), player.busOffUnsupported(), watchdog);
+  report.finish(player.onsets(), player.busOffUnsupported(),
+                sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;
   }
-  if (slcanOut && !slcanOut->finish(*sim->slcanUart(), error)) {
+  if (slcanOut && !slcanOut->finish(*sim->slcanText(), error)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s: %s\n", slcan.c_str(), error.c_str());
     return 1;
   }

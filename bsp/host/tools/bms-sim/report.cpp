@@ -50,7 +50,7 @@ EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets)
 }
 
 void Report::tick(uint64_t nowUs) {
-  if (slcan_ != nullptr) slcan_->step(*sim_.slcanUart(), nowUs);
+  if (slcan_ != nullptr) slcan_->step(*sim_.slcanText(), nowUs);
   if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();
@@ -132,6 +132,8 @@ void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::hos
   }
   std::printf("],\n");
   std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  for (const auto& [key, value] : f.extra)
+    std::printf("  \"%s\": %s,\n", key.c_str(), value.c_str());
   std::printf("  \"protection_events\": [");
   first = true;
   for (const auto& e : log) {

@@ -111,11 +111,11 @@ class Bq769xSim final : public ImageSim {
       return slcanFrames();
     }
   }
-  const bsp::host::SimSerialTx* slcanUart() const override {
+  std::optional<SentText> slcanText() const override {
     if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
-      return &board_->output;
+      return SentText{board_->output.text(), board_->output.writeTimes()};
     } else {
-      return nullptr;
+      return std::nullopt;
     }
   }
 

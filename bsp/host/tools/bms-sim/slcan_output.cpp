@@ -12,8 +12,6 @@
 #include <cstring>
 #include <thread>
 
-#include "sim/peripherals.hpp"
-
 namespace bmssim {
 namespace {
 
@@ -25,9 +23,9 @@ class FileOutput final : public SlcanOutput {
   ~FileOutput() override {
     if (file_ != nullptr) std::fclose(file_);
   }
-  void step(const bsp::host::SimSerialTx&, uint64_t) override {}
-  bool finish(const bsp::host::SimSerialTx& uart, std::string& error) override {
-    const std::string& text = uart.text();
+  void step(const SentText&, uint64_t) override {}
+  bool finish(const SentText& uart, std::string& error) override {
+    const std::string& text = uart.text;
     const bool ok = std::fwrite(text.data(), 1, text.size(), file_) == text.size();
     const bool closed = std::fclose(file_) == 0;
     file_ = nullptr;
@@ -70,7 +68,7 @@ class PtyOutput final : public SlcanOutput {
     return true;
   }
 
-  void step(const bsp::host::SimSerialTx& uart, uint64_t nowUs) override {
+  void step(const SentText& uart, uint64_t nowUs) override {
     if (!started_) waitForReader();
     // Paced: simulated time runs no faster than the wall clock.
     const auto now = Clock::now();
@@ -81,7 +79,7 @@ class PtyOutput final : public SlcanOutput {
     pump();
   }
 
-  bool finish(const bsp::host::SimSerialTx& uart, std::string&) override {
+  bool finish(const SentText& uart, std::string&) override {
     if (!started_) waitForReader();
     collect(uart, UINT64_MAX);
     // Wait for the reader to take the rest, as long as it keeps taking some: at most 5 s, and 1 s without
@@ -125,9 +123,9 @@ class PtyOutput final : public SlcanOutput {
   // Takes the text whose write has finished by `nowUs`. Writes go one at a time (the UART is busy until its
   // last byte left), so only the newest can still be on the line: its bytes are what arrived since the step
   // before it began.
-  void collect(const bsp::host::SimSerialTx& uart, uint64_t nowUs) {
-    const std::string& text = uart.text();
-    const auto& times = uart.writeTimes();
+  void collect(const SentText& uart, uint64_t nowUs) {
+    const std::string& text = uart.text;
+    const auto& times = uart.writeEndsUs;
     if (times.size() != writesSeen_) inFlightFrom_ = sizeSeen_, writesSeen_ = times.size();
     sizeSeen_ = text.size();
     const size_t ready = !times.empty() && times.back() > nowUs ? inFlightFrom_ : text.size();

@@ -18,12 +18,17 @@
 #include <cstdint>
 #include <memory>
 #include <string>
-
-namespace bsp::host {
-class SimSerialTx;
-}
+#include <vector>
 
 namespace bmssim {
+
+// What the board's SLCAN UART has sent so far: every byte in order, and when each write's last byte left the
+// line (one entry per write, in microseconds of simulated time). The host board's SimSerialTx and the twin's
+// UART model both give it.
+struct SentText {
+  const std::string& text;
+  const std::vector<uint64_t>& writeEndsUs;
+};
 
 class SlcanOutput {
  public:
@@ -32,9 +37,9 @@ class SlcanOutput {
   virtual ~SlcanOutput() = default;
 
   // After every simulated millisecond: what `uart` finished sending by `nowUs`.
-  virtual void step(const bsp::host::SimSerialTx& uart, uint64_t nowUs) = 0;
+  virtual void step(const SentText& uart, uint64_t nowUs) = 0;
   // At the end of the run; false (and `error`) when the text could not be written.
-  virtual bool finish(const bsp::host::SimSerialTx& uart, std::string& error) = 0;
+  virtual bool finish(const SentText& uart, std::string& error) = 0;
 };
 
 }  // namespace bmssim

@@ -1,0 +1,263 @@
+#include "board/board.hpp"
+
+#include "sim/sim_irq.hpp"
+
+namespace twin {
+
+namespace {
+
+// PINCM indices of the board's signals (tsv pin rows, mspm0g350x.h / mspm0l130x.h IOMUX_PINCMn).
+constexpr int kPa0 = 1, kPa1 = 2, kPf2 = 2;
+constexpr int kL1306Pa8 = 9, kL1306Pa15 = 16;
+constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb26 = 57;
+constexpr uint8_t kBq769xAddress = 0x08;
+
+bool contains(const std::string& s, const char* what) {
+  return s.find(what) != std::string::npos;
+}
+
+}  // namespace
+
+const std::vector<ImageId>& images() {
+  static const std::vector<ImageId> list = {
+      {Part::L1306, Family::Bq76952, "lp-mspm0l1306-bq76952"},
+      {Part::L1306, Family::Bq76907, "lp-mspm0l1306-bq76907"},
+      {Part::G3507, Family::Bq79616, "lp-mspm0g3507-bq79616"},
+      {Part::G3507, Family::Bq4050, "lp-mspm0g3507-bq4050"},
+      {Part::G3507, Family::Bq76952, "lp-mspm0g3507-bq76952"},
+  };
+  return list;
+}
+
+std::optional<ImageId> imageByPreset(const std::string& preset) {
+  for (const ImageId& id : images()) {
+    if (preset == id.preset) return id;
+  }
+  return std::nullopt;
+}
+
+std::optional<ImageId> identify(const ElfFile& elf, std::string& error) {
+  const auto top = elf.symbol("__stack_top__");
+  if (!top) {
+    error = elf.path() + ": no __stack_top__ symbol: not one of the MSPM0 images (bsp/mspm0/linker)";
+    return std::nullopt;
+  }
+  const uint32_t sramRegion = top->value & 0xFFF00000U;
+  if (sramRegion != 0x20000000U && sramRegion != 0x20200000U) {
+    error = elf.path() + ": its stack is not in the SRAM of an MSPM0L1306 or MSPM0G3507";
+    return std::nullopt;
+  }
+  const Part part = sramRegion == 0x20200000U ? Part::G3507 : Part::L1306;
+  std::optional<Family> family;
+  for (const ElfSymbol& s : elf.symbols()) {
+    if (contains(s.name, "bq79616")) family = Family::Bq79616;
+    if (!family && contains(s.name, "bq4050")) family = Family::Bq4050;
+    if (!family && contains(s.name, "Bq7690x")) family = Family::Bq76907;
+    if (!family && contains(s.name, "Bq769x2")) family = Family::Bq76952;
+  }
+  for (const ImageId& id : images()) {
+    if (family && id.part == part && id.family == *family) return id;
+  }
+  error = elf.path() + ": its monitor driver and part match none of the five images (give --image)";
+  return std::nullopt;
+}
+
+Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
+    : image_(image), world_(world), chip_(image.part) {
+  Machine& m = chip_.machine();
+  m.attachWorld(world);
+  chip_.wwdt0().onRestart([this] {
+    watchdogFeeds_.push_back(chip_.machine().now());
+    chip_.machine().syncWorld();
+    if (feedHook_) feedHook_();
+  });
+  m.onEvents([this] { samplePins(); });
+  if (image.family == Family::Bq79616) {
+    wireChain(devices);
+  } else {
+    wireI2cMonitor();
+  }
+  if (image.part == Part::G3507) {
+    wireCan();
+    faultPincm_ = kG3507Pb26;
+    chip_.pins().onChange(faultPincm_, [this](bool level) {
+      faultOutput_.push_back({chip_.machine().now(), level});
+    });
+  } else {
+    // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text.
+    chip_.uart(0).onTransmit([this](uint8_t byte) {
+      ++uartBytes_;
+      if (!chip_.pins().routed(kL1306Pa8, kPf2)) {
+        ++unroutedBytes_;
+        return;
+      }
+      slcanPending_ += static_cast<char>(byte);
+      if (byte == '\r') {
+        slcanLines_.push_back({chip_.machine().now(), slcanPending_});
+        slcanPending_.clear();
+      }
+    });
+  }
+  if (signalPincm_ != 0) {
+    chip_.pins().onChange(signalPincm_, [this](bool level) {
+      monitorSignal_.push_back({chip_.machine().now(), level});
+    });
+  }
+}
+
+Board::~Board() = default;
+
+bool Board::load(const ElfFile& elf) {
+  return chip_.load(elf);
+}
+
+void Board::runUntilUs(uint64_t us) {
+  chip_.machine().run(us * chip_.machine().cyclesPerUs());
+}
+
+void Board::wireI2cMonitor() {
+  Pins& pins = chip_.pins();
+  pins.setBoardPullUp(kPa0, true);
+  pins.setBoardPullUp(kPa1, true);
+  chip_.i2c0().onTransaction([this](const I2cWireLog& t) { i2cLog_.push_back(t); });
+  if (image_.family == Family::Bq4050) {
+    bq4050_ = std::make_unique<bsp::host::Bq4050Emulator>();
+    i2cAddress_ = bsp::host::Bq4050Emulator::kAddress;
+    chip_.i2c0().attach(i2cAddress_, *bq4050_);
+    return;
+  }
+  using Model = bsp::host::Bq769xEmulator::Model;
+  bq769x_ = std::make_unique<bsp::host::Bq769xEmulator>(
+      world_, image_.family == Family::Bq76907 ? Model::Bq76907 : Model::Bq76952);
+  i2cAddress_ = kBq769xAddress;
+  chip_.i2c0().attach(i2cAddress_, *bq769x_);
+  // ALERT: the line as the device's ALERT Pin Config drives it (the emulator's alertLine()); where it drives
+  // nothing or high, the MCU's own pull-up must make the high (an input left floating is a twin warning).
+  signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;
+  bq769x_->onAlertLine(
+      [this](bool high) { chip_.pins().setExternal(signalPincm_, high ? Drive::None : Drive::Low); });
+}
+
+void Board::wireChain(int devices) {
+  chainUart_ = std::make_unique<bsp::host::SimUart>(world_, bsp::host::simIrq(), 1000000);
+  chain_ =
+      std::make_unique<bsp::host::Bq79616ChainEmulator>(world_, *chainUart_, static_cast<size_t>(devices));
+  nfault_ = std::make_unique<bsp::host::SimEdgeInput>(bsp::host::simIrq(), "nfault",
+                                                      bsp::host::SimEdgeInput::Edge::Falling, true);
+  chain_->attachFaultPin(*nfault_);
+  signalPincm_ = kG3507Pb0;
+  chip_.pins().setExternal(signalPincm_, Drive::High);  // nFAULT is driven by the base device
+  Pins& pins = chip_.pins();
+  Uart& uart = chip_.uart(0);
+  uart.onTransmit([this](uint8_t byte) {
+    ++uartBytes_;
+    if (!chip_.pins().routed(kG3507Pa10, kPf2)) {
+      ++unroutedBytes_;
+      return;
+    }
+    noteChainByte(byte);
+    chain_->onHostBytes(std::span<const uint8_t>(&byte, 1), world_.nowUs());
+  });
+  chainUart_->onPeerByte([this](uint8_t byte, bool framingError) {
+    ++uartRxBytes_;
+    if (chip_.pins().routed(kG3507Pa11, kPf2)) chip_.uart(0).receive(byte, framingError);
+  });
+  // A ping: the TX line low (the firmware drives it as a GPIO) for its length, measured on the line.
+  pins.onChange(kG3507Pa10, [this](bool level) {
+    const uint64_t now = chip_.machine().now();
+    if (!level) {
+      pingStart_ = now;
+    } else if (pingStart_ != 0) {
+      const auto us = static_cast<uint32_t>((now - pingStart_) / chip_.machine().cyclesPerUs());
+      chain_->onPing(fw::us(us), world_.nowUs());
+      chainPings_.push_back(now);
+      pingStart_ = 0;
+    }
+  });
+}
+
+// Command frames (bq79616-protocol.md): INIT (bit 7 set, request type 6:4, data length - 1 in 2:0), the
+// device address for single-device requests (types 0 and 1), the register (2 bytes), data (1 byte for reads),
+// CRC.
+void Board::noteChainByte(uint8_t byte) {
+  if (chainFrame_.empty() && (byte & 0x80) == 0) return;
+  chainFrame_.push_back(byte);
+  const uint8_t init = chainFrame_[0], type = (init >> 4) & 7U;
+  const bool single = type == 0 || type == 1, read = type == 0 || type == 2 || type == 4;
+  const size_t header = single ? 2 : 1;
+  if (chainFrame_.size() < header + 2 + (read ? 1U : (init & 7U) + 1U) + 2) return;
+  chainCommands_.push_back({chip_.machine().now(), init,
+                            static_cast<uint16_t>(chainFrame_[header] << 8 | chainFrame_[header + 1]),
+                            uartRxBytes_});
+  chainFrame_.clear();
+}
+
+void Board::wireCan() {
+  chip_.mcan()->onFrame([this](const CanWireFrame& f) { canFrames_.push_back(f); });
+  chip_.pins().setExternal(kG3507Pa13, Drive::High);  // the transceiver's RXD: recessive while idle
+}
+
+void Board::samplePins() {
+  const uint64_t now = chip_.machine().now();
+  if (nfault_) {
+    const Drive d = nfault_->level() ? Drive::High : Drive::Low;
+    if ((d == Drive::High) != chip_.pins().level(signalPincm_)) chip_.pins().setExternal(signalPincm_, d);
+  }
+  if (bq769x_) {
+    const bool on = bq769x_->chgFet() && bq769x_->dsgFet();
+    if (on != fets_ || fetsOn_.empty()) {
+      fets_ = on;
+      fetsOn_.push_back({now, on});
+    }
+  }
+}
+
+void Board::setMonitorPresent(bool present) {
+  if (bq4050_) {
+    if (present) {
+      chip_.i2c0().attach(i2cAddress_, *bq4050_);
+    } else {
+      chip_.i2c0().detach(i2cAddress_);
+    }
+  }
+  if (bq769x_) bq769x_->setMuted(!present);
+  if (chain_) {
+    for (size_t d = 0; d < chain_->size(); ++d)
+      chain_->setMuted(d, !present);
+  }
+}
+
+void Board::driveMonitorSignal(bool level) {
+  if (nfault_) {
+    nfault_->drive(level);  // the chain's own output: the sampler keeps the pin in step
+    samplePins();
+  } else if (signalPincm_ != 0) {
+    chip_.pins().setExternal(signalPincm_, level ? Drive::None : Drive::Low);  // open drain
+  }
+}
+
+std::vector<std::string> Board::warnings() const {
+  std::vector<std::string> out;
+  for (const std::string& pin : chip_.pins().floatingReads())
+    out.push_back(pin + " read while floating (no drive, no pull)");
+  if (const Mcan* mcan = chip_.mcan()) {
+    for (const std::string& n : mcan->notes())
+      out.push_back("CANFD0: " + n);
+    for (int line = 0; line < 2; ++line) {
+      const uint64_t waiting = mcan->awaitingEoiCycles(line) / chip_.machine().cyclesPerUs();
+      if (waiting > 10000) {
+        out.push_back("CANFD0 interrupt line " + std::to_string(line) + " waiting for MCANSS_EOI for " +
+                      std::to_string(waiting / 1000) + " ms: its later interrupts are lost");
+      }
+    }
+  }
+  return out;
+}
+
+bool Board::injectBusOff() {
+  if (chip_.mcan() == nullptr) return false;
+  chip_.mcan()->injectBusOff();
+  return true;
+}
+
+}  // namespace twin

@@ -1,0 +1,150 @@
+// Board: one of the five LaunchPad set-ups around a twin MSPM0, wired to the device emulators the host tools
+// use (bsp/host/emul), on the emulators' SimClock. The wiring is the README's "Connections" table
+// (bsp/mspm0/README.md) and the ARCHITECTURE.md image table, not the firmware's choices: if an image muxes a
+// signal to another pin, nothing arrives where the board expects it.
+//
+//   L1306 + BQ76952 / BQ76907 EVM: I2C0 PA0 SDA / PA1 SCL (pull-ups on the board), the monitor's ALERT
+//       to PA15 (open drain, low when asserted), the XDS110 back-channel's receive line on PA8 (UART0 TX,
+//       PF 2): SLCAN.
+//   G3507 + BQ76952 or BQ4050: I2C0 PA0 / PA1 (pull-ups), BQ76952 ALERT to PB0; CAN on PA12 TX / PA13 RX to
+//       a bus with one listener that acknowledges every frame (the candump log); the fault output PB26.
+//   G3507 + BQ79616 chain (seed 001): UART0 PA10 TX / PA11 RX at the chain's base device, nFAULT to PB0, CAN
+//       and PB26 as above. A ping is the TX line held low (the firmware muxes it to GPIO): its length goes to
+//       the chain as the emulator's onPing().
+//
+// Times in the observations are CPU cycles of the twin (32 per microsecond).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bq4050/gauge_emulator.hpp"
+#include "bq769x2/emulator.hpp"
+#include "bq79616/chain_emulator.hpp"
+#include "mspm0.hpp"
+#include "sim/peripherals.hpp"
+#include "sim/uart.hpp"
+
+namespace twin {
+
+enum class Family : uint8_t { Bq76952, Bq76907, Bq79616, Bq4050 };
+
+struct ImageId {
+  Part part;
+  Family family;
+  const char* preset;
+};
+
+// The five images. identify() recognises one from its ELF: the part from where the stack starts (SRAM at
+// 0x20000000 or 0x20200000, symbol __stack_top__), the monitor from the driver code it contains
+// (fw::drivers::bq79616, fw::drivers::bq4050, Bq7690x or Bq769x2 classes).
+const std::vector<ImageId>& images();
+std::optional<ImageId> imageByPreset(const std::string& preset);
+std::optional<ImageId> identify(const ElfFile& elf, std::string& error);
+
+struct PinEdge {
+  uint64_t cycle;
+  bool level;
+};
+
+// A command frame the MCU sent the BQ79616 chain (INIT byte and register; bq79616-protocol.md frame layout).
+struct ChainCommand {
+  uint64_t cycle;
+  uint8_t init;
+  uint16_t reg;
+  uint64_t rxBytesBefore;  // bytes the MCU had received from the chain when this command was complete
+};
+
+struct SlcanLine {
+  uint64_t cycle;  // the line's last byte left the UART
+  std::string text;
+};
+
+class Board {
+ public:
+  // `devices`: BQ79616 chain length (the other monitors are single devices).
+  Board(const ImageId& image, bsp::host::SimClock& world, int devices);
+  ~Board();
+  Board(const Board&) = delete;
+  Board& operator=(const Board&) = delete;
+
+  // Loads the image and powers the board on. False with error() set when the ELF does not fit.
+  bool load(const ElfFile& elf);
+  const std::string& error() const { return chip_.error(); }
+  const ImageId& image() const { return image_; }
+  Mspm0& chip() { return chip_; }
+  Machine& machine() { return chip_.machine(); }
+  const Machine& machine() const { return chip_.machine(); }
+  // Runs the MCU and the devices up to `us` of world time.
+  void runUntilUs(uint64_t us);
+
+  // The devices (the one this image has; the others are null).
+  bsp::host::Bq769xEmulator* bq769x() { return bq769x_.get(); }
+  const bsp::host::Bq769xEmulator* bq769x() const { return bq769x_.get(); }
+  const bsp::host::Bq79616ChainEmulator* chain() const { return chain_.get(); }
+  bsp::host::Bq4050Emulator* bq4050() { return bq4050_.get(); }
+  bsp::host::Bq79616ChainEmulator* chain() { return chain_.get(); }
+  // An I2C monitor leaves the bus (every transaction NACKed) or comes back.
+  void setMonitorPresent(bool present);
+  // Called at every watchdog restart, with the world clock at that moment.
+  void onWatchdogFeed(std::function<void()> hook) { feedHook_ = std::move(hook); }
+  // Drives the monitor's ALERT (BQ769x2/BQ7690x) or nFAULT (BQ79616) line: low = asserted.
+  void driveMonitorSignal(bool level);
+  // The CAN controller goes bus-off; false on a board without CAN.
+  bool injectBusOff();
+
+  // What the board did.
+  const std::vector<CanWireFrame>& canFrames() const { return canFrames_; }
+  const std::vector<SlcanLine>& slcanLines() const { return slcanLines_; }
+  const std::vector<PinEdge>& faultOutput() const { return faultOutput_; }      // PB26 (G3507)
+  const std::vector<PinEdge>& monitorSignal() const { return monitorSignal_; }  // ALERT / nFAULT pin
+  const std::vector<PinEdge>& fetsOn() const { return fetsOn_; }                // BQ769x: CHG and DSG both on
+  const std::vector<uint64_t>& watchdogFeeds() const { return watchdogFeeds_; }
+  const std::vector<I2cWireLog>& i2cLog() const { return i2cLog_; }
+  const std::vector<ChainCommand>& chainCommands() const { return chainCommands_; }
+  const std::vector<uint64_t>& chainPings() const { return chainPings_; }  // cycle each ping on TX ended
+  // What the twin noticed that the part would do silently: floating inputs read, protected MCAN writes
+  // ignored, an MCAN interrupt line waiting for its EOI longer than 10 ms. Empty for a healthy image.
+  std::vector<std::string> warnings() const;
+  uint64_t uartBytes() const { return uartBytes_; }
+  uint64_t uartRxBytes() const { return uartRxBytes_; }
+  uint64_t unroutedBytes() const { return unroutedBytes_; }  // UART bytes that left on no connected pin
+
+ private:
+  void wireI2cMonitor();
+  void wireChain(int devices);
+  void wireCan();
+  void samplePins();
+  void noteChainByte(uint8_t byte);
+
+  ImageId image_;
+  bsp::host::SimClock& world_;
+  Mspm0 chip_;
+  std::unique_ptr<bsp::host::Bq769xEmulator> bq769x_;
+  std::unique_ptr<bsp::host::Bq4050Emulator> bq4050_;
+  std::unique_ptr<bsp::host::SimUart> chainUart_;
+  std::unique_ptr<bsp::host::Bq79616ChainEmulator> chain_;
+  std::unique_ptr<bsp::host::SimEdgeInput> nfault_;
+  int signalPincm_ = 0;  // ALERT or nFAULT input
+  int faultPincm_ = 0;   // fault output
+  uint8_t i2cAddress_ = 0;
+  std::vector<CanWireFrame> canFrames_;
+  std::vector<SlcanLine> slcanLines_;
+  std::string slcanPending_;
+  std::vector<PinEdge> faultOutput_, monitorSignal_, fetsOn_;
+  std::vector<uint64_t> watchdogFeeds_;
+  std::function<void()> feedHook_;
+  std::vector<I2cWireLog> i2cLog_;
+  std::vector<ChainCommand> chainCommands_;
+  std::vector<uint64_t> chainPings_;
+  std::vector<uint8_t> chainFrame_;
+  uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
+  uint64_t pingStart_ = 0;
+  bool fets_ = false;
+};
+
+}  // namespace twin

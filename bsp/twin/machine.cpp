@@ -1,0 +1,230 @@
+#include "machine.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "cpu/timing.hpp"
+#include "sim/sim_clock.hpp"
+
+namespace twin {
+
+Machine::Machine(const MemoryLayout& layout)
+    : layout_(layout),
+      flash_(layout.flashSize, 0xFF),
+      sram_(layout.sramSize, 0),
+      core_(map_, nvic_),
+      scs_(core_, nvic_, timeline_, [this] { requestReset(ResetKind::Sysrst, "AIRCR.SYSRESETREQ"); }) {
+  core_.setFlash(flash_.data(), layout.flashSize);
+  core_.setSram(sram_.data(), layout.sramBase, layout.sramSize);
+  core_.setObserver(this);
+  map_.add(Scs::kBase, Scs::kSize, scs_);
+}
+
+Machine::~Machine() = default;
+
+bool Machine::loadFlash(const std::vector<uint8_t>& image) {
+  if (image.size() > flash_.size()) return false;
+  std::fill(flash_.begin(), flash_.end(), 0xFF);
+  std::copy(image.begin(), image.end(), flash_.begin());
+  return true;
+}
+
+void Machine::powerOn() {
+  reset(ResetKind::Por, "power-on");
+}
+
+void Machine::requestReset(ResetKind kind, const std::string& cause) {
+  if (pendingReset_ && *pendingReset_ >= kind) return;
+  pendingReset_ = kind;
+  pendingResetCause_ = cause;
+}
+
+void Machine::reset(ResetKind kind, const std::string& cause) {
+  pendingReset_.reset();
+  if (kind != ResetKind::Sysrst) {
+    // SRAM content is undefined after power-up / BOOTRST: a fixed pseudo-random pattern keeps runs repeatable
+    // and makes code that reads uninitialised memory visible.
+    uint32_t x = 0x2545F491;
+    for (uint8_t& b : sram_) {
+      x = x * 1664525U + 1013904223U;
+      b = static_cast<uint8_t>(x >> 24);
+    }
+  }
+  for (auto& hook : resetHooks_)
+    hook(kind);
+  scs_.reset();
+  irqLevels_ = 0;
+  requested_.fill(false);
+  core_.reset();
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f s: ", static_cast<double>(now()) / layout_.clockHz);
+  resetLog_.push_back(buf + cause);
+}
+
+void Machine::stop(const std::string& why) {
+  char buf[48];
+  const uint32_t pc = core_.pc();
+  std::snprintf(buf, sizeof buf, " (PC 0x%08X", pc);
+  std::string where = buf;
+  if (symbolizer_) {
+    const std::string fn = symbolizer_(pc);
+    if (!fn.empty()) where += " in " + fn;
+  }
+  core_.halt(why + where + ")");
+}
+
+std::string Machine::stopReason() const {
+  if (!core_.halted()) return "";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.6f s: ", static_cast<double>(now()) / layout_.clockHz);
+  std::string text = buf + core_.haltReason();
+  if (symbolizer_ && text.find(" in ") == std::string::npos) {
+    const std::string fn = symbolizer_(core_.pc());
+    if (!fn.empty()) text += " in " + fn;
+  }
+  return text;
+}
+
+void Machine::setIrq(int irq, bool asserted) {
+  const uint32_t bit = 1U << irq;
+  const bool was = (irqLevels_ & bit) != 0;
+  if (was == asserted) return;
+  irqLevels_ = asserted ? (irqLevels_ | bit) : (irqLevels_ & ~bit);
+  nvic_.setIrqLevel(irq, asserted);
+  const int e = Nvic::kIrq0 + irq;
+  if (asserted && !requested_[e] && (nvic_.enabledIrqs() & bit) != 0) {
+    requested_[e] = true;
+    requestedAt_[e] = now();
+  }
+}
+
+void Machine::onExceptionEntry(int exception) {
+  const uint64_t start = now() + cycles::kExceptionEntry;  // the handler's first instruction
+  InterruptFigures& f = irqFigures_[exception];
+  ++f.entries;
+  if (requested_[exception]) {
+    f.worstLatencyCycles = std::max(f.worstLatencyCycles, start - requestedAt_[exception]);
+    requested_[exception] = false;
+  }
+  enteredAt_[exception] = start;
+}
+
+void Machine::onExceptionReturn(int exception) {
+  InterruptFigures& f = irqFigures_[exception];
+  f.worstHandlerCycles = std::max(f.worstHandlerCycles, now() - enteredAt_[exception]);
+  // A level still asserted is a new request (the NVIC pends it again on return).
+  if (exception >= Nvic::kIrq0 && (irqLevels_ >> (exception - Nvic::kIrq0)) & 1U) {
+    requested_[exception] = true;
+    requestedAt_[exception] = now();
+  }
+}
+
+void Machine::onHardFault(const std::string& why) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.6f s: ", static_cast<double>(now()) / layout_.clockHz);
+  std::string text = buf + why;
+  if (symbolizer_) {
+    const std::string fn = symbolizer_(core_.pc());
+    if (!fn.empty()) text += " in " + fn;
+  }
+  hardFaultLog_.push_back(text);
+}
+
+bool Machine::busRead(uint32_t address, unsigned bytes, uint32_t& value) {
+  const uint8_t* p = nullptr;
+  if (address + bytes <= layout_.flashSize) {
+    p = flash_.data() + address;
+  } else if (address - layout_.sramBase < layout_.sramSize &&
+             address - layout_.sramBase + bytes <= layout_.sramSize) {
+    p = sram_.data() + (address - layout_.sramBase);
+  }
+  if (p == nullptr) return map_.load(address, bytes, value);
+  value = 0;
+  for (unsigned i = 0; i < bytes; ++i)
+    value |= static_cast<uint32_t>(p[i]) << (8 * i);
+  return true;
+}
+
+bool Machine::busWrite(uint32_t address, unsigned bytes, uint32_t value) {
+  if (address - layout_.sramBase < layout_.sramSize &&
+      address - layout_.sramBase + bytes <= layout_.sramSize) {
+    uint8_t* p = sram_.data() + (address - layout_.sramBase);
+    for (unsigned i = 0; i < bytes; ++i)
+      p[i] = static_cast<uint8_t>(value >> (8 * i));
+    return true;
+  }
+  if (address < layout_.flashSize) return false;
+  return map_.store(address, bytes, value);
+}
+
+uint32_t Machine::readSram32(uint32_t address) const {
+  const uint32_t at = address - layout_.sramBase;
+  if (at + 4 > layout_.sramSize) return 0;
+  return static_cast<uint32_t>(sram_[at] | sram_[at + 1] << 8 | sram_[at + 2] << 16) |
+         static_cast<uint32_t>(sram_[at + 3]) << 24;
+}
+
+uint64_t Machine::worldNext() const {
+  uint64_t us = 0;
+  if (world_ == nullptr || !world_->nextEvent(us)) return UINT64_MAX;
+  return us * cyclesPerUs();
+}
+
+void Machine::syncWorld() {
+  if (world_ == nullptr || worldBusy_) return;
+  worldBusy_ = true;
+  world_->advanceTo(std::max(now() / cyclesPerUs(), world_->nowUs()));
+  worldBusy_ = false;
+}
+
+void Machine::fireDue() {
+  const uint64_t perUs = cyclesPerUs();
+  auto advanceWorld = [&](uint64_t us) {
+    if (world_ == nullptr || worldBusy_) return;
+    worldBusy_ = true;
+    world_->advanceTo(std::max(us, world_->nowUs()));  // runs every world event up to `us`, in order
+    worldBusy_ = false;
+  };
+  for (;;) {
+    const uint64_t t = now();
+    const uint64_t mine = timeline_.next(), theirs = worldNext();
+    if (mine > t && theirs > t) break;
+    if (theirs <= mine) {
+      advanceWorld(theirs / perUs);
+    } else {
+      advanceWorld(mine / perUs);
+      timeline_.fireNext(t);
+    }
+  }
+  advanceWorld(now() / perUs);
+  for (auto& hook : eventHooks_)
+    hook();
+}
+
+void Machine::run(uint64_t endCycle) {
+  while (!core_.halted() && now() < endCycle) {
+    if (pendingReset_) reset(*pendingReset_, pendingResetCause_);
+    fireDue();
+    if (core_.halted()) break;
+    const uint64_t horizon = std::min({endCycle, timeline_.next(), worldNext()});
+    if (core_.sleeping()) {
+      core_.step();  // wakes (and returns 0) only if an interrupt would preempt
+      if (core_.sleeping()) {
+        timeline_.advanceTo(std::max(horizon, now()));
+        continue;
+      }
+    }
+    timeline_.clearRearmed();
+    while (now() < horizon) {
+      const uint32_t spent = core_.step();
+      if (spent == 0) break;
+      timeline_.advanceTo(now() + spent);
+      busy_ += spent;
+      if (timeline_.rearmed() || pendingReset_ || core_.sleeping()) break;
+    }
+  }
+  if (!core_.halted()) fireDue();
+  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_);
+}
+
+}  // namespace twin

@@ -1,0 +1,136 @@
+// Machine: the Cortex-M0+ core, its memories, the System Control Space and the address map, run on the
+// twin's timeline together with the world outside the chip (the device emulators' SimClock).
+//
+// Time: the timeline counts CPU cycles at the image's clock (32 MHz on every image: SYSOSC, MCLK /1; the
+// SYSCTL model stops the run if the firmware selects anything else). The emulators live on a SimClock in
+// microseconds; the machine keeps it in step (one microsecond = clockHz / 1e6 cycles), firing both kinds of
+// events in time order, so a peripheral model can call an emulator and the emulator sees the right time.
+//
+// run(end): executes instructions, fires events, and while the core sleeps in WFI jumps straight to the next
+// event. It stops at `end` or when the run is stopped (an access no model covers, a lockup, a rule a model
+// enforces: stopped() and stopReason() say which, with the PC).
+//
+// Figures: busy cycles (the core not asleep), and per interrupt the worst latency from the request (the
+// line asserting, or still asserted when its handler returned) to the first instruction of its handler, and
+// the longest handler run (entry to return, including nested handlers).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "address_map.hpp"
+#include "cpu/core.hpp"
+#include "cpu/nvic.hpp"
+#include "cpu/scs.hpp"
+#include "elf_file.hpp"
+#include "timeline.hpp"
+
+namespace bsp::host {
+class SimClock;
+}
+
+namespace twin {
+
+struct MemoryLayout {
+  uint32_t flashSize = 0;
+  uint32_t sramBase = 0;
+  uint32_t sramSize = 0;
+  uint32_t clockHz = 32000000;
+};
+
+enum class ResetKind : uint8_t { Sysrst, Bootrst, Por };
+
+struct InterruptFigures {
+  uint64_t entries = 0;
+  uint64_t worstLatencyCycles = 0;
+  uint64_t worstHandlerCycles = 0;
+};
+
+class Machine final : public CoreObserver {
+ public:
+  explicit Machine(const MemoryLayout& layout);
+  ~Machine();
+
+  // Copies the image's flash bytes (ElfFile::flashImage) into the flash; false if it does not fit.
+  bool loadFlash(const std::vector<uint8_t>& image);
+  // Power-on reset: SRAM filled with a pattern (its content is undefined at power-up), every model reset.
+  void powerOn();
+  // A reset of the given level (SLAU846B Table 2-12 / SLAU847D Table 2-9): every peripheral and the CPU;
+  // SRAM keeps its content on SYSRST and is lost on BOOTRST and POR. `cause` is logged.
+  void reset(ResetKind kind, const std::string& cause);
+  // The same from a model (a register write, a watchdog event): done before the next instruction.
+  void requestReset(ResetKind kind, const std::string& cause);
+
+  void attachWorld(bsp::host::SimClock& clock) { world_ = &clock; }
+  // Brings the world clock up to the CPU's time now (from a register access, outside any world event), so
+  // what the world records at this moment carries the right time.
+  void syncWorld();
+  void run(uint64_t endCycle);
+  void stop(const std::string& why);  // the run stops after the current instruction
+  bool stopped() const { return core_.halted(); }
+  std::string stopReason() const;
+
+  // --- for the chip's models ---------------------------------------------------------------------------
+  Timeline& timeline() { return timeline_; }
+  uint64_t now() const { return timeline_.now(); }
+  uint32_t clockHz() const { return layout_.clockHz; }
+  uint64_t cyclesPerUs() const { return layout_.clockHz / 1000000; }
+  AddressMap& map() { return map_; }
+  Nvic& nvic() { return nvic_; }
+  Core& core() { return core_; }
+  const MemoryLayout& layout() const { return layout_; }
+  // An external interrupt line's level (IRQ n of the NVIC).
+  void setIrq(int irq, bool asserted);
+  // A bus master other than the CPU (DMA): same map, flash and SRAM included. False: nothing there.
+  bool busRead(uint32_t address, unsigned bytes, uint32_t& value);
+  bool busWrite(uint32_t address, unsigned bytes, uint32_t value);
+  // Registered by the chip: called on every reset, after the core's state is reset.
+  void onReset(std::function<void(ResetKind)> hook) { resetHooks_.push_back(std::move(hook)); }
+  // Called after every batch of events (the board samples signals the emulators drive, e.g. nFAULT).
+  void onEvents(std::function<void()> hook) { eventHooks_.push_back(std::move(hook)); }
+  void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
+
+  // --- figures --------------------------------------------------------------------------------------------
+  uint64_t busyCycles() const { return busy_; }
+  const std::array<InterruptFigures, Nvic::kExceptions>& interrupts() const { return irqFigures_; }
+  const std::vector<std::string>& resets() const { return resetLog_; }
+  const std::vector<std::string>& hardFaults() const { return hardFaultLog_; }
+  uint32_t readSram32(uint32_t address) const;
+
+ private:
+  void onExceptionEntry(int exception) override;
+  void onExceptionReturn(int exception) override;
+  void onHardFault(const std::string& why) override;
+  uint64_t worldNext() const;
+  void fireDue();
+
+  MemoryLayout layout_;
+  std::vector<uint8_t> flash_;
+  std::vector<uint8_t> sram_;
+  Timeline timeline_;
+  Nvic nvic_;
+  AddressMap map_;
+  Core core_;
+  Scs scs_;
+  bsp::host::SimClock* world_ = nullptr;
+  bool worldBusy_ = false;
+  std::vector<std::function<void(ResetKind)>> resetHooks_;
+  std::vector<std::function<void()>> eventHooks_;
+  std::function<std::string(uint32_t)> symbolizer_;
+  uint64_t busy_ = 0;
+  std::array<uint64_t, Nvic::kExceptions> requestedAt_{};
+  std::array<bool, Nvic::kExceptions> requested_{};
+  std::array<uint64_t, Nvic::kExceptions> enteredAt_{};
+  std::array<InterruptFigures, Nvic::kExceptions> irqFigures_{};
+  uint32_t irqLevels_ = 0;
+  std::vector<std::string> resetLog_;
+  std::vector<std::string> hardFaultLog_;
+  std::optional<ResetKind> pendingReset_;
+  std::string pendingResetCause_;
+};
+
+}  // namespace twin

@@ -1,0 +1,137 @@
+#include "mspm0.hpp"
+
+#include <array>
+
+namespace twin {
+
+namespace {
+
+// Package pins (port, DIO, PINCM): mspm0g350x.h IOMUX_PINCMn_PF_GPIOx_DIOyy for the G3507 (64-pin); on the
+// L1306 PINCMn is PA(n-1) for n = 1..28 (mspm0l130x.h IOMUX_PINCMn_PF_GPIOA_DIO(n-1)).
+constexpr PinId kG3507Pins[] = {
+    {0, 0, 1},   {0, 1, 2},   {0, 28, 3},  {0, 29, 4},  {0, 30, 5},  {0, 31, 6},  {0, 2, 7},   {0, 3, 8},
+    {0, 4, 9},   {0, 5, 10},  {0, 6, 11},  {1, 0, 12},  {1, 1, 13},  {0, 7, 14},  {1, 2, 15},  {1, 3, 16},
+    {1, 4, 17},  {1, 5, 18},  {0, 8, 19},  {0, 9, 20},  {0, 10, 21}, {0, 11, 22}, {1, 6, 23},  {1, 7, 24},
+    {1, 8, 25},  {1, 9, 26},  {1, 10, 27}, {1, 11, 28}, {1, 12, 29}, {1, 13, 30}, {1, 14, 31}, {1, 15, 32},
+    {1, 16, 33}, {0, 12, 34}, {0, 13, 35}, {0, 14, 36}, {0, 15, 37}, {0, 16, 38}, {0, 17, 39}, {0, 18, 40},
+    {0, 19, 41}, {0, 20, 42}, {1, 17, 43}, {1, 18, 44}, {1, 19, 45}, {0, 21, 46}, {0, 22, 47}, {1, 20, 48},
+    {1, 21, 49}, {1, 22, 50}, {1, 23, 51}, {1, 24, 52}, {0, 23, 53}, {0, 24, 54}, {0, 25, 55}, {1, 25, 56},
+    {1, 26, 57}, {1, 27, 58}, {0, 26, 59}, {0, 27, 60},
+};
+
+std::array<PinId, 28> l1306Pins() {
+  std::array<PinId, 28> pins{};
+  for (uint8_t n = 1; n <= 28; ++n)
+    pins[n - 1] = {0, static_cast<uint8_t>(n - 1), n};
+  return pins;
+}
+const std::array<PinId, 28> kL1306Pins = l1306Pins();
+
+// Memories (tsv "mem" rows) and the peripheral bases, IRQs and DMA triggers (tsv base/irq/dmatrig rows).
+constexpr uint32_t kPeripheralSpan = 0x2000;
+constexpr uint32_t kGpioa = 0x400A0000, kGpiob = 0x400A2000, kTimg0 = 0x40084000, kWwdt0 = 0x40080000;
+constexpr uint32_t kI2c0 = 0x400F0000, kI2c1 = 0x400F2000, kUart0 = 0x40108000, kUart1 = 0x40100000;
+constexpr uint32_t kCanfd0 = 0x40508000, kCanfdSpan = 0x8000;
+
+// The timers and UARTs each part has: base, IRQ, name and (UARTs) the DMA trigger of RX and TX.
+struct Slot {
+  uint32_t base;
+  int irq;
+  const char* name;
+  int dmaRx = 0, dmaTx = 0;
+};
+constexpr Slot kG3507Timers[] = {
+    {kTimg0, 16, "TIMG0"}, {0x40868000, 17, "TIMG6"}, {0x4086A000, 20, "TIMG7"}, {0x40090000, 2, "TIMG8"}};
+constexpr Slot kL1306Timers[] = {
+    {kTimg0, 16, "TIMG0"}, {0x40086000, 2, "TIMG1"}, {0x40088000, 18, "TIMG2"}, {0x4008C000, 20, "TIMG4"}};
+constexpr Slot kG3507Uarts[] = {{kUart0, 15, "UART0", 17, 18},
+                                {kUart1, 13, "UART1", 19, 20},
+                                {0x40102000, 14, "UART2", 21, 22},
+                                {0x40500000, 3, "UART3", 15, 16}};
+constexpr Slot kL1306Uarts[] = {{kUart0, 15, "UART0", 10, 11}, {kUart1, 13, "UART1", 12, 13}};
+
+}  // namespace
+
+template <class Model, class... Args>
+Model* Mspm0::add(uint32_t base, uint32_t size, int irq, Args&&... args) {
+  auto* model = new Model(*machine_, std::forward<Args>(args)...);
+  machine_->map().add(base, size, *model);
+  if (irq >= 0) model->connectInterrupt([this, irq](bool level) { machine_->setIrq(irq, level); });
+  machine_->onReset([model](ResetKind) { model->systemReset(); });
+  return model;
+}
+
+Mspm0::Mspm0(Part part) : part_(part) {
+  const bool g = part == Part::G3507;
+  machine_ = std::make_unique<Machine>(
+      MemoryLayout{g ? 0x20000U : 0x10000U, g ? 0x20200000U : 0x20000000U, g ? 0x8000U : 0x1000U, 32000000});
+  Machine& m = *machine_;
+  sysctl_ = std::make_unique<Sysctl>(m, g);
+  m.map().add(Sysctl::kBase, Sysctl::kSize, *sysctl_);
+  cpuss_ = std::make_unique<Cpuss>(m);
+  m.map().add(Cpuss::kBase, Cpuss::kSize, *cpuss_);
+  if (g) {
+    pins_ = std::make_unique<Pins>(m, std::span<const PinId>(kG3507Pins));
+  } else {
+    pins_ = std::make_unique<Pins>(m, std::span<const PinId>(kL1306Pins));
+  }
+  m.map().add(Pins::kBase, Pins::kSize, *pins_);
+  dma_ = std::make_unique<Dma>(m, g ? 7 : 3);
+  m.map().add(Dma::kBase, Dma::kSize, *dma_);
+  dma_->connectInterrupt([&m](bool level) { m.setIrq(31, level); });
+
+  // GPIO ports feed INT_GROUP1: GPIOA is member 1, GPIOB member 2 (tsv group_iidx rows).
+  gpioA_.reset(add<Gpio>(kGpioa, kPeripheralSpan, -1, "GPIOA", 0, *pins_));
+  gpioA_->connectInterrupt([this](bool level) { cpuss_->setMember(1, 1, level); });
+  cpuss_->setMembers(1, g ? 0x3F : 0x5);  // G3507: GPIOA, GPIOB, COMP0-2, TRNG; L1306: GPIOA, COMP0 (IIDX 3)
+  if (g) {
+    gpioB_.reset(add<Gpio>(kGpiob, kPeripheralSpan, -1, "GPIOB", 1, *pins_));
+    gpioB_->connectInterrupt([this](bool level) { cpuss_->setMember(1, 2, level); });
+  }
+  wwdt0_.reset(add<Wwdt>(kWwdt0, kPeripheralSpan, -1, "WWDT0"));
+  i2c0_.reset(add<I2c>(kI2c0, kPeripheralSpan, 24, "I2C0", *pins_));
+  i2c1_.reset(add<I2c>(kI2c1, kPeripheralSpan, 25, "I2C1", *pins_));
+  // I2C0 on PA0 (SDA, PINCM1) / PA1 (SCL, PINCM2), PF 3 on both parts (device headers).
+  i2c0_->setPins(1, 3, 2, 3);
+  const std::span<const Slot> timers(g ? std::span<const Slot>(kG3507Timers) : kL1306Timers);
+  for (size_t i = 0; i < timers.size(); ++i)
+    timg_[i].reset(add<Timg>(timers[i].base, kPeripheralSpan, timers[i].irq, timers[i].name));
+  const std::span<const Slot> uarts(g ? std::span<const Slot>(kG3507Uarts) : kL1306Uarts);
+  for (size_t i = 0; i < uarts.size(); ++i) {
+    const Slot& u = uarts[i];
+    uart_[i].reset(add<Uart>(u.base, kPeripheralSpan, u.irq, u.name, *dma_, u.dmaRx, u.dmaTx));
+  }
+  if (g) {
+    mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
+    mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
+    // Output functions idle high: UART0 TX on PA10 (PINCM21), UART1 TX on PA8 (PINCM19), CAN TX.
+    pins_->setFunctionDrive(21, 2, Drive::High);
+    pins_->setFunctionDrive(19, 2, Drive::High);
+    pins_->setFunctionDrive(34, 5, Drive::High);
+  } else {
+    // UART0 TX idles high on PA8 (PINCM9, PF 2) and PA23 (PINCM24, PF 2).
+    pins_->setFunctionDrive(9, 2, Drive::High);
+    pins_->setFunctionDrive(24, 2, Drive::High);
+  }
+}
+
+Mspm0::~Mspm0() = default;
+
+int Mspm0::pincm(int port, int bit) const {
+  const PinId* p = pins_->find(port, bit);
+  return p == nullptr ? 0 : p->pincm;
+}
+
+bool Mspm0::load(const ElfFile& elf) {
+  elf_ = &elf;
+  if (!machine_->loadFlash(elf.flashImage())) {
+    error_ = elf.path() + ": the image (" + std::to_string(elf.flashImage().size()) +
+             " B) does not fit the part's flash (" + std::to_string(machine_->layout().flashSize) + " B)";
+    return false;
+  }
+  machine_->setSymbolizer([this](uint32_t address) { return elf_->symbolAt(address); });
+  machine_->powerOn();
+  return true;
+}
+
+}  // namespace twin

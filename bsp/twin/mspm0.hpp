@@ -1,0 +1,75 @@
+// Mspm0: one MSPM0L1306 or MSPM0G3507 as the twin builds it: the machine (core, memories, SCS) and every
+// peripheral model at its base address, interrupt line and DMA triggers. Every number comes from the rows of
+// ../shared/reference/mspm0/*.tsv (kinds base, irq, dmatrig, mem, group_iidx) and, for the pins, the device
+// headers' IOMUX_PINCMn_PF_* definitions (mspm0-sdk mspm0g350x.h / mspm0l130x.h).
+//
+// Instances the images use are modelled; every other peripheral address is left unmapped, so an image that
+// touches one stops with the PC and the address.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "elf_file.hpp"
+#include "machine.hpp"
+#include "periph/cpuss.hpp"
+#include "periph/dma.hpp"
+#include "periph/gpio.hpp"
+#include "periph/i2c.hpp"
+#include "periph/mcan.hpp"
+#include "periph/pins.hpp"
+#include "periph/sysctl.hpp"
+#include "periph/timg.hpp"
+#include "periph/uart.hpp"
+#include "periph/wwdt.hpp"
+
+namespace twin {
+
+enum class Part : uint8_t { L1306, G3507 };
+
+class Mspm0 {
+ public:
+  explicit Mspm0(Part part);
+  ~Mspm0();
+
+  Part part() const { return part_; }
+  // Loads the image's flash bytes and its symbols (for messages), then powers the chip on. False with
+  // error() set if the image does not fit.
+  bool load(const ElfFile& elf);
+  const std::string& error() const { return error_; }
+
+  Machine& machine() { return *machine_; }
+  const Machine& machine() const { return *machine_; }
+  Pins& pins() { return *pins_; }
+  Sysctl& sysctl() { return *sysctl_; }
+  Gpio& gpio(int port) { return port == 0 ? *gpioA_ : *gpioB_; }
+  Wwdt& wwdt0() { return *wwdt0_; }
+  I2c& i2c0() { return *i2c0_; }
+  Uart& uart(int n) { return *uart_[n]; }  // 0..3 on the G3507, 0..1 on the L1306
+  Mcan* mcan() { return mcan_.get(); }     // G3507 only
+  const Mcan* mcan() const { return mcan_.get(); }
+  const Pins& pins() const { return *pins_; }
+  // PINCM index of port/bit (0 if the part has no such pin).
+  int pincm(int port, int bit) const;
+
+ private:
+  template <class Model, class... Args>
+  Model* add(uint32_t base, uint32_t size, int irq, Args&&... args);
+
+  Part part_;
+  std::string error_;
+  std::unique_ptr<Machine> machine_;
+  std::unique_ptr<Sysctl> sysctl_;
+  std::unique_ptr<Cpuss> cpuss_;
+  std::unique_ptr<Pins> pins_;
+  std::unique_ptr<Dma> dma_;
+  std::unique_ptr<Gpio> gpioA_, gpioB_;
+  std::unique_ptr<Timg> timg_[4];
+  std::unique_ptr<Wwdt> wwdt0_;
+  std::unique_ptr<I2c> i2c0_, i2c1_;
+  std::unique_ptr<Uart> uart_[4];
+  std::unique_ptr<Mcan> mcan_;
+  const ElfFile* elf_ = nullptr;
+};
+
+}  // namespace twin

@@ -1,0 +1,511 @@
+#include "periph/mcan.hpp"
+
+#include <cstdio>
+
+#include "machine.hpp"
+#include "sim/can.hpp"
+
+namespace twin {
+
+namespace {
+
+constexpr uint32_t kGprcm = 0x6800, kCpuInt = 0x7820;
+// M_CAN core (hw_mcan.h MCAN_* at 0x7000 + offset)
+constexpr uint32_t kCrel = 0x7000, kEndn = 0x7004, kDbtp = 0x700C, kTest = 0x7010, kRwd = 0x7014;
+constexpr uint32_t kCccr = 0x7018, kNbtp = 0x701C, kTscc = 0x7020, kTscv = 0x7024, kTocc = 0x7028;
+constexpr uint32_t kTocv = 0x702C, kEcr = 0x7040, kPsr = 0x7044, kTdcr = 0x7048, kIr = 0x7050, kIe = 0x7054;
+constexpr uint32_t kIls = 0x7058, kIle = 0x705C, kGfc = 0x7080, kSidfc = 0x7084, kXidfc = 0x7088;
+constexpr uint32_t kXidam = 0x7090, kHpms = 0x7094, kNdat1 = 0x7098, kNdat2 = 0x709C, kRxf0c = 0x70A0;
+constexpr uint32_t kRxf0s = 0x70A4, kRxf0a = 0x70A8, kRxbc = 0x70AC, kRxf1c = 0x70B0, kRxf1s = 0x70B4;
+constexpr uint32_t kRxf1a = 0x70B8, kRxesc = 0x70BC, kTxbc = 0x70C0, kTxfqs = 0x70C4, kTxesc = 0x70C8;
+constexpr uint32_t kTxbrp = 0x70CC, kTxbar = 0x70D0, kTxbcr = 0x70D4, kTxbto = 0x70D8, kTxbcf = 0x70DC;
+constexpr uint32_t kTxbtie = 0x70E0, kTxbcie = 0x70E4, kTxefc = 0x70F0, kTxefs = 0x70F4, kTxefa = 0x70F8;
+// MCANSS (TI wrapper)
+constexpr uint32_t kSsPid = 0x7200, kSsCtrl = 0x7204, kSsStat = 0x7208, kSsEoi = 0x7220;
+constexpr uint32_t kClken = 0x7900, kClkdiv = 0x7904;
+
+constexpr uint32_t kInit = 1U << 0, kCce = 1U << 1, kDar = 1U << 6;
+constexpr uint32_t kIrTc = 1U << 9, kIrEp = 1U << 23, kIrBo = 1U << 25;
+constexpr uint32_t kMemInitDone = 1U << 1;
+constexpr uint32_t kElemXtd = 1U << 30, kElemFdf = 1U << 21;
+constexpr uint32_t kElementBytes = 16;  // TXESC = 0: 8-byte data field
+
+}  // namespace
+
+Mcan::Mcan(Machine& machine, Pins& pins, Sysctl& sysctl)
+    : Peripheral(machine, "CANFD0", kGprcm, kCpuInt),
+      pins_(pins),
+      sysctl_(sysctl),
+      txDone_(machine.timeline(), [this] { transmitDone(); }),
+      integrated_(machine.timeline(),
+                  [this] {
+                    integrating_ = false;
+                    tryTransmit();
+                  }),
+      recovered_(machine.timeline(),
+                 [this] {
+                   // ISO 11898-1: after 128 occurrences of 11 recessive bits the node is error active again.
+                   busOff_ = false;
+                   errorPassive_ = false;
+                   tec_ = 0;
+                   setIr(kIrBo);
+                   integrating_ = false;
+                   tryTransmit();
+                 }),
+      ram_(kRamBytes / 4, 0) {}
+
+void Mcan::resetRegisters() {
+  cccr_ = kInit;
+  initValue_ = true;
+  initSyncAt_ = 0;
+  nbtp_ = 0x06000A03;  // M_CAN reset value
+  dbtp_ = test_ = ir_ = ie_ = ils_ = ile_ = gfc_ = sidfc_ = xidfc_ = rxf0c_ = rxf1c_ = rxbc_ = rxesc_ = 0;
+  xidam_ = 0x1FFFFFFF;
+  txbc_ = txesc_ = txefc_ = txbrp_ = txbto_ = txbtie_ = txbcie_ = tscc_ = tocc_ = tdcr_ = 0;
+  tec_ = 0;
+  busOff_ = errorPassive_ = integrating_ = transmitting_ = false;
+  get_ = queued_ = 0;
+  clken_ = clkdiv_ = 0;
+  clockRequestedAt_ = UINT64_MAX;
+  lineHeld_ = {};
+  std::fill(ram_.begin(), ram_.end(), 0);
+  txDone_.cancel();
+  integrated_.cancel();
+  recovered_.cancel();
+}
+
+void Mcan::note(const std::string& text) {
+  if (notes_.size() < 32) notes_.push_back(text);
+}
+
+bool Mcan::initReadBack() const {
+  return machine_.now() >= initSyncAt_ ? initValue_ : !initValue_;
+}
+
+bool Mcan::memReady() const {
+  return (clken_ & 1U) && sysctl_.canClockRunning() && machine_.now() >= clockRequestedAt_ + kMemInitCycles;
+}
+
+uint64_t Mcan::bitCycles() const {
+  const uint64_t brp = ((nbtp_ >> 16) & 0x1FF) + 1;
+  const uint64_t tq = 1 + (((nbtp_ >> 8) & 0xFF) + 1) + ((nbtp_ & 0x7F) + 1);
+  const uint32_t ratio = clkdiv_ & 3U;
+  const uint64_t div = ratio == 1 ? 2 : ratio == 2 ? 4 : 1;  // MCAN_CLKDIV_RATIO: /1, /2, /4, /1
+  return tq * brp * div * machine_.clockHz() / kCanClockHz;
+}
+
+void Mcan::setIr(uint32_t bits) {
+  ir_ |= bits;
+  updateLines();
+}
+
+void Mcan::updateLines() {
+  for (int n = 0; n < 2; ++n) {
+    const uint32_t selected = n == 0 ? ~ils_ : ils_;
+    const bool pending = (ile_ & (1U << n)) && (ir_ & ie_ & selected) != 0;
+    if (pending && !lineHeld_[static_cast<size_t>(n)]) {
+      lineHeld_[static_cast<size_t>(n)] = true;  // held until EOI
+      heldSince_[static_cast<size_t>(n)] = machine_.now();
+      raise(1U << n);  // wrapper RIS.INTLn
+    }
+  }
+}
+
+uint64_t Mcan::awaitingEoiCycles(int line) const {
+  const auto n = static_cast<size_t>(line);
+  return lineHeld_[n] ? machine_.now() - heldSince_[n] : 0;
+}
+
+void Mcan::tryTransmit() {
+  if (transmitting_ || queued_ == 0 || !powered() || !memReady() || initReadBack() || busOff_ || integrating_)
+    return;
+  if ((txesc_ & 7U) != 0) {
+    stop("TXESC selects data fields longer than 8 bytes (CAN FD), not modelled");
+    return;
+  }
+  const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
+  const uint32_t element = ndtb + get_ % tfqs;
+  const uint32_t at = ((txbc_ & 0xFFFC) + element * kElementBytes) / 4;
+  if (at + 4 > ram_.size()) {
+    stop("TX FIFO element outside the message RAM");
+    return;
+  }
+  const uint32_t t0 = ram_[at], t1 = ram_[at + 1];
+  if (t1 & kElemFdf) {
+    stop("a TX element with FDF set (CAN FD), not modelled");
+    return;
+  }
+  current_ = {};
+  current_.extended = (t0 & kElemXtd) != 0;
+  current_.id = current_.extended ? (t0 & 0x1FFFFFFF) : ((t0 >> 18) & 0x7FF);
+  current_.dlc = static_cast<uint8_t>(std::min<uint32_t>((t1 >> 16) & 0xF, 8));
+  for (int i = 0; i < 8; ++i)
+    current_.data[static_cast<size_t>(i)] =
+        static_cast<uint8_t>(ram_[at + 2 + static_cast<uint32_t>(i) / 4] >> (8 * (i % 4)));
+  transmitting_ = true;
+  txDone_.after(bsp::host::canFrameBits(current_) * bitCycles());
+}
+
+void Mcan::transmitDone() {
+  transmitting_ = false;
+  const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
+  const uint32_t bit = 1U << (ndtb + get_ % tfqs);
+  if (!pins_.routed(txPincm_, txPf_) || !pins_.routed(rxPincm_, rxPf_)) {
+    // Nothing reaches the bus (or the controller cannot see its own bits): a transmit error, and the
+    // M_CAN retries unless CCCR.DAR (ISO 11898-1 12.1.4: TEC + 8).
+    tec_ += 8;
+    if (tec_ >= 128 && !errorPassive_) {
+      errorPassive_ = true;
+      setIr(kIrEp);
+    }
+    if (tec_ > 255) {
+      enterBusOff();
+      return;
+    }
+    if ((cccr_ & kDar) == 0) tryTransmit();
+    return;
+  }
+  if (tec_ > 0) --tec_;
+  txbrp_ &= ~bit;
+  txbto_ |= bit;
+  get_ = (get_ + 1) % tfqs;
+  --queued_;
+  if (txbtie_ & bit) setIr(kIrTc);
+  if (sink_) sink_({machine_.now(), current_});
+  tryTransmit();
+}
+
+void Mcan::enterBusOff() {
+  busOff_ = true;
+  tec_ = 256;
+  transmitting_ = false;
+  txDone_.cancel();
+  integrated_.cancel();
+  // The M_CAN sets INIT itself on entering bus-off (M_CAN user manual 3.1.1 / ISO 11898-1).
+  cccr_ |= kInit;
+  initValue_ = true;
+  initSyncAt_ = machine_.now();
+  setIr(kIrBo);
+}
+
+void Mcan::injectBusOff() {
+  if (powered() && !busOff_) enterBusOff();
+}
+
+bool Mcan::readRegister(uint32_t offset, uint32_t& value) {
+  if (offset < kRamBytes) {
+    if ((clken_ & 1U) == 0) stop("message RAM access without the module clock (MCANSS_CLKEN.CLK_REQEN)");
+    value = ram_[offset / 4];
+    return true;
+  }
+  if (offset >= kCrel && offset < 0x7100 && (clken_ & 1U) == 0) {
+    stop("M_CAN core register read without the module clock (MCANSS_CLKEN.CLK_REQEN)");
+    value = 0;
+    return true;
+  }
+  switch (offset) {
+    case kCrel:
+      value = 0x32380608;
+      return true;
+    case kEndn:
+      value = 0x87654321;
+      return true;
+    case kDbtp:
+      value = dbtp_;
+      return true;
+    case kTest:
+      value = test_;
+      return true;
+    case kRwd:
+      value = 0;
+      return true;
+    case kCccr:
+      value = (cccr_ & ~kInit) | (initReadBack() ? kInit : 0);
+      return true;
+    case kNbtp:
+      value = nbtp_;
+      return true;
+    case kTscc:
+      value = tscc_;
+      return true;
+    case kTscv:
+    case kTocv:
+    case kHpms:
+    case kNdat1:
+    case kNdat2:
+    case kRxf0s:
+    case kRxf1s:
+    case kTxefs:
+    case kTxbcf:
+      value = 0;
+      return true;
+    case kTocc:
+      value = tocc_;
+      return true;
+    case kEcr:
+      value = std::min<uint32_t>(tec_, 255);
+      return true;
+    case kPsr:
+      value = 7U | (busOff_ ? 1U << 7 : 0) | (tec_ >= 96 ? 1U << 6 : 0) | (errorPassive_ ? 1U << 5 : 0) |
+              ((transmitting_ ? 3U : 1U) << 3);
+      return true;
+    case kTdcr:
+      value = tdcr_;
+      return true;
+    case kIr:
+      value = ir_;
+      return true;
+    case kIe:
+      value = ie_;
+      return true;
+    case kIls:
+      value = ils_;
+      return true;
+    case kIle:
+      value = ile_;
+      return true;
+    case kGfc:
+      value = gfc_;
+      return true;
+    case kSidfc:
+      value = sidfc_;
+      return true;
+    case kXidfc:
+      value = xidfc_;
+      return true;
+    case kXidam:
+      value = xidam_;
+      return true;
+    case kRxf0c:
+      value = rxf0c_;
+      return true;
+    case kRxf0a:
+    case kRxf1a:
+    case kTxbar:
+    case kTxbcr:
+    case kTxefa:
+      value = 0;
+      return true;
+    case kRxbc:
+      value = rxbc_;
+      return true;
+    case kRxf1c:
+      value = rxf1c_;
+      return true;
+    case kRxesc:
+      value = rxesc_;
+      return true;
+    case kTxbc:
+      value = txbc_;
+      return true;
+    case kTxfqs: {
+      const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
+      if (tfqs == 0) {
+        value = 0;
+        return true;
+      }
+      value = (tfqs - queued_) | ((ndtb + get_ % tfqs) << 8) | ((ndtb + (get_ + queued_) % tfqs) << 16) |
+              (queued_ >= tfqs ? 1U << 21 : 0);
+      return true;
+    }
+    case kTxesc:
+      value = txesc_;
+      return true;
+    case kTxbrp:
+      value = txbrp_;
+      return true;
+    case kTxbto:
+      value = txbto_;
+      return true;
+    case kTxbtie:
+      value = txbtie_;
+      return true;
+    case kTxbcie:
+      value = txbcie_;
+      return true;
+    case kTxefc:
+      value = txefc_;
+      return true;
+    case kSsPid:
+      value = 0x66E31000;
+      return true;
+    case kSsCtrl:
+      value = 0;
+      return true;
+    case kSsStat:
+      value = memReady() ? kMemInitDone : 0;
+      return true;
+    case kSsEoi:
+      value = 0;
+      return true;
+    case kClken:
+      value = clken_;
+      return true;
+    case kClkdiv:
+      value = clkdiv_;
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
+  if (offset < kRamBytes) {
+    if ((clken_ & 1U) == 0) stop("message RAM access without the module clock (MCANSS_CLKEN.CLK_REQEN)");
+    ram_[offset / 4] = value;
+    return true;
+  }
+  if (offset >= kCrel && offset < 0x7100 && (clken_ & 1U) == 0) {
+    stop("M_CAN core register write without the module clock (MCANSS_CLKEN.CLK_REQEN)");
+    return true;
+  }
+  // Registers a write reaches only during configuration (CCCR.CCE = 1 and INIT = 1).
+  auto protectedWrite = [&](uint32_t& reg, const char* name) {
+    if (configurable()) {
+      reg = value;
+    } else {
+      char buf[112];
+      std::snprintf(buf, sizeof buf, "%s write 0x%08X ignored: CCCR.CCE and INIT are not both set", name,
+                    value);
+      note(buf);
+    }
+    return true;
+  };
+  switch (offset) {
+    case kCccr: {
+      const bool init = (value & kInit) != 0;
+      if (init != initValue_) {
+        if (machine_.now() < initSyncAt_) {
+          stop("CCCR.INIT changed again before its previous value read back (hw_mcan.h CCCR.INIT)");
+          return true;
+        }
+        initValue_ = init;
+        initSyncAt_ = machine_.now() + kInitSyncCycles;
+        if (!init) {
+          integrating_ = true;
+          // Leaving INIT: bus-off recovery (129 x 11 recessive bits) or bus integration (11 bits).
+          if (busOff_) {
+            recovered_.at(initSyncAt_ + 129 * 11 * bitCycles());
+          } else {
+            integrated_.at(initSyncAt_ + 11 * bitCycles());
+          }
+        } else {
+          integrated_.cancel();
+          recovered_.cancel();
+        }
+      }
+      // CCE and the other configuration bits change only while INIT reads 1.
+      cccr_ = initReadBack() || init ? value : ((cccr_ & ~kInit) | (value & kInit));
+      if (!initReadBack() && (value & kCce)) cccr_ &= ~kCce;
+      return true;
+    }
+    case kNbtp:
+      return protectedWrite(nbtp_, "NBTP");
+    case kDbtp:
+      return protectedWrite(dbtp_, "DBTP");
+    case kTest:
+      return protectedWrite(test_, "TEST");
+    case kTscc:
+      return protectedWrite(tscc_, "TSCC");
+    case kTocc:
+      return protectedWrite(tocc_, "TOCC");
+    case kTdcr:
+      return protectedWrite(tdcr_, "TDCR");
+    case kGfc:
+      return protectedWrite(gfc_, "GFC");
+    case kSidfc:
+      return protectedWrite(sidfc_, "SIDFC");
+    case kXidfc:
+      return protectedWrite(xidfc_, "XIDFC");
+    case kXidam:
+      return protectedWrite(xidam_, "XIDAM");
+    case kRxf0c:
+      return protectedWrite(rxf0c_, "RXF0C");
+    case kRxf1c:
+      return protectedWrite(rxf1c_, "RXF1C");
+    case kRxbc:
+      return protectedWrite(rxbc_, "RXBC");
+    case kRxesc:
+      return protectedWrite(rxesc_, "RXESC");
+    case kTxbc:
+      return protectedWrite(txbc_, "TXBC");
+    case kTxesc:
+      return protectedWrite(txesc_, "TXESC");
+    case kTxefc:
+      return protectedWrite(txefc_, "TXEFC");
+    case kIr:
+      ir_ &= ~value;  // write 1 to clear
+      updateLines();
+      return true;
+    case kIe:
+      ie_ = value;
+      updateLines();
+      return true;
+    case kIls:
+      ils_ = value;
+      updateLines();
+      return true;
+    case kIle:
+      ile_ = value;
+      updateLines();
+      return true;
+    case kTxbtie:
+      txbtie_ = value;
+      return true;
+    case kTxbcie:
+      txbcie_ = value;
+      return true;
+    case kTxbar: {
+      const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
+      for (uint32_t b = 0; b < 32; ++b) {
+        if (((value >> b) & 1U) == 0) continue;
+        if (tfqs == 0 || queued_ >= tfqs || b != ndtb + (get_ + queued_) % tfqs) {
+          stop("TXBAR requests element " + std::to_string(b) +
+               ", which is not the TX FIFO's put index (dedicated buffers are not modelled)");
+          return true;
+        }
+        ++queued_;
+        txbrp_ |= 1U << b;
+        txbto_ &= ~(1U << b);
+      }
+      tryTransmit();
+      return true;
+    }
+    case kTxbcr:
+      if (value != 0) stop("TXBCR (transmission cancellation) is not modelled");
+      return true;
+    case kRxf0a:
+    case kRxf1a:
+    case kTxefa:
+    case kRwd:
+    case kEcr:
+    case kPsr:
+    case kTxfqs:
+    case kTxbrp:
+    case kTxbto:
+    case kTxbcf:
+    case kSsStat:
+    case kSsPid:
+      return true;  // read-only or nothing to acknowledge (no reception is modelled)
+    case kSsCtrl:
+      return true;
+    case kSsEoi:
+      // 0x01 acknowledges line 0, 0x02 line 1; other writes are ignored (hw_mcan.h MCAN_EOI).
+      if (value == 1 || value == 2) {
+        lineHeld_[value - 1] = false;
+        updateLines();
+      }
+      return true;
+    case kClken:
+      if ((value & 1U) && !(clken_ & 1U)) clockRequestedAt_ = machine_.now();
+      clken_ = value;
+      return true;
+    case kClkdiv:
+      clkdiv_ = value;
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace twin

@@ -1,0 +1,124 @@
+// Mcan: the MSPM0G3507's CAN-FD controller CANFD0 (0x40508000) as a classic-CAN transmitter, with the TI
+// subsystem wrapper (MCANSS) around the Bosch M_CAN core. Offsets from mspm0-sdk hw_mcan.h and the tsv
+// "MCAN.*" rows: message RAM at the base (1 KiB here, README open questions), GPRCM at 0x6800, M_CAN core
+// 0x7000..0x70FC, MCANSS registers 0x7200.. (STAT 0x7208 MEM_INIT_DONE bit 1, EOI 0x7220), the MSP wrapper's
+// CPU_INT at 0x7820 (INTL0 bit 0, INTL1 bit 1), MCANSS_CLKEN 0x7900 (CLK_REQEN), MCANSS_CLKDIV 0x7904 (RATIO
+// 1:0).
+//
+// What is modelled, each from the document named:
+// - CCCR.INIT crosses clock domains: "there may be a delay until the value written to INIT can be read back.
+//   Therefore the programmer has to assure that the previous value written to INIT has been accepted by
+//   reading INIT before setting INIT to a new value" (hw_mcan.h CCCR.INIT). A new INIT value written before
+//   the previous one reads back stops the run. The delay is kInitSyncCycles (an estimate).
+// - Protected registers (NBTP, DBTP, TEST, GFC, SIDFC, XIDFC, XIDAM, RXF0C, RXF1C, RXBC, RXESC, TXBC, TXESC,
+//   TXEFC, TSCC, TOCC, TDCR) take a write only "with CCCR.CCE='1' and CCCR.INIT='1'" (hw_mcan.h CCCR.CCE);
+//   otherwise the write is ignored, as the M_CAN ignores it, and noted in notes().
+// - MEM_INIT_DONE: the message RAM is ready kMemInitCycles after the module clock is requested (CLK_REQEN)
+//   with CANCLK running (SYSCTL HFXT good, CANCLKSRC = HFCLK).
+// - TX FIFO (TXBC.TFQS elements from TXBC.TBSA, TXESC = 0: 8 data bytes, 16-byte elements; element T0/T1
+//   layout from the tsv "MCAN TX element" rows and the M_CAN user manual 2.4.3): TXFQS free level, get and
+//   put indices, full flag; a TXBAR bit for the put index queues that element; frames leave in FIFO order,
+//   each taking its real length (bsp::host::canFrameBits: stuff bits, ACK, EOF, intermission) at the NBTP bit
+//   time of CANCLK / MCANSS_CLKDIV. Leaving INIT, the controller first waits for 11 recessive bits (bus
+//   integration). A frame done: TXBRP bit cleared, TXBTO bit set, IR.TC if the element's TXBTIE bit is set.
+//   A transmission needs CAN TX and RX pins routed (PA12 PF 5, PA13 PF 6 on the LaunchPad): otherwise no
+//   frame reaches the bus and each attempt counts as a transmit error (TEC + 8; error passive at 128, bus-off
+//   above 255, ISO 11898-1 12.1.4).
+// - Bus-off (injected by the board, or from TEC): PSR.BO, CCCR.INIT set by the controller, IR.BO; pending
+//   requests stay pending. Clearing INIT starts the recovery: 129 x 11 recessive bits, then PSR.BO and ECR
+//   clear and IR.BO is set again.
+// - Interrupts: IR & IE, each bit to line 0 or 1 by ILS, lines enabled by ILE. The MCANSS holds a line's
+//   interrupt until it is acknowledged: "MCANSS_EOI ... A write to this register will clear the associated
+//   interrupt ... 0x01 MCAN(0) interrupt is cleared, 0x02 MCAN(1) interrupt is cleared" (hw_mcan.h MCAN_EOI).
+//   The wrapper's RIS.INTLn is set when line n asserts; a line asserted and not yet acknowledged by EOI
+//   gives no further interrupt, however many IR events follow. An EOI with IR events still pending on the
+//   line asserts it again (TI's ISRs: DL_MCAN_clearIntrStatus writes IR, then EOI).
+// Reception, FD, dedicated TX buffers, the TX event FIFO, filters and test modes are not modelled: an
+// enabled reception path is harmless (nothing is ever received), anything else that would act stops the run.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hal/can_bus.hpp"
+#include "periph/peripheral.hpp"
+#include "periph/pins.hpp"
+#include "periph/sysctl.hpp"
+#include "timeline.hpp"
+
+namespace twin {
+
+struct CanWireFrame {
+  uint64_t endCycle = 0;
+  fw::hal::CanFrame frame{};
+};
+
+class Mcan final : public Peripheral {
+ public:
+  static constexpr uint32_t kRamBytes = 0x400;
+  static constexpr uint64_t kInitSyncCycles = 8;
+  static constexpr uint64_t kMemInitCycles = 32;
+  static constexpr uint32_t kCanClockHz = 40000000;  // HFXT on the LP-MSPM0G3507 (tsv "HFXT" example row)
+
+  Mcan(Machine& machine, Pins& pins, Sysctl& sysctl);
+  void setPins(int txPincm, uint32_t txPf, int rxPincm, uint32_t rxPf) {
+    txPincm_ = txPincm, txPf_ = txPf, rxPincm_ = rxPincm, rxPf_ = rxPf;
+  }
+  void onFrame(std::function<void(const CanWireFrame&)> sink) { sink_ = std::move(sink); }
+  void injectBusOff();
+  const std::vector<std::string>& notes() const { return notes_; }
+  // How long line n has been waiting for its EOI (0 if it is not asserted): an ISR that never writes
+  // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
+  uint64_t awaitingEoiCycles(int line) const;
+  bool busOff() const { return busOff_; }
+
+ private:
+  bool readRegister(uint32_t offset, uint32_t& value) override;
+  bool writeRegister(uint32_t offset, uint32_t value) override;
+  void resetRegisters() override;
+
+  bool initReadBack() const;
+  bool configurable() const { return initReadBack() && (cccr_ & 2U) != 0; }
+  uint64_t bitCycles() const;
+  bool memReady() const;
+  void setIr(uint32_t bits);
+  void updateLines();
+  void tryTransmit();
+  void transmitDone();
+  void enterBusOff();
+  void note(const std::string& text);
+
+  Pins& pins_;
+  Sysctl& sysctl_;
+  TimedEvent txDone_, integrated_, recovered_;
+  std::function<void(const CanWireFrame&)> sink_;
+  int txPincm_ = 0, rxPincm_ = 0;
+  uint32_t txPf_ = 0, rxPf_ = 0;
+  std::vector<uint32_t> ram_;
+  std::vector<std::string> notes_;
+
+  // Core registers
+  uint32_t cccr_ = 1, nbtp_ = 0x06000A03, dbtp_ = 0, test_ = 0, ir_ = 0, ie_ = 0, ils_ = 0, ile_ = 0;
+  uint32_t gfc_ = 0, sidfc_ = 0, xidfc_ = 0, xidam_ = 0x1FFFFFFF, rxf0c_ = 0, rxf1c_ = 0, rxbc_ = 0,
+           rxesc_ = 0;
+  uint32_t txbc_ = 0, txesc_ = 0, txefc_ = 0, txbrp_ = 0, txbto_ = 0, txbtie_ = 0, txbcie_ = 0, tscc_ = 0;
+  uint32_t tocc_ = 0, tdcr_ = 0;
+  uint32_t tec_ = 0;
+  bool initValue_ = true;  // INIT as the core sees it once synchronised
+  uint64_t initSyncAt_ = 0;
+  bool busOff_ = false, errorPassive_ = false, integrating_ = false;
+  // TX FIFO
+  uint32_t get_ = 0, queued_ = 0;
+  bool transmitting_ = false;
+  fw::hal::CanFrame current_{};
+  // Wrapper
+  uint32_t clken_ = 0, clkdiv_ = 0;
+  uint64_t clockRequestedAt_ = UINT64_MAX;
+  std::array<bool, 2> lineHeld_{};  // asserted, waiting for EOI
+  std::array<uint64_t, 2> heldSince_{};
+};
+
+}  // namespace twin

@@ -1,0 +1,151 @@
+#include "periph/sysctl.hpp"
+
+#include <cstdio>
+
+namespace twin {
+
+namespace {
+
+constexpr uint32_t kSysosccfg = 0x1100, kMclkcfg = 0x1104, kHsclken = 0x1108, kHsclkcfg = 0x110C;
+constexpr uint32_t kHfclkclkcfg = 0x1110, kGenclkcfg = 0x1138, kClkstatus = 0x1204;
+constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304;
+
+constexpr uint32_t kSysoscFreqMask = 0x3;  // SYSOSCCFG.FREQ, 0 = base 32 MHz
+constexpr uint32_t kMclkMdivMask = 0xF;    // MCLKCFG.MDIV
+constexpr uint32_t kMclkUdivMask = 0x30;   // MCLKCFG.UDIV (ULPCLK divider)
+constexpr uint32_t kMclkUseHsclk = 1U << 16, kMclkUseLfclk = 1U << 20;
+constexpr uint32_t kHfxtEnable = 1U << 0;                 // HSCLKEN.HFXTEN
+constexpr uint32_t kHfxtTimeMask = 0xFF;                  // HFCLKCLKCFG.HFXTTIME, 64 us units
+constexpr uint32_t kHfclkFaultCheck = 1U << 28;           // HFCLKCLKCFG.HFCLKFLTCHK
+constexpr uint32_t kCanclkSysPll = 1U << 8;               // GENCLKCFG.CANCLKSRC
+constexpr uint32_t kHfclkGood = 1U << 8;                  // CLKSTATUS.HFCLKGOOD
+constexpr uint32_t kResetKey = 0xE4, kResetGo = 1U << 0;  // RESETCMD KEY 31:24, GO bit 0
+
+}  // namespace
+
+Sysctl::Sysctl(Machine& machine, bool hasHfxt) : machine_(machine), hasHfxt_(hasHfxt) {
+  machine.onReset([this](ResetKind kind) { reset(kind); });
+}
+
+void Sysctl::reset(ResetKind kind) {
+  sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = 0;
+  // "Some crystal configurations are retained in lower reset levels" (TI driverlib,
+  // DL_SYSCTL_setHFCLKSourceHFXTParams): the HFXT keeps running through a SYSRST.
+  if (kind != ResetKind::Sysrst) {
+    hsclken_ = hfclkclkcfg_ = 0;
+    hfxtGoodAt_ = UINT64_MAX;
+  }
+}
+
+bool Sysctl::canClockRunning() const {
+  return hasHfxt_ && (genclkcfg_ & kCanclkSysPll) == 0 && machine_.now() >= hfxtGoodAt_;
+}
+
+bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
+  if (bytes != 4) return false;
+  switch (offset) {
+    case kSysosccfg:
+      value = sysosccfg_;
+      return true;
+    case kMclkcfg:
+      value = mclkcfg_;
+      return true;
+    case kGenclkcfg:
+      value = genclkcfg_;
+      return true;
+    case kResetlevel:
+      value = resetLevel_;
+      return true;
+    case kClkstatus:
+      value = (hasHfxt_ && machine_.now() >= hfxtGoodAt_) ? kHfclkGood : 0;
+      return true;
+    default:
+      break;
+  }
+  if (!hasHfxt_) return false;
+  switch (offset) {
+    case kHsclken:
+      value = hsclken_;
+      return true;
+    case kHsclkcfg:
+      value = hsclkcfg_;
+      return true;
+    case kHfclkclkcfg:
+      value = hfclkclkcfg_;
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
+  if (bytes != 4) return false;
+  switch (offset) {
+    case kSysosccfg:
+      if (value & kSysoscFreqMask) {
+        machine_.stop(
+            "SYSCTL: SYSOSCCFG.FREQ selects a SYSOSC frequency other than 32 MHz; the twin runs 32 MHz");
+      }
+      sysosccfg_ = value;
+      return true;
+    case kMclkcfg:
+      if (value & (kMclkMdivMask | kMclkUdivMask | kMclkUseHsclk | kMclkUseLfclk)) {
+        char buf[128];
+        std::snprintf(
+            buf, sizeof buf,
+            "SYSCTL: MCLKCFG 0x%08X divides or re-sources MCLK/ULPCLK; the twin runs 32 MHz undivided",
+            value);
+        machine_.stop(buf);
+      }
+      mclkcfg_ = value;
+      return true;
+    case kGenclkcfg:
+      genclkcfg_ = value;
+      return true;
+    case kResetlevel:
+      resetLevel_ = value & 7U;
+      return true;
+    case kResetcmd:
+      if ((value >> 24) != kResetKey || (value & kResetGo) == 0) return true;  // without the key: ignored
+      if (resetLevel_ == 0) {
+        machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)");
+      } else if (resetLevel_ == 1) {
+        machine_.requestReset(ResetKind::Bootrst, "software BOOTRST (RESETCMD, RESETLEVEL 1)");
+      } else if (resetLevel_ == 3) {
+        machine_.requestReset(ResetKind::Por, "software POR (RESETCMD, RESETLEVEL 3)");
+      } else {
+        machine_.stop("SYSCTL: RESETCMD with RESETLEVEL " + std::to_string(resetLevel_) +
+                      " (bootstrap loader entry/exit), which the twin does not model");
+      }
+      return true;
+    default:
+      break;
+  }
+  if (!hasHfxt_) return false;
+  switch (offset) {
+    case kHsclken: {
+      const bool start = (value & kHfxtEnable) && !(hsclken_ & kHfxtEnable);
+      hsclken_ = value;
+      if ((value & kHfxtEnable) == 0) {
+        hfxtGoodAt_ = UINT64_MAX;
+      } else if (start) {
+        const uint64_t startup = (hfclkclkcfg_ & kHfxtTimeMask) * 64 * machine_.cyclesPerUs();
+        hfxtGoodAt_ = (hfclkclkcfg_ & kHfclkFaultCheck) ? machine_.now() + startup : UINT64_MAX;
+      }
+      return true;
+    }
+    case kHsclkcfg:
+      hsclkcfg_ = value;
+      return true;
+    case kHfclkclkcfg:
+      hfclkclkcfg_ = value;
+      // The monitor switched on after the crystal: the check runs once the start-up time has passed.
+      if ((hsclken_ & kHfxtEnable) && (value & kHfclkFaultCheck) && hfxtGoodAt_ == UINT64_MAX)
+        hfxtGoodAt_ = machine_.now() + (value & kHfxtTimeMask) * 64 * machine_.cyclesPerUs();
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace twin

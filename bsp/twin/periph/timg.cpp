@@ -1,0 +1,217 @@
+#include "periph/timg.hpp"
+
+#include <cstdio>
+
+#include "machine.hpp"
+
+namespace twin {
+
+namespace {
+
+constexpr uint32_t kClksel = 0x1008, kCclkctl = 0x1108, kCps = 0x110C;
+constexpr uint32_t kCtr = 0x1800, kCtrctl = 0x1804, kLoadReg = 0x1808, kCc0 = 0x1810, kCcctl0 = 0x1830;
+
+constexpr uint32_t kEn = 1U << 0;
+constexpr uint32_t kRepeatMask = 0xE;
+constexpr uint32_t kCmMask = 0x30, kCmDown = 0x00, kCmUp = 0x20;
+constexpr uint32_t kCvaeMask = 0x30000000, kCvaeLoad = 0x00000000, kCvaeZero = 0x20000000;
+constexpr uint32_t kCounterMask = 0xFFFF;  // TIMGx here are 16-bit timers
+constexpr uint32_t kCcctlCoc = 1U << 17;   // capture (1) or compare (0)
+constexpr uint32_t kCcctlAcond = 0x70, kCcctlLcond = 0x700, kCcctlZcond = 0x7000;
+
+}  // namespace
+
+Timg::Timg(Machine& machine, const char* name)
+    : Peripheral(machine, name), event_(machine.timeline(), [this] { onTick(); }) {}
+
+void Timg::resetRegisters() {
+  clock_ = ClockRegs(kClksel);
+  cclkctl_ = cps_ = load_ = 0;
+  ctrctl_ = (7U << 7) | (7U << 10) | (7U << 13);  // CLC/CAC/CZC reset to 7 (reserved encodings)
+  cc_[0] = cc_[1] = ccctl_[0] = ccctl_[1] = 0;
+  baseValue_ = 0;
+  baseCycle_ = machine_.now();
+  stoppedAtZero_ = false;
+  event_.cancel();
+}
+
+bool Timg::running() const {
+  return (ctrctl_ & kEn) && (cclkctl_ & 1U) && clock_.busclk() && powered();
+}
+
+uint64_t Timg::tickCycles() const {
+  return static_cast<uint64_t>(clock_.divider()) * ((cps_ & 0xFFU) + 1);
+}
+
+uint32_t Timg::counterNow() const {
+  if (!running() || stoppedAtZero_) return baseValue_;
+  const uint64_t ticks = (machine_.now() - baseCycle_) / tickCycles();
+  const uint64_t period = static_cast<uint64_t>(load_ & kCounterMask) + 1;
+  if ((ctrctl_ & kCmMask) == kCmUp) return static_cast<uint32_t>((baseValue_ + ticks) % period);
+  // Down: baseValue_, ..., 0, then LOAD again if repeating.
+  if (ticks <= baseValue_) return baseValue_ - static_cast<uint32_t>(ticks);
+  if ((ctrctl_ & kRepeatMask) == 0) return 0;
+  const uint64_t after = (ticks - baseValue_ - 1) % period;
+  return static_cast<uint32_t>((load_ & kCounterMask) - after);
+}
+
+void Timg::rebase() {
+  // Keep the tick phase: the new base is the last tick boundary at or before now.
+  if (running() && !stoppedAtZero_) {
+    const uint64_t ticks = (machine_.now() - baseCycle_) / tickCycles();
+    baseValue_ = counterNow();
+    baseCycle_ += ticks * tickCycles();
+  } else {
+    baseCycle_ = machine_.now();
+  }
+}
+
+void Timg::checkControl() {
+  if ((ctrctl_ & kEn) == 0) return;
+  char buf[128];
+  const uint32_t cac = (ctrctl_ >> 10) & 7U, clc = (ctrctl_ >> 7) & 7U, czc = (ctrctl_ >> 13) & 7U;
+  const uint32_t cm = ctrctl_ & kCmMask;
+  if (cac > 1 || clc > 1 || czc > 1 || (cm != kCmUp && cm != kCmDown)) {
+    std::snprintf(buf, sizeof buf, "CTRCTL 0x%08X enables the counter with a control the twin does not model",
+                  ctrctl_);
+    stop(buf);
+    return;
+  }
+  const uint32_t cc = ccctl_[cac];
+  if ((cc & kCcctlCoc) || (cc & kCcctlAcond) != 0 || (ccctl_[clc] & kCcctlLcond) != 0 ||
+      (ccctl_[czc] & kCcctlZcond) != 0) {
+    std::snprintf(buf, sizeof buf, "CCCTL 0x%08X: capture mode or CCP-driven counting, not modelled", cc);
+    stop(buf);
+  }
+}
+
+void Timg::schedule() {
+  event_.cancel();
+  if (!running() || stoppedAtZero_) return;
+  const uint32_t v = counterNow();
+  const uint64_t period = static_cast<uint64_t>(load_ & kCounterMask) + 1;
+  const bool up = (ctrctl_ & kCmMask) == kCmUp;
+  const bool repeat = (ctrctl_ & kRepeatMask) != 0;
+  // Ticks until the counter next shows `x` (strictly in the future).
+  auto until = [&](uint32_t x) -> uint64_t {
+    if (x > (load_ & kCounterMask)) return UINT64_MAX;
+    if (up) {
+      const uint64_t d = (static_cast<uint64_t>(x) + period - v) % period;
+      return d == 0 ? period : d;
+    }
+    if (x < v) return v - x;  // still on the way down
+    if (!repeat) return UINT64_MAX;
+    return v + 1 + ((load_ & kCounterMask) - x);  // after the zero, via LOAD
+  };
+  uint64_t d = std::min(until(0), until(load_ & kCounterMask));
+  for (uint32_t c : cc_)
+    d = std::min(d, until(c & kCounterMask));
+  if (d == UINT64_MAX) return;
+  // The tick boundary d ticks after the one the counter showed v on.
+  const uint64_t ticksSoFar = (machine_.now() - baseCycle_) / tickCycles();
+  event_.at(baseCycle_ + (ticksSoFar + d) * tickCycles());
+}
+
+void Timg::onTick() {
+  const uint32_t v = counterNow();
+  const bool up = (ctrctl_ & kCmMask) == kCmUp;
+  uint32_t bits = 0;
+  if (v == 0) bits |= kZero;
+  // Up: the counter reached LOAD; down: it was reloaded with LOAD after a zero (an enable sets it to LOAD
+  // without a tick, so a tick that shows LOAD is always a reload).
+  if (v == (load_ & kCounterMask)) bits |= kLoad;
+  for (int n = 0; n < 2; ++n) {
+    if (v == (cc_[n] & kCounterMask)) bits |= (up ? kCcu0 : kCcd0) << n;
+  }
+  // Down counting without REPEAT: the counter holds at zero.
+  if (!up && v == 0 && (ctrctl_ & kRepeatMask) == 0) {
+    baseValue_ = 0;
+    stoppedAtZero_ = true;
+  }
+  raise(bits);
+  schedule();
+}
+
+bool Timg::readRegister(uint32_t offset, uint32_t& value) {
+  if (clock_.read(offset, value)) return true;
+  switch (offset) {
+    case kCclkctl:
+      value = cclkctl_;
+      return true;
+    case kCps:
+      value = cps_;
+      return true;
+    case kCtr:
+      value = counterNow();
+      return true;
+    case kCtrctl:
+      value = ctrctl_;
+      return true;
+    case kLoadReg:
+      value = load_;
+      return true;
+    case kCc0:
+    case kCc0 + 4:
+      value = cc_[(offset - kCc0) / 4];
+      return true;
+    case kCcctl0:
+    case kCcctl0 + 4:
+      value = ccctl_[(offset - kCcctl0) / 4];
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool Timg::writeRegister(uint32_t offset, uint32_t value) {
+  rebase();
+  if (clock_.write(offset, value)) {
+    // CLKSEL: LFCLK_SEL bit 1, MFCLK_SEL bit 2 are not modelled; 0 (no clock) is a valid reset value.
+    if ((clock_.sel & 0x6U) != 0 && !clock_.busclk()) stop("CLKSEL selects LFCLK or MFCLK, not modelled");
+    schedule();
+    return true;
+  }
+  switch (offset) {
+    case kCclkctl:
+      cclkctl_ = value;
+      break;
+    case kCps:
+      cps_ = value;
+      break;
+    case kCtr:
+      baseValue_ = value & kCounterMask;
+      stoppedAtZero_ = false;
+      break;
+    case kCtrctl: {
+      const bool enabling = (value & kEn) && !(ctrctl_ & kEn);
+      ctrctl_ = value;
+      if (enabling) {
+        const uint32_t cvae = value & kCvaeMask;
+        if (cvae == kCvaeLoad) baseValue_ = load_ & kCounterMask;
+        if (cvae == kCvaeZero) baseValue_ = 0;
+        baseCycle_ = machine_.now();
+        stoppedAtZero_ = false;
+      }
+      checkControl();
+      break;
+    }
+    case kLoadReg:
+      load_ = value;
+      break;
+    case kCc0:
+    case kCc0 + 4:
+      cc_[(offset - kCc0) / 4] = value;
+      break;
+    case kCcctl0:
+    case kCcctl0 + 4:
+      ccctl_[(offset - kCcctl0) / 4] = value;
+      checkControl();
+      break;
+    default:
+      return false;
+  }
+  schedule();
+  return true;
+}
+
+}  // namespace twin

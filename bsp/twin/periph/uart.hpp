@@ -1,0 +1,89 @@
+// Uart: an MSPM0 UART (UART0/1 on the L1306; UART0..3 on the G3507), registers and fields from mspm0-sdk
+// hw_uart.h: CLKDIV 0x1000, CLKSEL 0x1008, CPU_INT 0x1020, DMA_TRIG_RX 0x1050, DMA_TRIG_TX 0x1080, CTL0
+// 0x1100 (ENABLE 0, RXE 3, TXE 4, MODE 10:8, HSE 16:15, FEN 17), LCRH 0x1104 (PEN 1, STP2 3, WLEN 5:4), STAT
+// 0x1108 (BUSY 0, RXFE 2, RXFF 3, TXFE 6, TXFF 7), IFLS 0x110C (TXIFLSEL 2:0, RXIFLSEL 6:4), IBRD 0x1110,
+// FBRD 0x1114, GFCTL 0x1118, TXDATA 0x1120, RXDATA 0x1124.
+//
+// Timing: one frame is start + WLEN + parity + stop bits, each bit oversampling x (IBRD + FBRD/64) UART
+// clocks, the UART clock being BUSCLK / (CLKDIV.RATIO + 1) (hw_uart.h IBRD/FBRD/HSE; SLAU846B/SLAU847D
+// "UART baud-rate generation"). Bytes leave back to back while the TX FIFO has data.
+//
+// FIFOs of 4 entries ("if the transmit FIFO was filled with four characters", driverlib
+// DL_UART_setTXFIFOThreshold); without FEN one entry.
+//
+// Trigger levels (TXINT, RXINT; the same event sets CPU_INT and DMA_TRIG_TX / DMA_TRIG_RX):
+//   "The interrupts are generated based on a transition through a level rather than being based on the
+//   level ... if the transmit FIFO was filled with four characters, the interrupt would trigger once there
+//   are two or less characters after transmitting" (driverlib DL_UART_setTXFIFOThreshold/RXFIFOThreshold).
+//   So TX 3/4, 1/2, 1/4, EMPTY trigger when the fill level drains through 1, 2, 3, 0 entries; RX 1/4, 1/2,
+//   3/4, FULL when it rises through 1, 2, 3, 4. The levels made for the DMA, TX "FIFO >= 1 entry free" (7)
+//   and RX "FIFO >= 1 entry available" (7) ("esp. required for DMA Trigger", hw_uart.h IFLS), hold as long
+//   as their condition does: the flag is raised again after every FIFO change while it holds (TI's
+//   uart_tx_multibyte_fifo_dma_interrupts example relies on this: "The UART DMA TX interrupt is set
+//   indicating the UART is ready to transmit data, so enabling the DMA will start the transfer").
+//   A DMA request is DMA_TRIG_x.MIS; the DMA's acknowledge clears that RIS bit.
+// EOT: "the last bit of all transmitted data and flags has left the serializer and without any further
+// Data in the TX Fifo" (hw_uart.h CPU_INT RIS EOT). DMA_DONE_TX/RX when the DMA channel on this UART's
+// trigger reaches DMASZ = 0.
+// RX: a byte that arrives with the FIFO full is lost and sets OVRERR; a framing error sets FRMERR.
+// Anything else (IrDA, LIN, 9-bit, RS485, flow control, loopback, RX timeout) stops the run if enabled.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+
+#include "periph/dma.hpp"
+#include "periph/peripheral.hpp"
+#include "timeline.hpp"
+
+namespace twin {
+
+class Uart final : public Peripheral, public DmaRequester {
+ public:
+  static constexpr uint32_t kRtout = 1U << 0, kFrmErr = 1U << 1, kOvrErr = 1U << 4;
+  static constexpr uint32_t kRxInt = 1U << 10, kTxInt = 1U << 11, kEot = 1U << 12;
+  static constexpr uint32_t kDmaDoneRx = 1U << 15, kDmaDoneTx = 1U << 16;
+
+  Uart(Machine& machine, const char* name, Dma& dma, int rxTrigger, int txTrigger);
+
+  // Each byte as its last stop bit leaves the shift register (the board forwards it if the pin is routed).
+  void onTransmit(std::function<void(uint8_t byte)> sink) { txSink_ = std::move(sink); }
+  // A byte whose stop bit has just arrived on the RX pin.
+  void receive(uint8_t byte, bool framingError);
+  // Cycles one frame takes with the current settings (0 if not configured).
+  uint64_t frameCycles64() const;  // in 1/64 cycles
+
+  bool dmaRequested(int trigger) const override;
+  void dmaAcknowledge(int trigger) override;
+  void dmaDone(int trigger) override;
+
+ private:
+  bool readRegister(uint32_t offset, uint32_t& value) override;
+  bool writeRegister(uint32_t offset, uint32_t value) override;
+  void resetRegisters() override;
+
+  bool enabled() const;
+  size_t depth() const;
+  void raiseEvent(uint32_t bit);  // CPU_INT and the matching DMA trigger block
+  void txFillChanged(size_t before);
+  void rxFillChanged(size_t before);
+  void startNextFrame();
+  void frameDone();
+  void checkMode();
+
+  Dma& dma_;
+  int rxTrigger_, txTrigger_;
+  EventRegs dmaRx_, dmaTx_;
+  TimedEvent frameEnd_;
+  std::function<void(uint8_t)> txSink_;
+  std::deque<uint8_t> txFifo_;
+  std::deque<uint16_t> rxFifo_;  // data | error flags (RXDATA layout)
+  bool shifting_ = false;
+  uint8_t shiftByte_ = 0;
+  uint64_t frameRemainder64_ = 0;  // fractional cycles carried between frames
+  ClockRegs clock_{0x1008};
+  uint32_t ctl0_ = 0, lcrh_ = 0, ifls_ = 0, ibrd_ = 0, fbrd_ = 0, gfctl_ = 0;
+};
+
+}  // namespace twin

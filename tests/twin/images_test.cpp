@@ -1,0 +1,228 @@
+// The firmware images themselves on the twin (build/<preset>/<preset>.elf; skipped when not built, as
+// ./ci/test builds them before it tests):
+// - the fast paths in CPU-counted time: ALERT (BQ76952) to the FETs off, nFAULT (BQ79616) to the fault
+//   output, wherever in the scan period the edge comes;
+// - deliberately broken variants of an image, made here by patching its flash, each caught by the twin: the
+//   MCAN interrupt never acknowledged (the MCANSS EOI store taken out), two interrupt vectors swapped, and
+//   the watchdog never restarted (the WWDTCNTRST store taken out).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "board/board.hpp"
+#include "gtest/gtest.h"
+#include "sim/harness.hpp"
+
+namespace {
+
+using twin::Board;
+using twin::ElfFile;
+
+std::string elfPath(const std::string& preset) {
+  return std::string(TWIN_IMAGES) + "/" + preset + "/" + preset + ".elf";
+}
+
+// One board on its own world clock, the pack at rest (3.7 V cells, as bms-sim's idle scenario).
+struct Rig {
+  explicit Rig(const std::string& preset, const ElfFile& elf)
+      : board(*twin::imageByPreset(preset), h.clock, 2) {
+    if (auto* e = board.bq769x()) {
+      for (uint8_t c = 1; c <= 16; ++c)
+        e->setCellMv(c, 3700);
+    }
+    if (auto* chain = board.chain()) {
+      for (size_t d = 0; d < chain->size(); ++d) {
+        for (int c = 1; c <= 16; ++c)
+          chain->setCellMicrovolts(d, c, 3700000);
+      }
+    }
+    loaded = board.load(elf);
+  }
+  uint64_t nowUs() { return board.machine().now() / board.machine().cyclesPerUs(); }
+  bsp::host::Harness h;
+  Board board;
+  bool loaded = false;
+};
+
+std::unique_ptr<ElfFile> loadElf(const std::string& preset) {
+  auto elf = std::make_unique<ElfFile>();
+  if (!std::filesystem::exists(elfPath(preset)) || !elf->load(elfPath(preset))) return nullptr;
+  return elf;
+}
+
+#define LOAD_OR_SKIP(elf, preset)                                                     \
+  auto elf = loadElf(preset);                                                         \
+  if (!elf) GTEST_SKIP() << elfPath(preset) << " is not built (./ci/test builds it)"; \
+  static_assert(true)
+
+// The start (us) of the first scan at or after `fromUs`: its first access on the monitor's bus.
+uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
+  for (uint64_t t = fromUs; t < fromUs + 200000; t += 100) {
+    r.board.runUntilUs(t);
+    if (r.board.chain() != nullptr) {
+      for (const auto& c : r.board.chainCommands()) {
+        if (c.reg == 0x568 && c.cycle / 32 >= fromUs) return c.cycle / 32;
+      }
+    } else {
+      for (const auto& tr : r.board.i2cLog()) {
+        if (tr.text.rfind("S 10 0A ", 0) == 0 && tr.startCycle / 32 >= fromUs) return tr.startCycle / 32;
+      }
+    }
+  }
+  return 0;
+}
+
+// Cycles from the monitor's signal falling to the action: the FETs leaving "both on", or the fault output
+// rising. Swept on a 50 us grid over the first 3 ms of a scan (where the bus is busy; after it the time is
+// flat) and the last millisecond before the next one (where a scan may start under the action).
+void sweepFastPath(const std::string& preset, const char* what) {
+  LOAD_OR_SKIP(elf, preset);
+  uint64_t worst = 0, worstAt = 0;
+  std::vector<uint64_t> offsets;
+  for (uint64_t us = 0; us < 3000; us += 50)
+    offsets.push_back(us);
+  for (uint64_t us = 99000; us < 100000; us += 50)
+    offsets.push_back(us);
+  for (uint64_t offset : offsets) {
+    Rig r(preset, *elf);
+    ASSERT_TRUE(r.loaded) << r.board.error();
+    const uint64_t scan = nextScanUs(r, 1000000);
+    ASSERT_NE(scan, 0U) << "no scan after 1 s";
+    r.board.runUntilUs(scan + offset);
+    const uint64_t t0 = r.board.machine().now();
+    r.board.driveMonitorSignal(false);
+    uint64_t acted = 0;
+    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && acted == 0; t += 50) {
+      r.board.runUntilUs(t);
+      const auto& edges = r.board.bq769x() != nullptr ? r.board.fetsOn() : r.board.faultOutput();
+      for (const auto& e : edges) {
+        const bool off = r.board.bq769x() != nullptr ? !e.level : e.level;
+        if (off && e.cycle >= t0) {
+          acted = e.cycle;
+          break;
+        }
+      }
+    }
+    ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+    ASSERT_NE(acted, 0U) << what << " never acted, signal at " << offset << " us into the scan";
+    const uint64_t took = (acted - t0) / 32;
+    EXPECT_LE(took, 2000U) << what << " took " << took << " us with the signal " << offset
+                           << " us into the scan";
+    if (took > worst) worst = took, worstAt = offset;
+  }
+  std::printf(
+      "REPORT twin.%s.%s_worst_us=%llu (signal %llu us into the scan, 50 us grid; budget 2000; CPU-counted "
+      "time)\n",
+      preset.c_str(), what, static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+}
+
+TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
+  sweepFastPath("lp-mspm0g3507-bq76952", "alert_to_fets_off");
+}
+
+TEST(FastPath, Bq76952AlertToFetsOffOnTheL1306) {
+  sweepFastPath("lp-mspm0l1306-bq76952", "alert_to_fets_off");
+}
+
+TEST(FastPath, Bq79616NfaultToFaultOutput) {
+  sweepFastPath("lp-mspm0g3507-bq79616", "nfault_to_fault_output");
+}
+
+// --- broken images ----------------------------------------------------------------------------------------
+
+// Every instruction address that stores to `address` in the first `us` of a run.
+std::vector<uint32_t> storesTo(const std::string& preset, const ElfFile& elf, uint32_t address, uint64_t us) {
+  Rig r(preset, elf);
+  std::vector<uint32_t> pcs;
+  twin::Machine& m = r.board.machine();
+  m.map().onStore([&](uint32_t a, uint32_t) {
+    if (a == address && std::find(pcs.begin(), pcs.end(), m.core().pc()) == pcs.end())
+      pcs.push_back(m.core().pc());
+  });
+  r.board.runUntilUs(us);
+  return pcs;
+}
+
+// Replaces each 16-bit store with a NOP (0xBF00): the image without that register write.
+void removeStores(ElfFile& elf, const std::vector<uint32_t>& pcs) {
+  for (uint32_t pc : pcs) {
+    const auto& flash = elf.flashImage();
+    const uint16_t op = static_cast<uint16_t>(flash[pc] | flash[pc + 1] << 8);
+    const bool store16 = (op >> 11) == 0x0C || (op & 0xFE00) == 0x5000;  // STR imm5 / STR register
+    ASSERT_TRUE(store16) << "the store at 0x" << std::hex << pc << " is not a 16-bit STR";
+    elf.patch16(pc, 0xBF00);
+  }
+}
+
+uint64_t packSummariesAfter(const Board& b, uint64_t fromUs) {
+  uint64_t n = 0;
+  for (const auto& f : b.canFrames()) {
+    if (f.frame.id == 0x100 && f.endCycle / 32 > fromUs) ++n;
+  }
+  return n;
+}
+
+TEST(BrokenImage, AnMcanInterruptNeverAcknowledgedIsCaught) {
+  // MCANSS_EOI "will clear the associated interrupt" (hw_mcan.h): without it the line's first interrupt is
+  // its last. The images send without waiting for TC and notice bus-off by polling PSR, so their frames keep
+  // coming; the twin catches the line left waiting.
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto eoi = storesTo(preset, *elf, 0x40508000 + 0x7220, 500000);
+  ASSERT_FALSE(eoi.empty()) << "the image never writes MCANSS_EOI";
+  auto warnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(1000000);
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
+  removeStores(*elf, eoi);
+  const auto caught = warnings(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("waiting for MCANSS_EOI"), std::string::npos) << caught[0];
+}
+
+TEST(BrokenImage, SwappedVectorsStopThePublishingAndResetTheChip) {
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  // Vector table entries 16 + IRQ (tsv irq rows): TIMG0 is IRQ 16 (0x80), I2C0 IRQ 24 (0xA0).
+  const auto& flash = elf->flashImage();
+  auto word = [&](uint32_t at) {
+    return static_cast<uint32_t>(flash[at] | flash[at + 1] << 8 | flash[at + 2] << 16) |
+           static_cast<uint32_t>(flash[at + 3]) << 24;
+  };
+  const uint32_t timg0 = word(0x80), i2c0 = word(0xA0);
+  auto run = [&](const ElfFile& image, uint64_t& summaries, size_t& resets) {
+    Rig r(preset, image);
+    r.board.runUntilUs(1500000);  // past the watchdog's 1 s period
+    summaries = packSummariesAfter(r.board, 0);
+    resets = r.board.machine().resets().size() - 1;
+  };
+  uint64_t good = 0, bad = 0;
+  size_t goodResets = 0, badResets = 0;
+  run(*elf, good, goodResets);
+  elf->patch32(0x80, i2c0);
+  elf->patch32(0xA0, timg0);
+  run(*elf, bad, badResets);
+  EXPECT_GE(good, 12U);
+  EXPECT_EQ(goodResets, 0U);
+  EXPECT_EQ(bad, 0U) << "the timer interrupt lands in the I2C handler: nothing may come out";
+  EXPECT_GE(badResets, 1U) << "and the watchdog resets the chip";
+}
+
+TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
+  ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+  removeStores(*elf, feeds);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(2500000);
+  ASSERT_GE(r.board.machine().resets().size(), 2U);
+  EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+      << r.board.machine().resets()[1];
+}
+
+}  // namespace

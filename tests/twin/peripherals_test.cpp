@@ -1,0 +1,287 @@
+// The peripheral models against TI's descriptions: each test drives registers the way a driver would (through
+// the address map, as the CPU's loads and stores do) and checks what the part does, citing the document that
+// says so. The CPU runs a WFI loop meanwhile, so time advances from event to event.
+#include <string>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "mspm0.hpp"
+
+namespace {
+
+using twin::Mspm0;
+using twin::Part;
+
+// Register addresses (tsv base rows; hw_*.h offsets).
+constexpr uint32_t kUart0 = 0x40108000, kI2c0 = 0x400F0000, kTimg0 = 0x40084000, kWwdt0 = 0x40080000;
+constexpr uint32_t kCan = 0x40508000, kDma = 0x4042A000, kGpioa = 0x400A0000, kSysctl = 0x400AF000;
+constexpr uint32_t kPwrenOn = 0x26000001;
+
+class Chip : public ::testing::Test {
+ protected:
+  explicit Chip(Part part = Part::G3507) : chip_(part) {
+    // Vector table: SP at the top of SRAM, reset at 0x100: WFI; B .-2 (sleeps until the test ends).
+    const uint32_t sram = part == Part::G3507 ? 0x20208000 : 0x20001000;
+    std::vector<uint8_t> flash(0x104, 0);
+    for (int i = 0; i < 4; ++i) {
+      flash[i] = static_cast<uint8_t>(sram >> (8 * i));
+      flash[4 + i] = static_cast<uint8_t>(0x101 >> (8 * i));
+    }
+    flash[0x100] = 0x30, flash[0x101] = 0xBF, flash[0x102] = 0xFD, flash[0x103] = 0xE7;
+    chip_.machine().loadFlash(flash);
+    chip_.machine().powerOn();
+  }
+  uint32_t rd(uint32_t address) {
+    uint32_t v = 0;
+    EXPECT_TRUE(chip_.machine().map().load(address, 4, v)) << std::hex << address;
+    return v;
+  }
+  void wr(uint32_t address, uint32_t value) {
+    EXPECT_TRUE(chip_.machine().map().store(address, 4, value)) << std::hex << address;
+  }
+  void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
+  bool stopped() { return chip_.machine().stopped(); }
+  std::string why() { return chip_.machine().stopReason(); }
+
+  Mspm0 chip_;
+};
+
+// --- UART
+// ---------------------------------------------------------------------------------------------------
+
+class Uart : public Chip {
+ protected:
+  // 115200 8N1 from 32 MHz, 16x: IBRD 17, FBRD 23 (hw_uart.h IBRD/FBRD; round(32e6 * 4 / 115200) = 1111);
+  // TX through DMA channel 0 on UART0's TX trigger (18 on the G3507, tsv dmatrig rows).
+  void start(uint32_t txLevel, const std::vector<uint8_t>& bytes) {
+    for (size_t i = 0; i < bytes.size(); ++i)
+      chip_.machine().busWrite(0x20200000 + static_cast<uint32_t>(i), 1, bytes[i]);
+    wr(kUart0 + 0x800, kPwrenOn);
+    wr(kUart0 + 0x1008, 1U << 3);            // CLKSEL BUSCLK
+    wr(kUart0 + 0x1110, 17);                 // IBRD
+    wr(kUart0 + 0x1114, 23);                 // FBRD
+    wr(kUart0 + 0x1104, 0x30);               // LCRH 8N1
+    wr(kUart0 + 0x110C, txLevel);            // IFLS TXIFLSEL
+    wr(kUart0 + 0x1088, 1U << 11);           // DMA_TRIG_TX.IMASK TXINT
+    wr(kUart0 + 0x1028, 1U << 16);           // CPU_INT.IMASK DMA_DONE_TX
+    wr(kDma + 0x1200 + 4, 0x20200000);       // DMASA
+    wr(kDma + 0x1200 + 8, kUart0 + 0x1120);  // DMADA = TXDATA
+    wr(kDma + 0x1200 + 12, static_cast<uint32_t>(bytes.size()));
+    wr(kDma + 0x1110, 18);                      // DMATCTL: UART0 TX
+    wr(kDma + 0x1200, (1U << 1) | (3U << 16));  // DMAEN, source increment, byte widths, single transfer
+    chip_.uart(0).onTransmit([this](uint8_t b) { sent_.push_back({b, chip_.machine().now()}); });
+    wr(kUart0 + 0x1100, 1U | (1U << 4) | (1U << 17));  // ENABLE, TXE, FEN
+  }
+  struct Sent {
+    uint8_t byte;
+    uint64_t cycle;
+  };
+  std::vector<Sent> sent_;
+};
+
+TEST_F(Uart, TheDmaLevelMovesEveryByteAtTheBaudRate) {
+  // IFLS TXIFLSEL 7, "TX FIFO >= 1 entry free Note: esp. required for DMA Trigger" (hw_uart.h).
+  start(7, {'t', '1', '0', '0', '\r'});
+  runUs(1000);
+  ASSERT_FALSE(stopped()) << why();
+  ASSERT_EQ(sent_.size(), 5U);
+  EXPECT_EQ(sent_[0].byte, 't');
+  EXPECT_EQ(sent_[4].byte, '\r');
+  // 10 bits of 16 x (17 + 23/64) cycles: 2777.5 cycles a byte, back to back.
+  EXPECT_EQ(sent_[4].cycle - sent_[0].cycle, 4 * 2777 + 2);
+  EXPECT_NE(rd(kUart0 + 0x1030) & (1U << 16), 0U);  // DMA_DONE_TX
+  EXPECT_NE(rd(kUart0 + 0x1030) & (1U << 12), 0U);  // EOT: "the last bit ... has left the serializer"
+}
+
+TEST_F(Uart, TheHalfLevelNeverTriggersTheDmaOnAnEmptyFifo) {
+  // TXIFLSEL 1/2 triggers "based on a transition through a level ... once there are two or less characters
+  // after transmitting" (driverlib DL_UART_setTXFIFOThreshold): an empty FIFO never passes through it.
+  start(2, {'t', '1', '0', '0', '\r'});
+  runUs(1000);
+  EXPECT_TRUE(sent_.empty());
+  EXPECT_EQ(rd(kDma + 0x1200 + 12), 5U);  // DMASZ: nothing moved
+}
+
+// --- I2C
+// -------------------------------------------------------------------------------------------------------
+
+class I2c : public Chip {
+ protected:
+  void start() {
+    wr(kI2c0 + 0x800, kPwrenOn);
+    wr(kI2c0 + 0x1004, 1U << 3);       // CLKSEL BUSCLK
+    wr(kI2c0 + 0x1224, 7);             // MTPR: (1 + 7) x 10 clocks = 400 kHz at 32 MHz
+    wr(kI2c0 + 0x1228, 1U | 4U);       // MCR ACTIVE, CLKSTRETCH
+    wr(0x40428000 + 4 * 1, 0x80 | 3);  // PA0 -> I2C0_SDA (PF 3)
+    wr(0x40428000 + 4 * 2, 0x80 | 3);  // PA1 -> I2C0_SCL
+    chip_.pins().setBoardPullUp(1, true);
+    chip_.pins().setBoardPullUp(2, true);
+  }
+};
+
+TEST_F(I2c, AWriteToAFullTxFifoStopsTheRun) {
+  // The TX FIFO has I2C_SYS_FENTRIES = 8 entries (tsv param rows); a ninth byte would be lost on the part.
+  start();
+  for (uint32_t i = 0; i < 8; ++i)
+    wr(kI2c0 + 0x1220, i);
+  EXPECT_FALSE(stopped());
+  wr(kI2c0 + 0x1220, 8);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("TX FIFO full"), std::string::npos) << why();
+}
+
+TEST_F(I2c, TheTxTriggerFiresWhileTheFifoHoldsTheLevelOrLess) {
+  // MTXFIFOTRG "Trigger when Transmit FIFO contains <= defined bytes" (hw_i2c.h CPU_INT RIS).
+  start();
+  wr(kI2c0 + 0x1238, 4);           // MFIFOCTL TXTRIG 4
+  wr(kI2c0 + 0x1048, 0xFFFFFFFF);  // ICLR
+  wr(kI2c0 + 0x1220, 0x11);
+  EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 3), 0U);  // one byte queued: at or below 4
+  for (int i = 0; i < 4; ++i)
+    wr(kI2c0 + 0x1220, 0x22);
+  wr(kI2c0 + 0x1048, 1U << 3);  // five queued: cleared...
+  wr(kI2c0 + 0x1220, 0x33);
+  EXPECT_EQ(rd(kI2c0 + 0x1030) & (1U << 3), 0U);  // ...and six stay above the level
+}
+
+TEST_F(I2c, AnAddressNobodyAcknowledgesEndsWithNackAndAnAutomaticStop) {
+  start();
+  wr(kI2c0 + 0x1028, (1U << 7) | (1U << 9));  // IMASK MNACK, MSTOP
+  wr(kI2c0 + 0x1220, 0x14);
+  wr(kI2c0 + 0x1210, 0x08 << 1);                  // MSA: 0x08, write
+  wr(kI2c0 + 0x1214, (1U << 16) | 1U | 2U | 4U);  // MCTR: 1 byte, BURSTRUN, START, STOP
+  runUs(100);
+  EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 7), 0U);  // MNACK
+  EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 9),
+            0U);  // MSTOP: "the controller will automatically send out a stop"
+  EXPECT_NE(rd(kI2c0 + 0x1218) & (1U << 2), 0U);  // MSR.ADRACK
+}
+
+// --- MCAN
+// ------------------------------------------------------------------------------------------------------
+
+TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
+  // MCANSS_EOI: "A write to this register will clear the associated interrupt ... 0x01 MCAN(0) interrupt is
+  // cleared" (hw_mcan.h): after one interrupt, line 0 gives no other until EOI, however many IR events come.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);  // HFXT for CANCLK, start-up monitor on
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);  // MCANSS_CLKEN.CLK_REQEN
+  runUs(10);
+  ASSERT_NE(rd(kCan + 0x7208) & 2U, 0U);  // MEM_INIT_DONE
+  wr(kCan + 0x7018, 1);                   // CCCR INIT (its reset value)
+  wr(kCan + 0x7018, 3);                   // INIT + CCE
+  wr(kCan + 0x701C, 0x12004409);          // NBTP: 500 kbit/s from 40 MHz
+  wr(kCan + 0x70C0, 8U << 24);            // TXBC: 8-element TX FIFO at 0
+  wr(kCan + 0x70E0, 0xFF);                // TXBTIE
+  wr(kCan + 0x7054, 1U << 9);             // IE: TC
+  wr(kCan + 0x705C, 1);                   // ILE: line 0
+  wr(kCan + 0x7828, 1);                   // wrapper IMASK INTL0
+  runUs(1);
+  wr(kCan + 0x7018, 0);                            // leave INIT
+  wr(0x40428000 + 4 * 34, 0x80 | 5);               // PA12 CANFD0_CANTX
+  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));  // PA13 CANFD0_CANRX
+  auto send = [&](uint32_t element) {
+    wr(kCan + element * 16, 0x100U << 18);  // T0: standard ID 0x100
+    wr(kCan + element * 16 + 4, 8U << 16);  // T1: DLC 8
+    wr(kCan + 0x70D0, 1U << element);       // TXBAR
+  };
+  send(0);
+  runUs(400);
+  ASSERT_NE(rd(kCan + 0x7050) & (1U << 9), 0U);  // IR.TC
+  EXPECT_EQ(rd(kCan + 0x7830) & 1U, 1U);         // wrapper RIS.INTL0
+  wr(kCan + 0x7050, 1U << 9);                    // the ISR clears IR.TC and the wrapper flag...
+  wr(kCan + 0x7848, 1);
+  send(1);
+  runUs(400);
+  EXPECT_NE(rd(kCan + 0x7050) & (1U << 9), 0U);  // a second TC...
+  EXPECT_EQ(rd(kCan + 0x7830) & 1U, 0U);         // ...but no interrupt: the line waits for EOI
+  wr(kCan + 0x7220, 1);                          // EOI line 0
+  EXPECT_EQ(rd(kCan + 0x7830) & 1U, 1U);         // TC still pending: the line asserts again
+}
+
+// --- WWDT
+// ------------------------------------------------------------------------------------------------------
+
+TEST_F(Chip, AWatchdogNeverRestartedResetsTheChipAfterItsPeriod) {
+  // PER 3 = 2^15 counts of LFCLK (32 768 Hz) = 1 s (hw_wwdt.h WWDTCTL0 PER_EN_15); a timeout is a violation.
+  wr(kWwdt0 + 0x800, kPwrenOn);
+  wr(kWwdt0 + 0x1100, 0xC9000000 | (3U << 4));
+  runUs(999000);
+  EXPECT_EQ(chip_.machine().resets().size(), 1U);  // the power-on only
+  runUs(2000);
+  ASSERT_EQ(chip_.machine().resets().size(), 2U);
+  EXPECT_NE(chip_.machine().resets()[1].find("WWDT0 violation"), std::string::npos);
+}
+
+TEST_F(Chip, AWatchdogRestartWithAnotherValueIsAViolation) {
+  // "Writing 00A7h to this register restarts the WWDT Counter. Writing any other value causes an error"
+  wr(kWwdt0 + 0x800, kPwrenOn);
+  wr(kWwdt0 + 0x1100, 0xC9000000 | (3U << 4));
+  wr(kWwdt0 + 0x1108, 0xA7);
+  runUs(10);
+  EXPECT_EQ(chip_.machine().resets().size(), 1U);
+  wr(kWwdt0 + 0x1108, 0xA6);
+  runUs(10);
+  EXPECT_EQ(chip_.machine().resets().size(), 2U);
+}
+
+// --- TIMG
+// ------------------------------------------------------------------------------------------------------
+
+TEST_F(Chip, TimerCountsUpAtItsClockAndFlagsLoadAndCompare) {
+  // 1 MHz from BUSCLK / (PCNT 31 + 1); up-counting 0..LOAD (hw_gptimer.h CTRCTL CM, CVAE).
+  wr(kTimg0 + 0x800, kPwrenOn);
+  wr(kTimg0 + 0x1008, 1U << 3);  // CLKSEL BUSCLK
+  wr(kTimg0 + 0x110C, 31);       // CPS
+  wr(kTimg0 + 0x1108, 1);        // CCLKCTL
+  wr(kTimg0 + 0x1808, 999);      // LOAD
+  wr(kTimg0 + 0x1814, 500);      // CC1
+  wr(kTimg0 + 0x1048, 0xFFFFFFFF);
+  wr(kTimg0 + 0x1804, 1U | (1U << 1) | (2U << 4) | (2U << 28));  // EN, REPEAT, up, start at zero
+  runUs(499);
+  EXPECT_EQ(rd(kTimg0 + 0x1030) & (1U << 9), 0U);
+  EXPECT_EQ(rd(kTimg0 + 0x1800), 499U);
+  runUs(2);
+  EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 9), 0U);  // CCU1 at 500
+  runUs(500);
+  EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 1), 0U);  // LOAD at 999
+  EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 0), 0U);  // ZERO at the wrap
+}
+
+// --- GPIO, power, clocks
+// ---------------------------------------------------------------------------------------
+
+TEST_F(Chip, AFallingEdgeFlagsAnInputWithItsPolarityAndInputEnable) {
+  wr(kGpioa + 0x2000 + 0x800, kPwrenOn);                        // GPIOB
+  wr(0x40428000 + 4 * 12, 0x80 | 1 | (1U << 18) | (1U << 17));  // PB0: GPIO, INENA, pull-up
+  wr(kGpioa + 0x2000 + 0x1390, 2);                              // POLARITY15_0 DIO0 falling
+  chip_.pins().setExternal(12, twin::Drive::Low);
+  EXPECT_NE(rd(kGpioa + 0x2000 + 0x1030) & 1U, 0U);
+  EXPECT_EQ(rd(kGpioa + 0x2000 + 0x1380) & 1U, 0U);  // DIN
+  chip_.pins().setExternal(12, twin::Drive::None);   // released: the pull-up makes the high
+  EXPECT_EQ(rd(kGpioa + 0x2000 + 0x1380) & 1U, 1U);
+}
+
+TEST_F(Chip, ARegisterAccessBeforePowerEnableStopsTheRun) {
+  // Peripheral registers are reachable only with GPRCM.PWREN.ENABLE (TRM "Peripheral power enable control").
+  wr(kI2c0 + 0x1228, 1);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("not powered"), std::string::npos) << why();
+}
+
+TEST_F(Chip, AnMclkDividerStopsTheRunAndTheCrystalReportsGoodAfterItsStartupTime) {
+  // HFXTTIME "specifies the HFXT startup time in 64us resolution. If the HFCLK startup monitor is enabled
+  // (HFCLKFLTCHK), HFXT will be checked after this time expires" (hw_sysctl HFCLKCLKCFG).
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(639);
+  EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 8), 0U);
+  runUs(2);
+  EXPECT_NE(rd(kSysctl + 0x1204) & (1U << 8), 0U);
+  wr(kSysctl + 0x1104, 1);  // MDIV /2
+  EXPECT_TRUE(stopped());
+}
+
+}  // namespace
