@@ -38,6 +38,12 @@ static_assert(
       return true;
     }(),
     "CellExtremes and TemperatureExtremes share one layout (fill() builds both alike)");
+static_assert(bms::CellVoltages::kBoardField == bms::Temperatures::kBoardField &&
+                  bms::CellVoltages::kFrameIndexField == bms::Temperatures::kFrameIndexField &&
+                  bms::CellVoltages::kStatusField == bms::Temperatures::kStatusField &&
+                  bms::CellVoltages::kCellField == bms::Temperatures::kTempField &&
+                  bms::CellVoltages::kCellPerFrame == bms::Temperatures::kTempPerFrame,
+              "CellVoltages and Temperatures share one layout (fill() builds both alike)");
 constexpr uint8_t kOpenWireStatus =
     4;  // CellVoltages.Status: some cells of the frame are beside an open wire
 uint16_t clampU16(int32_t v) {
@@ -181,8 +187,12 @@ static_assert(
   for (; data != end; acc >>= 8)
     *data++ = static_cast<uint8_t>(acc);
 }
-constexpr uint8_t kMaxFields = 9;  // the longest message (PackSummary)
-static_assert(sizeof bms::PackSummary::kFields / sizeof(can::Field) == kMaxFields);
+constexpr uint8_t kMaxFields = bms::PackSummary::kFieldCount;  // the longest message
+static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
+              bms::TemperatureExtremes::kFieldCount <= kMaxFields &&
+              bms::ProtectionEvent::kFieldCount <= kMaxFields &&
+              bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
+              bms::TiCellVoltages::kFieldCount <= kMaxFields);
 
 }  // namespace
 
@@ -269,32 +279,40 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       return 0;
     case kSummary:
       // The pack voltage is the sum over every board, so only a scan that validated all of them gives it.
-      if (fresh && t.complete) v[0] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
-      v[1] = static_cast<uint16_t>(cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa))
-                                                             : bms::PackSummary::kPackCurrentNotAvailable);
-      if (cells) v[2] = pack_.stateOfCharge;  // 255 (not available) without a gauge
-      v[3] = status_.chargeOn;
-      v[4] = status_.dischargeOn;
-      v[5] = status_.faultOutput;
-      v[6] = cells;  // DataValid
-      v[7] = counter_;
-      v[8] = status_.active;
-      break;
+      {
+        using S = bms::PackSummary;
+        if (fresh && t.complete) v[S::kPackVoltageField] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
+        v[S::kPackCurrentField] = static_cast<uint16_t>(
+            cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
+        if (cells) v[S::kStateOfChargeField] = pack_.stateOfCharge;  // 255 (not available) without a gauge
+        v[S::kChargeFetField] = status_.chargeOn;
+        v[S::kDischargeFetField] = status_.dischargeOn;
+        v[S::kFaultOutputField] = status_.faultOutput;
+        v[S::kDataValidField] = cells;
+        v[S::kCounterField] = counter_;
+        v[S::kActiveFaultsField] = status_.active;
+        break;
+      }
     case kExtremes:
     case kTempExtremes: {
       // CellExtremes and TemperatureExtremes share their layout (highest, where, lowest, where), as
       // PackTotals keeps both pairs alike.
       const uint8_t e = step_ == kExtremes ? kMaxCell : kMaxTemp;
       if (step_ == kExtremes ? cells : temps) {
-        v[0] = reading(t.extreme[e]), v[1] = t.at[e];
-        v[2] = reading(t.extreme[e + 1]), v[3] = t.at[e + 1];
+        using X = bms::CellExtremes;  // the temperature layout is the same (static_assert above)
+        v[X::kMaxCellVoltageField] = reading(t.extreme[e]), v[X::kMaxCellIndexField] = t.at[e];
+        v[X::kMinCellVoltageField] = reading(t.extreme[e + 1]), v[X::kMinCellIndexField] = t.at[e + 1];
       }
       break;
     }
-    case kEvent:
-      v[0] = status_.active, v[1] = status_.pendingTripped, v[2] = status_.pendingCleared;
-      v[3] = pack_.commErrors;
+    case kEvent: {
+      using E = bms::ProtectionEvent;
+      v[E::kActiveFaultsField] = status_.active;
+      v[E::kNewlyTrippedField] = status_.pendingTripped;
+      v[E::kNewlyClearedField] = status_.pendingCleared;
+      v[E::kCommErrorsField] = pack_.commErrors;
       break;
+    }
     case kCells:
     case kTemps: {
       // Board, frame index, status, then three slots of cells or temperatures: readings of a Valid board,
@@ -315,11 +333,15 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
       const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
-      v[0] = board, v[1] = frame, v[2] = static_cast<uint8_t>(st);
+      using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
+      v[C::kBoardField] = board, v[C::kFrameIndexField] = frame,
+      v[C::kStatusField] = static_cast<uint8_t>(st);
       if (st != BoardStatus::Valid) break;
-      if ((open & 7U) != 0) v[2] = kOpenWireStatus;
-      for (uint8_t j = 0, i = static_cast<uint8_t>(frame * 3); j < 3; ++j, ++i) {
-        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading) v[3 + j] = reading(values[i]);
+      if ((open & 7U) != 0) v[C::kStatusField] = kOpenWireStatus;
+      for (uint8_t j = 0, i = static_cast<uint8_t>(frame * C::kCellPerFrame); j < C::kCellPerFrame;
+           ++j, ++i) {
+        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
+          v[C::kCellField + j] = reading(values[i]);
       }
       break;
     }
@@ -334,8 +356,8 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         return 0;
       }
       const int16_t* raw = pack_.rawCells + b * kMaxCellsPerBoard + 15 - (index_ % 4) * 4;
-      for (uint8_t j = 0; j < 4; ++j)
-        v[j] = static_cast<uint16_t>(raw[-j]);  // cells 16..1
+      for (uint8_t j = 0; j < bms::TiCellVoltages::kVCellPerFrame; ++j)
+        v[bms::TiCellVoltages::kVCellField + j] = static_cast<uint16_t>(raw[-j]);  // cells 16..1
       break;
     }
   }

@@ -191,6 +191,13 @@ struct Spec {
   std::int64_t dflt = 0;
 };
 
+// `bits` with the field at `mask` (its lowest bit at `lsb`) set to `value`; bits outside the field are kept
+// and value bits beyond the field dropped. The generated bit-field types' with_<field>() use it.
+template <std::unsigned_integral R>
+constexpr R withField(R bits, R mask, unsigned lsb, R value) {
+  return static_cast<R>((bits & ~mask) | ((value << lsb) & mask));
+}
+
 // --- value types that are not plain integers -------------------------------------------------------------
 
 // Command-only subcommands carry no data.
@@ -387,6 +394,21 @@ concept WriteOneToClear = RegisterDescriptor<D> && std::remove_cvref_t<D>::acces
 
 template <class D>
 concept ConfigUpdateOnly = RegisterDescriptor<D> && std::remove_cvref_t<D>::access == Access::ConfigUpdate;
+
+// D's address as the code a bus carries: an 8-bit direct/SBS command or MAC code, a 16-bit subcommand,
+// data-memory or register address. A compile error where the address does not fit, so drivers never
+// truncate an address silently.
+template <RegisterDescriptor D>
+constexpr std::uint8_t code8(D) {
+  static_assert(std::remove_cvref_t<D>::address <= 0xFF, "not an 8-bit code");
+  return static_cast<std::uint8_t>(std::remove_cvref_t<D>::address);
+}
+
+template <RegisterDescriptor D>
+constexpr std::uint16_t code16(D) {
+  static_assert(std::remove_cvref_t<D>::address <= 0xFFFF, "not a 16-bit code");
+  return static_cast<std::uint16_t>(std::remove_cvref_t<D>::address);
+}
 
 // A value of exactly D::size bytes (everything except variable-length blocks).
 template <class D>

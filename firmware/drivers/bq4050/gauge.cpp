@@ -33,13 +33,9 @@ namespace rm = regmap::bq4050;
 namespace rb = rm::bits;
 using Mfg = rb::ManufacturingStatus;
 
-constexpr uint8_t lo(uint32_t address) {
-  return static_cast<uint8_t>(address);
-}
-
-constexpr uint8_t kManufacturerAccess = lo(rm::sbs::ManufacturerAccess.address);  // 0x00
-constexpr uint8_t kManufacturerData = lo(rm::sbs::ManufacturerData.address);      // 0x23
-constexpr uint8_t kBlockAccess = lo(rm::sbs::ManufacturerBlockAccess.address);    // 0x44
+constexpr uint8_t kManufacturerAccess = regmap::code8(rm::sbs::ManufacturerAccess);  // 0x00
+constexpr uint8_t kManufacturerData = regmap::code8(rm::sbs::ManufacturerData);      // 0x23
+constexpr uint8_t kBlockAccess = regmap::code8(rm::sbs::ManufacturerBlockAccess);    // 0x44
 
 // Access flags.
 constexpr uint8_t kBlock = 0x01;     // the read is an SMBus block read (count first)
@@ -56,29 +52,28 @@ struct ScanItem {
   uint8_t size;    // 1, 2 (word) or 4 (MAC block)
 };
 constexpr ScanItem kScan[] = {
-    {lo(rm::sbs::Voltage.address), offsetof(Measurement, voltageMv), 2},
-    {lo(rm::sbs::Current.address), offsetof(Measurement, currentMa), 2},
-    {lo(rm::sbs::Temperature.address), offsetof(Measurement, temperatureDeciK), 2},
-    {lo(rm::sbs::RelativeStateOfCharge.address), offsetof(Measurement, rsocPercent), 1},
-    {lo(rm::sbs::RemainingCapacity.address), offsetof(Measurement, remainingCapacity), 2},
-    {lo(rm::sbs::FullChargeCapacity.address), offsetof(Measurement, fullChargeCapacity), 2},
-    {lo(rm::sbs::AverageTimeToEmpty.address), offsetof(Measurement, timeToEmptyMin), 2},
-    {lo(rm::sbs::AverageTimeToFull.address), offsetof(Measurement, timeToFullMin), 2},
-    {lo(rm::sbs::BatteryStatus.address), offsetof(Measurement, batteryStatus), 2},
-    {lo(rm::sbs::CellVoltage1.address), offsetof(Measurement, cellMv) + 0, 2},
-    {lo(rm::sbs::CellVoltage2.address), offsetof(Measurement, cellMv) + 2, 2},
-    {lo(rm::sbs::CellVoltage3.address), offsetof(Measurement, cellMv) + 4, 2},
-    {lo(rm::sbs::CellVoltage4.address), offsetof(Measurement, cellMv) + 6, 2},
-    {lo(rm::mac::SafetyStatus.address), offsetof(Measurement, safetyStatus), 4},
-    {lo(rm::mac::PFStatus.address), offsetof(Measurement, pfStatus), 4},
-    {lo(rm::mac::OperationStatus.address), offsetof(Measurement, operationStatus), 4},
+    {regmap::code8(rm::sbs::Voltage), offsetof(Measurement, voltageMv), 2},
+    {regmap::code8(rm::sbs::Current), offsetof(Measurement, currentMa), 2},
+    {regmap::code8(rm::sbs::Temperature), offsetof(Measurement, temperatureDeciK), 2},
+    {regmap::code8(rm::sbs::RelativeStateOfCharge), offsetof(Measurement, rsocPercent), 1},
+    {regmap::code8(rm::sbs::RemainingCapacity), offsetof(Measurement, remainingCapacity), 2},
+    {regmap::code8(rm::sbs::FullChargeCapacity), offsetof(Measurement, fullChargeCapacity), 2},
+    {regmap::code8(rm::sbs::AverageTimeToEmpty), offsetof(Measurement, timeToEmptyMin), 2},
+    {regmap::code8(rm::sbs::AverageTimeToFull), offsetof(Measurement, timeToFullMin), 2},
+    {regmap::code8(rm::sbs::BatteryStatus), offsetof(Measurement, batteryStatus), 2},
+    {regmap::code8(rm::sbs::CellVoltage1), offsetof(Measurement, cellMv) + 0, 2},
+    {regmap::code8(rm::sbs::CellVoltage2), offsetof(Measurement, cellMv) + 2, 2},
+    {regmap::code8(rm::sbs::CellVoltage3), offsetof(Measurement, cellMv) + 4, 2},
+    {regmap::code8(rm::sbs::CellVoltage4), offsetof(Measurement, cellMv) + 6, 2},
+    {regmap::code8(rm::mac::SafetyStatus), offsetof(Measurement, safetyStatus), 4},
+    {regmap::code8(rm::mac::PFStatus), offsetof(Measurement, pfStatus), 4},
+    {regmap::code8(rm::mac::OperationStatus), offsetof(Measurement, operationStatus), 4},
 };
 constexpr uint8_t kFirstCell = 9;
 static_assert(std::endian::native == std::endian::little, "scan fields are filled with the wire's LE bytes");
 static_assert(std::is_standard_layout_v<Measurement> && std::is_trivially_copyable_v<Measurement>,
               "filled by offset and copied out as bytes");
 constexpr uint8_t kScanSteps = sizeof(kScan) / sizeof(kScan[0]);
-static_assert(rm::mac::OperationStatus.address < 0x100 && sizeof(int16_t) == 2);
 
 // FET toggles in the order they are tried (SLUUAQ3A MAC table): FET_EN first; then in test mode every FET
 // that must go off before any that must go on, and DSG on before CHG (with DSG off and the pack above 16 V
@@ -91,16 +86,16 @@ struct Toggle {
 constexpr uint8_t kTurnOff = 1;
 constexpr uint8_t kTurnOn = 2;
 constexpr Toggle kToggles[] = {
-    {Mfg::fet_en_mask, lo(rm::mac::FETControl.address), kTurnOff | kTurnOn},
-    {Mfg::chg_test_mask, lo(rm::mac::ChgFet.address), kTurnOff},
-    {Mfg::pchg_test_mask, lo(rm::mac::PchgFet.address), kTurnOff},
-    {Mfg::dsg_test_mask, lo(rm::mac::DsgFet.address), kTurnOff},
-    {Mfg::dsg_test_mask, lo(rm::mac::DsgFet.address), kTurnOn},
-    {Mfg::chg_test_mask, lo(rm::mac::ChgFet.address), kTurnOn},
-    {Mfg::pchg_test_mask, lo(rm::mac::PchgFet.address), kTurnOn},
+    {Mfg::fet_en_mask, regmap::code8(rm::mac::FETControl), kTurnOff | kTurnOn},
+    {Mfg::chg_test_mask, regmap::code8(rm::mac::ChgFet), kTurnOff},
+    {Mfg::pchg_test_mask, regmap::code8(rm::mac::PchgFet), kTurnOff},
+    {Mfg::dsg_test_mask, regmap::code8(rm::mac::DsgFet), kTurnOff},
+    {Mfg::dsg_test_mask, regmap::code8(rm::mac::DsgFet), kTurnOn},
+    {Mfg::chg_test_mask, regmap::code8(rm::mac::ChgFet), kTurnOn},
+    {Mfg::pchg_test_mask, regmap::code8(rm::mac::PchgFet), kTurnOn},
 };
-constexpr uint8_t kMaxToggles = 8;  // four bits, each may need a resend after an ambiguous failure
-static_assert(rm::mac::FETControl.address < 0x100 && Mfg::fet_en_mask < 0x100);
+constexpr uint8_t kMaxToggles = 8;        // four bits, each may need a resend after an ambiguous failure
+static_assert(Mfg::fet_en_mask < 0x100);  // code8() already refuses MAC codes above 0xFF
 
 }  // namespace
 
@@ -128,7 +123,7 @@ Status Gauge::startProbe(DeviceInfo& out) {
   s_.out = &out;
   // With Auto, SpecificationInfo is read without PEC: until it says so, the gauge may not support it.
   if (config_.pec == PecMode::Auto) s_.pec = false;
-  readWord(lo(rm::sbs::SpecificationInfo.address));
+  readWord(regmap::code8(rm::sbs::SpecificationInfo));
   return Status::Ok;
 }
 
@@ -226,7 +221,7 @@ Status Gauge::startFetControl(const FetRequest& request, FetState& out) {
                                                                   (request.pchg ? Mfg::pchg_test_mask : 0));
   s_.out = &out;
   s_.toggled = 0;
-  readMac(lo(rm::mac::ManufacturingStatus.address), 2, 2);
+  readMac(regmap::code8(rm::mac::ManufacturingStatus), 2, 2);
   return Status::Ok;
 }
 
@@ -428,13 +423,13 @@ void Gauge::accessDone(Status status) {
     s_.probe[0] = word();  // SpecificationInfo
     if (config_.pec == PecMode::Auto) s_.pec = rb::SpecificationInfo::fromRaw(s_.probe[0]).version() == 3;
     ++s_.step;
-    return readMac(lo(rm::mac::DeviceType.address), 2, 2);
+    return readMac(regmap::code8(rm::mac::DeviceType), 2, 2);
   }
   if (s_.step == 1) {
     s_.probe[1] = bytes::loadLe16(data());
     if (s_.probe[1] != kDeviceType) return countAndFinish(Status::DeviceId);
     ++s_.step;
-    return readMac(lo(rm::mac::FirmwareVersion.address), kMaxBlock, 0);
+    return readMac(regmap::code8(rm::mac::FirmwareVersion), kMaxBlock, 0);
   }
   DeviceInfo& info = *static_cast<DeviceInfo*>(s_.out);
   info = DeviceInfo{};
@@ -464,12 +459,12 @@ void Gauge::nextFet(Status status) {
     // acknowledged its address (after the retries) ends the operation.
     s_.toggled = status == Status::Ok ? s_.code : 0;
     if (status == Status::Nack) return finish(status);
-    return readMac(lo(rm::mac::ManufacturingStatus.address), 2, 2);
+    return readMac(regmap::code8(rm::mac::ManufacturingStatus), 2, 2);
   }
   if (status != Status::Ok) return finish(status);
   constexpr uint8_t kTestBits = Mfg::chg_test_mask | Mfg::dsg_test_mask | Mfg::pchg_test_mask;
   const uint8_t want = s_.fetWant;
-  if (s_.code == lo(rm::mac::OperationStatus.address)) {
+  if (s_.code == regmap::code8(rm::mac::OperationStatus)) {
     // The FETs themselves, which must match a test-mode request (the flags alone can lie: E2E 1445117).
     const auto op = rb::OperationStatus::fromRaw(bytes::loadLe32(data()));
     const uint8_t actual =
@@ -494,7 +489,7 @@ void Gauge::nextFet(Status status) {
       break;
     }
   }
-  if (toggle == 0) return readMac(lo(rm::mac::OperationStatus.address), 4, 4);
+  if (toggle == 0) return readMac(regmap::code8(rm::mac::OperationStatus), 4, 4);
   // The same toggle again after it was accepted means the gauge ignored it (SEALED, or a FET it will not
   // drive); the step bound ends a gauge that keeps changing its mind.
   if (toggle == s_.toggled || ++s_.step > kMaxToggles) return countAndFinish(Status::VerifyFailed);

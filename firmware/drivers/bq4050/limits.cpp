@@ -33,29 +33,25 @@ struct Limit {
   uint16_t hi;
 };
 
-constexpr uint8_t code(uint32_t address) {
-  return static_cast<uint8_t>(address);
-}
-
 constexpr Limit kLimits[] = {
-    {code(sbs::Temperature.address), code(sbs::Temperature.address), 2231, 4231},
-    {code(sbs::Voltage.address), code(sbs::Voltage.address), 0, 20000},
-    {code(sbs::RelativeStateOfCharge.address), code(sbs::RelativeStateOfCharge.address),
+    {regmap::code8(sbs::Temperature), regmap::code8(sbs::Temperature), 2231, 4231},
+    {regmap::code8(sbs::Voltage), regmap::code8(sbs::Voltage), 0, 20000},
+    {regmap::code8(sbs::RelativeStateOfCharge), regmap::code8(sbs::RelativeStateOfCharge),
      static_cast<uint16_t>(sbs::RelativeStateOfCharge.spec.min),
      static_cast<uint16_t>(sbs::RelativeStateOfCharge.spec.max)},
-    {code(sbs::RemainingCapacity.address), code(sbs::FullChargeCapacity.address), 0, 32767},
-    {code(sbs::CellVoltage4.address), code(sbs::CellVoltage1.address), 0, 5000},
+    {regmap::code8(sbs::RemainingCapacity), regmap::code8(sbs::FullChargeCapacity), 0, 32767},
+    {regmap::code8(sbs::CellVoltage4), regmap::code8(sbs::CellVoltage1), 0, 5000},
 };
 
 static_assert(sbs::RelativeStateOfCharge.hasMin && sbs::RelativeStateOfCharge.hasMax,
               "the register map carries the SBS 1.1 RSOC range");
-static_assert(sbs::FullChargeCapacity.address == sbs::RemainingCapacity.address + 1);
-static_assert(sbs::CellVoltage1.address == sbs::CellVoltage4.address + 3);
+static_assert(regmap::code8(sbs::FullChargeCapacity) == regmap::code8(sbs::RemainingCapacity) + 1);
+static_assert(regmap::code8(sbs::CellVoltage1) == regmap::code8(sbs::CellVoltage4) + 3);
 
 }  // namespace
 
 bool plausibleWord(uint8_t cmd, uint16_t raw) {
-  if (cmd == code(sbs::BatteryStatus.address)) {
+  if (cmd == regmap::code8(sbs::BatteryStatus)) {
     return (raw & ~regmap::bq4050::bits::BatteryStatus::fields_mask) == 0;
   }
   for (const Limit& l : kLimits) {

@@ -12,16 +12,16 @@ namespace {
 
 namespace sub = map::sub;
 
-constexpr uint8_t kBatteryStatus = map::cmd::BatteryStatus.address;
-static_assert(kBatteryStatus == map7690x::cmd::BatteryStatus.address);
-static_assert(sub::DeviceNumber.address == map7690x::sub::DeviceNumber.address &&
-              sub::FwVersion.address == map7690x::sub::FwVersion.address &&
-              sub::SetCfgupdate.address == map7690x::sub::SetCfgupdate.address &&
-              sub::ExitCfgupdate.address == map7690x::sub::ExitCfgupdate.address &&
-              sub::FetEnable.address == map7690x::sub::FetEnable.address &&
-              sub::CbActiveCells.address == map7690x::sub::CbActiveCells.address);
+constexpr uint8_t kBatteryStatus = regmap::code8(map::cmd::BatteryStatus);
+static_assert(kBatteryStatus == regmap::code8(map7690x::cmd::BatteryStatus));
+static_assert(regmap::code16(sub::DeviceNumber) == regmap::code16(map7690x::sub::DeviceNumber) &&
+              regmap::code16(sub::FwVersion) == regmap::code16(map7690x::sub::FwVersion) &&
+              regmap::code16(sub::SetCfgupdate) == regmap::code16(map7690x::sub::SetCfgupdate) &&
+              regmap::code16(sub::ExitCfgupdate) == regmap::code16(map7690x::sub::ExitCfgupdate) &&
+              regmap::code16(sub::FetEnable) == regmap::code16(map7690x::sub::FetEnable) &&
+              regmap::code16(sub::CbActiveCells) == regmap::code16(map7690x::sub::CbActiveCells));
 
-static_assert(sub::SleepDisable.address == map7690x::sub::SleepDisable.address);
+static_assert(regmap::code16(sub::SleepDisable) == regmap::code16(map7690x::sub::SleepDisable));
 
 // BQ769x2 FET_CONTROL (SLUUCW9, E2E 1453973): a 1 forces that FET off, a 0 allows it, all four at once.
 using Fc = map::bits::FetControl;
@@ -30,10 +30,10 @@ constexpr uint8_t kDischargeOff = Fc::pdsg_off_mask | Fc::dsg_off_mask;
 // BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET.
 using Fc7 = map7690x::bits::FetControl;
 
-constexpr uint8_t kAlarmStatus = map::cmd::AlarmStatus.address;
-constexpr uint8_t kAlarmEnable = map::cmd::AlarmEnable.address;
-static_assert(kAlarmStatus == map7690x::cmd::AlarmStatus.address &&
-              kAlarmEnable == map7690x::cmd::AlarmEnable.address);
+constexpr uint8_t kAlarmStatus = regmap::code8(map::cmd::AlarmStatus);
+constexpr uint8_t kAlarmEnable = regmap::code8(map::cmd::AlarmEnable);
+static_assert(kAlarmStatus == regmap::code8(map7690x::cmd::AlarmStatus) &&
+              kAlarmEnable == regmap::code8(map7690x::cmd::AlarmEnable));
 
 }  // namespace
 
@@ -50,7 +50,7 @@ Status Monitor::startProbe(Identity& out) {
   s_.out = &out;
   s_.restarted = false;
   if (kProbeCrc && probeCrc_) link_.setCrc(false);
-  return begin(Op::Probe, link_.startSubcommandRead(sub::DeviceNumber.address, 2));
+  return begin(Op::Probe, link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2));
 }
 
 Status Monitor::startConfigure(std::span<const Setting> settings) {
@@ -90,17 +90,18 @@ Status Monitor::startFetEnable() {
 Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
   if (busy()) return Status::Busy;
   s_.settings = settings;
-  return begin(Op::RuntimeSetup, link_.startSubcommand(sub::SleepDisable.address));
+  return begin(Op::RuntimeSetup, link_.startSubcommand(regmap::code16(sub::SleepDisable)));
 }
 
 Status Monitor::startBalance(uint16_t cells) {
-  if (!kConfigPaths || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
+  if (!kBalance || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   s_.tmp = static_cast<uint16_t>(cells << facts().cbShift);
   uint8_t mask[2];
   bytes::storeLe16(mask, s_.tmp);
-  return begin(Op::Balance, link_.startSubcommandWrite(sub::CbActiveCells.address, {mask, facts().cbBytes}));
+  return begin(Op::Balance,
+               link_.startSubcommandWrite(regmap::code16(sub::CbActiveCells), {mask, facts().cbBytes}));
 }
 
 Progress Monitor::onEvent(sched::EventMask events) {
@@ -129,9 +130,10 @@ Status Monitor::sendFet() {
   // BQ769x2: both paths the same way is one command-only subcommand (ALL_FETS_OFF is the ALERT fast path);
   // one path off is FET_CONTROL, which also re-allows the other path after ALL_FETS_OFF.
   if (next.chargeOff == next.dischargeOff)
-    return link_.startSubcommand(next.chargeOff ? sub::AllFetsOff.address : sub::AllFetsOn.address);
+    return link_.startSubcommand(next.chargeOff ? regmap::code16(sub::AllFetsOff)
+                                                : regmap::code16(sub::AllFetsOn));
   const uint8_t value = next.chargeOff ? kChargeOff : kDischargeOff;
-  return link_.startSubcommandWrite(sub::FetControl.address, {&value, 1});
+  return link_.startSubcommandWrite(regmap::code16(sub::FetControl), {&value, 1});
 }
 
 // Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off).
@@ -159,7 +161,7 @@ void Monitor::step(Status r) {
     case Op::RuntimeSetup:
       return runtimeSetupStep(r);
     case Op::Balance:
-      if constexpr (kConfigPaths) balanceStep(r);
+      if constexpr (kBalance) balanceStep(r);
       return;
   }
 }
@@ -173,12 +175,12 @@ inline void Monitor::probeStep(Status r) {
     if (!kProbeCrc || !probeCrc_ || s_.step != 0 || s_.restarted || !framing) return finish(r);
     s_.restarted = true;
     link_.setCrc(!link_.crc());
-    return (void)link_.startSubcommandRead(sub::DeviceNumber.address, 2);
+    return (void)link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2);
   }
   const uint8_t* d = link_.data();
   if (s_.step++ == 0) {
     s_.tmp = bytes::loadLe16(d);
-    return (void)link_.startSubcommandRead(sub::FwVersion.address, 6);
+    return (void)link_.startSubcommandRead(regmap::code16(sub::FwVersion), 6);
   }
   Identity& id = *static_cast<Identity*>(s_.out);
   id.deviceNumber = s_.tmp;
@@ -241,7 +243,7 @@ inline void Monitor::fetEnableStep(Status r) {
   switch (s_.step++) {
     case 0:  // FET_EN read: FET_ENABLE toggles it, so it is only sent when FET_EN is 0
       if (enabled) return finish(Status::Ok);
-      return (void)link_.startSubcommand(sub::FetEnable.address);
+      return (void)link_.startSubcommand(regmap::code16(sub::FetEnable));
     case 1:  // FET_ENABLE sent: read FET_EN back
       return (void)readFetEn();
     default:
@@ -274,7 +276,7 @@ inline void Monitor::runtimeSetupStep(Status r) {
 inline void Monitor::balanceStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t cbBytes = facts().cbBytes;
-  if (s_.step++ == 0) return (void)link_.startSubcommandRead(sub::CbActiveCells.address, cbBytes);
+  if (s_.step++ == 0) return (void)link_.startSubcommandRead(regmap::code16(sub::CbActiveCells), cbBytes);
   const uint8_t* d = link_.data();
   finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == s_.tmp ? Status::Ok
                                                                                : Status::VerifyFailed);
@@ -317,7 +319,7 @@ inline void Monitor::configStep(Status r) {
       if (++s_.index < s_.settings.size()) return (void)nextSetting(false);
       if (s_.diff == 0) return finish(Status::Ok);
       s_.step = kEnter;
-      return (void)link_.startSubcommand(sub::SetCfgupdate.address);
+      return (void)link_.startSubcommand(regmap::code16(sub::SetCfgupdate));
     case kEnter:
     case kExit:
       // The command was accepted; its effect shows in Battery Status[CFGUPDATE] (LibreSolar 73bda94: the
@@ -363,7 +365,7 @@ void Monitor::writeNext() {
 
 void Monitor::exitUpdate() {
   s_.step = kExit;
-  (void)link_.startSubcommand(sub::ExitCfgupdate.address);
+  (void)link_.startSubcommand(regmap::code16(sub::ExitCfgupdate));
 }
 
 void Monitor::finish(Status s) {

@@ -66,7 +66,8 @@
 //                         neighbours autonomously and two adjacent cells double the current through the
 //                         shared input resistor (E2E 1505209). 0 stops balancing.
 // A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, config.hpp) has neither
-// startConfigure() nor startBalance(): both return InvalidArgument.
+// startConfigure() nor startBalance(): both return InvalidArgument; a build without balancing
+// (FW_BQ769X_BALANCE=0) has no startBalance().
 // The link (link()) may be used directly for raw operations while the monitor is idle (bmsctl, diagnostics);
 // onEvent() forwards to it either way. The configuration is copied at construction; the settings table
 // passed to startConfigure() and the output of a running operation must stay valid until it ends.
@@ -102,7 +103,7 @@ requires regmap::FixedSize<D> &&(D::size <= 4) constexpr Setting setting(D d, ty
   if constexpr (std::is_integral_v<typename D::value_type>) {
     FW_ASSERT_MODULE(::fw::Module::DriverBq769x2, regmap::inRange(d, value));
   }
-  return Setting{static_cast<uint16_t>(D::address), static_cast<uint8_t>(D::size), raw};
+  return Setting{regmap::code16(d), static_cast<uint8_t>(D::size), raw};
 }
 
 struct ScanBlock {
@@ -173,12 +174,12 @@ constexpr Variant bq7690x(uint8_t cells) {
           1,
           high(map7690x::bits::BatteryStatus::fet_en_mask),
           0,
-          map7690x::cmd::FetControl.address,
+          regmap::code8(map7690x::cmd::FetControl),
           1,
           1,
           map7690x::bits::BatteryStatus::sleep_en_mask,
           26,
-          map7690x::dm::DefaultAlarmMask.address,
+          regmap::code16(map7690x::dm::DefaultAlarmMask),
           2000};  // 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
@@ -194,13 +195,13 @@ inline constexpr Variant kBq76952{
     map::bits::BatteryStatus::cfgupdate_mask,
     0,
     map::bits::ManufacturingStatus::fet_en_mask,
-    map::sub::ManufacturingStatus.address,
+    regmap::code16(map::sub::ManufacturingStatus),
     0,
     2,
     0,
     map::bits::BatteryStatus::sleep_en_mask,
     50,
-    map::dm::DefaultAlarmMask.address,
+    regmap::code16(map::dm::DefaultAlarmMask),
     0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);

@@ -14,43 +14,39 @@ namespace fw::drivers::bq79616::regs {
 
 namespace r = ::fw::regmap::bq79616::reg;
 
-template <class D>
-constexpr uint16_t addr(D) {
-  static_assert(D::address <= 0xFFFF, "BQ79616 register addresses are 16-bit");
-  return static_cast<uint16_t>(D::address);
-}
+using ::fw::regmap::code16;  // BQ79616 register addresses are 16-bit
 
 // Addressing and communication (SLUSE81E §9.5.4.3).
-inline constexpr uint16_t kDir0Addr = addr(r::Dir0Addr);
-inline constexpr uint16_t kCommCtrl = addr(r::CommCtrl);
-inline constexpr uint16_t kControl1 = addr(r::Control1);
-inline constexpr uint16_t kControl2 = addr(r::Control2);
-inline constexpr uint16_t kOtpEccDatain1 = addr(r::OtpEccDatain1);  // DLL synchronisation dummies 1..8
+inline constexpr uint16_t kDir0Addr = code16(r::Dir0Addr);
+inline constexpr uint16_t kCommCtrl = code16(r::CommCtrl);
+inline constexpr uint16_t kControl1 = code16(r::Control1);
+inline constexpr uint16_t kControl2 = code16(r::Control2);
+inline constexpr uint16_t kOtpEccDatain1 = code16(r::OtpEccDatain1);  // DLL synchronisation dummies 1..8
 // Configuration (NVM shadow registers, covered by the customer CRC).
-inline constexpr uint16_t kActiveCell = addr(r::ActiveCell);
-inline constexpr uint16_t kAdcConf1 = addr(r::AdcConf1);
-inline constexpr uint16_t kCustCrcHi = addr(r::CustCrcHi);
-inline constexpr uint16_t kCustCrcRsltHi = addr(r::CustCrcRsltHi);
-inline constexpr uint16_t kAdcCtrl1 = addr(r::AdcCtrl1);
-inline constexpr uint16_t kDevStat = addr(r::DevStat);
+inline constexpr uint16_t kActiveCell = code16(r::ActiveCell);
+inline constexpr uint16_t kAdcConf1 = code16(r::AdcConf1);
+inline constexpr uint16_t kCustCrcHi = code16(r::CustCrcHi);
+inline constexpr uint16_t kCustCrcRsltHi = code16(r::CustCrcRsltHi);
+inline constexpr uint16_t kAdcCtrl1 = code16(r::AdcCtrl1);
+inline constexpr uint16_t kDevStat = code16(r::DevStat);
 // Faults.
-inline constexpr uint16_t kFaultMsk2 = addr(r::FaultMsk2);
-inline constexpr uint16_t kFaultRst1 = addr(r::FaultRst1);
-inline constexpr uint16_t kFaultRst2 = addr(r::FaultRst2);
-inline constexpr uint16_t kFaultSummary = addr(r::FaultSummary);
+inline constexpr uint16_t kFaultMsk2 = code16(r::FaultMsk2);
+inline constexpr uint16_t kFaultRst1 = code16(r::FaultRst1);
+inline constexpr uint16_t kFaultRst2 = code16(r::FaultRst2);
+inline constexpr uint16_t kFaultSummary = code16(r::FaultSummary);
 // Measurements.
-inline constexpr uint16_t kVcell16Hi = addr(r::Vcell16Hi);
-inline constexpr uint16_t kGpio1Hi = addr(r::Gpio1Hi);
-inline constexpr uint16_t kDietemp1Hi = addr(r::Dietemp1Hi);
+inline constexpr uint16_t kVcell16Hi = code16(r::Vcell16Hi);
+inline constexpr uint16_t kGpio1Hi = code16(r::Gpio1Hi);
+inline constexpr uint16_t kDietemp1Hi = code16(r::Dietemp1Hi);
 
 // Blocks the driver moves in one frame must be contiguous in the map.
-static_assert(addr(r::OtpEccDatain8) == kOtpEccDatain1 + 7, "OTP_ECC_DATAIN1..8 are consecutive");
-static_assert(addr(r::CustCrcLo) == kCustCrcHi + 1, "CUST_CRC_HI/LO are one 2-byte write");
-static_assert(addr(r::CustCrcRsltLo) == kCustCrcRsltHi + 1, "CUST_CRC_RSLT_HI/LO are one 2-byte read");
+static_assert(code16(r::OtpEccDatain8) == kOtpEccDatain1 + 7, "OTP_ECC_DATAIN1..8 are consecutive");
+static_assert(code16(r::CustCrcLo) == kCustCrcHi + 1, "CUST_CRC_HI/LO are one 2-byte write");
+static_assert(code16(r::CustCrcRsltLo) == kCustCrcRsltHi + 1, "CUST_CRC_RSLT_HI/LO are one 2-byte read");
 static_assert(kFaultRst2 == kFaultRst1 + 1, "FAULT_RST1/2 are one 2-byte write");
-static_assert(addr(r::Vcell1Lo) == kVcell16Hi + 31, "VCELL16_HI..VCELL1_LO are one 32-byte read");
-static_assert(addr(r::Gpio8Lo) == kGpio1Hi + 15, "GPIO1_HI..GPIO8_LO are one 16-byte read");
-static_assert(addr(r::Dietemp2Lo) == kDietemp1Hi + 3, "DIETEMP1_HI..DIETEMP2_LO are one 4-byte read");
+static_assert(code16(r::Vcell1Lo) == kVcell16Hi + 31, "VCELL16_HI..VCELL1_LO are one 32-byte read");
+static_assert(code16(r::Gpio8Lo) == kGpio1Hi + 15, "GPIO1_HI..GPIO8_LO are one 16-byte read");
+static_assert(code16(r::Dietemp2Lo) == kDietemp1Hi + 3, "DIETEMP1_HI..DIETEMP2_LO are one 4-byte read");
 
 namespace b = ::fw::regmap::bq79616::bits;
 namespace e = ::fw::regmap::bq79616::enums;
