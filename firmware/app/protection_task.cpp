@@ -5,17 +5,27 @@
 namespace fw::app {
 
 void ProtectionTask::run(sched::EventMask events) {
-  const Instant now = scheduler_.now();
-  ProtectionInputs in{};
-  in.pack = &pack_;
-  in.fresh = (events & kNewData) != 0;
-  in.scanFailed = (events & kScanFailed) != 0;
-  in.faultLine = (events & kFaultLine) != 0;
-  if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
-    status_.pendingCleared |= protection_.clearLatched();
-  const ProtectionState st = protection_.evaluate(in, now);
-  if (kStats) ++state_.evaluations;
-  apply(st, in.fresh, now);
+  // The periodic check is for when no scan result comes (a monitor stuck or not yet measuring): only the
+  // stale-data rule can change without one. While results come every period it would evaluate the same data
+  // a second time, so a tick alone is skipped when a result came since the last tick. That delays nothing:
+  // staleness begins staleAfter after the last fresh result (1 s in the default limits, ten check periods),
+  // and once results stop every tick from the second on evaluates again.
+  const bool tick = events == kTick;
+  const bool skip = tick && state_.resultSinceTick;
+  state_.resultSinceTick = !tick;
+  if (!skip) {
+    const Instant now = scheduler_.now();
+    ProtectionInputs in{};
+    in.pack = &pack_;
+    in.fresh = (events & kNewData) != 0;
+    in.scanFailed = (events & kScanFailed) != 0;
+    in.faultLine = (events & kFaultLine) != 0;
+    if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
+      status_.pendingCleared |= protection_.clearLatched();
+    const ProtectionState st = protection_.evaluate(in, now);
+    if (kStats) ++state_.evaluations;
+    apply(st, in.fresh, now);
+  }
   scheduler_.checkIn(id_);
 }
 
@@ -31,8 +41,7 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   const bool chargeOn = !st.chargeOff;
   const bool dischargeOn = !st.dischargeOff;
   if (!state_.requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
-  if (state_.requested && chargeOn == state_.chargeOn && dischargeOn == state_.dischargeOn &&
-      st.newlyTripped == 0)
+  if (state_.requested && chargeOn == state_.chargeOn && dischargeOn == state_.dischargeOn && st.newlyTripped == 0)
     return;
   state_.requested = true;
   state_.chargeOn = chargeOn;
