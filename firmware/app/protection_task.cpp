@@ -41,7 +41,8 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   const bool chargeOn = !st.chargeOff;
   const bool dischargeOn = !st.dischargeOff;
   if (!state_.requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
-  if (state_.requested && chargeOn == state_.chargeOn && dischargeOn == state_.dischargeOn && st.newlyTripped == 0)
+  if (state_.requested && chargeOn == state_.chargeOn && dischargeOn == state_.dischargeOn &&
+      st.newlyTripped == 0)
     return;
   state_.requested = true;
   state_.chargeOn = chargeOn;
