@@ -10,14 +10,11 @@
 #include <cstdint>
 #include <type_traits>
 
-// The TI layout (seed 001: big-endian cell codes) is built only where it is sent: FW_CAN_TI_LAYOUT, default
-// 1 (host); every image except lp-mspm0g3507-bq79616 builds with 0. Without it packRuntime() packs
-// little-endian fields only (every native message's are); constant evaluation packs both either way. The
-// firmware's publish plan (frame_plan.cpp) packs its frames with its own bit-stream packer, so an image
-// links packRuntime() only if something calls a generated pack() at run time.
-#ifndef FW_CAN_TI_LAYOUT
-#define FW_CAN_TI_LAYOUT 1
-#endif
+#include "app/config.hpp"
+
+// The TI layout (big-endian fields) is packed at run time only where it is built: FW_CAN_TI_LAYOUT
+// (app/config.hpp). Without it packRuntime() packs little-endian fields only (every native message's are);
+// constant evaluation packs both either way.
 
 namespace fw::can {
 

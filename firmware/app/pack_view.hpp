@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <span>
 
+#include "app/config.hpp"
 #include "core/status.hpp"
 #include "core/time.hpp"
 
@@ -25,15 +26,8 @@ namespace fw::app {
 inline constexpr uint8_t kMaxCellsPerBoard = 16;
 inline constexpr uint8_t kMaxTempsPerBoard = 4;
 
-// Boards a pack can have in this build (FW_PACK_MAX_BOARDS; default 64, a full BQ79616 chain). The
-// single-board images (BQ769x2, BQ7690x, BQ4050) build with 1: every per-board loop then compiles down to its
-// one board, and a view must hold exactly one board. Host builds keep 64, so tests and bms-sim cover the
-// multi-board paths.
-#ifndef FW_PACK_MAX_BOARDS
-#define FW_PACK_MAX_BOARDS 64
-#endif
+// Boards a pack can have in this build (FW_PACK_MAX_BOARDS, app/config.hpp).
 inline constexpr uint16_t kMaxBoards = FW_PACK_MAX_BOARDS;
-static_assert(kMaxBoards >= 1);
 
 enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPresent = 3 };
 

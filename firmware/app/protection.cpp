@@ -74,38 +74,38 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
       bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) | bit(FaultId::Undertemperature);
   const Rule& rule = config_.rules[i];
   const FaultMask b = static_cast<FaultMask>(1U << i);
-  const bool lower = (kLowerLimits & b) != 0;
-  const bool present = lower ? v <= rule.trip : v >= rule.trip;
-  const bool absent = lower ? v > rule.clear : v < rule.clear;
+  // A lower limit is an upper limit of the complemented values (~x = -1 - x reverses the order and, unlike
+  // negation, never overflows), so one pair of comparisons serves both kinds.
+  const int32_t flip = (kLowerLimits & b) != 0 ? -1 : 0;
+  const int32_t x = v ^ flip;
+  const bool present = x >= (rule.trip ^ flip);
+  const bool absent = x < (rule.clear ^ flip);
   if (present) s_.conditionNow |= b;
   if (absent) s_.conditionNow = static_cast<FaultMask>(s_.conditionNow & ~b);
 
   // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
   // sighting of the other kind restarts the count.
   const bool tripped = (s_.active & b) != 0;
+  uint8_t& count = s_.count[i];
   if (tripped ? present : absent) {
-    s_.count[i] = 0;
+    count = 0;
     return;
   }
   if (!(tripped ? absent : present)) return;
 #if FW_PROTECTION_DELAYS
-  if (s_.count[i] == 0) s_.since[i] = now;
+  if (count == 0) s_.since[i] = now;
 #endif
-  if (s_.count[i] < 0xFF) ++s_.count[i];
-  if (s_.count[i] < rule.debounce) return;
+  if (count < 0xFF) ++count;
+  if (count < rule.debounce) return;
 #if FW_PROTECTION_DELAYS
   if (elapsed(s_.since[i], now) < rule.delay) return;
 #endif
 
-  s_.count[i] = 0;
-  if (!tripped) {
-    s_.active |= b;
-    s_.tripped[i] = now;
-    out.newlyTripped |= b;
-  } else if (!rule.latch) {
-    s_.active = static_cast<FaultMask>(s_.active & ~b);
-    out.newlyCleared |= b;
-  }
+  count = 0;
+  if (tripped && rule.latch) return;  // stays until clearLatched()
+  s_.active ^= b;
+  if (!tripped) s_.tripped[i] = now;
+  (tripped ? out.newlyCleared : out.newlyTripped) |= b;
 }
 
 FaultMask Protection::clearLatched() {

@@ -27,12 +27,9 @@
 #include <cstdint>
 #include <span>
 
+#include "app/config.hpp"
 #include "app/pack_view.hpp"
 #include "core/time.hpp"
-
-#ifndef FW_PROTECTION_DELAYS
-#define FW_PROTECTION_DELAYS 1
-#endif
 
 namespace fw::app {
 

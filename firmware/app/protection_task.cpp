@@ -5,17 +5,27 @@
 namespace fw::app {
 
 void ProtectionTask::run(sched::EventMask events) {
-  const Instant now = scheduler_.now();
-  ProtectionInputs in{};
-  in.pack = &pack_;
-  in.fresh = (events & kNewData) != 0;
-  in.scanFailed = (events & kScanFailed) != 0;
-  in.faultLine = (events & kFaultLine) != 0;
-  if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
-    status_.pendingCleared |= protection_.clearLatched();
-  const ProtectionState st = protection_.evaluate(in, now);
-  if (kStats) ++s_.evaluations;
-  apply(st, in.fresh, now);
+  // The periodic check is for when no scan result comes (a monitor stuck or not yet measuring): only the
+  // stale-data rule can change without one. While results come every period it would evaluate the same data
+  // a second time, so a tick alone is skipped when a result came since the last tick. That delays nothing:
+  // staleness begins staleAfter after the last fresh result (1 s in the default limits, ten check periods),
+  // and once results stop every tick from the second on evaluates again.
+  const bool tick = events == kTick;
+  const bool skip = tick && s_.resultSinceTick;
+  s_.resultSinceTick = !tick;
+  if (!skip) {
+    const Instant now = scheduler_.now();
+    ProtectionInputs in{};
+    in.pack = &pack_;
+    in.fresh = (events & kNewData) != 0;
+    in.scanFailed = (events & kScanFailed) != 0;
+    in.faultLine = (events & kFaultLine) != 0;
+    if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
+      status_.pendingCleared |= protection_.clearLatched();
+    const ProtectionState st = protection_.evaluate(in, now);
+    if (kStats) ++s_.evaluations;
+    apply(st, in.fresh, now);
+  }
   scheduler_.checkIn(id_);
 }
 

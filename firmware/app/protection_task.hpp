@@ -18,18 +18,12 @@
 #include <cstdint>
 #include <span>
 
+#include "app/config.hpp"
 #include "app/pack_view.hpp"
 #include "app/protection.hpp"
 #include "app/publish_status.hpp"
 #include "hal/gpio.hpp"
 #include "sched/scheduler.hpp"
-
-#ifndef FW_PROTECTION_LOG_SIZE
-#define FW_PROTECTION_LOG_SIZE 16
-#endif
-#ifndef FW_PROTECTION_CLEAR_LATCHED
-#define FW_PROTECTION_CLEAR_LATCHED 1
-#endif
 
 namespace fw::app {
 
@@ -75,7 +69,6 @@ class ProtectionTask final : public sched::Task {
   // may shorten it (FW_PROTECTION_LOG_SIZE), or leave it out with 0 (the L1306 images: nothing in them
   // reads it; log() is then empty); the host keeps 16 for bms-sim.
   static constexpr size_t kLogSize = FW_PROTECTION_LOG_SIZE;
-  static_assert(kLogSize <= 255);
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   ProtectionTask(sched::Scheduler& scheduler, sched::TaskId id, const ProtectionConfig& config,
@@ -116,6 +109,8 @@ class ProtectionTask final : public sched::Task {
     bool dischargeOn;
     bool requested;  // a request has been made since start()
     bool pendingAction;
+    bool resultSinceTick;  // run() was called for something else than the periodic tick alone since the last
+                           // tick
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;

@@ -10,6 +10,7 @@
 
 #include "bq769x2/board.hpp"
 #include "can/bms.hpp"
+#include "evaluations_per_scan.hpp"
 
 namespace {
 
@@ -147,6 +148,13 @@ TEST(Bq769xApp, EveryAlarmIsANewEdge) {
     ASSERT_TRUE(b.alert.level()) << "ALERT released after event " << event;
     ASSERT_TRUE(b.app.status().chargeOn && b.app.status().dischargeOn) << "event " << event;
   }
+}
+
+// Issue 14 item 3: the periodic check and the scan result came every period, so protection evaluated the
+// same data twice. Once per scan now (the latency sweeps show no fault is seen later).
+TEST(Bq769xApp, ProtectionEvaluatesOncePerScan) {
+  G3507 b;
+  expectOneEvaluationPerScan(b);
 }
 
 // In SLEEP the device measures only every Voltage Time (5 s); the application disables SLEEP at start-up, so

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "bq79616/board.hpp"
+#include "evaluations_per_scan.hpp"
 
 namespace {
 
@@ -33,6 +34,12 @@ TEST(Bq79616App, FaultOutputStaysAssertedUntilTheChainHasBeenMeasured) {
   EXPECT_EQ(b.faultOut.history().size(), 1u);
   std::printf("REPORT app.bq79616.fault_output_released_ms=%.1f (first fresh scan after bring-up)\n",
               static_cast<double>(releasedAt) / 1000.0);
+}
+
+// Issue 14 item 3: one evaluation per scan, not a second one of the same data at the periodic check.
+TEST(Bq79616App, ProtectionEvaluatesOncePerScan) {
+  G3507 b;
+  expectOneEvaluationPerScan(b);
 }
 
 // nFAULT may fall at any point of the scan period, including during a scan's frames.

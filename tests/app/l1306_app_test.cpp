@@ -69,6 +69,22 @@ struct L1306 {
   }
 };
 
+// The L1306 images build the link without the CRC mode (FW_BQ769X_CRC=0: their device runs without CRC). A
+// configuration that asks for CRC is refused before anything starts, instead of talking to a CRC-mode
+// device in the wrong mode.
+TEST(L1306App, ALinkConfiguredForCrcIsRefusedWhereTheBuildHasNoCrc) {
+  static_assert(!b769::kCrc, "the L1306 images build without the CRC mode");
+  L1306 b;
+  b769::LinkConfig config{};
+  config.crc = true;
+  b769::Link link(b.bus, fw::drivers::DriverContext{b.h.sched, 7, 0x1, 0x2}, config);
+  const uint8_t data[1] = {0};
+  EXPECT_EQ(link.startRead(0x14, 2), fw::Status::InvalidArgument);
+  EXPECT_EQ(link.startSubcommand(0x0022), fw::Status::InvalidArgument);
+  EXPECT_EQ(link.startSubcommandWrite(0x9335, data), fw::Status::InvalidArgument);
+  EXPECT_FALSE(link.busy()) << "nothing started";
+}
+
 TEST(L1306App, ConfiguresTheDeviceEnablesTheFetsAndScans) {
   L1306 b;
   b.h.runFor(fw::ms(1000));

@@ -12,11 +12,21 @@
 static_assert(FW_BQ769X_FAMILY >= 0 && FW_BQ769X_FAMILY <= 2,
               "FW_BQ769X_FAMILY: 0 both, 1 BQ769x2, 2 BQ7690x");
 
+// The per-byte CRC-8 of the device's CRC mode (LinkConfig::crc). 0 leaves its code out for an image whose
+// device runs without CRC (its configuration says link.crc = false, as every image's does: the BQ76952 and
+// BQ7690x default Comm Type); such a build refuses a configuration with link.crc set (InvalidArgument on
+// every operation) instead of talking to the device in the wrong mode. A device that ships in CRC mode
+// (BQ7695202) needs 1.
+#ifndef FW_BQ769X_CRC
+#define FW_BQ769X_CRC 1
+#endif
+
 // The CRC-mode probe (MonitorConfig::probeCrc). 0 removes only a path the images never ask for: their
 // configuration knows the device's mode (link.crc); probeCrc is then ignored and startProbe() uses that mode.
 #ifndef FW_BQ769X_PROBE_CRC
 #define FW_BQ769X_PROBE_CRC 1
 #endif
+static_assert(!FW_BQ769X_PROBE_CRC || FW_BQ769X_CRC, "the CRC-mode probe needs the CRC (FW_BQ769X_CRC)");
 
 // What only the configure and balance operations use (delayed reads: the CFGUPDATE polls; startConfigure(),
 // startBalance()). 0 leaves them out (they return InvalidArgument); the start-up CONFIG_UPDATE
@@ -24,3 +34,11 @@ static_assert(FW_BQ769X_FAMILY >= 0 && FW_BQ769X_FAMILY <= 2,
 #ifndef FW_BQ769X_CONFIG_PATHS
 #define FW_BQ769X_CONFIG_PATHS 1
 #endif
+
+// Cell balancing (Monitor::startBalance). 0 leaves it out (startBalance() returns InvalidArgument): it
+// removes nothing the images use, since their application never balances. Needs the configuration paths.
+#ifndef FW_BQ769X_BALANCE
+#define FW_BQ769X_BALANCE 1
+#endif
+static_assert(!FW_BQ769X_BALANCE || FW_BQ769X_CONFIG_PATHS,
+              "balancing needs the configuration paths (FW_BQ769X_CONFIG_PATHS)");

@@ -19,7 +19,7 @@ namespace {
 
 Status Link::startRead(uint8_t cmd, uint8_t len, uint8_t at, Duration delay) {
   if (busy()) return Status::Busy;
-  if (len == 0 || at + len * (cfg_.crc ? 2 : 1) > kScratchBytes || (!kConfigPaths && delay.us != 0))
+  if (len == 0 || at + len * (crc() ? 2 : 1) > kScratchBytes || (!kConfigPaths && delay.us != 0))
     return Status::InvalidArgument;
   s_.at = at;
   if (kConfigPaths) s_.delay = delay;
@@ -45,7 +45,9 @@ Status Link::startSubcommandWrite(uint16_t code, std::span<const uint8_t> bytes)
 
 Status Link::request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8_t len) {
   if (busy()) return Status::Busy;
-  if (bytes.size() > kMaxWriteData || len > kMaxReadBytes || (op != Op::Read && len > kBufferBytes))
+  // A build without the CRC mode refuses a link configured for it (config.hpp FW_BQ769X_CRC).
+  if (bytes.size() > kMaxWriteData || len > kMaxReadBytes || (op != Op::Read && len > kBufferBytes) ||
+      crc() != cfg_.crc)
     return Status::InvalidArgument;
   if (op != Op::Read) {
     s_.at = 0;
@@ -116,20 +118,21 @@ void Link::phase(Phase p) {
 // addr+W, the command and that byte, each later one its byte alone (SLUAA11B section 4). Without CRC no CRC
 // is computed at all (the common case: every scan read).
 inline void Link::transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen) {
-  uint8_t crc = 0;
-  if (cfg_.crc) crc = crcStep(crcStep(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
+  const bool withCrc = crc();
+  uint8_t sum = 0;
+  if (withCrc) sum = crcStep(crcStep(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
   uint8_t k = 0;
   b_.tx[k++] = cmd;
   for (uint8_t i = 0; i < count; ++i) {
     b_.tx[k++] = data[i];
-    if (cfg_.crc) {
-      b_.tx[k++] = crcStep(crc, data[i]);
-      crc = 0;
+    if (withCrc) {
+      b_.tx[k++] = crcStep(sum, data[i]);
+      sum = 0;
     }
   }
   b_.txn.address = cfg_.address;
   b_.txn.write = {b_.tx, k};
-  b_.txn.read = {b_.scratch + s_.at, static_cast<size_t>(cfg_.crc ? 2 * readLen : readLen)};
+  b_.txn.read = {b_.scratch + s_.at, static_cast<size_t>(withCrc ? 2 * readLen : readLen)};
   if (kStats) ++b_.stats.transactions;
   s_.wait = Wait::Bus;
   const Status s = bus_.start({&b_.txn, 1}, ctx_.busNotify());
@@ -156,16 +159,16 @@ Progress Link::onEvent(sched::EventMask events) {
 void Link::onBus() {
   if (b_.txn.status != Status::Ok) return fail(b_.txn.status);
   const size_t readLen = b_.txn.read.size();
-  if (cfg_.crc && readLen != 0) {
+  if (crc() && readLen != 0) {
     // The first CRC of a read covers addr+W, the command, addr+R and the first data byte; then each byte
     // alone. The data are compacted in place over their CRCs.
     const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
-    uint8_t crc = crcStep(crcStep(crcStep(0, addressW), b_.tx[0]), addressW | 1);
+    uint8_t sum = crcStep(crcStep(crcStep(0, addressW), b_.tx[0]), addressW | 1);
     uint8_t* w = b_.txn.read.data();
     for (size_t i = 0; i < readLen / 2; ++i) {
       const uint8_t d = w[2 * i];
-      if (crcStep(crc, d) != w[2 * i + 1]) return fail(Status::Crc);
-      crc = 0;
+      if (crcStep(sum, d) != w[2 * i + 1]) return fail(Status::Crc);
+      sum = 0;
       w[i] = d;
     }
   }

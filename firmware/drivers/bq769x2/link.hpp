@@ -82,6 +82,9 @@ inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC a
 inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
 
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
+inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
+inline constexpr bool kBalance =
+    FW_BQ769X_BALANCE != 0;  // the CRC mode is built (drivers/bq769x2/config.hpp)
 
 struct LinkConfig {
   uint8_t address = kDefaultAddress;
@@ -130,7 +133,7 @@ class Link {
   const uint8_t* data() const { return b_.scratch + s_.at; }
   uint8_t* scratch() { return b_.scratch; }
   uint8_t reported() const { return s_.reported; }
-  bool crc() const { return cfg_.crc; }
+  bool crc() const { return kCrc && cfg_.crc; }
   void setCrc(bool on) { cfg_.crc = on; }  // when idle (the CRC-mode probe)
   Duration pollInterval() const { return cfg_.pollInterval; }
   const LinkStats& stats() const { return b_.stats; }

@@ -94,7 +94,7 @@ Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
 }
 
 Status Monitor::startBalance(uint16_t cells) {
-  if (!kConfigPaths || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
+  if (!kBalance || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   s_.tmp = static_cast<uint16_t>(cells << facts().cbShift);
@@ -161,7 +161,7 @@ void Monitor::step(Status r) {
     case Op::RuntimeSetup:
       return runtimeSetupStep(r);
     case Op::Balance:
-      if constexpr (kConfigPaths) balanceStep(r);
+      if constexpr (kBalance) balanceStep(r);
       return;
   }
 }

@@ -66,7 +66,8 @@
 //                         neighbours autonomously and two adjacent cells double the current through the
 //                         shared input resistor (E2E 1505209). 0 stops balancing.
 // A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, config.hpp) has neither
-// startConfigure() nor startBalance(): both return InvalidArgument.
+// startConfigure() nor startBalance(): both return InvalidArgument; a build without balancing
+// (FW_BQ769X_BALANCE=0) has no startBalance().
 // The link (link()) may be used directly for raw operations while the monitor is idle (bmsctl, diagnostics);
 // onEvent() forwards to it either way. The configuration is copied at construction; the settings table
 // passed to startConfigure() and the output of a running operation must stay valid until it ends.

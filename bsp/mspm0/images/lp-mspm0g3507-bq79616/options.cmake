@@ -1,7 +1,7 @@
 # Build options of this image: one NAME=VALUE per line, each with its reason. Read by images/images.cmake (the
 # image build) and by the host tests and bms-sim, which build this image's application with exactly this set.
 # Every option's default, meaning and dependencies: firmware/sched/config.hpp, firmware/core/config.hpp,
-# firmware/app/config.hpp (and the headers it names), firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
+# firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
 # Options not listed keep their default.
 set(BMS_IMAGE_OPTIONS
   BMS_BOARD_MONITOR_ON_UART=1     # the monitor is a BQ79616 chain on a UART, not a device on I2C0

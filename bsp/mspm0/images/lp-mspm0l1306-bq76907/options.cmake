@@ -1,7 +1,7 @@
 # Build options of this image: one NAME=VALUE per line, each with its reason. Read by images/images.cmake (the
 # image build) and by the host tests and bms-sim, which build this image's application with exactly this set.
 # Every option's default, meaning and dependencies: firmware/sched/config.hpp, firmware/core/config.hpp,
-# firmware/app/config.hpp (and the headers it names), firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
+# firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
 # Options not listed keep their default.
 set(BMS_IMAGE_OPTIONS
   FW_BQ769X_FAMILY=2              # the BQ7690x family only (BQ76907): the BQ769x2 paths compile away
@@ -12,6 +12,8 @@ set(BMS_IMAGE_OPTIONS
   FW_PACK_MAX_BOARDS=1            # one monitor: a pack of one board
   FW_CAN_TI_LAYOUT=0              # SLCAN carries the native messages; the TI layout is the BQ79616 image's
   FW_BQ769X_PROBE_CRC=0           # removes nothing used: the configuration knows the device's CRC mode (probe never asked for)
+  FW_BQ769X_CRC=0                 # removes nothing used: the device runs without CRC (link.crc false, the default Comm Type)
+  FW_BQ769X_BALANCE=0             # removes nothing used: the application never balances cells
   FW_BQ769X_FAULT_INDICATOR=0     # the L1306 board has no fault output pin
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
