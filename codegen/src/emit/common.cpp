@@ -93,4 +93,9 @@ int blockSize(const Family& fam, const Block& b) {
                           static_cast<std::uint32_t>(b.start.integer));
 }
 
+std::string blockRange(std::uint32_t start, int size) {
+  if (size == 1) return hexAddress(start, 2);
+  return hexAddress(start, 2) + ".." + hexAddress(start + static_cast<std::uint32_t>(size) - 1, 2);
+}
+
 }  // namespace regmapgen

@@ -440,10 +440,9 @@ class CodeEmitter {
       const std::uint32_t start = static_cast<std::uint32_t>(b.start.integer);
       const int size = blockSize(fam_, b);
       o << "\n";
-      const std::string range = size == 1 ? hexAddress(start, 2) + " (1 byte)"
-                                          : hexAddress(start, 2) + ".." + hexAddress(start + size - 1, 2) +
-                                                " (" + std::to_string(size) + " bytes)";
-      writeComment(o, range + ": " + oneLine(b.description.value) + " (" + provenance(src_, b.loc) + ")");
+      const std::string bytes = std::to_string(size) + (size == 1 ? " byte" : " bytes");
+      writeComment(o, blockRange(start, size) + " (" + bytes + "): " + oneLine(b.description.value) + " (" +
+                          provenance(src_, b.loc) + ")");
       o << "struct " << b.name.value << " {\n"
         << "  static constexpr std::uint8_t address = " << hexAddress(start, 2) << ";\n"
         << "  static constexpr std::uint8_t size = " << size << ";\n"

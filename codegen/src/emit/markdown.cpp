@@ -176,9 +176,9 @@ std::string emitMarkdown(const Family& fam, const Sources& src) {
         members.append(members.empty() ? "" : ", ")
             .append(cell(e->name.value) + " (" + std::to_string(*e->addr - start) + ")");
       }
-      md << "| `blocks::" << b.name.value << "` | " << hexAddress(start, 2) << ".."
-         << hexAddress(start + static_cast<std::uint32_t>(size) - 1, 2) << " | " << size << " | " << record
-         << " | " << members << " | " << cell(b.description.value) << " (" << link(src, b.loc) << ") |\n";
+      md << "| `blocks::" << b.name.value << "` | " << blockRange(start, size) << " | " << size << " | "
+         << record << " | " << members << " | " << cell(b.description.value) << " (" << link(src, b.loc)
+         << ") |\n";
       record += size;
     }
   }

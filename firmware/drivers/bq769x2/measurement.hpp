@@ -32,7 +32,7 @@ namespace map7690x = ::fw::regmap::bq7690x;
 
 inline constexpr uint8_t kMaxCells = 16;
 
-// BQ769x2 direct commands 0x0A..0x3B, 0x62..0x75, 0x02..0x07 and 0x7F (SLUUBY2B chapter 12), in that order.
+// The BQ769x2 scan blocks (regmaps/bq769x2/commands.yaml `blocks:`, SLUUBY2B chapter 12), in their order.
 struct Bq769x2Registers {
   // 0x0A..0x11
   map::bits::PfA pfAlertA;
@@ -119,7 +119,7 @@ struct Bq769x2Measurement {
   }
 };
 
-// BQ7690x direct commands 0x12..0x2B, 0x62..0x67, 0x3A..0x3B and 0x02..0x05 (SLUUCI8/SLUUCJ0), in that order.
+// The BQ7690x scan blocks (regmaps/bq7690x/commands.yaml `blocks:`, SLUUCI8/SLUUCJ0), in their order.
 struct Bq7690xRegisters {
   map7690x::bits::BatteryStatus batteryStatus;  // 0x12
   int16_t cellMv[7];                            // 0x14..0x21 (cells 6-7: BQ76907 only)

@@ -23,8 +23,8 @@
 //                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
 //                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
 //                         the first failure. At most 32 settings; written() counts the writes.
-//   startScan(m)          (typed front ends) the measurement set in 4 block reads (BQ76952: 0x0A..0x3B,
-//                         0x62..0x75, 0x02..0x07, 0x7F; BQ7690x: 0x12..0x2B, 0x62..0x67, 0x3A, 0x02..0x05).
+//   startScan(m)          (typed front ends) the measurement set in 4 block reads: the `blocks:` of
+//                         regmaps/bq769x2 (bq7690x) commands.yaml in their order (<family>::blocks).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
 //                         never stitched across a disturbance). Reserved bits set or a negative stack voltage
 //                         or temperature (what a released SDA reads: 0xFF) end it with Implausible. Alarm
