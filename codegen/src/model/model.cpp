@@ -553,7 +553,6 @@ class Builder {
     b.name = identifier(item, "name", what);
     b.start = number(item, "start", what, true);
     if (const Node* v = item.find("members")) {
-      b.membersLoc = v->loc;
       if (!v->isSeq()) {
         diag_.error(v->loc, "'members' of " + what + " must be a list of command names");
       } else {

@@ -117,7 +117,6 @@ struct Block {
   Text name;
   Number start;
   std::vector<Text> members;  // TRM names of commands entries, in address order
-  Loc membersLoc;
   bool gapsAllowed = false;
   Text description;
 };

@@ -169,6 +169,29 @@ struct Bq7690xMeasurement {
   bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw()) != 0; }
 };
 
+// Tenths of a kelvin from a temperature reading, by its descriptor's unit (K or degC) and scale: BQ769x2
+// temperatures are 0.1 K (the reading itself), the BQ7690x Int Temperature whole degrees C (regmaps/README.md
+// deviation 7). rawTemperature() is the inverse (what an emulator is set to). Integer factors only.
+inline constexpr int32_t kZeroCelsiusDeciK = 2732;
+template <class D>
+constexpr int32_t deciKelvinPerLsb(D) {
+  static_assert(D::unit == regmap::Unit::Kelvin || D::unit == regmap::Unit::DegreeCelsius);
+  static_assert((10 * D::scale.num) % D::scale.den == 0, "a whole number of 0.1 K per LSB");
+  return static_cast<int32_t>(10 * D::scale.num / D::scale.den);
+}
+template <class D>
+constexpr int32_t deciKelvinAtZero(D) {
+  return D::unit == regmap::Unit::DegreeCelsius ? kZeroCelsiusDeciK : 0;
+}
+template <class D>
+constexpr int16_t deciKelvin(D d, int16_t raw) {
+  return static_cast<int16_t>(raw * deciKelvinPerLsb(d) + deciKelvinAtZero(d));
+}
+template <class D>
+constexpr int16_t rawTemperature(D d, int32_t deciK) {
+  return static_cast<int16_t>((deciK - deciKelvinAtZero(d)) / deciKelvinPerLsb(d));
+}
+
 // Milliamps from a CC2 reading in userA: lsbTenthMilliamp is the userA LSB in 0.1 mA (1, 10, 100 or 1000
 // for DA Configuration[USER_AMPS] = 0..3).
 constexpr int32_t currentMa(int16_t userA, int32_t lsbTenthMilliamp = 10) {
