@@ -20,8 +20,8 @@ set(CMAKE_CXX_FLAGS_INIT
 set(CMAKE_ASM_FLAGS_INIT "${BMS_CPU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${BMS_CPU_FLAGS} --specs=nano.specs --specs=nosys.specs -nostartfiles -Wl,--gc-sections")
 
-set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os -g")
-set(CMAKE_CXX_FLAGS_MINSIZEREL_INIT "-Os -g")
+set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os -fno-move-loop-invariants -g")
+set(CMAKE_CXX_FLAGS_MINSIZEREL_INIT "-Os -fno-move-loop-invariants -g")
 
 # Link C++ executables through the C driver (see above).
 set(CMAKE_CXX_LINK_EXECUTABLE
