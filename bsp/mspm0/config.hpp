@@ -2,9 +2,9 @@
 // meaning and dependencies. An image sets its values in images/<preset>/options.cmake.
 #pragma once
 
-// SMBus PEC in the I2C driver (i2c.hpp). 0 saves the PEC code where no driver sets I2cTransaction::pec (the
-// BQ769x2-family images): PECCTL keeps its reset value and a transaction asking for PEC is refused with
-// InvalidArgument rather than sent without it.
+// SMBus PEC and block reads in the I2C driver (i2c.hpp). 0 saves their code where no driver sets
+// I2cTransaction::pec or ::blockRead (the BQ769x2-family images): PECCTL keeps its reset value and a
+// transaction asking for PEC or a block read is refused with InvalidArgument rather than sent without it.
 #ifndef BSP_I2C_PEC
 #define BSP_I2C_PEC 1
 #endif

@@ -56,7 +56,7 @@ Status I2cController::doStart(std::span<I2cTransaction> list, const fw::hal::Not
   if (busy_) return Status::Busy;
   for (I2cTransaction& t : list) {
     if ((t.write.empty() && t.read.empty()) || t.address > 0x7F || t.read.size() > 255 ||
-        t.write.size() > i2c::kMctrLenMax - 1 || (!kI2cPec && t.pec)) {
+        t.write.size() > i2c::kMctrLenMax - 1 || (!kI2cPec && (t.pec || t.blockRead))) {
       return Status::InvalidArgument;
     }
     t.status = Status::Aborted;  // what every transaction after a failure keeps
@@ -86,9 +86,13 @@ void I2cController::startTransaction() {
   flushFifos();  // first: if it has to reset the controller, the settings below come after the reset
   const bool pec = kI2cPec && t.pec;
   // PECCNT counts the data bytes of the whole transaction (both bursts) including the PEC byte; writing
-  // the register also restarts the hardware byte count.
-  if (kI2cPec)
-    r.pecctl.write(pec ? i2c::kPecEnable | static_cast<uint32_t>(t.write.size() + t.read.size() + 1) : 0);
+  // the register also restarts the hardware byte count. A block read's length is known only from its count
+  // byte: PECCNT stays 0 (no byte is taken for the PEC) until then, while the CRC runs over every byte from
+  // the START on (hw_i2c.h CONTROLLER_I2CPECCTL PECEN / PECCNT).
+  if (kI2cPec) {
+    const uint32_t count = t.blockRead ? 0 : static_cast<uint32_t>(t.write.size() + t.read.size() + 1);
+    r.pecctl.write(pec ? i2c::kPecEnable | count : 0);
+  }
   reg::cpuInt(config_.base).iclr.write(0xFFFFFFFF);
   if (t.write.empty()) {
     beginRead();
@@ -113,13 +117,58 @@ void I2cController::beginRead() {
   const I2cTransaction& t = current();
   rx_ = t.read.data();
   rxLeft_ = static_cast<uint16_t>(t.read.size());
-  const uint32_t length = t.read.size() + (kI2cPec && t.pec ? 1 : 0);
-  phase_ = Phase::Read;
+  const bool block = kI2cPec && t.blockRead;
   reg::cpuInt(config_.base)
-      .imask.write(kCommonIrqs | i2c::kIntRxFifoTrig | (kI2cPec ? i2c::kIntPecRxErr : 0));
+      .imask.write(kCommonIrqs | i2c::kIntRxFifoTrig | (kI2cPec ? i2c::kIntPecRxErr : 0) |
+                   (block ? i2c::kIntRxDone : 0));
   r.msa.write((static_cast<uint32_t>(t.address) << 1) | i2c::kMsaRead);
+  if (block) {
+    // The count byte alone, with the ACK override: the controller raises RXDONE and waits at its ACK
+    // (blockReadAck decides).
+    phase_ = Phase::BlockCount;
+    r.mctr.write((1U << i2c::kMctrLenShift) | i2c::kMctrAckOverride | i2c::kMctrBurstRun | i2c::kMctrStart);
+    return;
+  }
+  phase_ = Phase::Read;
+  const uint32_t length = t.read.size() + (kI2cPec && t.pec ? 1 : 0);
   // ACK = 0: the last byte is NACKed, as a controller receiver must before STOP.
   r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart | i2c::kMctrStop);
+}
+
+// RXDONE of a block read: the controller holds the last byte of its burst (MCTR.MACKOEN) and waits at its
+// ACK for the next MCTR write, which sends ACK or NACK and may carry on with new MBLEN/BURSTRUN/STOP
+// ("The ACK or NACK is selected by writing the MCTR register and setting ACK accordingly. The other fields
+// in this register can also be written at this time to continue on with the transaction. If a NACK is sent
+// the state machine will automatically send a Stop": hw_i2c.h MCTR.MACKOEN, the same text in dl_i2c.h
+// DL_I2C_enableControllerACKOverride; a burst without START continues the receive, SLAU846A controller
+// transfer table). The order - count byte first, then N data bytes plus the PEC without a new START, PECCNT
+// rewritten to N + 1 in between - is that of TI's SMBus library (smbus_nwk.c
+// SMBus_NWK_startRxTransfer / SMBus_NWK_startRxBlockPayloadTransfer). MACKOEN stays set (driverlib
+// updates MCTR around it), so the last data byte waits too and is NACKed here: ACK = 1 would otherwise
+// acknowledge it before the STOP (hw_i2c.h MCTR.ACK).
+void I2cController::blockReadAck() {
+  i2c::Controller& r = i2c::controller(config_.base);
+  I2cTransaction& t = current();
+  drainRx();
+  if (phase_ == Phase::BlockCount) {
+    const uint32_t count = t.read[0];
+    if (t.readCount == 1 && count != 0 && count <= rxLeft_) {
+      rxLeft_ = static_cast<uint16_t>(count);
+      const uint32_t pec = t.pec ? 1 : 0;
+      // Any write clears the PEC byte count, not the CRC (hw_i2c.h CONTROLLER_I2CPECCTL.PECCNT).
+      if (pec) r.pecctl.write(i2c::kPecEnable | (count + 1));
+      phase_ = Phase::BlockData;
+      r.mctr.write(((count + pec) << i2c::kMctrLenShift) | i2c::kMctrAckOverride | i2c::kMctrAck |
+                   i2c::kMctrBurstRun);
+      return;
+    }
+    result_ = Status::Length;
+  }
+  // A wrong PEC byte is NACKed by the hardware itself, which then sends STOP (hw_i2c.h
+  // CONTROLLER_I2CPECCTL.PECEN): nothing to write then (MPEC_RX_ERR comes with RXDONE, after the byte).
+  if (result_ == Status::Pec) return;
+  // NACK the byte held (a count that does not fit, or the last of the block); STOP follows by itself.
+  r.mctr.write(i2c::kMctrAckOverride | i2c::kMctrBurstRun | i2c::kMctrStop);
 }
 
 // Empties both FIFOs (bytes a NACKed or aborted transfer left behind) the way the TRM asks: set the flush
@@ -201,6 +250,10 @@ void I2cController::onInterrupt() {
   if (pending & i2c::kIntStop) {
     drainRx();
     complete(result_);
+    return;
+  }
+  if (kI2cPec && (pending & i2c::kIntRxDone) && phase_ >= Phase::BlockCount) {
+    blockReadAck();
     return;
   }
   if ((pending & i2c::kIntTxDone) && phase_ == Phase::Write && result_ == Status::Ok &&

@@ -14,8 +14,9 @@
 //
 // Contract (see hal/i2c_bus.hpp; the statuses here are exactly those)
 // - start(): Ok, Busy, or InvalidArgument (empty list; a transaction with nothing to write or read; a
-//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write; PEC in a build without it;
-//   more than one transaction in a build without lists).
+//   7-bit address above 0x7F; more than 255 bytes to read or 4094 to write; PEC or blockRead in a
+//   build without them; more than one transaction in a build without lists).
+// - Length: blockRead only, the count byte was 0 or larger than the buffer after it (NACKed, STOP).
 // - Nack: the address was not acknowledged (MSR.ADRACK); DataNack: a written byte was not (MSR.DATACK). The
 //   controller sends STOP itself after a NACK ("If there is a NACK response from the target,
 //   the controller will automatically send out a stop", SLAU846A I2C controller transfer table).
@@ -25,6 +26,11 @@
 //   before a transaction when SDA is found low on an idle bus.
 // - ArbitrationLost: another controller won the bus (the hardware has released it).
 // - Pec: with `pec` set, the hardware PEC check of the received PEC byte failed (MPEC_RX_ERR).
+// - SMBus block read (blockRead, in builds with PEC): the count byte is read alone with the controller ACK
+//   override (MCTR.MACKOEN), so the controller stops before acknowledging it and raises RXDONE. The ISR
+//   reads the count; one that fits the buffer is acknowledged by the MCTR write that asks for the N data
+//   bytes (and the PEC), the last of which waits again at its ACK and is NACKed with STOP; a count of 0 or
+//   one that does not fit is NACKed with STOP at once: Length, readCount 1.
 // - Hardware PEC: PECCNT counts every data byte of the transaction (not the address bytes, which the CRC
 //   still covers) through the repeated START, up to and including the PEC byte; a write appends a dummy
 //   byte that the hardware replaces with the PEC (i2c_v1 CONTROLLER_I2CPECCTL description).
@@ -41,9 +47,9 @@
 #include "pin.hpp"
 #include "regs/i2c.hpp"
 
-// SMBus PEC (BSP_I2C_PEC) and transaction lists longer than one (BSP_I2C_LISTS) are options
-// (mspm0/config.hpp): without them a transaction asking for PEC, or a longer list, is refused with
-// InvalidArgument.
+// SMBus PEC and block reads (BSP_I2C_PEC) and transaction lists longer than one (BSP_I2C_LISTS) are options
+// (mspm0/config.hpp): without them a transaction asking for PEC or a block read, or a longer list, is
+// refused with InvalidArgument.
 
 namespace bsp::mspm0 {
 
@@ -68,7 +74,7 @@ class I2cController final : public fw::hal::I2cBus {
   void onInterrupt();
 
  private:
-  enum class Phase : uint8_t { Idle, Write, Read };
+  enum class Phase : uint8_t { Idle, Write, Read, BlockCount, BlockData };
 
   fw::Status doStart(std::span<fw::hal::I2cTransaction> list, const fw::hal::Notify& done) override;
   fw::Status doRecover() override;
@@ -78,6 +84,7 @@ class I2cController final : public fw::hal::I2cBus {
   bool recoverBus();
   void startTransaction();
   void beginRead();
+  void blockReadAck();
   void flushFifos();
   void fillTx();
   void drainRx();

@@ -11,9 +11,18 @@ namespace bsp::mspm0 {
 namespace timg = reg::timg;
 
 namespace {
-// An alarm further away than a quarter period could alias with the 16-bit compare; leave it to the
-// half-period wake-up instead.
-constexpr int32_t kMaxAlarmUs = 0x4000;
+// How far ahead CC0 is armed. In up-counting with LOAD = 0xFFFF the counter takes every value once per wrap
+// and CCU0 is set when it becomes CC0 (SLAU846B / SLAU847D TIMx "counter compare": compare event on CCR
+// match while counting up; hw_gptimer.h CPU_INT CCU0), so a target less than one wrap (65 536 us) ahead
+// fires exactly when due. A deadline further away is reached in steps: CC0 is armed this far ahead, the
+// wake-up runs the scheduler's idle loop, which calls wakeAt() again with the same absolute deadline, and
+// the remainder is computed afresh from now(). The 4 096 us left below a wrap cover the time from reading
+// the counter to writing CC0 (interrupts are masked: a few cycles), so an intermediate target can never be
+// behind the counter when armed and alias to the next wrap.
+//
+// (Before: deadlines more than 0x4000 us away were not armed at all and waited for the next half-period
+// event, up to 32.8 ms later: up to 16.4 ms late, the twin's 98.3 .. 116.1 ms publish periods.)
+constexpr int32_t kMaxAlarmUs = 0xF000;
 }  // namespace
 
 fw::Instant TimgClock::doNow() const {
@@ -24,10 +33,8 @@ fw::Instant TimgClock::doNow() const {
 
 void TimgClock::doWakeAt(fw::Instant deadline) {
   reg::EventBlock& events = reg::cpuInt(config_.base);
-  if (static_cast<int32_t>(deadline.us - doNow().us) > kMaxAlarmUs) {
-    mmio::clearBits(events.imask, timg::kIntCcu0);
-    return;
-  }
+  const uint32_t now = doNow().us;
+  if (static_cast<int32_t>(deadline.us - now) > kMaxAlarmUs) deadline = fw::Instant{now + kMaxAlarmUs};
   timg::counter(config_.base).cc[0].write(deadline.us & 0xFFFF);
   events.iclr.write(timg::kIntCcu0);
   mmio::setBits(events.imask, timg::kIntCcu0);

@@ -8,10 +8,11 @@
 //
 // Contract
 // - now(): any context, including ISRs and with interrupts masked. Monotonic; microseconds; wraps at 2^32.
-// - wakeAt(deadline): called by the scheduler with interrupts masked. Arms CC0 for `deadline` when it is less
-//   than 16 ms away (later deadlines are re-armed from the half-period interrupt that wakes the CPU at least
-//   every 32.8 ms, which the Clock contract allows). Right after arming it re-reads now(); if the deadline
-//   has already passed it pends the interrupt with ISET, so the wake-up is never lost.
+// - wakeAt(deadline): called by the scheduler with interrupts masked. Arms CC0 for `deadline`, or for an
+//   intermediate wake-up 61.4 ms ahead when the deadline is further (the scheduler then calls wakeAt() again
+//   and the remainder is armed): the CPU wakes within 1 us of the deadline whatever its distance. Right after
+//   arming it re-reads now(); if the armed time has already passed it pends the interrupt with ISET, so the
+//   wake-up is never lost.
 // - onInterrupt(): body of the timer's IRQ handler. Reads MIS, clears exactly those bits, counts
 //   half-periods, disarms a fired alarm, returns. The wake-up itself is the point: the scheduler re-checks
 //   its timers after WFI.

@@ -7,6 +7,7 @@
 
 #include "fixture.hpp"
 #include "timg_clock.hpp"
+#include "timg_model.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -110,12 +111,64 @@ TEST_F(ClockTest, WakeAtPendsTheInterruptWhenTheDeadlinePassedWhileArming) {
   EXPECT_EQ(regs().lastWrite(kIset), kCcu0);
 }
 
-TEST_F(ClockTest, FarDeadlinesWaitForTheHalfPeriodWakeUp) {
+TEST_F(ClockTest, FarDeadlinesArmAnIntermediateWakeUpLessThanAWrapAhead) {
   regs().clearLog();
-  regs().queueRead(kCtr, 100);
-  clock.wakeAt(fw::Instant{100 + 20000});  // beyond a quarter period
-  EXPECT_FALSE(regs().lastWrite(kCc0).has_value());
-  EXPECT_EQ(regs().lastWrite(kImask).value() & kCcu0, 0U);
+  regs().queueReads(kCtr, {100, 110});
+  clock.wakeAt(fw::Instant{100 + 100000});  // beyond one wrap of the 16-bit counter (65 536 us)
+  ASSERT_TRUE(regs().lastWrite(kCc0).has_value());
+  const uint32_t cc0 = regs().lastWrite(kCc0).value();
+  // Armed ahead of the counter by less than a wrap (so it cannot alias) and by more than half a wrap (so the
+  // steps are few); the deadline itself is armed from a later wakeAt().
+  const uint32_t ahead = (cc0 - 100) & 0xFFFF;
+  EXPECT_GT(ahead, 0x8000U);
+  EXPECT_LT(ahead, 0xFFFFU - 0x100U);
+  EXPECT_NE(regs().lastWrite(kImask).value() & kCcu0, 0U);
+  EXPECT_FALSE(regs().lastWrite(kIset).has_value());
+}
+
+// The clock against a counting timer (timg_model.hpp), driven the way the scheduler's idle loop drives it:
+// check the deadline, wakeAt(), sleep until an interrupt, take it, check again.
+class ClockWakeTest : public ClockTest {
+ protected:
+  void SetUp() override {
+    ClockTest::SetUp();
+    timer.attach();
+  }
+  // The timer tick at which the idle loop sees `deadline` due.
+  uint64_t sleepUntil(TimgClock& timgClock, uint32_t deadline) {
+    for (int wakeUps = 0; wakeUps < 64; ++wakeUps) {
+      if (fw::isDue(fw::Instant{deadline}, timgClock.now())) return timer.now();
+      timgClock.wakeAt(fw::Instant{deadline});
+      if (!timer.runUntilInterrupt(0x20000)) break;
+      timgClock.onInterrupt();
+    }
+    ADD_FAILURE() << "no wake-up for " << deadline;
+    return 0;
+  }
+  TimgModel timer{kBase};
+};
+
+TEST_F(ClockWakeTest, WakesOnTheDeadlineTickAtAnyDistanceAndPhase) {
+  // Distances around the old 16 384 us limit, the half period, a wrap and several wraps, from starting points
+  // all over the counter's range (just before each half-period event, just after it, in between).
+  constexpr uint32_t kDistances[] = {1,     700,   16383, 16385, 20000,  32000, 32769,
+                                     40000, 65535, 65537, 70000, 100000, 250000};
+  constexpr uint32_t kStarts[] = {100, 0x3FFF, 0x7F00, 0x8010, 0xC000, 0xFF80, 0x10005};
+  for (uint32_t start : kStarts) {
+    for (uint32_t distance : kDistances) {
+      SCOPED_TRACE(::testing::Message() << "start " << start << " us, deadline " << distance << " us later");
+      RegisterTest::SetUp();
+      TimgClock fresh{{kBase, 16, 31}};
+      fresh.start();
+      timer.attach();
+      ASSERT_EQ(sleepUntil(fresh, start), start);
+      const uint32_t deadline = start + distance;
+      // Exact: CCU0 is set on the tick the counter becomes CC0 (1 us at 1 MHz), and the idle loop sees the
+      // deadline due in that interrupt. Before the fix a deadline more than 16 384 us away woke at the next
+      // half-period event instead, up to 16.4 ms late.
+      EXPECT_EQ(sleepUntil(fresh, deadline), deadline);
+    }
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "i2c_model.hpp"
 
+#include <cstdio>
+
 #include "mmio_model.hpp"
 
 namespace bsp::mspm0::test {
@@ -14,6 +16,13 @@ constexpr uintptr_t kMtpr = 0x1224;
 constexpr uintptr_t kMcr = 0x1228;
 constexpr uintptr_t kMfifoctl = 0x1238;
 constexpr uintptr_t kMfifosr = 0x123C;
+constexpr uintptr_t kImask = 0x1028;
+constexpr uintptr_t kMsa = 0x1210;
+constexpr uintptr_t kMctr = 0x1214;
+
+constexpr uint32_t kBurstRun = 1U << 0, kStart = 1U << 1, kStop = 1U << 2, kAck = 1U << 3;  // MCTR
+constexpr uint32_t kAckOverride = 1U << 4;                                                  // MCTR.MACKOEN
+constexpr uint32_t kRxDone = 1U << 0, kRxFifoTrig = 1U << 2, kStopEvent = 1U << 9;          // CPU_INT
 
 constexpr uint32_t kMcrActive = 1U << 0;
 constexpr uint32_t kCtlTxFlush = 1U << 7;   // I2C_MFIFOCTL_TXFLUSH
@@ -31,7 +40,13 @@ void I2cModel::attach() {
   wire_.clear();
   txFlush_ = rxFlush_ = Flush{};
   flushStuck_ = false;
+  target_.clear();
+  targetNext_ = 0;
+  readWire_.clear();
+  raised_ = burstLeft_ = mctr_ = 0;
+  receiving_ = waitingAck_ = busHeld_ = false;
   RegisterModel& m = model();
+  m.onWrite(base_ + kMctr, [this](uint32_t v) { writeMctr(v); });
   m.onWrite(base_ + kRstctl, [this](uint32_t v) {
     if ((v & 1U) == 0) return;  // RESETASSERT
     tx_.clear();
@@ -53,6 +68,7 @@ void I2cModel::attach() {
     if (rx_.empty()) return 0U;
     const uint8_t byte = rx_.front();
     rx_.pop_front();
+    if (receiving_ && !waitingAck_) receive();  // a full FIFO held SCL: the burst goes on
     return uint32_t{byte};
   });
   m.onRead(base_ + kMfifosr, [this] { return readStatus(); });
@@ -113,6 +129,92 @@ void I2cModel::writeFifoCtl(uint32_t value) {
               "I2C: MFIFOCTL.RXFLUSH cleared before MFIFOSR.RXFIFOCNT read 0 (hw_i2c.h MFIFOCTL.RXFLUSH; "
               "DL_I2C_flushControllerRXFIFO)");
   }
+}
+
+void I2cModel::log(const std::string& token) {
+  if (!readWire_.empty()) readWire_ += ' ';
+  readWire_ += token;
+}
+
+uint32_t I2cModel::takeRaised() {
+  const uint32_t pending = raised_ & model().value(base_ + kImask);
+  raised_ = 0;
+  return pending;
+}
+
+void I2cModel::writeMctr(uint32_t value) {
+  // Transmit bursts are not modelled, nor receive bursts of tests that script the FIFO themselves.
+  if (target_.empty() || (model().value(base_ + kMsa) & 1U) == 0 || (value & kBurstRun) == 0) return;
+  if (waitingAck_) {
+    waitingAck_ = false;
+    if ((value & kAck) == 0) {
+      log("N P");  // "If a NACK is sent the state machine will automatically send a Stop"
+      receiving_ = false;
+      raised_ |= kStopEvent;
+      return;
+    }
+    log("A");
+    mctr_ = value;
+    burstLeft_ = (value >> 16) & 0xFFF;
+    receive();
+    return;
+  }
+  if (receiving_) {
+    model().flag(
+        "I2C: MCTR.BURSTRUN written while a receive burst runs: ignored by the hardware (TI SMBus library "
+        "smbus_phy.c SMBus_PHY_controllerStartRx)");
+    return;
+  }
+  if ((value & kStart) == 0 && !busHeld_) {
+    model().flag("I2C: receive burst without START on an idle bus (SLAU846A controller transfer table)");
+    return;
+  }
+  if (value & kStart) {
+    char address[8];
+    std::snprintf(address, sizeof address, "%s %02X", busHeld_ ? "Sr" : "S",
+                  model().value(base_ + kMsa) & 0xFF);
+    log(address);
+  }
+  busHeld_ = false;
+  receiving_ = true;
+  mctr_ = value;
+  burstLeft_ = (value >> 16) & 0xFFF;
+  receive();
+}
+
+void I2cModel::receive() {
+  while (burstLeft_ != 0 && rx_.size() < kFifoDepth) {
+    const uint8_t byte = targetNext_ < target_.size() ? target_[targetNext_] : 0xFF;
+    ++targetNext_;
+    rx_.push_back(byte);
+    --burstLeft_;
+    char text[4];
+    std::snprintf(text, sizeof text, "%02X", byte);
+    log(text);
+    const uint32_t trig = ((model().value(base_ + kMfifoctl) >> 8) & 7U) + 1;
+    if (rx_.size() >= trig) raised_ |= kRxFifoTrig;
+    if (burstLeft_ != 0) log("A");
+  }
+  if (burstLeft_ != 0) return;  // RX FIFO full: SCL held until MRXDATA is read
+  raised_ |= kRxDone;
+  if (mctr_ & kAckOverride) {
+    waitingAck_ = true;  // at the start of the ACK, until MCTR is written
+    return;
+  }
+  const bool ack = (mctr_ & kAck) != 0;
+  log(ack ? "A" : "N");
+  receiving_ = false;
+  if ((mctr_ & kStop) == 0) {
+    busHeld_ = true;  // keeps the bus: a repeated START or a continuation follows
+    return;
+  }
+  if (ack) {
+    model().flag(
+        "I2C: the last byte before STOP was ACKed (MCTR.ACK = 1): a controller receiver NACKs it (UM10204 "
+        "3.1.6; SLAU846A acknowledge)");
+  }
+  log("P");
+  raised_ |= kStopEvent;
 }
 
 uint64_t I2cModel::timeoutUs(Reading reading, uint32_t busClockHz) const {

@@ -20,11 +20,26 @@
 //     Header: TCNTLA x 520 functional clocks (hw_i2c.h TIMEOUT_CTL.TCNTLA, DL_I2C_setTimeoutACount);
 //     Trm:    TCNTLA is the upper 8 bits of a 12-bit count stepping every (1 + TPR) x 12 functional clocks
 //             (SLAU847D 21.2 / SLAU846B 20.2: 0xDA -> 0xDA0 steps of 12 us at 20 MHz, TPR 19 = 41.856 ms).
+// - Controller receive (MSA.DIR = read, MCTR.BURSTRUN) against a scripted target (targetSends): the burst
+//   takes MBLEN bytes into the RX FIFO, holding SCL while the FIFO is full; every byte but the last is
+//   ACKed; the last is ACKed per MCTR.ACK, then STOP if MCTR.STOP (SLAU846A controller transfer table;
+//   hw_i2c.h MCTR.ACK). RXDONE at the end of the burst, RXFIFOTRG at the MFIFOCTL.RXTRIG level, STOP at STOP.
+//   A controller receiver that ACKs the last byte before a STOP is flagged (UM10204 3.1.6: the controller
+//   signals the end of the data with a NACK; SLAU846A "acknowledge": "signals the end of data to the target
+//   transmitter by not generating an acknowledge on the last data byte").
+// - Controller ACK override (MCTR.MACKOEN): after MBLEN bytes the controller raises RXDONE and waits at the
+//   start of the last byte's ACK; the next MCTR write sends ACK or NACK per MCTR.ACK and, with BURSTRUN,
+//   continues with its MBLEN; a NACK is followed by STOP on its own (hw_i2c.h MCTR.MACKOEN; dl_i2c.h
+//   DL_I2C_enableControllerACKOverride).
+// - MCTR.BURSTRUN written while a burst runs (not waiting at an override ACK) is flagged: "HW will ignore new
+//   transfer requests while a transfer is active" (TI SMBus library, smbus_phy.c
+//   SMBus_PHY_controllerStartRx).
 #pragma once
 
 #include <cstdint>
 #include <deque>
 #include <initializer_list>
+#include <string>
 #include <vector>
 
 namespace bsp::mspm0::test {
@@ -43,6 +58,12 @@ class I2cModel {
   void shiftOut(uint32_t n);
   // Bytes received from the target into the RX FIFO.
   void receive(std::initializer_list<uint8_t> bytes);
+  // What the target drives on the following controller reads (0xFF once they run out: SDA released).
+  void targetSends(std::initializer_list<uint8_t> bytes) { target_.assign(bytes); }
+  // Interrupt flags raised since the last call, masked by IMASK (what the ISR would see in MIS).
+  uint32_t takeRaised();
+  // The receive side of the wire: "S 17 03 A 01 A ... N P" (address+R, each byte and its ACK/NACK, STOP).
+  const std::string& readWire() const { return readWire_; }
   // Fault: a flush never empties the FIFOs (only a GPRCM reset does).
   void flushNeverCompletes() { flushStuck_ = true; }
 
@@ -57,6 +78,9 @@ class I2cModel {
     bool seenEmpty = false;  // one of them showed the FIFO empty
   };
   uint32_t readStatus();
+  void writeMctr(uint32_t value);
+  void receive();  // runs the burst until it ends, waits, or the RX FIFO is full
+  void log(const std::string& token);
   void writeFifoCtl(uint32_t value);
   static void stopFlush(Flush& flush, const char* rule);
 
@@ -67,6 +91,15 @@ class I2cModel {
   Flush txFlush_;
   Flush rxFlush_;
   bool flushStuck_ = false;
+  std::vector<uint8_t> target_;
+  size_t targetNext_ = 0;
+  std::string readWire_;
+  uint32_t raised_ = 0;
+  uint32_t burstLeft_ = 0;   // bytes of the running receive burst still to come
+  bool receiving_ = false;   // a receive burst runs (or waits)
+  bool waitingAck_ = false;  // MACKOEN: holding the last byte's ACK for the next MCTR write
+  bool busHeld_ = false;     // a burst ended without STOP: the controller keeps the bus
+  uint32_t mctr_ = 0;        // the running burst's MCTR
 };
 
 }  // namespace bsp::mspm0::test

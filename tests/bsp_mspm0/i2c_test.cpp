@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "fixture.hpp"
@@ -85,6 +87,16 @@ class I2cTest : public RegisterTest {
   void interrupt(uint32_t pending) {
     regs().queueRead(kMis, pending);
     i2c.onInterrupt();
+  }
+
+  // Runs the ISR for what the model's controller raised, until it raises nothing more.
+  void serviceModel() {
+    for (int n = 0; n < 64; ++n) {
+      const uint32_t pending = fifo.takeRaised();
+      if (pending == 0) return;
+      interrupt(pending);
+    }
+    ADD_FAILURE() << "the controller keeps interrupting";
   }
 
   I2cModel fifo{0x400F0000};
@@ -492,6 +504,89 @@ TEST_F(I2cTest, HardwarePecOnReadSpansTheRepeatedStartAndReportsAMismatch) {
   EXPECT_EQ(list[0].status, fw::Status::Pec);
   EXPECT_EQ(list[0].readCount, 2);  // the PEC byte is not stored
   EXPECT_EQ(word, (std::array<uint8_t, 2>{0x10, 0x3A}));
+}
+
+// SMBus block reads (hal/i2c_bus.hpp blockRead) against the model's controller with the ACK override
+// (i2c_model.hpp: RXDONE and a wait at the ACK after MBLEN bytes with MCTR.MACKOEN, the next MCTR write
+// sends the ACK or NACK and continues) and a BQ4050-like target: ManufacturerBlockAccess (0x44) answers
+// with a count, that many bytes and the PEC, then releases SDA (0xFF).
+constexpr uint32_t kRxDone = 1U << 0;
+constexpr uint32_t kAckOverride = 1U << 4;  // MCTR.MACKOEN (hw_i2c.h)
+constexpr uint32_t kAckBit = 1U << 3;       // MCTR.ACK
+constexpr uint32_t kPecEnable = 1U << 12;   // CONTROLLER_I2CPECCTL.PECEN
+
+struct BlockRead {
+  std::array<uint8_t, 1> command{0x44};
+  std::array<uint8_t, 33> data{};
+  std::array<fw::hal::I2cTransaction, 1> list{};
+  BlockRead() {
+    list[0].address = 0x0B;
+    list[0].write = command;
+    list[0].read = data;
+    list[0].pec = true;
+    list[0].blockRead = true;
+  }
+};
+
+TEST_F(I2cTest, BlockReadTakesTheCountThenExactlyThatManyBytesAndThePec) {
+  BlockRead b;
+  fifo.targetSends({0x03, 0xA1, 0xA2, 0xA3, 0x5C});
+  ASSERT_EQ(i2c.start(b.list, counter(done)), fw::Status::Ok);
+  // PECCNT 0 while the length is unknown (the CRC runs from the START on; TI's SMBus library likewise).
+  EXPECT_EQ(regs().lastWrite(kPecctl), kPecEnable);
+  interrupt(kTxDone);
+  EXPECT_EQ(regs().lastWrite(kMsa), 0x17U);
+  // The count byte alone, with the ACK override, no STOP.
+  EXPECT_EQ(regs().lastWrite(kMctr), (1U << 16) | kAckOverride | 0x3U);
+  EXPECT_NE(regs().lastWrite(kImask).value() & kRxDone, 0U);
+  serviceModel();
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(b.list[0].status, fw::Status::Ok);
+  EXPECT_EQ(b.list[0].readCount, 4);  // the count and 3 bytes; the PEC is checked, not stored
+  EXPECT_EQ((std::vector<uint8_t>(b.data.begin(), b.data.begin() + 5)),
+            (std::vector<uint8_t>{0x03, 0xA1, 0xA2, 0xA3, 0x00}));
+  // The count ACKed by the write that asks for 3 + PEC bytes, PECCNT = 3 + 1 from there; the PEC byte NACKed,
+  // then STOP.
+  EXPECT_TRUE(regs().wroteInOrder({{kPecctl, kPecEnable | 4U},
+                                   {kMctr, (4U << 16) | kAckOverride | kAckBit | 0x1U},
+                                   {kMctr, kAckOverride | 0x4U | 0x1U}}));
+  EXPECT_EQ(fifo.readWire(), "S 17 03 A A1 A A2 A A3 A 5C N P");
+}
+
+TEST_F(I2cTest, BlockReadWithACountOfZeroOrBeyondTheBufferNacksItAndEndsWithLength) {
+  // Room for 32 bytes after the count: 0, 33 and 255 do not fit; the count byte itself is NACKed, then STOP.
+  for (uint8_t count : {uint8_t{0}, uint8_t{33}, uint8_t{0xFF}}) {
+    SCOPED_TRACE(count);
+    SetUp();
+    done = 0;
+    BlockRead b;
+    fifo.targetSends({count, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88, 0x99});
+    ASSERT_EQ(i2c.start(b.list, counter(done)), fw::Status::Ok);
+    interrupt(kTxDone);
+    serviceModel();
+    EXPECT_EQ(done, 1);
+    EXPECT_EQ(b.list[0].status, fw::Status::Length);
+    EXPECT_EQ(b.list[0].readCount, 1);
+    char expected[16];
+    std::snprintf(expected, sizeof expected, "S 17 %02X N P", count);
+    EXPECT_EQ(fifo.readWire(), expected);
+  }
+}
+
+TEST_F(I2cTest, BlockReadOf32BytesDrainsTheFifoOnTheWay) {
+  BlockRead b;
+  fifo.targetSends({0x20, 0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13, 14, 15,
+                    16,   17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 0xE7});
+  ASSERT_EQ(i2c.start(b.list, counter(done)), fw::Status::Ok);
+  interrupt(kTxDone);
+  serviceModel();
+  EXPECT_EQ(b.list[0].status, fw::Status::Ok);
+  EXPECT_EQ(b.list[0].readCount, 33);
+  EXPECT_EQ(b.data[32], 31);
+  EXPECT_GE(regs().findWrite(kPecctl, kPecEnable | 33U), 0);
+  const std::string& wire = fifo.readWire();
+  EXPECT_EQ(wire.substr(0, 13), "S 17 20 A 00 ");
+  EXPECT_EQ(wire.substr(wire.size() - 11), "1F A E7 N P");
 }
 
 TEST_F(I2cTest, StartRejectsBadListsAndBusy) {

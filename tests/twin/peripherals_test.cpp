@@ -6,6 +6,7 @@
 
 #include "gtest/gtest.h"
 #include "mspm0.hpp"
+#include "sim/i2c_target.hpp"
 
 namespace {
 
@@ -155,6 +156,59 @@ TEST_F(I2c, AnAddressNobodyAcknowledgesEndsWithNackAndAnAutomaticStop) {
   EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 9),
             0U);  // MSTOP: "the controller will automatically send out a stop"
   EXPECT_NE(rd(kI2c0 + 0x1218) & (1U << 2), 0U);  // MSR.ADRACK
+}
+
+// A target that answers reads from a script (then 0xFF: SDA released) and counts its STOPs.
+class ScriptedTarget final : public bsp::host::I2cTarget {
+ public:
+  explicit ScriptedTarget(std::vector<uint8_t> bytes) : bytes_(std::move(bytes)) {}
+  bsp::host::I2cReply onStart(bool) override { return {}; }
+  bsp::host::I2cReply onWrite(uint8_t) override { return {}; }
+  uint8_t onRead(fw::Duration&) override { return next_ < bytes_.size() ? bytes_[next_++] : 0xFF; }
+  void onStop() override { ++stops; }
+  size_t readBytes() const { return next_; }
+  int stops = 0;
+
+ private:
+  std::vector<uint8_t> bytes_;
+  size_t next_ = 0;
+};
+
+TEST_F(I2c, TheAckOverrideWaitsAtTheAckThenAnMctrWriteContinuesOrNacksWithStop) {
+  // MCTR.MACKOEN: "the number of bytes indicated in MBLEN have been received, the state machine will
+  // generate an rxdone interrupt and wait at the start of the ACK for FW to indicate if an ACK or NACK should
+  // be sent ... The other fields in this register can also be written at this time to continue on with the
+  // transaction. If a NACK is sent the state machine will automatically send a Stop." (hw_i2c.h; dl_i2c.h)
+  start();
+  ScriptedTarget target({0x02, 0xA1, 0xA2});
+  chip_.i2c0().attach(0x0B, target);
+  std::vector<std::string> log;
+  chip_.i2c0().onTransaction([&](const twin::I2cWireLog& l) { log.push_back(l.text); });
+  wr(kI2c0 + 0x1210, (0x0B << 1) | 1);                   // MSA: 0x0B, read
+  wr(kI2c0 + 0x1214, (1U << 16) | (1U << 4) | 1U | 2U);  // MCTR: 1 byte, MACKOEN, BURSTRUN, START
+  runUs(500);                                            // far longer than START + address + a byte
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_NE(rd(kI2c0 + 0x1030) & 1U, 0U);   // MRXDONE
+  EXPECT_NE(rd(kI2c0 + 0x1218) & 1U, 0U);   // MSR.BUSY: waiting at the ACK
+  EXPECT_EQ(rd(kI2c0 + 0x123C) & 0xF, 1U);  // the count byte in the RX FIFO
+  EXPECT_EQ(target.readBytes(), 1U);        // nothing more clocked
+  EXPECT_EQ(target.stops, 0);
+  EXPECT_EQ(rd(kI2c0 + 0x121C), 0x02U);
+  wr(kI2c0 + 0x1048, 0xFFFFFFFF);
+  wr(kI2c0 + 0x1214, (2U << 16) | (1U << 4) | (1U << 3) | 1U);  // ACK, 2 more bytes, MACKOEN, BURSTRUN
+  runUs(500);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_EQ(target.readBytes(), 3U);  // the last one waits at its ACK again
+  EXPECT_EQ(target.stops, 0);
+  EXPECT_NE(rd(kI2c0 + 0x1030) & 1U, 0U);
+  wr(kI2c0 + 0x1214, (1U << 4) | 4U | 1U);  // NACK (ACK = 0): STOP follows by itself
+  runUs(100);
+  EXPECT_EQ(target.stops, 1);
+  EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 9), 0U);  // MSTOP
+  EXPECT_EQ(rd(kI2c0 + 0x1218) & 1U, 0U);         // not busy
+  ASSERT_EQ(log.size(), 1U);
+  EXPECT_EQ(log[0], "S 17 [02 A1 A2] P");
+  EXPECT_EQ(target.readBytes(), 3U);
 }
 
 // --- MCAN

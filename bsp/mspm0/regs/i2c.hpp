@@ -70,6 +70,10 @@ inline constexpr uint32_t kMctrBurstRun = 1U << 0;
 inline constexpr uint32_t kMctrStart = 1U << 1;
 inline constexpr uint32_t kMctrStop = 1U << 2;
 inline constexpr uint32_t kMctrAck = 1U << 3;
+// MACKOEN, controller ACK override: receiving, after MBLEN bytes the controller raises RXDONE and waits at
+// the ACK of the last one until MCTR is written again (hw_i2c.h MCTR.MACKOEN; dl_i2c.h
+// DL_I2C_enableControllerACKOverride).
+inline constexpr uint32_t kMctrAckOverride = 1U << 4;
 inline constexpr uint32_t kMctrLenShift = 16;  // MBLEN 27:16
 inline constexpr uint32_t kMctrLenMax = 0xFFF;
 

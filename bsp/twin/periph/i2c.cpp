@@ -14,6 +14,7 @@ constexpr uint32_t kMtxdata = 0x1220, kMtpr = 0x1224, kMcr = 0x1228, kMbmon = 0x
 constexpr uint32_t kMfifosr = 0x123C, kPecctl = 0x1240, kPecsr = 0x1244;
 
 constexpr uint32_t kBurstRun = 1U << 0, kStart = 1U << 1, kStop = 1U << 2, kAck = 1U << 3;
+constexpr uint32_t kAckOverride = 1U << 4;  // MCTR.MACKOEN
 constexpr uint32_t kMsrBusy = 1U << 0, kMsrErr = 1U << 1, kMsrAdrAck = 1U << 2, kMsrDatAck = 1U << 3;
 constexpr uint32_t kMsrIdle = 1U << 5, kMsrBusBusy = 1U << 6;
 constexpr uint32_t kMcrActive = 1U << 0, kMcrClkStretch = 1U << 2;
@@ -152,6 +153,10 @@ void I2c::startBurst() {
   }
   phase_ = Phase::Start;
   if (!busOwned_) {
+    // Leaving IDLE: the PEC CRC and byte count start again (hw_i2c.h CONTROLLER_I2CPECCTL.PECEN).
+    crc_ = 0;
+    pecDataBytes_ = 0;
+    pecsr_ = 0;
     current_ = {};
     current_.startCycle = machine_.now();
     log("S");
@@ -206,6 +211,13 @@ void I2c::step() {
       releaseScl();
       byteDone();
       return;
+    case Phase::AckSlot:  // the override's ACK or NACK clock has passed
+      if (!ackSent_) {
+        sendStop();
+        return;
+      }
+      nextByte();
+      return;
     case Phase::Stop:
       if (target_ != nullptr) target_->onStop();
       log("P");
@@ -236,7 +248,8 @@ void I2c::nextByte() {
     txChanged();
     if (pecByte) byte_ = crc_;  // the dummy's place on the wire
     pecAdd(byte_);
-    ++pecDataBytes_;
+    if ((pecctl_ & 0x1FF) != 0) ++pecDataBytes_;
+    if (pecByte) pecDataBytes_ = 0;
     log(hex2(byte_));
     const bsp::host::I2cReply reply =
         target_ != nullptr ? target_->onWrite(byte_) : bsp::host::I2cReply{false, {}};
@@ -256,16 +269,16 @@ void I2c::nextByte() {
   byte_ = target_ != nullptr ? target_->onRead(stretch) : 0xFF;
   const uint64_t stretchCycles = static_cast<uint64_t>(stretch.us) * machine_.cyclesPerUs();
   if (stretchCycles != 0) holdSclLow(machine_.now());
-  if (pecByte && byte_ != crc_) {
-    pecsr_ |= kPecsrError;
-    raise(kMpecRxErr);
-  }
+  pecFail_ = pecByte && byte_ != crc_;  // checked after the byte's last bit (byteDone)
   pecAdd(byte_);
-  ++pecDataBytes_;
+  if ((pecctl_ & 0x1FF) != 0) ++pecDataBytes_;
+  if (pecByte) pecDataBytes_ = 0;             // "the byte count = PEC CNT, the byte count is reset to 0"
   log((readOpen_ ? "" : "[") + hex2(byte_));  // target-driven bytes inside [ ]
   readOpen_ = true;
   phase_ = Phase::Data;
-  step_.after(9 * bitCycles() + stretchCycles);
+  // Under the ACK override the burst's last byte stops before its ACK clock (byteDone waits there).
+  const bool waitsAtAck = (mctr_ & kAckOverride) && remaining_ == 1;
+  step_.after((waitsAtAck ? 8 : 9) * bitCycles() + stretchCycles);
 }
 
 void I2c::byteDone() {
@@ -273,6 +286,22 @@ void I2c::byteDone() {
   if (read_) {
     rx_.push_back(byte_);
     rxChanged();
+    if (pecFail_) {
+      pecsr_ |= kPecsrError;
+      raise(kMpecRxErr);
+    }
+    if ((mctr_ & kAckOverride) && remaining_ == 0) {
+      raise(kMrxDone);
+      if (pecFail_) {  // NACKed by the hardware itself, then STOP
+        ackSent_ = false;
+        phase_ = Phase::AckSlot;
+        step_.after(bitCycles());
+        return;
+      }
+      phase_ = Phase::WaitAck;  // SCL low until MCTR is written
+      holdSclLow(machine_.now());
+      return;
+    }
     nextByte();
     return;
   }
@@ -293,6 +322,23 @@ void I2c::finishBurst() {
   } else {
     phase_ = Phase::Idle;  // the controller keeps the bus for a repeated START
   }
+}
+
+void I2c::resolveAck(uint32_t mctr) {
+  mctr_ = mctr;
+  ackSent_ = (mctr & kAck) != 0;
+  if (ackSent_ && ((mctr & kBurstRun) == 0 || (mctr & kStart) != 0)) {
+    stop("MCTR written with ACK at the ACK override's wait without BURSTRUN, or with START: not modelled");
+    return;
+  }
+  releaseScl();
+  if (ackSent_) {  // the new burst: MBLEN more bytes, no START
+    remaining_ = (mctr >> 16) & 0xFFF;
+    stopAfter_ = (mctr & kStop) != 0;
+    ackLast_ = (mctr & kAck) != 0;
+  }
+  phase_ = Phase::AckSlot;
+  step_.after(bitCycles());
 }
 
 void I2c::sendStop() {
@@ -418,6 +464,10 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       mcr_ = value;
       return true;
     case kMctr:
+      if (phase_ == Phase::WaitAck) {
+        resolveAck(value);
+        return true;
+      }
       mctr_ = value;
       if (value & kBurstRun) startBurst();
       return true;
@@ -427,9 +477,7 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       return true;
     case kPecctl:
       pecctl_ = value;
-      pecsr_ = 0;
-      pecDataBytes_ = 0;
-      crc_ = 0;
+      pecDataBytes_ = 0;  // "any write ... will clear the current PEC Byte Count"; the CRC runs on
       return true;
     case kMtxdata:
       if (tx_.size() >= kFifoDepth) {

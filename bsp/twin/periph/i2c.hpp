@@ -18,6 +18,18 @@
 // burst, MSTART, MSTOP, MNACK; MTXFIFOTRG "when Transmit FIFO contains <= defined bytes" and MRXFIFOTRG "when
 // RX FIFO contains >= defined bytes" (hw_i2c.h RIS descriptions), evaluated at every FIFO change.
 //
+// Controller ACK override (hw_i2c.h MCTR.MACKOEN, the same text in dl_i2c.h
+// DL_I2C_enableControllerACKOverride): receiving with MACKOEN set, after the MBLEN-th byte's eight bits the
+// controller puts it in the RX FIFO, raises MRXDONE and waits at the start of its ACK, holding SCL low (the
+// clock-low timeout runs). The next MCTR write sends ACK or NACK per MCTR.ACK; after an ACK, BURSTRUN
+// continues the receive with the new MBLEN/STOP/ACK/MACKOEN and no START (SLAU846A controller transfer
+// table: a burst without START goes on with DATA x n); after a NACK the controller sends STOP by itself
+// ("If a NACK is sent the state machine will automatically send a Stop"). A wrong received PEC byte is
+// NACKed by the controller itself, also under the override (hw_i2c.h CONTROLLER_I2CPECCTL.PECEN: "the NACK
+// is automatically send following a PEC byte that results in a PEC error"; the override's wait is then
+// skipped: open question in bsp/mspm0/README.md). An ACK write without BURSTRUN, or one with START, stops
+// the run (not modelled).
+//
 // Rules that stop the run (the part would lose data silently): a write to MTXDATA with the TX FIFO full
 // ("the model drops and flags a write to a full FIFO"); a burst while MCR.ACTIVE is clear; a target that
 // stretches SCL with MCR.CLKSTRETCH clear. MFIFOCTL.TXFLUSH/RXFLUSH empty the FIFO one functional clock after
@@ -31,8 +43,11 @@
 // period of functional clock" instead: README, open questions. The twin follows the TRM's worked example.
 //
 // SMBus PEC (CONTROLLER_I2CPECCTL: PECCNT 8:0, PECEN 12): CRC-8 (x^8 + x^2 + x + 1) over every byte on the
-// wire; the PECCNT-th data byte of the transaction is the PEC: sent in place of the FIFO's byte, or checked
-// on receive (MPEC_RX_ERR, PECSR.PECSTS_ERROR on a mismatch).
+// wire; the PECCNT-th data byte counted is the PEC: sent in place of the FIFO's byte, or checked after its
+// last bit on receive (MPEC_RX_ERR, PECSR.PECSTS_ERROR on a mismatch). The CRC and the byte count restart
+// when the controller leaves IDLE (a START after STOP or timeout); a write to CONTROLLER_I2CPECCTL clears
+// the byte count only, so PECCNT can be set mid-transaction (hw_i2c.h PECCNT and PECEN descriptions; TI's
+// SMBus library sets PECCNT = N + 1 after a block read's count byte). PECCNT = 0 counts no byte.
 //
 // Bus recovery by GPIO (the firmware takes SDA/SCL as GPIOs, clocks SCL and makes a STOP): each target is
 // told onBusRecovery() when a STOP (SDA rising while SCL is high) appears on GPIO-driven lines.
@@ -78,7 +93,7 @@ class I2c final : public Peripheral {
   uint64_t busCycles() const { return busCycles_; }
 
  private:
-  enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, Stop, TimedOut };
+  enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, WaitAck, AckSlot, Stop, TimedOut };
 
   bool readRegister(uint32_t offset, uint32_t& value) override;
   bool writeRegister(uint32_t offset, uint32_t value) override;
@@ -92,6 +107,7 @@ class I2c final : public Peripheral {
   void nextByte();
   void byteDone();
   void finishBurst();
+  void resolveAck(uint32_t mctr);  // MCTR written while the ACK override waits
   void sendStop();
   void holdSclLow(uint64_t from);  // the timeout counter runs from `from`
   void releaseScl() { timeout_.cancel(); }
@@ -123,6 +139,8 @@ class I2c final : public Peripheral {
   uint32_t remaining_ = 0;
   uint8_t byte_ = 0;
   bool byteAck_ = true;
+  bool pecFail_ = false;  // the byte being received is a PEC byte that does not match
+  bool ackSent_ = false;  // AckSlot: the override's answer (ACK goes on, NACK ends with STOP)
   uint32_t pecDataBytes_ = 0;
   uint8_t crc_ = 0;
 
