@@ -20,8 +20,10 @@ set(CMAKE_CXX_FLAGS_INIT
 set(CMAKE_ASM_FLAGS_INIT "${BMS_CPU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${BMS_CPU_FLAGS} --specs=nano.specs --specs=nosys.specs -nostartfiles -Wl,--gc-sections")
 
-set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os -g")
-set(CMAKE_CXX_FLAGS_MINSIZEREL_INIT "-Os -g")
+# -fno-move-loop-invariants: on ARMv6-M's eight low registers the constants GCC hoists out of loops cost
+# spills and reloads; measured -40..-56 B per image (README figures), same code for the images and qemu-m0.
+set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os -fno-move-loop-invariants -g")
+set(CMAKE_CXX_FLAGS_MINSIZEREL_INIT "-Os -fno-move-loop-invariants -g")
 
 # Link C++ executables through the C driver (see above).
 set(CMAKE_CXX_LINK_EXECUTABLE

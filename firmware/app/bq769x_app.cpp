@@ -23,15 +23,15 @@ inline void toSampleCommon(const Measurement& m, uint8_t cells, BoardSample& sam
 void toSample(const b769::Bq769x2Measurement& m, uint8_t cells, BoardSample& sample, PackView& view) {
   toSampleCommon(m, cells, sample, view);
   // Internal, TS1 and TS3 (seed 000's board has thermistors on TS1 and TS3), all in 0.1 K.
-  sample.tempDeciK[0] = m.reg.intTemp;
-  sample.tempDeciK[1] = m.reg.ts[0];
-  sample.tempDeciK[2] = m.reg.ts[2];
+  sample.tempDeciK[0] = b769::deciKelvin(b769::map::cmd::IntTemperature, m.reg.intTemp);
+  sample.tempDeciK[1] = b769::deciKelvin(b769::map::cmd::Ts1Temperature, m.reg.ts[0]);
+  sample.tempDeciK[2] = b769::deciKelvin(b769::map::cmd::Ts3Temperature, m.reg.ts[2]);
 }
 
 void toSample(const b769::Bq7690xMeasurement& m, uint8_t cells, BoardSample& sample, PackView& view) {
   toSampleCommon(m, cells, sample, view);
   // BQ7690x Int Temperature is in whole degrees C (regmaps/README.md deviation log): to 0.1 K.
-  sample.tempDeciK[0] = static_cast<int16_t>(m.reg.intTemp * 10 + 2732);
+  sample.tempDeciK[0] = b769::deciKelvin(b769::map7690x::cmd::IntTemperature, m.reg.intTemp);
 }
 
 }  // namespace fw::app

@@ -29,7 +29,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   // wire. A board that never answered counts as stale from start-up.
   const PackView* pack = in.pack;
   const PackTotals* t = &pack->totals;
-  int32_t value[kFaultCount] = {};
+  int32_t value[kFaultCount];  // each read only where `evaluated` has its bit, and those are all written
   FaultMask evaluated = bit(FaultId::StaleData);
   if (in.fresh) {
     if (t->cells) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "model/names.hpp"
@@ -43,6 +44,7 @@ class Checker {
     for (const Enum& en : fam.enums)
       enumeration(en);
     definitions(fam);
+    blocks(fam);
   }
 
  private:
@@ -336,6 +338,69 @@ class Checker {
       }
       if (!used) diag_.warning(en.name.loc, "enum '" + en.name.value + "' is not used by any entry or field");
     }
+  }
+
+  // Each block's members are direct commands in address order, each beginning where the one before it ends
+  // (or later, where gaps are allowed), and the block fits one read.
+  void blocks(const Family& fam) {
+    std::map<std::string, Loc> names;
+    for (const Block& b : fam.blocks) {
+      const std::string what = "block '" + b.name.value + "'";
+      if (b.name.present) {
+        auto [it, fresh] = names.emplace(b.name.value, b.name.loc);
+        if (!fresh)
+          diag_.error(b.name.loc, what + " is defined twice (first at " + at(src_, it->second) + ")");
+      }
+      std::optional<std::uint32_t> next;  // the address after the previous member
+      const Entry* previous = nullptr;
+      for (const Text& m : b.members) {
+        const Entry* e = blockMember(fam, m, what);
+        if (!e || !e->addr || !e->type) {
+          next.reset();
+          continue;
+        }
+        if (!previous && b.start.present && static_cast<std::int64_t>(*e->addr) != b.start.integer) {
+          diag_.error(m.loc, what + " starts at " + b.start.text + " but its first member '" + m.value +
+                                 "' is at " + hexAddress(*e->addr, 2));
+        }
+        if (next && *e->addr < *next) {
+          diag_.error(m.loc, what + ": '" + m.value + "' at " + hexAddress(*e->addr, 2) +
+                                 " overlaps or precedes '" + previous->name.value +
+                                 "' (members are in address order, each after the last)");
+        } else if (next && *e->addr > *next && !b.gapsAllowed) {
+          diag_.error(m.loc, what + ": '" + m.value + "' at " + hexAddress(*e->addr, 2) + " leaves " +
+                                 hexAddress(*next, 2) + ".." + hexAddress(*e->addr - 1, 2) +
+                                 " unread after '" + previous->name.value +
+                                 "' (write 'gaps: allowed' if the scan reads them)");
+        }
+        previous = e;
+        next = *e->addr + static_cast<std::uint32_t>(e->size());
+        if (b.start.present && b.start.integer >= 0 &&
+            static_cast<std::int64_t>(*next) - b.start.integer > kMaxBlockBytes) {
+          diag_.error(m.loc, what + ": '" + m.value + "' ends " +
+                                 std::to_string(static_cast<std::int64_t>(*next) - b.start.integer) +
+                                 " bytes after the start, beyond the " + std::to_string(kMaxBlockBytes) +
+                                 " bytes one read may carry");
+        }
+      }
+    }
+  }
+
+  // The commands entry a block member names, or nothing (reported).
+  const Entry* blockMember(const Family& fam, const Text& m, const std::string& what) {
+    const Entry* other = nullptr;
+    for (const Entry& e : fam.entries) {
+      if (e.name.value != m.value) continue;
+      if (e.kind->kind == EntryKind::Command) return &e;
+      other = &e;
+    }
+    if (other) {
+      diag_.error(m.loc, what + ": '" + m.value + "' is a " + std::string(other->kind->listName) + " (" +
+                             at(src_, other->loc) + "), not a direct command");
+    } else {
+      diag_.error(m.loc, what + ": no command named '" + m.value + "' in family '" + fam.name + "'");
+    }
+    return nullptr;
   }
 
   const Sources& src_;

@@ -77,4 +77,25 @@ std::string emitList(const Model& model) {
   return out.str();
 }
 
+std::vector<const Entry*> blockMembers(const Family& fam, const Block& b) {
+  std::vector<const Entry*> out;
+  for (const Text& m : b.members) {
+    for (const Entry& e : fam.entries) {
+      if (e.kind->kind == EntryKind::Command && e.name.value == m.value) out.push_back(&e);
+    }
+  }
+  return out;
+}
+
+int blockSize(const Family& fam, const Block& b) {
+  const Entry& last = *blockMembers(fam, b).back();
+  return static_cast<int>(*last.addr + static_cast<std::uint32_t>(last.size()) -
+                          static_cast<std::uint32_t>(b.start.integer));
+}
+
+std::string blockRange(std::uint32_t start, int size) {
+  if (size == 1) return hexAddress(start, 2);
+  return hexAddress(start, 2) + ".." + hexAddress(start + static_cast<std::uint32_t>(size) - 1, 2);
+}
+
 }  // namespace regmapgen

@@ -114,6 +114,7 @@ class CodeEmitter {
     bits(o);
     for (const KindInfo& k : kinds())
       descriptors(o, k);
+    blocks(o);
     o << "\n}  // namespace fw::regmap::" << fam_.name << "\n";
     return o.str();
   }
@@ -191,6 +192,17 @@ class CodeEmitter {
         before |= f.mask();
       }
       o << "static_assert(sizeof(" << t << "::raw_type) * 8 == " << fs.width << ");\n";
+    }
+    if (!fam_.blocks.empty()) {
+      o << "\n// Every block member's offset is its descriptor's address less the block's.\n";
+      for (const Block& b : fam_.blocks) {
+        o << "struct " << b.name.value << "Offsets {\n  using B = blocks::" << b.name.value << ";\n";
+        for (const Entry* e : blockMembers(fam_, b)) {
+          o << "  static_assert(B::offset" << e->cppName << " == cmd::" << e->cppName
+            << ".address - B::address);\n";
+        }
+        o << "};\n";
+      }
     }
     o << "\n// Every descriptor: address, size, access and limits as in the YAML; the table mirrors it.\n";
     std::size_t index = 0;
@@ -414,6 +426,38 @@ class CodeEmitter {
                        e.cppName);
     }
     if (any) o << "\n}  // namespace " << k.ns << "\n";
+  }
+
+  void blocks(std::ostringstream& o) {
+    if (fam_.blocks.empty()) return;
+    o << "\n// Blocks: consecutive direct commands read in one transaction. `record` is the block's first "
+         "byte in "
+         "the\n// record of every block in the order below; `offset<Member>` a member's first byte in the "
+         "block.\nnamespace blocks {\n";
+    int record = 0;
+    int largest = 0;
+    for (const Block& b : fam_.blocks) {
+      const std::uint32_t start = static_cast<std::uint32_t>(b.start.integer);
+      const int size = blockSize(fam_, b);
+      o << "\n";
+      const std::string bytes = std::to_string(size) + (size == 1 ? " byte" : " bytes");
+      writeComment(o, blockRange(start, size) + " (" + bytes + "): " + oneLine(b.description.value) + " (" +
+                          provenance(src_, b.loc) + ")");
+      o << "struct " << b.name.value << " {\n"
+        << "  static constexpr std::uint8_t address = " << hexAddress(start, 2) << ";\n"
+        << "  static constexpr std::uint8_t size = " << size << ";\n"
+        << "  static constexpr std::uint8_t record = " << record << ";\n";
+      for (const Entry* e : blockMembers(fam_, b)) {
+        o << "  static constexpr std::uint8_t offset" << e->cppName << " = " << (*e->addr - start) << ";\n";
+      }
+      o << "};\n";
+      record += size;
+      largest = std::max(largest, size);
+    }
+    o << "\n// Bytes of all blocks together (the record) and of the largest (the longest read).\n"
+      << "inline constexpr std::uint16_t kRecordSize = " << record << ";\n"
+      << "inline constexpr std::uint8_t kLargestSize = " << largest << ";\n"
+      << "\n}  // namespace blocks\n";
   }
 
   const Family& fam_;

@@ -45,6 +45,12 @@ std::string cppValueType(const Entry& e);
 std::uint32_t f4Bits(double value, const std::string& text);
 std::string unitText(const Entry& e);  // "mV", "0.1 K", "190.73 uV", "" for none
 
+// The commands entries a block names, in its order, and the bytes from its start to the end of its last
+// member (check() found every member).
+std::vector<const Entry*> blockMembers(const Family& fam, const Block& b);
+int blockSize(const Family& fam, const Block& b);
+std::string blockRange(std::uint32_t start, int size);  // "0x0A..0x3B", "0x7F" for one byte
+
 // The fieldset's fields, highest bits first (the order of the Markdown table and the bit-field types).
 std::vector<const Field*> fieldsByMsb(const Fieldset& fs);
 

@@ -86,6 +86,7 @@ std::string emitMarkdown(const Family& fam, const Sources& src) {
   }
   if (!fam.fieldsets.empty()) md << "- [Bit fields](#bit-fields) (" << fam.fieldsets.size() << ")\n";
   if (!fam.enums.empty()) md << "- [Enums](#enums) (" << fam.enums.size() << ")\n";
+  if (!fam.blocks.empty()) md << "- [Blocks](#blocks) (" << fam.blocks.size() << ")\n";
 
   for (const KindInfo& k : kinds()) {
     std::vector<const Entry*> list;
@@ -159,6 +160,26 @@ std::string emitMarkdown(const Family& fam, const Sources& src) {
       for (const EnumValue& v : en.values) {
         md << "| " << *v.value << " | `" << v.name.value << "` | " << cell(v.description.value) << " |\n";
       }
+    }
+  }
+  if (!fam.blocks.empty()) {
+    md << "\n## Blocks\n\nConsecutive direct commands read in one transaction, as `blocks::<Name>` (address, "
+          "size, `record`: the first byte in the record of all blocks in this order, `offset<Member>`).\n\n"
+          "| Block | Commands | Bytes | Record | Members (offset) | Description "
+          "|\n|---|---|---|---|---|---|\n";
+    int record = 0;
+    for (const Block& b : fam.blocks) {
+      const auto start = static_cast<std::uint32_t>(b.start.integer);
+      const int size = blockSize(fam, b);
+      std::string members;
+      for (const Entry* e : blockMembers(fam, b)) {
+        members.append(members.empty() ? "" : ", ")
+            .append(cell(e->name.value) + " (" + std::to_string(*e->addr - start) + ")");
+      }
+      md << "| `blocks::" << b.name.value << "` | " << blockRange(start, size) << " | " << size << " | "
+         << record << " | " << members << " | " << cell(b.description.value) << " (" << link(src, b.loc)
+         << ") |\n";
+      record += size;
     }
   }
   return md.str();

@@ -349,6 +349,9 @@ class Builder {
       } else if (key == "enums") {
         for (const Node* n : objectList(value, key, "enum"))
           enumeration(*fam, *n);
+      } else if (key == "blocks") {
+        for (const Node* n : objectList(value, key, "block"))
+          block(*fam, *n);
       } else if (const KindInfo* k = kindByYamlKey(key)) {
         for (const Node* n : objectList(value, key, "entry"))
           entry(*fam, *k, *n);
@@ -540,6 +543,36 @@ class Builder {
       }
     }
     fam.enums.push_back(std::move(en));
+  }
+
+  void block(Family& fam, const Node& item) {
+    const std::string what = named("block", item);
+    checkKeys(item, object("block"), what);
+    Block b;
+    b.loc = item.loc;
+    b.name = identifier(item, "name", what);
+    b.start = number(item, "start", what, true);
+    if (const Node* v = item.find("members")) {
+      if (!v->isSeq()) {
+        diag_.error(v->loc, "'members' of " + what + " must be a list of command names");
+      } else {
+        for (const Node& m : v->items) {
+          if (!m.isScalar()) {
+            diag_.error(m.loc,
+                        "members of " + what + " must be command names, not " + yaml::describe(m.type));
+            continue;
+          }
+          b.members.push_back(Text{m.text, m.loc, true});
+        }
+        if (v->items.empty()) diag_.error(v->loc, what + " has no members");
+      }
+    }
+    if (const Text g = text(item, "gaps", what); g.present) {
+      b.gapsAllowed = g.value == "allowed";
+      if (!b.gapsAllowed) diag_.error(g.loc, "'gaps' of " + what + ": '" + g.value + "' must be 'allowed'");
+    }
+    b.description = text(item, "description", what);
+    fam.blocks.push_back(std::move(b));
   }
 
   const Sources& sources_;

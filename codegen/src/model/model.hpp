@@ -111,6 +111,16 @@ struct Enum {
   std::vector<EnumValue> values;
 };
 
+// A run of consecutive direct commands read in one transaction (`blocks:`).
+struct Block {
+  Loc loc;
+  Text name;
+  Number start;
+  std::vector<Text> members;  // TRM names of commands entries, in address order
+  bool gapsAllowed = false;
+  Text description;
+};
+
 struct Device {
   Loc loc;
   Text title;
@@ -127,6 +137,7 @@ struct Family {
   std::vector<Entry> entries;  // in file order
   std::vector<Fieldset> fieldsets;
   std::vector<Enum> enums;
+  std::vector<Block> blocks;  // in file order: the order of the record
 
   const Fieldset* findFieldset(const std::string& name) const;
   const Enum* findEnum(const std::string& name) const;

@@ -162,6 +162,9 @@ const std::vector<ObjectSpec>& objects() {
     file.keys.push_back({"enums", false, S::ObjectList, "enum",
                          "Coded values; fields and entries refer to them "
                          "with `enum:`."});
+    file.keys.push_back({"blocks", false, S::ObjectList, "block",
+                         "Runs of consecutive direct commands read in one transaction (a scan), in the "
+                         "order the scan reads them; emitted as `blocks::<name>`."});
     t.push_back(std::move(file));
 
     t.push_back({"device",
@@ -248,6 +251,21 @@ const std::vector<ObjectSpec>& objects() {
                   {"description", true, S::Text, "", "What the codes select."},
                   {"source", false, S::Source, "", "As for entries."},
                   {"values", true, S::ObjectList, "enum value", "The codes."}}});
+
+    t.push_back(
+        {"block",
+         "One read of consecutive direct commands (the device auto-increments through them). The generator "
+         "emits `blocks::<name>::address`, `size`, `record` (its first byte in the record of all the "
+         "family's blocks, in file order) and `offset<Member>` (a member's first byte in the block), plus "
+         "`blocks::kRecordSize` and `blocks::kLargestSize`.",
+         {{"name", true, S::Identifier, "", "PascalCase name, e.g. `Voltages`."},
+          {"start", true, S::Integer, "", "Address of the first command read; the first member's address."},
+          {"members", true, S::TextList, "",
+           "TRM names of the `commands` entries read, in address order. Each member must begin where the "
+           "one before it ends."},
+          {"gaps", false, S::Text, "",
+           "`allowed`: members may leave unused bytes between them (the read carries them)."},
+          {"description", true, S::Text, "", "What the scan reads it for."}}});
 
     t.push_back({"enum value",
                  "One code of an enum.",

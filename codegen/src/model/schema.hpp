@@ -77,6 +77,10 @@ struct ObjectSpec {
 };
 
 const std::vector<ObjectSpec>& objects();
+
+// The most bytes one block may hold: the BQ769x2/BQ7690x link reads a block into a scratch buffer of one byte
+// and its CRC per data byte, counted in 8 bits (2 x 127 <= 255).
+inline constexpr int kMaxBlockBytes = 127;
 const ObjectSpec& object(std::string_view name);
 
 // TI type codes. Scalars: U1 U2 U4 (unsigned), I1 I2 I4 (signed), H1 H2 H4 (hex flags), F4 (IEEE-754).

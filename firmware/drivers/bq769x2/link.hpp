@@ -58,6 +58,7 @@
 // there until the next operation starts (data() is only meaningful after an Ok result).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -67,6 +68,8 @@
 #include "drivers/bq769x2/config.hpp"
 #include "drivers/operation.hpp"
 #include "hal/i2c_bus.hpp"
+#include "regmap/bq7690x.hpp"
+#include "regmap/bq769x2.hpp"
 #include "sched/timer.hpp"
 
 namespace fw::drivers::bq769x2 {
@@ -75,11 +78,16 @@ inline constexpr uint8_t kDefaultAddress = 0x08;  // 7-bit; 0x10/0x11 on the wir
 inline constexpr uint8_t kCmdSubcommand = 0x3E;
 inline constexpr uint8_t kCmdBuffer = 0x40;
 inline constexpr uint8_t kCmdChecksum = 0x60;
-inline constexpr uint8_t kBufferBytes = 32;                  // 0x40..0x5F
-inline constexpr uint8_t kWindowBytes = kBufferBytes + 2;    // 0x40..0x61: buffer, checksum, length
-inline constexpr uint8_t kMaxReadBytes = 50;                 // the longest direct read (scan: 0x0A..0x3B)
+inline constexpr uint8_t kBufferBytes = 32;                // 0x40..0x5F
+inline constexpr uint8_t kWindowBytes = kBufferBytes + 2;  // 0x40..0x61: buffer, checksum, length
+// The longest direct read: the largest scan block of either family (regmaps/*/commands.yaml `blocks`).
+inline constexpr uint8_t kMaxReadBytes =
+    std::max(regmap::bq769x2::blocks::kLargestSize, regmap::bq7690x::blocks::kLargestSize);
 inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC after every byte
 inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
+
+static_assert(kMaxReadBytes >= kWindowBytes,
+              "a subcommand result (0x40..0x61) is fetched into the scratch too");
 
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 inline constexpr bool kCrc = FW_BQ769X_CRC != 0;

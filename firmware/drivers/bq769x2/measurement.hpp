@@ -32,7 +32,7 @@ namespace map7690x = ::fw::regmap::bq7690x;
 
 inline constexpr uint8_t kMaxCells = 16;
 
-// BQ769x2 direct commands 0x0A..0x3B, 0x62..0x75, 0x02..0x07 and 0x7F (SLUUBY2B chapter 12), in that order.
+// The BQ769x2 scan blocks (regmaps/bq769x2/commands.yaml `blocks:`, SLUUBY2B chapter 12), in their order.
 struct Bq769x2Registers {
   // 0x0A..0x11
   map::bits::PfA pfAlertA;
@@ -67,9 +67,47 @@ struct Bq769x2Registers {
   map::bits::SafetyC safetyStatusC;
   map::bits::FetStatus fetStatus;  // 0x7F: what the FETs are doing (never the host's intent)
 };
-static_assert(offsetof(Bq769x2Registers, batteryStatus) == 8 && offsetof(Bq769x2Registers, current) == 48);
-static_assert(offsetof(Bq769x2Registers, alarmStatus) == 50 && offsetof(Bq769x2Registers, ts) == 64);
-static_assert(offsetof(Bq769x2Registers, safetyAlertA) == 70 && offsetof(Bq769x2Registers, fetStatus) == 76);
+// The record is the blocks of regmaps/bq769x2/commands.yaml back to back: every field lies where its block
+// (`record`) and its command's place in the block (`offset<Member>`) put it.
+namespace layout769x2 {
+using V = map::blocks::PfStatusAndVoltages;
+using T = map::blocks::AlarmsAndTemperatures;
+using S = map::blocks::Safety;
+using F = map::blocks::Fets;
+using R = Bq769x2Registers;
+static_assert(offsetof(R, pfAlertA) == V::record + V::offsetPfAlertA);
+static_assert(offsetof(R, pfStatusA) == V::record + V::offsetPfStatusA);
+static_assert(offsetof(R, pfAlertB) == V::record + V::offsetPfAlertB);
+static_assert(offsetof(R, pfStatusB) == V::record + V::offsetPfStatusB);
+static_assert(offsetof(R, pfAlertC) == V::record + V::offsetPfAlertC);
+static_assert(offsetof(R, pfStatusC) == V::record + V::offsetPfStatusC);
+static_assert(offsetof(R, pfAlertD) == V::record + V::offsetPfAlertD);
+static_assert(offsetof(R, pfStatusD) == V::record + V::offsetPfStatusD);
+static_assert(offsetof(R, batteryStatus) == V::record + V::offsetBatteryStatus);
+static_assert(offsetof(R, cellMv) == V::record + V::offsetCell1Voltage);
+static_assert(offsetof(R, cellMv) + 2 * (kMaxCells - 1) == V::record + V::offsetCell16Voltage);
+static_assert(offsetof(R, stack) == V::record + V::offsetStackVoltage);
+static_assert(offsetof(R, pack) == V::record + V::offsetPackPinVoltage);
+static_assert(offsetof(R, ld) == V::record + V::offsetLdPinVoltage);
+static_assert(offsetof(R, current) == V::record + V::offsetCc2Current);
+static_assert(offsetof(R, alarmStatus) == T::record + T::offsetAlarmStatus);
+static_assert(offsetof(R, alarmRaw) == T::record + T::offsetAlarmRawStatus);
+static_assert(offsetof(R, alarmEnable) == T::record + T::offsetAlarmEnable);
+static_assert(offsetof(R, intTemp) == T::record + T::offsetIntTemperature);
+static_assert(offsetof(R, cfetoffTemp) == T::record + T::offsetCfetoffTemperature);
+static_assert(offsetof(R, dfetoffTemp) == T::record + T::offsetDfetoffTemperature);
+static_assert(offsetof(R, alertTemp) == T::record + T::offsetAlertTemperature);
+static_assert(offsetof(R, ts) == T::record + T::offsetTs1Temperature);
+static_assert(offsetof(R, ts) + 4 == T::record + T::offsetTs3Temperature);
+static_assert(offsetof(R, safetyAlertA) == S::record + S::offsetSafetyAlertA);
+static_assert(offsetof(R, safetyStatusA) == S::record + S::offsetSafetyStatusA);
+static_assert(offsetof(R, safetyAlertB) == S::record + S::offsetSafetyAlertB);
+static_assert(offsetof(R, safetyStatusB) == S::record + S::offsetSafetyStatusB);
+static_assert(offsetof(R, safetyAlertC) == S::record + S::offsetSafetyAlertC);
+static_assert(offsetof(R, safetyStatusC) == S::record + S::offsetSafetyStatusC);
+static_assert(offsetof(R, fetStatus) == F::record + F::offsetFetStatus);
+static_assert(offsetof(R, fetStatus) + sizeof(R::fetStatus) == map::blocks::kRecordSize);  // then padding
+}  // namespace layout769x2
 
 struct Bq769x2Measurement {
   Instant takenAt{};
@@ -81,7 +119,7 @@ struct Bq769x2Measurement {
   }
 };
 
-// BQ7690x direct commands 0x12..0x2B, 0x62..0x67, 0x3A..0x3B and 0x02..0x05 (SLUUCI8/SLUUCJ0), in that order.
+// The BQ7690x scan blocks (regmaps/bq7690x/commands.yaml `blocks:`, SLUUCI8/SLUUCJ0), in their order.
 struct Bq7690xRegisters {
   map7690x::bits::BatteryStatus batteryStatus;  // 0x12
   int16_t cellMv[7];                            // 0x14..0x21 (cells 6-7: BQ76907 only)
@@ -99,14 +137,60 @@ struct Bq7690xRegisters {
   map7690x::bits::SafetyB safetyAlertB;         // 0x04
   map7690x::bits::SafetyB safetyStatusB;        // 0x05
 };
-static_assert(offsetof(Bq7690xRegisters, alarmStatus) == 26 && offsetof(Bq7690xRegisters, current) == 32);
-static_assert(offsetof(Bq7690xRegisters, safetyStatusB) == 37);
+// The record is the blocks of regmaps/bq7690x/commands.yaml back to back (as for the BQ769x2 above).
+namespace layout7690x {
+using V = map7690x::blocks::StatusAndVoltages;
+using A = map7690x::blocks::Alarms;
+using C = map7690x::blocks::Current;
+using S = map7690x::blocks::Safety;
+using R = Bq7690xRegisters;
+static_assert(offsetof(R, batteryStatus) == V::record + V::offsetBatteryStatus);
+static_assert(offsetof(R, cellMv) == V::record + V::offsetCell1Voltage);
+static_assert(offsetof(R, cellMv) + 2 * 6 == V::record + V::offsetCell7Voltage);
+static_assert(offsetof(R, reg18) == V::record + V::offsetReg18Voltage);
+static_assert(offsetof(R, vss) == V::record + V::offsetVssVoltage);
+static_assert(offsetof(R, stack) == V::record + V::offsetStackVoltage);
+static_assert(offsetof(R, intTemp) == V::record + V::offsetIntTemperature);
+static_assert(offsetof(R, ts) == V::record + V::offsetTsMeasurement);
+static_assert(offsetof(R, alarmStatus) == A::record + A::offsetAlarmStatus);
+static_assert(offsetof(R, alarmRaw) == A::record + A::offsetAlarmRawStatus);
+static_assert(offsetof(R, alarmEnable) == A::record + A::offsetAlarmEnable);
+static_assert(offsetof(R, current) == C::record + C::offsetCc2Current);
+static_assert(offsetof(R, safetyAlertA) == S::record + S::offsetSafetyAlertA);
+static_assert(offsetof(R, safetyStatusA) == S::record + S::offsetSafetyStatusA);
+static_assert(offsetof(R, safetyAlertB) == S::record + S::offsetSafetyAlertB);
+static_assert(offsetof(R, safetyStatusB) == S::record + S::offsetSafetyStatusB);
+static_assert(offsetof(R, safetyStatusB) + sizeof(R::safetyStatusB) == map7690x::blocks::kRecordSize);
+}  // namespace layout7690x
 
 struct Bq7690xMeasurement {
   Instant takenAt{};
   Bq7690xRegisters reg{};
   bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw()) != 0; }
 };
+
+// Tenths of a kelvin from a temperature reading, by its descriptor's unit (K or degC) and scale: BQ769x2
+// temperatures are 0.1 K (the reading itself), the BQ7690x Int Temperature whole degrees C (regmaps/README.md
+// deviation 7). rawTemperature() is the inverse (what an emulator is set to). Integer factors only.
+inline constexpr int32_t kZeroCelsiusDeciK = 2732;
+template <class D>
+constexpr int32_t deciKelvinPerLsb(D) {
+  static_assert(D::unit == regmap::Unit::Kelvin || D::unit == regmap::Unit::DegreeCelsius);
+  static_assert((10 * D::scale.num) % D::scale.den == 0, "a whole number of 0.1 K per LSB");
+  return static_cast<int32_t>(10 * D::scale.num / D::scale.den);
+}
+template <class D>
+constexpr int32_t deciKelvinAtZero(D) {
+  return D::unit == regmap::Unit::DegreeCelsius ? kZeroCelsiusDeciK : 0;
+}
+template <class D>
+constexpr int16_t deciKelvin(D d, int16_t raw) {
+  return static_cast<int16_t>(raw * deciKelvinPerLsb(d) + deciKelvinAtZero(d));
+}
+template <class D>
+constexpr int16_t rawTemperature(D d, int32_t deciK) {
+  return static_cast<int16_t>((deciK - deciKelvinAtZero(d)) / deciKelvinPerLsb(d));
+}
 
 // Milliamps from a CC2 reading in userA: lsbTenthMilliamp is the userA LSB in 0.1 mA (1, 10, 100 or 1000
 // for DA Configuration[USER_AMPS] = 0..3).

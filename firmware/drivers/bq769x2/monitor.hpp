@@ -23,8 +23,8 @@
 //                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
 //                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
 //                         the first failure. At most 32 settings; written() counts the writes.
-//   startScan(m)          (typed front ends) the measurement set in 4 block reads (BQ76952: 0x0A..0x3B,
-//                         0x62..0x75, 0x02..0x07, 0x7F; BQ7690x: 0x12..0x2B, 0x62..0x67, 0x3A, 0x02..0x05).
+//   startScan(m)          (typed front ends) the measurement set in 4 block reads: the `blocks:` of
+//                         regmaps/bq769x2 (bq7690x) commands.yaml in their order (<family>::blocks).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
 //                         never stitched across a disturbance). Reserved bits set or a negative stack voltage
 //                         or temperature (what a released SDA reads: 0xFF) end it with Implausible. Alarm
@@ -137,36 +137,52 @@ namespace variant_detail {
 constexpr uint8_t high(uint16_t v) {
   return static_cast<uint8_t>(v >> 8);
 }
+// The scan's blocks, generated (regmaps/bq769x2, bq7690x commands.yaml). A byte of the record is a block's
+// first byte in it (`record`) plus the member's place in the block; +1 is the high byte of a little-endian
+// value.
+using V2 = map::blocks::PfStatusAndVoltages;
+using T2 = map::blocks::AlarmsAndTemperatures;
+using S2 = map::blocks::Safety;
+using F2 = map::blocks::Fets;
+using V0 = map7690x::blocks::StatusAndVoltages;
+using A0 = map7690x::blocks::Alarms;
+using C0 = map7690x::blocks::Current;
+using S0 = map7690x::blocks::Safety;
 // Bits the device always keeps clear (reserved) and sign bits of values that cannot be negative. A released
 // SDA (device reset mid-transaction, SLUSE13B section 14) reads 0xFF, which sets them: without CRC this is
 // the only way to tell such a tail from data.
 inline constexpr Check kChecks769x2[] = {
-    {9, high(static_cast<uint16_t>(~map::bits::BatteryStatus::fields_mask))},  // Battery Status bit 14
-    {51, high(static_cast<uint16_t>(~map::bits::Alarm::fields_mask))},         // Alarm Status bit 8
-    {70, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},              // Safety Alert A bits 1:0
-    {71, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},              // Safety Status A bits 1:0
-    {76, static_cast<uint8_t>(~map::bits::FetStatus::fields_mask)},            // FET Status bit 7
-    {43, 0x80},                                                                // Stack Voltage >= 0
-    {57, 0x80},
-    {59, 0x80},
-    {61, 0x80},
-    {63, 0x80},
-    {65, 0x80},
-    {67, 0x80},
-    {69, 0x80},  // temperatures >= 0 K
+    {V2::record + V2::offsetBatteryStatus + 1,
+     high(static_cast<uint16_t>(~map::bits::BatteryStatus::fields_mask))},
+    {T2::record + T2::offsetAlarmStatus + 1, high(static_cast<uint16_t>(~map::bits::Alarm::fields_mask))},
+    {S2::record + S2::offsetSafetyAlertA, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},
+    {S2::record + S2::offsetSafetyStatusA, static_cast<uint8_t>(~map::bits::SafetyA::fields_mask)},
+    {F2::record + F2::offsetFetStatus, static_cast<uint8_t>(~map::bits::FetStatus::fields_mask)},
+    {V2::record + V2::offsetStackVoltage + 1, 0x80},    // Stack Voltage >= 0
+    {T2::record + T2::offsetIntTemperature + 1, 0x80},  // temperatures >= 0 K: Int, CFETOFF ... TS3
+    {T2::record + T2::offsetCfetoffTemperature + 1, 0x80},
+    {T2::record + T2::offsetDfetoffTemperature + 1, 0x80},
+    {T2::record + T2::offsetAlertTemperature + 1, 0x80},
+    {T2::record + T2::offsetTs1Temperature + 1, 0x80},
+    {T2::record + T2::offsetTs2Temperature + 1, 0x80},
+    {T2::record + T2::offsetTs3Temperature + 1, 0x80},
 };
 // Safety Status A and B and Safety Alert B have no reserved bit (SLUUCJ0: Status A bits 1:0 are CURLATCH and
 // REGOUT, real faults); only Safety Alert A keeps bits 1:0 clear (SLUUCI8).
 inline constexpr Check kChecks7690x[] = {
-    {0, static_cast<uint8_t>(~map7690x::bits::BatteryStatus::fields_mask)},         // Battery Status bit 0
-    {1, high(static_cast<uint16_t>(~map7690x::bits::BatteryStatus::fields_mask))},  // bit 9
-    {34, static_cast<uint8_t>(~map7690x::bits::SafetyAlertA::fields_mask)},         // Safety Alert A bits 1:0
-    {21, 0x80},                                                                     // Stack Voltage >= 0
+    {V0::record + V0::offsetBatteryStatus, static_cast<uint8_t>(~map7690x::bits::BatteryStatus::fields_mask)},
+    {V0::record + V0::offsetBatteryStatus + 1,
+     high(static_cast<uint16_t>(~map7690x::bits::BatteryStatus::fields_mask))},  // bits 0 and 9
+    {S0::record + S0::offsetSafetyAlertA, static_cast<uint8_t>(~map7690x::bits::SafetyAlertA::fields_mask)},
+    {V0::record + V0::offsetStackVoltage + 1, 0x80},  // Stack Voltage >= 0
 };
 static_assert(map7690x::bits::SafetyStatusA::fields_mask == 0xFF &&
               map7690x::bits::SafetyB::fields_mask == 0xFF);
 constexpr Variant bq7690x(uint8_t cells) {
-  return {.blocks = {{0x12, 26}, {0x62, 6}, {0x3A, 2}, {0x02, 4}},
+  return {.blocks = {{V0::address, V0::size},
+                     {A0::address, A0::size},
+                     {C0::address, C0::size},
+                     {S0::address, S0::size}},
           .checks = kChecks7690x,
           .checkCount = sizeof kChecks7690x / sizeof kChecks7690x[0],
           .cells = cells,
@@ -178,7 +194,7 @@ constexpr Variant bq7690x(uint8_t cells) {
           .cbBytes = 1,
           .cbShift = 1,
           .sleepEnMask = map7690x::bits::BatteryStatus::sleep_en_mask,
-          .alarmOffset = 26,
+          .alarmOffset = A0::record + A0::offsetAlarmStatus,
           .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
           .firstPollUs = 2000};  // 2 ms, as TI's examples wait
 }
@@ -188,7 +204,10 @@ static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
 
 // Also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record).
 inline constexpr Variant kBq76952{
-    .blocks = {{0x0A, 50}, {0x62, 20}, {0x02, 6}, {0x7F, 1}},
+    .blocks = {{variant_detail::V2::address, variant_detail::V2::size},
+               {variant_detail::T2::address, variant_detail::T2::size},
+               {variant_detail::S2::address, variant_detail::S2::size},
+               {variant_detail::F2::address, variant_detail::F2::size}},
     .checks = variant_detail::kChecks769x2,
     .checkCount = sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
     .cells = 16,
@@ -200,7 +219,7 @@ inline constexpr Variant kBq76952{
     .cbBytes = 2,
     .cbShift = 0,
     .sleepEnMask = map::bits::BatteryStatus::sleep_en_mask,
-    .alarmOffset = 50,
+    .alarmOffset = variant_detail::T2::record + variant_detail::T2::offsetAlarmStatus,
     .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
     .firstPollUs = 0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
@@ -281,6 +300,16 @@ class Monitor {
       total = static_cast<uint8_t>(total + b.len);
     return total;
   }
+  // Every read of the scan fits the link's scratch where scanStep() gathers it: after the blocks before it,
+  // with a CRC byte after each byte.
+  static constexpr bool scanFits(const Variant& v) {
+    unsigned at = 0;
+    for (const ScanBlock& b : v.blocks) {
+      if (b.len > kMaxReadBytes || at + 2u * b.len > kScratchBytes) return false;
+      at += b.len;
+    }
+    return true;
+  }
 
  private:
   // Each operation is a step function that runs on every link completion until it calls finish(). The
@@ -359,7 +388,7 @@ class Bq769x2 : public Monitor {
       : Monitor(bus, clock, context, kBq76952, config) {}
   Status startScan(Bq769x2Measurement& out) {
     static_assert(offsetof(Bq769x2Measurement, reg) == sizeof(Instant));
-    static_assert(scanBytes(kBq76952) <= sizeof(Bq769x2Registers));
+    static_assert(scanBytes(kBq76952) == map::blocks::kRecordSize && scanFits(kBq76952));
     return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers));
   }
 };
@@ -374,8 +403,7 @@ class Bq7690x : public Monitor {
       : Monitor(bus, clock, context, variant, config) {}
   Status startScan(Bq7690xMeasurement& out) {
     static_assert(offsetof(Bq7690xMeasurement, reg) == sizeof(Instant));
-    static_assert(scanBytes(kBq76907) <= sizeof(Bq7690xRegisters) &&
-                  scanBytes(kBq76905) <= sizeof(Bq7690xRegisters));
+    static_assert(scanBytes(kBq76907) == map7690x::blocks::kRecordSize && scanFits(kBq76907));
     return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters));
   }
 };

@@ -44,7 +44,8 @@ class Bq769xSim final : public ImageSim {
     // Sensor 1 is the internal one (BQ7690x: whole degC), 2 and 3 are TS1 and TS3.
     if (sensor == 1) {
       const bool bq7690x = board_->emu.model() != Emulator::Model::Bq76952;
-      board_->emu.setIntTemp(static_cast<int16_t>(bq7690x ? (deciK - 2732) / 10 : deciK));
+      board_->emu.setIntTemp(bq7690x ? b769::rawTemperature(b769::map7690x::cmd::IntTemperature, deciK)
+                                     : b769::rawTemperature(b769::map::cmd::IntTemperature, deciK));
     } else {
       board_->emu.setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
     }

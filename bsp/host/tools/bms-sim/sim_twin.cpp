@@ -14,6 +14,7 @@
 #include "app/protection.hpp"
 #include "board/board.hpp"
 #include "can/bms.hpp"
+#include "drivers/bq769x2/measurement.hpp"
 #include "pack_figures.hpp"
 #include "sim/peripherals.hpp"
 
@@ -22,6 +23,7 @@ namespace {
 
 using twin::Family;
 namespace bms = fw::can::bms;
+namespace b769 = fw::drivers::bq769x2;
 
 constexpr uint32_t kScanPeriodMs = 100;  // every image's scan period (app configs' default)
 
@@ -110,7 +112,9 @@ class TwinSim final : public ImageSim {
   void setTempDeciK(int board, int sensor, int deciK) override {
     if (auto* e = board_.bq769x()) {
       if (sensor == 1) {  // internal: BQ7690x in whole degC
-        e->setIntTemp(static_cast<int16_t>(id_.family == Family::Bq76907 ? (deciK - 2732) / 10 : deciK));
+        e->setIntTemp(id_.family == Family::Bq76907
+                          ? b769::rawTemperature(b769::map7690x::cmd::IntTemperature, deciK)
+                          : b769::rawTemperature(b769::map::cmd::IntTemperature, deciK));
       } else {
         e->setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
       }

@@ -9,8 +9,9 @@ int main() {
   image::bringUp();
   // The scheduler lives in this frame, which never ends: no global needs a constructor at start-up (the
   // reset handler runs none; linker/mspm0_sections.ld refuses any).
-  fw::sched::Scheduler scheduler(image::board().clock);
-  appInit(image::board(), scheduler);
-  scheduler.superviseWatchdog(image::board().watchdog, image::kWatchdogWindow);
+  image::Board& board = image::board();  // one call: board() lives in another translation unit
+  fw::sched::Scheduler scheduler(board.clock);
+  appInit(board, scheduler);
+  scheduler.superviseWatchdog(board.watchdog, image::kWatchdogWindow);
   scheduler.run();
 }
