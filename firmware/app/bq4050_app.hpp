@@ -54,14 +54,14 @@ class Bq4050Monitor final : public sched::Task {
 
   void start() {
     scheduler_.addTask(kId, *this, {}, true);
-    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
     scheduler_.post(kId, kRetry);
   }
   void run(sched::EventMask events) override;
 
   const drivers::bq4050::Gauge& gauge() const { return gauge_; }
-  const Bq4050Stats& stats() const { return r_.stats; }
-  const drivers::bq4050::DeviceInfo& info() const { return r_.info; }
+  const Bq4050Stats& stats() const { return records_.stats; }
+  const drivers::bq4050::DeviceInfo& info() const { return records_.info; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kScanTick = 0x4, kRetry = 0x8;
@@ -84,14 +84,14 @@ class Bq4050Monitor final : public sched::Task {
     drivers::bq4050::DeviceInfo info;
     drivers::bq4050::Measurement measurement;
   };
-  Flags f_{};
+  Flags flags_{};
   sched::TaskId protection_;
   sched::TaskId publisher_;
   sched::Scheduler& scheduler_;
   const Bq4050AppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
-  Records r_{};
+  Records records_{};
   drivers::bq4050::Gauge gauge_;
 };
 

@@ -114,7 +114,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   void start() {
     scheduler_.addTask(kId, *this, {}, true);
     alert_.enable(scheduler_.notifier(kId, kAlert));
-    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
     scheduler_.post(kId, kRetry);
   }
 
@@ -129,14 +129,14 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     // AllOff.
     constexpr FetCommand kCommand[4] = {FetCommand::AllOn, FetCommand::DischargeOff, FetCommand::ChargeOff,
                                         FetCommand::AllOff};
-    f_.fetWanted = true;
-    f_.fetRequested = true;
-    f_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
+    flags_.fetWanted = true;
+    flags_.fetRequested = true;
+    flags_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
     // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault
     // it was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets)
     // needs the command not to wait for a whole scan (~2 ms).
-    if (f_.op == Op::Scan) driver_.yieldScan();
-    f_.scanDue = true;
+    if (flags_.op == Op::Scan) driver_.yieldScan();
+    flags_.scanDue = true;
     if (kFaultIndicator && config_.faultIndicator != nullptr)
       config_.faultIndicator->set(!(chargeOn && dischargeOn));
     scheduler_.post(kId, kKick);
@@ -146,24 +146,24 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   void run(sched::EventMask events) override {
     // The driver's events are the two this task gave it (kBus, kTimer: the constructor's DriverContext).
     if ((events & (kBus | kTimer)) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
-    if ((events & kAlert) != 0 && f_.phase == Phase::Running) {
+    if ((events & kAlert) != 0 && flags_.phase == Phase::Running) {
       // Protection (higher priority) runs next and asks for the FETs; nothing is started for the alert
       // before it has, so the command goes first and the scan after it says which fault it was.
-      if (kStats) ++r_.stats.alerts;
+      if (kStats) ++records_.stats.alerts;
       scheduler_.post(kBq769xProtectionTask, ProtectionTask::kFaultLine);
     }
     if ((events & kScanTick) != 0) {
-      f_.scanDue = true;
-      f_.fetBackoff = false;  // a failed FET command is tried again once per scan period
+      flags_.scanDue = true;
+      flags_.fetBackoff = false;  // a failed FET command is tried again once per scan period
       scheduler_.checkIn(kId);
     }
-    if ((events & kRetry) != 0) f_.retryDue = true;
+    if ((events & kRetry) != 0) flags_.retryDue = true;
     if (!driver_.busy()) startNext();
   }
 
   const Driver& driver() const { return driver_; }
-  const Bq769xStats& stats() const { return r_.stats; }
-  bool running() const { return f_.phase == Phase::Running; }
+  const Bq769xStats& stats() const { return records_.stats; }
+  bool running() const { return flags_.phase == Phase::Running; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kAlert = 0x4, kScanTick = 0x8, kRetry = 0x10,
@@ -174,94 +174,97 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   void startNext() {
     Status s = Status::Busy;
     Op op = Op::Setup;
-    if (f_.phase != Phase::Running) {
-      if (f_.scanDue) {
-        f_.scanDue = false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
+    if (flags_.phase != Phase::Running) {
+      if (flags_.scanDue) {
+        flags_.scanDue =
+            false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
         scheduler_.post(kBq769xProtectionTask, ProtectionTask::kScanFailed);
       }
-      if (!f_.retryDue) return;
-      if (f_.phase == Phase::Probe) {
-        if (kStats) ++r_.stats.setupAttempts;
-        s = driver_.startProbe(r_.identity);
-      } else if (f_.phase == Phase::RuntimeSetup) {
+      if (!flags_.retryDue) return;
+      if (flags_.phase == Phase::Probe) {
+        if (kStats) ++records_.stats.setupAttempts;
+        s = driver_.startProbe(records_.identity);
+      } else if (flags_.phase == Phase::RuntimeSetup) {
         s = driver_.startRuntimeSetup(config_.settings);
       } else {
-        s = kConfigUpdate && f_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
-                                                          : driver_.startFetEnable();
+        s = kConfigUpdate && flags_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
+                                                              : driver_.startFetEnable();
       }
-    } else if (f_.fetWanted && !f_.fetBackoff) {
-      f_.fetWanted = false;
-      s = driver_.startFet(f_.fet);
+    } else if (flags_.fetWanted && !flags_.fetBackoff) {
+      flags_.fetWanted = false;
+      s = driver_.startFet(flags_.fet);
       op = Op::Fet;
-    } else if (f_.scanDue) {
-      f_.scanDue = false;
-      s = driver_.startScan(r_.measurement);
+    } else if (flags_.scanDue) {
+      flags_.scanDue = false;
+      s = driver_.startScan(records_.measurement);
       op = Op::Scan;
     }
-    f_.op = s == Status::Ok ? op : Op::None;
+    flags_.op = s == Status::Ok ? op : Op::None;
   }
 
   // Starts over from the probe after `wait` (the device may have reset or be absent; a reset loses its RAM
   // configuration).
   void retryLater(Duration wait) {
-    f_.phase = Phase::Probe;
-    f_.retryDue = false;
-    scheduler_.startTimer(r_.retryTimer, kId, kRetry, wait);
+    flags_.phase = Phase::Probe;
+    flags_.retryDue = false;
+    scheduler_.startTimer(records_.retryTimer, kId, kRetry, wait);
   }
 
   void finished() {
     const Instant now = scheduler_.now();
     const Status result = driver_.result();
-    const Op op = f_.op;
-    f_.op = Op::None;
+    const Op op = flags_.op;
+    flags_.op = Op::None;
     if (op == Op::Setup) {
       // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless),
       // so a device that comes back is set up within one scan period plus one bring-up. A later step that
       // failed waits the retry interval.
       if (result != Status::Ok)
-        return retryLater(f_.phase == Phase::Probe ? config_.scanPeriod : config_.retryInterval);
-      if (kStats && kConfigUpdate && f_.phase == Phase::Configure) r_.stats.configWrites = driver_.written();
+        return retryLater(flags_.phase == Phase::Probe ? config_.scanPeriod : config_.retryInterval);
+      if (kStats && kConfigUpdate && flags_.phase == Phase::Configure)
+        records_.stats.configWrites = driver_.written();
       // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
-      f_.phase = static_cast<Phase>(static_cast<uint8_t>(f_.phase) +
-                                    (!kConfigUpdate && f_.phase == Phase::Probe ? 2 : 1));
-      if (f_.phase == Phase::Running) {
-        f_.scanDue = true;
-        f_.fetWanted = f_.fetRequested;  // protection's last request, again: the device may have reset
+      flags_.phase = static_cast<Phase>(static_cast<uint8_t>(flags_.phase) +
+                                        (!kConfigUpdate && flags_.phase == Phase::Probe ? 2 : 1));
+      if (flags_.phase == Phase::Running) {
+        flags_.scanDue = true;
+        flags_.fetWanted =
+            flags_.fetRequested;  // protection's last request, again: the device may have reset
       }
       return;
     }
     if (op == Op::Fet) {
       if (result == Status::Ok) {
-        if (kStats) ++r_.stats.fetCommands;
+        if (kStats) ++records_.stats.fetCommands;
         protection_.actuated(now);
       } else {
         // The device did not take it (gone, resetting): keep scanning, and try again next period. The
         // device's own protection stays the backstop meanwhile.
-        f_.fetWanted = true;
-        f_.fetBackoff = true;
+        flags_.fetWanted = true;
+        flags_.fetBackoff = true;
       }
       return;
     }
     if (op != Op::Scan) return;
     if (result == Status::Aborted) return;  // gave way to a FET command (request()): not a measurement
-    if (kStats) ++r_.stats.scans;
+    if (kStats) ++records_.stats.scans;
     sample_.last = result;
     sched::EventMask toProtection = ProtectionTask::kScanFailed;
     if (result == Status::Ok) {
-      toSample(r_.measurement, config_.cells, sample_, view_);
+      toSample(records_.measurement, config_.cells, sample_, view_);
       toProtection = ProtectionTask::kNewData;
-      f_.failedInRow = 0;
-      if (r_.measurement.reg.batteryStatus.sleep_en()) {
+      flags_.failedInRow = 0;
+      if (records_.measurement.reg.batteryStatus.sleep_en()) {
         // The device reset since the set-up: set it up again now (the measurement itself is valid).
-        f_.phase = Phase::Probe;
-        f_.retryDue = true;
+        flags_.phase = Phase::Probe;
+        flags_.retryDue = true;
       }
     } else {
-      if (kStats) ++r_.stats.scanFailures;
+      if (kStats) ++records_.stats.scanFailures;
       // The device stopped answering or keeps failing: go through probe and configuration again, starting
       // with a probe at the next scan period.
-      if (++f_.failedInRow >= 3) {
-        f_.failedInRow = 0;
+      if (++flags_.failedInRow >= 3) {
+        flags_.failedInRow = 0;
         retryLater(config_.scanPeriod);
       }
     }
@@ -279,7 +282,7 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     bool scanDue;
     bool retryDue;
     bool fetWanted;
-    bool fetRequested;  // protection has made a request (f_.fet is its latest)
+    bool fetRequested;  // protection has made a request (flags_.fet is its latest)
     bool fetBackoff;
     drivers::bq769x2::FetCommand fet;  // meaningful while fetWanted
     uint8_t failedInRow;
@@ -291,14 +294,14 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
     drivers::bq769x2::Identity identity;
     Measurement measurement;
   };
-  Flags f_{};
+  Flags flags_{};
   sched::Scheduler& scheduler_;
   hal::EdgeInput& alert_;
   const Bq769xAppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
   ProtectionTask& protection_;
-  Records r_{};
+  Records records_{};
   Driver driver_;
 };
 

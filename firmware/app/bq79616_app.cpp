@@ -9,99 +9,101 @@ namespace b616 = drivers::bq79616;
 void Bq79616Monitor::run(sched::EventMask events) {
   const Instant now = scheduler_.now();
   if ((events & chain_.events()) != 0 && chain_.onEvent(events) == drivers::Progress::Done) finished(now);
-  if ((events & kFault) != 0 && f_.phase == Phase::Running) {
+  if ((events & kFault) != 0 && flags_.phase == Phase::Running) {
     // nFAULT: a device reports a fault. Protection acts on the line itself at once; the next scan (started
     // now) reads FAULT_SUMMARY to say which device and what. During bring-up and recovery the line is
     // expected to be low (devices leave reset with their faults latched until the fault reset), so it is
     // only a fault signal once the chain runs.
     scheduler_.post(protection_, ProtectionTask::kFaultLine);
-    f_.scanDue = f_.early = true;
+    flags_.scanDue = flags_.early = true;
   }
   if ((events & kScanTick) != 0) {
-    if (f_.scanning) ++r_.stats.scanOverruns;
-    f_.scanDue = true;
+    if (flags_.scanning) ++records_.stats.scanOverruns;
+    flags_.scanDue = true;
     scheduler_.checkIn(kId);  // the monitor is alive and on schedule, whatever the chain's state
   }
-  if ((events & kRetry) != 0) f_.retryDue = true;
+  if ((events & kRetry) != 0) flags_.retryDue = true;
   if (!chain_.busy()) startNext(now);
 }
 
 inline void Bq79616Monitor::startNext(Instant now) {
-  if (f_.phase != Phase::Running) {
-    if (f_.scanDue) {
+  if (flags_.phase != Phase::Running) {
+    if (flags_.scanDue) {
       // Nothing is measured until the chain is back: tell protection every period (comm loss, stale data).
-      f_.scanDue = false;
+      flags_.scanDue = false;
       scheduler_.post(protection_, ProtectionTask::kScanFailed);
     }
-    if (!f_.retryDue) return;
-    f_.retryDue = false;
-    ++r_.stats.recoveries;
+    if (!flags_.retryDue) return;
+    flags_.retryDue = false;
+    ++records_.stats.recoveries;
     // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
-    if ((f_.phase == Phase::BringUp ? chain_.startBringUp() : chain_.startRecovery(f_.from)) == Status::Ok)
-      r_.opStarted = now;
+    if ((flags_.phase == Phase::BringUp ? chain_.startBringUp() : chain_.startRecovery(flags_.from)) ==
+        Status::Ok)
+      records_.opStarted = now;
     return;
   }
-  if (!f_.scanDue) return;
-  f_.scanDue = false;
-  if (chain_.startScan(std::span<b616::DeviceRecord>(store_.records, config_.chain.devices), r_.summary) !=
-      Status::Ok) {
+  if (!flags_.scanDue) return;
+  flags_.scanDue = false;
+  if (chain_.startScan(std::span<b616::DeviceRecord>(store_.records, config_.chain.devices),
+                       records_.summary) != Status::Ok) {
     return;
   }
-  f_.scanning = true;
-  r_.opStarted = now;
-  if (f_.early) ++r_.stats.earlyScans;
-  f_.early = false;
+  flags_.scanning = true;
+  records_.opStarted = now;
+  if (flags_.early) ++records_.stats.earlyScans;
+  flags_.early = false;
 }
 
 // Bring-up or recovery ended: run with the devices that answer (CommFault names the missing one); otherwise
 // try again.
 inline void Bq79616Monitor::recovered(Status result) {
   using b616::RecoveryLevel;
-  const bool wasRecovery = f_.phase == Phase::Recovering;
+  const bool wasRecovery = flags_.phase == Phase::Recovering;
   if (result == Status::Ok || (result == Status::CommFault && chain_.devices() > 0)) {
-    f_.phase = Phase::Running;
-    f_.failedInRow = 0;
-    f_.scanDue = true;
+    flags_.phase = Phase::Running;
+    flags_.failedInRow = 0;
+    flags_.scanDue = true;
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
     // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
     const RecoveryLevel reached = chain_.lastRecovery();
     if (wasRecovery) {
-      f_.from = reached == RecoveryLevel::HardwareReset
-                    ? reached
-                    : static_cast<RecoveryLevel>(static_cast<uint8_t>(reached) + 1);
+      flags_.from = reached == RecoveryLevel::HardwareReset
+                        ? reached
+                        : static_cast<RecoveryLevel>(static_cast<uint8_t>(reached) + 1);
     }
     return;
   }
   // A failed ladder has sent a WAKE at least (its last rungs are full bring-ups), so the registers are reset:
   // only a full bring-up can bring the chain back, whatever a lighter rung's probe would say.
-  if (wasRecovery && f_.from < RecoveryLevel::Rewake) f_.from = RecoveryLevel::Rewake;
+  if (wasRecovery && flags_.from < RecoveryLevel::Rewake) flags_.from = RecoveryLevel::Rewake;
 }
 
 [[gnu::always_inline]] inline void Bq79616Monitor::finished(Instant now) {
   const Status result = chain_.result();
-  if (!f_.scanning) {
+  if (!flags_.scanning) {
     recovered(result);
-    if (f_.phase != Phase::Running)
-      scheduler_.startTimer(r_.retryTimer, kId, kRetry, config_.retryAfterFailure);
+    if (flags_.phase != Phase::Running)
+      scheduler_.startTimer(records_.retryTimer, kId, kRetry, config_.retryAfterFailure);
     return;
   }
-  f_.scanning = false;
-  ++r_.stats.scans;
-  r_.stats.lastScan = elapsed(r_.opStarted, now);
+  flags_.scanning = false;
+  ++records_.stats.scans;
+  records_.stats.lastScan = elapsed(records_.opStarted, now);
   publishScan(now);
   // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
   // over, and the next recovery may start at the lightest rung again.
-  if (chain_.devices() != 0 && r_.summary.validDevices == chain_.devices()) f_.from = b616::RecoveryLevel{};
+  if (chain_.devices() != 0 && records_.summary.validDevices == chain_.devices())
+    flags_.from = b616::RecoveryLevel{};
   if (result == Status::Ok) {
-    f_.failedInRow = 0;
+    flags_.failedInRow = 0;
   } else {
-    ++r_.stats.scanFailures;
-    if (++f_.failedInRow >= 3) {
+    ++records_.stats.scanFailures;
+    if (++flags_.failedInRow >= 3) {
       // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
       // otherwise at most once per recoveryInterval.
-      f_.phase = Phase::Recovering;
-      scheduler_.startTimer(r_.retryTimer, kId, kRetry,
-                            f_.from == b616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
+      flags_.phase = Phase::Recovering;
+      scheduler_.startTimer(records_.retryTimer, kId, kRetry,
+                            flags_.from == b616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
     }
   }
 }

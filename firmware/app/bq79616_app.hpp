@@ -77,14 +77,14 @@ class Bq79616Monitor final : public sched::Task {
   void start() {
     scheduler_.addTask(kId, *this, {}, true);
     chain_.attachFaultLine(nfault_, kFault);
-    scheduler_.startTimer(r_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
+    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
     scheduler_.post(kId, kRetry);
   }
   void run(sched::EventMask events) override;
 
   const drivers::bq79616::Chain& chain() const { return chain_; }
-  const MonitorStats& stats() const { return r_.stats; }
-  bool running() const { return f_.phase == Phase::Running; }
+  const MonitorStats& stats() const { return records_.stats; }
+  bool running() const { return flags_.phase == Phase::Running; }
 
  private:
   static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFault = 0x4, kScanTick = 0x8, kRetry = 0x10;
@@ -114,7 +114,7 @@ class Bq79616Monitor final : public sched::Task {
     sched::Timer scanTimer;
     sched::Timer retryTimer;
   };
-  Flags f_{};
+  Flags flags_{};
   sched::TaskId protection_;
   sched::TaskId publisher_;
   sched::Scheduler& scheduler_;
@@ -122,7 +122,7 @@ class Bq79616Monitor final : public sched::Task {
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
-  Records r_{};
+  Records records_{};
   drivers::bq79616::Chain chain_;
 };
 

@@ -109,9 +109,9 @@ class Protection {
   // that cleared; a latched fault whose condition is still present stays.
   FaultMask clearLatched();
 
-  FaultMask active() const { return s_.active; }
+  FaultMask active() const { return state_.active; }
   const ProtectionConfig& config() const { return config_; }
-  Instant trippedAt(FaultId id) const { return s_.tripped[static_cast<uint8_t>(id)]; }
+  Instant trippedAt(FaultId id) const { return state_.tripped[static_cast<uint8_t>(id)]; }
 
  private:
   // Moves rule `i`'s debounce with its value `v` (out of line: the loop around it stays in registers).
@@ -131,7 +131,7 @@ class Protection {
     Instant tripped[kFaultCount];
   };
   const ProtectionConfig& config_;
-  State s_{};
+  State state_{};
 };
 
 }  // namespace fw::app

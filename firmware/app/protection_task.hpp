@@ -86,7 +86,7 @@ class ProtectionTask final : public sched::Task {
   // until then the outputs stay as reset left them (a fault pin asserted, the monitor's FETs its own).
   void start() {
     scheduler_.addTask(id_, *this, {}, true);
-    scheduler_.startTimer(s_.timer, id_, kTick, checkPeriod_, checkPeriod_);
+    scheduler_.startTimer(state_.timer, id_, kTick, checkPeriod_, checkPeriod_);
   }
   void run(sched::EventMask events) override;
   // The owner of a deferred actuator reports that the last request took effect.
@@ -94,8 +94,8 @@ class ProtectionTask final : public sched::Task {
 
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
-  std::span<const ProtectionRecord> log() const { return {s_.log, s_.logCount}; }
-  uint32_t evaluations() const { return s_.evaluations; }
+  std::span<const ProtectionRecord> log() const { return {state_.log, state_.logCount}; }
+  uint32_t evaluations() const { return state_.evaluations; }
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
@@ -117,7 +117,7 @@ class ProtectionTask final : public sched::Task {
     ProtectionRecord log[kLogSize != 0 ? kLogSize : 1];
   };
   sched::TaskId id_;
-  State s_{};
+  State state_{};
   sched::Scheduler& scheduler_;
   const PackView& pack_;
   PublishStatus& status_;

@@ -33,10 +33,10 @@ class SlcanPublisher final : public sched::Task {
 
   void start() {
     scheduler_.addTask(id_, *this);
-    scheduler_.startTimer(s_.timer, id_, kTick, fastPeriod_, fastPeriod_);
+    scheduler_.startTimer(state_.timer, id_, kTick, fastPeriod_, fastPeriod_);
   }
   void run(sched::EventMask events) override;
-  const PublishStats& stats() const { return s_.stats; }
+  const PublishStats& stats() const { return state_.stats; }
 
  private:
   static constexpr sched::EventMask kTick = 0x2;
@@ -54,7 +54,7 @@ class SlcanPublisher final : public sched::Task {
   };
   sched::TaskId id_;
   uint8_t slowEvery_;
-  State s_{};
+  State state_{};
   sched::Scheduler& scheduler_;
   hal::SerialTx& serial_;
   FramePlan& plan_;

@@ -4,6 +4,8 @@
 // - `Status::Ok` is the only success value; every other value names one failure, so a caller can always
 //   tell a NACK from a timeout from a corrupted byte. Drivers document which values each call returns.
 // - Values are stable: tools print them by name (status_name.cpp, host only) and tests compare them.
+// - [[nodiscard]]: a call that returns a Status must use it, or discard it with `(void)` and a comment that
+//   says why ignoring it is safe.
 // - Header-only, no dependencies; usable from ISRs.
 #pragma once
 
@@ -11,7 +13,10 @@
 
 namespace fw {
 
-enum class Status : uint8_t {
+// clang-format 14 misreads an attribute between `enum class` and the name (it re-indents the enumerators):
+// the declaration is kept as written.
+// clang-format off
+enum class [[nodiscard]] Status : uint8_t {
   Ok = 0,
   Busy,             // the resource is already in use; nothing was started
   InvalidArgument,  // the request itself is malformed (length, range, null buffer)
@@ -38,6 +43,7 @@ enum class Status : uint8_t {
   Aborted,          // the operation was cancelled before it completed
   Unsupported,      // the device or build does not provide this operation
 };
+// clang-format on
 
 // Number of distinct Status values (for tables indexed by status).
 inline constexpr uint8_t kStatusCount = static_cast<uint8_t>(Status::Unsupported) + 1;

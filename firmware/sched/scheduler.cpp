@@ -35,18 +35,18 @@ Instant Scheduler::now() const {
 }
 
 void Scheduler::addTask(TaskId id, Task& task, Duration budget, bool watched) {
-  FW_ASSERT(id < kMaxTasks && s_.tasks[id] == nullptr);
-  s_.tasks[id] = &task;
-  if (kBudgets) s_.budget[id] = budget;
-  if (watched) s_.watched = static_cast<uint8_t>(s_.watched | (1U << id));
+  FW_ASSERT(id < kMaxTasks && state_.tasks[id] == nullptr);
+  state_.tasks[id] = &task;
+  if (kBudgets) state_.budget[id] = budget;
+  if (watched) state_.watched = static_cast<uint8_t>(state_.watched | (1U << id));
 }
 
 void Scheduler::post(TaskId id, EventMask events) {
-  FW_ASSERT(id < kMaxTasks && s_.tasks[id] != nullptr);
+  FW_ASSERT(id < kMaxTasks && state_.tasks[id] != nullptr);
   {
     hal::CriticalSection cs;
-    s_.pending[id] |= events;
-    s_.ready = static_cast<uint8_t>(s_.ready | (1U << id));
+    state_.pending[id] |= events;
+    state_.ready = static_cast<uint8_t>(state_.ready | (1U << id));
   }
   trace(TraceKind::Post, id, events);
 }
@@ -64,7 +64,7 @@ hal::Notify Scheduler::notifier(TaskId id, EventMask events) {
 void Scheduler::insertTimer(Timer& timer) {
   // Sorted by deadline; a timer goes after others with the same deadline, so equal deadlines fire in the
   // order they were armed.
-  Timer** link = &s_.timers;
+  Timer** link = &state_.timers;
   while (*link != nullptr && !isBefore(timer.deadline_, (*link)->deadline_))
     link = &(*link)->next_;
   timer.next_ = *link;
@@ -73,7 +73,7 @@ void Scheduler::insertTimer(Timer& timer) {
 }
 
 void Scheduler::removeTimer(Timer& timer) {
-  for (Timer** link = &s_.timers; *link != nullptr; link = &(*link)->next_) {
+  for (Timer** link = &state_.timers; *link != nullptr; link = &(*link)->next_) {
     if (*link == &timer) {
       *link = timer.next_;
       break;
@@ -84,7 +84,7 @@ void Scheduler::removeTimer(Timer& timer) {
 }
 
 void Scheduler::startTimer(Timer& timer, TaskId id, EventMask events, Duration delay, Duration period) {
-  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && s_.tasks[id] != nullptr));
+  FW_ASSERT(id == kSupervisorTask || (id < kMaxTasks && state_.tasks[id] != nullptr));
   if (timer.armed_) removeTimer(timer);
   timer.task_ = id;
   timer.events_ = events;
@@ -98,15 +98,15 @@ void Scheduler::stopTimer(Timer& timer) {
 }
 
 bool Scheduler::nextDeadline(Instant& deadline) const {
-  if (s_.timers == nullptr) return false;
-  deadline = s_.timers->deadline_;
+  if (state_.timers == nullptr) return false;
+  deadline = state_.timers->deadline_;
   return true;
 }
 
 void Scheduler::fireDueTimers(Instant now) {
-  while (s_.timers != nullptr && isDue(s_.timers->deadline_, now)) {
-    Timer& timer = *s_.timers;
-    s_.timers = timer.next_;
+  while (state_.timers != nullptr && isDue(state_.timers->deadline_, now)) {
+    Timer& timer = *state_.timers;
+    state_.timers = timer.next_;
     timer.next_ = nullptr;
     timer.armed_ = false;
     const bool supervisor = timer.task_ == kSupervisorTask;
@@ -114,9 +114,9 @@ void Scheduler::fireDueTimers(Instant now) {
     if (supervisor) {
       superviseOnce();
     } else {
-      if (timer.period_.us != 0 && (s_.pending[timer.task_] & timer.events_) != 0) {
+      if (timer.period_.us != 0 && (state_.pending[timer.task_] & timer.events_) != 0) {
         // The previous expiry has not been consumed yet: the task is falling behind its period.
-        ++s_.stats[timer.task_].timerOverruns;
+        ++state_.stats[timer.task_].timerOverruns;
         trace(TraceKind::TimerOverrun, timer.task_, 1);
       }
       trace(TraceKind::TimerFire, timer.task_, timer.events_);
@@ -134,7 +134,7 @@ void Scheduler::fireDueTimers(Instant now) {
       for (; isDue(timer.deadline_, now); ++missed)
         timer.deadline_ = timer.deadline_ + timer.period_;
       if (missed != 0 && !supervisor) {
-        s_.stats[timer.task_].timerOverruns += missed;
+        state_.stats[timer.task_].timerOverruns += missed;
         trace(TraceKind::TimerOverrun, timer.task_, missed);
       }
       insertTimer(timer);
@@ -149,33 +149,33 @@ bool Scheduler::dispatchOne() {
   EventMask events;
   {
     hal::CriticalSection cs;
-    const uint8_t ready = s_.ready;
+    const uint8_t ready = state_.ready;
     if (ready == 0) return false;
     id = highestBit(ready);
-    events = s_.pending[id];
-    s_.pending[id] = 0;
-    s_.ready = static_cast<uint8_t>(ready & ~(1U << id));
+    events = state_.pending[id];
+    state_.pending[id] = 0;
+    state_.ready = static_cast<uint8_t>(ready & ~(1U << id));
   }
 
   trace(TraceKind::Run, id, events);
   if constexpr (kBudgets) {
     // Two clock reads around the run: only for the run-time figures, so only where they are built.
     const Instant start = clock_.now();
-    s_.tasks[id]->run(events);
+    state_.tasks[id]->run(events);
     noteRun(id, elapsed(start, clock_.now()));
   } else {
-    s_.tasks[id]->run(events);
+    state_.tasks[id]->run(events);
     trace(TraceKind::RunEnd, id, 0);
   }
   return true;
 }
 
 inline void Scheduler::noteRun(TaskId id, Duration took) {
-  TaskStats& st = s_.stats[id];
+  TaskStats& st = state_.stats[id];
   ++st.runs;
   if (took > st.worstRun) st.worstRun = took;
   trace(TraceKind::RunEnd, id, took.us);
-  if (s_.budget[id].us != 0 && took > s_.budget[id]) {
+  if (state_.budget[id].us != 0 && took > state_.budget[id]) {
     ++st.overruns;
     trace(TraceKind::Overrun, id, took.us);
   }
@@ -185,9 +185,10 @@ void Scheduler::idle() {
   const uint32_t saved = port::irqSave();
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
-  const bool work = s_.ready != 0 || (s_.timers != nullptr && isDue(s_.timers->deadline_, clock_.now()));
+  const bool work =
+      state_.ready != 0 || (state_.timers != nullptr && isDue(state_.timers->deadline_, clock_.now()));
   if (!work) {
-    if (s_.timers != nullptr) clock_.wakeAt(s_.timers->deadline_);
+    if (state_.timers != nullptr) clock_.wakeAt(state_.timers->deadline_);
     trace(TraceKind::Idle, kNoTask, 0);
     FW_IDLE_WINDOW();
     port::waitForInterrupt();
@@ -203,45 +204,45 @@ void Scheduler::run() {
 
 void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {
   FW_ASSERT(window.us != 0);
-  s_.watchdog = &watchdog;
-  s_.checkedIn = 0;
-  startTimer(s_.supervisor, kSupervisorTask, 0, window, window);
+  state_.watchdog = &watchdog;
+  state_.checkedIn = 0;
+  startTimer(state_.supervisor, kSupervisorTask, 0, window, window);
 }
 
 void Scheduler::checkIn(TaskId id) {
-  s_.checkedIn = static_cast<uint8_t>(s_.checkedIn | (1U << id));
+  state_.checkedIn = static_cast<uint8_t>(state_.checkedIn | (1U << id));
 }
 
 inline void Scheduler::superviseOnce() {
-  const uint8_t missing = static_cast<uint8_t>(s_.watched & ~s_.checkedIn);
+  const uint8_t missing = static_cast<uint8_t>(state_.watched & ~state_.checkedIn);
   if (missing == 0) {
-    s_.watchdog->feed();
+    state_.watchdog->feed();
     trace(TraceKind::WatchdogFeed, kNoTask, 0);
   } else {
     trace(TraceKind::WatchdogStarved, kNoTask, missing);
   }
-  s_.checkedIn = 0;
+  state_.checkedIn = 0;
 }
 
 void Scheduler::noteQueueDrop(TaskId id) {
   uint32_t drops;
   {
     hal::CriticalSection cs;
-    drops = ++s_.stats[id].queueDrops;
+    drops = ++state_.stats[id].queueDrops;
   }
   trace(TraceKind::QueueFull, id, drops);
 }
 
 void Scheduler::setTraceSink([[maybe_unused]] TraceSink* sink) {
 #if FW_SCHED_TRACE
-  s_.sink = sink;
+  state_.sink = sink;
 #endif
 }
 
 void Scheduler::trace([[maybe_unused]] TraceKind kind, [[maybe_unused]] uint8_t task,
                       [[maybe_unused]] uint32_t arg) {
 #if FW_SCHED_TRACE
-  if (s_.sink != nullptr) s_.sink->record(kind, task, arg);
+  if (state_.sink != nullptr) state_.sink->record(kind, task, arg);
 #endif
 }
 

@@ -81,7 +81,7 @@ class Scheduler {
 
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
-  const TaskStats& stats(TaskId id) const { return s_.stats[id]; }
+  const TaskStats& stats(TaskId id) const { return state_.stats[id]; }
   hal::Clock& clock() const { return clock_; }
   // clock().now() as one direct call, for the tasks (out of line: they share it instead of each expanding
   // the virtual call; the scheduler's own hot paths keep the direct virtual call).
@@ -118,7 +118,7 @@ class Scheduler {
     TraceSink* sink;
 #endif
   };
-  State s_{};
+  State state_{};
 };
 
 }  // namespace fw::sched

@@ -122,20 +122,20 @@ class FakeMonitor final : public fw::sched::Task {
  public:
   static constexpr fw::sched::TaskId kId = 1;
   FakeMonitor(fw::sched::Scheduler& s, app::PackView& view, std::vector<app::BoardSample>& boards)
-      : s_(s), view_(view), boards_(boards) {}
+      : scheduler_(s), view_(view), boards_(boards) {}
   void start() {
-    s_.addTask(kId, *this);
-    s_.startTimer(timer_, kId, 1, fw::ms(100), fw::ms(100));
+    scheduler_.addTask(kId, *this);
+    scheduler_.startTimer(timer_, kId, 1, fw::ms(100), fw::ms(100));
   }
   void run(fw::sched::EventMask) override {
     for (auto& b : boards_)
-      b.takenAt = s_.now();
-    fw::app::summarize(view_, s_.now());
-    s_.post(0, app::CanPublisher::kScanDone);
+      b.takenAt = scheduler_.now();
+    fw::app::summarize(view_, scheduler_.now());
+    scheduler_.post(0, app::CanPublisher::kScanDone);
   }
 
  private:
-  fw::sched::Scheduler& s_;
+  fw::sched::Scheduler& scheduler_;
   app::PackView& view_;
   std::vector<app::BoardSample>& boards_;
   fw::sched::Timer timer_;

@@ -31,54 +31,55 @@ inline constexpr uint64_t kInFlightUs = 5000;
 template <class Board>
 class OutageRig {
  public:
-  explicit OutageRig(std::unique_ptr<Board> board) : b_(std::move(board)) {}
+  explicit OutageRig(std::unique_ptr<Board> board) : board_(std::move(board)) {}
 
   // Runs the board from power-on to its first good scan (recovered()); returns that time.
   uint64_t boot() {
     EXPECT_TRUE(run([&] { return recovered(0); }, fw::s(10))) << "the board never came up";
-    return b_->h.nowUs();
+    return board_->h.nowUs();
   }
 
   // One outage of `lengthUs` starting `phaseUs` into a scan period; returns the time from the heal to good
   // scans, or UINT64_MAX if they did not come within `limit`.
   uint64_t outage(int kind, uint64_t lengthUs, uint64_t phaseUs, fw::Duration limit) {
-    const uint64_t period = b_->config.scanPeriod.us;
-    const uint64_t t0 = (b_->h.nowUs() / period + 2) * period + phaseUs;
-    EXPECT_TRUE(run([&] { return b_->h.nowUs() >= t0; }, fw::s(1)));
-    b_->setOutage(kind, true);
-    from_ = b_->h.nowUs();
+    const uint64_t period = board_->config.scanPeriod.us;
+    const uint64_t t0 = (board_->h.nowUs() / period + 2) * period + phaseUs;
+    EXPECT_TRUE(run([&] { return board_->h.nowUs() >= t0; }, fw::s(1)));
+    board_->setOutage(kind, true);
+    from_ = board_->h.nowUs();
     to_ = from_ + lengthUs;
-    EXPECT_TRUE(run([&] { return b_->h.nowUs() >= to_; }, fw::us(static_cast<uint32_t>(lengthUs + 1000))));
-    b_->setOutage(kind, false);
-    const uint64_t healed = to_ = b_->h.nowUs();
+    EXPECT_TRUE(
+        run([&] { return board_->h.nowUs() >= to_; }, fw::us(static_cast<uint32_t>(lengthUs + 1000))));
+    board_->setOutage(kind, false);
+    const uint64_t healed = to_ = board_->h.nowUs();
     const bool ok = run([&] { return recovered(healed); }, limit);
-    const uint64_t took = b_->h.nowUs() - healed;
+    const uint64_t took = board_->h.nowUs() - healed;
     run([] { return false; }, fw::ms(300));  // and it stays so
     EXPECT_TRUE(recovered(healed)) << "relapsed after recovering";
     return ok ? took : UINT64_MAX;
   }
 
   int badPublications() const { return bad_; }
-  Board& board() { return *b_; }
+  Board& board() { return *board_; }
 
  private:
   // Every board's latest attempt validated, with values measured at or after `sinceUs`; the fault output is
   // off and neither comm_loss nor stale_data is active.
   bool recovered(uint64_t sinceUs) const {
-    for (const auto& s : b_->app.pack().boards) {
-      if (!s.valid || s.last != fw::Status::Ok || b_->h.clock.expand(s.takenAt) < sinceUs) return false;
+    for (const auto& s : board_->app.pack().boards) {
+      if (!s.valid || s.last != fw::Status::Ok || board_->h.clock.expand(s.takenAt) < sinceUs) return false;
     }
     using fw::app::FaultId;
-    const auto active = b_->app.status().active;
-    return !b_->faultOut.level() &&
+    const auto active = board_->app.status().active;
+    return !board_->faultOut.level() &&
            (active & (fw::app::bit(FaultId::CommLoss) | fw::app::bit(FaultId::StaleData))) == 0;
   }
 
   // Runs until `done` holds or `limit` passes, checking each scan the monitor publishes.
   bool run(const std::function<bool()>& done, fw::Duration limit) {
-    return b_->h.runUntil(
+    return board_->h.runUntil(
         [&] {
-          const uint32_t scans = b_->app.monitor().stats().scans;
+          const uint32_t scans = board_->app.monitor().stats().scans;
           if (scans != scans_) {
             scans_ = scans;
             check();
@@ -90,9 +91,9 @@ class OutageRig {
 
   // No board may be published as valid with values measured during the outage.
   void check() {
-    for (const auto& s : b_->app.pack().boards) {
+    for (const auto& s : board_->app.pack().boards) {
       if (s.last != fw::Status::Ok) continue;
-      const uint64_t t = b_->h.clock.expand(s.takenAt);
+      const uint64_t t = board_->h.clock.expand(s.takenAt);
       if (t > from_ + kInFlightUs && t < to_) {
         ++bad_;
         ADD_FAILURE() << "a board was published valid with values measured at " << t
@@ -101,7 +102,7 @@ class OutageRig {
     }
   }
 
-  std::unique_ptr<Board> b_;
+  std::unique_ptr<Board> board_;
   uint32_t scans_ = 0;
   uint64_t from_ = UINT64_MAX, to_ = 0;
   int bad_ = 0;

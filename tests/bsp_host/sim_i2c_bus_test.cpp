@@ -83,7 +83,7 @@ TEST(SimI2cBus, AddressNackStopsTheListAndAbortsTheRest) {
   f.target.nackAddress = true;
   const uint8_t a = 0x3E, b = 0x40;
   std::vector<fw::hal::I2cTransaction> list{{0x08, {&a, 1}, {}}, {0x08, {&b, 1}, {}}};
-  f.run(list);
+  EXPECT_EQ(f.run(list), Status::Aborted);  // run() returns the last transaction's status
   EXPECT_EQ(list[0].status, Status::Nack);
   EXPECT_EQ(list[1].status, Status::Aborted);
   EXPECT_EQ(f.bus.wireLog()[0].text, "S 10 NACK P");

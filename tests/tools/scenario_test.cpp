@@ -213,7 +213,7 @@ class RecordingSim final : public ImageSim {
   void openWire(int, int) override {}
   void setIntermittent(bool) override {}
   bool busOff() override { return false; }
-  bsp::host::Harness& harness() override { return h_; }
+  bsp::host::Harness& harness() override { return harness_; }
   SimFigures figures() override { return {}; }
   std::vector<fw::app::ProtectionRecord> protectionLog() const override { return {}; }
   std::vector<SentFrame> frames() const override { return {}; }
@@ -224,7 +224,7 @@ class RecordingSim final : public ImageSim {
   bool commLost = false;
 
  private:
-  bsp::host::Harness h_;
+  bsp::host::Harness harness_;
   int cell_[2][5] = {};
   int temp_[2][3] = {};
 };

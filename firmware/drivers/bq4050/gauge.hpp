@@ -196,10 +196,10 @@ class Gauge {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return s_.op != Op::None || s_.busLost; }
-  Status result() const { return s_.result; }
-  bool pecEnabled() const { return s_.pec; }
-  const Stats& stats() const { return b_.stats; }
+  bool busy() const { return state_.op != Op::None || state_.busLost; }
+  Status result() const { return state_.result; }
+  bool pecEnabled() const { return state_.pec; }
+  const Stats& stats() const { return buffers_.stats; }
   const GaugeConfig& config() const { return config_; }
 
  private:
@@ -225,6 +225,18 @@ class Gauge {
   uint16_t word() const;
   const uint8_t* data() const;
   uint8_t dataLength() const;
+
+  // Where an operation's result goes: the member its start function names (state_.op tells which).
+  union Output {
+    DeviceInfo* info;          // startProbe
+    Measurement* measurement;  // startScan
+    uint16_t* word;            // startReadWord
+    FetState* fet;             // startFetControl
+    struct {
+      uint8_t* bytes;
+      uint8_t* length;
+    } block;  // startReadBlock, startReadMac, startReadMacData
+  };
 
   // Everything that changes, in two blocks zeroed at construction. The byte-sized state every step touches
   // comes first: a Cortex-M0+ byte load reaches only 31 bytes past its base register.
@@ -253,9 +265,7 @@ class Gauge {
     uint16_t toggled;   // the FET toggle last sent successfully (0: none)
     uint16_t probe[2];  // SpecificationInfo and DeviceType until the probe ends; ManufacturingStatus
     Instant lastEnd;
-    void* out;  // the caller's output, written only when the operation ends Ok
-    uint8_t* outBytes;
-    uint8_t* outLength;
+    Output out;  // the caller's output, written only when the operation ends Ok
   };
   // The large parts, after the members the code reaches by small offsets.
   struct Buffers {
@@ -266,7 +276,7 @@ class Gauge {
   };
   static_assert(std::is_trivially_copyable_v<State> && std::is_trivial_v<Buffers>);  // zeroed as blocks
 
-  State s_;
+  State state_;
   hal::I2cBus& bus_;
   const hal::Clock& clock_;
   DriverContext ctx_;
@@ -274,7 +284,7 @@ class Gauge {
   sched::Timer timer_;
   hal::I2cTransaction txn_;
   hal::Notify busDone_;  // posts ctx_.busEvent to the owning task
-  Buffers b_;
+  Buffers buffers_;
 };
 
 }  // namespace fw::drivers::bq4050

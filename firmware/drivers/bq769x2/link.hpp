@@ -136,15 +136,15 @@ class Link {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return s_.op != Op::Idle; }
-  Status result() const { return s_.result; }
-  const uint8_t* data() const { return b_.scratch + s_.at; }
-  uint8_t* scratch() { return b_.scratch; }
-  uint8_t reported() const { return s_.reported; }
+  bool busy() const { return state_.op != Op::Idle; }
+  Status result() const { return state_.result; }
+  const uint8_t* data() const { return buffers_.scratch + state_.at; }
+  uint8_t* scratch() { return buffers_.scratch; }
+  uint8_t reported() const { return state_.reported; }
   bool crc() const { return kCrc && cfg_.crc; }
   void setCrc(bool on) { cfg_.crc = on; }  // when idle (the CRC-mode probe)
   Duration pollInterval() const { return cfg_.pollInterval; }
-  const LinkStats& stats() const { return b_.stats; }
+  const LinkStats& stats() const { return buffers_.stats; }
 
  private:
   enum class Op : uint8_t { Idle, Read, Write, SubWrite, SubRead, Sub };
@@ -188,10 +188,10 @@ class Link {
   // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register. The
   // configuration is kept whole (its bytes first), so the constructor copies it as one block.
   LinkConfig cfg_;
-  State s_{};
+  State state_{};
   hal::I2cBus& bus_;
   DriverContext ctx_;
-  Buffers b_{};
+  Buffers buffers_{};
 };
 
 // The transfer checksum: ~(sum of the code bytes and the data) & 0xFF (SLUUBY2B section 13.1).

@@ -179,22 +179,24 @@ inline constexpr Check kChecks7690x[] = {
 static_assert(map7690x::bits::SafetyStatusA::fields_mask == 0xFF &&
               map7690x::bits::SafetyB::fields_mask == 0xFF);
 constexpr Variant bq7690x(uint8_t cells) {
-  return {
-      {{V0::address, V0::size}, {A0::address, A0::size}, {C0::address, C0::size}, {S0::address, S0::size}},
-      kChecks7690x,
-      sizeof kChecks7690x / sizeof kChecks7690x[0],
-      cells,
-      map7690x::bits::BatteryStatus::cfgupdate_mask,
-      1,
-      high(map7690x::bits::BatteryStatus::fet_en_mask),
-      0,
-      regmap::code8(map7690x::cmd::FetControl),
-      1,
-      1,
-      map7690x::bits::BatteryStatus::sleep_en_mask,
-      A0::record + A0::offsetAlarmStatus,
-      regmap::code16(map7690x::dm::DefaultAlarmMask),
-      2000};  // 2 ms, as TI's examples wait
+  return {.blocks = {{V0::address, V0::size},
+                     {A0::address, A0::size},
+                     {C0::address, C0::size},
+                     {S0::address, S0::size}},
+          .checks = kChecks7690x,
+          .checkCount = sizeof kChecks7690x / sizeof kChecks7690x[0],
+          .cells = cells,
+          .cfgUpdateMask = map7690x::bits::BatteryStatus::cfgupdate_mask,
+          .fetEnByte = 1,
+          .fetEnMask = high(map7690x::bits::BatteryStatus::fet_en_mask),
+          .fetEnCode = 0,
+          .fetControlCmd = regmap::code8(map7690x::cmd::FetControl),
+          .cbBytes = 1,
+          .cbShift = 1,
+          .sleepEnMask = map7690x::bits::BatteryStatus::sleep_en_mask,
+          .alarmOffset = A0::record + A0::offsetAlarmStatus,
+          .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
+          .firstPollUs = 2000};  // 2 ms, as TI's examples wait
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -202,24 +204,24 @@ static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
 
 // Also BQ76942/BQ769142/BQ76922/BQ76972 (set cells via the record).
 inline constexpr Variant kBq76952{
-    {{variant_detail::V2::address, variant_detail::V2::size},
-     {variant_detail::T2::address, variant_detail::T2::size},
-     {variant_detail::S2::address, variant_detail::S2::size},
-     {variant_detail::F2::address, variant_detail::F2::size}},
-    variant_detail::kChecks769x2,
-    sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
-    16,
-    map::bits::BatteryStatus::cfgupdate_mask,
-    0,
-    map::bits::ManufacturingStatus::fet_en_mask,
-    regmap::code16(map::sub::ManufacturingStatus),
-    0,
-    2,
-    0,
-    map::bits::BatteryStatus::sleep_en_mask,
-    variant_detail::T2::record + variant_detail::T2::offsetAlarmStatus,
-    regmap::code16(map::dm::DefaultAlarmMask),
-    0};
+    .blocks = {{variant_detail::V2::address, variant_detail::V2::size},
+               {variant_detail::T2::address, variant_detail::T2::size},
+               {variant_detail::S2::address, variant_detail::S2::size},
+               {variant_detail::F2::address, variant_detail::F2::size}},
+    .checks = variant_detail::kChecks769x2,
+    .checkCount = sizeof variant_detail::kChecks769x2 / sizeof variant_detail::kChecks769x2[0],
+    .cells = 16,
+    .cfgUpdateMask = map::bits::BatteryStatus::cfgupdate_mask,
+    .fetEnByte = 0,
+    .fetEnMask = map::bits::ManufacturingStatus::fet_en_mask,
+    .fetEnCode = regmap::code16(map::sub::ManufacturingStatus),
+    .fetControlCmd = 0,
+    .cbBytes = 2,
+    .cbShift = 0,
+    .sleepEnMask = map::bits::BatteryStatus::sleep_en_mask,
+    .alarmOffset = variant_detail::T2::record + variant_detail::T2::offsetAlarmStatus,
+    .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
+    .firstPollUs = 0};
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
@@ -275,12 +277,12 @@ class Monitor {
   sched::EventMask events() const { return link_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return s_.op != Op::Idle; }
+  bool busy() const { return state_.op != Op::Idle; }
   // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
-  void yieldScan() { s_.yield = true; }
-  Status result() const { return s_.result; }
-  FetIntent fetIntent() const { return s_.intent; }
-  uint8_t written() const { return s_.written; }  // settings the last startConfigure wrote
+  void yieldScan() { state_.yield = true; }
+  Status result() const { return state_.result; }
+  FetIntent fetIntent() const { return state_.intent; }
+  uint8_t written() const { return state_.written; }  // settings the last startConfigure wrote
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
@@ -359,7 +361,10 @@ class Monitor {
     bool yield;    // the scan ends at its next read boundary
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
     std::span<const Setting> settings;
-    void* out;  // the probe's Identity, or the scan's measurement record
+    union {
+      Identity* identity;  // startProbe
+      Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
+    } out;
     uint32_t diff;
     uint32_t scanRetries;
   };
@@ -367,7 +372,7 @@ class Monitor {
   uint8_t cfgPolls_;
   bool probeCrc_;
   bool allowAdjacent_;
-  State s_{};
+  State state_{};
   const hal::Clock& clock_;
   const Variant& variant_;
   Link link_;  // with its buffers: last

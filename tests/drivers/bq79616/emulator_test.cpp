@@ -64,17 +64,17 @@ struct Wire {
   void bringUp(size_t n) {
     ping(us(2250));
     h.runFor(ms(11));
-    write(RequestType::SingleWrite, 0, kControl1, {0x20});
+    EXPECT_EQ(write(RequestType::SingleWrite, 0, kControl1, {0x20}), Status::Ok);
     h.runFor(ms(12) * static_cast<uint32_t>(n));
-    write(RequestType::BroadcastWrite, 0, kControl1, {0x01});
+    EXPECT_EQ(write(RequestType::BroadcastWrite, 0, kControl1, {0x01}), Status::Ok);
     for (uint8_t a = 0; a < n; ++a)
-      write(RequestType::BroadcastWrite, 0, kDir0Addr, {a});
-    write(RequestType::BroadcastWrite, 0, kCommCtrl, {0x02});
+      EXPECT_EQ(write(RequestType::BroadcastWrite, 0, kDir0Addr, {a}), Status::Ok);
+    EXPECT_EQ(write(RequestType::BroadcastWrite, 0, kCommCtrl, {0x02}), Status::Ok);
     if (n == 1) {
-      write(RequestType::SingleWrite, 0, kCommCtrl, {0x01});
+      EXPECT_EQ(write(RequestType::SingleWrite, 0, kCommCtrl, {0x01}), Status::Ok);
     } else {
-      write(RequestType::SingleWrite, 0, kCommCtrl, {0x00});
-      write(RequestType::SingleWrite, static_cast<uint8_t>(n - 1), kCommCtrl, {0x03});
+      EXPECT_EQ(write(RequestType::SingleWrite, 0, kCommCtrl, {0x00}), Status::Ok);
+      EXPECT_EQ(write(RequestType::SingleWrite, static_cast<uint8_t>(n - 1), kCommCtrl, {0x03}), Status::Ok);
     }
   }
   std::string lastLine() const { return uart.wireLog().empty() ? "" : uart.wireLog().back(); }
@@ -136,7 +136,7 @@ TEST(Bq79616Emulator, SendWakeWakesTheStackOneDeviceAfterAnother) {
   Wire w(3);
   w.ping(us(2250));
   w.h.runFor(ms(11));
-  w.write(RequestType::SingleWrite, 0, kControl1, {0x20});
+  EXPECT_EQ(w.write(RequestType::SingleWrite, 0, kControl1, {0x20}), Status::Ok);
   const uint64_t sent = w.h.nowUs();  // the frame's last stop bit
   EXPECT_FALSE(w.emu.awake(1));
   w.h.clock.advanceTo(sent + 11600 - 1);
@@ -165,13 +165,13 @@ TEST(Bq79616Emulator, AfterAShutdownPingOnlyTheSecondWakeReachesTheStack) {
   EXPECT_FALSE(w.emu.awake(1));
   w.ping(us(2250));  // one WAKE: the base comes up, its daisy-chain port does not
   w.h.runFor(ms(11));
-  w.write(RequestType::SingleWrite, 0, kControl1, {0x20});
+  EXPECT_EQ(w.write(RequestType::SingleWrite, 0, kControl1, {0x20}), Status::Ok);
   w.h.runFor(ms(30));
   EXPECT_TRUE(w.emu.awake(0));
   EXPECT_FALSE(w.emu.awake(1));
   w.ping(us(2250));  // the second WAKE turns it on
   w.h.runFor(ms(11));
-  w.write(RequestType::SingleWrite, 0, kControl1, {0x20});
+  EXPECT_EQ(w.write(RequestType::SingleWrite, 0, kControl1, {0x20}), Status::Ok);
   w.h.runFor(ms(30));
   EXPECT_TRUE(w.emu.awake(1));
 }
@@ -184,7 +184,7 @@ TEST(Bq79616Emulator, AutoAddressingGivesEachDeviceTheNextAddress) {
     EXPECT_TRUE(w.emu.addressed(k));
   }
   // DIR0_ADDR is writable only in auto-addressing mode: a stray broadcast changes nothing.
-  w.write(RequestType::BroadcastWrite, 0, kDir0Addr, {9});
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, kDir0Addr, {9}), Status::Ok);
   for (size_t k = 0; k < 4; ++k)
     EXPECT_EQ(w.emu.address(k), k);
   EXPECT_EQ(w.emu.reg(3, kCommCtrl), 0x03);
@@ -231,7 +231,7 @@ TEST(Bq79616Emulator, ACommandWithABadCrcIsDropped) {
   const size_t n =
       bq::encodeWrite(RequestType::BroadcastWrite, 0, kAdcConf1, std::vector<uint8_t>{0x07}, w.tx);
   w.tx[n - 1] ^= 0x01;
-  w.exchange(n, 0);
+  EXPECT_EQ(w.exchange(n, 0), Status::Ok);
   EXPECT_EQ(w.emu.reg(0, kAdcConf1), before);
   EXPECT_EQ(w.emu.counters().badCommandCrc, 1u);
   EXPECT_NE(w.emu.reg(0, r::FaultComm1.address), 0) << "UART_RC latched";
@@ -241,7 +241,8 @@ TEST(Bq79616Emulator, AStackCommFaultNeedsBaseAndStackCleared) {
   Wire w(3);
   bsp::host::SimEdgeInput nfault(w.h.irq, "nfault", bsp::host::SimEdgeInput::Edge::Falling, true);
   w.bringUp(3);
-  w.write(RequestType::BroadcastWrite, 0, r::FaultRst1.address, {0xFF, 0xFF});  // wake-up leftovers
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, r::FaultRst1.address, {0xFF, 0xFF}),
+            Status::Ok);  // wake-up leftovers
   w.emu.attachFaultPin(nfault);
   EXPECT_TRUE(nfault.level());
   w.emu.injectCommFault(2, false);
@@ -249,12 +250,14 @@ TEST(Bq79616Emulator, AStackCommFaultNeedsBaseAndStackCleared) {
   const uint8_t comm = fw::regmap::bq79616::bits::FaultSummary::fault_comm_mask;
   EXPECT_EQ(w.emu.reg(2, kFaultSummary), comm);
   EXPECT_EQ(w.emu.reg(0, kFaultSummary), comm) << "the base sees it through the fault signal";
-  w.write(RequestType::SingleWrite, 0, kFaultRst2, {0x1F});  // base only: comes back at once
+  EXPECT_EQ(w.write(RequestType::SingleWrite, 0, kFaultRst2, {0x1F}),
+            Status::Ok);  // base only: comes back at once
   EXPECT_EQ(w.emu.reg(0, kFaultSummary), comm);
-  w.write(RequestType::StackWrite, 0, kFaultRst2, {0x1F});  // stack only: the base keeps its latch
+  EXPECT_EQ(w.write(RequestType::StackWrite, 0, kFaultRst2, {0x1F}),
+            Status::Ok);  // stack only: the base keeps its latch
   EXPECT_EQ(w.emu.reg(2, kFaultSummary), 0);
   EXPECT_EQ(w.emu.reg(0, kFaultSummary), comm);
-  w.write(RequestType::SingleWrite, 0, kFaultRst2, {0x1F});
+  EXPECT_EQ(w.write(RequestType::SingleWrite, 0, kFaultRst2, {0x1F}), Status::Ok);
   EXPECT_EQ(w.emu.reg(0, kFaultSummary), 0);
   EXPECT_TRUE(nfault.level());
 }
@@ -265,7 +268,7 @@ TEST(Bq79616Emulator, CellsReadNotConvertedUntilTheAdcHasSettled) {
   ASSERT_EQ(w.read(RequestType::SingleRead, 0, r::Vcell1Hi.address, 2, 1), Status::Ok);
   EXPECT_EQ(w.rx[4], 0x80);
   EXPECT_EQ(w.rx[5], 0x00);
-  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0E});
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0E}), Status::Ok);
   w.h.runFor(ms(38));
   w.emu.setCellMicrovolts(0, 1, 1110811);  // 0x16C0 (seed 001, figure 4-5)
   ASSERT_EQ(w.read(RequestType::SingleRead, 0, r::Vcell1Hi.address, 2, 1), Status::Ok);
@@ -288,7 +291,8 @@ TEST(Bq79616Emulator, AWakeLatchesDrstInFaultSysBit4) {
 struct CrcWire : Wire {
   CrcWire() : Wire(1) {
     bringUp(1);
-    write(RequestType::BroadcastWrite, 0, r::FaultRst1.address, {0xFF, 0xFF});  // wake-up leftovers
+    EXPECT_EQ(write(RequestType::BroadcastWrite, 0, r::FaultRst1.address, {0xFF, 0xFF}),
+              Status::Ok);  // wake-up leftovers
     h.runFor(us(pass));
   }
   uint16_t result() {
@@ -385,11 +389,13 @@ TEST(Bq79616Emulator, MainGoInContinuousModeStartsTheAdcAndDevStatShowsIt) {
   Wire w(1);
   w.bringUp(1);
   EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0);
-  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0A});  // continuous + LPF, no GO
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0A}),
+            Status::Ok);  // continuous + LPF, no GO
   EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0) << "nothing starts without MAIN_GO";
-  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0E});
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x0E}), Status::Ok);
   EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0x01);
-  w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x04});  // MAIN_MODE 00 + GO: stop
+  EXPECT_EQ(w.write(RequestType::BroadcastWrite, 0, r::AdcCtrl1.address, {0x04}),
+            Status::Ok);  // MAIN_MODE 00 + GO: stop
   EXPECT_EQ(w.emu.reg(0, r::DevStat.address) & 0x01, 0);
 }
 

@@ -28,60 +28,64 @@ class Bq4050Sim final : public ImageSim {
     truth_[static_cast<size_t>(cell - 1)] = mv;
     push();
   }
-  void setCurrentMa(int ma) override { b_.gauge.setCurrent(static_cast<int16_t>(ma)); }
-  void setTempDeciK(int, int, int deciK) override { b_.gauge.setTemperature(static_cast<uint16_t>(deciK)); }
-  void setCommLost(bool lost) override { b_.attachGauge(!lost); }
+  void setCurrentMa(int ma) override { board_.gauge.setCurrent(static_cast<int16_t>(ma)); }
+  void setTempDeciK(int, int, int deciK) override {
+    board_.gauge.setTemperature(static_cast<uint16_t>(deciK));
+  }
+  void setCommLost(bool lost) override { board_.attachGauge(!lost); }
   void openWire(int, int cell) override {
     openCell_ = cell;
     push();
   }
   void setIntermittent(bool on) override {
     intermittent_ = on;
-    if (!on) b_.attachGauge(true);
+    if (!on) board_.attachGauge(true);
   }
   bool busOff() override {
-    b_.can.injectBusOff();
+    board_.can.injectBusOff();
     return true;
   }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.
-    if (intermittent_) b_.attachGauge((tick_++ % 350) >= 250);
-    meter_.observe(b_.app.monitor().stats().scans, 0, b_.bus.busTimeUs(), b_.bus.transactions());
+    if (intermittent_) board_.attachGauge((tick_++ % 350) >= 250);
+    meter_.observe(board_.app.monitor().stats().scans, 0, board_.bus.busTimeUs(), board_.bus.transactions());
   }
 
-  bsp::host::Harness& harness() override { return b_.h; }
+  bsp::host::Harness& harness() override { return board_.h; }
 
   SimFigures figures() override {
     SimFigures f;
-    const auto& st = b_.app.monitor().stats();
-    fillScanFigures(f, st, b_.config.scanPeriod, meter_);
-    const auto& gs = b_.app.monitor().gauge().stats();
+    const auto& st = board_.app.monitor().stats();
+    fillScanFigures(f, st, board_.config.scanPeriod, meter_);
+    const auto& gs = board_.app.monitor().gauge().stats();
     for (uint32_t e : gs.failures)
       f.commErrors += e;
     f.recoveries = st.probes > 0 ? st.probes - 1 : 0;
-    f.outputFrames = b_.can.sent().size();
+    f.outputFrames = board_.can.sent().size();
     f.output = "can";
-    fillPackFigures(f, b_.app.pack(), b_.app.status(), fw::Instant{static_cast<uint32_t>(b_.h.nowUs())},
-                    fw::app::kDefaultLimits.staleAfter);
+    fillPackFigures(f, board_.app.pack(), board_.app.status(),
+                    fw::Instant{static_cast<uint32_t>(board_.h.nowUs())}, fw::app::kDefaultLimits.staleAfter);
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(b_.app); }
-  std::vector<SentFrame> frames() const override { return canFrames(b_.can); }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
+    return protectionLogOf(board_.app);
+  }
+  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
  private:
   // The gauge measures each cell across its sense lines: an open line reads 0 below and the sum above.
   void push() {
     int pack = 0;
     for (int c = 1; c <= 4; ++c) {
-      b_.gauge.setCell(c, static_cast<uint16_t>(sensedMv(truth_, c, openCell_)));
+      board_.gauge.setCell(c, static_cast<uint16_t>(sensedMv(truth_, c, openCell_)));
       pack += truth_[static_cast<size_t>(c - 1)];
     }
-    b_.gauge.setVoltage(static_cast<uint16_t>(pack));
+    board_.gauge.setVoltage(static_cast<uint16_t>(pack));
   }
 
-  bsp::host::Bq4050Board b_;
+  bsp::host::Bq4050Board board_;
   std::vector<int> truth_ = std::vector<int>(4, 3700);
   int openCell_ = -1;
   bool intermittent_ = false;

@@ -14,7 +14,7 @@ namespace {
 
 class Bq79616Sim final : public ImageSim {
  public:
-  Bq79616Sim(const SimOptions& o) : b_(configFor(o)) {
+  Bq79616Sim(const SimOptions& o) : board_(configFor(o)) {
     truth_.assign(static_cast<size_t>(o.devices) * 16, 3700);
     for (int b = 0; b < o.devices; ++b) {
       for (int c = 1; c <= 16; ++c)
@@ -24,7 +24,7 @@ class Bq79616Sim final : public ImageSim {
     }
   }
 
-  int boards() const override { return b_.config.chain.devices; }
+  int boards() const override { return board_.config.chain.devices; }
   int cellsPerBoard() const override { return 16; }
   int tempsPerBoard() const override { return 2; }
   bool hasCurrent() const override { return false; }
@@ -37,11 +37,11 @@ class Bq79616Sim final : public ImageSim {
   void setCurrentMa(int) override {}
   void setTempDeciK(int board, int sensor, int deciK) override {
     // DIETEMP: 0.025 degC per LSB around 0 degC = 273.15 K (measurement.hpp).
-    b_.emu.setDieTempRaw(static_cast<size_t>(board), sensor, static_cast<int16_t>(deciK * 4 - 10926));
+    board_.emu.setDieTempRaw(static_cast<size_t>(board), sensor, static_cast<int16_t>(deciK * 4 - 10926));
   }
   void setCommLost(bool lost) override {
-    for (size_t d = 0; d < b_.emu.size(); ++d)
-      b_.emu.setMuted(d, lost);
+    for (size_t d = 0; d < board_.emu.size(); ++d)
+      board_.emu.setMuted(d, lost);
   }
   void openWire(int board, int cell) override {
     openBoard_ = board, openCell_ = cell;
@@ -50,40 +50,43 @@ class Bq79616Sim final : public ImageSim {
   }
   void setIntermittent(bool on) override { intermittent_ = on; }
   bool busOff() override {
-    b_.can.injectBusOff();
+    board_.can.injectBusOff();
     return true;
   }
 
   void afterStep() override {
-    if (intermittent_ && ++tick_ % 2 == 0) b_.emu.corruptResponse(0, 6, 0x10, 3);
+    if (intermittent_ && ++tick_ % 2 == 0) board_.emu.corruptResponse(0, 6, 0x10, 3);
     // Bus time is the UART's byte count at its byte time; a scan across a re-bring-up is not measured.
-    const auto& st = b_.app.monitor().stats();
-    meter_.observe(st.scans, st.recoveries, (b_.uart.txBytes() + b_.uart.rxBytes()) * b_.uart.byteTimeUs(),
-                   b_.app.monitor().chain().stats().commandFrames);
+    const auto& st = board_.app.monitor().stats();
+    meter_.observe(st.scans, st.recoveries,
+                   (board_.uart.txBytes() + board_.uart.rxBytes()) * board_.uart.byteTimeUs(),
+                   board_.app.monitor().chain().stats().commandFrames);
   }
 
-  bsp::host::Harness& harness() override { return b_.h; }
+  bsp::host::Harness& harness() override { return board_.h; }
 
   SimFigures figures() override {
     SimFigures f;
-    const auto& st = b_.app.monitor().stats();
-    fillScanFigures(f, st, b_.config.scanPeriod, meter_);
-    const auto& link = b_.app.monitor().chain().stats();
+    const auto& st = board_.app.monitor().stats();
+    fillScanFigures(f, st, board_.config.scanPeriod, meter_);
+    const auto& link = board_.app.monitor().chain().stats();
     for (uint32_t e : link.errors)
       f.commErrors += e;
     f.recoveries = st.recoveries > 0 ? st.recoveries - 1 : 0;  // the first is the bring-up
-    f.outputFrames = b_.can.sent().size();
+    f.outputFrames = board_.can.sent().size();
     f.output = "can";
-    fillPackFigures(f, b_.app.pack(), status(), fw::Instant{static_cast<uint32_t>(b_.h.nowUs())},
+    fillPackFigures(f, board_.app.pack(), status(), fw::Instant{static_cast<uint32_t>(board_.h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override { return protectionLogOf(b_.app); }
-  std::vector<SentFrame> frames() const override { return canFrames(b_.can); }
+  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
+    return protectionLogOf(board_.app);
+  }
+  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
  private:
-  const fw::app::PublishStatus& status() const { return b_.app.status(); }
+  const fw::app::PublishStatus& status() const { return board_.app.status(); }
 
   // The voltage the device measures across `cell`: its own, or with an open sense wire below it, nothing
   // (the wire is gone) and the cell below reads both.
@@ -91,7 +94,7 @@ class Bq79616Sim final : public ImageSim {
     if (cell < 1 || cell > 16) return;
     const auto truth = std::span<const int>(truth_).subspan(static_cast<size_t>(board) * 16, 16);
     const int mv = sensedMv(truth, cell, board == openBoard_ ? openCell_ : -1);
-    b_.emu.setCellMicrovolts(static_cast<size_t>(board), cell, mv * 1000);
+    board_.emu.setCellMicrovolts(static_cast<size_t>(board), cell, mv * 1000);
   }
 
   static fw::app::Bq79616AppConfig configFor(const SimOptions& o) {
@@ -100,7 +103,7 @@ class Bq79616Sim final : public ImageSim {
     return c;
   }
 
-  bsp::host::Bq79616Board b_;
+  bsp::host::Bq79616Board board_;
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;
   bool intermittent_ = false;
