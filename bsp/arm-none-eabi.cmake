@@ -1,8 +1,7 @@
 # Toolchain for Cortex-M0+ (MSPM0L1306 / MSPM0G3507) and the ARMv6-M QEMU target.
 # Debian's gcc-arm-none-eabi 12 with newlib-nano. C++ is compiled with arm-none-eabi-g++ but linked with
-# arm-none-eabi-gcc: the C++ runtime libraries are not needed (and not installed, see
-# ../shared/reference/toolchain.md), and any accidental use of it (operator new, __cxa_*, unwinding) becomes a
-# link error instead of kilobytes of silent bloat.
+# arm-none-eabi-gcc: the C++ runtime libraries are not needed (ci/setup installs only libstdc++'s headers), and
+# any accidental use of them (operator new, __cxa_*, unwinding) becomes a link error instead of kilobytes of silent bloat.
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)

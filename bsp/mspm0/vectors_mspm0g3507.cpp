@@ -1,5 +1,5 @@
 // Vector table of the MSPM0G3507: initial stack pointer, the ARMv6-M system exceptions and the 32 external
-// interrupts at the IRQ numbers of ../shared/reference/mspm0/mspm0g3507.tsv (rows "vector"/"irq"). Unused
+// interrupts at the IRQ numbers of TI's MSPM0G3507 device header (mspm0-sdk, the IRQn_Type enum). Unused
 // and reserved entries point to Default_Handler, which records the exception number and resets (fault.cpp).
 // Handlers are weak aliases of Default_Handler: an image's board file defines the ones it uses, and the ELF
 // test (tests/firmware) checks that every peripheral the image uses has its own handler.

@@ -1,7 +1,8 @@
 // Mspm0: one MSPM0L1306 or MSPM0G3507 as the twin builds it: the machine (core, memories, SCS) and every
 // peripheral model at its base address, interrupt line and DMA triggers. Every number comes from the rows of
-// ../shared/reference/mspm0/*.tsv (kinds base, irq, dmatrig, mem, group_iidx) and, for the pins, the device
-// headers' IOMUX_PINCMn_PF_* definitions (mspm0-sdk mspm0g350x.h / mspm0l130x.h).
+// TI's MSPM0 device headers (mspm0-sdk hw_*.h: bases, IRQ numbers, DMA triggers, memories, INT_GROUP IIDX),
+// the data sheets' memory maps and, for the pins, the device headers' IOMUX_PINCMn_PF_* definitions
+// (mspm0-sdk mspm0g350x.h / mspm0l130x.h).
 //
 // Instances the images use are modelled; every other peripheral address is left unmapped, so an image that
 // touches one stops with the PC and the address.

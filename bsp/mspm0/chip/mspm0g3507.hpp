@@ -1,6 +1,7 @@
-// MSPM0G3507 facts the BSP uses. Every value is a row of ../shared/reference/mspm0/mspm0g3507.tsv (kind in
-// brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
-// functions [pinfunc], LaunchPad wiring [example]. The memories [mem] are in images/images.cmake.
+// MSPM0G3507 facts the BSP uses. Every value is from TI's MSPM0G3507 device header (mspm0-sdk) or
+// the LaunchPad user's guide (kind in brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig],
+// pins [pin] and their functions [pinfunc], LaunchPad wiring [example]. The memories [mem] are in
+// images/images.cmake.
 #pragma once
 
 #include <cstdint>

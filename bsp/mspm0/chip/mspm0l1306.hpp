@@ -1,6 +1,6 @@
-// MSPM0L1306 facts the BSP uses. Every value is a row of ../shared/reference/mspm0/mspm0l1306.tsv (kind in
-// brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig], pins [pin] and their
-// functions [pinfunc]. The memories [mem] are in images/images.cmake.
+// MSPM0L1306 facts the BSP uses. Every value is from TI's MSPM0L1306 device header (mspm0-sdk) or
+// the LaunchPad user's guide (kind in brackets): bases [base], IRQ numbers [irq], DMA triggers [dmatrig],
+// pins [pin] and their functions [pinfunc]. The memories [mem] are in images/images.cmake.
 #pragma once
 
 #include <cstdint>
