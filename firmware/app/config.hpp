@@ -3,7 +3,7 @@
 // tests and bms-sim build each image's option set from that file.
 #pragma once
 
-// --- Pack (app/pack_view.hpp) ---
+// --- Pack (app/pack/pack_view.hpp) ---
 // Boards a pack can have in this build: default 64, a full BQ79616 chain. The single-board images
 // (BQ769x2, BQ7690x, BQ4050) build with 1: every per-board loop then compiles down to its one board, and a
 // view must hold exactly one board. Host builds keep 64, so tests and bms-sim cover the multi-board paths.
@@ -14,10 +14,10 @@ static_assert(
     FW_PACK_MAX_BOARDS >= 1 && FW_PACK_MAX_BOARDS <= 64,
     "FW_PACK_MAX_BOARDS: 1 (one monitor) up to 64 (the longest BQ79616 chain the CAN ranges cover)");
 
-// --- Protection (app/protection.hpp, app/protection_task.hpp) ---
+// --- Protection (app/protection/protection.hpp, app/protection/protection_task.hpp) ---
 // Rule::delay (a condition must last that long before it trips or clears). 0 leaves it out: a build without
 // it trips on the debounce count alone, so it is only for images whose limits use no delay
-// (app/default_limits.hpp: none of the default limits has one).
+// (app/protection/default_limits.hpp: none of the default limits has one).
 #ifndef FW_PROTECTION_DELAYS
 #define FW_PROTECTION_DELAYS 1
 #endif
@@ -36,7 +36,7 @@ static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
 #define FW_PROTECTION_CLEAR_LATCHED 1
 #endif
 
-// --- Publishing (app/publish_status.hpp, app/frame_plan.hpp) ---
+// --- Publishing (app/publish/publish_status.hpp, app/publish/frame_plan.hpp) ---
 // The native messages a build sends: 2, the default (every image, the host and bms-sim), every one; 1,
 // PackSummary, ProtectionEvent and CellVoltages (no CellExtremes, Temperatures or TemperatureExtremes); 0,
 // PackSummary alone. A level below 2 drops messages: no image ships one (issue 14: every output).
@@ -46,16 +46,16 @@ static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
 static_assert(FW_PUBLISH_LEVEL >= 0 && FW_PUBLISH_LEVEL <= 2, "FW_PUBLISH_LEVEL: 0, 1 or 2");
 // The TI CAN layout (seed 001: TiCellVoltages, big-endian cell codes after each scan): default 1 (host);
 // every image except lp-mspm0g3507-bq79616 builds with 0 (their output is the native layout only). Its
-// packer also serves the generated pack() of big-endian signals at run time (app/can_bits.hpp).
+// packer also serves the generated pack() of big-endian signals at run time (app/publish/can_bits.hpp).
 #ifndef FW_CAN_TI_LAYOUT
 #define FW_CAN_TI_LAYOUT 1
 #endif
 
-// --- BQ769x2-family application (app/bq769x_app.hpp) ---
+// --- BQ769x2-family application (app/monitors/bq769x_app.hpp) ---
 // The start-up CONFIG_UPDATE of the settings table (compared first, written only where the device differs).
 // Every image ships with it: without it the BQ76952's ALERT pin stays unconfigured and the BQ76907 ignores
 // host FET-off commands (issue 12). Needs the driver's configuration paths (FW_BQ769X_CONFIG_PATHS,
-// drivers/bq769x2/config.hpp: checked in app/bq769x_app.hpp, which sees both).
+// drivers/bq769x2/config.hpp: checked in app/monitors/bq769x_app.hpp, which sees both).
 #ifndef FW_BQ769X_CONFIG_UPDATE
 #define FW_BQ769X_CONFIG_UPDATE 1
 #endif

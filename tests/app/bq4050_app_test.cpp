@@ -1,9 +1,9 @@
-// The lp-mspm0g3507-bq4050 board (firmware/app/bq4050_app.hpp) on the host BSP against the gauge emulator on
-// a 100 kHz SMBus with the image's 25 ms stretch limit: issue 15's outage sweep. The gauge vanishes from the
-// bus (a cable, a gauge in reset) for 50 ms .. 10 s starting at points across the 100 ms scan period, either
-// coming back as it was or having reset in between; good scans must resume within the bound below after it
-// returns, with the fault output and comm_loss/stale_data cleared, and no scan in between may be published as
-// valid.
+// The lp-mspm0g3507-bq4050 board (firmware/app/monitors/bq4050_app.hpp) on the host BSP against the gauge
+// emulator on a 100 kHz SMBus with the image's 25 ms stretch limit: issue 15's outage sweep. The gauge
+// vanishes from the bus (a cable, a gauge in reset) for 50 ms .. 10 s starting at points across the 100 ms
+// scan period, either coming back as it was or having reset in between; good scans must resume within the
+// bound below after it returns, with the fault output and comm_loss/stale_data cleared, and no scan in
+// between may be published as valid.
 #include <gtest/gtest.h>
 
 #include <memory>

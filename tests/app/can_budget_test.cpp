@@ -14,9 +14,9 @@
 #include <map>
 #include <vector>
 
-#include "app/can_publisher.hpp"
-#include "app/frame_plan.hpp"
-#include "app/slcan.hpp"
+#include "app/publish/can_publisher.hpp"
+#include "app/publish/frame_plan.hpp"
+#include "app/publish/slcan.hpp"
 #include "can/bms.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"

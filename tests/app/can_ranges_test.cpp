@@ -11,8 +11,8 @@
 #include <map>
 #include <string>
 
-#include "app/pack_view.hpp"
-#include "app/protection.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/protection/protection.hpp"
 #include "can/can_model.hpp"
 
 namespace {

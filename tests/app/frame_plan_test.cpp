@@ -6,7 +6,7 @@
 #include <set>
 #include <vector>
 
-#include "app/frame_plan.hpp"
+#include "app/publish/frame_plan.hpp"
 #include "can/bms.hpp"
 
 namespace {

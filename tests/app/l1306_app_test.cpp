@@ -12,8 +12,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "app/bq769x_settings.hpp"
-#include "app/default_limits.hpp"
+#include "app/monitors/bq769x_settings.hpp"
+#include "app/protection/default_limits.hpp"
 #include "bq769x2/board.hpp"
 
 static_assert(fw::app::kConfigUpdate && fw::app::kAllMessages && fw::kStats &&

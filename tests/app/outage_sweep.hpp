@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 #include "core/status.hpp"
 #include "core/time.hpp"
 

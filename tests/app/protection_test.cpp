@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 
 namespace {
 

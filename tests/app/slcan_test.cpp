@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "app/slcan.hpp"
+#include "app/publish/slcan.hpp"
 
 namespace {
 

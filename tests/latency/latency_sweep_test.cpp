@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 #include "image_sim.hpp"
 
 namespace {

@@ -33,7 +33,7 @@ import canmatrix.formats
 CONTRACT_KEYS = ["image", "sim_time_ms", "scans", "scan_period_ms", "scan_bus_us", "scan_transactions",
                  "can_frames", "comm_errors", "recoveries", "protection_events"]
 EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
-STALE_AFTER_MS = 300  # firmware/app/default_limits.hpp: three scan periods
+STALE_AFTER_MS = 300  # firmware/app/protection/default_limits.hpp: three scan periods
 EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
 NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
 

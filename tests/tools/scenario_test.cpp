@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 #include "report.hpp"
 #include "scenario.hpp"
 #include "scenario_player.hpp"

@@ -69,7 +69,7 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
                         "tools). k<Signal>Field is the signal's place in kFields, for code that fills the "
                         "raw values itself. A multiplexed group's array holds the slots of one frame: item i "
                         "of the group travels in frame i / kXPerFrame, slot i % kXPerFrame.");
-  out << "#pragma once\n\n#include <cstdint>\n\n#include \"app/can_bits.hpp\"\n#include "
+  out << "#pragma once\n\n#include <cstdint>\n\n#include \"app/publish/can_bits.hpp\"\n#include "
          "\"hal/can_bus.hpp\"\n\n"
       << "namespace fw::can::" << cat.name << " {\n\n"
       << "inline constexpr uint32_t kBitrate = " << cat.bitrate << ";\n\n";

@@ -1,11 +1,11 @@
 // Bq4050Board: the lp-mspm0g3507-bq4050 board on the host BSP, as bms-sim, `bmsctl trace bq4050 app-start`
-// and the application tests run it: the image's application (firmware/app/bq4050_app.hpp) with the gauge
-// emulator on a 100 kHz SMBus with the image's 25 ms stretch limit, CAN at 500 kbit/s and the fault output
-// (asserted from reset). The application is started by the constructor; nothing happens until the harness
-// runs. Header-only: users link fw_app_bq4050 and emul_bq4050.
+// and the application tests run it: the image's application (firmware/app/monitors/bq4050_app.hpp) with the
+// gauge emulator on a 100 kHz SMBus with the image's 25 ms stretch limit, CAN at 500 kbit/s and the fault
+// output (asserted from reset). The application is started by the constructor; nothing happens until the
+// harness runs. Header-only: users link fw_app_bq4050 and emul_bq4050.
 #pragma once
 
-#include "app/bq4050_app.hpp"
+#include "app/monitors/bq4050_app.hpp"
 #include "bq4050/gauge_emulator.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"

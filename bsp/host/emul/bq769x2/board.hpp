@@ -1,19 +1,19 @@
 // Bq769xBoard: the BQ769x2-family boards on the host BSP, as bms-sim, `bmsctl trace bq76952|bq76907|bq76905
-// app-start` and the application tests run them: the image's application (firmware/app/bq769x_app.hpp) with
-// the monitor emulator on a 400 kHz I2C bus (4 ms stretch limit), the device's ALERT line into a pulled-up
-// falling-edge input (as the device's configuration drives it), the output (CAN at 500 kbit/s on the
-// G3507, SLCAN text at 115 200 Bd on the L1306) and a fault output asserted from reset (the L1306 boards have
-// none: the application is then given no pin). Every cell at 3.700 V. The application is started by the
-// constructor; nothing happens until the harness runs. Header-only: users link fw_app_bq769x2 and
-// emul_bq769x2.
+// app-start` and the application tests run them: the image's application
+// (firmware/app/monitors/bq769x_app.hpp) with the monitor emulator on a 400 kHz I2C bus (4 ms stretch limit),
+// the device's ALERT line into a pulled-up falling-edge input (as the device's configuration drives it), the
+// output (CAN at 500 kbit/s on the G3507, SLCAN text at 115 200 Bd on the L1306) and a fault output asserted
+// from reset (the L1306 boards have none: the application is then given no pin). Every cell at 3.700 V. The
+// application is started by the constructor; nothing happens until the harness runs. Header-only: users link
+// fw_app_bq769x2 and emul_bq769x2.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <span>
 
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
+#include "app/monitors/bq769x_app.hpp"
+#include "app/monitors/bq769x_settings.hpp"
 #include "bq769x2/emulator.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"

@@ -1,7 +1,7 @@
 // Bq79616Board: the lp-mspm0g3507-bq79616 board on the host BSP, as bms-sim, `bmsctl trace bq79616 app-start`
-// and the application tests run it: the image's application (firmware/app/bq79616_app.hpp) with the chain on
-// a 1 Mbaud UART, nFAULT, CAN at 500 kbit/s and the fault output (asserted from reset), against the chain
-// emulator with every cell at 3.700 V and every die at 25 degC. The application is started by the
+// and the application tests run it: the image's application (firmware/app/monitors/bq79616_app.hpp) with the
+// chain on a 1 Mbaud UART, nFAULT, CAN at 500 kbit/s and the fault output (asserted from reset), against the
+// chain emulator with every cell at 3.700 V and every die at 25 degC. The application is started by the
 // constructor; nothing happens until the harness runs. Header-only: users link fw_app_bq79616 and
 // emul_bq79616.
 #pragma once
@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "app/bq79616_app.hpp"
+#include "app/monitors/bq79616_app.hpp"
 #include "bq79616/chain_emulator.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"

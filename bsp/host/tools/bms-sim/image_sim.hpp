@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/protection_task.hpp"
+#include "app/protection/protection_task.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 #include "slcan_output.hpp"

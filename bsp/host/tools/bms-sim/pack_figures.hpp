@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
-#include "app/pack_view.hpp"
-#include "app/publish_status.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/publish/publish_status.hpp"
 #include "image_sim.hpp"
 #include "sim/can.hpp"
 

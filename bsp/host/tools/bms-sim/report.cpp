@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <map>
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 
 namespace bmssim {
 namespace {

@@ -2,8 +2,8 @@
 // CAN on a simulated 500 kbit/s controller, the fault output on a pin.
 #include <memory>
 
-#include "app/bq4050_app.hpp"
-#include "app/default_limits.hpp"
+#include "app/monitors/bq4050_app.hpp"
+#include "app/protection/default_limits.hpp"
 #include "bq4050/board.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"

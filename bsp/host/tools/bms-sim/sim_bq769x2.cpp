@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "app/default_limits.hpp"
+#include "app/protection/default_limits.hpp"
 #include "bq769x2/board.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"

@@ -2,8 +2,8 @@
 // nFAULT on a simulated edge input, CAN on a simulated 500 kbit/s controller, the fault output on a pin.
 #include <memory>
 
-#include "app/bq79616_app.hpp"
-#include "app/default_limits.hpp"
+#include "app/monitors/bq79616_app.hpp"
+#include "app/protection/default_limits.hpp"
 #include "bq79616/board.hpp"
 #include "drivers/bq79616/measurement.hpp"
 #include "image_sim.hpp"

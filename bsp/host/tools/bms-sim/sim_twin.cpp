@@ -10,8 +10,8 @@
 #include <cstdio>
 #include <optional>
 
-#include "app/default_limits.hpp"
-#include "app/protection.hpp"
+#include "app/protection/default_limits.hpp"
+#include "app/protection/protection.hpp"
 #include "board/board.hpp"
 #include "can/bms.hpp"
 #include "drivers/bq769x2/measurement.hpp"
@@ -27,7 +27,7 @@ namespace b769 = fw::drivers::bq769x2;
 
 constexpr uint32_t kScanPeriodMs = 100;  // every image's scan period (app configs' default)
 
-// "t<iii><l><dd..>" / "T<iiiiiiii><l><dd..>" (firmware/app/slcan.hpp) back into a frame; nullopt if
+// "t<iii><l><dd..>" / "T<iiiiiiii><l><dd..>" (firmware/app/publish/slcan.hpp) back into a frame; nullopt if
 // malformed.
 std::optional<SentFrame> decodeSlcan(const std::string& line, uint64_t timeUs) {
   if (line.empty() || (line[0] != 't' && line[0] != 'T')) return std::nullopt;

@@ -8,7 +8,8 @@
 //     dm-read <addr> <len>      data-memory read
 //     dm-write <addr> <bytes..> data-memory write as a CONFIG_UPDATE transaction (skipped when the value is
 //                               already there)
-//     app-start                 the image's application (firmware/app/bq769x_app.hpp with the host defaults,
+//     app-start                 the image's application (firmware/app/monitors/bq769x_app.hpp with the host
+//     defaults,
 //                               i.e. the full application and its settings table) from reset to its first
 //                               complete scan: every transaction it sends, then when the scan completed
 //   <cmd>, <code> and <addr> are hex (0x14, 14) or generated names (Cell1Voltage, FET_ENABLE,

@@ -14,8 +14,8 @@
 // example). Output: the wire lines (TX/RX/PING), then '#' lines decoding the result. `wake` starts from a
 // chain in SHUTDOWN; `autoaddress` wakes the chain first without tracing; read and write bring the chain up
 // (wake, auto-address, configure) without tracing, then trace only the requested frame. `app-start` runs the
-// lp-mspm0g3507-bq79616 application itself (firmware/app/bq79616_app.hpp, as the image composes it with N
-// devices) from reset until its first complete scan and traces everything it sends and receives, with
+// lp-mspm0g3507-bq79616 application itself (firmware/app/monitors/bq79616_app.hpp, as the image composes it
+// with N devices) from reset until its first complete scan and traces everything it sends and receives, with
 // "# at <ms>" lines where the line was quiet for a millisecond or more.
 #include <cstdio>
 #include <optional>

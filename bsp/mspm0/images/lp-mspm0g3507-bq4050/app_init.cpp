@@ -1,6 +1,6 @@
 // Application of the lp-mspm0g3507-bq4050 image: the BQ4050 gauge monitor (probe with PEC detection, scans),
-// the firmware protection (fault output on PB26) and CAN publishing (firmware/app/bq4050_app.hpp).
-#include "app/bq4050_app.hpp"
+// the firmware protection (fault output on PB26) and CAN publishing (firmware/app/monitors/bq4050_app.hpp).
+#include "app/monitors/bq4050_app.hpp"
 #include "board.hpp"
 #include "sched/scheduler.hpp"
 

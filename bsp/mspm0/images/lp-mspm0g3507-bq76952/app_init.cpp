@@ -1,8 +1,8 @@
 // Application of the lp-mspm0g3507-bq76952 image: the BQ76952 monitor (probe, one CONFIG_UPDATE, FET enable,
 // scans), the firmware protection (FETs through the BQ76952, the fault output PB26 high while it holds a
-// path off) and CAN publishing (firmware/app/bq769x_app.hpp).
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
+// path off) and CAN publishing (firmware/app/monitors/bq769x_app.hpp).
+#include "app/monitors/bq769x_app.hpp"
+#include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "sched/scheduler.hpp"
 

@@ -1,6 +1,7 @@
 // Application of the lp-mspm0g3507-bq79616 image: the BQ79616 chain monitor, the firmware protection (fault
-// output on PB26) and the CAN publisher (firmware/app/bq79616_app.hpp), on this board's UART, nFAULT and CAN.
-#include "app/bq79616_app.hpp"
+// output on PB26) and the CAN publisher (firmware/app/monitors/bq79616_app.hpp), on this board's UART, nFAULT
+// and CAN.
+#include "app/monitors/bq79616_app.hpp"
 #include "board.hpp"
 #include "board_config.hpp"
 #include "sched/scheduler.hpp"

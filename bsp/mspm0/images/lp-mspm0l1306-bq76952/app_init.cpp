@@ -1,9 +1,9 @@
 // Application of the lp-mspm0l1306-bq76952 image: the BQ76952 monitor (probe, FET enable, scans), the
 // firmware protection (FETs through the BQ76952, ALERT fast path) and SLCAN publishing on the back-channel
-// UART (firmware/app/bq769x_app.hpp), with the start-up CONFIG_UPDATE of its settings table: the whole
-// application, as the G3507 images run it.
-#include "app/bq769x_app.hpp"
-#include "app/bq769x_settings.hpp"
+// UART (firmware/app/monitors/bq769x_app.hpp), with the start-up CONFIG_UPDATE of its settings table: the
+// whole application, as the G3507 images run it.
+#include "app/monitors/bq769x_app.hpp"
+#include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "sched/scheduler.hpp"
 

@@ -28,7 +28,7 @@
 #include <span>
 
 #include "app/config.hpp"
-#include "app/pack_view.hpp"
+#include "app/pack/pack_view.hpp"
 #include "core/time.hpp"
 
 namespace fw::app {

@@ -1,6 +1,6 @@
-#include "app/bq79616_app.hpp"
+#include "app/monitors/bq79616_app.hpp"
 
-#include "app/default_limits.hpp"
+#include "app/protection/default_limits.hpp"
 
 namespace fw::app {
 

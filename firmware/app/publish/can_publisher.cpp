@@ -1,4 +1,4 @@
-#include "app/can_publisher.hpp"
+#include "app/publish/can_publisher.hpp"
 
 namespace fw::app {
 

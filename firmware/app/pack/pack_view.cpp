@@ -1,6 +1,6 @@
-#include "app/pack_view.hpp"
+#include "app/pack/pack_view.hpp"
 
-#include "app/publish_status.hpp"
+#include "app/publish/publish_status.hpp"
 
 namespace fw::app {
 

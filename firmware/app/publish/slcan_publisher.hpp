@@ -8,9 +8,9 @@
 
 #include <cstdint>
 
-#include "app/can_publisher.hpp"
-#include "app/frame_plan.hpp"
-#include "app/slcan.hpp"
+#include "app/publish/can_publisher.hpp"
+#include "app/publish/frame_plan.hpp"
+#include "app/publish/slcan.hpp"
 #include "hal/serial.hpp"
 #include "sched/scheduler.hpp"
 

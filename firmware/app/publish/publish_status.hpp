@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "app/config.hpp"
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 
 namespace fw::app {
 

@@ -1,6 +1,6 @@
-#include "app/bq4050_app.hpp"
+#include "app/monitors/bq4050_app.hpp"
 
-#include "app/default_limits.hpp"
+#include "app/protection/default_limits.hpp"
 
 namespace fw::app {
 

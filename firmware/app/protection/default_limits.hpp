@@ -10,7 +10,7 @@
 // One constant table (in flash, referenced, never copied) for the 100 ms scan period every image uses.
 #pragma once
 
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 
 namespace fw::app {
 

@@ -1,4 +1,4 @@
-#include "app/bq769x_app.hpp"
+#include "app/monitors/bq769x_app.hpp"
 
 namespace fw::app {
 

@@ -1,4 +1,4 @@
-#include "app/frame_plan.hpp"
+#include "app/publish/frame_plan.hpp"
 
 #include <type_traits>
 

@@ -28,13 +28,13 @@
 #include <cstdint>
 #include <span>
 
-#include "app/can_publisher.hpp"
 #include "app/config.hpp"
-#include "app/default_limits.hpp"
-#include "app/frame_plan.hpp"
-#include "app/pack_view.hpp"
-#include "app/protection_task.hpp"
-#include "app/slcan_publisher.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/protection/default_limits.hpp"
+#include "app/protection/protection_task.hpp"
+#include "app/publish/can_publisher.hpp"
+#include "app/publish/frame_plan.hpp"
+#include "app/publish/slcan_publisher.hpp"
 #include "core/stats.hpp"
 #include "drivers/bq769x2/monitor.hpp"
 #include "hal/can_bus.hpp"

@@ -1,4 +1,4 @@
-#include "app/protection_task.hpp"
+#include "app/protection/protection_task.hpp"
 
 #include "core/stats.hpp"
 

@@ -13,7 +13,7 @@
 
 #include <cstdint>
 
-#include "app/frame_plan.hpp"
+#include "app/publish/frame_plan.hpp"
 #include "hal/can_bus.hpp"
 #include "sched/scheduler.hpp"
 

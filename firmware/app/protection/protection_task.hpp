@@ -19,9 +19,9 @@
 #include <span>
 
 #include "app/config.hpp"
-#include "app/pack_view.hpp"
-#include "app/protection.hpp"
-#include "app/publish_status.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/protection/protection.hpp"
+#include "app/publish/publish_status.hpp"
 #include "hal/gpio.hpp"
 #include "sched/scheduler.hpp"
 

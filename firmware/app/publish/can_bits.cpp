@@ -1,4 +1,4 @@
-#include "app/can_bits.hpp"
+#include "app/publish/can_bits.hpp"
 
 namespace fw::can {
 

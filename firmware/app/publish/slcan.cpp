@@ -1,4 +1,4 @@
-#include "app/slcan.hpp"
+#include "app/publish/slcan.hpp"
 
 namespace fw::app::slcan {
 

@@ -1,4 +1,4 @@
-#include "app/protection.hpp"
+#include "app/protection/protection.hpp"
 
 namespace fw::app {
 // The six value limits come first in FaultId order, alternating upper and lower limits; cells and

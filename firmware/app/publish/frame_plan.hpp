@@ -22,16 +22,16 @@
 //                         a scan that ends while a set is going out starts none (the rest of the set
 //                         carries its data), and a board that stops being Valid mid-set ends the set there.
 // Images short of flash may build the native cycles with fewer messages (FW_PUBLISH_LEVEL,
-// app/publish_status.hpp); a message a build leaves out never comes up in a cycle.
+// app/publish/publish_status.hpp); a message a build leaves out never comes up in a cycle.
 // Contract: thread mode (the publish task); the referenced pack and status must outlive the plan.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
-#include "app/can_bits.hpp"
-#include "app/pack_view.hpp"
-#include "app/publish_status.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/publish/can_bits.hpp"
+#include "app/publish/publish_status.hpp"
 #include "core/time.hpp"
 #include "hal/can_bus.hpp"
 

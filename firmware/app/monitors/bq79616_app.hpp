@@ -20,11 +20,11 @@
 
 #include <cstdint>
 
-#include "app/can_publisher.hpp"
-#include "app/default_limits.hpp"
-#include "app/frame_plan.hpp"
-#include "app/pack_view.hpp"
-#include "app/protection_task.hpp"
+#include "app/pack/pack_view.hpp"
+#include "app/protection/default_limits.hpp"
+#include "app/protection/protection_task.hpp"
+#include "app/publish/can_publisher.hpp"
+#include "app/publish/frame_plan.hpp"
 #include "drivers/bq79616/chain.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"

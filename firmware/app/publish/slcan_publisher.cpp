@@ -1,4 +1,4 @@
-#include "app/slcan_publisher.hpp"
+#include "app/publish/slcan_publisher.hpp"
 
 #include "core/stats.hpp"
 
