@@ -57,6 +57,16 @@ def simulate(sim, image, scenario, scratch, duration=10000, extra=()):
     return json.loads(out), read_candump(log)
 
 
+def read_slcan_text(path):
+    """Frames as (id, data) from bms-sim's --slcan FILE: one 't' line of a standard 8-byte frame per CR."""
+    with open(path, newline="") as f:
+        text = f.read()
+    lines = text.split("\r")
+    if lines[-1] != "" or any(not l.startswith("t") or len(l) != 21 for l in lines[:-1]):
+        fail(f"--slcan FILE is not one 't' line of a standard 8-byte frame per CR: {text[:60]!r}")
+    return [(int(l[1:4], 16), bytes.fromhex(l[5:21])) for l in lines[:-1]]
+
+
 def read_candump(path):
     """Frames as (ms since the run started, id, data); candump's times are absolute."""
     frames = []
@@ -357,12 +367,7 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
              f"{summary['frames_by_id']}")
     if received != logged:
         fail("python-can's frames differ from bms-sim's --candump log")
-    with open(text_path, newline="") as f:
-        text = f.read()
-    lines = text.split("\r")
-    if lines[-1] != "" or any(not l.startswith("t") or len(l) != 21 for l in lines[:-1]):
-        fail(f"--slcan FILE is not one 't' line of a standard 8-byte frame per CR: {text[:60]!r}")
-    parsed = [(int(l[1:4], 16), bytes.fromhex(l[5:21])) for l in lines[:-1]]
+    parsed = read_slcan_text(text_path)
     if parsed != received:
         fail("--slcan FILE's text and the live terminal's frames differ")
     db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))

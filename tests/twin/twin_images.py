@@ -29,7 +29,7 @@ import canmatrix.formats
 
 # The host runs' checks (tests/tools): the same contract keys and the same candump reader (absolute times).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from bms_sim_acceptance import CONTRACT_KEYS, read_candump  # noqa: E402
+from bms_sim_acceptance import CONTRACT_KEYS, read_candump, read_slcan_text  # noqa: E402
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "ot", "ut", "device_safety", "stale_data", "comm_loss", "open_wire"]
 PACK_SUMMARY, PROTECTION_EVENT = 0x100, 0x103
@@ -236,12 +236,7 @@ def check_slcan(sim, elf, image, scratch):
     log = os.path.join(scratch, f"{image}-twin-slcan.log")
     summary, _ = run(sim, ["--elf", elf, "--image", image, "--scenario", "ov-cell", "--duration", "2500",
                            "--json", "--candump", log, "--slcan", text_path])
-    with open(text_path, newline="") as f:
-        text = f.read()
-    lines = text.split("\r")
-    if lines[-1] != "" or any(not l.startswith("t") or len(l) != 21 for l in lines[:-1]):
-        fail(f"--slcan FILE is not one 't' line of a standard 8-byte frame per CR: {text[:60]!r}")
-    parsed = [(int(l[1:4], 16), bytes.fromhex(l[5:21])) for l in lines[:-1]]
+    parsed = read_slcan_text(text_path)
     logged = [(i, d) for _, i, d in read_candump(log)]
     if not parsed or parsed != logged or len(parsed) != summary["can_frames"]:
         fail(f"--slcan FILE has {len(parsed)} frames, --candump {len(logged)}, --json {summary['can_frames']}: "
