@@ -6,11 +6,11 @@ void CanPublisher::run(sched::EventMask events) {
   if (can_.state() == hal::CanState::BusOff) {
     if (plan_.active()) {
       plan_.abandon();
-      ++state_.stats.abandoned;
+      ++state_->stats.abandoned;
     }
-    if (!state_.recovering) {
-      ++state_.stats.busOff;
-      state_.recovering = true;
+    if (!state_->recovering) {
+      ++state_->stats.busOff;
+      state_->recovering = true;
       // Busy (a recovery is under way) or NotReady are answered by the retry below: ignoring them is safe.
       (void)can_.recover();
     } else if ((events & kTick) != 0) {
@@ -18,7 +18,7 @@ void CanPublisher::run(sched::EventMask events) {
     }
     return;
   }
-  state_.recovering = false;
+  state_->recovering = false;
 
   // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan (none while a set is
   // still going out: sets go out whole).
@@ -27,10 +27,10 @@ void CanPublisher::run(sched::EventMask events) {
   if ((events & (ti ? kScanDone : kTick)) != 0) {
     if (ti) {
       plan_.beginTi();
-    } else if (plan_.beginNative(state_.tick, slowEvery_)) {
-      ++state_.stats.abandoned;
+    } else if (plan_.beginNative(state_->tick, slowEvery_)) {
+      ++state_->stats.abandoned;
     }
-    ++state_.stats.cycles;
+    ++state_->stats.cycles;
   }
   pump(now);
 }
@@ -40,15 +40,15 @@ inline void CanPublisher::pump(Instant now) {
   while (plan_.build(now, frame)) {
     const Status s = can_.send(frame);
     if (s == Status::Ok) {
-      ++state_.stats.frames;
+      ++state_->stats.frames;
       plan_.advance();
       continue;
     }
     if (s == Status::Overflow) {
-      ++state_.stats.refused;  // wait for a frame to leave (kCan)
+      ++state_->stats.refused;  // wait for a frame to leave (kCan)
     } else {
       plan_.abandon();  // BusOff or a malformed frame: drop the cycle, the next one starts fresh
-      ++state_.stats.abandoned;
+      ++state_->stats.abandoned;
     }
     return;
   }

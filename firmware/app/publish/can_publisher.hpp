@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include "app/publish/frame_plan.hpp"
+#include "core/zeroed.hpp"
 #include "hal/can_bus.hpp"
 #include "sched/scheduler.hpp"
 
@@ -48,10 +49,10 @@ class CanPublisher final : public sched::Task {
     can_.onEvent(scheduler_.notifier(id_, kCan));
     // The TI layout also sends its summary-free stream only after scans; the timer still drives bus-off
     // recovery in both layouts.
-    scheduler_.startTimer(state_.timer, id_, kTick, fastPeriod_, fastPeriod_);
+    scheduler_.startTimer(state_->timer, id_, kTick, fastPeriod_, fastPeriod_);
   }
   void run(sched::EventMask events) override;
-  const PublishStats& stats() const { return state_.stats; }
+  const PublishStats& stats() const { return state_->stats; }
 
  private:
   static constexpr sched::EventMask kTick = 0x4;
@@ -72,7 +73,7 @@ class CanPublisher final : public sched::Task {
   hal::CanBus& can_;
   FramePlan& plan_;
   Duration fastPeriod_;
-  State state_{};
+  Zeroed<State> state_;
 };
 
 }  // namespace fw::app

@@ -11,6 +11,7 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "app/publish/slcan.hpp"
+#include "core/zeroed.hpp"
 #include "hal/serial.hpp"
 #include "sched/scheduler.hpp"
 
@@ -33,10 +34,10 @@ class SlcanPublisher final : public sched::Task {
 
   void start() {
     scheduler_.addTask(id_, *this);
-    scheduler_.startTimer(state_.timer, id_, kTick, fastPeriod_, fastPeriod_);
+    scheduler_.startTimer(state_->timer, id_, kTick, fastPeriod_, fastPeriod_);
   }
   void run(sched::EventMask events) override;
-  const PublishStats& stats() const { return state_.stats; }
+  const PublishStats& stats() const { return state_->stats; }
 
  private:
   static constexpr sched::EventMask kTick = 0x2;
@@ -54,7 +55,7 @@ class SlcanPublisher final : public sched::Task {
   };
   sched::TaskId id_;
   uint8_t slowEvery_;
-  State state_{};
+  Zeroed<State> state_;
   sched::Scheduler& scheduler_;
   hal::SerialTx& serial_;
   FramePlan& plan_;

@@ -56,6 +56,7 @@
 
 #include "core/status.hpp"
 #include "core/time.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/operation.hpp"
 #include "hal/clock.hpp"
 #include "hal/i2c_bus.hpp"
@@ -196,10 +197,10 @@ class Gauge {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return state_.op != Op::None || state_.busLost; }
-  Status result() const { return state_.result; }
-  bool pecEnabled() const { return state_.pec; }
-  const Stats& stats() const { return buffers_.stats; }
+  bool busy() const { return state_->op != Op::None || state_->busLost; }
+  Status result() const { return state_->result; }
+  bool pecEnabled() const { return state_->pec; }
+  const Stats& stats() const { return buffers_->stats; }
   const GaugeConfig& config() const { return config_; }
 
  private:
@@ -226,7 +227,7 @@ class Gauge {
   const uint8_t* data() const;
   uint8_t dataLength() const;
 
-  // Where an operation's result goes: the member its start function names (state_.op tells which).
+  // Where an operation's result goes: the member its start function names (state_->op tells which).
   union Output {
     DeviceInfo* info;          // startProbe
     Measurement* measurement;  // startScan
@@ -276,7 +277,7 @@ class Gauge {
   };
   static_assert(std::is_trivially_copyable_v<State> && std::is_trivial_v<Buffers>);  // zeroed as blocks
 
-  State state_;
+  Zeroed<State> state_;
   hal::I2cBus& bus_;
   const hal::Clock& clock_;
   DriverContext ctx_;
@@ -284,7 +285,7 @@ class Gauge {
   sched::Timer timer_;
   hal::I2cTransaction txn_;
   hal::Notify busDone_;  // posts ctx_.busEvent to the owning task
-  Buffers buffers_;
+  Zeroed<Buffers> buffers_;
 };
 
 }  // namespace fw::drivers::bq4050

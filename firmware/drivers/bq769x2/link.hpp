@@ -65,6 +65,7 @@
 
 #include "core/status.hpp"
 #include "core/time.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/bq769x2/config.hpp"
 #include "drivers/operation.hpp"
 #include "hal/i2c_bus.hpp"
@@ -136,15 +137,15 @@ class Link {
   sched::EventMask events() const { return ctx_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return state_.op != Op::Idle; }
-  Status result() const { return state_.result; }
-  const uint8_t* data() const { return buffers_.scratch + state_.at; }
-  uint8_t* scratch() { return buffers_.scratch; }
-  uint8_t reported() const { return state_.reported; }
+  bool busy() const { return state_->op != Op::Idle; }
+  Status result() const { return state_->result; }
+  const uint8_t* data() const { return buffers_->scratch + state_->at; }
+  uint8_t* scratch() { return buffers_->scratch; }
+  uint8_t reported() const { return state_->reported; }
   bool crc() const { return kCrc && cfg_.crc; }
   void setCrc(bool on) { cfg_.crc = on; }  // when idle (the CRC-mode probe)
   Duration pollInterval() const { return cfg_.pollInterval; }
-  const LinkStats& stats() const { return buffers_.stats; }
+  const LinkStats& stats() const { return buffers_->stats; }
 
  private:
   enum class Op : uint8_t { Idle, Read, Write, SubWrite, SubRead, Sub };
@@ -188,10 +189,10 @@ class Link {
   // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's base register. The
   // configuration is kept whole (its bytes first), so the constructor copies it as one block.
   LinkConfig cfg_;
-  State state_{};
+  Zeroed<State> state_;
   hal::I2cBus& bus_;
   DriverContext ctx_;
-  Buffers buffers_{};
+  Zeroed<Buffers> buffers_;
 };
 
 // The transfer checksum: ~(sum of the code bytes and the data) & 0xFF (SLUUBY2B section 13.1).

@@ -46,16 +46,16 @@ constexpr void next(Status started) {
 
 Status Monitor::begin(Op op, Status started) {
   if (started == Status::Ok) {
-    state_.op = op;
-    state_.step = 0;
+    state_->op = op;
+    state_->step = 0;
   }
   return started;
 }
 
 Status Monitor::startProbe(Identity& out) {
   if (busy()) return Status::Busy;
-  state_.out.identity = &out;
-  state_.restarted = false;
+  state_->out.identity = &out;
+  state_->restarted = false;
   if (kProbeCrc && probeCrc_) link_.setCrc(false);
   return begin(Op::Probe, link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2));
 }
@@ -63,11 +63,11 @@ Status Monitor::startProbe(Identity& out) {
 Status Monitor::startConfigure(std::span<const Setting> settings) {
   if (!kConfigPaths || settings.empty() || settings.size() > 32) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
-  state_.settings = settings;
-  state_.diff = 0;
-  state_.index = 0;
-  state_.written = 0;
-  state_.error = Status::Ok;
+  state_->settings = settings;
+  state_->diff = 0;
+  state_->index = 0;
+  state_->written = 0;
+  state_->error = Status::Ok;
   return begin(Op::Configure, nextSetting(false));
 }
 
@@ -75,17 +75,17 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
   if (busy()) return Status::Busy;
   // A build for one family checks the record size at compile time (the front ends).
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
-  state_.out.record = measurement;
-  state_.bytes = 0;
-  state_.restarted = false;
-  state_.yield = false;
-  state_.scanRetries = link_.stats().retries;
+  state_->out.record = measurement;
+  state_->bytes = 0;
+  state_->restarted = false;
+  state_->yield = false;
+  state_->scanRetries = link_.stats().retries;
   return begin(Op::Scan, link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len));
 }
 
 Status Monitor::startFet(FetCommand command) {
   if (busy()) return Status::Busy;
-  state_.command = command;
+  state_->command = command;
   return begin(Op::Fet, sendFet());
 }
 
@@ -96,7 +96,7 @@ Status Monitor::startFetEnable() {
 
 Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
   if (busy()) return Status::Busy;
-  state_.settings = settings;
+  state_->settings = settings;
   return begin(Op::RuntimeSetup, link_.startSubcommand(regmap::code16(sub::SleepDisable)));
 }
 
@@ -104,9 +104,9 @@ Status Monitor::startBalance(uint16_t cells) {
   if (!kBalance || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
-  state_.tmp = static_cast<uint16_t>(cells << facts().cbShift);
+  state_->tmp = static_cast<uint16_t>(cells << facts().cbShift);
   uint8_t mask[2];
-  bytes::storeLe16(mask, state_.tmp);
+  bytes::storeLe16(mask, state_->tmp);
   return begin(Op::Balance,
                link_.startSubcommandWrite(regmap::code16(sub::CbActiveCells), {mask, facts().cbBytes}));
 }
@@ -145,13 +145,13 @@ Status Monitor::sendFet() {
 
 // Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off).
 FetIntent Monitor::nextIntent() const {
-  const FetCommand c = state_.command;
+  const FetCommand c = state_->command;
   return {c == FetCommand::AllOff || c == FetCommand::ChargeOff,
           c == FetCommand::AllOff || c == FetCommand::DischargeOff};
 }
 
 void Monitor::step(Status r) {
-  switch (state_.op) {
+  switch (state_->op) {
     case Op::Idle:
       return;
     case Op::Probe:
@@ -179,18 +179,18 @@ inline void Monitor::probeStep(Status r) {
     // missing CRC byte (DataNack), a stale or misframed answer shows as one of the others.
     const bool framing = r == Status::DataNack || r == Status::Crc || r == Status::Checksum ||
                          r == Status::Length || r == Status::EchoMismatch;
-    if (!kProbeCrc || !probeCrc_ || state_.step != 0 || state_.restarted || !framing) return finish(r);
-    state_.restarted = true;
+    if (!kProbeCrc || !probeCrc_ || state_->step != 0 || state_->restarted || !framing) return finish(r);
+    state_->restarted = true;
     link_.setCrc(!link_.crc());
     return next(link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2));
   }
   const uint8_t* d = link_.data();
-  if (state_.step++ == 0) {
-    state_.tmp = bytes::loadLe16(d);
+  if (state_->step++ == 0) {
+    state_->tmp = bytes::loadLe16(d);
     return next(link_.startSubcommandRead(regmap::code16(sub::FwVersion), 6));
   }
-  Identity& id = *state_.out.identity;
-  id.deviceNumber = state_.tmp;
+  Identity& id = *state_->out.identity;
+  id.deviceNumber = state_->tmp;
   std::memcpy(id.fw, d, sizeof id.fw);
   id.crc = link_.crc();
   finish(Status::Ok);
@@ -201,20 +201,20 @@ constexpr uint8_t kScanClear = sizeof(Variant::blocks) / sizeof(ScanBlock);
 
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
-  if (state_.step == kScanClear) return publish();
-  if (state_.yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
+  if (state_->step == kScanClear) return publish();
+  if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
-  state_.bytes = static_cast<uint8_t>(state_.bytes + v.blocks[state_.step].len);
-  if (++state_.step < sizeof v.blocks / sizeof v.blocks[0]) {
-    const ScanBlock& b = v.blocks[state_.step];
-    return next(link_.startRead(b.cmd, b.len, state_.bytes));
+  state_->bytes = static_cast<uint8_t>(state_->bytes + v.blocks[state_->step].len);
+  if (++state_->step < sizeof v.blocks / sizeof v.blocks[0]) {
+    const ScanBlock& b = v.blocks[state_->step];
+    return next(link_.startRead(b.cmd, b.len, state_->bytes));
   }
-  if (link_.stats().retries != state_.scanRetries && !state_.restarted) {
+  if (link_.stats().retries != state_->scanRetries && !state_->restarted) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
     // reads, so the snapshot is taken again from its first read (once).
-    state_.restarted = true;
-    state_.bytes = 0;
-    state_.step = 0;
+    state_->restarted = true;
+    state_->bytes = 0;
+    state_->step = 0;
     return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
   }
   const uint8_t* raw = link_.scratch();
@@ -225,7 +225,7 @@ inline void Monitor::scanStep(Status r) {
   // ALERT releases and the next event asserts it again. A write does not touch the scratch buffer.
   const uint8_t* alarm = raw + v.alarmOffset;
   if ((alarm[0] | alarm[1]) != 0) {
-    state_.step = kScanClear;
+    state_->step = kScanClear;
     return next(link_.startWrite(kAlarmStatus, {alarm, 2}));
   }
   publish();
@@ -233,21 +233,21 @@ inline void Monitor::scanStep(Status r) {
 
 void Monitor::publish() {
   // The record is the time stamp followed by the registers (the front ends check the layout).
-  Instant* record = state_.out.record;
-  std::memcpy(record + 1, link_.scratch(), state_.bytes);
+  Instant* record = state_->out.record;
+  std::memcpy(record + 1, link_.scratch(), state_->bytes);
   *record = clock_.now();
   finish(Status::Ok);
 }
 
 inline void Monitor::fetStep(Status r) {
-  if (r == Status::Ok) state_.intent = nextIntent();
+  if (r == Status::Ok) state_->intent = nextIntent();
   finish(r);
 }
 
 inline void Monitor::fetEnableStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const bool enabled = (link_.data()[facts().fetEnByte] & facts().fetEnMask) != 0;
-  switch (state_.step++) {
+  switch (state_->step++) {
     case 0:  // FET_EN read: FET_ENABLE toggles it, so it is only sent when FET_EN is 0
       if (enabled) return finish(Status::Ok);
       return next(link_.startSubcommand(regmap::code16(sub::FetEnable)));
@@ -261,19 +261,19 @@ inline void Monitor::fetEnableStep(Status r) {
 inline void Monitor::runtimeSetupStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t* d = link_.data();
-  const uint8_t step = state_.step++;
+  const uint8_t step = state_->step++;
   // Step 0: SLEEP_DISABLE has run (echo); its effect shows in Battery Status[SLEEP_EN] (SLUUBY2B 7.3).
   if (step == 0) return next(link_.startRead(kBatteryStatus, 2));
   if (step == 1 && (d[0] & facts().sleepEnMask) != 0) return finish(Status::VerifyFailed);
   // Alarm Enable from the table: a table only exists where the configuration paths are built.
   if constexpr (kConfigPaths) {
     if (step == 2) return next(link_.startRead(kAlarmEnable, 2));  // written: read it back
-    if (step == 3) return finish(bytes::loadLe16(d) == state_.tmp ? Status::Ok : Status::VerifyFailed);
-    for (const Setting& m : state_.settings) {
+    if (step == 3) return finish(bytes::loadLe16(d) == state_->tmp ? Status::Ok : Status::VerifyFailed);
+    for (const Setting& m : state_->settings) {
       if (m.address != facts().alarmMaskAddress) continue;
-      state_.tmp = static_cast<uint16_t>(m.value);
+      state_->tmp = static_cast<uint16_t>(m.value);
       uint8_t mask[2];
-      bytes::storeLe16(mask, state_.tmp);
+      bytes::storeLe16(mask, state_->tmp);
       return next(link_.startWrite(kAlarmEnable, mask));
     }
   }
@@ -283,17 +283,18 @@ inline void Monitor::runtimeSetupStep(Status r) {
 inline void Monitor::balanceStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t cbBytes = facts().cbBytes;
-  if (state_.step++ == 0) return next(link_.startSubcommandRead(regmap::code16(sub::CbActiveCells), cbBytes));
+  if (state_->step++ == 0)
+    return next(link_.startSubcommandRead(regmap::code16(sub::CbActiveCells), cbBytes));
   const uint8_t* d = link_.data();
-  finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == state_.tmp ? Status::Ok
-                                                                                   : Status::VerifyFailed);
+  finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == state_->tmp ? Status::Ok
+                                                                                    : Status::VerifyFailed);
 }
 
 // Steps of the CONFIG_UPDATE transaction.
 enum : uint8_t { kCompare, kEnter, kEnterPoll, kWrite, kVerify, kExit, kExitPoll };
 
 bool Monitor::matches() const {
-  const Setting& s = state_.settings[state_.index];
+  const Setting& s = state_->settings[state_->index];
   const uint8_t* d = link_.data();
   for (uint8_t i = 0; i < s.size; ++i) {
     if (d[i] != static_cast<uint8_t>(s.value >> (8 * i))) return false;
@@ -302,7 +303,7 @@ bool Monitor::matches() const {
 }
 
 Status Monitor::nextSetting(bool write) {
-  const Setting& s = state_.settings[state_.index];
+  const Setting& s = state_->settings[state_->index];
   if (!write) return link_.startSubcommandRead(s.address, s.size);
   uint8_t value[4];
   bytes::storeLe32(value, s.value);
@@ -311,73 +312,73 @@ Status Monitor::nextSetting(bool write) {
 
 inline void Monitor::configStep(Status r) {
   if (r != Status::Ok) {
-    if (state_.step == kCompare) return finish(r);  // nothing was changed yet
-    if (state_.step < kExit) {
+    if (state_->step == kCompare) return finish(r);  // nothing was changed yet
+    if (state_->step < kExit) {
       // Never leave the device in CONFIG_UPDATE (its protections and FETs are stopped there).
-      state_.error = r;
+      state_->error = r;
       return exitUpdate();
     }
-    return finish(state_.error != Status::Ok ? state_.error : r);
+    return finish(state_->error != Status::Ok ? state_->error : r);
   }
   const bool flag = (link_.data()[0] & facts().cfgUpdateMask) != 0;
-  switch (state_.step) {
+  switch (state_->step) {
     case kCompare:
-      if (!matches()) state_.diff |= 1UL << state_.index;
-      if (++state_.index < state_.settings.size()) return next(nextSetting(false));
-      if (state_.diff == 0) return finish(Status::Ok);
-      state_.step = kEnter;
+      if (!matches()) state_->diff |= 1UL << state_->index;
+      if (++state_->index < state_->settings.size()) return next(nextSetting(false));
+      if (state_->diff == 0) return finish(Status::Ok);
+      state_->step = kEnter;
       return next(link_.startSubcommand(regmap::code16(sub::SetCfgupdate)));
     case kEnter:
     case kExit:
       // The command was accepted; its effect shows in Battery Status[CFGUPDATE] (LibreSolar 73bda94: the
       // TRM's timing alone was not enough).
-      state_.polls = 0;
-      ++state_.step;
+      state_->polls = 0;
+      ++state_->step;
       return next(readStatus());
     case kEnterPoll:
       if (!flag) return pollStatus();
-      state_.index = 0;
+      state_->index = 0;
       return writeNext();
     case kWrite:
-      ++state_.written;
-      state_.step = kVerify;
+      ++state_->written;
+      state_->step = kVerify;
       return next(nextSetting(false));
     case kVerify:
       if (!matches()) {
-        state_.error = Status::VerifyFailed;
+        state_->error = Status::VerifyFailed;
         return exitUpdate();
       }
-      ++state_.index;
+      ++state_->index;
       return writeNext();
     default:  // kExitPoll
       if (flag) return pollStatus();
-      return finish(state_.error);
+      return finish(state_->error);
   }
 }
 
 void Monitor::pollStatus() {
-  if (++state_.polls < cfgPolls_) return next(readStatus());
-  if (state_.error == Status::Ok) state_.error = Status::Timeout;
-  if (state_.step == kEnterPoll) return exitUpdate();
-  finish(state_.error);
+  if (++state_->polls < cfgPolls_) return next(readStatus());
+  if (state_->error == Status::Ok) state_->error = Status::Timeout;
+  if (state_->step == kEnterPoll) return exitUpdate();
+  finish(state_->error);
 }
 
 void Monitor::writeNext() {
-  while (state_.index < state_.settings.size() && (state_.diff & (1UL << state_.index)) == 0)
-    ++state_.index;
-  if (state_.index == state_.settings.size()) return exitUpdate();
-  state_.step = kWrite;
+  while (state_->index < state_->settings.size() && (state_->diff & (1UL << state_->index)) == 0)
+    ++state_->index;
+  if (state_->index == state_->settings.size()) return exitUpdate();
+  state_->step = kWrite;
   next(nextSetting(true));
 }
 
 void Monitor::exitUpdate() {
-  state_.step = kExit;
+  state_->step = kExit;
   next(link_.startSubcommand(regmap::code16(sub::ExitCfgupdate)));
 }
 
 void Monitor::finish(Status s) {
-  state_.result = s;
-  state_.op = Op::Idle;
+  state_->result = s;
+  state_->op = Op::Idle;
 }
 
 }  // namespace fw::drivers::bq769x2

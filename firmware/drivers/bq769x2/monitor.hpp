@@ -78,6 +78,7 @@
 #include <span>
 
 #include "core/assert.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/bq769x2/link.hpp"
 #include "drivers/bq769x2/measurement.hpp"
 #include "hal/clock.hpp"
@@ -277,12 +278,12 @@ class Monitor {
   sched::EventMask events() const { return link_.events(); }
   Progress onEvent(sched::EventMask events);
 
-  bool busy() const { return state_.op != Op::Idle; }
+  bool busy() const { return state_->op != Op::Idle; }
   // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
-  void yieldScan() { state_.yield = true; }
-  Status result() const { return state_.result; }
-  FetIntent fetIntent() const { return state_.intent; }
-  uint8_t written() const { return state_.written; }  // settings the last startConfigure wrote
+  void yieldScan() { state_->yield = true; }
+  Status result() const { return state_->result; }
+  FetIntent fetIntent() const { return state_->intent; }
+  uint8_t written() const { return state_->written; }  // settings the last startConfigure wrote
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
@@ -372,7 +373,7 @@ class Monitor {
   uint8_t cfgPolls_;
   bool probeCrc_;
   bool allowAdjacent_;
-  State state_{};
+  Zeroed<State> state_;
   const hal::Clock& clock_;
   const Variant& variant_;
   Link link_;  // with its buffers: last
