@@ -261,8 +261,9 @@ void FramePlan::beginTi() {
 }
 
 uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
-  // Steps a build leaves out never come up (framesIn() gives them no frames); saying so drops their code.
-  if (!sent(step_) || (!kCoreMessages && !kTiLayout && step_ != kSummary)) return 0;
+  // Steps a build leaves out never come up (framesIn() gives them no frames); each case says so, which drops
+  // its code. (Inside the switch, not before it: a test of step_ ahead of the switch made GCC thread it into
+  // a second copy of the dispatch, 80 B on the L1306 image.)
   // Each step fills the raw values of its message in field order (can/bms.hpp kFields); one call packs them,
   // so every message costs only its stores and all share one packing loop. A value left unset goes out as
   // not available.
@@ -295,6 +296,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       }
     case kExtremes:
     case kTempExtremes: {
+      if (!sent(kExtremes)) return 0;  // sent together with TemperatureExtremes (FW_PUBLISH_LEVEL)
       // CellExtremes and TemperatureExtremes share their layout (highest, where, lowest, where), as
       // PackTotals keeps both pairs alike.
       const uint8_t e = step_ == kExtremes ? kMaxCell : kMaxTemp;
@@ -306,6 +308,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       break;
     }
     case kEvent: {
+      if (!sent(kEvent)) return 0;
       using E = bms::ProtectionEvent;
       v[E::kActiveFaultsField] = status_.active;
       v[E::kNewlyTrippedField] = status_.pendingTripped;
@@ -315,6 +318,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
     }
     case kCells:
     case kTemps: {
+      if (!sent(step_)) return 0;
       // Board, frame index, status, then three slots of cells or temperatures: readings of a Valid board,
       // not available otherwise, and for slots with no reading (past the board's items, kNoReading, beside
       // an open wire).

@@ -2,6 +2,7 @@
 // the firmware protection (fault output on PB26) and CAN publishing (firmware/app/monitors/bq4050_app.hpp).
 #include "app/monitors/bq4050_app.hpp"
 #include "board.hpp"
+#include "common/construct_once.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -11,6 +12,6 @@ const fw::app::Bq4050AppConfig kConfig{};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  static fw::app::Bq4050App app(scheduler, {board.i2c, board.can, board.faultOut}, kConfig);
-  app.start();
+  using App = fw::app::Bq4050App;
+  image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut}, kConfig).start();
 }

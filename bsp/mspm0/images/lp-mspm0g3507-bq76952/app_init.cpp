@@ -4,6 +4,7 @@
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
+#include "common/construct_once.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -17,6 +18,5 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.faultIndicator = &board.faultOut;
-  static App app(scheduler, board.i2c, board.alert, board.can, config);
-  app.start();
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config).start();
 }

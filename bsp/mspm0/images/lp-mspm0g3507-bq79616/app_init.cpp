@@ -4,6 +4,7 @@
 #include "app/monitors/bq79616_app.hpp"
 #include "board.hpp"
 #include "board_config.hpp"
+#include "common/construct_once.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -16,7 +17,8 @@ const fw::app::Bq79616AppConfig kConfig{.chain = {.devices = image::config::kBq7
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  static fw::app::Bq79616App app(scheduler, {board.bq79616, board.nfault, board.can, board.faultOut}, kConfig,
-                                 storage);
-  app.start();
+  using App = fw::app::Bq79616App;
+  image::constructOnce<App>(scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut},
+                            kConfig, storage)
+      .start();
 }

@@ -5,6 +5,7 @@
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
+#include "common/construct_once.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -17,6 +18,7 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76907Settings, 7};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  static App app(scheduler, board.i2c, board.alert, board.serial, kConfig, fw::drivers::bq769x2::kBq76907);
-  app.start();
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig,
+                            fw::drivers::bq769x2::kBq76907)
+      .start();
 }

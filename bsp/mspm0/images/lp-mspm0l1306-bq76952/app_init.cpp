@@ -5,6 +5,7 @@
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
+#include "common/construct_once.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -17,6 +18,5 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76952Settings, 16};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  static App app(scheduler, board.i2c, board.alert, board.serial, kConfig);
-  app.start();
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig).start();
 }
