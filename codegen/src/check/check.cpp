@@ -351,34 +351,38 @@ class Checker {
         if (!fresh)
           diag_.error(b.name.loc, what + " is defined twice (first at " + at(src_, it->second) + ")");
       }
-      std::optional<std::uint32_t> next;  // the address after the previous member
+      // The address after the previous member, when there is one (a flag, not std::optional: GCC 12 at -O2
+      // reports std::optional<uint32_t> here as maybe used uninitialised, which -Werror makes fatal).
+      std::uint32_t next = 0;
+      bool haveNext = false;
       const Entry* previous = nullptr;
       for (const Text& m : b.members) {
         const Entry* e = blockMember(fam, m, what);
         if (!e || !e->addr || !e->type) {
-          next.reset();
+          haveNext = false;
           continue;
         }
         if (!previous && b.start.present && static_cast<std::int64_t>(*e->addr) != b.start.integer) {
           diag_.error(m.loc, what + " starts at " + b.start.text + " but its first member '" + m.value +
                                  "' is at " + hexAddress(*e->addr, 2));
         }
-        if (next && *e->addr < *next) {
+        if (haveNext && *e->addr < next) {
           diag_.error(m.loc, what + ": '" + m.value + "' at " + hexAddress(*e->addr, 2) +
                                  " overlaps or precedes '" + previous->name.value +
                                  "' (members are in address order, each after the last)");
-        } else if (next && *e->addr > *next && !b.gapsAllowed) {
+        } else if (haveNext && *e->addr > next && !b.gapsAllowed) {
           diag_.error(m.loc, what + ": '" + m.value + "' at " + hexAddress(*e->addr, 2) + " leaves " +
-                                 hexAddress(*next, 2) + ".." + hexAddress(*e->addr - 1, 2) +
+                                 hexAddress(next, 2) + ".." + hexAddress(*e->addr - 1, 2) +
                                  " unread after '" + previous->name.value +
                                  "' (write 'gaps: allowed' if the scan reads them)");
         }
         previous = e;
         next = *e->addr + static_cast<std::uint32_t>(e->size());
+        haveNext = true;
         if (b.start.present && b.start.integer >= 0 &&
-            static_cast<std::int64_t>(*next) - b.start.integer > kMaxBlockBytes) {
+            static_cast<std::int64_t>(next) - b.start.integer > kMaxBlockBytes) {
           diag_.error(m.loc, what + ": '" + m.value + "' ends " +
-                                 std::to_string(static_cast<std::int64_t>(*next) - b.start.integer) +
+                                 std::to_string(static_cast<std::int64_t>(next) - b.start.integer) +
                                  " bytes after the start, beyond the " + std::to_string(kMaxBlockBytes) +
                                  " bytes one read may carry");
         }
