@@ -12,7 +12,7 @@
 //
 // Contract
 // - addTask/startTimer/stopTimer/checkIn/dispatchOne/idle/run: thread mode only.
-// - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
+// - post() and the Notifys from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
 // - Run-time measurement is built unless FW_SCHED_BUDGETS is 0 (the images: no task has a budget and nothing
@@ -61,6 +61,15 @@ class Scheduler {
   void post(TaskId id, EventMask events);
   // A Notify that posts `events` to task `id` (for BSP completions).
   hal::Notify notifier(TaskId id, EventMask events);
+  // A Notify that posts `eventsA` to task `a` and `eventsB` to task `b`, in that order (one interrupt for two
+  // tasks: the fault line goes to protection and to the monitor). Checked at compile time, built inline.
+  template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
+  hal::Notify notifier() {
+    static_assert(a < kMaxTasks && b < kMaxTasks && (eventsA >> 8) == 0 && (eventsB >> 8) == 0,
+                  "two task ids and two 8-bit event masks, packed in Notify::arg");
+    return hal::Notify{&Scheduler::postTwoThunk, this,
+                       (uint32_t{a} << 24) | (eventsA << 16) | (uint32_t{b} << 8) | eventsB};
+  }
 
   // Thread mode. Arms `timer` to post `events` to `id` after `delay`, then every `period` if non-zero.
   // Re-arming an armed timer restarts it.
@@ -98,6 +107,7 @@ class Scheduler {
   inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
+  static void postTwoThunk(void* self, uint32_t arg);
 
   hal::Clock& clock_;
   // Everything else is zero at construction: one block, so an image's scheduler costs no start-up code beyond

@@ -5,6 +5,12 @@
 namespace fw::app {
 
 void ProtectionTask::run(sched::EventMask events) {
+  // A deferred FET command completed: the time it took effect comes with it (the monitor took it when the
+  // command's transaction ended), not from when this task got to run. Alone, it evaluates nothing.
+  if ((events & kActuated) != 0) {
+    actuated(actuator_.completedAt);
+    if (events == kActuated) return;
+  }
   // The periodic check is for when no scan result comes (a monitor stuck or not yet measuring): only the
   // stale-data rule can change without one. While results come every period it would evaluate the same data
   // a second time, so a tick alone is skipped when a result came since the last tick. That delays nothing:
@@ -12,14 +18,16 @@ void ProtectionTask::run(sched::EventMask events) {
   // and once results stop every tick from the second on evaluates again.
   const bool tick = events == kTick;
   const bool skip = tick && state_.resultSinceTick;
-  state_.resultSinceTick = !tick;
+  state_.resultSinceTick = (events & (kNewData | kScanFailed)) != 0;
   if (!skip) {
     const Instant now = scheduler_.now();
     ProtectionInputs in{};
     in.pack = &pack_;
     in.fresh = (events & kNewData) != 0;
     in.scanFailed = (events & kScanFailed) != 0;
-    in.faultLine = (events & kFaultLine) != 0;
+    // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
+    // bring-up and recovery it is expected to be asserted.
+    in.faultLine = (events & kFaultLine) != 0 && pack_.monitorRunning;
     if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
       status_.pendingCleared |= protection_.clearLatched();
     const ProtectionState st = protection_.evaluate(in, now);
