@@ -61,13 +61,6 @@ hal::Notify Scheduler::notifier(TaskId id, EventMask events) {
   return hal::Notify{&Scheduler::postThunk, this, (static_cast<uint32_t>(id) << 24) | events};
 }
 
-void Scheduler::postTwoThunk(void* self, uint32_t arg) {
-  // arg packs two (task id, 8-bit event mask) pairs: the first in the top half-word.
-  auto* scheduler = static_cast<Scheduler*>(self);
-  scheduler->post(static_cast<TaskId>(arg >> 24), (arg >> 16) & 0xFFU);
-  scheduler->post(static_cast<TaskId>((arg >> 8) & 0xFFU), arg & 0xFFU);
-}
-
 void Scheduler::insertTimer(Timer& timer) {
   // Sorted by deadline; a timer goes after others with the same deadline, so equal deadlines fire in the
   // order they were armed.

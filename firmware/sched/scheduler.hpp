@@ -62,13 +62,12 @@ class Scheduler {
   // A Notify that posts `events` to task `id` (for BSP completions).
   hal::Notify notifier(TaskId id, EventMask events);
   // A Notify that posts `eventsA` to task `a` and `eventsB` to task `b`, in that order (one interrupt for two
-  // tasks: the fault line goes to protection and to the monitor). Checked at compile time, built inline.
+  // tasks: the fault line goes to protection and to the monitor). Checked at compile time; the thunk has the
+  // four values as constants.
   template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
   hal::Notify notifier() {
-    static_assert(a < kMaxTasks && b < kMaxTasks && (eventsA >> 8) == 0 && (eventsB >> 8) == 0,
-                  "two task ids and two 8-bit event masks, packed in Notify::arg");
-    return hal::Notify{&Scheduler::postTwoThunk, this,
-                       (uint32_t{a} << 24) | (eventsA << 16) | (uint32_t{b} << 8) | eventsB};
+    static_assert(a < kMaxTasks && b < kMaxTasks, "two task ids");
+    return hal::Notify{&Scheduler::postTwoThunk<a, eventsA, b, eventsB>, this, 0};
   }
 
   // Thread mode. Arms `timer` to post `events` to `id` after `delay`, then every `period` if non-zero.
@@ -107,7 +106,11 @@ class Scheduler {
   inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
-  static void postTwoThunk(void* self, uint32_t arg);
+  template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
+  static void postTwoThunk(void* self, uint32_t) {
+    static_cast<Scheduler*>(self)->post(a, eventsA);
+    static_cast<Scheduler*>(self)->post(b, eventsB);
+  }
 
   hal::Clock& clock_;
   // Everything else is zero at construction: one block, so an image's scheduler costs no start-up code beyond

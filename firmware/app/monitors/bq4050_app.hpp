@@ -65,14 +65,15 @@ class Bq4050Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
-  sched::EventMask driverEvents() const { return driver_.events(); }
+  // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
+  static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
+  static constexpr bool kFaultLineToo = false;
   void attachFaultLine() {}  // the gauge has no fault line to the MCU
-  void faultLine() {}
   void scanTick() {}
   bool commandWaiting() const { return false; }
   Status startCommand() { return Status::Busy; }
 
-  Status startSetup() {
+  [[gnu::always_inline]] Status startSetup() {
     const Status s = driver_.startProbe(records_.info);
     if (s == Status::Ok) {
       loop_.retryDue = false;
@@ -80,7 +81,7 @@ class Bq4050Device : public MonitorBase {
     }
     return s;
   }
-  void setupFinished(Status result) {
+  [[gnu::always_inline]] void setupFinished(Status result) {
     setRunning(view_, result == Status::Ok);
     if (result == Status::Ok) {
       loop_.scanDue = true;
@@ -89,7 +90,7 @@ class Bq4050Device : public MonitorBase {
     }
   }
   Status startScan() { return driver_.startScan(records_.measurement); }
-  ScanVerdict scanFinished(Status result, Instant) {
+  [[gnu::always_inline]] ScanVerdict scanFinished(Status result, Instant) {
     sample_.last = result;
     // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
     // (drivers/bq4050/limits.hpp): a cell above 5 V, what the cell below an open sense wire reads, or a
@@ -114,7 +115,7 @@ class Bq4050Device : public MonitorBase {
   // The readings cannot show the open wire: the gauge's words were refused (summarize() would clear it).
   void afterSummarize() { view_.totals.openWire = sample_.last == Status::Implausible; }
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
-  void recover() {
+  [[gnu::always_inline]] void recover() {
     setRunning(view_, false);
     loop_.retryDue = true;
   }
@@ -156,7 +157,7 @@ class Bq4050App {
         protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
         monitor_(scheduler, io.bus, config, sample_, view_) {}
-  void start() {
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();

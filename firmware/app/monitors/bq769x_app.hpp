@@ -50,6 +50,7 @@
 namespace fw::app {
 
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
+inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 
@@ -71,7 +72,6 @@ struct Bq769xAppConfig {
 struct Bq769xStats {
   uint32_t scans = 0;
   uint32_t scanFailures = 0;
-  uint32_t alerts = 0;         // ALERT edges while running
   uint32_t fetCommands = 0;    // FET commands completed
   uint32_t setupAttempts = 0;  // probe/configure/FET-enable sequences started
   uint8_t configWrites = 0;    // settings the last configuration actually wrote (0: the device matched)
@@ -122,26 +122,23 @@ class Bq769xDevice : public MonitorBase {
 
   Duration scanPeriod() const { return config_.scanPeriod; }
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
-  // ALERT goes to protection, which opens the FETs without waiting for a scan; to this task as well only to
-  // count it (stats().alerts).
-  void attachFaultLine() {
-    alert_.enable(kStats ? scheduler_.template notifier<kProtectionTask, ProtectionTask::kFaultLine,
-                                                        kMonitorTask, monitor_event::kFaultLine>()
-                         : scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine));
-  }
-  void faultLine() {
-    if (kStats) ++records_.stats.alerts;
-  }
+  // ALERT goes to protection alone, which opens the FETs without waiting for a scan (the scan after the
+  // command says which fault it was; the protection log holds the trip and when it was detected).
+  static constexpr bool kFaultLineToo = false;
+  void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
   void scanTick() { flags_.fetBackoff = false; }  // a failed FET command is tried again once per scan period
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
   // was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets) needs the
-  // command not to wait for a whole scan (~2 ms).
+  // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
+  // it (it runs right after protection, before the command goes out).
   void commandPosted() {
     flags_.fetWanted = true;
     flags_.fetRequested = true;
     flags_.fet = fet_.command;
+    if (kFaultIndicator && config_.faultIndicator != nullptr)
+      config_.faultIndicator->set(flags_.fet != drivers::bq769x2::FetCommand::AllOn);
     if (loop_.op == MonitorOp::Scan) driver_.yieldScan();
     loop_.scanDue = true;
   }
@@ -150,11 +147,10 @@ class Bq769xDevice : public MonitorBase {
     flags_.fetWanted = false;
     return driver_.startFet(flags_.fet);
   }
-  void commandFinished(Status result, Instant now) {
+  void commandFinished(Status result) {
     if (result == Status::Ok) {
       if (kStats) ++records_.stats.fetCommands;
-      fet_.completedAt = now;
-      scheduler_.post(kProtectionTask, ProtectionTask::kActuated);
+      scheduler_.post(kProtectionTask, ProtectionTask::kActuated);  // protection runs next (fet_mailbox.hpp)
     } else {
       // The device did not take it (gone, resetting): keep scanning, and try again next period. The device's
       // own protection stays the backstop meanwhile.
@@ -274,13 +270,13 @@ class Bq769xApp {
               .tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr)),
               .boards = {&sample_, 1}},
         plan_(view_, status_, kDefaultLimits.staleAfter),
-        fet_(scheduler, config.faultIndicator),
+        fet_(scheduler),
         protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
         monitor_(scheduler, bus, alert, config, sample_, view_, fet_,
                  static_cast<DriverArgs&&>(driverArgs)...) {}
 
-  void start() {
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();

@@ -8,14 +8,13 @@ namespace b616 = drivers::bq79616;
 
 // Bring-up or recovery ended: run with the devices that answer (CommFault names the missing one); otherwise
 // try again after retryAfterFailure.
-void Bq79616Device::setupFinished(Status result) {
+inline void Bq79616Device::setupFinished(Status result) {
   using b616::RecoveryLevel;
   const bool wasRecovery = flags_.broughtUp;
   if (result == Status::Ok || (result == Status::CommFault && driver_.devices() > 0)) {
     setRunning(view_, true);
     flags_.broughtUp = true;
-    loop_.failedInRow = 0;
-    loop_.scanDue = true;
+    loop_.scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
     // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
     const RecoveryLevel reached = driver_.lastRecovery();
@@ -32,7 +31,7 @@ void Bq79616Device::setupFinished(Status result) {
   scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryAfterFailure);
 }
 
-ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
+inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
   if (kStats) records_.stats.lastScan = elapsed(records_.summary.started, now);
   bool anyValid = false;
   bool deviceFault = false;

@@ -84,10 +84,15 @@ class Bq79616Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
-  sched::EventMask driverEvents() const { return driver_.events(); }
+  // The events this task gave the chain (its DriverContext, and attachFaultLine()): driver_.events(), as
+  // constants.
+  static constexpr sched::EventMask driverEvents() {
+    return monitor_event::kBus | monitor_event::kTimer | monitor_event::kFaultLine;
+  }
   // nFAULT goes to protection (which acts on it at once) and to this task (the chain's faultPending: the
   // next scan reads FAULT_SUMMARY; and that scan starts now). The chain arms the pin for this task alone;
   // it is re-armed for both, disabled first so that the interrupt never reads a half-written Notify.
+  static constexpr bool kFaultLineToo = true;
   void attachFaultLine() {
     driver_.attachFaultLine(nfault_, monitor_event::kFaultLine);
     nfault_.disable();
@@ -105,25 +110,25 @@ class Bq79616Device : public MonitorBase {
   Status startCommand() { return Status::Busy; }
 
   // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
-  Status startSetup() {
+  [[gnu::always_inline]] Status startSetup() {
     loop_.retryDue = false;
     ++records_.stats.recoveries;
     return flags_.broughtUp ? driver_.startRecovery(flags_.from) : driver_.startBringUp();
   }
   // Bring-up or recovery ended: run with the devices that answer, or try again retryAfterFailure later.
-  void setupFinished(Status result);  // bq79616_app.cpp
-  Status startScan() {
+  [[gnu::always_inline]] inline void setupFinished(Status result);  // bq79616_app.cpp
+  [[gnu::always_inline]] Status startScan() {
     const Status s = driver_.startScan(
         std::span<drivers::bq79616::DeviceRecord>(store_.records, config_.chain.devices), records_.summary);
     if (s == Status::Ok && flags_.early) ++records_.stats.earlyScans;
     flags_.early = false;
     return s;
   }
-  ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
+  [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
   void afterSummarize() {}
   // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
   // otherwise at most once per recoveryInterval.
-  void recover() {
+  [[gnu::always_inline]] void recover() {
     setRunning(view_, false);
     scheduler_.startTimer(
         records_.retryTimer, kMonitorTask, monitor_event::kRetry,
@@ -183,7 +188,7 @@ class Bq79616App {
         monitor_(scheduler, io.uart, io.nfault, config, storage, view_) {
     view_.rawCells = &storage.raw[0][0];
   }
-  void start() {
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();

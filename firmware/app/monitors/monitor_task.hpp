@@ -2,9 +2,10 @@
 // publish, recover), with the device as the varying part, as LibreSolar's bms_ic API gives every monitor IC
 // one interface. The loop:
 //   run()        a command posted (BQ769x FET request) -> the device takes it (a scan in progress gives way);
-//                the driver's events -> finished(); the fault line while running -> the device (early scan,
-//                statistics); the scan period -> a scan is due, and the task checks in with the watchdog
-//                supervisor; the retry timer -> set-up is due. With the driver idle: startNext().
+//                the scan period -> a scan is due, and the task checks in with the watchdog supervisor; the
+//                retry timer -> set-up is due; the driver's events -> finished(); the fault line while
+//                running -> the device (BQ79616: early scan; only a device with kFaultLineToo gets it). With
+//                the driver idle: startNext().
 //   startNext()  not running: the period counts as failed (kScanFailed to protection: comm loss and stale
 //                data go on), and when set-up is due the device starts its next set-up step. Running: a
 //                waiting device command first, else a scan when one is due.
@@ -12,10 +13,10 @@
 //                fields (the device), then the statistics, the failure count (kFailuresBeforeRecovery failed
 //                scans in a row: the device's recovery), summarize(), kNewData or kScanFailed to protection
 //                and the device's scan-done event to the publisher.
-// The fault line (ALERT/nFAULT) is wired to the protection task itself (Scheduler::notifier(a, ea, b, eb));
-// the monitor gets it too only where it needs it. Protection and the monitor hold no reference to each
-// other: the monitor writes the PackView (and PackView::monitorRunning, which gates the fault line in
-// protection) and posts events by task id.
+// The fault line (ALERT/nFAULT) is wired to the protection task itself; the monitor gets it too only where it
+// needs it (BQ79616: Scheduler::notifier(a, ea, b, eb)). Protection and the monitor hold no reference to each
+// other: the monitor writes the PackView (PackView::monitorRunning, the loop's own running flag, also gates
+// the fault line in protection) and posts events by task id.
 //
 // A Device is a class derived from MonitorBase that provides, in this order of members (small fields first:
 // Cortex-M0+ byte loads reach only 31 bytes past the object's address; the driver with its buffers last):
@@ -23,11 +24,15 @@
 //   result(), onEvent()), and
 //   kCommands, kPublisherScanDone      device commands (startCommand()/commandPosted()/commandFinished());
 //                                      the publisher's scan-done event (0: none)
-//   scanPeriod(), driverEvents(), attachFaultLine(), faultLine(), scanTick()
+//   kFaultLineToo                      the monitor gets the fault line as well (then faultLine())
+//   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), attachFaultLine(),
+//   scanTick()
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
-// All of them inline: each image has one Device, and the template costs what one hand-written task did.
+// All of them inline, and [[gnu::always_inline]] where -Os would otherwise call a hook that has one caller:
+// each image has one Device, and the template costs no more than the hand-written task did (flash and
+// instructions per scan cycle, measured per image against the three tasks it replaced).
 // Thread mode only (the task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
 #pragma once
 
@@ -57,25 +62,26 @@ inline constexpr uint8_t kFailuresBeforeRecovery = 3;
 
 enum class MonitorOp : uint8_t { None, Setup, Scan, Command };
 
-// What a finished scan means for the loop (Device::scanFinished()).
+// What a finished scan means for the loop (Device::scanFinished()). Bit-fields: one byte, so the verdict
+// stays in a register once scanFinished() is folded into the loop.
 struct ScanVerdict {
-  bool measured = true;  // false: the scan gave way to a command; nothing is counted or reported
-  bool newData = false;  // a board validated: kNewData to protection (otherwise kScanFailed)
-  bool failed = false;   // counted in stats().scanFailures
-  bool counts = true;    // a failure that counts toward recovery (BQ4050 open wire does not)
+  bool measured : 1 = true;  // false: the scan gave way to a command; nothing is counted or reported
+  bool newData : 1 = false;  // a board validated: kNewData to protection (otherwise kScanFailed)
+  bool failed : 1 = false;   // counted in stats().scanFailures
+  bool counts : 1 = true;    // a failure that counts toward recovery (BQ4050 open wire does not)
 };
 
-// The loop's own state, first in every monitor task.
-class MonitorBase : public sched::Task {
- public:
-  bool running() const { return loop_.running; }
-
+// The loop's own state, first in every device. Not a Task itself: MonitorTask derives from the device first
+// and from sched::Task second. The ABI still places Task (the only base with a vtable) at offset 0, but
+// constructs it after the device: its vtable pointer store is then followed at once by MonitorTask's and
+// dropped, where a Task constructed before the device's out-of-line driver constructor would keep a
+// vtable of its own (12 B) alive.
+class MonitorBase {
  protected:
-  // Set-up done (scanning from now) or lost; PackView::monitorRunning follows, for protection.
-  void setRunning(PackView& view, bool on) { loop_.running = view.monitorRunning = on; }
+  // Set-up done (scanning from now) or lost. The flag lives in the PackView only (protection reads it too).
+  static void setRunning(PackView& view, bool on) { view.monitorRunning = on; }
 
-  struct Loop {  // zero at construction
-    bool running;
+  struct Loop {    // zero at construction
     MonitorOp op;  // the driver operation in flight
     bool scanDue;
     bool retryDue;  // start() posts kRetry: set-up starts at once
@@ -85,10 +91,12 @@ class MonitorBase : public sched::Task {
 };
 
 template <class Device>
-class MonitorTask final : public Device {
+class MonitorTask final : public Device, public sched::Task {
  public:
   static constexpr sched::TaskId kId = kMonitorTask;
   using Device::Device;
+
+  bool running() const { return this->view_.monitorRunning; }
 
   [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
     this->scheduler_.addTask(kId, *this, {}, true);
@@ -100,28 +108,33 @@ class MonitorTask final : public Device {
 
   void run(sched::EventMask events) override {
     using namespace monitor_event;
-    // First, so a scan in progress gives way before the driver starts its next read.
-    if constexpr (Device::kCommands) {
-      if ((events & kCommand) != 0) this->commandPosted();
+    // The task's own events first, under one test: most runs carry only the driver's. The command first of
+    // all, so a scan in progress gives way before the driver starts its next read.
+    const sched::EventMask driverEvents = this->driverEvents();
+    if ((events & ~driverEvents) != 0) {
+      if constexpr (Device::kCommands) {
+        if ((events & kCommand) != 0) this->commandPosted();
+      }
+      if ((events & kScanTick) != 0) {
+        this->scanTick();
+        this->loop_.scanDue = true;
+        this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
+      }
+      if ((events & kRetry) != 0) this->loop_.retryDue = true;
     }
-    if ((events & this->driverEvents()) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done)
-      finished();
-    if ((events & kFaultLine) != 0 && this->loop_.running) this->faultLine();
-    if ((events & kScanTick) != 0) {
-      this->scanTick();
-      this->loop_.scanDue = true;
-      this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
+    if ((events & driverEvents) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done) finished();
+    if constexpr (Device::kFaultLineToo) {  // after finished(): a set-up that just ended counts as running
+      if ((events & kFaultLine) != 0 && this->view_.monitorRunning) this->faultLine();
     }
-    if ((events & kRetry) != 0) this->loop_.retryDue = true;
     if (!this->driver_.busy()) startNext();
   }
 
  private:
-  void startNext() {
+  [[gnu::always_inline]] void startNext() {  // one caller (run()): folded into it
     auto& loop = this->loop_;
     Status s = Status::Busy;
     MonitorOp op = MonitorOp::Setup;
-    if (!loop.running) {
+    if (!this->view_.monitorRunning) {
       if (loop.scanDue) {
         loop.scanDue =
             false;  // nothing measured until set-up is done: protection counts the period as failed
@@ -148,7 +161,7 @@ class MonitorTask final : public Device {
     loop.op = MonitorOp::None;
     if (op == MonitorOp::Setup) return this->setupFinished(result);
     if constexpr (Device::kCommands) {
-      if (op == MonitorOp::Command) return this->commandFinished(result, now);
+      if (op == MonitorOp::Command) return this->commandFinished(result);
     }
     if (op != MonitorOp::Scan) return;
     const ScanVerdict v = this->scanFinished(result, now);

@@ -5,12 +5,6 @@
 namespace fw::app {
 
 void ProtectionTask::run(sched::EventMask events) {
-  // A deferred FET command completed: the time it took effect comes with it (the monitor took it when the
-  // command's transaction ended), not from when this task got to run. Alone, it evaluates nothing.
-  if ((events & kActuated) != 0) {
-    actuated(actuator_.completedAt);
-    if (events == kActuated) return;
-  }
   // The periodic check is for when no scan result comes (a monitor stuck or not yet measuring): only the
   // stale-data rule can change without one. While results come every period it would evaluate the same data
   // a second time, so a tick alone is skipped when a result came since the last tick. That delays nothing:
@@ -18,7 +12,7 @@ void ProtectionTask::run(sched::EventMask events) {
   // and once results stop every tick from the second on evaluates again.
   const bool tick = events == kTick;
   const bool skip = tick && state_.resultSinceTick;
-  state_.resultSinceTick = (events & (kNewData | kScanFailed)) != 0;
+  state_.resultSinceTick = !tick;
   if (!skip) {
     const Instant now = scheduler_.now();
     ProtectionInputs in{};
@@ -27,11 +21,15 @@ void ProtectionTask::run(sched::EventMask events) {
     in.scanFailed = (events & kScanFailed) != 0;
     // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
     // bring-up and recovery it is expected to be asserted.
-    in.faultLine = (events & kFaultLine) != 0 && pack_.monitorRunning;
+    in.faultLine = ((events & kFaultLine) != 0) & pack_.monitorRunning;  // no branch: a byte load and an and
     if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
       status_.pendingCleared |= protection_.clearLatched();
     const ProtectionState st = protection_.evaluate(in, now);
     if (kStats) ++state_.evaluations;
+    // A deferred FET command completed. Its owner posts kActuated from the run() that handled the completion,
+    // and this task outranks every other: it runs next, so now is when the command took effect (to within
+    // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
+    if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
   }
   scheduler_.checkIn(id_);

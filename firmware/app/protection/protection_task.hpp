@@ -3,17 +3,18 @@
 //
 // Acting goes through an Actuator, because images differ: on BQ769x2/BQ7690x images it is a FET command on
 // the monitor's bus (a mailbox the monitor task reads, monitors/fet_mailbox.hpp: it completes later, and the
-// monitor writes Actuator::completedAt and posts kActuated); on BQ79616 and BQ4050 images it is the fault
+// monitor posts kActuated as it handles the completion); on BQ79616 and BQ4050 images it is the fault
 // output pin (done at once). Every fault that trips is logged with when it was detected and when the action
 // took effect, so the detection-to-FET-off latency is measurable (bms-sim prints it as protection_events).
 // Protection and the monitor hold no reference to each other: they share the PackView (the monitor writes,
 // protection reads), the actuator, and events posted by task id.
 //
 // Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (the ALERT/nFAULT
-// edge, posted by the pin's interrupt itself: Scheduler::notifier(a, ea, b, eb)), kActuated (a deferred
-// request took effect at Actuator::completedAt), kClearLatched (a user request). The periodic check is
-// internal. The fault line counts only while PackView::monitorRunning says the monitor is set up: before,
-// the edge is dropped without an evaluation. Thread mode only.
+// edge, posted by the pin's interrupt itself), kActuated (a deferred request took effect: post it from the
+// run() that saw it complete; this task, the highest priority, runs next, takes that instant and evaluates),
+// kClearLatched (a user request). The periodic check is internal. The fault line counts as a fault only
+// while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
+// periodic check would. Thread mode only.
 //
 // kClearLatched needs a user action that posts it (a button, a CAN command). The images have none yet, so
 // they build without it (FW_PROTECTION_CLEAR_LATCHED=0: the event is ignored and a latched fault stays until
@@ -35,11 +36,8 @@ namespace fw::app {
 class Actuator {
  public:
   // Requests the paths to be enabled or not. Returns true if the request is in effect on return, false if it
-  // completes later: then its owner writes completedAt (the instant it took effect) and posts
-  // ProtectionTask::kActuated to the protection task.
+  // completes later: then its owner posts ProtectionTask::kActuated to the protection task when it does.
   virtual bool request(bool chargeOn, bool dischargeOn) = 0;
-
-  Instant completedAt{};  // deferred actuators: when the last request took effect
 
  protected:
   ~Actuator() = default;
@@ -117,18 +115,21 @@ class ProtectionTask final : public sched::Task {
     bool dischargeOn;
     bool requested;  // a request has been made since start()
     bool pendingAction;
-    bool resultSinceTick;  // a scan result (kNewData, kScanFailed) came since the last tick
+    bool resultSinceTick;  // run() evaluated for something else than the periodic tick alone since the last
+                           // tick
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;
     ProtectionRecord log[kLogSize != 0 ? kLogSize : 1];
   };
+  // The references every run() uses before the state: with the log inside, the state would push them past
+  // the 124 bytes a Thumb load reaches from the object's address; its byte fields stay within 31 bytes.
   sched::TaskId id_;
-  State state_{};
   sched::Scheduler& scheduler_;
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
+  State state_{};
   Duration checkPeriod_;
   Protection protection_;
 };
