@@ -91,13 +91,15 @@ class Bq79616Device : public MonitorBase {
   }
   // nFAULT goes to protection (which acts on it at once) and to this task (the chain's faultPending: the
   // next scan reads FAULT_SUMMARY; and that scan starts now). The chain arms the pin for this task alone;
-  // it is re-armed for both, disabled first so that the interrupt never reads a half-written Notify.
+  // it is re-armed for both while armed: the two Notifys differ only in their function word (see
+  // Scheduler::notifier<a, ea, b, eb>), so an interrupt that reads the Notify half-written posts to this task
+  // alone, as an edge just before would have.
   static constexpr bool kFaultLineToo = true;
   void attachFaultLine() {
-    driver_.attachFaultLine(nfault_, monitor_event::kFaultLine);
-    nfault_.disable();
-    nfault_.enable(scheduler_.template notifier<kProtectionTask, ProtectionTask::kFaultLine, kMonitorTask,
-                                                monitor_event::kFaultLine>());
+    hal::EdgeInput& line = nfault_;  // in a register across the call, not loaded again
+    driver_.attachFaultLine(line, monitor_event::kFaultLine);
+    line.enable(scheduler_.template notifier<kProtectionTask, ProtectionTask::kFaultLine, kMonitorTask,
+                                             monitor_event::kFaultLine>());
   }
   // nFAULT while running: a device reports a fault. The next scan (started now) reads FAULT_SUMMARY to say
   // which device and what. During bring-up and recovery the line is expected to be low (devices leave reset
@@ -138,9 +140,9 @@ class Bq79616Device : public MonitorBase {
  private:
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first, the records after the references, the chain driver with its state last.
-  struct Flags {
-    bool broughtUp;  // the first bring-up succeeded: set-up is the recovery ladder from now on
-    bool early;      // the next scan is started by the fault line
+  struct alignas(4) Flags {  // one word: zeroed with one store, not a memset call
+    bool broughtUp;          // the first bring-up succeeded: set-up is the recovery ladder from now on
+    bool early;              // the next scan is started by the fault line
     drivers::bq79616::RecoveryLevel from;  // the rung the next recovery starts at
   };
   struct Records {
