@@ -52,13 +52,13 @@ void Scheduler::post(TaskId id, EventMask events) {
 }
 
 void Scheduler::postThunk(void* self, uint32_t arg) {
-  // arg packs the task id in the top byte and a 24-bit event mask below it.
+  // arg: postArg(id, events).
   static_cast<Scheduler*>(self)->post(static_cast<TaskId>(arg >> 24), arg & 0x00FFFFFFU);
 }
 
 hal::Notify Scheduler::notifier(TaskId id, EventMask events) {
   FW_ASSERT(id < kMaxTasks && (events >> 24) == 0);
-  return hal::Notify{&Scheduler::postThunk, this, (static_cast<uint32_t>(id) << 24) | events};
+  return hal::Notify{&Scheduler::postThunk, this, postArg(id, events)};
 }
 
 void Scheduler::insertTimer(Timer& timer) {

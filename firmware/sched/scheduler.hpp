@@ -12,7 +12,7 @@
 //
 // Contract
 // - addTask/startTimer/stopTimer/checkIn/dispatchOne/idle/run: thread mode only.
-// - post() and the Notify from notifier(): any context, including ISRs; O(1), masks interrupts for a few
+// - post() and the Notifys from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
 // - Run-time measurement is built unless FW_SCHED_BUDGETS is 0 (the images: no task has a budget and nothing
@@ -61,6 +61,16 @@ class Scheduler {
   void post(TaskId id, EventMask events);
   // A Notify that posts `events` to task `id` (for BSP completions).
   hal::Notify notifier(TaskId id, EventMask events);
+  // A Notify that posts `eventsA` to task `a` and `eventsB` to task `b`, in that order (one interrupt for two
+  // tasks: the fault line goes to protection and to the monitor). Checked at compile time; the thunk has the
+  // four values as constants. Its context and argument words are those of notifier(b, eventsB), so a pin
+  // armed with that one can be re-armed with this one without being disabled first: an interrupt that reads
+  // the Notify half-written still gets a valid one (it posts to b alone, as before, or to a and b).
+  template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
+  hal::Notify notifier() {
+    static_assert(a < kMaxTasks && b < kMaxTasks && (eventsB >> 24) == 0, "two task ids, a 24-bit mask");
+    return hal::Notify{&Scheduler::postTwoThunk<a, eventsA, b, eventsB>, this, postArg(b, eventsB)};
+  }
 
   // Thread mode. Arms `timer` to post `events` to `id` after `delay`, then every `period` if non-zero.
   // Re-arming an armed timer restarts it.
@@ -98,6 +108,13 @@ class Scheduler {
   inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
+  // postThunk's argument: the task id in the top byte, a 24-bit event mask below it.
+  static constexpr uint32_t postArg(TaskId id, EventMask events) { return (uint32_t{id} << 24) | events; }
+  template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
+  static void postTwoThunk(void* self, uint32_t) {
+    static_cast<Scheduler*>(self)->post(a, eventsA);
+    static_cast<Scheduler*>(self)->post(b, eventsB);
+  }
 
   hal::Clock& clock_;
   // Everything else is zero at construction: one block, so an image's scheduler costs no start-up code beyond

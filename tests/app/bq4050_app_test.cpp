@@ -30,6 +30,14 @@ uint64_t bound(const Board& b, uint64_t bootUs) {
   return 4 * b.config.scanPeriod.us + bootUs;
 }
 
+// The monitor tests the gauge's events as a constant (Bq4050Device::driverEvents()): they must be what the
+// gauge itself reports.
+TEST(Bq4050App, TheMonitorsDriverEventsAreTheGauges) {
+  Board b;
+  namespace ev = fw::app::monitor_event;
+  EXPECT_EQ(b.app.monitor().gauge().events(), ev::kBus | ev::kTimer);
+}
+
 TEST(Bq4050Recovery, OutageSweep) {
   test::outageSweep<Board>(
       "app.bq4050.outage_recovery_worst_ms", [] { return std::make_unique<Board>(); },

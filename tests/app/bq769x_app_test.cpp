@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <type_traits>
 
 #include "bq769x2/board.hpp"
 #include "can/bms.hpp"
@@ -129,6 +130,62 @@ TEST(Bq769xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
   }
   std::printf("REPORT app.bq76952.alert_to_fet_off_worst_us=%llu (at %llu us into the period; budget 2000)\n",
               static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+}
+
+// Protection and the monitor hold no reference to each other (issue 19 item 4): the monitor is not
+// protection's Actuator (the FetMailbox is), and the monitor is built without the protection task.
+using G3507Monitor = bsp::host::G3507Bq76952Board::App::Monitor;
+static_assert(!std::is_base_of_v<fw::app::Actuator, G3507Monitor>);
+static_assert(std::is_constructible_v<G3507Monitor, fw::sched::Scheduler&, fw::hal::I2cBus&,
+                                      fw::hal::EdgeInput&, const fw::app::Bq769xAppConfig&,
+                                      fw::app::BoardSample&, fw::app::PackView&, fw::app::FetMailbox&>);
+
+// The ALERT edge is posted to the protection task by the pin's interrupt itself (to it alone): the first task
+// that runs after the edge is protection, and it takes the line as a fault and asks for the FETs at once.
+TEST(Bq769xApp, TheAlertEdgeReachesProtectionBeforeTheMonitorRuns) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  ASSERT_TRUE(b.app.monitor().running());
+  b.h.runFor(fw::ms(50));  // between scans: nothing pending
+  const uint64_t t0 = b.h.nowUs();
+  b.alert.drive(false);
+  ASSERT_TRUE(b.h.sched.dispatchOne());  // exactly one task runs
+  EXPECT_NE(b.app.protection().protection().active() & fw::app::bit(fw::app::FaultId::DeviceSafety), 0)
+      << "protection ran first and tripped on the line";
+  b.h.runFor(fw::ms(5));
+  EXPECT_NE(b.fetOffDoneUs(t0), 0u) << "ALL_FETS_OFF went out";
+}
+
+// During bring-up the line means nothing yet (the device asserts it until configured): protection drops it,
+// gated by what the monitor writes in the pack view (PackView::monitorRunning), not by the monitor's code.
+TEST(Bq769xApp, ProtectionIgnoresTheAlertLineBeforeTheMonitorRuns) {
+  G3507 b(false);  // no device: the monitor never gets past the probe
+  b.h.runFor(fw::ms(300));
+  ASSERT_FALSE(b.app.monitor().running());
+  ASSERT_FALSE(b.app.pack().monitorRunning);
+  b.alert.drive(false);
+  b.h.runFor(fw::ms(50));
+  EXPECT_EQ(b.app.protection().protection().active() & fw::app::bit(fw::app::FaultId::DeviceSafety), 0);
+}
+
+// The protection log's `acted` is the instant the FET command completed (protection runs right after the
+// monitor's run() that saw the driver report the command done: after the ALL_FETS_OFF write and the driver's
+// subcommand wait), not when protection asked for it.
+TEST(Bq769xApp, TheLogHoldsWhenTheFetCommandCompleted) {
+  G3507 b;
+  b.h.runFor(fw::ms(1030));
+  ASSERT_TRUE(b.app.monitor().running());
+  const uint64_t t0 = b.h.nowUs();
+  b.emu.setCellMv(5, 4400);  // the device's COV: ALERT falls now
+  ASSERT_TRUE(b.h.runUntil([&] { return b.fetOffDoneUs(t0) != 0; }, fw::ms(20)));
+  b.h.runFor(fw::ms(5));
+  const auto log = b.app.protection().log();
+  ASSERT_FALSE(log.empty());
+  ASSERT_TRUE(log[0].actionDone);
+  const uint64_t doneUs = b.fetOffDoneUs(t0);
+  EXPECT_GE(log[0].acted.us, static_cast<uint32_t>(doneUs));
+  EXPECT_LE(log[0].acted.us, static_cast<uint32_t>(doneUs) + 1000) << "taken as the command completed";
+  EXPECT_LE(log[0].detected.us, log[0].acted.us);
 }
 
 // Alarm Status is latched (SLUUBY2B "Alarm Status"): the scan after an alarm clears it, so ALERT releases and

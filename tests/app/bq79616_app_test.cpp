@@ -36,6 +36,14 @@ TEST(Bq79616App, FaultOutputStaysAssertedUntilTheChainHasBeenMeasured) {
               static_cast<double>(releasedAt) / 1000.0);
 }
 
+// The monitor tests the chain's events as a constant (Bq79616Device::driverEvents()): they must be what the
+// chain itself reports once the fault line is attached.
+TEST(Bq79616App, TheMonitorsDriverEventsAreTheChains) {
+  G3507 b;
+  namespace ev = fw::app::monitor_event;
+  EXPECT_EQ(b.app.monitor().chain().events(), ev::kBus | ev::kTimer | ev::kFaultLine);
+}
+
 // Issue 14 item 3: one evaluation per scan, not a second one of the same data at the periodic check.
 TEST(Bq79616App, ProtectionEvaluatesOncePerScan) {
   G3507 b;

@@ -65,6 +65,36 @@ TEST(SchedIsr, NotifierFromBspCompletionPostsTheRightTaskAndEvent) {
   EXPECT_EQ(b.received, (std::vector<fw::sched::EventMask>{0x00800001}));
 }
 
+// One interrupt for two tasks (the BQ79616 nFAULT: protection and the monitor), in that order. Its Notify
+// differs from notifier(b, eb)'s in the function word alone, so re-arming a pin from one to the other without
+// disabling it is safe: any mix of the two Notifys' words posts to b, or to a and b.
+TEST(SchedIsr, TwoTaskNotifierPostsBothAndSharesTheOneTaskNotifiersWords) {
+  bsp::host::Harness h;
+  FnTask a, b;
+  std::vector<int> order;
+  a.set([&](fw::sched::EventMask) { order.push_back(2); });
+  b.set([&](fw::sched::EventMask) { order.push_back(1); });
+  h.sched.addTask(2, a);
+  h.sched.addTask(1, b);
+  const fw::hal::Notify one = h.sched.notifier(1, 0x4);
+  const fw::hal::Notify two = h.sched.notifier<2, 0x8, 1, 0x4>();
+  EXPECT_EQ(two.context, one.context);
+  EXPECT_EQ(two.arg, one.arg);
+  EXPECT_NE(two.fn, one.fn);
+  const int line = h.irq.attach("gpio", [&] { two(); });
+  h.irq.raise(line);
+  h.runUntilIdle();
+  EXPECT_EQ(a.received, (std::vector<fw::sched::EventMask>{0x8}));
+  EXPECT_EQ(b.received, (std::vector<fw::sched::EventMask>{0x4}));
+  EXPECT_EQ(order, (std::vector<int>{2, 1})) << "the higher priority first";
+  // Torn: the old function with the new words posts to b alone, as the one-task Notify does.
+  const fw::hal::Notify torn{one.fn, two.context, two.arg};
+  torn();
+  h.runUntilIdle();
+  EXPECT_EQ(a.received.size(), 1u);
+  EXPECT_EQ(b.received.size(), 2u);
+}
+
 TEST(SchedIsr, BurstOfInterruptsCoalescesIntoOneRunPerEvent) {
   bsp::host::Harness h;
   FnTask task;

@@ -2,9 +2,10 @@
 //
 // Tasks (priority = TaskId, higher first):
 //   2 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
-//   1 monitor      probe (device type, PEC detection), then a scan every scan period; after three failed
-//                  scans in a row it probes again at once (the gauge may have reset: PEC and device type are
-//                  checked anew), and while probes fail, again every retry interval
+//   1 monitor      MonitorTask<Bq4050Device> (monitor_task.hpp): probe (device type, PEC detection), then a
+//                  scan every scan period; after three failed scans in a row it probes again at once (the
+//                  gauge may have reset: PEC and device type are checked anew), and while probes fail, again
+//                  every retry interval
 //   0 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
 // The gauge protects the pack with its own FETs (SafetyStatus); the firmware layer adds its limits and acts
 // through the fault output, as on the BQ79616 image.
@@ -12,6 +13,7 @@
 
 #include <cstdint>
 
+#include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -37,46 +39,89 @@ struct Bq4050Stats {
   uint32_t probes = 0;
 };
 
-class Bq4050Monitor final : public sched::Task {
+// The BQ4050's part of the monitor task (monitor_task.hpp): set-up is the probe; after three failed scans in
+// a row it probes again at once (the gauge may have reset: PEC and device type are checked anew), and while
+// probes fail, again every retry interval. A refused cell word (Implausible: an open sense line) is reported
+// as open_wire and does not count toward the re-probe.
+class Bq4050Device : public MonitorBase {
  public:
-  static constexpr sched::TaskId kId = 1;
-
   // Inline: an image constructs it once, and the constructor is then stores only.
-  Bq4050Monitor(sched::Scheduler& scheduler, hal::I2cBus& bus, const Bq4050AppConfig& config,
-                BoardSample& sample, PackView& view, sched::TaskId protection, sched::TaskId publisher)
-      : protection_(protection),
-        publisher_(publisher),
-        scheduler_(scheduler),
+  Bq4050Device(sched::Scheduler& scheduler, hal::I2cBus& bus, const Bq4050AppConfig& config,
+               BoardSample& sample, PackView& view)
+      : scheduler_(scheduler),
         config_(config),
         sample_(sample),
         view_(view),
-        gauge_(bus, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer}, config.gauge) {}
+        driver_(bus, scheduler.clock(),
+                drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
+                config.gauge) {}
 
-  void start() {
-    scheduler_.addTask(kId, *this, {}, true);
-    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
-    scheduler_.post(kId, kRetry);
-  }
-  void run(sched::EventMask events) override;
-
-  const drivers::bq4050::Gauge& gauge() const { return gauge_; }
+  const drivers::bq4050::Gauge& gauge() const { return driver_; }
   const Bq4050Stats& stats() const { return records_.stats; }
   const drivers::bq4050::DeviceInfo& info() const { return records_.info; }
 
- private:
-  static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kScanTick = 0x4, kRetry = 0x8;
-  inline void finished(Instant now);  // inline (.cpp): one caller, folded into it
+ protected:
+  static constexpr bool kCommands = false;
+  static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
-  // What changes, zero at construction (one block each, no per-member start-up code): the small fields
-  // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
-  // references, the gauge driver last.
-  struct Flags {
-    bool probed;
-    bool scanning;
-    bool scanDue;
-    bool retryDue;  // start() posts kRetry: the first probe starts at once
-    uint8_t failedInRow;
-  };
+  Duration scanPeriod() const { return config_.scanPeriod; }
+  // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
+  static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
+  static constexpr bool kFaultLineToo = false;
+  void attachFaultLine() {}  // the gauge has no fault line to the MCU
+  void scanTick() {}
+  bool commandWaiting() const { return false; }
+  Status startCommand() { return Status::Busy; }
+
+  [[gnu::always_inline]] Status startSetup() {
+    const Status s = driver_.startProbe(records_.info);
+    if (s == Status::Ok) {
+      loop_.retryDue = false;
+      ++records_.stats.probes;
+    }
+    return s;
+  }
+  [[gnu::always_inline]] void setupFinished(Status result) {
+    setRunning(view_, result == Status::Ok);
+    if (result == Status::Ok) {
+      loop_.scanDue = true;
+    } else {
+      scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryInterval);
+    }
+  }
+  Status startScan() { return driver_.startScan(records_.measurement); }
+  [[gnu::always_inline]] ScanVerdict scanFinished(Status result, Instant) {
+    sample_.last = result;
+    // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
+    // (drivers/bq4050/limits.hpp): a cell above 5 V, what the cell below an open sense wire reads, or a
+    // temperature an open thermistor line gives. An open sense line, not a lost link: open_wire, no
+    // re-probe.
+    const bool openWire = result == Status::Implausible;
+    if (result == Status::Ok) {
+      const auto& m = records_.measurement;
+      const auto cells = m.cells();
+      for (size_t c = 0; c < cells.size(); ++c)
+        sample_.cellMv[c] = cells[c];
+      sample_.tempDeciK[0] = m.temperatureDeciK;
+      sample_.takenAt = m.takenAt;
+      sample_.valid = true;
+      view_.hasCurrent = true;
+      view_.currentMa = m.currentMa;
+      view_.stateOfCharge = m.rsocPercent;
+      view_.deviceFault = m.deviceFault();
+    }
+    return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
+  }
+  // The readings cannot show the open wire: the gauge's words were refused (summarize() would clear it).
+  void afterSummarize() { view_.totals.openWire = sample_.last == Status::Implausible; }
+  // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
+  [[gnu::always_inline]] void recover() {
+    setRunning(view_, false);
+    loop_.retryDue = true;
+  }
+
+  // What changes, zero at construction (one block, no per-member start-up code), after the references; the
+  // gauge driver last.
   struct Records {
     Bq4050Stats stats;
     sched::Timer scanTimer;
@@ -84,16 +129,15 @@ class Bq4050Monitor final : public sched::Task {
     drivers::bq4050::DeviceInfo info;
     drivers::bq4050::Measurement measurement;
   };
-  Flags flags_{};
-  sched::TaskId protection_;
-  sched::TaskId publisher_;
   sched::Scheduler& scheduler_;
   const Bq4050AppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
   Records records_{};
-  drivers::bq4050::Gauge gauge_;
+  drivers::bq4050::Gauge driver_;
 };
+using Bq4050Monitor = MonitorTask<Bq4050Device>;
+extern template class MonitorTask<Bq4050Device>;  // bq4050_app.cpp
 
 class Bq4050App {
  public:
@@ -102,8 +146,8 @@ class Bq4050App {
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
   };
-  static constexpr sched::TaskId kProtectionId = 2;
-  static constexpr sched::TaskId kPublisherId = 0;
+  static constexpr sched::TaskId kProtectionId = kProtectionTask;
+  static constexpr sched::TaskId kPublisherId = kPublisherTask;
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
@@ -112,8 +156,8 @@ class Bq4050App {
         actuator_(io.faultOut, true),
         protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
-        monitor_(scheduler, io.bus, config, sample_, view_, kProtectionId, kPublisherId) {}
-  void start() {
+        monitor_(scheduler, io.bus, config, sample_, view_) {}
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();

@@ -2,8 +2,10 @@
 // lp-mspm0g3507-bq76952): one monitor device on I2C, FET control through it, SLCAN or CAN out.
 //
 // Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan, on ALERT at once, and every scan period
-//   1 monitor      probe, configuration (one CONFIG_UPDATE, only if the device differs), FET enable, the
+//   2 protection   firmware limits on every new scan, on ALERT at once (the pin's interrupt posts to it), and
+//                  every scan period; FETs through the FetMailbox (fet_mailbox.hpp), which the monitor reads
+//   1 monitor      MonitorTask<Bq769xDevice> (monitor_task.hpp): probe, configuration (one CONFIG_UPDATE,
+//                  only if the device differs), FET enable, the
 //                  run-time set-up (SLEEP disabled as TI's examples do: in SLEEP the device measures only
 //                  every few seconds; Alarm Enable from the table's Default Alarm Mask), a scan every scan
 //                  period; FET commands from protection go ahead of the next scan
@@ -29,6 +31,8 @@
 #include <span>
 
 #include "app/config.hpp"
+#include "app/monitors/fet_mailbox.hpp"
+#include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -50,11 +54,6 @@ inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 
-// The tasks of the application, by priority (TaskId).
-inline constexpr sched::TaskId kBq769xPublisherTask = 0;
-inline constexpr sched::TaskId kBq769xMonitorTask = 1;
-inline constexpr sched::TaskId kBq769xProtectionTask = 2;
-
 struct Bq769xAppConfig {
   std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
   uint8_t cells = 16;                                     // cells connected
@@ -73,7 +72,6 @@ struct Bq769xAppConfig {
 struct Bq769xStats {
   uint32_t scans = 0;
   uint32_t scanFailures = 0;
-  uint32_t alerts = 0;         // ALERT edges while running
   uint32_t fetCommands = 0;    // FET commands completed
   uint32_t setupAttempts = 0;  // probe/configure/FET-enable sequences started
   uint8_t configWrites = 0;    // settings the last configuration actually wrote (0: the device matched)
@@ -92,200 +90,141 @@ constexpr uint8_t tempsOf(const drivers::bq769x2::Bq7690xMeasurement*) {
   return 1;
 }
 
-// kPublisherScanDone: the event that tells the publisher a scan ended (0: its cycles do not follow scans).
-template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
-class Bq769xMonitor final : public sched::Task, public Actuator {
+// The BQ769x2/BQ7690x part of the monitor task (monitor_task.hpp): set-up is probe, configuration, FET
+// enable and the run-time set-up; FET commands from protection (FetMailbox) go ahead of the next scan and
+// make a scan in progress give way; three failed scans in a row probe again; a scan that shows SLEEP allowed
+// again sets up again at once. kPublisherScanDone: the event that tells the publisher a scan ended (0: its
+// cycles do not follow scans).
+template <class Driver, class Measurement, sched::EventMask kPublisherScanDone_>
+class Bq769xDevice : public MonitorBase {
  public:
-  static constexpr sched::TaskId kId = kBq769xMonitorTask;
-
   template <class... DriverArgs>
-  Bq769xMonitor(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert,
-                const Bq769xAppConfig& config, BoardSample& sample, PackView& view,
-                ProtectionTask& protection, DriverArgs&&... driverArgs)
+  Bq769xDevice(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert,
+               const Bq769xAppConfig& config, BoardSample& sample, PackView& view, FetMailbox& fet,
+               DriverArgs&&... driverArgs)
       : scheduler_(scheduler),
         alert_(alert),
         config_(config),
         sample_(sample),
         view_(view),
-        protection_(protection),
-        driver_(bus, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer},
+        fet_(fet),
+        driver_(bus, scheduler.clock(),
+                drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
-
-  void start() {
-    scheduler_.addTask(kId, *this, {}, true);
-    alert_.enable(scheduler_.notifier(kId, kAlert));
-    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
-    scheduler_.post(kId, kRetry);
-  }
-
-  // Actuator: protection asks for the paths; the FET command goes out as soon as the bus is free.
-  bool request(bool chargeOn, bool dischargeOn) override {
-    using drivers::bq769x2::FetCommand;
-    static_assert(static_cast<uint8_t>(FetCommand::AllOn) == 0 &&
-                  static_cast<uint8_t>(FetCommand::AllOff) == 1 &&
-                  static_cast<uint8_t>(FetCommand::DischargeOff) == 2 &&
-                  static_cast<uint8_t>(FetCommand::ChargeOff) == 3);
-    // Indexed by (charge off, discharge off): on/on AllOn, on/off DischargeOff, off/on ChargeOff, off/off
-    // AllOff.
-    constexpr FetCommand kCommand[4] = {FetCommand::AllOn, FetCommand::DischargeOff, FetCommand::ChargeOff,
-                                        FetCommand::AllOff};
-    flags_.fetWanted = true;
-    flags_.fetRequested = true;
-    flags_.fet = kCommand[(chargeOn ? 0 : 2) | (dischargeOn ? 0 : 1)];
-    // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault
-    // it was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets)
-    // needs the command not to wait for a whole scan (~2 ms).
-    if (flags_.op == Op::Scan) driver_.yieldScan();
-    flags_.scanDue = true;
-    if (kFaultIndicator && config_.faultIndicator != nullptr)
-      config_.faultIndicator->set(!(chargeOn && dischargeOn));
-    scheduler_.post(kId, kKick);
-    return false;
-  }
-
-  void run(sched::EventMask events) override {
-    // The driver's events are the two this task gave it (kBus, kTimer: the constructor's DriverContext).
-    if ((events & (kBus | kTimer)) != 0 && driver_.onEvent(events) == drivers::Progress::Done) finished();
-    if ((events & kAlert) != 0 && flags_.phase == Phase::Running) {
-      // Protection (higher priority) runs next and asks for the FETs; nothing is started for the alert
-      // before it has, so the command goes first and the scan after it says which fault it was.
-      if (kStats) ++records_.stats.alerts;
-      scheduler_.post(kBq769xProtectionTask, ProtectionTask::kFaultLine);
-    }
-    if ((events & kScanTick) != 0) {
-      flags_.scanDue = true;
-      flags_.fetBackoff = false;  // a failed FET command is tried again once per scan period
-      scheduler_.checkIn(kId);
-    }
-    if ((events & kRetry) != 0) flags_.retryDue = true;
-    if (!driver_.busy()) startNext();
-  }
 
   const Driver& driver() const { return driver_; }
   const Bq769xStats& stats() const { return records_.stats; }
-  bool running() const { return flags_.phase == Phase::Running; }
 
- private:
-  static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kAlert = 0x4, kScanTick = 0x8, kRetry = 0x10,
-                                    kKick = 0x20;
-  enum class Phase : uint8_t { Probe, Configure, FetEnable, RuntimeSetup, Running };
-  enum class Op : uint8_t { None, Setup, Scan, Fet };
+ protected:
+  static constexpr bool kCommands = true;
+  static constexpr sched::EventMask kPublisherScanDone = kPublisherScanDone_;
+  enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
-  void startNext() {
-    Status s = Status::Busy;
-    Op op = Op::Setup;
-    if (flags_.phase != Phase::Running) {
-      if (flags_.scanDue) {
-        flags_.scanDue =
-            false;  // not measuring yet: protection counts the period as failed (stale, comm loss)
-        scheduler_.post(kBq769xProtectionTask, ProtectionTask::kScanFailed);
-      }
-      if (!flags_.retryDue) return;
-      if (flags_.phase == Phase::Probe) {
-        if (kStats) ++records_.stats.setupAttempts;
-        s = driver_.startProbe(records_.identity);
-      } else if (flags_.phase == Phase::RuntimeSetup) {
-        s = driver_.startRuntimeSetup(config_.settings);
-      } else {
-        s = kConfigUpdate && flags_.phase == Phase::Configure ? driver_.startConfigure(config_.settings)
-                                                              : driver_.startFetEnable();
-      }
-    } else if (flags_.fetWanted && !flags_.fetBackoff) {
-      flags_.fetWanted = false;
-      s = driver_.startFet(flags_.fet);
-      op = Op::Fet;
-    } else if (flags_.scanDue) {
-      flags_.scanDue = false;
-      s = driver_.startScan(records_.measurement);
-      op = Op::Scan;
-    }
-    flags_.op = s == Status::Ok ? op : Op::None;
+  Duration scanPeriod() const { return config_.scanPeriod; }
+  static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
+  // ALERT goes to protection alone, which opens the FETs without waiting for a scan (the scan after the
+  // command says which fault it was; the protection log holds the trip and when it was detected).
+  static constexpr bool kFaultLineToo = false;
+  void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
+  void scanTick() { flags_.fetBackoff = false; }  // a failed FET command is tried again once per scan period
+
+  // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
+  // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
+  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets) needs the
+  // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
+  // it (it runs right after protection, before the command goes out).
+  void commandPosted() {
+    flags_.fetWanted = true;
+    flags_.fetRequested = true;
+    flags_.fet = fet_.command;
+    if (kFaultIndicator && config_.faultIndicator != nullptr)
+      config_.faultIndicator->set(flags_.fet != drivers::bq769x2::FetCommand::AllOn);
+    if (loop_.op == MonitorOp::Scan) driver_.yieldScan();
+    loop_.scanDue = true;
   }
+  bool commandWaiting() const { return flags_.fetWanted && !flags_.fetBackoff; }
+  Status startCommand() {
+    flags_.fetWanted = false;
+    return driver_.startFet(flags_.fet);
+  }
+  void commandFinished(Status result) {
+    if (result == Status::Ok) {
+      if (kStats) ++records_.stats.fetCommands;
+      scheduler_.post(kProtectionTask, ProtectionTask::kActuated);  // protection runs next (fet_mailbox.hpp)
+    } else {
+      // The device did not take it (gone, resetting): keep scanning, and try again next period. The device's
+      // own protection stays the backstop meanwhile.
+      flags_.fetWanted = true;
+      flags_.fetBackoff = true;
+    }
+  }
+
+  Status startSetup() {
+    if (flags_.step == Step::Probe) {
+      if (kStats) ++records_.stats.setupAttempts;
+      return driver_.startProbe(records_.identity);
+    }
+    if (flags_.step == Step::RuntimeSetup) return driver_.startRuntimeSetup(config_.settings);
+    return kConfigUpdate && flags_.step == Step::Configure ? driver_.startConfigure(config_.settings)
+                                                           : driver_.startFetEnable();
+  }
+  void setupFinished(Status result) {
+    // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless), so
+    // a device that comes back is set up within one scan period plus one bring-up. A later step that failed
+    // waits the retry interval.
+    if (result != Status::Ok)
+      return retryLater(flags_.step == Step::Probe ? config_.scanPeriod : config_.retryInterval);
+    if (kStats && kConfigUpdate && flags_.step == Step::Configure)
+      records_.stats.configWrites = driver_.written();
+    if (flags_.step == Step::RuntimeSetup) {
+      flags_.step = Step::Probe;  // where the next set-up starts
+      setRunning(view_, true);
+      loop_.scanDue = true;
+      flags_.fetWanted = flags_.fetRequested;  // protection's last request, again: the device may have reset
+      return;
+    }
+    // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
+    flags_.step = static_cast<Step>(static_cast<uint8_t>(flags_.step) +
+                                    (!kConfigUpdate && flags_.step == Step::Probe ? 2 : 1));
+  }
+  Status startScan() { return driver_.startScan(records_.measurement); }
+  ScanVerdict scanFinished(Status result, Instant) {
+    if (result == Status::Aborted)
+      return {.measured = false};  // gave way to a FET command: not a measurement
+    sample_.last = result;
+    if (result == Status::Ok) {
+      toSample(records_.measurement, config_.cells, sample_, view_);
+      // The device reset since the set-up: set it up again now (the measurement itself is valid).
+      if (records_.measurement.reg.batteryStatus.sleep_en()) {
+        setRunning(view_, false);
+        loop_.retryDue = true;
+      }
+    }
+    return {.newData = result == Status::Ok, .failed = result != Status::Ok};
+  }
+  void afterSummarize() {}
+  // The device stopped answering or keeps failing: go through probe and configuration again, starting with a
+  // probe at the next scan period.
+  void recover() { retryLater(config_.scanPeriod); }
 
   // Starts over from the probe after `wait` (the device may have reset or be absent; a reset loses its RAM
   // configuration).
   void retryLater(Duration wait) {
-    flags_.phase = Phase::Probe;
-    flags_.retryDue = false;
-    scheduler_.startTimer(records_.retryTimer, kId, kRetry, wait);
-  }
-
-  void finished() {
-    const Instant now = scheduler_.now();
-    const Status result = driver_.result();
-    const Op op = flags_.op;
-    flags_.op = Op::None;
-    if (op == Op::Setup) {
-      // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless),
-      // so a device that comes back is set up within one scan period plus one bring-up. A later step that
-      // failed waits the retry interval.
-      if (result != Status::Ok)
-        return retryLater(flags_.phase == Phase::Probe ? config_.scanPeriod : config_.retryInterval);
-      if (kStats && kConfigUpdate && flags_.phase == Phase::Configure)
-        records_.stats.configWrites = driver_.written();
-      // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
-      flags_.phase = static_cast<Phase>(static_cast<uint8_t>(flags_.phase) +
-                                        (!kConfigUpdate && flags_.phase == Phase::Probe ? 2 : 1));
-      if (flags_.phase == Phase::Running) {
-        flags_.scanDue = true;
-        flags_.fetWanted =
-            flags_.fetRequested;  // protection's last request, again: the device may have reset
-      }
-      return;
-    }
-    if (op == Op::Fet) {
-      if (result == Status::Ok) {
-        if (kStats) ++records_.stats.fetCommands;
-        protection_.actuated(now);
-      } else {
-        // The device did not take it (gone, resetting): keep scanning, and try again next period. The
-        // device's own protection stays the backstop meanwhile.
-        flags_.fetWanted = true;
-        flags_.fetBackoff = true;
-      }
-      return;
-    }
-    if (op != Op::Scan) return;
-    if (result == Status::Aborted) return;  // gave way to a FET command (request()): not a measurement
-    if (kStats) ++records_.stats.scans;
-    sample_.last = result;
-    sched::EventMask toProtection = ProtectionTask::kScanFailed;
-    if (result == Status::Ok) {
-      toSample(records_.measurement, config_.cells, sample_, view_);
-      toProtection = ProtectionTask::kNewData;
-      flags_.failedInRow = 0;
-      if (records_.measurement.reg.batteryStatus.sleep_en()) {
-        // The device reset since the set-up: set it up again now (the measurement itself is valid).
-        flags_.phase = Phase::Probe;
-        flags_.retryDue = true;
-      }
-    } else {
-      if (kStats) ++records_.stats.scanFailures;
-      // The device stopped answering or keeps failing: go through probe and configuration again, starting
-      // with a probe at the next scan period.
-      if (++flags_.failedInRow >= 3) {
-        flags_.failedInRow = 0;
-        retryLater(config_.scanPeriod);
-      }
-    }
-    summarize(view_, now);
-    scheduler_.post(kBq769xProtectionTask, toProtection);
-    if constexpr (kPublisherScanDone != 0) scheduler_.post(kBq769xPublisherTask, kPublisherScanDone);
+    setRunning(view_, false);
+    flags_.step = Step::Probe;
+    loop_.retryDue = false;
+    scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, wait);
   }
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
   // references, the driver with its buffers last.
   struct Flags {
-    Phase phase;
-    Op op;
-    bool scanDue;
-    bool retryDue;
+    Step step;  // the next set-up step (Probe while running)
     bool fetWanted;
-    bool fetRequested;  // protection has made a request (flags_.fet is its latest)
+    bool fetRequested;  // protection has made a request (fet is its latest)
     bool fetBackoff;
     drivers::bq769x2::FetCommand fet;  // meaningful while fetWanted
-    uint8_t failedInRow;
   };
   struct Records {
     Bq769xStats stats;
@@ -300,10 +239,12 @@ class Bq769xMonitor final : public sched::Task, public Actuator {
   const Bq769xAppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
-  ProtectionTask& protection_;
+  FetMailbox& fet_;
   Records records_{};
   Driver driver_;
 };
+template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
+using Bq769xMonitor = MonitorTask<Bq769xDevice<Driver, Measurement, kPublisherScanDone>>;
 
 // The publisher that suits the image's output: SLCAN text on a serial line, or CAN frames.
 inline SlcanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::SerialTx& out,
@@ -314,12 +255,13 @@ inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::Ca
   return CanPublisher(s, id, out, plan, CanLayout::Native, ms(100), 10);
 }
 
-// The composition: one board, the monitor (also protection's FET actuator), protection and the publisher.
+// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold) and the
+// publisher.
 template <class Driver, class Measurement, class Publisher>
 class Bq769xApp {
  public:
-  static constexpr sched::TaskId kProtectionId = kBq769xProtectionTask;
-  static constexpr sched::TaskId kPublisherId = kBq769xPublisherTask;
+  static constexpr sched::TaskId kProtectionId = kProtectionTask;
+  static constexpr sched::TaskId kPublisherId = kPublisherTask;
 
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
@@ -328,12 +270,13 @@ class Bq769xApp {
               .tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr)),
               .boards = {&sample_, 1}},
         plan_(view_, status_, kDefaultLimits.staleAfter),
-        protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, monitor_, config.scanPeriod),
+        fet_(scheduler),
+        protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        monitor_(scheduler, bus, alert, config, sample_, view_, protection_,
+        monitor_(scheduler, bus, alert, config, sample_, view_, fet_,
                  static_cast<DriverArgs&&>(driverArgs)...) {}
 
-  void start() {
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();
@@ -352,6 +295,7 @@ class Bq769xApp {
   PackView view_;
   FramePlan plan_;
   PublishStatus status_;
+  FetMailbox fet_;
   ProtectionTask protection_;
   Publisher publisher_;
   Monitor monitor_;

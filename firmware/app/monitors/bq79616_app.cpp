@@ -6,66 +6,18 @@ namespace fw::app {
 
 namespace b616 = drivers::bq79616;
 
-void Bq79616Monitor::run(sched::EventMask events) {
-  const Instant now = scheduler_.now();
-  if ((events & chain_.events()) != 0 && chain_.onEvent(events) == drivers::Progress::Done) finished(now);
-  if ((events & kFault) != 0 && flags_.phase == Phase::Running) {
-    // nFAULT: a device reports a fault. Protection acts on the line itself at once; the next scan (started
-    // now) reads FAULT_SUMMARY to say which device and what. During bring-up and recovery the line is
-    // expected to be low (devices leave reset with their faults latched until the fault reset), so it is
-    // only a fault signal once the chain runs.
-    scheduler_.post(protection_, ProtectionTask::kFaultLine);
-    flags_.scanDue = flags_.early = true;
-  }
-  if ((events & kScanTick) != 0) {
-    if (flags_.scanning) ++records_.stats.scanOverruns;
-    flags_.scanDue = true;
-    scheduler_.checkIn(kId);  // the monitor is alive and on schedule, whatever the chain's state
-  }
-  if ((events & kRetry) != 0) flags_.retryDue = true;
-  if (!chain_.busy()) startNext(now);
-}
-
-inline void Bq79616Monitor::startNext(Instant now) {
-  if (flags_.phase != Phase::Running) {
-    if (flags_.scanDue) {
-      // Nothing is measured until the chain is back: tell protection every period (comm loss, stale data).
-      flags_.scanDue = false;
-      scheduler_.post(protection_, ProtectionTask::kScanFailed);
-    }
-    if (!flags_.retryDue) return;
-    flags_.retryDue = false;
-    ++records_.stats.recoveries;
-    // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
-    if ((flags_.phase == Phase::BringUp ? chain_.startBringUp() : chain_.startRecovery(flags_.from)) ==
-        Status::Ok)
-      records_.opStarted = now;
-    return;
-  }
-  if (!flags_.scanDue) return;
-  flags_.scanDue = false;
-  if (chain_.startScan(std::span<b616::DeviceRecord>(store_.records, config_.chain.devices),
-                       records_.summary) != Status::Ok) {
-    return;
-  }
-  flags_.scanning = true;
-  records_.opStarted = now;
-  if (flags_.early) ++records_.stats.earlyScans;
-  flags_.early = false;
-}
-
 // Bring-up or recovery ended: run with the devices that answer (CommFault names the missing one); otherwise
-// try again.
-inline void Bq79616Monitor::recovered(Status result) {
+// try again after retryAfterFailure.
+inline void Bq79616Device::setupFinished(Status result) {
   using b616::RecoveryLevel;
-  const bool wasRecovery = flags_.phase == Phase::Recovering;
-  if (result == Status::Ok || (result == Status::CommFault && chain_.devices() > 0)) {
-    flags_.phase = Phase::Running;
-    flags_.failedInRow = 0;
-    flags_.scanDue = true;
+  const bool wasRecovery = flags_.broughtUp;
+  if (result == Status::Ok || (result == Status::CommFault && driver_.devices() > 0)) {
+    setRunning(view_, true);
+    flags_.broughtUp = true;
+    loop_.scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
     // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
-    const RecoveryLevel reached = chain_.lastRecovery();
+    const RecoveryLevel reached = driver_.lastRecovery();
     if (wasRecovery) {
       flags_.from = reached == RecoveryLevel::HardwareReset
                         ? reached
@@ -76,39 +28,11 @@ inline void Bq79616Monitor::recovered(Status result) {
   // A failed ladder has sent a WAKE at least (its last rungs are full bring-ups), so the registers are reset:
   // only a full bring-up can bring the chain back, whatever a lighter rung's probe would say.
   if (wasRecovery && flags_.from < RecoveryLevel::Rewake) flags_.from = RecoveryLevel::Rewake;
+  scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryAfterFailure);
 }
 
-[[gnu::always_inline]] inline void Bq79616Monitor::finished(Instant now) {
-  const Status result = chain_.result();
-  if (!flags_.scanning) {
-    recovered(result);
-    if (flags_.phase != Phase::Running)
-      scheduler_.startTimer(records_.retryTimer, kId, kRetry, config_.retryAfterFailure);
-    return;
-  }
-  flags_.scanning = false;
-  ++records_.stats.scans;
-  records_.stats.lastScan = elapsed(records_.opStarted, now);
-  publishScan(now);
-  // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
-  // over, and the next recovery may start at the lightest rung again.
-  if (chain_.devices() != 0 && records_.summary.validDevices == chain_.devices())
-    flags_.from = b616::RecoveryLevel{};
-  if (result == Status::Ok) {
-    flags_.failedInRow = 0;
-  } else {
-    ++records_.stats.scanFailures;
-    if (++flags_.failedInRow >= 3) {
-      // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
-      // otherwise at most once per recoveryInterval.
-      flags_.phase = Phase::Recovering;
-      scheduler_.startTimer(records_.retryTimer, kId, kRetry,
-                            flags_.from == b616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
-    }
-  }
-}
-
-void Bq79616Monitor::publishScan(Instant now) {
+inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
+  if (kStats) records_.stats.lastScan = elapsed(records_.summary.started, now);
   bool anyValid = false;
   bool deviceFault = false;
   // Walked with pointers: the three per-device arrays have different strides.
@@ -135,9 +59,14 @@ void Bq79616Monitor::publishScan(Instant now) {
     s->valid = anyValid = true;
   }
   view_.deviceFault = deviceFault;
-  summarize(view_, now);
-  scheduler_.post(protection_, anyValid ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
-  scheduler_.post(publisher_, CanPublisher::kScanDone);
+  // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
+  // over, and the next recovery may start at the lightest rung again.
+  if (driver_.devices() != 0 && records_.summary.validDevices == driver_.devices())
+    flags_.from = b616::RecoveryLevel{};
+  return {.newData = anyValid, .failed = result != Status::Ok};
 }
+
+// The image's monitor task: its code (the loop with the chain's part folded in) is compiled here once.
+template class MonitorTask<Bq79616Device>;
 
 }  // namespace fw::app

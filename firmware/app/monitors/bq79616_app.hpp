@@ -2,7 +2,8 @@
 //
 // Tasks (priority = TaskId, higher first):
 //   2 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
-//   1 monitor      the chain: bring-up, a scan every scanPeriod (at once on an nFAULT edge), recovery after
+//   1 monitor      MonitorTask<Bq79616Device> (monitor_task.hpp), the chain: bring-up, a scan every
+//   scanPeriod (at once on an nFAULT edge), recovery after
 //                  three failed scans in a row: at once if a scan validated since the last recovery,
 //                  otherwise recoveryInterval later. Recovery climbs the driver's ladder (chain.hpp) from
 //                  where it must: from COMM CLEAR after a scan that validated every device in use; one rung
@@ -20,6 +21,7 @@
 
 #include <cstdint>
 
+#include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -54,77 +56,114 @@ struct MonitorStats {
   uint32_t earlyScans = 0;    // scans started by the fault line
   uint32_t scanOverruns = 0;  // scan periods that came while the previous scan was still running
   uint32_t recoveries = 0;    // bring-up and recovery operations run
-  Duration lastScan{};        // duration of the last scan
+  Duration lastScan{};        // duration of the last scan (its start: ScanSummary::started)
 };
 
-class Bq79616Monitor final : public sched::Task {
+// The BQ79616 chain's part of the monitor task (monitor_task.hpp): set-up is the bring-up, and after it the
+// recovery ladder from the rung `from` (see the task table above); nFAULT while running starts a scan at once
+// (and the chain reads FAULT_SUMMARY in it).
+class Bq79616Device : public MonitorBase {
  public:
-  static constexpr sched::TaskId kId = 1;
-
   // Inline: an image constructs it once, and the constructor is then stores only.
-  Bq79616Monitor(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
-                 const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view,
-                 sched::TaskId protection, sched::TaskId publisher)
-      : protection_(protection),
-        publisher_(publisher),
-        scheduler_(scheduler),
+  Bq79616Device(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
+                const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view)
+      : scheduler_(scheduler),
         config_(config),
         nfault_(nfault),
         store_(storage),
         view_(view),
-        chain_(uart, scheduler.clock(), drivers::DriverContext{scheduler, kId, kBus, kTimer}, config.chain) {}
+        driver_(uart, scheduler.clock(),
+                drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
+                config.chain) {}
 
-  void start() {
-    scheduler_.addTask(kId, *this, {}, true);
-    chain_.attachFaultLine(nfault_, kFault);
-    scheduler_.startTimer(records_.scanTimer, kId, kScanTick, config_.scanPeriod, config_.scanPeriod);
-    scheduler_.post(kId, kRetry);
-  }
-  void run(sched::EventMask events) override;
-
-  const drivers::bq79616::Chain& chain() const { return chain_; }
+  const drivers::bq79616::Chain& chain() const { return driver_; }
   const MonitorStats& stats() const { return records_.stats; }
-  bool running() const { return flags_.phase == Phase::Running; }
+
+ protected:
+  static constexpr bool kCommands = false;
+  static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
+
+  Duration scanPeriod() const { return config_.scanPeriod; }
+  // The events this task gave the chain (its DriverContext, and attachFaultLine()): driver_.events(), as
+  // constants.
+  static constexpr sched::EventMask driverEvents() {
+    return monitor_event::kBus | monitor_event::kTimer | monitor_event::kFaultLine;
+  }
+  // nFAULT goes to protection (which acts on it at once) and to this task (the chain's faultPending: the
+  // next scan reads FAULT_SUMMARY; and that scan starts now). The chain arms the pin for this task alone;
+  // it is re-armed for both while armed: the two Notifys differ only in their function word (see
+  // Scheduler::notifier<a, ea, b, eb>), so an interrupt that reads the Notify half-written posts to this task
+  // alone, as an edge just before would have.
+  static constexpr bool kFaultLineToo = true;
+  void attachFaultLine() {
+    hal::EdgeInput& line = nfault_;  // in a register across the call, not loaded again
+    driver_.attachFaultLine(line, monitor_event::kFaultLine);
+    line.enable(scheduler_.template notifier<kProtectionTask, ProtectionTask::kFaultLine, kMonitorTask,
+                                             monitor_event::kFaultLine>());
+  }
+  // nFAULT while running: a device reports a fault. The next scan (started now) reads FAULT_SUMMARY to say
+  // which device and what. During bring-up and recovery the line is expected to be low (devices leave reset
+  // with their faults latched until the fault reset), so it is only a fault signal once the chain runs.
+  void faultLine() { flags_.early = loop_.scanDue = true; }
+  void scanTick() {
+    if (loop_.op == MonitorOp::Scan) ++records_.stats.scanOverruns;
+  }
+  bool commandWaiting() const { return false; }
+  Status startCommand() { return Status::Busy; }
+
+  // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
+  [[gnu::always_inline]] Status startSetup() {
+    loop_.retryDue = false;
+    ++records_.stats.recoveries;
+    return flags_.broughtUp ? driver_.startRecovery(flags_.from) : driver_.startBringUp();
+  }
+  // Bring-up or recovery ended: run with the devices that answer, or try again retryAfterFailure later.
+  [[gnu::always_inline]] inline void setupFinished(Status result);  // bq79616_app.cpp
+  [[gnu::always_inline]] Status startScan() {
+    const Status s = driver_.startScan(
+        std::span<drivers::bq79616::DeviceRecord>(store_.records, config_.chain.devices), records_.summary);
+    if (s == Status::Ok && flags_.early) ++records_.stats.earlyScans;
+    flags_.early = false;
+    return s;
+  }
+  [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
+  void afterSummarize() {}
+  // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
+  // otherwise at most once per recoveryInterval.
+  [[gnu::always_inline]] void recover() {
+    setRunning(view_, false);
+    scheduler_.startTimer(
+        records_.retryTimer, kMonitorTask, monitor_event::kRetry,
+        flags_.from == drivers::bq79616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
+  }
 
  private:
-  static constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFault = 0x4, kScanTick = 0x8, kRetry = 0x10;
-  enum class Phase : uint8_t { BringUp, Running, Recovering };
-  // inline (.cpp): each has one caller and is folded into it.
-  inline void startNext(Instant now);
-  inline void finished(Instant now);
-  inline void recovered(Status result);
-  void publishScan(Instant now);
-
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
-  // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
-  // references, the chain driver with its state last.
-  struct Flags {
-    Phase phase;
-    bool scanning;
-    bool scanDue;
-    bool retryDue;  // start() posts kRetry: bring-up starts at once
-    bool early;
-    uint8_t failedInRow;
+  // first, the records after the references, the chain driver with its state last.
+  struct alignas(4) Flags {  // one word: zeroed with one store, not a memset call
+    bool broughtUp;          // the first bring-up succeeded: set-up is the recovery ladder from now on
+    bool early;              // the next scan is started by the fault line
     drivers::bq79616::RecoveryLevel from;  // the rung the next recovery starts at
   };
   struct Records {
-    Instant opStarted;
     MonitorStats stats;
     drivers::bq79616::ScanSummary summary;
     sched::Timer scanTimer;
     sched::Timer retryTimer;
   };
   Flags flags_{};
-  sched::TaskId protection_;
-  sched::TaskId publisher_;
+
+ protected:
   sched::Scheduler& scheduler_;
   const Bq79616AppConfig& config_;
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
   Records records_{};
-  drivers::bq79616::Chain chain_;
+  drivers::bq79616::Chain driver_;
 };
+using Bq79616Monitor = MonitorTask<Bq79616Device>;
+extern template class MonitorTask<Bq79616Device>;  // bq79616_app.cpp
 
 class Bq79616App {
  public:
@@ -134,8 +173,8 @@ class Bq79616App {
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
   };
-  static constexpr sched::TaskId kProtectionId = 2;
-  static constexpr sched::TaskId kPublisherId = 0;
+  static constexpr sched::TaskId kProtectionId = kProtectionTask;
+  static constexpr sched::TaskId kPublisherId = kPublisherTask;
 
   // `config` and `storage` must outlive the application (they are referenced, not copied).
   // Inline: an image constructs it once, and the constructor is then stores only.
@@ -148,10 +187,10 @@ class Bq79616App {
         actuator_(io.faultOut, true),
         protection_(scheduler, kProtectionId, limitsOf(config), view_, status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        monitor_(scheduler, io.uart, io.nfault, config, storage, view_, kProtectionId, kPublisherId) {
+        monitor_(scheduler, io.uart, io.nfault, config, storage, view_) {
     view_.rawCells = &storage.raw[0][0];
   }
-  void start() {
+  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();

@@ -81,10 +81,14 @@ struct PackTotals {
 
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
 struct PackView {
-  uint8_t cellsPerBoard = 0;    // connected cells per board
-  uint8_t tempsPerBoard = 0;    // temperature sensors per board
-  bool hasCurrent = false;      // pack-level values, valid with board 0's measurement
-  bool deviceFault = false;     // a monitor reports a tripped protection of its own
+  uint8_t cellsPerBoard = 0;  // connected cells per board
+  uint8_t tempsPerBoard = 0;  // temperature sensors per board
+  bool hasCurrent = false;    // pack-level values, valid with board 0's measurement
+  bool deviceFault = false;   // a monitor reports a tripped protection of its own
+  // The monitor is set up and scanning (written by the monitor task only). Protection takes the fault line
+  // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
+  // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).
+  bool monitorRunning = false;
   uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do

@@ -19,11 +19,17 @@ void ProtectionTask::run(sched::EventMask events) {
     in.pack = &pack_;
     in.fresh = (events & kNewData) != 0;
     in.scanFailed = (events & kScanFailed) != 0;
-    in.faultLine = (events & kFaultLine) != 0;
+    // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
+    // bring-up and recovery it is expected to be asserted.
+    in.faultLine = ((events & kFaultLine) != 0) & pack_.monitorRunning;  // no branch: a byte load and an and
     if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
       status_.pendingCleared |= protection_.clearLatched();
     const ProtectionState st = protection_.evaluate(in, now);
     if (kStats) ++state_.evaluations;
+    // A deferred FET command completed. Its owner posts kActuated from the run() that handled the completion,
+    // and this task outranks every other: it runs next, so now is when the command took effect (to within
+    // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
+    if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
   }
   scheduler_.checkIn(id_);

@@ -1,14 +1,20 @@
 // ProtectionTask: runs the firmware limits (protection.hpp) whenever new data arrives, a scan fails, the
-// monitor's fault line asserts, or its periodic check comes due, and acts on the result.
+// fault line asserts, or its periodic check comes due, and acts on the result.
 //
 // Acting goes through an Actuator, because images differ: on BQ769x2/BQ7690x images it is a FET command on
-// the monitor's bus (it completes later, and the owner reports completion with actuated()); on BQ79616 and
-// BQ4050 images it is the fault output pin (done at once). Every fault that trips is logged with when it was
-// detected and when the action took effect, so the detection-to-FET-off latency is measurable (bms-sim prints
-// it as protection_events).
+// the monitor's bus (a mailbox the monitor task reads, monitors/fet_mailbox.hpp: it completes later, and the
+// monitor posts kActuated as it handles the completion); on BQ79616 and BQ4050 images it is the fault
+// output pin (done at once). Every fault that trips is logged with when it was detected and when the action
+// took effect, so the detection-to-FET-off latency is measurable (bms-sim prints it as protection_events).
+// Protection and the monitor hold no reference to each other: they share the PackView (the monitor writes,
+// protection reads), the actuator, and events posted by task id.
 //
-// Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (ALERT/nFAULT edge),
-// kClearLatched (a user request). The periodic check is internal. Thread mode only.
+// Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (the ALERT/nFAULT
+// edge, posted by the pin's interrupt itself), kActuated (a deferred request took effect: post it from the
+// run() that saw it complete; this task, the highest priority, runs next, takes that instant and evaluates),
+// kClearLatched (a user request). The periodic check is internal. The fault line counts as a fault only
+// while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
+// periodic check would. Thread mode only.
 //
 // kClearLatched needs a user action that posts it (a button, a CAN command). The images have none yet, so
 // they build without it (FW_PROTECTION_CLEAR_LATCHED=0: the event is ignored and a latched fault stays until
@@ -30,7 +36,7 @@ namespace fw::app {
 class Actuator {
  public:
   // Requests the paths to be enabled or not. Returns true if the request is in effect on return, false if it
-  // completes later (then the owner calls ProtectionTask::actuated()).
+  // completes later: then its owner posts ProtectionTask::kActuated to the protection task when it does.
   virtual bool request(bool chargeOn, bool dischargeOn) = 0;
 
  protected:
@@ -65,6 +71,7 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kScanFailed = 0x2;
   static constexpr sched::EventMask kFaultLine = 0x4;
   static constexpr sched::EventMask kClearLatched = 0x8;
+  static constexpr sched::EventMask kActuated = 0x20;
   // Trips logged since start-up (the log does not wrap: later trips are not logged once it is full). Images
   // may shorten it (FW_PROTECTION_LOG_SIZE), or leave it out with 0 (the L1306 images: nothing in them
   // reads it; log() is then empty); the host keeps 16 for bms-sim.
@@ -89,8 +96,6 @@ class ProtectionTask final : public sched::Task {
     scheduler_.startTimer(state_.timer, id_, kTick, checkPeriod_, checkPeriod_);
   }
   void run(sched::EventMask events) override;
-  // The owner of a deferred actuator reports that the last request took effect.
-  void actuated(Instant at);
 
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
@@ -101,6 +106,7 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kTick = 0x10;
   inline void apply(const ProtectionState& st, bool fresh, Instant now);  // inline (.cpp): one caller
   inline void record(const ProtectionState& st, Instant now);             // the log's part of apply()
+  void actuated(Instant at);  // the last request took effect at `at`
 
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
@@ -109,19 +115,21 @@ class ProtectionTask final : public sched::Task {
     bool dischargeOn;
     bool requested;  // a request has been made since start()
     bool pendingAction;
-    bool resultSinceTick;  // run() was called for something else than the periodic tick alone since the last
+    bool resultSinceTick;  // run() evaluated for something else than the periodic tick alone since the last
                            // tick
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;
     ProtectionRecord log[kLogSize != 0 ? kLogSize : 1];
   };
+  // The references every run() uses before the state: with the log inside, the state would push them past
+  // the 124 bytes a Thumb load reaches from the object's address; its byte fields stay within 31 bytes.
   sched::TaskId id_;
-  State state_{};
   sched::Scheduler& scheduler_;
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
+  State state_{};
   Duration checkPeriod_;
   Protection protection_;
 };

@@ -1,0 +1,189 @@
+// MonitorTask<Device>: the one loop every monitor task runs (set up, scan every scan period, validate,
+// publish, recover), with the device as the varying part, as LibreSolar's bms_ic API gives every monitor IC
+// one interface. The loop:
+//   run()        a command posted (BQ769x FET request) -> the device takes it (a scan in progress gives way);
+//                the scan period -> a scan is due, and the task checks in with the watchdog supervisor; the
+//                retry timer -> set-up is due; the driver's events -> finished(); the fault line while
+//                running -> the device (BQ79616: early scan; only a device with kFaultLineToo gets it). With
+//                the driver idle: startNext().
+//   startNext()  not running: the period counts as failed (kScanFailed to protection: comm loss and stale
+//                data go on), and when set-up is due the device starts its next set-up step. Running: a
+//                waiting device command first, else a scan when one is due.
+//   finished()   set-up and command results go to the device; a scan's result becomes samples and view
+//                fields (the device), then the statistics, the failure count (kFailuresBeforeRecovery failed
+//                scans in a row: the device's recovery), summarize(), kNewData or kScanFailed to protection
+//                and the device's scan-done event to the publisher.
+// The fault line (ALERT/nFAULT) is wired to the protection task itself; the monitor gets it too only where it
+// needs it (BQ79616: Scheduler::notifier(a, ea, b, eb)). Protection and the monitor hold no reference to each
+// other: the monitor writes the PackView (PackView::monitorRunning, the loop's own running flag, also gates
+// the fault line in protection) and posts events by task id.
+//
+// A Device is a class derived from MonitorBase that provides, in this order of members (small fields first:
+// Cortex-M0+ byte loads reach only 31 bytes past the object's address; the driver with its buffers last):
+//   scheduler_, view_, records_ (with .stats.scans, .stats.scanFailures, .scanTimer), driver_ (busy(),
+//   result(), onEvent()), and
+//   kCommands, kPublisherScanDone      device commands (startCommand()/commandPosted()/commandFinished());
+//                                      the publisher's scan-done event (0: none)
+//   kFaultLineToo                      the monitor gets the fault line as well (then faultLine())
+//   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), attachFaultLine(),
+//   scanTick()
+//   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
+//   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
+//   recover()                                               after kFailuresBeforeRecovery failed scans
+// All of them inline, and [[gnu::always_inline]] where -Os would otherwise call a hook that has one caller:
+// each image has one Device, and the template costs no more than the hand-written task did (flash and
+// instructions per scan cycle, measured per image against the three tasks it replaced).
+// Thread mode only (the task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
+#pragma once
+
+#include <cstdint>
+
+#include "app/pack/pack_view.hpp"
+#include "app/protection/protection_task.hpp"
+#include "core/stats.hpp"
+#include "drivers/operation.hpp"
+#include "sched/scheduler.hpp"
+
+namespace fw::app {
+
+// The tasks of every image, by priority (TaskId, higher runs first).
+inline constexpr sched::TaskId kPublisherTask = 0;
+inline constexpr sched::TaskId kMonitorTask = 1;
+inline constexpr sched::TaskId kProtectionTask = 2;
+
+// The monitor task's events: the driver's two first (the DriverContext the device gives its driver).
+namespace monitor_event {
+inline constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFaultLine = 0x4, kScanTick = 0x8, kRetry = 0x10,
+                                  kCommand = 0x20;
+}
+
+// Scans that fail in a row before the device's recovery (every device: three).
+inline constexpr uint8_t kFailuresBeforeRecovery = 3;
+
+enum class MonitorOp : uint8_t { None, Setup, Scan, Command };
+
+// What a finished scan means for the loop (Device::scanFinished()). Bit-fields: one byte, so the verdict
+// stays in a register once scanFinished() is folded into the loop.
+struct ScanVerdict {
+  bool measured : 1 = true;  // false: the scan gave way to a command; nothing is counted or reported
+  bool newData : 1 = false;  // a board validated: kNewData to protection (otherwise kScanFailed)
+  bool failed : 1 = false;   // counted in stats().scanFailures
+  bool counts : 1 = true;    // a failure that counts toward recovery (BQ4050 open wire does not)
+};
+
+// The loop's own state, first in every device. Not a Task itself: MonitorTask derives from the device first
+// and from sched::Task second. The ABI still places Task (the only base with a vtable) at offset 0, but
+// constructs it after the device: its vtable pointer store is then followed at once by MonitorTask's and
+// dropped, where a Task constructed before the device's out-of-line driver constructor would keep a
+// vtable of its own (12 B) alive.
+class MonitorBase {
+ protected:
+  // Set-up done (scanning from now) or lost. The flag lives in the PackView only (protection reads it too).
+  static void setRunning(PackView& view, bool on) { view.monitorRunning = on; }
+
+  struct Loop {    // zero at construction
+    MonitorOp op;  // the driver operation in flight
+    bool scanDue;
+    bool retryDue;  // start() posts kRetry: set-up starts at once
+    uint8_t failedInRow;
+  };
+  Loop loop_{};
+};
+
+template <class Device>
+class MonitorTask final : public Device, public sched::Task {
+ public:
+  static constexpr sched::TaskId kId = kMonitorTask;
+  using Device::Device;
+
+  bool running() const { return this->view_.monitorRunning; }
+
+  [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
+    this->scheduler_.addTask(kId, *this, {}, true);
+    this->attachFaultLine();
+    this->scheduler_.startTimer(this->records_.scanTimer, kId, monitor_event::kScanTick, this->scanPeriod(),
+                                this->scanPeriod());
+    this->scheduler_.post(kId, monitor_event::kRetry);
+  }
+
+  void run(sched::EventMask events) override {
+    using namespace monitor_event;
+    // The task's own events first, under one test: most runs carry only the driver's. The command first of
+    // all, so a scan in progress gives way before the driver starts its next read.
+    const sched::EventMask driverEvents = this->driverEvents();
+    if ((events & ~driverEvents) != 0) {
+      if constexpr (Device::kCommands) {
+        if ((events & kCommand) != 0) this->commandPosted();
+      }
+      if ((events & kScanTick) != 0) {
+        this->scanTick();
+        this->loop_.scanDue = true;
+        this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
+      }
+      if ((events & kRetry) != 0) this->loop_.retryDue = true;
+    }
+    if ((events & driverEvents) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done) finished();
+    if constexpr (Device::kFaultLineToo) {  // after finished(): a set-up that just ended counts as running
+      if ((events & kFaultLine) != 0 && this->view_.monitorRunning) this->faultLine();
+    }
+    if (!this->driver_.busy()) startNext();
+  }
+
+ private:
+  [[gnu::always_inline]] void startNext() {  // one caller (run()): folded into it
+    auto& loop = this->loop_;
+    Status s = Status::Busy;
+    MonitorOp op = MonitorOp::Setup;
+    if (!this->view_.monitorRunning) {
+      if (loop.scanDue) {
+        loop.scanDue =
+            false;  // nothing measured until set-up is done: protection counts the period as failed
+        this->scheduler_.post(kProtectionTask, ProtectionTask::kScanFailed);
+      }
+      if (!loop.retryDue) return;
+      s = this->startSetup();
+    } else if (Device::kCommands && this->commandWaiting()) {
+      s = this->startCommand();
+      op = MonitorOp::Command;
+    } else if (loop.scanDue) {
+      loop.scanDue = false;
+      s = this->startScan();
+      op = MonitorOp::Scan;
+    }
+    loop.op = s == Status::Ok ? op : MonitorOp::None;
+  }
+
+  [[gnu::always_inline]] void finished() {  // one caller (run()): folded into it
+    auto& loop = this->loop_;
+    const Instant now = this->scheduler_.now();
+    const Status result = this->driver_.result();
+    const MonitorOp op = loop.op;
+    loop.op = MonitorOp::None;
+    if (op == MonitorOp::Setup) return this->setupFinished(result);
+    if constexpr (Device::kCommands) {
+      if (op == MonitorOp::Command) return this->commandFinished(result);
+    }
+    if (op != MonitorOp::Scan) return;
+    const ScanVerdict v = this->scanFinished(result, now);
+    if (!v.measured) return;
+    auto& stats = this->records_.stats;
+    if (kStats) ++stats.scans;
+    if (!v.failed) {
+      loop.failedInRow = 0;
+    } else {
+      if (kStats) ++stats.scanFailures;
+      if (v.counts && ++loop.failedInRow >= kFailuresBeforeRecovery) {
+        loop.failedInRow = 0;
+        this->recover();
+      }
+    }
+    summarize(this->view_, now);
+    this->afterSummarize();
+    this->scheduler_.post(kProtectionTask,
+                          v.newData ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
+    if constexpr (Device::kPublisherScanDone != 0)
+      this->scheduler_.post(kPublisherTask, Device::kPublisherScanDone);
+  }
+};
+
+}  // namespace fw::app
