@@ -19,6 +19,7 @@
 #include "app/protection/protection_task.hpp"
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/bq4050/gauge.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
@@ -57,8 +58,8 @@ class Bq4050Device : public MonitorBase {
                 config.gauge) {}
 
   const drivers::bq4050::Gauge& gauge() const { return driver_; }
-  const Bq4050Stats& stats() const { return records_.stats; }
-  const drivers::bq4050::DeviceInfo& info() const { return records_.info; }
+  const Bq4050Stats& stats() const { return records_->stats; }
+  const drivers::bq4050::DeviceInfo& info() const { return records_->info; }
 
  protected:
   static constexpr bool kCommands = false;
@@ -74,22 +75,22 @@ class Bq4050Device : public MonitorBase {
   Status startCommand() { return Status::Busy; }
 
   [[gnu::always_inline]] Status startSetup() {
-    const Status s = driver_.startProbe(records_.info);
+    const Status s = driver_.startProbe(records_->info);
     if (s == Status::Ok) {
-      loop_.retryDue = false;
-      ++records_.stats.probes;
+      loop_->retryDue = false;
+      ++records_->stats.probes;
     }
     return s;
   }
   [[gnu::always_inline]] void setupFinished(Status result) {
     setRunning(view_, result == Status::Ok);
     if (result == Status::Ok) {
-      loop_.scanDue = true;
+      loop_->scanDue = true;
     } else {
-      scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryInterval);
+      scheduler_.startTimer(records_->retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryInterval);
     }
   }
-  Status startScan() { return driver_.startScan(records_.measurement); }
+  Status startScan() { return driver_.startScan(records_->measurement); }
   [[gnu::always_inline]] ScanVerdict scanFinished(Status result, Instant) {
     sample_.last = result;
     // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
@@ -98,7 +99,7 @@ class Bq4050Device : public MonitorBase {
     // re-probe.
     const bool openWire = result == Status::Implausible;
     if (result == Status::Ok) {
-      const auto& m = records_.measurement;
+      const auto& m = records_->measurement;
       const auto cells = m.cells();
       for (size_t c = 0; c < cells.size(); ++c)
         sample_.cellMv[c] = cells[c];
@@ -117,7 +118,7 @@ class Bq4050Device : public MonitorBase {
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
   [[gnu::always_inline]] void recover() {
     setRunning(view_, false);
-    loop_.retryDue = true;
+    loop_->retryDue = true;
   }
 
   // What changes, zero at construction (one block, no per-member start-up code), after the references; the
@@ -133,7 +134,7 @@ class Bq4050Device : public MonitorBase {
   const Bq4050AppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
-  Records records_{};
+  Zeroed<Records> records_;
   drivers::bq4050::Gauge driver_;
 };
 using Bq4050Monitor = MonitorTask<Bq4050Device>;
@@ -151,28 +152,32 @@ class Bq4050App {
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
-      : view_{.cellsPerBoard = config.gauge.cells, .tempsPerBoard = 1, .boards = {&sample_, 1}},
-        plan_(view_, status_, kDefaultLimits.staleAfter),
+      : plan_(*view_, *status_, kDefaultLimits.staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, actuator_, config.scanPeriod),
+        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
-        monitor_(scheduler, io.bus, config, sample_, view_) {}
+        monitor_(scheduler, io.bus, config, *sample_, *view_) {
+    // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
+    view_->cellsPerBoard = config.gauge.cells;
+    view_->tempsPerBoard = 1;
+    view_->boards = {&*sample_, 1};
+  }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
     monitor_.start();
     publisher_.start();
   }
 
-  const PackView& pack() const { return view_; }
-  const PublishStatus& status() const { return status_; }
+  const PackView& pack() const { return *view_; }
+  const PublishStatus& status() const { return *status_; }
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }
 
  private:
-  BoardSample sample_{};
-  PackView view_;
-  PublishStatus status_;
+  Zeroed<BoardSample> sample_;
+  Zeroed<PackView> view_;
+  Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
   ProtectionTask protection_;

@@ -40,6 +40,7 @@
 #include "app/publish/frame_plan.hpp"
 #include "app/publish/slcan_publisher.hpp"
 #include "core/stats.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/bq769x2/monitor.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
@@ -113,7 +114,7 @@ class Bq769xDevice : public MonitorBase {
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
 
   const Driver& driver() const { return driver_; }
-  const Bq769xStats& stats() const { return records_.stats; }
+  const Bq769xStats& stats() const { return records_->stats; }
 
  protected:
   static constexpr bool kCommands = true;
@@ -126,7 +127,7 @@ class Bq769xDevice : public MonitorBase {
   // command says which fault it was; the protection log holds the trip and when it was detected).
   static constexpr bool kFaultLineToo = false;
   void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
-  void scanTick() { flags_.fetBackoff = false; }  // a failed FET command is tried again once per scan period
+  void scanTick() { flags_->fetBackoff = false; }  // a failed FET command is tried again once per scan period
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
@@ -134,70 +135,71 @@ class Bq769xDevice : public MonitorBase {
   // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
   // it (it runs right after protection, before the command goes out).
   void commandPosted() {
-    flags_.fetWanted = true;
-    flags_.fetRequested = true;
-    flags_.fet = fet_.command;
+    flags_->fetWanted = true;
+    flags_->fetRequested = true;
+    flags_->fet = fet_.command;
     if (kFaultIndicator && config_.faultIndicator != nullptr)
-      config_.faultIndicator->set(flags_.fet != drivers::bq769x2::FetCommand::AllOn);
-    if (loop_.op == MonitorOp::Scan) driver_.yieldScan();
-    loop_.scanDue = true;
+      config_.faultIndicator->set(flags_->fet != drivers::bq769x2::FetCommand::AllOn);
+    if (loop_->op == MonitorOp::Scan) driver_.yieldScan();
+    loop_->scanDue = true;
   }
-  bool commandWaiting() const { return flags_.fetWanted && !flags_.fetBackoff; }
+  bool commandWaiting() const { return flags_->fetWanted && !flags_->fetBackoff; }
   Status startCommand() {
-    flags_.fetWanted = false;
-    return driver_.startFet(flags_.fet);
+    flags_->fetWanted = false;
+    return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
     if (result == Status::Ok) {
-      if (kStats) ++records_.stats.fetCommands;
+      if (kStats) ++records_->stats.fetCommands;
       scheduler_.post(kProtectionTask, ProtectionTask::kActuated);  // protection runs next (fet_mailbox.hpp)
     } else {
       // The device did not take it (gone, resetting): keep scanning, and try again next period. The device's
       // own protection stays the backstop meanwhile.
-      flags_.fetWanted = true;
-      flags_.fetBackoff = true;
+      flags_->fetWanted = true;
+      flags_->fetBackoff = true;
     }
   }
 
   Status startSetup() {
-    if (flags_.step == Step::Probe) {
-      if (kStats) ++records_.stats.setupAttempts;
-      return driver_.startProbe(records_.identity);
+    if (flags_->step == Step::Probe) {
+      if (kStats) ++records_->stats.setupAttempts;
+      return driver_.startProbe(records_->identity);
     }
-    if (flags_.step == Step::RuntimeSetup) return driver_.startRuntimeSetup(config_.settings);
-    return kConfigUpdate && flags_.step == Step::Configure ? driver_.startConfigure(config_.settings)
-                                                           : driver_.startFetEnable();
+    if (flags_->step == Step::RuntimeSetup) return driver_.startRuntimeSetup(config_.settings);
+    return kConfigUpdate && flags_->step == Step::Configure ? driver_.startConfigure(config_.settings)
+                                                            : driver_.startFetEnable();
   }
   void setupFinished(Status result) {
     // A probe that failed found no device: probe again next scan period (two subcommand reads, harmless), so
     // a device that comes back is set up within one scan period plus one bring-up. A later step that failed
     // waits the retry interval.
     if (result != Status::Ok)
-      return retryLater(flags_.step == Step::Probe ? config_.scanPeriod : config_.retryInterval);
-    if (kStats && kConfigUpdate && flags_.step == Step::Configure)
-      records_.stats.configWrites = driver_.written();
-    if (flags_.step == Step::RuntimeSetup) {
-      flags_.step = Step::Probe;  // where the next set-up starts
+      return retryLater(flags_->step == Step::Probe ? config_.scanPeriod : config_.retryInterval);
+    if (kStats && kConfigUpdate && flags_->step == Step::Configure)
+      records_->stats.configWrites = driver_.written();
+    if (flags_->step == Step::RuntimeSetup) {
+      flags_->step = Step::Probe;  // where the next set-up starts
       setRunning(view_, true);
-      loop_.scanDue = true;
-      flags_.fetWanted = flags_.fetRequested;  // protection's last request, again: the device may have reset
+      loop_->scanDue = true;
+      flags_->fetWanted =
+          flags_->fetRequested;  // protection's last request, again: the device may have reset
       return;
     }
     // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
-    flags_.step = static_cast<Step>(static_cast<uint8_t>(flags_.step) +
-                                    (!kConfigUpdate && flags_.step == Step::Probe ? 2 : 1));
+    flags_->step = static_cast<Step>(static_cast<uint8_t>(flags_->step) +
+                                     (!kConfigUpdate && flags_->step == Step::Probe ? 2 : 1));
   }
-  Status startScan() { return driver_.startScan(records_.measurement); }
+  Status startScan() { return driver_.startScan(records_->measurement); }
   ScanVerdict scanFinished(Status result, Instant) {
     if (result == Status::Aborted)
       return {.measured = false};  // gave way to a FET command: not a measurement
     sample_.last = result;
     if (result == Status::Ok) {
-      toSample(records_.measurement, config_.cells, sample_, view_);
+      toSample(records_->measurement, config_.cells, sample_, view_);
       // The device reset since the set-up: set it up again now (the measurement itself is valid).
-      if (records_.measurement.reg.batteryStatus.sleep_en()) {
+      if (records_->measurement.reg.batteryStatus.sleep_en()) {
         setRunning(view_, false);
-        loop_.retryDue = true;
+        loop_->retryDue = true;
       }
     }
     return {.newData = result == Status::Ok, .failed = result != Status::Ok};
@@ -211,9 +213,9 @@ class Bq769xDevice : public MonitorBase {
   // configuration).
   void retryLater(Duration wait) {
     setRunning(view_, false);
-    flags_.step = Step::Probe;
-    loop_.retryDue = false;
-    scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, wait);
+    flags_->step = Step::Probe;
+    loop_->retryDue = false;
+    scheduler_.startTimer(records_->retryTimer, kMonitorTask, monitor_event::kRetry, wait);
   }
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
@@ -233,14 +235,14 @@ class Bq769xDevice : public MonitorBase {
     drivers::bq769x2::Identity identity;
     Measurement measurement;
   };
-  Flags flags_{};
+  Zeroed<Flags> flags_;
   sched::Scheduler& scheduler_;
   hal::EdgeInput& alert_;
   const Bq769xAppConfig& config_;
   BoardSample& sample_;
   PackView& view_;
   FetMailbox& fet_;
-  Records records_{};
+  Zeroed<Records> records_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -266,15 +268,17 @@ class Bq769xApp {
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
             const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
-      : view_{.cellsPerBoard = config.cells,
-              .tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr)),
-              .boards = {&sample_, 1}},
-        plan_(view_, status_, kDefaultLimits.staleAfter),
+      : plan_(*view_, *status_, kDefaultLimits.staleAfter),
         fet_(scheduler),
-        protection_(scheduler, kProtectionId, kDefaultLimits, view_, status_, fet_, config.scanPeriod),
+        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        monitor_(scheduler, bus, alert, config, sample_, view_, fet_,
-                 static_cast<DriverArgs&&>(driverArgs)...) {}
+        monitor_(scheduler, bus, alert, config, *sample_, *view_, fet_,
+                 static_cast<DriverArgs&&>(driverArgs)...) {
+    // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
+    view_->cellsPerBoard = config.cells;
+    view_->tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
+    view_->boards = {&*sample_, 1};
+  }
 
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
@@ -282,8 +286,8 @@ class Bq769xApp {
     publisher_.start();
   }
 
-  const PackView& pack() const { return view_; }
-  const PublishStatus& status() const { return status_; }
+  const PackView& pack() const { return *view_; }
+  const PublishStatus& status() const { return *status_; }
   const ProtectionTask& protection() const { return protection_; }
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }
@@ -292,14 +296,14 @@ class Bq769xApp {
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
   // base register, farther ones cost an address computation each): the wiring first, the zero blocks last.
-  PackView view_;
+  Zeroed<PackView> view_;
   FramePlan plan_;
-  PublishStatus status_;
+  Zeroed<PublishStatus> status_;
   FetMailbox fet_;
   ProtectionTask protection_;
   Publisher publisher_;
   Monitor monitor_;
-  BoardSample sample_{};
+  Zeroed<BoardSample> sample_;
 };
 
 }  // namespace fw::app

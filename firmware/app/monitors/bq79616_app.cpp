@@ -10,29 +10,29 @@ namespace b616 = drivers::bq79616;
 // try again after retryAfterFailure.
 inline void Bq79616Device::setupFinished(Status result) {
   using b616::RecoveryLevel;
-  const bool wasRecovery = flags_.broughtUp;
+  const bool wasRecovery = flags_->broughtUp;
   if (result == Status::Ok || (result == Status::CommFault && driver_.devices() > 0)) {
     setRunning(view_, true);
-    flags_.broughtUp = true;
-    loop_.scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
+    flags_->broughtUp = true;
+    loop_->scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
     // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
     const RecoveryLevel reached = driver_.lastRecovery();
     if (wasRecovery) {
-      flags_.from = reached == RecoveryLevel::HardwareReset
-                        ? reached
-                        : static_cast<RecoveryLevel>(static_cast<uint8_t>(reached) + 1);
+      flags_->from = reached == RecoveryLevel::HardwareReset
+                         ? reached
+                         : static_cast<RecoveryLevel>(static_cast<uint8_t>(reached) + 1);
     }
     return;
   }
   // A failed ladder has sent a WAKE at least (its last rungs are full bring-ups), so the registers are reset:
   // only a full bring-up can bring the chain back, whatever a lighter rung's probe would say.
-  if (wasRecovery && flags_.from < RecoveryLevel::Rewake) flags_.from = RecoveryLevel::Rewake;
-  scheduler_.startTimer(records_.retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryAfterFailure);
+  if (wasRecovery && flags_->from < RecoveryLevel::Rewake) flags_->from = RecoveryLevel::Rewake;
+  scheduler_.startTimer(records_->retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryAfterFailure);
 }
 
 inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
-  if (kStats) records_.stats.lastScan = elapsed(records_.summary.started, now);
+  if (kStats) records_->stats.lastScan = elapsed(records_->summary.started, now);
   bool anyValid = false;
   bool deviceFault = false;
   // Walked with pointers: the three per-device arrays have different strides.
@@ -61,8 +61,8 @@ inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
   view_.deviceFault = deviceFault;
   // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
   // over, and the next recovery may start at the lightest rung again.
-  if (driver_.devices() != 0 && records_.summary.validDevices == driver_.devices())
-    flags_.from = b616::RecoveryLevel{};
+  if (driver_.devices() != 0 && records_->summary.validDevices == driver_.devices())
+    flags_->from = b616::RecoveryLevel{};
   return {.newData = anyValid, .failed = result != Status::Ok};
 }
 

@@ -27,6 +27,7 @@
 #include "app/protection/protection_task.hpp"
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/bq79616/chain.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
@@ -77,7 +78,7 @@ class Bq79616Device : public MonitorBase {
                 config.chain) {}
 
   const drivers::bq79616::Chain& chain() const { return driver_; }
-  const MonitorStats& stats() const { return records_.stats; }
+  const MonitorStats& stats() const { return records_->stats; }
 
  protected:
   static constexpr bool kCommands = false;
@@ -104,26 +105,26 @@ class Bq79616Device : public MonitorBase {
   // nFAULT while running: a device reports a fault. The next scan (started now) reads FAULT_SUMMARY to say
   // which device and what. During bring-up and recovery the line is expected to be low (devices leave reset
   // with their faults latched until the fault reset), so it is only a fault signal once the chain runs.
-  void faultLine() { flags_.early = loop_.scanDue = true; }
+  void faultLine() { flags_->early = loop_->scanDue = true; }
   void scanTick() {
-    if (loop_.op == MonitorOp::Scan) ++records_.stats.scanOverruns;
+    if (loop_->op == MonitorOp::Scan) ++records_->stats.scanOverruns;
   }
   bool commandWaiting() const { return false; }
   Status startCommand() { return Status::Busy; }
 
   // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
   [[gnu::always_inline]] Status startSetup() {
-    loop_.retryDue = false;
-    ++records_.stats.recoveries;
-    return flags_.broughtUp ? driver_.startRecovery(flags_.from) : driver_.startBringUp();
+    loop_->retryDue = false;
+    ++records_->stats.recoveries;
+    return flags_->broughtUp ? driver_.startRecovery(flags_->from) : driver_.startBringUp();
   }
   // Bring-up or recovery ended: run with the devices that answer, or try again retryAfterFailure later.
   [[gnu::always_inline]] inline void setupFinished(Status result);  // bq79616_app.cpp
   [[gnu::always_inline]] Status startScan() {
     const Status s = driver_.startScan(
-        std::span<drivers::bq79616::DeviceRecord>(store_.records, config_.chain.devices), records_.summary);
-    if (s == Status::Ok && flags_.early) ++records_.stats.earlyScans;
-    flags_.early = false;
+        std::span<drivers::bq79616::DeviceRecord>(store_.records, config_.chain.devices), records_->summary);
+    if (s == Status::Ok && flags_->early) ++records_->stats.earlyScans;
+    flags_->early = false;
     return s;
   }
   [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
@@ -133,8 +134,8 @@ class Bq79616Device : public MonitorBase {
   [[gnu::always_inline]] void recover() {
     setRunning(view_, false);
     scheduler_.startTimer(
-        records_.retryTimer, kMonitorTask, monitor_event::kRetry,
-        flags_.from == drivers::bq79616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
+        records_->retryTimer, kMonitorTask, monitor_event::kRetry,
+        flags_->from == drivers::bq79616::RecoveryLevel{} ? Duration{} : config_.recoveryInterval);
   }
 
  private:
@@ -151,7 +152,7 @@ class Bq79616Device : public MonitorBase {
     sched::Timer scanTimer;
     sched::Timer retryTimer;
   };
-  Flags flags_{};
+  Zeroed<Flags> flags_;
 
  protected:
   sched::Scheduler& scheduler_;
@@ -159,7 +160,7 @@ class Bq79616Device : public MonitorBase {
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
-  Records records_{};
+  Zeroed<Records> records_;
   drivers::bq79616::Chain driver_;
 };
 using Bq79616Monitor = MonitorTask<Bq79616Device>;
@@ -180,15 +181,17 @@ class Bq79616App {
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config,
              Bq79616Storage& storage)
-      : view_{.cellsPerBoard = config.chain.activeCells,
-              .tempsPerBoard = 2,
-              .boards = {storage.samples, config.chain.devices}},
-        plan_(view_, status_, limitsOf(config).staleAfter),
+      : plan_(*view_, *status_, limitsOf(config).staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, limitsOf(config), view_, status_, actuator_, config.scanPeriod),
+        protection_(scheduler, kProtectionId, limitsOf(config), *view_, *status_, actuator_,
+                    config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        monitor_(scheduler, io.uart, io.nfault, config, storage, view_) {
-    view_.rawCells = &storage.raw[0][0];
+        monitor_(scheduler, io.uart, io.nfault, config, storage, *view_) {
+    // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
+    view_->cellsPerBoard = config.chain.activeCells;
+    view_->tempsPerBoard = 2;
+    view_->boards = {storage.samples, config.chain.devices};
+    view_->rawCells = &storage.raw[0][0];
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
@@ -196,19 +199,19 @@ class Bq79616App {
     publisher_.start();
   }
 
-  const PackView& pack() const { return view_; }
+  const PackView& pack() const { return *view_; }
   const ProtectionTask& protection() const { return protection_; }
   const CanPublisher& publisher() const { return publisher_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
-  const PublishStatus& status() const { return status_; }
+  const PublishStatus& status() const { return *status_; }
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
     return config.limits != nullptr ? *config.limits : kDefaultLimits;
   }
 
-  PackView view_;
-  PublishStatus status_;
+  Zeroed<PackView> view_;
+  Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
   ProtectionTask protection_;

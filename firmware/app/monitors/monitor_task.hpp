@@ -41,6 +41,7 @@
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
 #include "core/stats.hpp"
+#include "core/zeroed.hpp"
 #include "drivers/operation.hpp"
 #include "sched/scheduler.hpp"
 
@@ -87,7 +88,7 @@ class MonitorBase {
     bool retryDue;  // start() posts kRetry: set-up starts at once
     uint8_t failedInRow;
   };
-  Loop loop_{};
+  Zeroed<Loop> loop_;
 };
 
 template <class Device>
@@ -101,7 +102,7 @@ class MonitorTask final : public Device, public sched::Task {
   [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
     this->scheduler_.addTask(kId, *this, {}, true);
     this->attachFaultLine();
-    this->scheduler_.startTimer(this->records_.scanTimer, kId, monitor_event::kScanTick, this->scanPeriod(),
+    this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick, this->scanPeriod(),
                                 this->scanPeriod());
     this->scheduler_.post(kId, monitor_event::kRetry);
   }
@@ -117,10 +118,10 @@ class MonitorTask final : public Device, public sched::Task {
       }
       if ((events & kScanTick) != 0) {
         this->scanTick();
-        this->loop_.scanDue = true;
+        this->loop_->scanDue = true;
         this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
       }
-      if ((events & kRetry) != 0) this->loop_.retryDue = true;
+      if ((events & kRetry) != 0) this->loop_->retryDue = true;
     }
     if ((events & driverEvents) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done) finished();
     if constexpr (Device::kFaultLineToo) {  // after finished(): a set-up that just ended counts as running
@@ -131,7 +132,7 @@ class MonitorTask final : public Device, public sched::Task {
 
  private:
   [[gnu::always_inline]] void startNext() {  // one caller (run()): folded into it
-    auto& loop = this->loop_;
+    auto& loop = *this->loop_;
     Status s = Status::Busy;
     MonitorOp op = MonitorOp::Setup;
     if (!this->view_.monitorRunning) {
@@ -154,7 +155,7 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
   [[gnu::always_inline]] void finished() {  // one caller (run()): folded into it
-    auto& loop = this->loop_;
+    auto& loop = *this->loop_;
     const Instant now = this->scheduler_.now();
     const Status result = this->driver_.result();
     const MonitorOp op = loop.op;
@@ -166,7 +167,7 @@ class MonitorTask final : public Device, public sched::Task {
     if (op != MonitorOp::Scan) return;
     const ScanVerdict v = this->scanFinished(result, now);
     if (!v.measured) return;
-    auto& stats = this->records_.stats;
+    auto& stats = this->records_->stats;
     if (kStats) ++stats.scans;
     if (!v.failed) {
       loop.failedInRow = 0;

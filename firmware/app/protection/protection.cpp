@@ -16,9 +16,9 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   ProtectionState out;
 
   if (in.fresh) {
-    state_.failedScans = 0;
-  } else if (in.scanFailed && state_.failedScans < 0xFF) {
-    ++state_.failedScans;
+    state_->failedScans = 0;
+  } else if (in.scanFailed && state_->failedScans < 0xFF) {
+    ++state_->failedScans;
   }
 
   // Every rule compares one value with its thresholds; build the nine values, and the set of rules that have
@@ -52,7 +52,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   value[6] = in.faultLine || (in.fresh && pack->deviceFault);
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
   value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
-  value[8] = state_.failedScans >= config_.commLossScans;
+  value[8] = state_->failedScans >= config_.commLossScans;
   if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
@@ -61,9 +61,9 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const Rule& rule = config_.rules[i];
     if (rule.enabled && (evaluated & (1U << i)) != 0) track(i, value[i], now, out);
-    if ((state_.active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
+    if ((state_->active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
   }
-  out.active = state_.active;
+  out.active = state_->active;
   out.chargeOff = (actions & static_cast<uint8_t>(Action::ChargeOff)) != 0;
   out.dischargeOff = (actions & static_cast<uint8_t>(Action::DischargeOff)) != 0;
   return out;
@@ -80,31 +80,31 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   const int32_t x = v ^ flip;
   const bool present = x >= (rule.trip ^ flip);
   const bool absent = x < (rule.clear ^ flip);
-  if (present) state_.conditionNow |= b;
-  if (absent) state_.conditionNow = static_cast<FaultMask>(state_.conditionNow & ~b);
+  if (present) state_->conditionNow |= b;
+  if (absent) state_->conditionNow = static_cast<FaultMask>(state_->conditionNow & ~b);
 
   // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
   // sighting of the other kind restarts the count.
-  const bool tripped = (state_.active & b) != 0;
-  uint8_t& count = state_.count[i];
+  const bool tripped = (state_->active & b) != 0;
+  uint8_t& count = state_->count[i];
   if (tripped ? present : absent) {
     count = 0;
     return;
   }
   if (!(tripped ? absent : present)) return;
 #if FW_PROTECTION_DELAYS
-  if (count == 0) state_.since[i] = now;
+  if (count == 0) state_->since[i] = now;
 #endif
   if (count < 0xFF) ++count;
   if (count < rule.debounce) return;
 #if FW_PROTECTION_DELAYS
-  if (elapsed(state_.since[i], now) < rule.delay) return;
+  if (elapsed(state_->since[i], now) < rule.delay) return;
 #endif
 
   count = 0;
   if (tripped && rule.latch) return;  // stays until clearLatched()
-  state_.active ^= b;
-  if (!tripped) state_.tripped[i] = now;
+  state_->active ^= b;
+  if (!tripped) state_->tripped[i] = now;
   (tripped ? out.newlyCleared : out.newlyTripped) |= b;
 }
 
@@ -112,9 +112,9 @@ FaultMask Protection::clearLatched() {
   FaultMask cleared = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const FaultMask b = static_cast<FaultMask>(1U << i);
-    if ((state_.active & b) == 0 || !config_.rules[i].latch || (state_.conditionNow & b) != 0) continue;
-    state_.active = static_cast<FaultMask>(state_.active & ~b);
-    state_.count[i] = 0;
+    if ((state_->active & b) == 0 || !config_.rules[i].latch || (state_->conditionNow & b) != 0) continue;
+    state_->active = static_cast<FaultMask>(state_->active & ~b);
+    state_->count[i] = 0;
     cleared |= b;
   }
   return cleared;

@@ -30,6 +30,7 @@
 #include "app/config.hpp"
 #include "app/pack/pack_view.hpp"
 #include "core/time.hpp"
+#include "core/zeroed.hpp"
 
 namespace fw::app {
 
@@ -109,9 +110,9 @@ class Protection {
   // that cleared; a latched fault whose condition is still present stays.
   FaultMask clearLatched();
 
-  FaultMask active() const { return state_.active; }
+  FaultMask active() const { return state_->active; }
   const ProtectionConfig& config() const { return config_; }
-  Instant trippedAt(FaultId id) const { return state_.tripped[static_cast<uint8_t>(id)]; }
+  Instant trippedAt(FaultId id) const { return state_->tripped[static_cast<uint8_t>(id)]; }
 
  private:
   // Moves rule `i`'s debounce with its value `v` (out of line: the loop around it stays in registers).
@@ -131,7 +132,7 @@ class Protection {
     Instant tripped[kFaultCount];
   };
   const ProtectionConfig& config_;
-  State state_{};
+  Zeroed<State> state_;
 };
 
 }  // namespace fw::app

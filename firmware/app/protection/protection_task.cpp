@@ -11,8 +11,8 @@ void ProtectionTask::run(sched::EventMask events) {
   // staleness begins staleAfter after the last fresh result (1 s in the default limits, ten check periods),
   // and once results stop every tick from the second on evaluates again.
   const bool tick = events == kTick;
-  const bool skip = tick && state_.resultSinceTick;
-  state_.resultSinceTick = !tick;
+  const bool skip = tick && state_->resultSinceTick;
+  state_->resultSinceTick = !tick;
   if (!skip) {
     const Instant now = scheduler_.now();
     ProtectionInputs in{};
@@ -25,7 +25,7 @@ void ProtectionTask::run(sched::EventMask events) {
     if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
       status_.pendingCleared |= protection_.clearLatched();
     const ProtectionState st = protection_.evaluate(in, now);
-    if (kStats) ++state_.evaluations;
+    if (kStats) ++state_->evaluations;
     // A deferred FET command completed. Its owner posts kActuated from the run() that handled the completion,
     // and this task outranks every other: it runs next, so now is when the command took effect (to within
     // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
@@ -46,46 +46,46 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
 
   const bool chargeOn = !st.chargeOff;
   const bool dischargeOn = !st.dischargeOff;
-  if (!state_.requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
-  if (state_.requested && chargeOn == state_.chargeOn && dischargeOn == state_.dischargeOn &&
+  if (!state_->requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
+  if (state_->requested && chargeOn == state_->chargeOn && dischargeOn == state_->dischargeOn &&
       st.newlyTripped == 0)
     return;
-  state_.requested = true;
-  state_.chargeOn = chargeOn;
-  state_.dischargeOn = dischargeOn;
-  state_.pendingAction = true;
+  state_->requested = true;
+  state_->chargeOn = chargeOn;
+  state_->dischargeOn = dischargeOn;
+  state_->pendingAction = true;
   if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
 }
 
 // A fault that cleared closes its newest open record; one that tripped opens a record.
 inline void ProtectionTask::record(const ProtectionState& st, Instant now) {
   FaultMask cleared = st.newlyCleared;
-  for (uint8_t k = state_.logCount; k-- > 0 && cleared != 0;) {
-    const FaultMask b = bit(state_.log[k].fault);
-    if ((cleared & b) != 0 && !state_.log[k].cleared) {
-      state_.log[k].cleared = true;
+  for (uint8_t k = state_->logCount; k-- > 0 && cleared != 0;) {
+    const FaultMask b = bit(state_->log[k].fault);
+    if ((cleared & b) != 0 && !state_->log[k].cleared) {
+      state_->log[k].cleared = true;
       cleared = static_cast<FaultMask>(cleared & ~b);
     }
   }
   // The log never wraps, so a new record's other fields are still zero (actionDone, cleared, acted).
-  for (uint8_t i = 0; i < kFaultCount && state_.logCount < kLogSize; ++i) {
+  for (uint8_t i = 0; i < kFaultCount && state_->logCount < kLogSize; ++i) {
     if ((st.newlyTripped & (1U << i)) == 0) continue;
-    ProtectionRecord& r = state_.log[state_.logCount++];
+    ProtectionRecord& r = state_->log[state_->logCount++];
     r.fault = static_cast<FaultId>(i);
     r.detected = now;
   }
 }
 
 void ProtectionTask::actuated(Instant at) {
-  if (!state_.pendingAction) return;
-  state_.pendingAction = false;
-  status_.chargeOn = state_.chargeOn;
-  status_.dischargeOn = state_.dischargeOn;
+  if (!state_->pendingAction) return;
+  state_->pendingAction = false;
+  status_.chargeOn = state_->chargeOn;
+  status_.dischargeOn = state_->dischargeOn;
   if constexpr (kLogSize == 0) return;
-  for (uint8_t k = 0; k < state_.logCount; ++k) {
-    if (!state_.log[k].actionDone) {
-      state_.log[k].acted = at;
-      state_.log[k].actionDone = true;
+  for (uint8_t k = 0; k < state_->logCount; ++k) {
+    if (!state_->log[k].actionDone) {
+      state_->log[k].acted = at;
+      state_->log[k].actionDone = true;
     }
   }
 }

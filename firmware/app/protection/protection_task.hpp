@@ -28,6 +28,7 @@
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection.hpp"
 #include "app/publish/publish_status.hpp"
+#include "core/zeroed.hpp"
 #include "hal/gpio.hpp"
 #include "sched/scheduler.hpp"
 
@@ -93,14 +94,14 @@ class ProtectionTask final : public sched::Task {
   // until then the outputs stay as reset left them (a fault pin asserted, the monitor's FETs its own).
   void start() {
     scheduler_.addTask(id_, *this, {}, true);
-    scheduler_.startTimer(state_.timer, id_, kTick, checkPeriod_, checkPeriod_);
+    scheduler_.startTimer(state_->timer, id_, kTick, checkPeriod_, checkPeriod_);
   }
   void run(sched::EventMask events) override;
 
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
-  std::span<const ProtectionRecord> log() const { return {state_.log, state_.logCount}; }
-  uint32_t evaluations() const { return state_.evaluations; }
+  std::span<const ProtectionRecord> log() const { return {state_->log, state_->logCount}; }
+  uint32_t evaluations() const { return state_->evaluations; }
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
@@ -129,7 +130,7 @@ class ProtectionTask final : public sched::Task {
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
-  State state_{};
+  Zeroed<State> state_;
   Duration checkPeriod_;
   Protection protection_;
 };
