@@ -6,7 +6,7 @@ and asks arm-none-eabi-objdump / arm-none-eabi-c++filt only for what ELF tables 
 Subcommands (each prints its figures as lines starting with "REPORT " and exits non-zero on a failure):
   elf     --elf E --sram-base B --sram-size S --flash-size F --handler NAME:IRQ ...
   stack   --elf E --ci-root DIR --reserved N [--objdump P] [--cxxfilt P]
-  budget  --elf E --ci-root DIR --flash-budget N [--flash-ceiling N] --sram-budget N [--objdump P] [--cxxfilt P]
+  budget  --elf E --ci-root DIR --flash-budget N --sram-budget N [--objdump P] [--cxxfilt P]
 
 Stack method (see README.md next to this file): per-function frame sizes from GCC's -fcallgraph-info=su
 (.ci) and, for functions compiled without it (libgcc, newlib), from their prologue (PUSH / SUB SP); call
@@ -480,19 +480,9 @@ def cmd_budget(args):
     report(f"size.{image}.sram={sram} (data {data} + bss {bss} + worst-case stack {s['total']}; "
            f"budget {args.sram_budget})")
     ok = True
-    ceiling = args.flash_ceiling
-    if flash > args.flash_budget and ceiling and flash <= ceiling:
-        # An image over its budget that is not yet fitted: reported as over, and held at the size it has so
-        # that nothing makes it worse while the work goes on (images.cmake says why each ceiling exists).
-        report(f"size.{image}.flash_over_budget={flash - args.flash_budget} (OVER the {args.flash_budget} B "
-               f"budget; held at {ceiling} B until it fits)")
-    elif flash > args.flash_budget:
-        print(f"FAIL: flash {flash} B over the {args.flash_budget} B budget"
-              + (f" and over its {ceiling} B ceiling" if ceiling else ""))
+    if flash > args.flash_budget:
+        print(f"FAIL: flash {flash} B over the {args.flash_budget} B budget")
         ok = False
-    elif ceiling:
-        print(f"NOTE: flash {flash} B fits the {args.flash_budget} B budget again: remove the ceiling in "
-              "images.cmake")
     if sram > args.sram_budget:
         print(f"FAIL: SRAM {sram} B over the {args.sram_budget} B budget")
         ok = False
@@ -518,8 +508,6 @@ def main():
             s.add_argument("--reserved", type=int, required=True)
         else:
             s.add_argument("--flash-budget", type=int, required=True)
-            s.add_argument("--flash-ceiling", type=int, default=0,
-                           help="an image over its budget passes up to this size (reported as over)")
             s.add_argument("--sram-budget", type=int, required=True)
     args = p.parse_args()
     return {"elf": cmd_elf, "stack": cmd_stack, "budget": cmd_budget}[args.cmd](args)

@@ -5,8 +5,6 @@
 #   BMS_IMAGE_BOARD         the board kind in images/common (board_<kind>.cpp)
 #   BMS_IMAGE_STACK         stack reservation in bytes (linker --defsym __stack_size__)
 #   BMS_IMAGE_FLASH_BUDGET  text + data limit in bytes
-#   BMS_IMAGE_FLASH_CEILING 0, or, for an image still over its budget, the size it is held at: the size test
-#                           reports it as over and fails if it grows past this (kFlashCeiling below)
 #   BMS_IMAGE_SRAM_BUDGET   data + bss + measured worst-case stack limit in bytes
 #   BMS_IMAGE_HANDLERS      "<handler>:<irq>" for every peripheral interrupt the image uses
 #   BMS_IMAGE_BUDGET_SOURCE where the budgets come from
@@ -19,12 +17,6 @@
 set(BMS_MSPM0_IMAGES_DIR ${CMAKE_CURRENT_LIST_DIR})
 set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-bq79616 lp-mspm0g3507-bq4050
                      lp-mspm0g3507-bq76952)
-
-# Images over their issue-14 flash budget (the full application, text + data at -Os) that are not yet fitted:
-# held at their measured size (+16 B for toolchain rounding) so nothing makes them worse. OPEN, see README
-# "Open questions": L1306-BQ76952 176 B, L1306-BQ76907 20 B and G3507-BQ79616 72 B over on 2026-11-25; the
-# largest remaining cost is construction code (each app object's zero state set member by member).
-set(BMS_FLASH_CEILINGS lp-mspm0l1306-bq76952=10432 lp-mspm0l1306-bq76907=10276 lp-mspm0g3507-bq79616=12376)
 
 function(bms_image_info image)
   set(l1306_irqs GROUP1_IRQHandler:1 UART0_IRQHandler:15 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
@@ -69,13 +61,6 @@ function(bms_image_info image)
   set(BMS_IMAGE_BOARD ${board} PARENT_SCOPE)
   set(BMS_IMAGE_STACK ${stack} PARENT_SCOPE)
   set(BMS_IMAGE_FLASH_BUDGET ${flash} PARENT_SCOPE)
-  set(ceiling 0)
-  foreach(entry ${BMS_FLASH_CEILINGS})
-    if(entry MATCHES "^${image}=([0-9]+)$")
-      set(ceiling ${CMAKE_MATCH_1})
-    endif()
-  endforeach()
-  set(BMS_IMAGE_FLASH_CEILING ${ceiling} PARENT_SCOPE)
   set(BMS_IMAGE_SRAM_BUDGET ${sram} PARENT_SCOPE)
   set(BMS_IMAGE_BUDGET_SOURCE "${source}" PARENT_SCOPE)
   set(BMS_IMAGE_HANDLERS ${handlers} PARENT_SCOPE)
