@@ -76,12 +76,6 @@ function(bms_sources_of out)
     foreach(source ${sources})
       cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${dir})
       list(APPEND all ${source})
-      # A file's own compile options (firmware/app: frame_plan.cpp) go with it, so a target that compiles the
-      # sources itself (the qemu-m0 cycle bench) builds them as the image does.
-      get_source_file_property(options ${source} DIRECTORY ${dir} COMPILE_OPTIONS)
-      if(options)
-        set_source_files_properties(${source} PROPERTIES COMPILE_OPTIONS "${options}")
-      endif()
     endforeach()
   endforeach()
   set(${out} ${all} PARENT_SCOPE)

@@ -261,9 +261,10 @@ void FramePlan::beginTi() {
 }
 
 uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
+  if (step_ == kDone) return 0;  // the end of every cycle: before the values are filled
   // Steps a build leaves out never come up (framesIn() gives them no frames); each case says so, which drops
-  // its code. (Inside the switch, not before it: a test of step_ ahead of the switch made GCC thread it into
-  // a second copy of the dispatch, 80 B on the L1306 image.)
+  // its code. (Inside the switch, not before it: a test of sent(step_) ahead of the switch made GCC thread it
+  // into a second copy of the dispatch, 80 B on the L1306 image.)
   // Each step fills the raw values of its message in field order (can/bms.hpp kFields); one call packs them,
   // so every message costs only its stores and all share one packing loop. A value left unset goes out as
   // not available.
