@@ -51,4 +51,12 @@ class Zeroed {
   alignas(T) unsigned char bytes_[sizeof(T)];
 };
 
+// The block's address while its own constructor has not run yet (wiring a member declared after the one being
+// built): a pointer conversion only, no member of the block is touched.
+template <class T>
+T* addressOf(Zeroed<T>& block) {
+  static_assert(std::is_standard_layout_v<Zeroed<T>>, "the block's bytes start at its address");
+  return reinterpret_cast<T*>(&block);
+}
+
 }  // namespace fw

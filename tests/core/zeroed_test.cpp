@@ -42,6 +42,7 @@ TEST(Zeroed, IsClearedAtConstructionOverDirtyStorage) {
   const Owner& c = *o;
   EXPECT_EQ(c.state->count, 513);
   EXPECT_EQ((*c.state).flags, 2);
+  EXPECT_EQ(fw::addressOf(o->state), &*o->state);
   o->~Owner();
 }
 

@@ -268,11 +268,11 @@ class Bq769xApp {
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
             const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
-      : plan_(*view_, *status_, kDefaultLimits.staleAfter),
+      : plan_(*view_, *addressOf(status_), kDefaultLimits.staleAfter),  // status_ is built after plan_
         fet_(scheduler),
         protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        monitor_(scheduler, bus, alert, config, *sample_, *view_, fet_,
+        monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_,
                  static_cast<DriverArgs&&>(driverArgs)...) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.cells;
