@@ -8,3 +8,11 @@
 #ifndef FW_STATS
 #define FW_STATS 1
 #endif
+
+// Where objects holding Zeroed<T> blocks live (core/zeroed.hpp). Not an image option: the MSPM0 BSP sets 1
+// for every image (bsp/mspm0/CMakeLists.txt), whose applications are built once in static storage the reset
+// handler has zeroed, so the blocks are not cleared again. 0 (host, qemu-m0): objects live anywhere and each
+// block is cleared at construction.
+#ifndef FW_ZEROED_STORAGE
+#define FW_ZEROED_STORAGE 0
+#endif

@@ -4,16 +4,17 @@
 // empty value is zero (counters, flags, timers, buffers). Value-initialising those blocks (`State state_{}`)
 // makes each constructor clear them, one memset or a run of stores per block: on the L1306 image that was
 // about a tenth of the application's constructor. On the MSPM0 images every such object is constructed once,
-// in static storage (the image's appInit() holds it in a function-local static), and static storage is
+// in static storage (image::constructOnce in the image's appInit()), and static storage is
 // already zero: the reset handler clears .bss before main() (bsp/mspm0/startup.cpp). So there the block is
 // left as it is, and elsewhere (host tests and tools construct these objects on the stack and the heap) it
 // is cleared as before.
 //
 // Contract
-// - FW_ZEROED_STORAGE (set by the MSPM0 BSP for its images, never an image option): 1 = every object holding
-//   a Zeroed<T> is constructed exactly once in zero-filled static storage. An object on the stack or built
-//   twice would start from garbage. The twin catches that: it fills SRAM with a pseudo-random pattern at
-//   power-up, as real SRAM, so only .bss is zero (bsp/twin/machine.cpp), and runs every image.
+// - FW_ZEROED_STORAGE (core/config.hpp; the MSPM0 BSP sets it for its images, never an image option): 1 =
+//   every object holding a Zeroed<T> is constructed exactly once in zero-filled static storage. An object on
+//   the stack or built twice would start from garbage. The twin catches that: it fills SRAM with a
+//   pseudo-random pattern at power-up, as real SRAM, so only .bss is zero (bsp/twin/machine.cpp), and runs
+//   every image.
 // - T is trivially copyable and trivially destructible, and all-zero bytes are its empty value (integers,
 //   bools, enums with a zero member, pointers, spans, Instant/Duration).
 // - The block lives in an unsigned char array: its bytes may be accessed as T (the array provides storage
@@ -24,9 +25,7 @@
 #include <cstring>
 #include <type_traits>
 
-#ifndef FW_ZEROED_STORAGE
-#define FW_ZEROED_STORAGE 0
-#endif
+#include "core/config.hpp"
 
 namespace fw {
 

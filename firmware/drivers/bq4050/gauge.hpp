@@ -275,7 +275,6 @@ class Gauge {
     uint8_t tx[2 + kMaxBlock];
     uint8_t rx[2][kRxBytes];
   };
-  static_assert(std::is_trivially_copyable_v<State> && std::is_trivial_v<Buffers>);  // zeroed as blocks
 
   Zeroed<State> state_;
   hal::I2cBus& bus_;
