@@ -12,8 +12,10 @@
 #                           reason), applied to every firmware library of the image through fw_options so all
 #                           translation units agree; the host tests and bms-sim build the image's application
 #                           with the same file. Defaults and meanings: the config headers the file names.
-# Budgets (issue 14, the full application on every image): each L1306 image flash 10 240 B and SRAM 2 048 B
-# including the worst-case stack; each G3507 image flash 12 288 B, SRAM 16 KiB (half the part, provisional).
+# Budgets (the full application on every image: watchdog, start-up configuration, every output, commands,
+# balancing, state of charge, record store, bootloader entry): each L1306 image flash 16 384 B (aim 12 KiB) and
+# SRAM 3 072 B of the part's 4 KiB including the worst-case stack; each G3507 image flash 24 576 B (aim 16 KiB),
+# SRAM 16 KiB (half the part, provisional).
 set(BMS_MSPM0_IMAGES_DIR ${CMAKE_CURRENT_LIST_DIR})
 set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-bq79616 lp-mspm0g3507-bq4050
                      lp-mspm0g3507-bq76952)
@@ -27,19 +29,19 @@ function(bms_image_info image)
   include(${BMS_MSPM0_IMAGES_DIR}/${image}/options.cmake)
   set(defines ${BMS_IMAGE_OPTIONS})
   if(image STREQUAL "lp-mspm0l1306-bq76952")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "issue 14" "${l1306_irqs}")
+    set(row mspm0l1306 l1306_i2c_slcan 1024 16384 3072 "full application" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0l1306-bq76907")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 10240 2048 "issue 14" "${l1306_irqs}")
+    set(row mspm0l1306 l1306_i2c_slcan 1024 16384 3072 "full application" "${l1306_irqs}")
   elseif(image STREQUAL "lp-mspm0g3507-bq79616")
     if(BMS_BQ79616_UART STREQUAL "UART1_PA8_PA9")
       set(uart UART1_IRQHandler:13)
     else()
       set(uart UART0_IRQHandler:15)
     endif()
-    set(row mspm0g3507 g3507_can 2048 12288 16384 "issue 14 (flash), SRAM provisional"
+    set(row mspm0g3507 g3507_can 2048 24576 16384 "full application (flash), SRAM provisional"
         "GROUP1_IRQHandler:1;CANFD0_IRQHandler:6;${uart};TIMG0_IRQHandler:16;TIMG6_IRQHandler:17")
   else()  # lp-mspm0g3507-bq4050, lp-mspm0g3507-bq76952
-    set(row mspm0g3507 g3507_can 2048 12288 16384 "issue 14 (flash), SRAM provisional" "${g3507_i2c_irqs}")
+    set(row mspm0g3507 g3507_can 2048 24576 16384 "full application (flash), SRAM provisional" "${g3507_i2c_irqs}")
   endif()
   list(GET row 0 chip)
   list(GET row 1 board)
