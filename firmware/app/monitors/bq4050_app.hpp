@@ -66,6 +66,9 @@ class Bq4050Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // The probe and the first scan, from power-up (about 20 ms: the probe's few words and a 12.2 ms scan at
+  // 100 kHz): one scan period.
+  Duration firstDataBound() const { return config_.scanPeriod; }
   // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   static constexpr bool kFaultLineToo = false;

@@ -122,6 +122,9 @@ class Bq769xDevice : public MonitorBase {
   enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // Probe, CONFIG_UPDATE, FET enable, run-time set-up and the first scan, from power-up: one scan period
+  // (measured with every setting written: 65.6 ms on the BQ76952, 42.9 ms on the BQ76907).
+  Duration firstDataBound() const { return config_.scanPeriod; }
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   // ALERT goes to protection alone, which opens the FETs without waiting for a scan (the scan after the
   // command says which fault it was; the protection log holds the trip and when it was detected).

@@ -89,12 +89,19 @@ struct PackView {
   // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
   // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).
   bool monitorRunning = false;
+  // The monitor's first bring-up is under way (written by the monitor task only: true from its start until
+  // the first scan's result). Until then, and while the clock is before firstDataDue (MonitorTask:
+  // Device::firstDataBound() from power-up), nothing has been measured on purpose, not lost: protection
+  // leaves stale_data and comm_loss alone and the monitor reports no failed scan periods (inStartupGrace()).
+  // Past the bound a pack never measured is stale, counted from power-up.
+  bool startupGrace = false;
   uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
   // not publish it (FW_PUBLISH_LEVEL 0).
   uint16_t commErrors = 0;
   int32_t currentMa = 0;
+  Instant firstDataDue{};  // see startupGrace
   std::span<const BoardSample> boards{};
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
   // LSB), for the TI-compatible CAN layout, which carries raw codes. Null when the monitor has none.
@@ -102,6 +109,7 @@ struct PackView {
   PackTotals totals{};
 
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
+  bool inStartupGrace(Instant now) const { return startupGrace && isBefore(now, firstDataDue); }
 };
 
 // Recomputes view.totals from the boards whose last attempt validated (without the slots that hold no

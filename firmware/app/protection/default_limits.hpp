@@ -37,6 +37,10 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   c.rules[static_cast<uint8_t>(FaultId::StaleData)] = limit(1, 1, 1, Action::AllOff);
   c.rules[static_cast<uint8_t>(FaultId::CommLoss)] = limit(1, 1, 1, Action::AllOff);
   c.rules[static_cast<uint8_t>(FaultId::OpenWire)] = limit(1, 1, 1, Action::AllOff);
+  // An intermittent link: 4 of the last 10 scan attempts failed (a link that fails 40 % of its scans gives
+  // no data to trust); clears once 10 attempts in a row validated.
+  c.rules[static_cast<uint8_t>(FaultId::CommErrorRate)] = limit(4, 1, 1, Action::AllOff);
+  c.rateWindow = 10;
   c.staleAfter = scanPeriod * 3;
   c.commLossScans = 3;
   return c;

@@ -43,12 +43,13 @@ enum class FaultId : uint8_t {
   DischargeOvercurrent,
   Overtemperature,
   Undertemperature,
-  DeviceSafety,  // the battery monitor reports a tripped protection of its own
-  StaleData,     // no valid measurement for longer than staleAfter
-  CommLoss,      // commLossScans scan attempts in a row failed
-  OpenWire,      // a sense wire is open: the readings of the cells beside it are not cell voltages
+  DeviceSafety,   // the battery monitor reports a tripped protection of its own
+  StaleData,      // no valid measurement for longer than staleAfter
+  CommLoss,       // commLossScans scan attempts in a row failed
+  OpenWire,       // a sense wire is open: the readings of the cells beside it are not cell voltages
+  CommErrorRate,  // of the last rateWindow scan attempts, at least the rule's trip count failed
 };
-inline constexpr uint8_t kFaultCount = 10;
+inline constexpr uint8_t kFaultCount = 11;
 using FaultMask = uint16_t;
 constexpr FaultMask bit(FaultId id) {
   return static_cast<FaultMask>(1U << static_cast<uint8_t>(id));
@@ -81,6 +82,9 @@ struct ProtectionConfig {
   Rule rules[kFaultCount];  // indexed by FaultId; upper limits: Ov, ChargeOc, Ot; lower: Uv, DischargeOc, Ut
   Duration staleAfter = ms(1000);
   uint8_t commLossScans = 3;
+  // The scan attempts CommErrorRate counts failures over (1..16): an intermittent link that fails scans
+  // without failing commLossScans of them in a row still trips it.
+  uint8_t rateWindow = 10;
 };
 
 // One evaluation's inputs. Value limits are evaluated only when `fresh` (a scan just validated) and only over
@@ -88,7 +92,7 @@ struct ProtectionConfig {
 struct ProtectionInputs {
   const PackView* pack = nullptr;  // the measured pack (required; all zero before the first scan)
   bool fresh = false;              // a scan just completed and the device answered (what validated: `pack`)
-  bool scanFailed = false;         // a scan attempt just failed
+  bool scanFailed = false;         // a scan attempt just failed (with `fresh`: some board of it did)
   bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own
 };
 
@@ -123,6 +127,7 @@ class Protection {
     FaultMask active;
     FaultMask conditionNow;  // last evaluation's raw conditions (for clearLatched)
     uint8_t failedScans;
+    uint16_t attempts;  // the latest scan attempts, newest in bit 0: 1 = it failed (CommErrorRate)
     // Per fault: consecutive evaluations the condition (or, when tripped, its absence) was seen, and when
     // that run started (for the delay).
     uint8_t count[kFaultCount];

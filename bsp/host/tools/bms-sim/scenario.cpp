@@ -83,7 +83,7 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 11> kFaults = {{
+constexpr std::array<FaultSpec, 12> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
@@ -94,6 +94,7 @@ constexpr std::array<FaultSpec, 11> kFaults = {{
     {"stale_data", Watch::None},
     {"comm_loss", Watch::None},
     {"open_wire", Watch::None},
+    {"comm_rate", Watch::None},
     {"any", Watch::None},
 }};
 
