@@ -116,8 +116,12 @@ class Bq4050Device : public MonitorBase {
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
   }
-  // The readings cannot show the open wire: the gauge's words were refused (summarize() would clear it).
-  void afterSummarize() { view_.totals.openWire = sample_.last == Status::Implausible; }
+  // A refused word: the readings cannot show the open wire (summarize() found none in them), so say it here.
+  // An open line at the bottom or the top leaves one cell reading about 0 V, which the gauge accepts and
+  // summarize() itself flags (kCellFloorMv): that flag stays.
+  void afterSummarize() {
+    if (sample_.last == Status::Implausible) view_.totals.openWire = true;
+  }
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
   [[gnu::always_inline]] void recover() {
     setRunning(view_, false);

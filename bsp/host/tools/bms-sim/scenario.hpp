@@ -11,7 +11,8 @@
 //   <time_ms> temp <board> <sensor> <deciK>
 //   <time_ms> ramp-temp <board> <sensor> <deciK_per_s>
 //   <time_ms> comm-loss on|off                         the monitor stops answering
-//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens
+//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens (cell 1: the bottom
+//                                                      tap; the board's cell count + 1: the top tap)
 //   <time_ms> intermittent on|off                      most monitor transactions fail
 //   <time_ms> bus-off                                  the CAN controller goes bus-off
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
