@@ -306,6 +306,39 @@ TEST(Bq7690xApp, StartUpEnablesHostFetOffAndProtectionOpensTheFets) {
   EXPECT_FALSE(b.emu.dsgFet());
 }
 
+// The BQ76907's fast path, swept as the BQ76952's above: a device fault (REGOUT, which asserts ALERT at once)
+// at every 50 us of the first 3 ms of a scan period; the FETs are off (the FET Control write, a direct
+// command with no echo, complete) within 2 ms every time.
+TEST(Bq7690xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
+  uint64_t worstFets = 0, worstFetsAt = 0, worstLog = 0, worstLogAt = 0;
+  for (uint64_t offset = 0; offset < 3100; offset += 50) {
+    L1306Bq76907 b;
+    b.h.runFor(fw::us(999500));  // a scan starts on every 100 ms tick
+    ASSERT_TRUE(b.app.monitor().running());
+    b.h.runFor(fw::us(static_cast<uint32_t>(offset)));
+    const int64_t at = static_cast<int64_t>(offset) - 500;  // from the tick
+    const uint64_t t0 = b.h.nowUs();
+    ASSERT_TRUE(b.emu.chgFet() && b.emu.dsgFet());
+    b.emu.setRegoutFault(true);
+    ASSERT_FALSE(b.alert.level()) << "ALERT falls with the device's fault, " << at << " us from the tick";
+    ASSERT_TRUE(b.h.runUntil([&] { return !b.emu.chgFet() && !b.emu.dsgFet(); }, fw::ms(20))) << at;
+    const uint64_t fets = b.h.nowUs() - t0;
+    ASSERT_TRUE(b.h.runUntil(
+        [&] { return !b.app.protection().log().empty() && b.app.protection().log()[0].actionDone; },
+        fw::ms(20)));
+    const uint64_t logged = b.app.protection().log()[0].acted.us - t0;
+    if (fets > worstFets) worstFets = fets, worstFetsAt = offset;
+    if (logged > worstLog) worstLog = logged, worstLogAt = offset;
+    EXPECT_LE(fets, 2000u) << "FETs off: ALERT " << at << " us from the tick";
+    EXPECT_LE(logged, 2000u) << "command complete: ALERT " << at << " us from the tick";
+  }
+  std::printf(
+      "REPORT app.bq76907.alert_to_fet_off_worst_us=%llu (command complete, ALERT %lld us from the tick; "
+      "FETs off %llu us, %lld us from the tick; budget 2000)\n",
+      static_cast<unsigned long long>(worstLog), static_cast<long long>(worstLogAt) - 500,
+      static_cast<unsigned long long>(worstFets), static_cast<long long>(worstFetsAt) - 500);
+}
+
 // A BQ7690x REGOUT fault (Safety Status A bit 0, SLUUCJ0) asserts ALERT and is a device fault: protection
 // opens the FETs at once, and the scans go on (it is not a corrupt read).
 TEST(Bq7690xApp, RegoutFaultIsADeviceFaultNotACommunicationFailure) {
