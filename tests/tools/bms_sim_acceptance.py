@@ -270,7 +270,7 @@ def check_faults(sim, image, scratch):
             # it valid and no cell frame may carry a valid status.
             cutoff = onset + STALE_AFTER_MS + 110.0
             for t, d in summaries(frames, 0x100):
-                if t > cutoff and d[5] & 0x08:
+                if t > cutoff and d[7] & 0x80:  # DataValid, bit 63
                     fail(f"comm-loss: PackSummary at {t:.1f} ms still says DataValid")
             for t, d in summaries(frames, 0x200):
                 if t > cutoff and (d[1] >> 4) == 0:

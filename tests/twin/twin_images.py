@@ -31,7 +31,8 @@ import canmatrix.formats
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 from bms_sim_acceptance import CONTRACT_KEYS, read_candump, read_slcan_text  # noqa: E402
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
-FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "ot", "ut", "device_safety", "stale_data", "comm_loss", "open_wire"]
+FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
+          "otc", "utc"]
 PACK_SUMMARY, PROTECTION_EVENT = 0x100, 0x103
 PERIOD_TOLERANCE_MS = 1.0  # PackSummary period against the configured scan period (check_ov_cell says why)
 

@@ -83,6 +83,10 @@ void toSample(const drivers::bq769x2::Bq769x2Measurement& m, uint8_t cells, Boar
               PackView& view);
 void toSample(const drivers::bq769x2::Bq7690xMeasurement& m, uint8_t cells, BoardSample& sample,
               PackView& view);
+// The paths the device's own protection holds off or is about to (its safety alert, status and permanent-fail
+// flags, bit by bit; bq769x_app.cpp): PackView::deviceBlocks.
+uint8_t deviceBlocks(const drivers::bq769x2::Bq769x2Measurement& m);
+uint8_t deviceBlocks(const drivers::bq769x2::Bq7690xMeasurement& m);
 // Temperature sensors each family reports: BQ769x2 internal, TS1, TS3; BQ7690x internal.
 constexpr uint8_t tempsOf(const drivers::bq769x2::Bq769x2Measurement*) {
   return 3;
@@ -277,6 +281,7 @@ class Bq769xApp {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.cells;
     view_->tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
+    view_->hasFetStatus = true;  // every scan reads the FETs' state back
     view_->boards = {&*sample_, 1};
   }
 
