@@ -107,11 +107,12 @@ inline void ProtectionTask::record(const ProtectionState& st, Instant now) {
 void ProtectionTask::actuated(Instant at) {
   if (!state_->pendingAction) return;
   state_->pendingAction = false;
-  // A pin is what it was driven to: confirmed now. FET images wait for the device's read-back (readBack()).
+  // A pin is what it was driven to: confirmed now, and one signal for both paths (released only while both
+  // may be on). FET images wait for the device's read-back (readBack()).
   const bool pin = !pack_.hasFetStatus;
+  const bool released = state_->chargeOn && state_->dischargeOn;
   if (pin) {
-    status_.chargeOn = state_->chargeOn;
-    status_.dischargeOn = state_->dischargeOn;
+    status_.chargeOn = status_.dischargeOn = released;
     status_.pathsKnown = true;
   }
   if constexpr (kLogSize == 0) return;

@@ -80,6 +80,13 @@ class ImageSim {
   virtual bsp::host::Harness& harness() = 0;
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
+  // The paths as they are in the emulated hardware (the monitor's FET drivers, or the fault output pin
+  // released for both), for tests that hold what the board reports against it; nullopt where the simulator
+  // cannot see them (the twin: it reports only what the board publishes).
+  struct Paths {
+    bool chargeOn, dischargeOn;
+  };
+  virtual std::optional<Paths> hardwarePaths() const { return std::nullopt; }
   virtual std::vector<SentFrame> frames() const = 0;  // CAN frames, or the SLCAN lines decoded
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
   // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.

@@ -69,6 +69,10 @@ class Bq4050Sim final : public ImageSim {
     return f;
   }
 
+  std::optional<Paths> hardwarePaths() const override {
+    const bool released = !board_.faultOut.level();  // the fault output stands for both paths
+    return Paths{released, released};
+  }
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {
     return protectionLogOf(board_.app);
   }

@@ -104,6 +104,9 @@ class Bq769xSim final : public ImageSim {
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {
     return protectionLogOf(board_->app);
   }
+  std::optional<Paths> hardwarePaths() const override {
+    return Paths{board_->emu.chgFet(), board_->emu.dsgFet()};
+  }
 
   std::vector<SentFrame> frames() const override {
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {

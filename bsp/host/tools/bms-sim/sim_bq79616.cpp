@@ -80,6 +80,10 @@ class Bq79616Sim final : public ImageSim {
     return f;
   }
 
+  std::optional<Paths> hardwarePaths() const override {
+    const bool released = !board_.faultOut.level();  // the fault output stands for both paths
+    return Paths{released, released};
+  }
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {
     return protectionLogOf(board_.app);
   }
