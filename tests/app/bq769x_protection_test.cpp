@@ -127,23 +127,39 @@ TEST(Bq769xProtection, AShortCircuitIsTheDevicesToOpen) {
   EXPECT_FALSE(b.app.status().dischargeOn);
 }
 
-// Comm loss acts (issue 24 item 2): the device's host watchdog (2 s) opens the FETs while the MCU cannot
-// reach it, the reports say "unknown" meanwhile, and both come back with the link. The old images left the
-// FETs on for the whole outage and reported them on.
-TEST(Bq769xProtection, CommLossOpensTheFetsThroughTheHostWatchdog) {
+// Comm loss acts (issue 24 item 2). The MCU drives the device's CFETOFF / DFETOFF inputs with protection's
+// request: comm_loss (three failed scans) opens both paths through the pins, without I2C; the device's host
+// watchdog (2 s) would open them as well for an MCU that stopped altogether. The reports say "unknown" while
+// nothing confirms the paths, and both come back with the link. The old images left the FETs on for the whole
+// outage and reported them on.
+TEST(Bq769xProtection, CommLossOpensTheFetsThroughTheFetOffPinsAndTheWatchdog) {
   G3507 b;
   b.emu.setMuted(true);
-  b.h.runFor(fw::ms(1900));
-  EXPECT_TRUE(b.emu.chgFet() && b.emu.dsgFet()) << "the watchdog has not expired";
+  b.h.runFor(fw::ms(100));
+  EXPECT_TRUE(b.emu.chgFet() && b.emu.dsgFet()) << "one failed scan is not comm loss yet";
+  b.h.runFor(fw::ms(400));
+  EXPECT_NE(b.app.status().active & bit(FaultId::CommLoss), 0);
+  EXPECT_TRUE(b.cfetoff.level() && b.dfetoff.level()) << "both FET-off pins asserted";
+  EXPECT_FALSE(b.emu.chgFet() || b.emu.dsgFet()) << "off without I2C";
   EXPECT_FALSE(b.app.status().pathsKnown) << "nothing confirms the paths";
-  b.h.runFor(fw::ms(200));
-  EXPECT_NE(b.emu.safetyStatusC() & m2::bits::SafetyC::hwdf_mask, 0);
-  EXPECT_FALSE(b.emu.chgFet() || b.emu.dsgFet());
+  b.h.runFor(fw::ms(1700));
+  EXPECT_NE(b.emu.safetyStatusC() & m2::bits::SafetyC::hwdf_mask, 0) << "the host watchdog as well";
   b.emu.setMuted(false);
   b.h.runFor(fw::s(2));
   EXPECT_TRUE(b.emu.chgFet() && b.emu.dsgFet());
   ASSERT_TRUE(b.app.status().pathsKnown);
   EXPECT_TRUE(b.app.status().chargeOn && b.app.status().dischargeOn);
+  EXPECT_FALSE(b.cfetoff.level() || b.dfetoff.level());
+}
+
+// The pins follow each path on its own: an under-voltage asserts DFETOFF only.
+TEST(Bq769xProtection, TheFetOffPinsFollowEachPath) {
+  G3507 b;
+  EXPECT_FALSE(b.cfetoff.level() || b.dfetoff.level()) << "released once protection found the pack healthy";
+  b.emu.setCellMv(2, 2650);
+  b.h.runFor(fw::ms(300));
+  EXPECT_FALSE(b.cfetoff.level());
+  EXPECT_TRUE(b.dfetoff.level());
 }
 
 TEST(Bq769xProtection, CommLossOpensDischargeThroughTheBq76907sHostWatchdog) {
