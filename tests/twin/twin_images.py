@@ -87,12 +87,14 @@ def decode_all(dbc_dir, frames):
 
 
 def pack_summaries(frames):
-    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml)."""
+    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml:
+    ChargeFet bits 40-41 and DischargeFet 42-43, 3 = not available; ActiveFaults 48-61, FaultOutput 62,
+    DataValid 63)."""
     out = []
     for t, ident, d in frames:
         if ident == PACK_SUMMARY and len(d) == 8:
-            out.append((t, d[5] & 1, (d[5] >> 1) & 1, (d[5] >> 2) & 1, (d[5] >> 3) & 1,
-                        int.from_bytes(d[6:8], "little")))
+            tail = int.from_bytes(d[6:8], "little")
+            out.append((t, d[5] & 3, (d[5] >> 2) & 3, (tail >> 14) & 1, (tail >> 15) & 1, tail & 0x3FFF))
     return out
 
 

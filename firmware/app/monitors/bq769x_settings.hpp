@@ -42,7 +42,7 @@
 // bits act at all (SLUUCJ0 FET Control, SLUUCI8 FET Options: without it host FET-off is ignored), and the
 // same ALERT policy as the BQ76952 (Alarm Enable loads from Default Alarm Mask at reset and at the exit of
 // CONFIG_UPDATE, SLUUCJ0): safety status A/B and safety alerts A/B. The BQ7690x ALERT pin itself needs no
-// configuration: it is asserted low (SLUUCJ0 Alarm Status). Its protections: COV 4300 mV and CUV 2600 mV
+// configuration: it is asserted low (SLUUCJ0 Alarm Status). Its protections: COV 4301 mV and CUV 2600 mV
 // (plain mV; SLUUCY8, the BQ77307 built on the same core, documents 0..5500 mV) after 10 ADSCAN intervals
 // (SLUUCI8), SCD 100 mV (setting 5 of SLUUCJ0 Table 6-9: 100 A on the 1 mOhm shunt) after 45..60 us
 // (setting 3, Table 6-10), and the host watchdog (Enabled Protections B[HWD], Host Watchdog Timeout code 1 =
@@ -82,8 +82,8 @@ constexpr std::array<drivers::bq769x2::Setting, 12> bq7690xSettings(uint8_t cell
           setting(m7::dm::VcellMode, cells),
           setting(m7::dm::FetOptions, kBq7690xFetOptions),
           setting(m7::dm::DefaultAlarmMask, kBq7690xAlarmMask.raw()),
-          setting(m7::dm::HostWatchdogTimeout, 1),  // code 1: 2 s
-          setting(m7::dm::CellOvervoltageProtectionThreshold, 4300),
+          setting(m7::dm::HostWatchdogTimeout, 1),                    // code 1: 2 s
+          setting(m7::dm::CellOvervoltageProtectionThreshold, 4301),  // as the BQ76952 (85 x 50.6 mV)
           setting(m7::dm::CellOvervoltageProtectionDelay, 10),
           setting(m7::dm::CellUndervoltageProtectionThreshold, 2600),
           setting(m7::dm::CellUndervoltageProtectionDelay, 10),

@@ -150,7 +150,7 @@ TEST(Bq769x2Bmsctl, AppStartShowsTheStartUpSequence) {
 // already hold, inside CONFIG_UPDATE (each a data-memory write followed by its checksum/length and a
 // read-back): BQ76952 SCD 100 mV (0x9286 <- 5), SCD Delay 30 us (0x9287 <- 3), SCDL Latch Limit 1, OCC 24 mV,
 // OCD1 40 mV and its delay, Enabled Protections C (SCDL, HWDF), HWD Delay 2 s, UTC -5 / UTD -25 / UTINT
-// -25 degC, OTD 65 degC, the FET-off pins; BQ76907 COV 4300 mV, CUV 2600 mV, SCD, the host watchdog.
+// -25 degC, OTD 65 degC, the FET-off pins; BQ76907 COV 4301 mV, CUV 2600 mV, SCD, the host watchdog.
 TEST(Bq769x2Bmsctl, AppStartWritesTheProtectionThresholdsAndDelays) {
   const ToolRun o = bmsctl("trace bq76952 app-start");
   ASSERT_EQ(o.status, 0) << printed(o);
@@ -162,7 +162,7 @@ TEST(Bq769x2Bmsctl, AppStartWritesTheProtectionThresholdsAndDelays) {
   const ToolRun seven = bmsctl("trace bq76907 app-start");
   ASSERT_EQ(seven.status, 0) << printed(seven);
   expectInOrder(seven,
-                {"S 10 3E 90 00 P", "S 10 3E 25 90 01 P", "S 10 3E 2D 90 01 P", "S 10 3E 32 90 CC 10 P",
+                {"S 10 3E 90 00 P", "S 10 3E 25 90 01 P", "S 10 3E 2D 90 01 P", "S 10 3E 32 90 CD 10 P",
                  "S 10 3E 2E 90 28 0A P", "S 10 3E 3C 90 05 P", "S 10 3E 3D 90 03 P", "S 10 3E 92 00 P"});
 }
 
