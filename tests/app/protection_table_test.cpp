@@ -79,7 +79,8 @@ Words words(const LimitRow& r) {
       return {"no valid measurement for " + std::to_string(fw::app::kDefaultLimits.staleAfter.toMs()) + " ms",
               "a fresh valid measurement"};
     case FaultId::CommLoss:
-      return {std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed", "a scan succeeds"};
+      return {std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed",
+              "a scan succeeds"};
     case FaultId::OpenWire:
       return {"a sense wire is open (readings or the monitor)", "the readings show none"};
   }
@@ -87,7 +88,8 @@ Words words(const LimitRow& r) {
 }
 
 std::string action(const LimitRow& r) {
-  if (r.fault == FaultId::DeviceSafety) return "the paths the device's flags concern (both on the fault line)";
+  if (r.fault == FaultId::DeviceSafety)
+    return "the paths the device's flags concern (both on the fault line)";
   switch (r.action) {
     case Action::ChargeOff:
       return "charge off";
@@ -126,8 +128,10 @@ std::string backstop(FaultId f) {
       return "BQ76952 OCD1 " + fmt("%.0f A", bq76952(m2::dm::Ocd1Threshold.address) * 2 / shuntMohm) + " / " +
              ms33(bq76952(m2::dm::Ocd1Delay.address)) + ", SCD " +
              fmt("%.0f A", scdMv(bq76952(m2::dm::ScdThreshold.address)) / shuntMohm) + " / " +
-             std::to_string((bq76952(m2::dm::ScdDelay.address) - 1) * 15) + " us (latched, SCDL); BQ7690x SCD " +
-             fmt("%.0f A", scdMv(bq76907(m7::dm::ShortCircuitInDischargeProtectionThreshold.address)) / shuntMohm);
+             std::to_string((bq76952(m2::dm::ScdDelay.address) - 1) * 15) +
+             " us (latched, SCDL); BQ7690x SCD " +
+             fmt("%.0f A",
+                 scdMv(bq76907(m7::dm::ShortCircuitInDischargeProtectionThreshold.address)) / shuntMohm);
     case FaultId::OvertempDischarge:
       return "BQ76952 OTD " + std::to_string(bq76952(m2::dm::OtdThreshold.address, true)) + " degC, OTF " +
              std::to_string(bq76952(m2::dm::OtfThreshold.address)) + " degC, OTINT " +
@@ -158,7 +162,8 @@ std::string backstop(FaultId f) {
 
 std::string table() {
   std::ostringstream o;
-  o << "| fault | trips when | clears when | trip after | action | latch | recovery after | device backstop |\n"
+  o << "| fault | trips when | clears when | trip after | action | latch | recovery after | device backstop "
+       "|\n"
        "|---|---|---|---|---|---|---|---|\n";
   for (const LimitRow& r : fw::app::kLimits) {
     const Words w = words(r);
@@ -175,15 +180,17 @@ TEST(ProtectionTable, TheReadmeTableIsTheFirmwaresTable) {
   std::stringstream all;
   all << in.rdbuf();
   const std::string text = all.str();
-  const std::string begin = "<!-- protection-table:begin (generated: tests/app/protection_table_test.cpp) -->\n";
+  const std::string begin =
+      "<!-- protection-table:begin (generated: tests/app/protection_table_test.cpp) -->\n";
   const std::string end = "<!-- protection-table:end -->";
   const size_t b = text.find(begin);
   const size_t e = text.find(end);
   const std::string want = table();
   ASSERT_NE(b, std::string::npos) << "README.md has no protection table; paste:\n" << begin << want << end;
   ASSERT_NE(e, std::string::npos);
-  EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), want) << "README.md's table is stale; paste:\n"
-                                                                       << want;
+  EXPECT_EQ(text.substr(b + begin.size(), e - b - begin.size()), want)
+      << "README.md's table is stale; paste:\n"
+      << want;
 }
 
 }  // namespace
