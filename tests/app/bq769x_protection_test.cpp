@@ -82,6 +82,29 @@ TEST(Bq769xProtection, ACellRelaxingAfterOverVoltageLeavesDischargeAvailable) {
   EXPECT_TRUE(b.emu.chgFet() && b.emu.dsgFet());
 }
 
+// A cell past the device's own COV (issue 24: device_safety flapped on every device COV/CUV event, and any
+// device flag meant "all off"): the COV alert and then its trip are one device_safety fault that holds the
+// charge path off; the ALERT edges open both for the moment it takes a scan to name the flag, after which
+// discharge is back on.
+TEST(Bq769xProtection, ADeviceOverVoltageIsOneFaultThatBlocksChargeOnly) {
+  G3507 b;
+  b.emu.setCellMv(5, 4400);
+  b.h.runFor(fw::s(1));
+  EXPECT_NE(b.emu.safetyStatusA() & m2::bits::SafetyA::cov_mask, 0) << "the device's COV tripped (250.8 ms)";
+  int trips = 0, clears = 0;
+  for (const auto& r : b.app.protection().log()) {
+    trips += r.fault == FaultId::DeviceSafety;
+    clears += r.fault == FaultId::DeviceSafety && r.cleared;
+  }
+  EXPECT_EQ(trips, 1) << "alert and trip are one fault";
+  EXPECT_EQ(clears, 0);
+  ASSERT_TRUE(b.app.status().pathsKnown);
+  EXPECT_FALSE(b.app.status().chargeOn);
+  EXPECT_TRUE(b.app.status().dischargeOn);
+  EXPECT_FALSE(b.emu.chgFet());
+  EXPECT_TRUE(b.emu.dsgFet());
+}
+
 // Issue 24 item 6: the firmware's discharge over-current rule can trip on the BQ76952 image (-30 A, inside
 // the 16-bit mA reading; the old -40 000 mA never could), before the device's OCD1 (40 A), and opens
 // discharge only. It recovers with a charge current for 3 s, not when the load merely stops.
