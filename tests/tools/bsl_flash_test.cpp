@@ -116,6 +116,17 @@ TEST(BslReply, MessagesCrcAndIncompleteReplies) {
   EXPECT_EQ(bsl::ackText(0x52), "0x52 (packet CRC incorrect)");
 }
 
+TEST(BslReply, AShortDeviceInfoStillGivesTheBufferSize) {
+  bsl::Reply r{0x31, {0x00, 0x01, 0x00, 0x01, 0, 0, 0, 0, 0x01, 0x00, 0xC0, 0x06}};  // a 13-byte core
+  const auto info = bsl::parseDeviceInfo(r);
+  ASSERT_TRUE(info);
+  EXPECT_EQ(info->bufferSize, 0x06C0);
+  EXPECT_EQ(info->bufferStart, 0U);
+  EXPECT_FALSE(info->complete);
+  r.data.resize(11);
+  EXPECT_FALSE(bsl::parseDeviceInfo(r));
+}
+
 TEST(BslReply, RealG3507DeviceInfoNamesTheG3507) {
   // lenlab's LP-MSPM0G3507 answer: the same fields with buffer 0x3EC0; its CRC ends 0B 5F 2D D1.
   Bytes core = {0x31, 0x00, 0x01, 0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0xC0, 0x3E,

@@ -220,14 +220,14 @@ ReplyStatus decodeReply(std::span<const uint8_t> bytes, Reply& reply, size_t& ne
 
 std::optional<DeviceInfo> parseDeviceInfo(const Reply& reply) {
   const auto& d = reply.data;
-  if (reply.rsp != kRspDeviceInfo || d.size() < 16) return std::nullopt;  // up to the buffer start at least
+  if (reply.rsp != kRspDeviceInfo || d.size() < 12) return std::nullopt;  // up to the buffer size at least
   DeviceInfo info;
   info.commandInterpreterVersion = le16(d, 0);
   info.buildId = le16(d, 2);
   info.applicationVersion = le32(d, 4);
   info.pluginVersion = le16(d, 8);
   info.bufferSize = le16(d, 10);
-  info.bufferStart = le32(d, 12);
+  if (d.size() >= 16) info.bufferStart = le32(d, 12);
   if (d.size() >= 24) {
     info.bcrConfigId = le32(d, 16);
     info.bslConfigId = le32(d, 20);

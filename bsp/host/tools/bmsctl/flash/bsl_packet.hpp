@@ -92,8 +92,9 @@ enum class ReplyStatus : uint8_t { Complete, Incomplete, BadHeader, BadLength, B
 // are needed (`needed` says how many in all), or what is wrong with it.
 ReplyStatus decodeReply(std::span<const uint8_t> bytes, Reply& reply, size_t& needed);
 
-// Get Device Info reply data (SLAU887 4.4.4): 24 bytes; a shorter reply (seen on some units) leaves the
-// fields it lacks at 0 and `complete` false.
+// Get Device Info reply data (SLAU887 4.4.4): 24 bytes; a shorter reply (a 13-byte core, up to the buffer
+// size, is reported on TI's E2E forum, thread 1334673) leaves the fields it lacks at 0 and `complete` false;
+// without the buffer size it is no device info.
 struct DeviceInfo {
   uint16_t commandInterpreterVersion = 0;
   uint16_t buildId = 0;
