@@ -340,21 +340,12 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     path = first.split(" on ")[1].split()[0]
     bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
     received = []
-    while True:
-        try:
-            msg = bus.recv(timeout=0.5)
-        except can.CanError:
-            break  # bms-sim closed the terminal after its reader took everything
-        if msg is None:
-            if proc.poll() is not None:
-                break
-            continue
+    # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
+    # close the terminal, and must not close it under the reader).
+    while (msg := bus.recv(timeout=2.0)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
+    bus.shutdown()
     out, err = proc.communicate(timeout=30)
-    try:
-        bus.shutdown()
-    except can.CanError:
-        pass
     if proc.returncode != 0:
         fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
     summary = json.loads(out)
