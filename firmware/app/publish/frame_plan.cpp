@@ -286,7 +286,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         if (fresh && t.complete) v[S::kPackVoltageField] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
-        if (cells) v[S::kStateOfChargeField] = pack_.stateOfCharge;  // 255 (not available) without a gauge
+        if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
         v[S::kChargeFetField] = status_.chargeOn;
         v[S::kDischargeFetField] = status_.dischargeOn;
         v[S::kFaultOutputField] = status_.faultOutput;
@@ -373,7 +373,6 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 
 void FramePlan::advance() {
   // On a finished plan this only counts index_ up: settle() leaves kDone alone.
-  if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;
     status_.pendingCleared = 0;
