@@ -365,10 +365,13 @@ def c_flash_target():
     preset = "lp-mspm0l1306-bq76907"
     image(preset)
     out = os.path.join(scratch, preset + ".flashed.frames")
+    build = [os.environ.get("CMAKE", "cmake"), "--build", os.path.join(images, preset)]
+    # The image first (the target depends on it): a blank part's BSL waits only 10 s for its Connection.
+    r = subprocess.run(build, capture_output=True, text=True, timeout=600)
+    check(r.returncode == 0, f"building {preset}: exit {r.returncode}\n{r.stdout}\n{r.stderr}")
     twin = Twin(preset, frames=out)
     env = dict(os.environ, BMS_FLASH_PORT=twin.path)
-    r = subprocess.run([os.environ.get("CMAKE", "cmake"), "--build", os.path.join(images, preset), "--target", "flash"],
-                       capture_output=True, text=True, timeout=300, env=env)
+    r = subprocess.run(build + ["--target", "flash"], capture_output=True, text=True, timeout=300, env=env)
     check(r.returncode == 0, f"--target flash: exit {r.returncode}\n{r.stdout}\n{r.stderr}")
     check(f"--port {twin.path} --chip mspm0l1306 --baud 115200 --invoke button" in r.stdout,
           f"the target runs bmsctl flash with the port: {r.stdout}")
