@@ -55,7 +55,7 @@ void Machine::reset(ResetKind kind, const std::string& cause) {
   scs_.reset();
   irqLevels_ = 0;
   requested_.fill(false);
-  core_.reset();
+  if (!held_) core_.reset();  // held: the ROM runs, the image's vectors may be erased or half written
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6f s: ", static_cast<double>(now()) / layout_.clockHz);
   resetLog_.push_back(buf + cause);
@@ -207,6 +207,10 @@ void Machine::run(uint64_t endCycle) {
     fireDue();
     if (core_.halted()) break;
     const uint64_t horizon = std::min({endCycle, timeline_.next(), worldNext()});
+    if (held_) {
+      timeline_.advanceTo(std::max(horizon, now()));
+      continue;
+    }
     if (core_.sleeping()) {
       core_.step();  // wakes (and returns 0) only if an interrupt would preempt
       if (core_.sleeping()) {

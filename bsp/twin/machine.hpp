@@ -57,6 +57,14 @@ class Machine final : public CoreObserver {
 
   // Copies the image's flash bytes (ElfFile::flashImage) into the flash; false if it does not fit.
   bool loadFlash(const std::vector<uint8_t>& image);
+  // MAIN flash as the part holds it (0xFF = erased): the ROM bootloader model (bsl/rom_bsl.hpp) erases and
+  // programs it.
+  std::vector<uint8_t>& flash() { return flash_; }
+  const std::vector<uint8_t>& flash() const { return flash_; }
+  // The CPU runs code the twin does not interpret (the ROM bootloader, modelled at its pins by
+  // bsl/rom_bsl.hpp): no instruction of the image executes, events and the world go on.
+  void holdCore(bool held) { held_ = held; }
+  bool coreHeld() const { return held_; }
   // Power-on reset: SRAM filled with a pattern (its content is undefined at power-up), every model reset.
   void powerOn();
   // A reset of the given level (SLAU846B Table 2-12 / SLAU847D Table 2-9): every peripheral and the CPU;
@@ -118,6 +126,7 @@ class Machine final : public CoreObserver {
   Scs scs_;
   bsp::host::SimClock* world_ = nullptr;
   bool worldBusy_ = false;
+  bool held_ = false;
   std::vector<std::function<void(ResetKind)>> resetHooks_;
   std::vector<std::function<void()>> eventHooks_;
   std::function<std::string(uint32_t)> symbolizer_;

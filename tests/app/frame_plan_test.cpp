@@ -413,4 +413,34 @@ TEST(FramePlan, AbandonEndsTheCycleAndCounterCountsSummaries) {
   EXPECT_FALSE(p.plan.active());
 }
 
+// A summary that never went out leaves a Counter gap (bms.yaml: "a gap means a lost frame"): the cycle was
+// abandoned because the controller was bus-off and refused it (the twin's MCAN model, as the M_CAN, keeps
+// nothing it was not given), or the next cycle began before it was sent. A summary held back and then sent
+// keeps its value. (The counter once counted summaries accepted, so a refused one left no gap.)
+TEST(FramePlan, ASummaryThatNeverWentOutLeavesACounterGap) {
+  Pack p;
+  fw::hal::CanFrame f;
+  auto summary = [&](uint32_t tMs) {
+    EXPECT_TRUE(p.plan.build(at(tMs), f));
+    EXPECT_EQ(f.id, bms::PackSummary::kId);
+    return bms::PackSummary::unpack(f).counter;
+  };
+  p.plan.beginFast();
+  EXPECT_EQ(summary(10), 0);
+  p.plan.advance();
+  p.drain(10);
+  p.plan.beginFast();
+  EXPECT_EQ(summary(110), 1);
+  p.plan.abandon();  // the controller refused it: bus-off
+  p.plan.beginFast();
+  EXPECT_EQ(summary(210), 2) << "the 110 ms summary (1) was never sent: the receiver sees 0, then 2";
+  p.plan.advance();
+  p.drain(210);
+  p.plan.beginFast();
+  EXPECT_EQ(summary(310), 3);  // refused (queue full): rebuilt later with the same value
+  EXPECT_EQ(summary(311), 3);
+  EXPECT_TRUE(p.plan.beginFast()) << "its cycle is dropped: the 310 ms summary never went out";
+  EXPECT_EQ(summary(410), 4) << "the receiver sees 2, then 4";
+}
+
 }  // namespace

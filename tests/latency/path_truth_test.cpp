@@ -1,7 +1,8 @@
 // What an image reports about its paths (PackSummary ChargeFet/DischargeFet, bms-sim's summary and JSON: the
 // PublishStatus behind them) is only ever true (issue 24 item 2): over every built-in scenario, run as
 // bms-sim runs it (the image's binding, built with its option file), each millisecond the reported state is
-// either unknown or one the hardware (the emulated monitor's FET drivers, or the fault output for both paths)
+// either unknown or one the hardware (ImageSim::paths(): the emulated monitor's FET drivers, or the fault
+// output for both paths)
 // was in at some instant of the last scan period and a half: a confirmation may lag what happened by the scan
 // that read it back, but never claims what did not happen. A scenario that ends with the link healthy ends
 // with the state known and equal to the hardware's.
@@ -50,15 +51,14 @@ TEST_P(PathTruth, TheReportedPathsAreOnesTheHardwareWasIn) {
       *scenario, {sim->boards(), sim->cellsPerBoard(), sim->tempsPerBoard(), sim->hasCurrent()}, kDurationMs,
       diag))
       << diag.error;
-  ASSERT_TRUE(sim->hardwarePaths());
   bmssim::ScenarioPlayer player(*sim, *scenario);
-  std::deque<ImageSim::Paths> recent;  // the hardware's paths over the last kLagMs, one per millisecond
+  std::deque<bmssim::Paths> recent;  // the hardware's paths over the last kLagMs, one per millisecond
   uint32_t unknownMs = 0, claims = 0;
   for (uint32_t t = 0; t < kDurationMs; ++t) {
     player.advance(t);
     sim->runFor(fw::ms(1));
     sim->afterStep();
-    const ImageSim::Paths hw = *sim->hardwarePaths();
+    const bmssim::Paths hw = sim->paths();
     recent.push_back(hw);
     if (recent.size() > kLagMs) recent.pop_front();
     const bmssim::SimFigures f = sim->figures();
@@ -69,19 +69,19 @@ TEST_P(PathTruth, TheReportedPathsAreOnesTheHardwareWasIn) {
     ++claims;
     bool seen = false;
     for (const auto& p : recent)
-      seen = seen || (p.chargeOn == f.chargeOn && p.dischargeOn == f.dischargeOn);
+      seen = seen || (p.charge == f.chargeOn && p.discharge == f.dischargeOn);
     ASSERT_TRUE(seen) << name << " at " << t << " ms: reported CHG " << f.chargeOn << " DSG " << f.dischargeOn
-                      << ", the hardware CHG " << hw.chargeOn << " DSG " << hw.dischargeOn
+                      << ", the hardware CHG " << hw.charge << " DSG " << hw.discharge
                       << " throughout the last " << kLagMs << " ms";
   }
   EXPECT_GT(claims, 0u) << "the paths were never reported at all";
   const bmssim::SimFigures f = sim->figures();
-  const auto hw = *sim->hardwarePaths();
+  const bmssim::Paths hw = sim->paths();
   const bool linkHealthy = name != "comm-loss";
   if (linkHealthy) {
     ASSERT_TRUE(f.pathsKnown) << name << ": a healthy link ends with the paths confirmed";
-    EXPECT_EQ(f.chargeOn, hw.chargeOn) << name;
-    EXPECT_EQ(f.dischargeOn, hw.dischargeOn) << name;
+    EXPECT_EQ(f.chargeOn, hw.charge) << name;
+    EXPECT_EQ(f.dischargeOn, hw.discharge) << name;
   }
   std::printf("REPORT path_truth.%s.%s.unknown_ms=%u\n", BMS_SIM_IMAGE, name.c_str(), unknownMs);
 }

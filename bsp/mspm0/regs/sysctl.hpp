@@ -52,6 +52,7 @@ inline constexpr uint32_t kCanClkSrcSysPll = 1U << 8;  // GENCLKCFG.CANCLKSRC: 0
 inline constexpr uint32_t kClkStatusHfclkGood = 1U << 8;
 
 inline constexpr uint32_t kResetLevelSysrst = 0;
-inline constexpr uint32_t kResetCmdGo = 0xE4000001;  // KEY 0xE4 | GO
+inline constexpr uint32_t kResetLevelBootloaderEntry = 2;  // hw_sysctl RESETLEVEL_LEVEL_BOOTLOADERENTRY
+inline constexpr uint32_t kResetCmdGo = 0xE4000001;        // KEY 0xE4 | GO
 
 }  // namespace bsp::mspm0::reg::sysctl

@@ -111,11 +111,18 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
         machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)");
       } else if (resetLevel_ == 1) {
         machine_.requestReset(ResetKind::Bootrst, "software BOOTRST (RESETCMD, RESETLEVEL 1)");
+      } else if (resetLevel_ == 2) {
+        bootRequest_ = BootRequest::EnterBootloader;
+        machine_.requestReset(ResetKind::Sysrst,
+                              "software SYSRST, bootloader entry (RESETCMD, RESETLEVEL 2)");
       } else if (resetLevel_ == 3) {
         machine_.requestReset(ResetKind::Por, "software POR (RESETCMD, RESETLEVEL 3)");
+      } else if (resetLevel_ == 4) {
+        bootRequest_ = BootRequest::ExitBootloader;
+        machine_.requestReset(ResetKind::Sysrst, "software SYSRST, bootloader exit (RESETCMD, RESETLEVEL 4)");
       } else {
         machine_.stop("SYSCTL: RESETCMD with RESETLEVEL " + std::to_string(resetLevel_) +
-                      " (bootstrap loader entry/exit), which the twin does not model");
+                      ", which hw_sysctl does not define");
       }
       return true;
     default:

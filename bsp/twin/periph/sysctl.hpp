@@ -11,7 +11,10 @@
 //   resolution. If the HFCLK startup monitor is enabled, HFXT will be checked after this time expires",
 //   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning().
 // - RESETLEVEL/RESETCMD: KEY 0xE4 with GO issues the reset RESETLEVEL names (0 SYSRST "CPU plus peripherals
-//   only", 1 BOOTRST, 3 POR; hw_sysctl RESETLEVEL_LEVEL_*).
+//   only", 1 BOOTRST, 2 "SYSRST and enter the bootloader", 3 POR, 4 "SYSRST and exit the bootloader";
+//   hw_sysctl RESETLEVEL_LEVEL_*, the same values in mspm0-sdk dl_sysctl_mspm0{l11xx_l13xx,g1x0x_g3x0x}.h
+//   DL_SYSCTL_RESET_BOOTLOADER_ENTRY/EXIT). Levels 2 and 4 leave their request for the boot code
+//   (bsl/boot_code.hpp, takeBootRequest()), which the reset runs; 5..7 are undefined and stop the run.
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -34,6 +37,14 @@ class Sysctl final : public Device {
 
   bool canClockRunning() const;
 
+  enum class BootRequest : uint8_t { None, EnterBootloader, ExitBootloader };
+  // The bootloader request of the software reset in progress (RESETLEVEL 2 or 4), taken once.
+  BootRequest takeBootRequest() {
+    const BootRequest r = bootRequest_;
+    bootRequest_ = BootRequest::None;
+    return r;
+  }
+
  private:
   void reset(ResetKind kind);
 
@@ -41,6 +52,7 @@ class Sysctl final : public Device {
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0;
+  BootRequest bootRequest_ = BootRequest::None;
   uint64_t hfxtGoodAt_ = UINT64_MAX;
 };
 

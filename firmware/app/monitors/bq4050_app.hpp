@@ -116,6 +116,7 @@ class Bq4050Device : public MonitorBase {
       view_.hasCurrent = true;
       view_.currentMa = m.currentMa;
       view_.stateOfCharge = m.rsocPercent;
+      view_.hasStateOfCharge = true;
       view_.deviceBlocks = blockedPaths(m);
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};

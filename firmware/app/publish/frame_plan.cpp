@@ -286,7 +286,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         if (fresh && t.complete) v[S::kPackVoltageField] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
-        if (cells) v[S::kStateOfChargeField] = pack_.stateOfCharge;  // 255 (not available) without a gauge
+        if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
         // The paths only as confirmed (publish_status.hpp); not available otherwise.
         if (status_.pathsKnown) {
           v[S::kChargeFetField] = status_.chargeOn;
@@ -376,7 +376,6 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 
 void FramePlan::advance() {
   // On a finished plan this only counts index_ up: settle() leaves kDone alone.
-  if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;
     status_.pendingCleared = 0;

@@ -96,6 +96,9 @@ class FramePlan {
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
     step_ = kSummary;
     index_ = 0;
+    // Each cycle's PackSummary carries the next Counter value whether it goes out or not, so one that never
+    // did (dropped here by the next cycle, or abandoned on a bus-off) leaves the gap bms.yaml promises.
+    ++counter_;
     return dropped;
   }
   inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
@@ -110,7 +113,7 @@ class FramePlan {
   Step step_ = kDone;
   Step resume_ = kDone;  // where a slow part continues once the fast part is done (kDone: none)
   bool event_ = false;   // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
-  uint8_t counter_ = 0;
+  uint8_t counter_ = 0xFF;    // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
   uint16_t index_ = 0;        // frame within the current step
   uint16_t resumeIndex_ = 0;  // ... and within resume_
   const PackView& pack_;
