@@ -174,41 +174,63 @@ class ScriptedTarget final : public bsp::host::I2cTarget {
   size_t next_ = 0;
 };
 
-TEST_F(I2c, TheAckOverrideWaitsAtTheAckThenAnMctrWriteContinuesOrNacksWithStop) {
-  // MCTR.MACKOEN: "the number of bytes indicated in MBLEN have been received, the state machine will
-  // generate an rxdone interrupt and wait at the start of the ACK for FW to indicate if an ACK or NACK should
-  // be sent ... The other fields in this register can also be written at this time to continue on with the
-  // transaction. If a NACK is sent the state machine will automatically send a Stop." (hw_i2c.h; dl_i2c.h)
+TEST_F(I2c, ACountByteReadAloneIsContinuedWithoutStartThenNackedAndStopped) {
+  // TI's SMBus library (smbus_nwk.c SMBus_NWK_startRxTransfer / SMBus_NWK_startRxBlockPayloadTransfer): the
+  // block read's count byte with MBLEN 1, ACK and no STOP; then a burst without START for the rest, the last
+  // byte NACKed, STOP (SLAU846A controller transfer table: a burst without START goes on with the data).
   start();
   ScriptedTarget target({0x02, 0xA1, 0xA2});
   chip_.i2c0().attach(0x0B, target);
   std::vector<std::string> log;
   chip_.i2c0().onTransaction([&](const twin::I2cWireLog& l) { log.push_back(l.text); });
   wr(kI2c0 + 0x1210, (0x0B << 1) | 1);                   // MSA: 0x0B, read
-  wr(kI2c0 + 0x1214, (1U << 16) | (1U << 4) | 1U | 2U);  // MCTR: 1 byte, MACKOEN, BURSTRUN, START
+  wr(kI2c0 + 0x1214, (1U << 16) | (1U << 3) | 1U | 2U);  // MCTR: 1 byte, ACK, BURSTRUN, START
   runUs(500);                                            // far longer than START + address + a byte
   ASSERT_FALSE(stopped()) << why();
-  EXPECT_NE(rd(kI2c0 + 0x1030) & 1U, 0U);   // MRXDONE
-  EXPECT_NE(rd(kI2c0 + 0x1218) & 1U, 0U);   // MSR.BUSY: waiting at the ACK
-  EXPECT_EQ(rd(kI2c0 + 0x123C) & 0xF, 1U);  // the count byte in the RX FIFO
-  EXPECT_EQ(target.readBytes(), 1U);        // nothing more clocked
+  EXPECT_NE(rd(kI2c0 + 0x1030) & 1U, 0U);    // MRXDONE
+  EXPECT_EQ(rd(kI2c0 + 0x1218) & 1U, 0U);    // MSR.BUSY clear: the burst is done...
+  EXPECT_NE(rd(kI2c0 + 0x1218) & 0x40, 0U);  // ...and MSR.BUSBSY: the controller keeps the bus
+  EXPECT_EQ(rd(kI2c0 + 0x123C) & 0xF, 1U);   // the count byte in the RX FIFO
+  EXPECT_EQ(target.readBytes(), 1U);         // nothing more clocked
   EXPECT_EQ(target.stops, 0);
   EXPECT_EQ(rd(kI2c0 + 0x121C), 0x02U);
   wr(kI2c0 + 0x1048, 0xFFFFFFFF);
-  wr(kI2c0 + 0x1214, (2U << 16) | (1U << 4) | (1U << 3) | 1U);  // ACK, 2 more bytes, MACKOEN, BURSTRUN
+  wr(kI2c0 + 0x1214, (2U << 16) | 4U | 1U);  // 2 more bytes, no START, ACK = 0 (last NACKed), STOP
   runUs(500);
   ASSERT_FALSE(stopped()) << why();
-  EXPECT_EQ(target.readBytes(), 3U);  // the last one waits at its ACK again
-  EXPECT_EQ(target.stops, 0);
-  EXPECT_NE(rd(kI2c0 + 0x1030) & 1U, 0U);
-  wr(kI2c0 + 0x1214, (1U << 4) | 4U | 1U);  // NACK (ACK = 0): STOP follows by itself
-  runUs(100);
+  EXPECT_EQ(target.readBytes(), 3U);
   EXPECT_EQ(target.stops, 1);
   EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 9), 0U);  // MSTOP
   EXPECT_EQ(rd(kI2c0 + 0x1218) & 1U, 0U);         // not busy
   ASSERT_EQ(log.size(), 1U);
   EXPECT_EQ(log[0], "S 17 [02 A1 A2] P");
-  EXPECT_EQ(target.readBytes(), 3U);
+}
+
+TEST_F(I2c, TheControllerAckOverrideIsRefused) {
+  // MCTR.MACKOEN: no TI example or library uses it, no TRM text describes it (bsp/mspm0/README.md, open
+  // questions): the twin does not guess its behaviour.
+  start();
+  ScriptedTarget target({0x02});
+  chip_.i2c0().attach(0x0B, target);
+  wr(kI2c0 + 0x1210, (0x0B << 1) | 1);
+  wr(kI2c0 + 0x1214, (1U << 16) | (1U << 4) | 1U | 2U);  // MACKOEN
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("MACKOEN"), std::string::npos) << why();
+}
+
+TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
+  // Between a burst without STOP and the next MCTR write the controller holds SCL low: clock-low timeout A
+  // counts (SLAU846B 20.2 "clock low timeout"): TCNTLA 3 x 16 x (1 + 7) x 12 clocks = 144 us at 32 MHz.
+  start();
+  ScriptedTarget target({0x02});
+  chip_.i2c0().attach(0x0B, target);
+  wr(kI2c0 + 0x1204, (1U << 15) | 3U);  // TIMEOUT_CTL: TCNTAEN, TCNTLA 3
+  wr(kI2c0 + 0x1210, (0x0B << 1) | 1);
+  wr(kI2c0 + 0x1214, (1U << 16) | (1U << 3) | 1U | 2U);
+  runUs(100);
+  EXPECT_EQ(rd(kI2c0 + 0x1030) & (1U << 14), 0U);
+  runUs(200);
+  EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 14), 0U);  // TIMEOUTA
 }
 
 // --- MCAN
