@@ -54,7 +54,7 @@ class Uart : public Chip {
  protected:
   // 115200 8N1 from 32 MHz, 16x: IBRD 17, FBRD 23 (hw_uart.h IBRD/FBRD; round(32e6 * 4 / 115200) = 1111);
   // TX through DMA channel 0 on UART0's TX trigger (18 on the G3507, tsv dmatrig rows).
-  void start(uint32_t txLevel, const std::vector<uint8_t>& bytes) {
+  void start(uint32_t txLevel, const std::vector<uint8_t>& bytes, bool rxe = true) {
     for (size_t i = 0; i < bytes.size(); ++i)
       chip_.machine().busWrite(0x20200000 + static_cast<uint32_t>(i), 1, bytes[i]);
     wr(kUart0 + 0x800, kPwrenOn);
@@ -71,7 +71,7 @@ class Uart : public Chip {
     wr(kDma + 0x1110, 18);                      // DMATCTL: UART0 TX
     wr(kDma + 0x1200, (1U << 1) | (3U << 16));  // DMAEN, source increment, byte widths, single transfer
     chip_.uart(0).onTransmit([this](uint8_t b) { sent_.push_back({b, chip_.machine().now()}); });
-    wr(kUart0 + 0x1100, 1U | (1U << 4) | (1U << 17));  // ENABLE, TXE, FEN
+    wr(kUart0 + 0x1100, 1U | (rxe ? 1U << 3 : 0U) | (1U << 4) | (1U << 17));  // ENABLE, RXE, TXE, FEN
   }
   struct Sent {
     uint8_t byte;
@@ -92,6 +92,16 @@ TEST_F(Uart, TheDmaLevelMovesEveryByteAtTheBaudRate) {
   EXPECT_EQ(sent_[4].cycle - sent_[0].cycle, 4 * 2777 + 2);
   EXPECT_NE(rd(kUart0 + 0x1030) & (1U << 16), 0U);  // DMA_DONE_TX
   EXPECT_NE(rd(kUart0 + 0x1030) & (1U << 12), 0U);  // EOT: "the last bit ... has left the serializer"
+}
+
+TEST_F(Uart, EndOfTransmissionNeedsTheReceiverEnabledToo) {
+  // UART_ERR_02 (SLAZ742G; SLAZ741B for the L130x): "UART End Of Transmission (EOT) interrupt does not
+  // trigger when the device is set for transmit only (CTL0.TXE = 1, CTL0.RXE = 0)".
+  start(7, {'t', '\r'}, false);
+  runUs(1000);
+  ASSERT_EQ(sent_.size(), 2U);
+  EXPECT_NE(rd(kUart0 + 0x1030) & (1U << 16), 0U);  // DMA_DONE_TX
+  EXPECT_EQ(rd(kUart0 + 0x1030) & (1U << 12), 0U);  // no EOT
 }
 
 TEST_F(Uart, TheHalfLevelNeverTriggersTheDmaOnAnEmptyFifo) {
