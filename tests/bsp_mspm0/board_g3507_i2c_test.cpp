@@ -44,6 +44,13 @@ class G3507I2cBoardTest : public RegisterTest {
   int calls = 0;
 };
 
+TEST_F(G3507I2cBoardTest, TheSysoscRunsInFclModeOnTheLaunchPadsRoscResistor) {
+  // R8, 100 kOhm 0.1 % on ROSC (SLAU873D 2.7): SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL | SETUSEEXRES
+  // (dl_sysctl_mspm0g1x0x_g3x0x.h DL_SYSCTL_enableSYSOSCFCLExternalResistor).
+  EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1310), 0x2A000003U);
+  EXPECT_TRUE(sysctl.fclOn());
+}
+
 TEST_F(G3507I2cBoardTest, CanRunsOnTheCrystalAndEveryInterruptIsAcknowledged) {
   ASSERT_EQ(image::board().canStatus, fw::Status::Ok);
   EXPECT_FALSE(can.initVisible());  // the controller left INIT before bring-up went on

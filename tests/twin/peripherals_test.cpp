@@ -313,6 +313,68 @@ TEST_F(Chip, AWatchdogRestartWithAnotherValueIsAViolation) {
   EXPECT_EQ(chip_.machine().resets().size(), 2U);
 }
 
+// --- Resets and RSTCAUSE
+// ---------------------------------------------------------------------------------------------------
+
+TEST_F(Chip, AWatchdogExpiryIsABootrstThatLosesSramAndReadsCause0x0EOnce) {
+  // "A WWDT0 violation generates a BOOTRST" (SLAU846B WWDT overview); a BOOTRST resets SRAM (SLAU846B Table
+  // 2-12, SRAM column) and RSTCAUSE then reads 0x0E "WWDT0 violation" once: "always cleared upon a read".
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x01U);  // power-on: VDD < POR-
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x00U);  // cleared by the read
+  chip_.machine().busWrite(0x20201000, 4, 0xFA17C0DE);
+  wr(kWwdt0 + 0x800, kPwrenOn);
+  wr(kWwdt0 + 0x1100, 0xC9000000 | (7U << 4));  // PER 7: 2^6 counts = 1.95 ms
+  runUs(3000);
+  ASSERT_EQ(chip_.machine().resets().size(), 2U);
+  EXPECT_NE(chip_.machine().readSram32(0x20201000), 0xFA17C0DEU);
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x0EU);
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x00U);
+}
+
+TEST_F(Chip, ASoftwareSysrstKeepsSramAndReadsCause0x1B) {
+  // RESETLEVEL 0 + RESETCMD KEY 0xE4 | GO: a software SYSRST (hw_sysctl RESETLEVEL_LEVEL_CPU "Issue a
+  // SYSRST"), which keeps SRAM (SLAU846B Table 2-12) and leaves RSTCAUSE 0x1B "Software triggered SYSRST".
+  rd(kSysctl + 0x1220);
+  chip_.machine().busWrite(0x20201000, 4, 0xFA17C0DE);
+  wr(kSysctl + 0x1300, 0);
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  ASSERT_EQ(chip_.machine().resets().size(), 2U);
+  EXPECT_EQ(chip_.machine().readSram32(0x20201000), 0xFA17C0DEU);
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x1BU);
+}
+
+TEST_F(Chip, TheLowerLevelCauseWinsUntilRstcauseIsRead) {
+  // "the lowest level reset cause which occurred during reset processing is captured" (SLAU846B): a BOOTRST
+  // (0x0D) after a SYSRST (0x1B), with no read in between, reads 0x0D.
+  rd(kSysctl + 0x1220);
+  wr(kSysctl + 0x1300, 0);
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  wr(kSysctl + 0x1300, 1);
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  ASSERT_EQ(chip_.machine().resets().size(), 3U);
+  EXPECT_EQ(rd(kSysctl + 0x1220), 0x0DU);
+}
+
+TEST_F(Chip, TheFclNeedsItsKeyAndEndsOnlyWithABootrst) {
+  // SYSOSCFCLCTL: "The key value of 2Ah (42) must be written to KEY together with SETUSEFCL"; "Once enabled,
+  // this state is locked until the next BOOTRST" (hw_sysctl); CLKSTATUS.FCLMODE shows it.
+  wr(kSysctl + 0x1310, 0x00000003);  // no key: ignored
+  EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+  wr(kSysctl + 0x1310, 0x2A000003);
+  EXPECT_NE(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+  wr(kSysctl + 0x1300, 0);  // a SYSRST keeps it
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  EXPECT_NE(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+  wr(kSysctl + 0x1300, 1);  // a BOOTRST ends it
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+}
+
 // --- TIMG
 // ------------------------------------------------------------------------------------------------------
 

@@ -11,7 +11,15 @@
 //   resolution. If the HFCLK startup monitor is enabled, HFXT will be checked after this time expires",
 //   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning().
 // - RESETLEVEL/RESETCMD: KEY 0xE4 with GO issues the reset RESETLEVEL names (0 SYSRST "CPU plus peripherals
-//   only", 1 BOOTRST, 3 POR; hw_sysctl RESETLEVEL_LEVEL_*).
+//   only", 1 BOOTRST, 3 POR; hw_sysctl RESETLEVEL_LEVEL_*), leaving RSTCAUSE 0x1B / 0x0D / 0x03.
+// - RSTCAUSE (0x1220): the lowest-level cause of the resets since the last read (Machine::takeResetCause:
+//   power-on 0x01, WWDT0 violation 0x0E, the software resets above, AIRCR.SYSRESETREQ 0x1D), cleared by the
+//   read ("The contents of the reset cause register are always cleared upon a read", text above SLAU846B
+//   Table 2-12 / SLAU847D Table 2-9; IDs from hw_sysctl RSTCAUSE_ID_*, their levels from SLAU846B Table
+//   2-12).
+// - SYSOSCFCLCTL (0x1310): KEY 0x2A with SETUSEFCL turns the frequency correction loop on until the next
+//   BOOTRST (CLKSTATUS.FCLMODE reads 1); without the key the write is ignored; SETUSEEXRES on the L1306
+//   stops the run (no such field there).
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -41,6 +49,7 @@ class Sysctl final : public Device {
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0;
+  bool fclMode_ = false;
   uint64_t hfxtGoodAt_ = UINT64_MAX;
 };
 
