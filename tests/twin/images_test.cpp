@@ -216,16 +216,19 @@ TEST(BrokenImage, SwappedVectorsStopThePublishingAndResetTheChip) {
 }
 
 TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
-  const std::string preset = "lp-mspm0g3507-bq76952";
-  LOAD_OR_SKIP(elf, preset);
-  const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
-  ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
-  removeStores(*elf, feeds);
-  Rig r(preset, *elf);
-  r.board.runUntilUs(2500000);
-  ASSERT_GE(r.board.machine().resets().size(), 2U);
-  EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
-      << r.board.machine().resets()[1];
+  // Both chips: the L1306 images are supervised by WWDT0 as well (bsp/mspm0/README.md said they were not).
+  for (const std::string preset : {"lp-mspm0g3507-bq76952", "lp-mspm0l1306-bq76952"}) {
+    SCOPED_TRACE(preset);
+    LOAD_OR_SKIP(elf, preset);
+    const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
+    ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+    removeStores(*elf, feeds);
+    Rig r(preset, *elf);
+    r.board.runUntilUs(2500000);
+    ASSERT_GE(r.board.machine().resets().size(), 2U);
+    EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+        << r.board.machine().resets()[1];
+  }
 }
 
 // --- Startup message (bms.yaml Startup, 0x1F0)
