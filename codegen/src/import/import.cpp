@@ -256,9 +256,9 @@ class Importer {
   // find in one file of a family (a fieldset defined in fields.yaml) do not matter; syntax errors do.
   bool loadMaps() {
     for (const std::string& f : opts_.mapFiles) {
-      std::string text;
-      if (!readFile(f, text)) {
-        err_ << "regmapgen: error: cannot read map file " << f << "\n";
+      std::string text, why;
+      if (!readFile(f, text, &why)) {
+        err_ << "regmapgen: error: cannot read map file " << f << ": " << why << "\n";
         return false;
       }
       mapSources_.add(f, std::move(text));

@@ -8,6 +8,8 @@
 #include <cstring>
 #include <vector>
 
+#include "diag/diag.hpp"
+
 extern char** environ;
 
 namespace regmapgen {
@@ -20,7 +22,7 @@ constexpr const char* kInstall =
     "'pdftotext -layout FILE.pdf table.txt' and import table.txt";
 
 // A pdftotext -layout text of a whole TRM is a few megabytes; anything far larger is not a TRM.
-constexpr std::size_t kMaxText = std::size_t{256} << 20;
+constexpr std::size_t kMaxText = kMaxInputBytes;
 
 }  // namespace
 
@@ -81,7 +83,8 @@ PdfText pdfToText(const std::string& path, int firstPage, int lastPage) {
     r.error = "pdftotext could not read " + path + " (exit status " +
               (WIFEXITED(status) ? std::to_string(WEXITSTATUS(status)) : std::string("signal")) + ")";
   } else if (tooLong) {
-    r.error = "the text of " + path + " is over 256 MiB; import a range of pages with --pages A-B";
+    r.error = "the text of " + path + " is over " + std::to_string(kMaxText >> 20) +
+              " MiB; import a range of pages with --pages A-B";
   } else {
     r.ok = true;
   }
