@@ -256,6 +256,7 @@ int cmdImport(const std::vector<std::string>& args) {
       return failed;
     }
     text = std::move(pdf.text);
+    opts.firstPage = first > 0 ? first : 1;
   } else if (!pages.empty()) {
     std::cerr << "regmapgen: error: --pages applies to PDF input; " << file << " is text\n";
     return 2;
@@ -263,7 +264,8 @@ int cmdImport(const std::vector<std::string>& args) {
   if (against.empty()) return runImport(file, text, opts, std::cout, std::cerr);
 
   std::ostringstream yaml;
-  if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0) return 2;
+  if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0)
+    return rc == kImportFoundNoTable ? rc : 2;
   Sources oldSources, newSources;
   Model oldModel, newModel;
   if (!load(against, oldSources, oldModel, false)) return 2;

@@ -71,7 +71,7 @@ Unit unit(std::string_view cell) {
   const std::string key = lower(joined);
   static const std::vector<std::string> none = {"",       "-",        "\xE2\x80\x94", "\xE2\x80\x93",
                                                 "hex",    "十六进制", "ascii",        "n/a",
-                                                "string", "flags",    "binary"};
+                                                "string", "flags",    "binary",       "num"};
   for (const std::string& n : none) {
     if (key == n) return {};
   }

@@ -42,6 +42,8 @@ const std::vector<Heading>& headings() {
        "data (appended to the description)",
        {"数据", "data", "bit7", "bit6", "bit5", "bit4", "bit3", "bit2", "bit1", "bit0", "bit 7", "bit 6",
         "bit 5", "bit 4", "bit 3", "bit 2", "bit 1", "bit 0"}},
+      {Role::Bit, "bit (bit-field tables)", {"bit", "bits"}},
+      {Role::Field, "field (bit-field tables)", {"field", "field name"}},
       {Role::Access,
        "access",
        {"访问", "访问权限", "读写", "access", "r/w", "rw", "rw type", "mode", "se", "us", "fa", "sealed",
@@ -138,14 +140,16 @@ std::vector<std::pair<std::size_t, std::size_t>> splitHeadings(std::string_view 
 
 bool isHeadingRow(const std::vector<Role>& roles) {
   int known = 0;
-  bool addr = false, name = false, cat = false;
+  bool addr = false, name = false, cat = false, bit = false, field = false;
   for (Role r : roles) {
     if (r != Role::Unknown) ++known;
     addr = addr || r == Role::Address;
     name = name || r == Role::Name || r == Role::EnglishName;
     cat = cat || r == Role::Category;
+    bit = bit || r == Role::Bit;
+    field = field || r == Role::Field;
   }
-  return (addr || cat) && name && known * 2 >= static_cast<int>(roles.size());
+  return (((addr || cat) && name) || (bit && field)) && known * 2 >= static_cast<int>(roles.size());
 }
 
 }  // namespace regmapgen

@@ -47,7 +47,11 @@ struct ImportOptions {
   std::string kind;                   // "", or a kind's list word or YAML key ("command", "registers"...)
   std::vector<std::string> mapFiles;  // YAML maps used to resolve missing data-memory addresses
   std::string source = "unverified";
+  int firstPage = 0;  // the text is pdftotext's of a PDF from this page on: positions are file:pPAGE:LINE:COL
 };
+
+// The exit status of an import that found no register table (a data sheet, a text without tables).
+inline constexpr int kImportFoundNoTable = 3;
 
 int runImport(const std::string& path, const std::string& text, const ImportOptions& opts, std::ostream& out,
               std::ostream& err);

@@ -1,5 +1,6 @@
 #include "import/pdf.hpp"
 
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -50,6 +51,9 @@ PdfText pdfToText(const std::string& path, int firstPage, int lastPage) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDOUT_FILENO);
+  // pdftotext reports every font it cannot map ("Syntax Error: Unknown character collection ..."), which
+  // says nothing about the text; its exit status says whether it read the file.
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addclose(&actions, pipeFds[0]);
   posix_spawn_file_actions_addclose(&actions, pipeFds[1]);
   pid_t pid = 0;
