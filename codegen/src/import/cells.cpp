@@ -161,8 +161,9 @@ std::optional<std::string> fieldsType(std::string_view cell, bool bigEndian) {
 
 std::optional<std::string> typeFromWords(std::string_view type, std::string_view format,
                                          std::string_view size) {
-  const std::string t = lower(name(type));
   const std::string f = lower(name(format));
+  // SLUUAQ3A prints the number format in its "Format" column ("Signed Int" with "Size in Bytes" 2).
+  const std::string t = scan::trimmed(type).empty() ? f : lower(name(type));
   const std::string sz(scan::trimmed(size));
   int n = 0;
   if (scan::all(sz, scan::isDigit) && sz.size() <= 2) n = std::stoi(sz);

@@ -272,7 +272,7 @@ class Importer {
     const std::string number = captionNumber(e.caption);
     u.label = number.empty() ? "the table at " + at(e.line) : "Table " + number;
     const auto has = [&](Role r) { return std::find(e.roles.begin(), e.roles.end(), r) != e.roles.end(); };
-    const bool itemTable = e.caption.empty() && !e.section.empty() && e.proseSinceSection <= 3;
+    const bool itemTable = e.caption.empty() && !e.section.empty() && e.proseSinceSection <= 6;
     if (has(Role::Bit) && has(Role::Field)) {
       u.registerName = fieldTableRegister(e.caption, e.section);
       u.as = u.registerName.empty() ? TableUse::As::Skipped : TableUse::As::Fields;
@@ -459,6 +459,21 @@ class Importer {
   }
   // ---- entry rows ----
 
+  // "S20+1": a string of 20 characters after its length byte (the BQ4050 TRM's spelling), 21 bytes: S21.
+  static std::optional<std::string> lengthPrefixedString(const std::string& compact,
+                                                         const std::string& original, Imported& e) {
+    const std::size_t plus = compact.find('+');
+    if (compact.size() < 4 || compact[0] != 'S' || plus == std::string::npos ||
+        compact.substr(plus) != "+1" || plus < 2 || plus > 3 ||
+        !scan::all(std::string_view(compact).substr(1, plus - 1), scan::isDigit))
+      return std::nullopt;
+    const std::string code = "S" + std::to_string(std::stoi(compact.substr(1, plus - 1)) + 1);
+    if (!parseType(code)) return std::nullopt;
+    e.notes.push_back("import: type '" + original + "' (a length byte and " + compact.substr(1, plus - 1) +
+                      " characters) written " + code);
+    return code;
+  }
+
   // Repairs a type cell damaged by PDF text extraction; records what changed.
   std::string fixType(std::string t, int line, int col, Imported& e) {
     const std::string original = t;
@@ -468,17 +483,7 @@ class Importer {
     }
     if (compact.empty() || compact == "-" || compact == "—") return "none";
     if (parseType(compact)) return compact;
-    // "S20+1": a string of 20 characters after its length byte (the BQ4050 TRM's spelling), 21 bytes.
-    if (const std::size_t plus = compact.find('+');
-        compact[0] == 'S' && plus != std::string::npos && compact.substr(plus) == "+1" && plus > 1 &&
-        plus <= 3 && scan::all(std::string_view(compact).substr(1, plus - 1), scan::isDigit)) {
-      const std::string code = "S" + std::to_string(std::stoi(compact.substr(1, plus - 1)) + 1);
-      if (parseType(code)) {
-        e.notes.push_back("import: type '" + original + "' (a length byte and " +
-                          compact.substr(1, plus - 1) + " characters) written " + code);
-        return code;
-      }
-    }
+    if (auto text = lengthPrefixedString(compact, original, e)) return *text;
     if (auto block = cells::blockForWideHex(compact)) {
       warn(line, col,
            "type '" + original + "' is a " + block->substr(1) + "-byte hex block; written " + *block);
@@ -537,6 +542,7 @@ class Importer {
       return *fields;
     }
     if (parseType(typeCell)) return typeCell;
+    if (auto text = lengthPrefixedString(typeCell, typeCell, e)) return *text;
     if (c.has(Role::Format) && cells::number(c.get(Role::Format)).empty()) {
       e.notes.push_back("import: no data format in the table, so no data");
       return "none";  // BQ4050 MAC: Format "—" (a command that carries no data)
@@ -703,8 +709,20 @@ class Importer {
     for (auto [role, key, value] :
          {std::tuple{Role::Min, "min", &e.min}, std::tuple{Role::Max, "max", &e.max},
           std::tuple{Role::Default, "default", &e.dflt}}) {
-      const std::string v = cells::number(c.get(role));
+      std::string v = cells::number(c.get(role));
       if (v.empty()) continue;
+      // "4400" over "6336" beside "mAh" over "10 mWh": a value for each capacity mode (BatteryMode[CAPM]);
+      // the unit is the mAh one, so is the value.
+      if (const std::string raw(scan::trimmed(c.get(role)));
+          (e.unit == "mAh|10mWh" || e.unit == "mA|10mW") && raw.find(' ') != std::string::npos) {
+        const std::string first = cells::number(raw.substr(0, raw.find(' ')));
+        const std::string second = cells::number(raw.substr(raw.rfind(' ') + 1));
+        if (parseNumber(first) && parseNumber(second)) {
+          e.notes.push_back(std::string("import: ") + key + " " + first + " (CAPM = 0), " + second +
+                            " (CAPM = 1)");
+          v = first;
+        }
+      }
       if (!parseNumber(v)) {
         // A string's default ("Texas Inst.") is its text: kept in the notes without a warning.
         if (!text || role != Role::Default)
@@ -713,7 +731,27 @@ class Importer {
         e.notes.push_back(std::string("import: ") + key + " '" + c.get(role) + "'");
         continue;
       }
+      const auto t = parseType(e.type);
+      const auto n = parseNumber(v);
+      if (t && t->integer() && n->isInteger && (n->integer < t->minValue() || n->integer > t->maxValue())) {
+        warn(c.line(role), c.col(role),
+             std::string(key) + " " + v + " does not fit type " + e.type + " (" +
+                 std::to_string(t->minValue()) + ".." + std::to_string(t->maxValue()) +
+                 "); left out (recorded in notes)");
+        e.notes.push_back(std::string("import: ") + key + " " + v + " does not fit " + e.type);
+        continue;
+      }
       *value = v;
+    }
+    // A default outside the table's own range is a misprint of one of them (SLUUAQ3A: Min Blow Fuse Voltage
+    // 0..255, default 3500): named, and the default left to the notes.
+    if (const auto lo = parseNumber(e.min), hi = parseNumber(e.max), d = parseNumber(e.dflt);
+        d && ((lo && d->real < lo->real) || (hi && d->real > hi->real))) {
+      warn(c.line(Role::Default), c.col(Role::Default),
+           "default " + e.dflt + " is outside the table's range " + e.min + ".." + e.max +
+               "; left out (recorded in notes)");
+      e.notes.push_back("import: default " + e.dflt + " outside " + e.min + ".." + e.max);
+      e.dflt.clear();
     }
     if (!e.kind->allowCategory) e.category.clear(), e.subcategory.clear();
     e.notes.insert(e.notes.begin(), "imported from " + displayPath(path_) + ":" +
@@ -732,27 +770,43 @@ class Importer {
   // differently is a warning that names both, and a value only the other gives is taken with a note.
   void fold(Imported& from, Imported& into) {
     from.merged = true;
-    const std::pair<const char*, std::string Imported::*> values[] = {
-        {"type", &Imported::type},    {"min", &Imported::min},   {"max", &Imported::max},
-        {"default", &Imported::dflt}, {"unit", &Imported::unit}, {"scale", &Imported::scale}};
+    const std::string there = label(from), here = label(into);
     const auto shown = [](const std::string& v) { return v.empty() ? std::string("nothing") : v; };
+    if (!from.type.empty() && !into.type.empty() && from.type != into.type) {
+      // Different types: the two rows are not one setting (SLUUAQ3A prints Fuse Blow Timeout's table under
+      // Min Blow Fuse Voltage's name), or one is misprinted; nothing is taken from the other.
+      warn(from.line, 1,
+           "'" + describe(into) + "': " + there + " gives type " + from.type + ", " + here + " gives " +
+               into.type + "; " + into.table + "'s row is kept and nothing is taken from " + from.table);
+      into.notes.push_back("import: " + there + " gives type " + from.type);
+      return;
+    }
+    const std::pair<const char*, std::string Imported::*> values[] = {{"min", &Imported::min},
+                                                                      {"max", &Imported::max},
+                                                                      {"default", &Imported::dflt},
+                                                                      {"unit", &Imported::unit},
+                                                                      {"scale", &Imported::scale}};
     for (const auto& [what, member] : values) {
       const std::string& a = from.*member;
       std::string& b = into.*member;
-      if (sameValue(a, b)) continue;
-      if (b.empty() && !a.empty() && std::string(what) != "scale") {
+      if (sameValue(a, b) || (a.empty() && std::string(what) != "scale"))
+        continue;                                                            // silent is no disagreement
+      if (std::string(what) == "scale" && from.unit != into.unit) continue;  // reported with the unit
+      if (b.empty() && !a.empty()) {
         b = a;
-        into.notes.push_back("import: " + std::string(what) + " from " + from.table + " (" + at(from.line) +
-                             ")");
+        into.notes.push_back("import: " + std::string(what) + " from " + there);
         continue;
       }
-      if (std::string(what) == "scale" && (from.unit != into.unit)) continue;  // reported with the unit
       warn(from.line, 1,
-           "'" + describe(into) + "': " + from.table + " gives " + what + " " + shown(a) + ", " + into.table +
-               " (" + at(into.line) + ") gives " + shown(b) + "; " + into.table + "'s is kept");
-      into.notes.push_back("import: " + from.table + " (" + at(from.line) + ") gives " + what + " " +
-                           shown(a));
+           "'" + describe(into) + "': " + there + " gives " + what + " " + shown(a) + ", " + here +
+               " gives " + shown(b) + "; " + into.table + "'s is kept");
+      into.notes.push_back("import: " + there + " gives " + what + " " + shown(a));
     }
+  }
+
+  // "Table 13-37 (p202:25)", or for a table without a caption "the table at p179:24".
+  std::string label(const Imported& e) const {
+    return e.table.starts_with("Table ") ? e.table + " (" + at(e.line) + ")" : e.table;
   }
 
   static std::string describe(const Imported& e) {
@@ -775,10 +829,43 @@ class Importer {
       }
       bySetting.emplace(settingKey(e), i);
     }
+    // TI's own tables of one setting sometimes spell its class differently ("Advanced Charging Algorithms"
+    // in the setting's section, "Advanced Charge Algorithm" in the summary of SLUUAQ3A): then the subclass
+    // and name, when they name one summary row, place it.
+    std::map<std::string, std::vector<std::size_t>> bySubclass;
+    for (const auto& [key, i] : bySetting) {
+      const Imported& s = entries_[i];
+      bySubclass[std::string(s.kind->yamlKey) + '\x1f' + lookupKey(s.subcategory) + '\x1f' +
+                 lookupKey(s.name)]
+          .push_back(i);
+    }
+    std::set<std::pair<std::string, std::string>> classesReported;
     for (Imported& e : entries_) {
       if (e.fromTableAddress || e.merged) continue;
       if (const auto it = bySetting.find(settingKey(e)); it != bySetting.end()) {
         fold(e, entries_[it->second]);
+        continue;
+      }
+      const auto sub = bySubclass.find(std::string(e.kind->yamlKey) + '\x1f' + lookupKey(e.subcategory) +
+                                       '\x1f' + lookupKey(e.name));
+      if (sub != bySubclass.end() && sub->second.size() == 1) {
+        Imported& into = entries_[sub->second.front()];
+        if (classesReported.insert({e.category, into.category}).second) {
+          warn(e.line, 1,
+               "class '" + e.category + "' here is '" + into.category + "' in " + into.table + " (" +
+                   at(into.line) + "); its rows are matched by subclass and name");
+        }
+        fold(e, into);
+        continue;
+      }
+      if (summaries_ && opts_.mapFiles.empty()) {
+        // In a document with summaries, a setting no summary lists cannot be given an address: named, left
+        // out.
+        warn(e.line, 1,
+             "'" + describe(e) +
+                 "' is in no summary table of the document; left out (an entry needs its address)");
+        skipped_.push_back(e.line);
+        e.merged = true;
         continue;
       }
       if (const Entry* known = lookup(*e.kind, e.name, e.category, e.subcategory)) {
@@ -865,14 +952,16 @@ class Importer {
     for (Imported& e : entries_) {
       if (e.merged) continue;
       const std::string id = idOf(e);
-      if (e.idFromMap || uses[key(e, id)] < 2 || taken.insert(key(e, id)).second) continue;
+      const bool usable = isIdentifier(id) && !isCppKeyword(id);  // "1st Safety Status C" starts with a digit
+      if (e.idFromMap || (usable && (uses[key(e, id)] < 2 || taken.insert(key(e, id)).second))) continue;
       for (const std::string& candidate : {pascalCase(e.subcategory + " " + e.name),
                                            pascalCase(e.category + " " + e.subcategory + " " + e.name)}) {
         if (!isIdentifier(candidate) || uses.count(key(e, candidate)) ||
             !taken.insert(key(e, candidate)).second)
           continue;
         e.id = candidate;
-        e.comments.push_back("id: '" + id + "' is taken by an entry above; made unique by import");
+        e.comments.push_back(usable ? "id: '" + id + "' is taken by an entry above; made unique by import"
+                                    : "id: '" + id + "' is not a C++ identifier; made one by import");
         break;
       }
     }

@@ -98,6 +98,17 @@ bool identifierPart(std::string_view s) {
   return scan::all(s, [](char c) { return scan::isUpper(c) || scan::isDigit(c) || c == '_'; });
 }
 
+// "PermanentFailureData" over "Reset", "OutputShortedCCand" over "ADCforCalibration": a function name of
+// the BQ4050 TRM (one CamelCase word) broken where its cell ends.
+bool camelJoin(std::string_view above, std::string_view more) {
+  if (above.empty() || more.empty() || above.find(' ') != std::string_view::npos ||
+      more.find(' ') != std::string_view::npos || !scan::isUpper(more[0]) || !scan::isAlpha(above.back()))
+    return false;
+  const auto uppers = std::count_if(above.begin(), above.end(), [](char c) { return scan::isUpper(c); });
+  const bool lower = std::any_of(above.begin(), above.end(), [](char c) { return scan::isLower(c); });
+  return uppers >= 2 && lower;
+}
+
 bool isNameRole(Role r) {
   return r == Role::Name || r == Role::EnglishName;
 }
@@ -338,7 +349,10 @@ class Reader {
   std::size_t line(std::size_t i) {
     const SourceLine& l = lines_[i];
     if (l.pageBreak) pageBreak();
-    if (isPageFurniture(l.text)) return i;  // the margins around headers and footers are not gaps in a table
+    if (isPageFurniture(l.text)) {
+      if (layout_) layout_->blankRun = 0;  // the margins around headers and footers are not gaps in a table
+      return i;
+    }
     if (hasSeparators(l.text)) {
       if (layout_) endTable();
       separatedLine(l);
@@ -353,7 +367,10 @@ class Reader {
   }
 
   void pageBreak() {
-    if (layout_) layout_->blankRun = 0;
+    if (layout_) {
+      layout_->blankRun = 0;
+      layout_->afterBreak = true;  // but a row does not go on across a page break on its own
+    }
     pendingContinuation_ = true;
   }
 
@@ -419,6 +436,7 @@ class Reader {
     std::vector<std::size_t> anchors;  // preliminary bounds: each column's heading start
     std::vector<BodyLine> body;
     int blankRun = 0;
+    bool afterBreak = false;
     bool keySeen = false;
     bool continued = false;    // repeats the previous table's headings: one table
     bool mayContinue = false;  // a page break or "(continued)" caption came before the heading
@@ -477,6 +495,23 @@ class Reader {
         if (auto t = layoutFor(cols, l.number)) {
           begin(std::move(*t));
           return i + 1;
+        }
+      }
+      // A heading over three lines, this one in the middle: "SBS" / "Name ... Type Min Max" / "Cmd", "Proto-"
+      // / "col" (SLUUAQ3A's SBS command tables). The line above was taken as prose; it is taken back.
+      if (i > 0 && !l.pageBreak && !result_.events.empty() &&
+          result_.events.back().kind == TableEvent::Kind::Prose &&
+          result_.events.back().line == lines_[i - 1].number && !scan::trimmed(lines_[i - 1].text).empty() &&
+          !isPageFurniture(lines_[i - 1].text) && !next.pageBreak && !isPageFurniture(next.text) &&
+          !scan::trimmed(next.text).empty()) {
+        const Glyphs above(lines_[i - 1].text), below(next.text);
+        std::vector<Column> three = headingColumns(above, lines_[i - 1].number);
+        if (mergeHeadingLine(three, g, l.number, true) && mergeHeadingLine(three, below, next.number, true)) {
+          if (auto t = layoutFor(three, lines_[i - 1].number)) {
+            result_.events.pop_back();
+            begin(std::move(*t));
+            return i + 1;
+          }
         }
       }
     }
@@ -560,6 +595,9 @@ class Reader {
           isSectionHeading(l.text))
         return false;
       const Glyphs g(l.text);
+      if (const std::vector<Column> cols = headingColumns(g, l.number);
+          cols.size() >= 3 && isHeadingRow(rolesOf(cols)))
+        return false;
       if (validKey(keyOf(g))) return true;
       if (proseLike(g)) return false;
       ++seen;
@@ -632,13 +670,14 @@ class Reader {
       t.keySeen = true;
     } else if (!key.empty() || prose) {
       return false;  // something else in the key column, or a sentence
-    } else if ((t.blankRun > 0 || !t.keySeen) && !hasOffset(g) && !keyAhead(i)) {
+    } else if ((t.blankRun > 0 || t.afterBreak || !t.keySeen) && !hasOffset(g) && !keyAhead(i)) {
       // After a blank line (or before any row), a line continues the table only as the first line of a
       // payload field or of a centred row whose key line follows.
       return false;
     }
-    t.body.push_back({l.number, g, t.blankRun > 0});
+    t.body.push_back({l.number, g, t.blankRun > 0 || t.afterBreak});
     t.blankRun = 0;
+    t.afterBreak = false;
     return true;
   }
 
@@ -791,7 +830,8 @@ class Reader {
             c.col = static_cast<int>(cells[i][k].from) + 1;
           }
           const std::string_view more = line.g.slice(cells[i][k].from, cells[i][k].to);
-          if (identifierPart(c.text) && identifierPart(more) && isNameRole(t.cols[k].role)) {
+          if (isNameRole(t.cols[k].role) &&
+              ((identifierPart(c.text) && identifierPart(more)) || camelJoin(c.text, more))) {
             c.text += more;  // "MANUFACTURINGSTAT" over "US": TI breaks a long identifier where the cell ends
           } else {
             appendWrapped(c.text, more);
