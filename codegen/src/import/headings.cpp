@@ -2,6 +2,7 @@
 
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace regmapgen {
 
@@ -95,6 +96,37 @@ Role roleOf(std::string_view heading) {
   if (heading.size() > 64) return Role::Unknown;  // longer than any heading
   const auto it = bySpelling.find(normalise(heading));
   return it == bySpelling.end() ? Role::Unknown : it->second;
+}
+
+bool mayBeHeading(std::string_view line) {
+  // The first word of every spelling ("min" of "min value", "size" of "size in bytes").
+  static const std::unordered_set<std::string> firstWords = [] {
+    std::unordered_set<std::string> words;
+    for (const Heading& entry : headings()) {
+      for (const std::string& s : entry.spellings)
+        words.insert(s.substr(0, s.find(' ')));
+    }
+    return words;
+  }();
+  int found = 0;
+  std::string word;
+  for (std::size_t i = 0; i < line.size() && found < 2;) {
+    if (line[i] == ' ' || line[i] == '\t') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t')
+      ++j;
+    if (j - i <= 16) {
+      word.assign(line.substr(i, j - i));
+      for (char& c : word)
+        c = (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+      found += firstWords.count(word) ? 1 : 0;
+    }
+    i = j;
+  }
+  return found >= 2;
 }
 
 std::string headingHelp() {

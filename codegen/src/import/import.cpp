@@ -412,15 +412,14 @@ class Importer {
     }
     if (bit_fields::reserved(fieldCell)) return;
     const std::string name = bit_fields::name(fieldCell, *bits);
-    ImportedFieldset* fs = nullptr;
-    for (ImportedFieldset& f : fieldsets_) {
-      if (lookupKey(f.registerName) == lookupKey(table().registerName)) fs = &f;
-    }
-    if (!fs) {
+    const auto [known, fresh] =
+        fieldsetByRegister_.emplace(lookupKey(table().registerName), fieldsets_.size());
+    if (fresh) {
       fieldsets_.push_back(
           {table().registerName, pascalCase(table().registerName), 0, r.line, 0, table().label, {}});
-      fs = &fieldsets_.back();
-    } else if (fs->table != table().label) {
+    }
+    ImportedFieldset* fs = &fieldsets_[known->second];
+    if (!fresh && fs->table != table().label) {
       // A second table of the same register (SLUUBY2B prints PF Status A in 12.2 and again in 12.5):
       // it must agree.
       for (const ImportedField& f : fs->fields) {
@@ -439,10 +438,14 @@ class Importer {
   // Each fieldset goes to the entries named like its register ("Safety Alert A", "Manufacturing Status" ->
   // MANUFACTURINGSTATUS); its width is theirs.
   void attachFieldsets() {
+    std::multimap<std::string, Imported*> byName;
+    for (Imported& e : entries_) {
+      if (!e.merged) byName.emplace(lookupKey(e.name), &e);
+    }
     for (ImportedFieldset& fs : fieldsets_) {
       int users = 0;
-      for (Imported& e : entries_) {
-        if (e.merged || lookupKey(e.name) != lookupKey(fs.registerName)) continue;
+      for (auto [it, end] = byName.equal_range(lookupKey(fs.registerName)); it != end; ++it) {
+        Imported& e = *it->second;
         const auto t = parseType(e.type);
         if (!t || !t->integer()) continue;
         e.fieldset = fs.name;
@@ -1057,6 +1060,7 @@ class Importer {
   std::vector<TableUse> uses_;
   std::vector<Imported> entries_;
   std::vector<ImportedFieldset> fieldsets_;
+  std::map<std::string, std::size_t> fieldsetByRegister_;  // lookupKey of the register -> fieldsets_ index
   std::vector<int> skipped_;
   std::vector<Warning> warnings_;
   std::vector<std::string> run_;       // names left of a run "A through B"

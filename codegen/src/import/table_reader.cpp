@@ -130,6 +130,7 @@ std::vector<Role> rolesOf(const std::vector<Column>& cols) {
 // The heading cells of a layout line; a chunk of several known headings becomes one column each.
 std::vector<Column> headingColumns(const Glyphs& g, int line) {
   std::vector<Column> cols;
+  if (!mayBeHeading(g.slice(0, g.size()))) return cols;
   for (const Span c : chunks(g)) {
     const std::string_view t = g.slice(c.from, c.to);
     const Role r = roleOf(t);
@@ -474,7 +475,7 @@ class Reader {
   // Starts a layout table at line i (a heading, possibly over two lines), or reports the line as prose.
   std::size_t startOrProse(std::size_t i) {
     const SourceLine& l = lines_[i];
-    if (isTableCaption(l.text) || isSectionHeading(l.text)) {
+    if (isTableCaption(l.text) || isSectionHeading(l.text) || !mayBeHeading(l.text)) {
       prose(l);
       return i;
     }
