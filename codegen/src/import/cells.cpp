@@ -100,13 +100,15 @@ Unit unit(std::string_view cell) {
     }
   }
   static const std::map<std::string, std::string, std::less<>> spellings = {
-      {"°C", "degC"},      {"℃", "degC"},      {"degC", "degC"},     {"摄氏度", "degC"}, {"°K", "K"},
-      {"µV", "uV"},        {"μV", "uV"},       {"µs", "us"},         {"μs", "us"},       {"mΩ", "mOhm"},
-      {"m\u2126", "mOhm"}, {"mohm", "mOhm"},   {"milliohm", "mOhm"}, {"%", "percent"},   {"sec", "s"},
-      {"secs", "s"},       {"seconds", "s"},   {"秒", "s"},          {"毫秒", "ms"},     {"微秒", "us"},
-      {"minutes", "min"},  {"分钟", "min"},    {"hr", "h"},          {"hrs", "h"},       {"hour", "h"},
-      {"hours", "h"},      {"小时", "h"},      {"毫伏", "mV"},       {"毫安", "mA"},     {"count", "counts"},
-      {"byte", "bytes"},   {"cycle", "cycles"}};
+      {"°C", "degC"},       {"℃", "degC"},       {"degC", "degC"},    {"摄氏度", "degC"},
+      {"°K", "K"},          {"µV", "uV"},        {"μV", "uV"},        {"µs", "us"},
+      {"μs", "us"},         {"mΩ", "mOhm"},      {"m\u2126", "mOhm"}, {"mohm", "mOhm"},
+      {"milliohm", "mOhm"}, {"%", "percent"},    {"sec", "s"},        {"secs", "s"},
+      {"seconds", "s"},     {"秒", "s"},         {"毫秒", "ms"},      {"微秒", "us"},
+      {"minutes", "min"},   {"分钟", "min"},     {"hr", "h"},         {"hrs", "h"},
+      {"hour", "h"},        {"hours", "h"},      {"小时", "h"},       {"毫伏", "mV"},
+      {"毫安", "mA"},       {"count", "counts"}, {"byte", "bytes"},   {"cycle", "cycles"},
+      {"events", "counts"}, {"event", "counts"}, {"mah", "mAh"}};
   std::string u(t);
   if (auto it = spellings.find(u); it != spellings.end()) u = it->second;
   if (!findUnit(u)) {

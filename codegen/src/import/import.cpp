@@ -570,6 +570,11 @@ class Importer {
   void unit(const RowCells& c, Imported& e) {
     const std::string cell(scan::trimmed(c.get(Role::Unit)));
     const cells::Unit u = cells::unit(cell);
+    if (const std::string types = c.get(Role::Type); !u.understood && cells::fieldsType(types, false)) {
+      // One unit per field of a payload (DASTATUS5: "— — mV mV userV 0.1 K ..."): the entry has no one unit.
+      e.notes.push_back("import: field units '" + cell + "'");
+      return;
+    }
     if (!u.understood) {
       warn(c.line(Role::Unit), c.col(Role::Unit),
            "unit '" + cell + "' is not a known unit; left out (recorded in notes)");
@@ -861,16 +866,6 @@ class Importer {
         fold(e, into);
         continue;
       }
-      if (summaries_ && opts_.mapFiles.empty()) {
-        // In a document with summaries, a setting no summary lists cannot be given an address: named, left
-        // out.
-        warn(e.line, 1,
-             "'" + describe(e) +
-                 "' is in no summary table of the document; left out (an entry needs its address)");
-        skipped_.push_back(e.line);
-        e.merged = true;
-        continue;
-      }
       if (const Entry* known = lookup(*e.kind, e.name, e.category, e.subcategory)) {
         e.addr = hexAddress(*known->addr, e.kind->addrDigits);
         e.comments.push_back("address from " + displayPath(mapSources_.path(known->loc.file)) + ":" +
@@ -879,6 +874,17 @@ class Importer {
           e.id = known->id.value;
           e.idFromMap = true;
         }
+        continue;
+      }
+      if (summaries_) {
+        // In a document with summaries, a setting that neither a summary nor the map lists cannot be given
+        // an address (the text around a setting's table names none): named, left out.
+        warn(e.line, 1,
+             "'" + describe(e) + "' is in no summary table of the document" +
+                 (opts_.mapFiles.empty() ? "" : " nor in the --map files") +
+                 "; left out (an entry needs its address)");
+        skipped_.push_back(e.line);
+        e.merged = true;
         continue;
       }
       if (e.mention) {
