@@ -304,7 +304,7 @@ TEST(Tables, EmulatorCanInitialiseDataMemoryFromDefaults) {
       memory[e.address + static_cast<std::uint32_t>(i)] = bytes[i];
     ++withDefault;
   }
-  EXPECT_GE(withDefault, 230);  // 272 parameters, 31 thermistor coefficients without a default in the facts
+  EXPECT_GE(withDefault, 270);  // 272 parameters; SLUUBY2B Table 13-37 gives a default for nearly all
   EXPECT_EQ(memory.at(0x9261), 0x88);
   EXPECT_EQ(memory.at(0x926D), 0x00);  // Default Alarm Mask 0xF800, little-endian
   EXPECT_EQ(memory.at(0x926E), 0xF8);
@@ -315,7 +315,7 @@ TEST(Tables, EveryFamilyTableMatchesItsKindCounts) {
     return std::count_if(t.begin(), t.end(), [k](const EntryInfo& e) { return e.kind == k; });
   };
   EXPECT_GE(count(x2::entries, Kind::Command), 55);
-  EXPECT_GE(count(x2::entries, Kind::Subcommand), 78);
+  EXPECT_GE(count(x2::entries, Kind::Subcommand), 77);  // SLUUBY2B Tables 12-22 and 12-23
   EXPECT_GE(count(x2::entries, Kind::DataMemory), 270);
   EXPECT_GE(count(x0::entries, Kind::Command), 30);
   EXPECT_GE(count(x0::entries, Kind::Subcommand), 19);
@@ -323,6 +323,7 @@ TEST(Tables, EveryFamilyTableMatchesItsKindCounts) {
   EXPECT_GE(count(b16::entries, Kind::Register), 300);
   EXPECT_GE(count(g::entries, Kind::Sbs), 55);
   EXPECT_GE(count(g::entries, Kind::Mac), 50);
+  EXPECT_EQ(count(g::entries, Kind::DataFlash), 538);  // SLUUAQ3A Table 14-1
 }
 
 }  // namespace
