@@ -9,6 +9,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "gpio.hpp"
 #include "sched/scheduler.hpp"
 
@@ -30,5 +31,7 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   config.faultIndicator = &board.faultOut;
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config).start();
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config);
+  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  app.start();
 }

@@ -10,6 +10,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "gpio.hpp"
 #include "sched/scheduler.hpp"
 
@@ -29,5 +30,7 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, config).start();
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, config);
+  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  app.start();
 }
