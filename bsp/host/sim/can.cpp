@@ -132,6 +132,7 @@ void SimCan::injectBusOff() {
   txEvent_ = 0;
   txQueue_.clear();
   transmitting_ = false;
+  if (state_ != CanState::BusOff) busOffLog_.push_back({clock_.nowUs(), 0});
   state_ = CanState::BusOff;
   ++counters_.busOffEvents;
   signal();
@@ -146,6 +147,7 @@ Status SimCan::doRecover() {
   clock_.scheduleIn(fw::us(static_cast<uint32_t>(us)), [this] {
     recovering_ = false;
     state_ = CanState::ErrorActive;
+    busOffLog_.back().recoveredUs = clock_.nowUs();
     signal();
   });
   return Status::Ok;

@@ -37,6 +37,11 @@ class SimCan final : public fw::hal::CanBus {
   void injectBusOff();
   void injectRx(const fw::hal::CanFrame& frame);
   uint64_t busTimeUs() const { return busTimeUs_; }
+  // Each bus-off: when it began and when the controller was error active again (0: not yet), for reports.
+  struct BusOffSpan {
+    uint64_t startUs = 0, recoveredUs = 0;
+  };
+  const std::vector<BusOffSpan>& busOffLog() const { return busOffLog_; }
 
  private:
   fw::Status doSend(const fw::hal::CanFrame& frame) override;
@@ -64,6 +69,7 @@ class SimCan final : public fw::hal::CanBus {
   uint64_t txEvent_ = 0;
   uint64_t busTimeUs_ = 0;
   bool recovering_ = false;
+  std::vector<BusOffSpan> busOffLog_;
 };
 
 }  // namespace bsp::host

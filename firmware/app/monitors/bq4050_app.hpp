@@ -34,6 +34,13 @@ struct Bq4050AppConfig {
   Duration retryInterval = ms(100);  // between failed probes (a probe of an absent gauge is a few NACKs)
 };
 
+// The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each
+// protection's table names the FET it turns off, OperationStatus()[XCHG] or [XDSG]): charge for COV, OCC1/2,
+// ASCC/ASCCL, OTC, UTC, PTO, CTO, OC, CHGC, CHGV, PCHGC; discharge for CUV, CUVC, OCD1/2, AOLD/AOLDL,
+// ASCD/ASCDL, OTD, UTD; both for OTF and a permanent failure (PFStatus). Bit for bit, so a gauge that stops
+// charging does not read as a pack that cannot discharge (bq4050_app.cpp).
+uint8_t blockedPaths(const drivers::bq4050::Measurement& m);
+
 struct Bq4050Stats {
   uint32_t scans = 0;
   uint32_t scanFailures = 0;
@@ -112,7 +119,8 @@ class Bq4050Device : public MonitorBase {
       view_.hasCurrent = true;
       view_.currentMa = m.currentMa;
       view_.stateOfCharge = m.rsocPercent;
-      view_.deviceFault = m.deviceFault();
+      view_.hasStateOfCharge = true;
+      view_.deviceBlocks = blockedPaths(m);
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
   }
@@ -177,6 +185,8 @@ class Bq4050App {
 
   const PackView& pack() const { return *view_; }
   const PublishStatus& status() const { return *status_; }
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
+  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }

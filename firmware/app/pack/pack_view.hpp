@@ -91,7 +91,14 @@ struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
   uint8_t tempsPerBoard = 0;  // temperature sensors per board
   bool hasCurrent = false;    // pack-level values, valid with board 0's measurement
-  bool deviceFault = false;   // a monitor reports a tripped protection of its own
+  // The paths a monitor's own protection holds off or is about to (its safety flags, alert or trip, mapped
+  // bit by bit in the monitor: 1 charge, 2 discharge, as Action's bits; 0 none). Written with each scan.
+  uint8_t deviceBlocks = 0;
+  // The paths that are on as the device itself reports them (BQ769x2 FET Status, BQ7690x Battery Status
+  // CHG/DSG; 1 charge, 2 discharge), written with each validated scan, meaningful only on a monitor that
+  // reports them (hasFetStatus). Publishers say "unknown" whenever the scan behind it is not fresh.
+  uint8_t devicePaths = 0;
+  bool hasFetStatus = false;
   // The monitor is set up and scanning (written by the monitor task only). Protection takes the fault line
   // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
   // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).
@@ -102,7 +109,10 @@ struct PackView {
   // leaves stale_data and comm_loss alone and the monitor reports no failed scan periods (inStartupGrace()).
   // Past the bound a pack never measured is stale, counted from power-up.
   bool startupGrace = false;
-  uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
+  // A gas gauge's state of charge stands behind stateOfCharge (set with it by the gauge's monitor). Zero, the
+  // state the images start from (Zeroed<PackView>), means none: StateOfCharge then goes out not available.
+  bool hasStateOfCharge = false;
+  uint8_t stateOfCharge = 0;  // %, valid with hasStateOfCharge and board 0's measurement
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
   // not publish it (FW_PUBLISH_LEVEL 0).

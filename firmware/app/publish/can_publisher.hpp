@@ -6,9 +6,9 @@
 // The task fills the controller's TX queue until it refuses (Overflow) and continues when a frame has left
 // (kCan), so it never waits. Frames still unsent when the next cycle drops them (frame_plan.hpp) count as an
 // abandoned cycle: the bus is saturated, and newer data is worth more than older frames. On bus-off it
-// abandons the cycle, starts
-// the controller's recovery (at most once per fast period) and resumes with fresh frames when the bus is
-// back. Thread mode only.
+// abandons the cycle (and drops each cycle due while the bus is off, so PackSummary.Counter shows every
+// summary that never went out), starts the controller's recovery (at most once per fast period) and resumes
+// with fresh frames when the bus is back. Thread mode only.
 #pragma once
 
 #include <cstdint>

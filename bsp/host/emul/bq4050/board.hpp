@@ -16,6 +16,7 @@ namespace bsp::host {
 
 struct Bq4050Board {
   Bq4050Board() {
+    gauge.attachClock(h.clock);  // its charge state follows the current (gauge_emulator.hpp)
     bus.attach(Bq4050Emulator::kAddress, gauge);
     app.start();
   }

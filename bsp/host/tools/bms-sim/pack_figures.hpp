@@ -69,6 +69,20 @@ inline std::vector<SentFrame> canFrames(const bsp::host::SimCan& can) {
   return out;
 }
 
+// The controller's bus-offs as bms-sim reports them.
+inline std::vector<BusOffSpan> busOffSpans(const bsp::host::SimCan& can) {
+  std::vector<BusOffSpan> out;
+  for (const auto& s : can.busOffLog())
+    out.push_back({s.startUs, s.recoveredUs != 0 ? std::optional<uint64_t>(s.recoveredUs) : std::nullopt});
+  return out;
+}
+
+// The paths of a pack whose fault output stands for them (the BQ79616 and BQ4050 images: the output drives
+// the contactor or the FETs' enable, high = fault): both open while it is asserted.
+inline Paths pathsOfFaultOutput(bool asserted) {
+  return {!asserted, !asserted};
+}
+
 template <class App>
 std::vector<fw::app::ProtectionRecord> protectionLogOf(const App& app) {
   const auto log = app.protection().log();
@@ -92,6 +106,7 @@ inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const 
   f.currentMa = view.hasCurrent ? view.currentMa : 0;
   f.chargeOn = st.chargeOn;
   f.dischargeOn = st.dischargeOn;
+  f.pathsKnown = st.pathsKnown;
   f.faultOutput = st.faultOutput;
   f.activeFaults = st.active;
 }

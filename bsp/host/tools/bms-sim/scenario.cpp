@@ -5,6 +5,8 @@
 #include <charconv>
 #include <cstdio>
 
+#include "input_file.hpp"
+
 namespace bmssim {
 namespace {
 
@@ -85,17 +87,19 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 12> kFaults = {{
+constexpr std::array<FaultSpec, 14> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
     {"ocd", Watch::CurrentBelow},
-    {"ot", Watch::TempAbove},
-    {"ut", Watch::TempBelow},
+    {"otd", Watch::TempAbove},
+    {"utd", Watch::TempBelow},
     {"device_safety", Watch::None},
     {"stale_data", Watch::None},
     {"comm_loss", Watch::None},
     {"open_wire", Watch::None},
+    {"otc", Watch::TempAbove},
+    {"utc", Watch::TempBelow},
     {"comm_rate", Watch::None},
     {"any", Watch::None},
 }};
@@ -125,12 +129,14 @@ constexpr std::array<Builtin, 9> kBuiltins = {{
      "0 current -15000\n0 ramp-all -20\n"},
     {"ov-cell", "cell 2 of board 0 drifts up 40 mV/s from 4.20 V past the 4.25 V over-voltage limit",
      "0 current 5000\n0 cell 0 2 4200\n1000 ramp-cell 0 2 40\n1000 expect cell_ov 4250\n"},
-    {"ot", "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 60 degC limit",
-     "1000 ramp-temp 0 1 50\n1000 expect ot 3332\n"},
+    {"ot",
+     "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 45 degC charge and 60 degC discharge limits",
+     "1000 ramp-temp 0 1 50\n1000 expect otc 3182\n1000 expect otd 3332\n"},
     {"open-wire", "the sense wire between cells 2 and 3 of board 0 opens at 2 s",
      "2000 open-wire 0 3\n2000 expect any\n"},
     {"comm-loss", "the battery monitor stops answering at 2 s", "2000 comm-loss on\n2000 expect any\n"},
-    {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n2000 expect any\n"},
+    // Bus-off is no protection fault: the summary's bus-off section reports it (no expect).
+    {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n"},
     {"stale", "from 2 s to 6 s most monitor transactions are corrupted, then the link heals",
      "2000 intermittent on\n2000 expect any\n6000 intermittent off\n"},
 }};
@@ -327,7 +333,8 @@ class Parser {
     if (st.watch == Watch::None) {
       return fail(
           st.line, t.column,
-          "'" + st.fault + "' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
+          "'" + st.fault +
+              "' takes no limit (only cell_ov, cell_uv, occ, ocd, otc, otd, utc and utd watch a value)");
     }
     const ArgSpec& sp = spec(limitArg(st.watch));
     st.hasLimit = true;
@@ -403,26 +410,17 @@ std::optional<Scenario> parseScenario(std::string_view text, const std::string& 
 }
 
 std::optional<Scenario> loadScenario(const std::string& path, Diagnostics& diag) {
-  constexpr size_t kMaxBytes = 1 << 20;
-  FILE* in = std::fopen(path.c_str(), "rb");
-  std::string text;
-  bool readable = in != nullptr;
-  if (in != nullptr) {
-    char buf[4096];
-    size_t n = 0;
-    while (text.size() <= kMaxBytes && (n = std::fread(buf, 1, sizeof buf, in)) > 0)
-      text.append(buf, n);
-    readable = std::ferror(in) == 0;  // a directory opens but does not read
-    std::fclose(in);
-  }
-  if (!readable) {
-    diag.unreadable = true;
-    diag.error = path + ": error: cannot read the scenario file";
-    return std::nullopt;
-  }
-  if (text.size() > kMaxBytes) {
-    diag.error = path + ": error: larger than 1 MiB, which no scenario file needs";
-    return std::nullopt;
+  std::string text, error;
+  switch (readInputFile(path, kMaxScenarioBytes, "scenario file", text, error)) {
+    case InputError::None:
+      break;
+    case InputError::Missing:
+      diag.unreadable = true;
+      diag.error = path + ": error: no such file";
+      return std::nullopt;
+    case InputError::Unreadable:
+      diag.error = path + ": error: " + error;
+      return std::nullopt;
   }
   auto s = parseScenario(text, path, diag);
   if (s) s->description = "steps from " + path;
