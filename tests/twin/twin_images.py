@@ -42,7 +42,7 @@ from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check
                                 check_load_paths, check_options, read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
-          "otc", "utc"]
+          "otc", "utc", "comm_rate"]
 PACK_SUMMARY, PROTECTION_EVENT, STARTUP = 0x100, 0x103, 0x1F0
 PERIOD_TOLERANCE_MS = 1.0  # PackSummary period against the configured scan period (check_ov_cell says why)
 
