@@ -1,6 +1,6 @@
 // The BQ769x2-family application as the lp-mspm0g3507-bq76952 image composes it (CAN out, fault output), on
 // the host BSP against the BQ76952 emulator: the fault output, the start-up configuration, and the ALERT fast
-// path against its budget (ARCHITECTURE.md: fault visible in the device -> FET-off command complete <= 2 ms
+// path against its budget (README "Figures": fault visible in the device -> FET-off command complete <= 2 ms
 // on ALERT). And as the lp-mspm0l1306-bq76907 image composes it (SLCAN out) with the host defaults, against
 // the BQ76907 emulator: the start-up configuration the BQ7690x needs (FET Options, alarm mask, SLEEP).
 #include <gtest/gtest.h>

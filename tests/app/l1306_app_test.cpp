@@ -152,8 +152,8 @@ TEST(L1306App, AlertOpensThePathsWithoutWaitingForAScan) {
   const uint64_t t0 = b.h.nowUs();
   b.alert.drive(false);  // the device asserts ALERT
   // The FET-off command goes out at the next read boundary of the scan in progress, if any, long before the
-  // next scan would tell: its write complete within the 2 ms budget (ARCHITECTURE.md). BQ76952: ALL_FETS_OFF;
-  // BQ76907: FET Control with CHG_OFF and DSG_OFF.
+  // next scan would tell: its write complete within the 2 ms budget (README "Figures"). BQ76952:
+  // ALL_FETS_OFF; BQ76907: FET Control with CHG_OFF and DSG_OFF.
   char command[16] = "S 10 3E 95 00";
   if constexpr (!kBq76952)
     std::snprintf(command, sizeof command, "S 10 %02X 0C", fw::regmap::bq7690x::cmd::FetControl.address);

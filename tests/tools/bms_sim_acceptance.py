@@ -6,7 +6,7 @@ firmware's own bookkeeping.
 usage: bms_sim_acceptance.py <check> <bms-sim> <dbc-dir> <image> [scratch-dir]
 checks:
   ov-cell      the ov-cell scenario ends with the FETs off / the fault output set, within one scan period of the
-               onset (ARCHITECTURE.md budget), and every contract key of --json is present
+               onset (README "Figures" budget), and every contract key of --json is present
   ti-candump   --can-layout ti writes seed 001's layout (ID 0x004, 8 bytes, 4 big-endian cells, top of stack
                first, 4 frames per device), with absolute times that can-utils' log2asc converts cleanly (one
                header, every frame at its offset from the first)

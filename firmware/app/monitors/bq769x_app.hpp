@@ -145,9 +145,9 @@ class Bq769xDevice : public MonitorBase {
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
-  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets) needs the
-  // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
-  // it (it runs right after protection, before the command goes out).
+  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (README "Figures", the budget) needs
+  // the command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task
+  // takes it (it runs right after protection, before the command goes out).
   void commandPosted() {
     flags_->fetWanted = true;
     flags_->fetRequested = true;

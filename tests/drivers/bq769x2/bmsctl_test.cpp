@@ -1,4 +1,4 @@
-// Runs the built bmsctl binary and checks its output against the contract (ARCHITECTURE.md "Host tools") and
+// Runs the built bmsctl binary and checks its output against the contract (README "Host tools") and
 // the seeds' wire bytes.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Bq769xEmulator: a BQ76952 (BQ769x2 family) or BQ76905/BQ76907 (BQ7690x) battery monitor on the simulated
-// I2C bus, with two faces in the Zephyr manner (STYLE.md section 3-4):
+// I2C bus, with two faces in the manner of Zephyr's emulators:
 //   bus face      bsp::host::I2cTarget: attach it to a SimI2cBus at 0x08. It behaves like the chip on the
 //                 wire: the 128-byte direct-command space with auto-increment on reads and writes, the
 //                 subcommand window (0x3E/0x3F read FF FF while a command runs, then echo it; the result in
