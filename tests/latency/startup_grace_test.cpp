@@ -1,5 +1,5 @@
 // The first bring-up against its bound (issue 24 item 5). Each image's monitor states how long its first
-// bring-up and first scan may take from power-up (Device::firstDataBound(): BQ79616 100 ms + 15 ms per
+// bring-up and first scan may take from power-up (Device::firstDataBound(): BQ79616 120 ms + 15 ms per
 // device, BQ769x two scan periods, BQ4050 one). While it runs within that bound, stale_data and comm_loss
 // stay quiet; past it, a pack never measured is a fault. Before, a chain of 21 or more BQ79616 devices
 // tripped stale_data at every power-up (its bring-up outlasted the 300 ms stale limit: 933 ms for 64
@@ -64,7 +64,8 @@ TEST_P(StartupGrace, NoFaultWhileTheFirstBringUpRunsWithinItsBound) {
 }
 
 // A monitor that never answers: no stale_data or comm_loss before the bound (nor before the stale limit),
-// and stale_data at the first protection check past the later of the two (within one scan period).
+// and a fault within one scan period past the later of the two, plus the bring-up step under way then (a
+// failed period is reported when the monitor's current step ends: 7 ms for 2 BQ79616 devices).
 TEST_P(StartupGrace, AFirstBringUpThatOverrunsItsBoundIsAFault) {
   const Config c = GetParam();
   auto sim = make(c);
@@ -81,7 +82,7 @@ TEST_P(StartupGrace, AFirstBringUpThatOverrunsItsBoundIsAFault) {
   }
   ASSERT_NE(fault, 0u) << "no fault " << quietUntil + 200 << " ms after power-up";
   EXPECT_GE(fault, quietUntil) << "a fault while the first bring-up was within its bound";
-  EXPECT_LE(fault, quietUntil + 100);
+  EXPECT_LE(fault, quietUntil + 100 + 20);
   std::printf("REPORT startup.%s.overrun_fault_ms=%u (bound %u ms, stale limit %u ms)\n", keyOf(c).c_str(),
               fault, c.boundMs, staleMs);
 }
@@ -94,7 +95,7 @@ std::vector<Config> configs() {
   if (image != "lp-mspm0g3507-bq79616") return {Config{1, 200}};  // the BQ769x images: two scan periods
   std::vector<Config> out;
   for (int n : {1, 2, 16, 21, 64})
-    out.push_back(Config{n, 100 + 15 * static_cast<uint32_t>(n)});
+    out.push_back(Config{n, 120 + 15 * static_cast<uint32_t>(n)});
   return out;
 }
 
