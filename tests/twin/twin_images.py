@@ -13,7 +13,7 @@ checks:
   agreement   the host build and the image on the twin, same scenario (ov-cell), from the first cycle each
               publishes valid data: the same frames of the messages the image sends, in the same order, each
               within one scan period of its twin, and the same published states and protection trips within
-              one scan period
+              one scan period; and a step on the scan grid detected by the scan of that tick on both
   agreement-intermittent
               an intermittent link (most transactions failing for 3 s), its onset shifted 0, 1, 2, 3 and 50 ms
               against the scan grid: on the host and on the twin comm_rate is published within 1 s of the
@@ -281,6 +281,29 @@ def check_agreement(sim, elf, image, scratch):
     # 4 s: past the cell_ov trip (about 2.3 s) and the monitor's own over-voltage protection (3.5 s), which
     # both builds configure at start-up (CONFIG_UPDATE).
     agree(sim, elf, image, scratch, "ov-cell", 4000, "ov-cell")
+    check_step_same_scan(sim, elf, image, scratch)
+
+
+def check_step_same_scan(sim, elf, image, scratch):
+    """A step on the scan grid (cell 2 to 4.30 V at 2 s) is detected by the scan at that tick on the host and
+    on the twin alike (both scan on the clock's 100 ms grid; on the host a step at t comes before the
+    firmware's tick at t, as on the twin): cell_ov within the scan period that starts with the step, on both.
+    Before, the host saw it one scan later than the twin."""
+    path = os.path.join(scratch, "step-on-grid.txt")
+    with open(path, "w") as f:
+        f.write("2000 cell 0 2 4300\n2000 expect cell_ov\n")
+    detected = {}
+    for side, source in (("host", ["--image", image]), ("twin", ["--elf", elf, "--image", image])):
+        summary, _, _ = simulate(sim, scratch, f"{side}-{image}-step", path, 3000, source)
+        events = [e for e in summary["protection_events"] if e["fault"] == "cell_ov"]
+        if not events:
+            fail(f"step on the grid: no cell_ov on the {side}")
+        detected[side] = events[0]["detected_ms"]
+        if not 2000.0 <= detected[side] < 2100.0:
+            fail(f"step on the grid at 2000 ms: cell_ov detected at {detected[side]:.3f} ms on the {side}, not "
+                 "by the scan of that tick")
+    print(f"REPORT twin.{image}.agreement.step_on_grid: cell_ov detected {detected['host'] - 2000:.3f} ms (host) / "
+          f"{detected['twin'] - 2000:.3f} ms (twin) after a step on the scan tick")
 
 
 # Onset shifts of the intermittent link against the scan grid: on the grid, the first milliseconds after it
