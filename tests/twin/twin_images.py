@@ -14,6 +14,9 @@ checks:
               publishes valid data: the same frames of the messages the image sends, in the same order, each
               within one scan period of its twin, and the same published states and protection trips within
               one scan period; and a step on the scan grid detected by the scan of that tick on both
+  open-wire-taps
+              the bottom and the top sense wire opened: open_wire detected by the scan of that tick, on the host
+              and on the twin, and no path reported on
   agreement-intermittent
               an intermittent link (most transactions failing for 3 s), its onset shifted 0, 1, 2, 3 and 50 ms
               against the scan grid: on the host and on the twin comm_rate is published within 1 s of the
@@ -355,6 +358,36 @@ def check_agreement_intermittent(sim, elf, image, scratch):
               "after the healing")
 
 
+# Cells per board of each image (the top tap is the wire above the last one: open-wire <board> <cells + 1>).
+CELLS = {"bq76952": 16, "bq76907": 7, "bq79616": 16, "bq4050": 4}
+
+
+def check_open_wire_taps(sim, elf, image, scratch):
+    """The sense wire at the bottom tap (below cell 1) and at the top tap (above the last cell) opens at 2 s: on
+    the twin as on the host, open_wire is detected by the scan of that tick (its expect met, so bms-sim exits
+    0), stays active, and no path is reported on (the readings beside an end tap are not cell voltages; before
+    issue 24 a bottom tap went out as a valid 0 mV cell, with no fault)."""
+    cells = CELLS[image.rsplit("-", 1)[1]]
+    for tap in (1, cells + 1):
+        path = os.path.join(scratch, f"open-wire-tap{tap}.txt")
+        with open(path, "w") as f:
+            f.write(f"2000 open-wire 0 {tap}\n2000 expect open_wire\n")
+        detected = {}
+        for side, source in (("host", ["--image", image]), ("twin", ["--elf", elf, "--image", image])):
+            summary, _, _ = simulate(sim, scratch, f"{side}-{image}-tap{tap}", path, 3000, source)
+            if "open_wire" not in summary["active_faults"]:
+                fail(f"tap {tap} on the {side}: active faults {summary['active_faults']}, no open_wire")
+            if summary["charge_on"] or summary["discharge_on"]:
+                fail(f"tap {tap} on the {side}: a path is still reported on")
+            events = [e for e in summary["protection_events"] if e["fault"] == "open_wire"]
+            detected[side] = events[0]["detected_ms"]
+            if not 2000.0 <= detected[side] < 2100.0:
+                fail(f"tap {tap} on the {side}: open_wire detected at {detected[side]:.3f} ms, not by the scan at "
+                     "2000 ms")
+        print(f"REPORT twin.{image}.open_wire.tap{tap}: detected {detected['host'] - 2000:.3f} ms (host) / "
+              f"{detected['twin'] - 2000:.3f} ms (twin) after the wire opened")
+
+
 def check_slcan(sim, elf, image, scratch):
     text_path = os.path.join(scratch, f"{image}-twin.slcan")
     log = os.path.join(scratch, f"{image}-twin-slcan.log")
@@ -386,6 +419,8 @@ def main():
         check_bus_off(sim, dbc_dir, elf, image, scratch)
     elif check == "agreement":
         check_agreement(sim, elf, image, scratch)
+    elif check == "open-wire-taps":
+        check_open_wire_taps(sim, elf, image, scratch)
     elif check == "agreement-intermittent":
         check_agreement_intermittent(sim, elf, image, scratch)
     elif check == "slcan":
