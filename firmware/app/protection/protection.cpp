@@ -36,7 +36,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   const PackTotals* t = &pack->totals;
   int32_t value[kFaultCount];  // each read only where `evaluated` has its bit, and those are all written
   // While the monitor's first bring-up runs within its bound (PackView::startupGrace) nothing is stale or
-  // lost yet: a 64-device BQ79616 chain takes 0.9 s to bring up, three times the default stale limit.
+  // lost yet: a 64-device BQ79616 chain takes about 1 s to bring up, three times the default stale limit.
   const bool grace = pack->inStartupGrace(now);
   FaultMask evaluated = grace ? 0 : bit(FaultId::StaleData);
   if (in.fresh) {
