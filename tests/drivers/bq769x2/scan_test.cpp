@@ -1,8 +1,9 @@
 // Acceptance 3: the full BQ76952 measurement set in at most 6 I2C transactions and 3 ms of bus time at 400
 // kHz without CRC, measured on the simulated bus (SimI2cBus: START/STOP one bit time, 9 bit times per byte,
-// clock stretch, tBUF), with and without CRC, against TI's access pattern (SLAAEB3 / LANDSCAPE Part A section
-// 1: one 2-byte direct read per command, each a write with STOP then a separate read, a fixed 4 ms after
-// every read and 10 ms between groups). The figures are printed as REPORT lines for ./ci/test.
+// clock stretch, tBUF), with and without CRC, against TI's access pattern (SLAAEB3 and TI's
+// bq769x2_control_i2c example, MSPM0 SDK 2.09: one 2-byte direct read per command, each a write with STOP
+// then a separate read, a fixed 4 ms after every read and 10 ms between groups). The figures are printed as
+// REPORT lines for ./ci/test.
 #include <gtest/gtest.h>
 
 #include <cstdio>
