@@ -32,6 +32,9 @@ uint64_t bound(const Board& b, uint64_t bootUs) {
 
 // The monitor tests the gauge's events as a constant (Bq4050Device::driverEvents()): they must be what the
 // gauge itself reports.
+// The BQ4050 image's one fault output opens both paths: its current faults must recover on time.
+static_assert(&fw::app::Bq4050App::kLimits == &fw::app::kSingleOutputLimits);
+
 TEST(Bq4050App, TheMonitorsDriverEventsAreTheGauges) {
   Board b;
   namespace ev = fw::app::monitor_event;

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "app/protection/default_limits.hpp"
 #include "app/protection/protection.hpp"
 
 namespace {
@@ -371,6 +372,24 @@ TEST(Protection, ACurrentFaultRecoversOnlyWithCurrentTheOtherWay) {
   for (uint32_t t = 10000; t < 14000 && cleared == 0; t += 100)
     if (p.evaluate(s.fresh(t), at(t)).newlyCleared == bit(FaultId::ChargeOvercurrent)) cleared = t;
   EXPECT_EQ(cleared, 12900u) << "the 30th scan of discharge current";
+}
+
+// Behind one fault output (the BQ4050 and BQ79616 images) no current can flow the other way while a current
+// fault holds the output: with kDefaultLimits the fault would never clear. kSingleOutputLimits recovers it
+// after 3 s without current in the tripped direction (the output is then released and retried).
+TEST(Protection, BehindOneFaultOutputACurrentFaultRecoversOnTime) {
+  for (const bool single : {false, true}) {
+    Protection p(single ? fw::app::kSingleOutputLimits : fw::app::kDefaultLimits);
+    Sampler s;
+    s.current = -31000;  // past the -30 A discharge limit
+    p.evaluate(s.fresh(0), at(0));
+    ASSERT_EQ(p.evaluate(s.fresh(100), at(100)).active, bit(FaultId::DischargeOvercurrent)) << single;
+    s.current = 0;  // the one output opened both paths: nothing flows
+    uint32_t cleared = 0;
+    for (uint32_t t = 200; t < 10000 && cleared == 0; t += 100)
+      if (p.evaluate(s.fresh(t), at(t)).newlyCleared == bit(FaultId::DischargeOvercurrent)) cleared = t;
+    EXPECT_EQ(cleared, single ? 3100u : 0u) << (single ? "the 30th scan without current" : "never");
+  }
 }
 
 // The device's own flags open the paths they concern (PackView::deviceBlocks), not both: a device COV keeps

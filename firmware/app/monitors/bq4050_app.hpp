@@ -164,12 +164,14 @@ class Bq4050App {
   };
   static constexpr sched::TaskId kProtectionId = kProtectionTask;
   static constexpr sched::TaskId kPublisherId = kPublisherTask;
+  // One fault output opens both paths (FaultPinActuator): the current faults recover on time.
+  static constexpr const ProtectionConfig& kLimits = kSingleOutputLimits;
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
-      : plan_(*view_, *status_, kDefaultLimits.staleAfter),
+      : plan_(*view_, *status_, kLimits.staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, actuator_, config.scanPeriod),
+        protection_(scheduler, kProtectionId, kLimits, *view_, *status_, actuator_, config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
         monitor_(scheduler, io.bus, config, *sample_, *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.

@@ -39,7 +39,7 @@ namespace fw::app {
 struct Bq79616AppConfig {
   drivers::bq79616::ChainConfig chain{};
   Duration scanPeriod = ms(100);
-  const ProtectionConfig* limits = nullptr;  // null: kDefaultLimits (default_limits.hpp)
+  const ProtectionConfig* limits = nullptr;  // null: kSingleOutputLimits (default_limits.hpp)
   CanLayout layout = CanLayout::Native;
   Duration recoveryInterval = s(1);      // wait before another recovery while scans keep failing
   Duration retryAfterFailure = ms(100);  // after a bring-up or recovery that brought no chain back
@@ -217,7 +217,7 @@ class Bq79616App {
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
-    return config.limits != nullptr ? *config.limits : kDefaultLimits;
+    return config.limits != nullptr ? *config.limits : kSingleOutputLimits;  // one fault output
   }
 
   Zeroed<PackView> view_;

@@ -98,4 +98,25 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
 
 inline constexpr ProtectionConfig kDefaultLimits = makeDefaultLimits(kScanPeriod);
 
+// The limits of an image whose one fault output opens both paths at once (G3507-BQ4050: the MCU's fault
+// output; G3507-BQ79616 too, though it measures no current). Such an image cannot keep the path that relieves
+// a current fault open, so the current of the other direction that kDefaultLimits waits for can never flow:
+// an over-current would hold the pack off until a reset. Here a current fault recovers on time instead: once
+// no more than 200 mA flows in the tripped direction (none flows while the output is asserted) for the same
+// 3 s, the output is released, and a load or charger that is still there trips it again two scans later, a
+// retry every 3.2 s as TI's timed recoveries do (SLUUBY2B 5.2, SCD Recovery Time). The gauge's own
+// per-direction protections (BQ4050 OCC/OCD on its CHG/DSG FETs, SLUUAQ3A) stay in force underneath.
+constexpr ProtectionConfig makeSingleOutputLimits(Duration scanPeriod) {
+  ProtectionConfig c = makeDefaultLimits(scanPeriod);
+  Rule& occ = c.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)];
+  Rule& ocd = c.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)];
+  occ.clear = -occ.clear;  // absent while the charge current is below +200 mA
+  ocd.clear = -ocd.clear;  // absent while the discharge current is below 200 mA (current above -200 mA)
+  return c;
+}
+inline constexpr ProtectionConfig kSingleOutputLimits = makeSingleOutputLimits(kScanPeriod);
+static_assert(kSingleOutputLimits.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)].clear == -200 &&
+                  kSingleOutputLimits.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)].clear == 200,
+              "a current fault of a single-output image recovers at zero current");
+
 }  // namespace fw::app
