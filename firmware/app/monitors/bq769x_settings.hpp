@@ -18,6 +18,12 @@
 // same ALERT policy as the BQ76952 (Alarm Enable loads from Default Alarm Mask at reset and at the exit of
 // CONFIG_UPDATE, SLUUCJ0): safety status A/B and safety alerts A/B. The BQ7690x ALERT pin itself needs no
 // configuration: it is asserted low (SLUUCJ0 Alarm Status).
+// Balancing (both families): Balancing Configuration written explicitly with host commands accepted and no
+// automatic balancing (BQ769x2 0x00, SLUUBY2B; BQ7690x 0x02 = CBDLY 1 ms, SLUUCI8: the firmware's policy
+// decides, app/balancing); on the BQ769x2 Cell Balance Max Cells = the policy's limit (the device refuses
+// more, E2E 969824) and the device's own balancing temperature limits (-20 / 60 degC cell, 70 degC die, the
+// map's defaults, `unverified`: written so they hold whatever the device shipped with), outside the policy's
+// 0 / 45 / 65 degC (app/balancing/balancing_config.hpp) as the backstop.
 #pragma once
 
 #include <array>
@@ -28,6 +34,12 @@
 #include "regmap/bq769x2.hpp"
 
 namespace fw::app {
+
+// Cells balanced at once. BQ769x2: 4, written to Cell Balance Max Cells (default 1, `unverified`), which the
+// device enforces (E2E 969824; LibreSolar's default max-balanced-cells is 4 too); 4 x ~54 mA through the
+// internal FETs. BQ7690x: 3; TI leaves the number to the host to limit the dissipation (SLUAAP7 section 3).
+inline constexpr uint8_t kBq769x2BalanceCells = 4;
+inline constexpr uint8_t kBq7690xBalanceCells = 3;
 
 namespace settings_detail {
 namespace m2 = ::fw::regmap::bq769x2;
@@ -44,10 +56,11 @@ inline constexpr m7::bits::FetOptions kBq7690xFetOptions =
     m7::dm::FetOptions.defaultValue().with_host_fetoff_en(true);
 static_assert(kBq7690xFetOptions.raw() == 0x58);
 
-constexpr std::array<drivers::bq769x2::Setting, 4> bq7690xSettings(uint8_t cells) {
+constexpr std::array<drivers::bq769x2::Setting, 5> bq7690xSettings(uint8_t cells) {
   return {setting(m7::dm::EnabledProtectionsA, m7::bits::EnabledProtectionsA::fromRaw(0xE1)),
           setting(m7::dm::VcellMode, cells), setting(m7::dm::FetOptions, kBq7690xFetOptions),
-          setting(m7::dm::DefaultAlarmMask, kBq7690xAlarmMask.raw())};
+          setting(m7::dm::DefaultAlarmMask, kBq7690xAlarmMask.raw()),
+          setting(m7::dm::BalancingConfiguration, m7::bits::BalancingConfiguration{}.with_cbdly(1))};
 }
 }  // namespace settings_detail
 
@@ -71,6 +84,12 @@ inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
     settings_detail::setting(settings_detail::m2::dm::CovThreshold, 85),  // 85 x 50.6 mV = 4301 mV
     settings_detail::setting(settings_detail::m2::dm::OccThreshold, 10),  // 20 mV across the sense resistor
     settings_detail::setting(settings_detail::m2::dm::Ocd1Threshold, 50),
+    settings_detail::setting(settings_detail::m2::dm::BalancingConfiguration,
+                             settings_detail::m2::bits::BalancingConfiguration{}),
+    settings_detail::setting(settings_detail::m2::dm::CellBalanceMaxCells, kBq769x2BalanceCells),
+    settings_detail::setting(settings_detail::m2::dm::MinCellTemp, -20),
+    settings_detail::setting(settings_detail::m2::dm::MaxCellTemp, 60),
+    settings_detail::setting(settings_detail::m2::dm::MaxInternalTemp, 70),
 };
 
 inline constexpr auto kBq76907Settings = settings_detail::bq7690xSettings(7);
