@@ -83,7 +83,7 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   if (st.episode && spread <= config_.stopDeltaMv) st.episode = false;
   bool any = false;
   for (uint16_t b = 0; b < boards; ++b) {
-    if (!st.episode) want[b] = 0;
+    if (!st.episode) want[b] = st.done[b] = 0;
     any = any || want[b] != 0;
   }
   if (!st.episode) {
@@ -95,7 +95,7 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   bool changed = false;
   any = false;
   for (uint16_t b = 0; b < boards; ++b) {
-    const uint16_t m = select(view.boards[b], view.cellsPerBoard, lowest, want[b]);
+    const uint16_t m = select(view.boards[b], view.cellsPerBoard, lowest, want[b], st.done[b]);
     changed = changed || m != want[b];
     any = any || m != 0;
     want[b] = m;
@@ -105,24 +105,30 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
     st.state = BalancingState::Balanced;  // every cell above the stop threshold sits in the hysteresis
 }
 
-// The cells of one board to balance: those more than the stop threshold above the lowest cell (a cell not
-// balancing now needs cellHysteresisMv more), highest first, a cell already on ranked cellHysteresisMv higher
-// so two close cells do not take turns; at most maxCells, and no neighbours unless the device allows them.
-uint16_t BalancingPolicy::select(const BoardSample& board, uint8_t cells, int16_t lowest, uint16_t on) const {
+// The cells of one board to balance: those more than the stop threshold above the lowest cell and not done (a
+// cell is done once it came down to the stop threshold, until it is cellHysteresisMv above it again), highest
+// first, a cell already on ranked cellHysteresisMv higher so two close cells do not take turns; at most
+// maxCells, and no neighbours unless the device allows them. A cell left out for a higher one or a neighbour
+// stays a candidate.
+uint16_t BalancingPolicy::select(const BoardSample& board, uint8_t cells, int16_t lowest, uint16_t on,
+                                 uint16_t& done) const {
   const int32_t stop = config_.stopDeltaMv;
   const int32_t hysteresis = config_.cellHysteresisMv;
+  for (uint8_t c = 0; c < cells; ++c) {
+    const auto bit = static_cast<uint16_t>(1U << c);
+    const int32_t excess = board.cellMv[c] - lowest;
+    if (excess <= stop) done = static_cast<uint16_t>(done | bit);
+    if (excess >= stop + hysteresis) done = static_cast<uint16_t>(done & ~bit);
+  }
+  uint16_t taken = done;  // done cells, chosen cells and, where neighbours are not allowed, theirs
   uint16_t chosen = 0;
-  uint16_t taken = 0;  // chosen cells and, where neighbours are not allowed, theirs
   for (uint8_t n = 0; n < rules_.maxCells; ++n) {
     int32_t best = 0;
     uint16_t bestBit = 0;
     for (uint8_t c = 0; c < cells; ++c) {
       const auto bit = static_cast<uint16_t>(1U << c);
       if ((taken & bit) != 0) continue;
-      const int32_t excess = board.cellMv[c] - lowest;
-      const bool isOn = (on & bit) != 0;
-      if (isOn ? excess <= stop : excess < stop + hysteresis) continue;
-      const int32_t rank = excess + (isOn ? hysteresis : 0);
+      const int32_t rank = board.cellMv[c] - lowest + ((on & bit) != 0 ? hysteresis : 0);
       if (rank > best) best = rank, bestBit = bit;
     }
     if (bestBit == 0) break;

@@ -6,10 +6,10 @@
 //     no reading, or while the lowest cell is below minCellMv: then every mask is 0 at once;
 //   - Auto: only while charging or at rest (BalancingConfig), a monitor without a current sensor (BQ79616)
 //     counting as at rest; an episode starts at startDeltaMv of spread and ends at stopDeltaMv; inside it the
-//     cells more than stopDeltaMv above the pack's lowest cell balance (with cellHysteresisMv before a cell
-//     that stopped starts again), highest first, at most the device's maxCells per board and never two
-//     neighbours where the device refuses or overheats them (BalancingRules); the set changes at most every
-//     minDwell, a stop at once;
+//     cells more than stopDeltaMv above the pack's lowest cell balance (a cell that came down to the stop
+//     threshold is done, and starts again only cellHysteresisMv above it), highest first, at most the
+//     device's maxCells per board and never two neighbours where the device refuses or overheats them
+//     (BalancingRules); the set changes at most every minDwell, a stop at once;
 //   - Forced (service): one board's mask as given, under the same safety conditions (faults, data,
 //     temperatures, minimum voltage) but none of Auto's (spread, charge or rest);
 //   - Off: nothing.
@@ -85,7 +85,7 @@ class BalancingPolicy {
 
  private:
   BalancingState blocked(const PackView& view, FaultMask faults, Instant now);
-  uint16_t select(const BoardSample& board, uint8_t cells, int16_t lowest, uint16_t on) const;
+  uint16_t select(const BoardSample& board, uint8_t cells, int16_t lowest, uint16_t on, uint16_t& done) const;
 
   // Zero at construction, which is Auto: the mode is kept XOR Auto, so the start-up mode costs no code.
   static constexpr uint8_t kAutoCode = static_cast<uint8_t>(BalancingMode::Auto);
@@ -100,6 +100,7 @@ class BalancingPolicy {
     Instant restSince;
     Instant changedAt;
     Instant backoffUntil;
+    uint16_t done[kMaxBoards];  // per board, the cells that came down to the stop threshold this episode
   };
   const BalancingConfig& config_;
   BalancingRules rules_;
