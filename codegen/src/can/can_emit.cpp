@@ -170,7 +170,7 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
       << "\n\n";
   std::ostringstream comments, values;
   for (const Message& m : cat.messages) {
-    if (m.layout != layout) continue;
+    if (!m.inLayout(layout)) continue;
     const uint32_t id = dbcId(m);
     out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << cat.node << "\n";
     const Signal* mux = m.multiplexer();
@@ -218,7 +218,7 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
       << comments.str() << "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 65535;\n"
       << "BA_DEF_DEF_ \"GenMsgCycleTime\" 0;\n";
   for (const Message& m : cat.messages) {
-    if (m.layout != layout || m.cycleMs == 0) continue;
+    if (!m.inLayout(layout) || m.cycleMs == 0) continue;
     out << "BA_ \"GenMsgCycleTime\" BO_ " << dbcId(m) << " " << m.cycleMs << ";\n";
   }
   out << values.str();

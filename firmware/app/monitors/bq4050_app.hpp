@@ -171,6 +171,8 @@ class Bq4050App {
 
   const PackView& pack() const { return *view_; }
   const PublishStatus& status() const { return *status_; }
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
+  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }

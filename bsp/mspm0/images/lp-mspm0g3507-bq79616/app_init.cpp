@@ -5,6 +5,7 @@
 #include "board.hpp"
 #include "board_config.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -18,7 +19,8 @@ const fw::app::Bq79616AppConfig kConfig{.chain = {.devices = image::config::kBq7
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq79616App;
-  image::constructOnce<App>(scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut},
-                            kConfig, storage)
-      .start();
+  App& app = image::constructOnce<App>(
+      scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut}, kConfig, storage);
+  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  app.start();
 }
