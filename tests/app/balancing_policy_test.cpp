@@ -2,11 +2,14 @@
 // way the monitors build it (summarize()). Each fails if the policy drops its condition.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cstdio>
 #include <vector>
 
 #include "app/balancing/balancing_policy.hpp"
 #include "app/pack/pack_view.hpp"
+#include "emul/cell_model.hpp"
 
 namespace {
 
@@ -296,6 +299,87 @@ TEST(BalancingPolicy, ARefusedMaskBacksOff) {
   }
   p.scan(pol, 200);
   EXPECT_NE(p.want[0], 0) << "after 10 s";
+}
+
+// The firmware's clock (Instant) wraps after 71.6 minutes and a balancing set can stand longer than that:
+// a rest that began, and a set that changed, more than half a wrap ago must not look recent again. The old
+// policy compared them with the clock each scan: balancing stopped for a minute 71.6 minutes into a rest, and
+// a set that stood 35.8 minutes froze for the next 35.8 (cells balanced on past the stop threshold).
+TEST(BalancingPolicy, LongRestsAndLongSetsSurviveTheClockWrap) {
+  Policy pol;
+  Pack p;
+  p.view.currentMa = 0;
+  p.boards[0].cellMv[1] = 3960;
+  p.boards[0].cellMv[7] = 3950;
+  for (int i = 0; i < 61; ++i)
+    p.scan(pol, 1000);
+  ASSERT_EQ(p.want[0], (1u << 1) | (1u << 7));
+  for (int i = 0; i < 80 * 60; ++i) {  // 80 minutes at rest, nothing changes
+    p.scan(pol, 1000);
+    ASSERT_EQ(p.want[0], (1u << 1) | (1u << 7)) << "second " << i;
+  }
+  p.boards[0].cellMv[7] = 3905;  // cell 8 came down: it stops within the dwell
+  p.scan(pol, 1000);
+  p.scan(pol, 1000);
+  p.scan(pol, 1000);
+  EXPECT_EQ(p.want[0], 1u << 1);
+}
+
+TEST(BalancingPolicy, ABackOffEndsByTheClockEvenWhileAFaultHoldsBalancing) {
+  Policy pol;
+  auto p = charging();
+  p.scan(pol);
+  pol.refused(p.now());
+  for (int i = 0; i < 40 * 60; ++i)  // 40 minutes of a fault: past half a wrap after the back-off's end
+    p.scan(pol, 1000, app::bit(app::FaultId::ChargeOvercurrent));
+  p.scan(pol, 1000);
+  EXPECT_NE(p.want[0], 0) << "the back-off ended 10 s after the refusal";
+}
+
+// README figure (issue 28): the time a 16-cell pack whose cells are 80 mV apart takes to come within the stop
+// threshold, at rest, with this policy, each family's rules and the emulators' cell model (cell_model.hpp: a
+// 68 ohm balancing path, about 57 mA from 3.9 V, and a linear 2.5 Ah cell, 700 mV from empty to full).
+// Computed, not measured: one decide() a second, each wanted cell losing V / R for that second.
+TEST(BalancingPolicy, SixteenCellsEightyMillivoltsApartReport) {
+  const bsp::host::CellModel model;
+  struct Spread {
+    const char* name;
+    int (*mvAbove)(int cell);  // cell 0..15, mV above the lowest (3 900 mV)
+  };
+  const Spread spreads[] = {
+      {"even (0, 5, .. 80 mV)", [](int c) { return c * 80 / 15; }},
+      {"one cell low (the others +80 mV)", [](int c) { return c == 0 ? 0 : 80; }},
+  };
+  const std::pair<const char*, app::BalancingRules> families[] = {{"BQ76952", kBq769x2Rules},
+                                                                  {"BQ79616", {8, false, 0x03}}};
+  for (const auto& [family, rules] : families) {
+    for (const auto& spread : spreads) {
+      Policy pol(rules);
+      Pack p;
+      p.view.currentMa = 0;
+      std::array<int64_t, 16> uv{};
+      for (int c = 0; c < 16; ++c)
+        uv[c] = (3900 + spread.mvAbove(c)) * 1000LL;
+      int seconds = 0;
+      for (; seconds < 72 * 3600; ++seconds) {
+        for (int c = 0; c < 16; ++c)
+          p.boards[0].cellMv[c] = static_cast<int16_t>(uv[c] / 1000);
+        const auto [lo, hi] = std::minmax_element(uv.begin(), uv.end());
+        if (seconds > 60 && (*hi - *lo) / 1000 <= app::kDefaultBalancing.stopDeltaMv) break;
+        p.scan(pol, 1000);
+        for (int c = 0; c < 16; ++c) {
+          if (((p.want[0] >> c) & 1U) == 0) continue;
+          const int64_t chargeMaUs = uv[c] / 1000 * 1000000 / model.balanceOhms;  // mA x 1 s
+          uv[c] -= bsp::host::bleedDropUv(chargeMaUs, model);
+        }
+      }
+      ASSERT_LT(seconds, 72 * 3600) << family << " " << spread.name << ": did not converge";
+      std::printf(
+          "REPORT balancing.16s_80mv %s %s: %.1f h to within %d mV (computed: 68 ohm path, 2.5 Ah "
+          "linear cell, 60 s rest first)\n",
+          family, spread.name, seconds / 3600.0, app::kDefaultBalancing.stopDeltaMv);
+    }
+  }
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ void BalancingPolicy::refused(Instant now) {
 }
 
 // The first condition that stops every board's balancing, or Balancing when none does.
-BalancingState BalancingPolicy::blocked(const PackView& view, FaultMask faults, Instant now) {
+BalancingState BalancingPolicy::blocked(const PackView& view, FaultMask faults) {
   State& st = *state_;
   const BalancingMode m = mode();
   if (m == BalancingMode::Off) return BalancingState::Off;
@@ -40,15 +40,12 @@ BalancingState BalancingPolicy::blocked(const PackView& view, FaultMask faults, 
     }
   }
   if (t.extreme[kMinCell] < config_.minCellMv) return BalancingState::LowVoltage;
-  if (st.backingOff) {
-    if (!isDue(st.backoffUntil, now)) return BalancingState::Refused;
-    st.backingOff = false;
-  }
+  if (st.backingOff) return BalancingState::Refused;
   if (m == BalancingMode::Forced) return BalancingState::Balancing;
   // Charging, or at rest long enough. Without a current sensor the pack counts as at rest.
   const int32_t i = view.currentMa;
   const bool charging = view.hasCurrent && i >= config_.chargeCurrentMa;
-  const bool rested = !view.hasCurrent || (st.resting && elapsed(st.restSince, now) >= config_.restTime);
+  const bool rested = !view.hasCurrent || st.rested;
   return charging || rested ? BalancingState::Balancing : BalancingState::NotResting;
 }
 
@@ -57,13 +54,17 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   // The rest timer runs whatever else holds balancing back.
   const int32_t i = view.currentMa;
   if (!view.hasCurrent || i >= config_.restCurrentMa || i <= -config_.restCurrentMa) {
-    st.resting = false;
+    st.resting = st.rested = false;
   } else if (!st.resting) {
     st.resting = true;
     st.restSince = now;
   }
+  if (st.resting && !st.rested) st.rested = elapsed(st.restSince, now) >= config_.restTime;
+  // The back-off ends by the clock whatever else holds balancing back (a deadline compared half a wrap
+  // later would look ahead again).
+  if (st.backingOff && isDue(st.backoffUntil, now)) st.backingOff = false;
   const uint16_t boards = view.boardCount();
-  const BalancingState why = blocked(view, faults, now);
+  const BalancingState why = blocked(view, faults);
   st.state = why;
   if (why != BalancingState::Balancing) {
     st.episode = false;
@@ -91,7 +92,10 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
     return;
   }
   // The set of cells holds for minDwell once something balances (the episode's first set goes out at once).
-  if (any && !isDue(st.changedAt + config_.minDwell, now)) return;
+  if (any && !st.settled) {
+    if (!isDue(st.changedAt + config_.minDwell, now)) return;
+    st.settled = true;
+  }
   bool changed = false;
   any = false;
   for (uint16_t b = 0; b < boards; ++b) {
@@ -100,7 +104,7 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
     any = any || m != 0;
     want[b] = m;
   }
-  if (changed) st.changedAt = now;
+  if (changed) st.changedAt = now, st.settled = false;
   if (!any)
     st.state = BalancingState::Balanced;  // every cell above the stop threshold sits in the hysteresis
 }

@@ -84,7 +84,7 @@ class BalancingPolicy {
   const BalancingRules& rules() const { return rules_; }
 
  private:
-  BalancingState blocked(const PackView& view, FaultMask faults, Instant now);
+  BalancingState blocked(const PackView& view, FaultMask faults);
   uint16_t select(const BoardSample& board, uint8_t cells, int16_t lowest, uint16_t on, uint16_t& done) const;
 
   // Zero at construction, which is Auto: the mode is kept XOR Auto, so the start-up mode costs no code.
@@ -94,6 +94,10 @@ class BalancingPolicy {
     BalancingState state;
     bool episode;
     bool resting;  // restSince is meaningful
+    // The rest time and the dwell, once reached, are kept as flags: Instant wraps after 71.6 minutes, and a
+    // balancing set can stand longer than that (a 2.5 Ah cell loses about 16 mV an hour).
+    bool rested;   // resting for restTime
+    bool settled;  // the set of cells has stood for minDwell
     bool backingOff;
     uint8_t forcedBoard;
     uint16_t forcedMask;
