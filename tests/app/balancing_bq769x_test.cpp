@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <utility>
 
 #include "bq769x2/board.hpp"
 
@@ -87,6 +88,85 @@ TEST(BalancingBq769x, Bq76907RefreshedWithinItsTwentySeconds) {
   EXPECT_NE(on, 0);
   EXPECT_LE(__builtin_popcount(on), fw::app::kBq7690xBalanceCells);
   EXPECT_EQ(b.emu.balanceCounters().refused, 0u) << "bit 0 (reserved) never written";
+}
+
+// A protection fault stops balancing within the scan period after it (the policy's fault rule, and the FET
+// command that opens a path), and nothing is published as balancing.
+TEST(BalancingBq769x, ProtectionFaultStopsBalancingAtOnce) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  b.imbalance();
+  b.h.runFor(fw::ms(2000));
+  ASSERT_NE(b.emu.balancing(), 0);
+  b.emu.setCellMv(5, 4300);  // over the firmware's 4.25 V limit
+  const uint64_t t0 = b.h.nowUs();
+  ASSERT_TRUE(b.h.runUntil([&] { return b.emu.balancing() == 0; }, fw::ms(300)));
+  std::printf("REPORT app.bq76952.balancing_stop_after_fault_ms=%.1f (cell over-voltage)\n",
+              static_cast<double>(b.h.nowUs() - t0) / 1000.0);
+  b.h.runFor(fw::ms(1500));
+  EXPECT_EQ(b.emu.balancing(), 0) << "not started again while the fault is active";
+  EXPECT_EQ(b.status().cells[0], 0);
+  EXPECT_EQ(b.status().state, BalancingState::Fault);
+}
+
+// The command interface's Off (BalancingPolicy::setMode): CB_ACTIVE_CELLS 0 within a scan period, and the
+// read-back publishes it.
+TEST(BalancingBq769x, ModeOffStopsTheDevice) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  b.imbalance();
+  b.h.runFor(fw::ms(2000));
+  ASSERT_NE(b.emu.balancing(), 0);
+  ASSERT_EQ(b.app.balancing().setMode(BalancingMode::Off, 0, 0, 1, 16), fw::Status::Ok);
+  ASSERT_TRUE(b.h.runUntil([&] { return b.emu.balancing() == 0; }, fw::ms(200)));
+  b.h.runFor(fw::ms(500));
+  EXPECT_EQ(b.status().cells[0], 0);
+  EXPECT_EQ(b.status().mode, BalancingMode::Off);
+  EXPECT_EQ(b.status().state, BalancingState::Off);
+}
+
+// The device refuses what was asked (here its Cell Balance Max Cells lowered to 1 behind the firmware's
+// back): the read-back shows it, nothing is published as balancing, and the firmware backs off instead of
+// writing every second.
+TEST(BalancingBq769x, ARefusedMaskIsNotPublishedAndBacksOff) {
+  G3507 b;
+  b.h.runFor(fw::ms(1000));
+  b.emu.setDataMemory(m2::dm::CellBalanceMaxCells.address, 1, 1);
+  b.imbalance();
+  const uint64_t t0 = b.h.nowUs();
+  bool refusedSeen = false;
+  for (int i = 0; i < 300; ++i) {  // 30 s
+    b.h.runFor(fw::ms(100));
+    EXPECT_EQ(b.status().cells[0], 0) << "nothing the device did not confirm";
+    refusedSeen = refusedSeen || b.status().state == BalancingState::Refused;
+  }
+  EXPECT_TRUE(refusedSeen);
+  EXPECT_GE(b.emu.balanceCounters().refused, 1u);
+  EXPECT_LE(b.cbWrites(t0), 3u) << "one write after each 10 s back-off, not one a second";
+}
+
+// The bus time balancing adds to the BQ76952's scans: a minute balancing against a minute of the same pack
+// without (REPORT, measured on the wire-timed bus).
+TEST(BalancingBq769x, BusTimePerScanReport) {
+  auto perScan = [](bool imbalanced) {
+    G3507 b;
+    b.h.runFor(fw::ms(1000));
+    if (imbalanced) b.imbalance();
+    b.h.runFor(fw::ms(2000));
+    const uint64_t t0 = b.bus.transactions(), u0 = b.bus.busTimeUs();
+    b.h.runFor(fw::s(60));
+    EXPECT_EQ(b.emu.balancing() != 0, imbalanced);
+    return std::pair{static_cast<double>(b.bus.transactions() - t0) / 600.0,
+                     static_cast<double>(b.bus.busTimeUs() - u0) / 600.0};
+  };
+  const auto [tIdle, uIdle] = perScan(false);
+  const auto [tBal, uBal] = perScan(true);
+  EXPECT_GT(uBal, uIdle);
+  EXPECT_LT(uBal - uIdle, 500.0) << "a write of three short transactions a second and a read-back";
+  std::printf(
+      "REPORT app.bq76952.balancing_bus_per_scan: +%.2f transactions, +%.0f us (%.2f / %.0f us "
+      "without balancing, %.2f / %.0f us with; 100 ms scans, 400 kHz)\n",
+      tBal - tIdle, uBal - uIdle, tIdle, uIdle, tBal, uBal);
 }
 
 }  // namespace

@@ -99,4 +99,27 @@ TEST(BalancingBq79616, DieOverTwarnPausesAndIsNotCountedAsBalancing) {
   EXPECT_EQ(b.status().cells[0], 0);
 }
 
+// The UART time balancing adds to the chain's scans: a minute balancing against a minute of the same chain
+// without (REPORT, measured on the wire-timed UART at 1 Mbaud).
+TEST(BalancingBq79616, UartTimePerScanReport) {
+  for (size_t devices : {2u, 16u}) {
+    auto perScan = [devices](bool imbalanced) {
+      Chain b(devices);
+      b.h.runFor(fw::ms(1500));
+      if (imbalanced) b.imbalance();
+      b.h.runFor(fw::ms(2500));
+      const uint64_t n0 = b.uart.txBytes() + b.uart.rxBytes();
+      b.h.runFor(fw::s(60));
+      EXPECT_EQ(b.emu.balancingCells(0) != 0, imbalanced);
+      return static_cast<double>(b.uart.txBytes() + b.uart.rxBytes() - n0) * b.uart.byteTimeUs() / 600.0;
+    };
+    const double idle = perScan(false), balancing = perScan(true);
+    EXPECT_GT(balancing, idle);
+    std::printf(
+        "REPORT app.bq79616.balancing_uart_per_scan devices=%zu: +%.0f us (%.0f us without balancing, "
+        "%.0f us with; 100 ms scans, 1 Mbaud)\n",
+        devices, balancing - idle, idle, balancing);
+  }
+}
+
 }  // namespace

@@ -279,7 +279,9 @@ class Bq769xDevice : public MonitorBase {
       flags_->checkWanted = false;
       started = driver_.startBalanceCheck();
     } else {
-      flags_->balanceWanted = false;
+      // A new write: the read-back of an earlier one is moot (and this one's waits for the next scan, its
+      // result not being ready before: an immediate read finds no echo and wrote again).
+      flags_->balanceWanted = flags_->checkWanted = false;
       r.sending = r.want;
       started = driver_.startBalance(r.sending);
     }
@@ -314,9 +316,12 @@ class Bq769xDevice : public MonitorBase {
       r.balance.cells[0] = driver_.balanced();
       if (result == Status::VerifyFailed) {
         // The device did not take it (a rule, its temperature limits, CB_NO_CMD): nothing asked for a while.
+        // The policy asks for nothing during its back-off: only what the device kept is stopped (writing
+        // the refused mask again at once doubled every refused write).
         policy_.refused(now);
+        r.want = 0;
         r.written = driver_.balanced();
-        flags_->balanceWanted = true;
+        flags_->balanceWanted = r.written != 0;
       }
       return;
     }
