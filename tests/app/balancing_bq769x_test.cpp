@@ -40,6 +40,15 @@ struct L1306Bq76907 : bsp::host::L1306Bq7690xBoard {
                                      b769::kBq76907) {}
 };
 
+// What goes out before the policy has run once (the first BalancingStatus frames can precede the first scan):
+// the start-up mode and no data, never "off" and "balancing" from zeroed memory.
+TEST(BalancingBq769x, BeforeTheFirstScanTheStatusSaysAutoAndNoData) {
+  G3507 b;
+  EXPECT_EQ(b.status().mode(), BalancingMode::Auto);
+  EXPECT_EQ(b.status().state, BalancingState::NoData);
+  EXPECT_EQ(b.status().cells[0], 0);
+}
+
 TEST(BalancingBq769x, SetUpWritesMaxCellsAndBalancingConfiguration) {
   G3507 b;
   b.h.runFor(fw::ms(1000));
@@ -121,7 +130,7 @@ TEST(BalancingBq769x, ModeOffStopsTheDevice) {
   ASSERT_TRUE(b.h.runUntil([&] { return b.emu.balancing() == 0; }, fw::ms(200)));
   b.h.runFor(fw::ms(500));
   EXPECT_EQ(b.status().cells[0], 0);
-  EXPECT_EQ(b.status().mode, BalancingMode::Off);
+  EXPECT_EQ(b.status().mode(), BalancingMode::Off);
   EXPECT_EQ(b.status().state, BalancingState::Off);
 }
 

@@ -89,7 +89,7 @@ TEST(BalancingPolicy, NeverWhileAProtectionFaultOrTheDevicesOwnFaultIsActive) {
   p.scan(pol, 100, app::bit(app::FaultId::ChargeOvercurrent));
   EXPECT_EQ(p.want[0], 0) << "stopped at once";
   EXPECT_EQ(pol.state(), BalancingState::Fault);
-  p.view.deviceFault = true;
+  p.view.deviceBlocks = 1;  // the device holds the charge path off
   p.scan(pol);
   EXPECT_EQ(p.want[0], 0);
   EXPECT_EQ(pol.state(), BalancingState::Fault);
@@ -279,7 +279,7 @@ TEST(BalancingPolicy, ForcedMaskForServiceKeepsTheSafetyConditionsOnly) {
   EXPECT_EQ(p.want[0], 0);
   EXPECT_EQ(p.want[1], 0x0005);
   EXPECT_EQ(pol.mode(), BalancingMode::Forced);
-  p.scan(pol, 100, app::bit(app::FaultId::Overtemperature));
+  p.scan(pol, 100, app::bit(app::FaultId::OvertempDischarge));
   EXPECT_EQ(p.want[1], 0) << "a forced mask never overrides protection";
   ASSERT_EQ(pol.setMode(BalancingMode::Auto, 0, 0, 2, 16), fw::Status::Ok);
   p.scan(pol);

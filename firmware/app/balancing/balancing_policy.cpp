@@ -25,7 +25,7 @@ BalancingState BalancingPolicy::blocked(const PackView& view, FaultMask faults) 
   State& st = *state_;
   const BalancingMode m = mode();
   if (m == BalancingMode::Off) return BalancingState::Off;
-  if (faults != 0 || view.deviceFault) return BalancingState::Fault;
+  if (faults != 0 || view.deviceBlocks != 0) return BalancingState::Fault;
   const PackTotals& t = view.totals;
   // Every board validated in this scan with no open wire: otherwise the lowest cell of the pack is not known.
   if (!t.complete || !t.cells) return BalancingState::NoData;

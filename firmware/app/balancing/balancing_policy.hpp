@@ -33,13 +33,14 @@ namespace fw::app {
 
 enum class BalancingMode : uint8_t { Off = 0, Auto = 1, Forced = 2 };  // bms.yaml BalancingMode.Mode
 
-// Why the pack balances or not (BalancingStatus.State in bms.yaml), the first reason that applies.
+// Why the pack balances or not (BalancingStatus.State in bms.yaml), the first reason that applies. Zero is
+// NoData, what stands before the first scan (the all-zero start-up state says so).
 enum class BalancingState : uint8_t {
-  Balancing = 0,    // a cell is wanted balancing
+  NoData = 0,       // a board's last scan did not validate, or shows an open sense wire (or none ran yet)
   Balanced = 1,     // auto: no episode (the spread is below the start threshold, or fell to the stop one)
   Off = 2,          // mode off
   Fault = 3,        // a protection fault, or the monitor's own, is active
-  NoData = 4,       // a board's last scan did not validate, or shows an open sense wire
+  Balancing = 4,    // a cell is wanted balancing
   Temperature = 5,  // a cell or die temperature is outside its limit or has no reading
   LowVoltage = 6,   // the lowest cell is below minCellMv
   NotResting = 7,   // auto: discharging, or not at rest for restTime yet

@@ -13,12 +13,16 @@
 
 namespace fw::app {
 
-struct BalancingStatus {  // all-zero is the start-up state (Zeroed blocks)
-  BalancingMode mode;
+struct BalancingStatus {  // all-zero is the start-up state (Zeroed blocks): Auto, NoData, no cells
+  uint8_t modeCode;       // BalancingMode XOR Auto, as the policy keeps it, so zero is Auto
   BalancingState state;
   uint16_t cells[kMaxBoards];    // bit c = cell c + 1, as the device confirmed it
   uint32_t seconds[kMaxBoards];  // time with any confirmed cell since start-up, whole seconds
   uint32_t us[kMaxBoards];       // ... and the part of a second not counted yet
+
+  BalancingMode mode() const { return static_cast<BalancingMode>(modeCode ^ kAuto); }
+  void setMode(BalancingMode m) { modeCode = static_cast<uint8_t>(static_cast<uint8_t>(m) ^ kAuto); }
+  static constexpr uint8_t kAuto = static_cast<uint8_t>(BalancingMode::Auto);
 
   // Adds `dt` to every board that has a confirmed cell (called once per check, dt since the last one).
   void account(uint16_t boards, Duration dt) {

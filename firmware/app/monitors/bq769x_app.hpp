@@ -275,7 +275,7 @@ class Bq769xDevice : public MonitorBase {
     r.balance.account(1, elapsed(r.lastCheck, now));
     r.lastCheck = now;
     policy_.decide(view_, status_.active, now, {&r.want, 1});
-    r.balance.mode = policy_.mode();
+    r.balance.setMode(policy_.mode());
     r.balance.state = policy_.state();
     if (r.want != r.written || (r.written != 0 && isDue(r.refreshAt, now))) flags_->balanceWanted = true;
   }

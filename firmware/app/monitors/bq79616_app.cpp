@@ -97,7 +97,7 @@ inline void Bq79616Device::balanceCheck() {
   st.account(devices, elapsed(r.lastCheck, now));
   r.lastCheck = now;
   policy_.decide(view_, status_.active, now, {store_.balanceWant, devices});
-  st.mode = policy_.mode();
+  st.setMode(policy_.mode());
   st.state = policy_.state();
   f.budget = kBalanceAppliesPerScan;
   const bool refresh = isDue(r.refreshAt, now);

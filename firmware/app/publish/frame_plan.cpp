@@ -391,7 +391,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       using B = bms::BalancingStatus;
       const BalancingStatus& b = *pack_.balancing;
       v[B::kBoardField] = index_;
-      v[B::kModeField] = static_cast<uint8_t>(b.mode);
+      v[B::kModeField] = static_cast<uint8_t>(b.mode());
       v[B::kStateField] = static_cast<uint8_t>(b.state);
       v[B::kCellsField] = b.cells[index_];
       v[B::kTimeField] = b.seconds[index_] < 0xFFFFFFU ? b.seconds[index_] : 0xFFFFFFU;
