@@ -113,8 +113,10 @@ class ImageSim {
   // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
   virtual std::optional<SentText> slcanText() const { return std::nullopt; }
   virtual void afterStep() {}  // called after each simulation step (bookkeeping)
-  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
-  virtual void runFor(fw::Duration d) { harness().runFor(d); }
+  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU. What is
+  // due at the end is left for the next run (Harness::runBefore), so a scenario step at t comes before the
+  // firmware's tick at t on the host as on the twin: both see a step on the scan grid in the same scan.
+  virtual void runFor(fw::Duration d) { harness().runBefore(d); }
   // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
   virtual std::string failure() const { return {}; }
   // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.
