@@ -12,7 +12,8 @@ Every board's cells start 20..80 mV above its cell 1 (3.90 V), the pack charges 
     as at rest all along);
   - the board published it: BalancingStatus (0x202) frames decode with bms_native.dbc, one per board a
     second, with confirmed cells while balancing and Time counting up;
-  - nothing else changed: no protection event, no scan failure, PackSummary every 100 ms (+-1 ms).
+  - nothing else changed: no protection event, no scan failure, PackSummary every 100 ms (+-1 ms; 64 boards
+    +-5 ms, the native-64 acceptance's bound).
 Prints REPORT lines: the time the spread took to reach the stop threshold and the bus time per scan.
 Exit 77 (skipped) when the ELF has not been built."""
 import json
@@ -102,10 +103,14 @@ def main():
     # (The BQ79616 has no current input: its pack counts as at rest all along, balancing_policy.hpp.)
     if "bq79616" not in image and converged[0] > 30000 and not any(30000 < t < 90000 for t in idle):
         fail("the pack converged after the charge without waiting for the rest time")
+    # PackSummary every 100 ms: +-1 ms up to 16 boards; a 64-board slow part (513 frames, about 135 ms at
+    # 500 kbit/s) outlasts the fast period and the summary waits behind frames already queued, so there the
+    # bound is the native-64 acceptance's (bms_sim_acceptance.py: period + 5 ms).
+    tolerance = 5.0 if devices != "-" and int(devices) > 16 else 1.0
     summaries = [t for t, ident, _ in frames if ident == PACK_SUMMARY]
     gaps = [b - a for a, b in zip(summaries, summaries[1:])]
-    if not gaps or max(abs(g - 100.0) for g in gaps) > 1.0:
-        fail(f"PackSummary period {min(gaps):.3f} .. {max(gaps):.3f} ms, not 100 +- 1 ms")
+    if not gaps or max(abs(g - 100.0) for g in gaps) > tolerance:
+        fail(f"PackSummary period {min(gaps):.3f} .. {max(gaps):.3f} ms, not 100 +- {tolerance:.0f} ms")
     print(f"REPORT imbalance.{tag}: balanced (state) at {converged[0] / 1000:.1f} s of simulated time, "
           f"spread {summary['cell_spread_mv']} mV at the end, bus {summary['scan_bus_us']:.0f} us per scan "
           f"({summary['scan_transactions']:.1f} transactions), {summary['scans']} scans")
