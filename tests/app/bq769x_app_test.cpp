@@ -152,12 +152,14 @@ TEST(Bq769xApp, AlertToFetOffWithinTwoMillisecondsWhereverTheScanIs) {
 }
 
 // Protection and the monitor hold no reference to each other (issue 19 item 4): the monitor is not
-// protection's Actuator (the FetMailbox is), and the monitor is built without the protection task.
+// protection's Actuator (the FetMailbox is), and the monitor is built without the protection task (balancing
+// reads the published fault set, PublishStatus, which protection writes).
 using G3507Monitor = bsp::host::G3507Bq76952Board::App::Monitor;
 static_assert(!std::is_base_of_v<fw::app::Actuator, G3507Monitor>);
-static_assert(std::is_constructible_v<G3507Monitor, fw::sched::Scheduler&, fw::hal::I2cBus&,
-                                      fw::hal::EdgeInput&, const fw::app::Bq769xAppConfig&,
-                                      fw::app::BoardSample&, fw::app::PackView&, fw::app::FetMailbox&>);
+static_assert(
+    std::is_constructible_v<G3507Monitor, fw::sched::Scheduler&, fw::hal::I2cBus&, fw::hal::EdgeInput&,
+                            const fw::app::Bq769xAppConfig&, fw::app::BoardSample&, fw::app::PackView&,
+                            fw::app::FetMailbox&, const fw::app::PublishStatus&>);
 
 // The ALERT edge is posted to the protection task by the pin's interrupt itself (to it alone): the first task
 // that runs after the edge is protection, and it takes the line as a fault and asks for the FETs at once.

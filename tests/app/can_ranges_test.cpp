@@ -71,6 +71,11 @@ const std::map<std::string, Need>& needs() {
       {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
       {"Temperatures.Status", {0, 3, false}},
       {"Temperatures.Temp", {kTempLo, kTempHi, true}},
+      {"BalancingStatus.Board", {0, kBoards - 1, false}},
+      {"BalancingStatus.Mode", {0, 2, false}},   // fw::app::BalancingMode
+      {"BalancingStatus.State", {0, 8, false}},  // fw::app::BalancingState
+      {"BalancingStatus.Cells", {0, (1 << kCells) - 1, false}},
+      {"BalancingStatus.Time", {0, 194 * 86400, false}},  // 194 days of seconds
       // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
       {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
       // Startup: RSTCAUSE.ID is 5 bits; a version part is a byte; fw::Module goes up to 99 (Test); a fault

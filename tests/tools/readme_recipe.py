@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bms_sim_acceptance import read_candump  # noqa: E402
 
 NAMES = {0x100: "PackSummary", 0x101: "CellExtremes", 0x102: "TemperatureExtremes", 0x103: "ProtectionEvent",
-         0x200: "CellVoltages", 0x201: "Temperatures"}  # bms.yaml
+         0x200: "CellVoltages", 0x201: "Temperatures", 0x202: "BalancingStatus"}  # bms.yaml
 
 
 def fail(message):

@@ -4,6 +4,7 @@
 // a protection event's latency is never negative.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "app/protection/protection.hpp"
@@ -224,10 +225,12 @@ class RecordingSim final : public ImageSim {
   SimFigures figures() override { return {}; }
   std::vector<fw::app::ProtectionRecord> protectionLog() const override { return {}; }
   std::vector<SentFrame> frames() const override { return {}; }
+  void setCellCapacityMah(int mah) override { capacityMah = mah; }
+  int cellSpreadMv() override { return 0; }  // the player never reads it (the report does)
 
   int cell(int b, int c) const { return cell_[b][c]; }
   int temp(int b, int s) const { return temp_[b][s]; }
-  int currentMa = 0, cellPushes = 0;
+  int currentMa = 0, cellPushes = 0, capacityMah = 0;
   bool commLost = false;
   Paths open;  // the emulated device's paths (both closed unless a test opens one)
 
@@ -256,6 +259,36 @@ TEST(ScenarioPlayer, OnsetIsTheFirstMillisecondTheImageHasTheLimit) {
   ASSERT_EQ(p.onsets().count("cell_ov"), 1U);
   EXPECT_EQ(p.onsets().at("cell_ov"), 2250U);
   EXPECT_EQ(sim.currentMa, 5000);
+}
+
+// The imbalance built-in (issue 28): the capacity reaches the emulated cells, cell 1 of each board is at the
+// base and the others 1..4 quarters of the spread above it (a 20..80 mV spread on every board), a drift
+// started before is stopped, and the charge ends at 30 s.
+TEST(ScenarioPlayer, ImbalanceSpreadsEveryBoardsCells) {
+  RecordingSim sim;
+  const Scenario s = *builtinScenario("imbalance");
+  ScenarioPlayer p(sim, s);
+  p.advance(0);
+  EXPECT_EQ(sim.capacityMah, 4);
+  EXPECT_EQ(sim.currentMa, 2000);
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_EQ(sim.cell(b, 1), 3900) << b;
+    int lo = 5000, hi = 0;
+    for (int c = 2; c <= 4; ++c) {
+      lo = std::min(lo, sim.cell(b, c));
+      hi = std::max(hi, sim.cell(b, c));
+    }
+    EXPECT_GE(lo, 3920) << b;
+    EXPECT_EQ(hi, 3980) << b;
+  }
+  playTo(p, 1, 30000);
+  EXPECT_EQ(sim.currentMa, 0);
+  EXPECT_EQ(sim.cell(0, 1), 3900);  // nothing moves the cells but the image's balancing
+
+  EXPECT_EQ(errorOf("0 spread-cells 3900 501\n"),
+            "s.txt:1:21: error: a spread in mV must be in 0..500, got '501'");
+  EXPECT_EQ(errorOf("0 cell-capacity 0\n"),
+            "s.txt:1:17: error: a cell capacity in mAh must be in 1..100000, got '0'");
 }
 
 // A value set on a drifting cell used to be overwritten by the drift the next millisecond.

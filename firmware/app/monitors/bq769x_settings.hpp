@@ -47,6 +47,12 @@
 // (SLUUCI8), SCD 100 mV (setting 5 of SLUUCJ0 Table 6-9: 100 A on the 1 mOhm shunt) after 45..60 us
 // (setting 3, Table 6-10), and the host watchdog (Enabled Protections B[HWD], Host Watchdog Timeout code 1 =
 // 2 s, SLUUCJ0 6.15: the device opens DSG, DSG FET Protections A[HWD]). The BQ7690x has no FET-off pins.
+// Balancing (both families): Balancing Configuration written explicitly with host commands accepted and no
+// automatic balancing (BQ769x2 0x00, SLUUBY2B; BQ7690x 0x02 = CBDLY 1 ms, SLUUCI8: the firmware's policy
+// decides, app/balancing); on the BQ769x2 Cell Balance Max Cells = the policy's limit (the device refuses
+// more, E2E 969824) and the device's own balancing temperature limits (-20 / 60 degC cell, 70 degC die, the
+// map's defaults, `unverified`: written so they hold whatever the device shipped with), outside the policy's
+// 0 / 45 / 65 degC (app/balancing/balancing_config.hpp) as the backstop.
 #pragma once
 
 #include <array>
@@ -58,6 +64,12 @@
 #include "regmap/bq769x2.hpp"
 
 namespace fw::app {
+
+// Cells balanced at once. BQ769x2: 4, written to Cell Balance Max Cells (default 1, `unverified`), which the
+// device enforces (E2E 969824; LibreSolar's default max-balanced-cells is 4 too); 4 x ~54 mA through the
+// internal FETs. BQ7690x: 3; TI leaves the number to the host to limit the dissipation (SLUAAP7 section 3).
+inline constexpr uint8_t kBq769x2BalanceCells = 4;
+inline constexpr uint8_t kBq7690xBalanceCells = 3;
 
 namespace settings_detail {
 namespace m2 = ::fw::regmap::bq769x2;
@@ -76,7 +88,7 @@ static_assert(kBq7690xFetOptions.raw() == 0x58);
 inline constexpr m7::bits::EnabledProtectionsB kBq7690xProtectionsB =
     m7::bits::EnabledProtectionsB{}.with_hwd(true);
 
-constexpr std::array<drivers::bq769x2::Setting, 12> bq7690xSettings(uint8_t cells) {
+constexpr std::array<drivers::bq769x2::Setting, 13> bq7690xSettings(uint8_t cells) {
   return {setting(m7::dm::EnabledProtectionsA, m7::bits::EnabledProtectionsA::fromRaw(0xE1)),
           setting(m7::dm::EnabledProtectionsB, kBq7690xProtectionsB),
           setting(m7::dm::VcellMode, cells),
@@ -88,7 +100,8 @@ constexpr std::array<drivers::bq769x2::Setting, 12> bq7690xSettings(uint8_t cell
           setting(m7::dm::CellUndervoltageProtectionThreshold, 2600),
           setting(m7::dm::CellUndervoltageProtectionDelay, 10),
           setting(m7::dm::ShortCircuitInDischargeProtectionThreshold, 5),  // 100 mV
-          setting(m7::dm::ShortCircuitInDischargeProtectionDelay, 3)};     // 45..60 us
+          setting(m7::dm::ShortCircuitInDischargeProtectionDelay, 3),      // 45..60 us
+          setting(m7::dm::BalancingConfiguration, m7::bits::BalancingConfiguration{}.with_cbdly(1))};
 }
 
 // BQ76952 Enabled Protections (SLUUBY2B Settings:Protection): A SCD, OCD1, OCC, COV, CUV; B OTF, OTINT, OTD,
@@ -156,6 +169,12 @@ inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
     settings_detail::setting(settings_detail::m2::dm::UtintThreshold, -25),
     settings_detail::setting(settings_detail::m2::dm::UtintDelay, 2),
     settings_detail::setting(settings_detail::m2::dm::HwdDelay, 2),  // s
+    settings_detail::setting(settings_detail::m2::dm::BalancingConfiguration,
+                             settings_detail::m2::bits::BalancingConfiguration{}),
+    settings_detail::setting(settings_detail::m2::dm::CellBalanceMaxCells, kBq769x2BalanceCells),
+    settings_detail::setting(settings_detail::m2::dm::MinCellTemp, -20),
+    settings_detail::setting(settings_detail::m2::dm::MaxCellTemp, 60),
+    settings_detail::setting(settings_detail::m2::dm::MaxInternalTemp, 70),
 };
 static_assert(std::size(kBq76952Settings) <= drivers::bq769x2::kMaxSettings);
 

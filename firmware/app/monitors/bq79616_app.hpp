@@ -14,6 +14,13 @@
 //                  retryAfterFailure after it ended (the link is down, the bus idle): a healed link is then
 //                  up again within about one failed attempt plus one bring-up.
 //   0 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
+// Balancing (app/balancing; the device rules: drivers/bq79616/balancer.hpp): after each scan, once protection
+// has seen it (kBalance), the policy gives one mask per device. Devices whose mask changed, and every 10 s
+// the ones balancing (their timers run 30 s), get their timers and BAL_GO, at most kBalanceAppliesPerScan
+// devices a scan period and only after the scan (balancing never delays one); when nothing is wanted any more
+// one broadcast stops the whole chain (three frames). BAL_STAT of every device is read once a second while
+// anything balances: a device counts as balancing (BalancingStatus) only while it reports CB_RUN, not paused;
+// INVALID_CBCONF or ABORTFLT make the policy back off.
 // The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
 // The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
 // which the caller provides as a zero-initialised static object: no start-up code fills them.
@@ -21,6 +28,9 @@
 
 #include <cstdint>
 
+#include "app/balancing/balancing_config.hpp"
+#include "app/balancing/balancing_policy.hpp"
+#include "app/balancing/balancing_status.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -28,6 +38,7 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "core/zeroed.hpp"
+#include "drivers/bq79616/balancer.hpp"
 #include "drivers/bq79616/chain.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
@@ -49,7 +60,19 @@ struct Bq79616Storage {
   BoardSample samples[drivers::bq79616::kMaxDevices];
   int16_t raw[drivers::bq79616::kMaxDevices][drivers::bq79616::kCellsPerDevice];
   drivers::bq79616::DeviceRecord records[drivers::bq79616::kMaxDevices];
+  // Balancing, per device: the policy's mask, the mask last written (timers and BAL_GO), BAL_STAT as read.
+  uint16_t balanceWant[drivers::bq79616::kMaxDevices];
+  uint16_t balanceWritten[drivers::bq79616::kMaxDevices];
+  uint8_t balStat[drivers::bq79616::kMaxDevices];
+  BalancingStatus balancing;
 };
+
+// The BQ79616's balancing rules (BalancingPolicy): manual control turns on at most 8 channels and, with
+// DEV_CONF[NO_ADJ_CB] (its default), no neighbours (SLUSF21 8.3.3.1.2, SLUSDT5B); both view temperature slots
+// are die temperatures (DIETEMP1/2).
+inline constexpr BalancingRules kBq79616BalancingRules{drivers::bq79616::Balancer::kMaxChannels, false, 0x03};
+// Devices whose timers one scan period writes (3 frames each, about 0.4 ms at 1 Mbaud).
+inline constexpr uint8_t kBalanceAppliesPerScan = 8;
 
 struct MonitorStats {
   uint32_t scans = 0;         // scans completed
@@ -67,21 +90,28 @@ class Bq79616Device : public MonitorBase {
  public:
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616Device(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
-                const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view)
+                const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view,
+                const PublishStatus& status)
       : scheduler_(scheduler),
         config_(config),
         nfault_(nfault),
         store_(storage),
         view_(view),
+        status_(status),
+        policy_(kDefaultBalancing, kBq79616BalancingRules),
         driver_(uart, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
-                config.chain) {}
+                config.chain),
+        balancer_(driver_) {}
 
   const drivers::bq79616::Chain& chain() const { return driver_; }
   const MonitorStats& stats() const { return records_->stats; }
+  BalancingPolicy& balancing() { return policy_; }  // the command interface's entry
 
  protected:
-  static constexpr bool kCommands = false;
+  // Commands are the balancing frames (the chain has no FET path: protection drives the fault output itself).
+  static constexpr bool kCommands = true;
+  static constexpr bool kBalancing = true;
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
@@ -117,8 +147,15 @@ class Bq79616Device : public MonitorBase {
   void scanTick() {
     if (loop_->op == MonitorOp::Scan) ++records_->stats.scanOverruns;
   }
-  bool commandWaiting() const { return false; }
-  Status startCommand() { return Status::Busy; }
+  void commandPosted() {}  // nothing posts kCommand to this task
+  // Balancing work (bq79616_app.cpp), only after the scan due has run.
+  bool commandWaiting() const {
+    const auto& f = *flags_;
+    return !loop_->scanDue && (f.stopWanted || (f.dirty != 0 && f.budget != 0) || f.statusWanted);
+  }
+  [[gnu::always_inline]] inline Status startCommand();                // bq79616_app.cpp
+  [[gnu::always_inline]] inline void commandFinished(Status result);  // bq79616_app.cpp
+  [[gnu::always_inline]] inline void balanceCheck();                  // bq79616_app.cpp
 
   // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
   [[gnu::always_inline]] Status startSetup() {
@@ -136,7 +173,8 @@ class Bq79616Device : public MonitorBase {
     return s;
   }
   [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
-  void afterSummarize() {}
+  // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
+  void afterSummarize() { scheduler_.post(kMonitorTask, monitor_event::kBalance); }
   // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
   // otherwise at most once per recoveryInterval.
   [[gnu::always_inline]] void recover() {
@@ -149,17 +187,30 @@ class Bq79616Device : public MonitorBase {
  private:
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first, the records after the references, the chain driver with its state last.
-  struct alignas(4) Flags {  // one word: zeroed with one store, not a memset call
-    bool broughtUp;          // the first bring-up succeeded: set-up is the recovery ladder from now on
-    bool early;              // the next scan is started by the fault line
+  enum class BalanceOp : uint8_t { None, Stop, Apply, Status };
+  struct Flags {
+    bool broughtUp;  // the first bring-up succeeded: set-up is the recovery ladder from now on
+    bool early;      // the next scan is started by the fault line
     drivers::bq79616::RecoveryLevel from;  // the rung the next recovery starts at
+    BalanceOp op;                          // the balancing operation in flight
+    bool stopWanted;                       // one broadcast stop of the whole chain
+    bool statusWanted;                     // BAL_STAT of every device
+    uint8_t budget;                        // device writes left this scan period
+    uint8_t device;                        // the device of the write in flight
+    uint16_t sending;                      // ... and its mask
+    uint64_t dirty;                        // devices whose timers are to be written (bit d = device d)
   };
   struct Records {
     MonitorStats stats;
     drivers::bq79616::ScanSummary summary;
     sched::Timer scanTimer;
     sched::Timer retryTimer;
+    Instant lastCheck;
+    Instant refreshAt;
+    Instant statusAt;
   };
+  void forgetBalancing();
+  void balanceStatusRead();
   Zeroed<Flags> flags_;
 
  protected:
@@ -168,8 +219,11 @@ class Bq79616Device : public MonitorBase {
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
+  const PublishStatus& status_;
+  BalancingPolicy policy_;
   Zeroed<Records> records_;
   drivers::bq79616::Chain driver_;
+  drivers::bq79616::Balancer balancer_;  // after the chain it drives
 };
 using Bq79616Monitor = MonitorTask<Bq79616Device>;
 extern template class MonitorTask<Bq79616Device>;  // bq79616_app.cpp
@@ -194,12 +248,13 @@ class Bq79616App {
         protection_(scheduler, kProtectionId, limitsOf(config), *view_, *status_, actuator_,
                     config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        monitor_(scheduler, io.uart, io.nfault, config, storage, *view_) {
+        monitor_(scheduler, io.uart, io.nfault, config, storage, *view_, *status_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.chain.activeCells;
     view_->tempsPerBoard = 2;
     view_->boards = {storage.samples, config.chain.devices};
     view_->rawCells = &storage.raw[0][0];
+    view_->balancing = &storage.balancing;
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
     protection_.start();
@@ -212,6 +267,7 @@ class Bq79616App {
   const CanPublisher& publisher() const { return publisher_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
   const PublishStatus& status() const { return *status_; }
+  BalancingPolicy& balancing() { return monitor_.balancing(); }  // the command interface's entry
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
 

@@ -58,7 +58,10 @@ inline constexpr sched::TaskId kProtectionTask = 2;
 namespace monitor_event {
 inline constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFaultLine = 0x4, kScanTick = 0x8, kRetry = 0x10,
                                   kCommand = 0x20;
-}
+// Balancing: the device posts it to itself after each scan, so the balancing policy runs once protection (the
+// higher priority) has evaluated that scan (Device::balanceCheck()).
+inline constexpr sched::EventMask kBalance = 0x40;
+}  // namespace monitor_event
 
 // Scans that fail in a row before the device's recovery (every device: three).
 inline constexpr uint8_t kFailuresBeforeRecovery = 3;
@@ -101,6 +104,15 @@ class MonitorTask final : public Device, public sched::Task {
 
   bool running() const { return this->view_.monitorRunning; }
 
+  // Whether the device balances cells (its kBalancing, and then balanceCheck()); one without it does not.
+  static constexpr bool balances() {
+    if constexpr (requires { Device::kBalancing; }) {
+      return Device::kBalancing;
+    } else {
+      return false;
+    }
+  }
+
   [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
     this->view_.startupGrace = true;     // until the first scan's result, or firstDataBound()
     this->view_.firstDataDue = Instant{this->firstDataBound().us};
@@ -128,6 +140,9 @@ class MonitorTask final : public Device, public sched::Task {
         this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
       }
       if ((events & kRetry) != 0) this->loop_->retryDue = true;
+      if constexpr (balances()) {
+        if ((events & kBalance) != 0) this->balanceCheck();
+      }
     }
     if ((events & driverEvents) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done) finished();
     if constexpr (Device::kFaultLineToo) {  // after finished(): a set-up that just ended counts as running

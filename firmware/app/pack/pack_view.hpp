@@ -86,6 +86,8 @@ struct PackTotals {
   bool openWire;  // a validated board's readings show an open sense wire (or the monitor says so)
 };
 
+struct BalancingStatus;  // app/balancing/balancing_status.hpp
+
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
 struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
@@ -123,6 +125,9 @@ struct PackView {
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
   // LSB), for the TI-compatible CAN layout, which carries raw codes. Null when the monitor has none.
   const int16_t* rawCells = nullptr;
+  // Optional: the pack's balancing (app/balancing/balancing_status.hpp), published as BalancingStatus. Null
+  // on an image that does not balance (the BQ4050's gauge balances on its own).
+  const BalancingStatus* balancing = nullptr;
   PackTotals totals{};
 
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }

@@ -93,7 +93,7 @@ static_assert(kMaxReadBytes >= kWindowBytes,
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
 inline constexpr bool kBalance =
-    FW_BQ769X_BALANCE != 0;  // the CRC mode is built (drivers/bq769x2/config.hpp)
+    FW_BQ769X_BALANCE != 0;  // host-controlled balancing is built (drivers/bq769x2/config.hpp)
 
 struct LinkConfig {
   uint8_t address = kDefaultAddress;

@@ -104,14 +104,23 @@ Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
 }
 
 Status Monitor::startBalance(uint16_t cells) {
-  if (!kBalance || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
+  const bool adjacent = facts().cbAdjacent || allowAdjacent_;
+  if (!kBalance || (cells >> variant_.cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
-  state_->tmp = static_cast<uint16_t>(cells << facts().cbShift);
+  state_->yield = false;
+  state_->cbWritten = static_cast<uint16_t>(cells << facts().cbShift);
   uint8_t mask[2];
-  bytes::storeLe16(mask, state_->tmp);
+  bytes::storeLe16(mask, state_->cbWritten);
   return begin(Op::Balance,
                link_.startSubcommandWrite(regmap::code16(sub::CbActiveCells), {mask, facts().cbBytes}));
+}
+
+Status Monitor::startBalanceCheck() {
+  if (!kBalance) return Status::InvalidArgument;
+  if (busy()) return Status::Busy;
+  // 0x3E..0x61: the echo, the 32-byte buffer, the checksum and the length, in one read.
+  return begin(Op::BalanceCheck, link_.startRead(kCmdSubcommand, 2 + kWindowBytes));
 }
 
 Progress Monitor::onEvent(sched::EventMask events) {
@@ -172,6 +181,9 @@ void Monitor::step(Status r) {
       return runtimeSetupStep(r);
     case Op::Balance:
       if constexpr (kBalance) balanceStep(r);
+      return;
+    case Op::BalanceCheck:
+      if constexpr (kBalance) balanceCheckStep(r);
       return;
   }
 }
@@ -302,13 +314,27 @@ inline void Monitor::runtimeSetupStep(Status r) {
 }
 
 inline void Monitor::balanceStep(Status r) {
+  if (r != Status::Ok || state_->step++ != 0) return finish(r);
+  // Written (with checksum and length). The read-back request: CB_ACTIVE_CELLS as a command-only subcommand,
+  // whose result startBalanceCheck() fetches later; a FET command waiting goes first instead.
+  if (state_->yield) return finish(Status::Aborted);
+  next(link_.startSubcommand(regmap::code16(sub::CbActiveCells), false));
+}
+
+// The window as a subcommand read fetches it (link.cpp): echo, then length 4..36 covering the mask, then the
+// checksum over the code and every reported buffer byte.
+inline void Monitor::balanceCheckStep(Status r) {
   if (r != Status::Ok) return finish(r);
-  const uint8_t cbBytes = facts().cbBytes;
-  if (state_->step++ == 0)
-    return next(link_.startSubcommandRead(regmap::code16(sub::CbActiveCells), cbBytes));
   const uint8_t* d = link_.data();
-  finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == state_->tmp ? Status::Ok
-                                                                                    : Status::VerifyFailed);
+  const uint16_t code = regmap::code16(sub::CbActiveCells);
+  if (bytes::loadLe16(d) != code) return finish(Status::EchoMismatch);
+  const uint8_t cbBytes = facts().cbBytes;
+  const uint8_t length = d[2 + kBufferBytes + 1];
+  if (length < 4 + cbBytes || length > kBufferBytes + 4) return finish(Status::Length);
+  if (transferChecksum(code, d + 2, length - 4U) != d[2 + kBufferBytes]) return finish(Status::Checksum);
+  const auto read = static_cast<uint16_t>(d[2] | (cbBytes > 1 ? d[3] << 8 : 0));
+  state_->cbRead = static_cast<uint16_t>(read >> facts().cbShift);
+  finish(read == state_->cbWritten ? Status::Ok : Status::VerifyFailed);
 }
 
 // Steps of the CONFIG_UPDATE transaction.

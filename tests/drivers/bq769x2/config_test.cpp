@@ -30,7 +30,8 @@ constexpr drv::Setting kPackConfig[] = {
     drv::setting(dm::Ts3Config, 0x0F), drv::setting(dm::HdqPinConfig, 0x00),  // = the default
     drv::setting(dm::VCellMode, 0xFFFF), drv::setting(dm::EnabledProtectionsA, bits::SafetyA::fromRaw(0xBC)),
     drv::setting(dm::EnabledProtectionsB, bits::SafetyB::fromRaw(0xF7)),
-    drv::setting(dm::DefaultAlarmMask, 0xF882), drv::setting(dm::BalancingConfiguration, 0x03),
+    drv::setting(dm::DefaultAlarmMask, 0xF882),
+    drv::setting(dm::BalancingConfiguration, bits::BalancingConfiguration::fromRaw(0x03)),
     drv::setting(dm::CellBalanceMinCellVCharge, 700), drv::setting(dm::CellBalanceMinCellVRelax, 700),
     drv::setting(dm::CuvThreshold, 55),   // 55 x 50.6 mV = 2783 mV
     drv::setting(dm::CovThreshold, 83),   // 83 x 50.6 mV = 4200 mV

@@ -66,10 +66,15 @@ void Bq769xEmulator::completeScan() {
 // --- measurements and SLEEP --------------------------------------------------------------------------------
 
 void Bq769xEmulator::measure() {
-  measured_.cells = cells_;
+  // The cells as they are now, balancing's losses included (balancing.cpp). The device pauses balancing to
+  // measure (BQ7690x Balancing Configuration[CBDLY], SLUUCI8), so no balancing current shows in a reading.
+  settleBleed();
+  for (uint8_t c = 0; c < cells_.size(); ++c)
+    measured_.cells[c] = cellNowMv(static_cast<uint8_t>(c + 1));
   measured_.currentMa = currentMa_;
   measured_.intTemp = intTemp_;
   measured_.ts = ts_;
+  checkBalanceTemperatures();
 }
 
 // SLEEP (SLUUBY2B 7.3, SLUUBY1B the same; SLUSE96/SLUSE97 for the BQ7690x): allowed after a reset (Power

@@ -129,7 +129,7 @@ void Bq769xEmulator::initRegisters() {
   writePending_ = false;
   cfgUpdate_ = false;
   por_ = true;
-  cbActive_ = 0;
+  stopBalancing();  // a reset ends balancing (what it took from the cells stays taken)
   alarmStatus_ = 0;
   alarmRaw_ = 0;
   safetyAlertA_ = 0;
@@ -388,9 +388,9 @@ void Bq769xEmulator::executeWrite() {
       if (dmValid(static_cast<uint16_t>(code + i))) dm_[code + i - dmBase_] = writeData_[i];
     }
   } else if (code == m2::sub::CbActiveCells.address) {
-    // BQ769x2: bit 0 = cell 1; BQ7690x: bit 1 = cell 1 (SLUAAM4 section 2.4, E2E 1572792).
-    const unsigned shift = bq7690x() ? 1 : 0;
-    cbActive_ = static_cast<uint16_t>(value & (((1U << cellCount()) - 1) << shift));
+    // BQ769x2: bit 0 = cell 1; BQ7690x: bit 1 = cell 1 (SLUAAM4 section 2.4, SLUUCJ0). The rules:
+    // balancing.cpp.
+    writeBalancing(static_cast<uint16_t>(value));
   } else if (!bq7690x() && code == m2::sub::FetControl.address &&
              (dataMemory(m2::dm::FetOptions.address, 1) & m2::bits::FetOptions::host_fet_en_mask) != 0) {
     // FET_CONTROL (SLUUCW9, E2E 1453973, regmaps/README.md deviation 1): sets every host-off state at once,

@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "cell_model.hpp"
 #include "core/time.hpp"
 #include "sim/i2c_target.hpp"
 #include "sim/sim_clock.hpp"
@@ -53,6 +54,11 @@ struct Bq769xTiming {
   fw::Duration sleepEntry = fw::s(1);
   int16_t sleepCurrent7690xMa = 20;
   uint8_t sleepVoltageTime7690xS = 5;
+  // Host-controlled balancing stops this long after the last CB_ACTIVE_CELLS write (balancing.cpp): the
+  // BQ7690x's 20 s is SLUAAP7 section 3; for the BQ769x2 TI says only that it "runs a few seconds by default"
+  // (E2E 958310), taken at its lower end.
+  fw::Duration hostBalanceTimeout769x2 = fw::s(2);
+  fw::Duration hostBalanceTimeout7690x = fw::s(20);
   // The board, not the device: the sense resistor the current comparators (OCC, OCD1/2, SCD) see the current
   // through, in micro-ohms (the BQ76952EVM's and BQ76907EVM's 1 mOhm).
   uint32_t shuntMicroOhm = 1000;
@@ -108,6 +114,22 @@ class Bq769xEmulator final : public I2cTarget {
   bool dsgFet() const { return dsgOn_; }
   // Cells being balanced, bit 0 = cell 1 (whatever the family's CB_ACTIVE_CELLS layout).
   uint16_t balancing() const { return static_cast<uint16_t>(bq7690x() ? cbActive_ >> 1 : cbActive_); }
+  // --- backend: balancing (balancing.cpp) ------------------------------------------------------------------
+  // The cell's voltage now: what was set, less what balancing took out of it.
+  int16_t cellNowMv(uint8_t cell);
+  void setCellModel(const CellModel& model);
+  const CellModel& cellModel() const { return cellModel_; }
+  // Charge balancing took out of a cell (1..16), in mA x us.
+  int64_t bledChargeMaUs(uint8_t cell);
+  struct BalanceCounters {
+    uint32_t accepted = 0;   // CB_ACTIVE_CELLS writes taken
+    uint32_t refused = 0;    // writes the device refused (the rules in balancing.cpp): nothing balances
+    uint32_t adjacent = 0;   // BQ769x2 masks with two neighbouring cells (accepted: they overheat)
+    uint32_t ignored = 0;    // writes ignored because Balancing Configuration[CB_NO_CMD] is set
+    uint32_t timeouts = 0;   // balancing that stopped because no write came in time
+    uint32_t tempStops = 0;  // balancing the device stopped outside its temperature limits
+  };
+  const BalanceCounters& balanceCounters() const { return balanceCounters_; }
   uint16_t alarmStatus() const { return alarmStatus_; }
   uint8_t safetyStatusA() const { return safetyStatusA_; }
   uint8_t safetyAlertA() const { return safetyAlertA_; }
@@ -172,6 +194,10 @@ class Bq769xEmulator final : public I2cTarget {
   void sleepTick();
   void evaluateTemperatures();
   bool computeAlertLine() const;
+  void writeBalancing(uint16_t mask);  // balancing.cpp
+  void settleBleed();
+  void stopBalancing();
+  void checkBalanceTemperatures();
   void refresh();
   void put16(uint8_t cmd, uint16_t v);
   void commit();
@@ -222,6 +248,11 @@ class Bq769xEmulator final : public I2cTarget {
   bool chgOn_ = false;
   bool dsgOn_ = false;
   uint16_t cbActive_ = 0;
+  CellModel cellModel_;
+  std::array<int64_t, 16> bled_{};  // mA x us each cell lost to balancing
+  uint64_t bledUntilUs_ = 0;        // bled_ covers the time up to here
+  SimClock::EventId cbTimeoutEvent_ = 0;
+  BalanceCounters balanceCounters_;
   uint16_t alarmStatus_ = 0;
   uint16_t alarmRaw_ = 0;
   uint16_t alarmEnable_ = 0;

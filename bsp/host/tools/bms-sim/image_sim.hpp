@@ -47,6 +47,8 @@ struct SimFigures {
   int minCellMv = 0, maxCellMv = 0;
   int boards = 0, validBoards = 0;
   int32_t currentMa = 0;
+  std::vector<uint16_t> balancingCells;  // ImageSim::balancingCells()
+  int cellSpreadMv = 0;                  // ImageSim::cellSpreadMv()
   std::vector<std::pair<std::string, std::string>>
       extra;  // more --json keys and values (the twin's CPU figures)
 };
@@ -86,6 +88,13 @@ class ImageSim {
   virtual void setCurrentMa(int ma) = 0;
   virtual Paths paths() const { return {}; }
   virtual void setTempDeciK(int board, int sensor, int deciK) = 0;
+  // Balancing (scenario cell-capacity; the emulators' cell_model.hpp): the capacity of every emulated cell,
+  // and what the emulated devices do: per board the cells they balance now (bit c = cell c + 1), and the
+  // spread (highest minus lowest) of the cells as they are now. An image without balancing ignores the first
+  // and reports no cells.
+  virtual void setCellCapacityMah(int) {}
+  virtual std::vector<uint16_t> balancingCells() { return {}; }
+  virtual int cellSpreadMv() = 0;
   // Faults.
   virtual void setCommLost(bool lost) = 0;         // the monitor stops answering
   virtual void openWire(int board, int cell) = 0;  // the sense line below `cell` is disconnected

@@ -26,6 +26,13 @@ inline int sensedMv(std::span<const int> truth, int cell, int openCell) {
   return truth[i];
 }
 
+// Highest minus lowest of a set of cell voltages (0 for none).
+inline int spreadOf(const std::vector<int>& mv) {
+  if (mv.empty()) return 0;
+  const auto [lo, hi] = std::minmax_element(mv.begin(), mv.end());
+  return *hi - *lo;
+}
+
 // The bus cost of one scan. Only a scan that directly follows the previous one in the same link epoch is
 // measured: a gap (failed scans in between) or a new epoch (the link was brought up again) would bill the
 // retries or the bring-up to the scan.

@@ -150,9 +150,13 @@ void Report::tick(uint64_t nowUs) {
   if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();
+  int balancing = 0;  // cells the devices balance now
+  for (uint16_t m : f.balancingCells)
+    balancing += __builtin_popcount(m);
   std::fprintf(
       live_,
-      "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu\n",
+      "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu  "
+      "spread %3d mV, balancing %d cells\n",
       static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
       f.currentMa / 1000.0,
       !f.pathsKnown ? "CHG:?  "
@@ -162,7 +166,7 @@ void Report::tick(uint64_t nowUs) {
       : f.dischargeOn ? "DSG:on "
                       : "DSG:off",
       faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
-      static_cast<unsigned long long>(f.outputFrames));
+      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing);
   std::fflush(live_);
 }
 
@@ -288,6 +292,20 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   }
   std::printf("],\n");
   std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  // Balancing as the emulated devices do it now: per board the cells (numbered from 1) they balance, and the
+  // spread of the emulated cells (ImageSim::balancingCells(), cellSpreadMv()).
+  std::printf("  \"balancing_cells\": [");
+  for (size_t b = 0; b < f.balancingCells.size(); ++b) {
+    std::printf("%s[", b == 0 ? "" : ", ");
+    bool firstCell = true;
+    for (int c = 0; c < 16; ++c) {
+      if (((f.balancingCells[b] >> c) & 1U) == 0) continue;
+      std::printf("%s%d", firstCell ? "" : ", ", c + 1);
+      firstCell = false;
+    }
+    std::printf("]");
+  }
+  std::printf("],\n  \"cell_spread_mv\": %d,\n", f.cellSpreadMv);
   for (const auto& [key, value] : f.extra)
     std::printf("  \"%s\": %s,\n", key.c_str(), value.c_str());
   std::printf("  \"protection_events\": [");

@@ -1,8 +1,8 @@
 // Scenarios: what happens to the emulated pack over time.
 //
-// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale. Each built-in
-// is scenario text in the file format below, so a file can do whatever a built-in does. A file holds one step
-// per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
+// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale, imbalance. Each
+// built-in is scenario text in the file format below, so a file can do whatever a built-in does. A file holds
+// one step per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
 //   <time_ms> current <mA>                             the charger (positive) or load (negative): it
 //                                                      flows while the device's path for its direction is
 //                                                      closed (its FETs, or the fault output that stands
@@ -19,12 +19,20 @@
 //   <time_ms> intermittent on|off                      most monitor transactions fail
 //   <time_ms> bus-off                                  the CAN controller goes bus-off
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
+//   <time_ms> cell-capacity <mAh>                      every emulated cell holds this much: balancing takes
+//                                                      V / R from a balanced cell and its voltage falls 700
+//                                                      mV over the capacity (bsp/host/emul/cell_model.hpp);
+//                                                      2500 mAh until a scenario says otherwise
+//   <time_ms> spread-cells <mV> <spread_mV>            every board: cell 1 at <mV>, each other cell a
+//   quarter,
+//                                                      a half, three quarters or all of <spread_mV> above it
 //
 // Numbers are decimal integers (no fractions, exponents, nan or inf). Each must lie in its range, or the
 // parser stops with "file:line:col: error: ..." naming the range:
 //   time 0..3600000 ms (the longest --duration); cell 0..5000 mV; current -32768..32767 mA;
 //   temperature 2182..4232 (0.1 K, -55..+150 degC); ramps -5000..5000 mV/s and -2050..2050 0.1 K/s (at most
-//   the whole range in a second); board 0..63, cell 1..16, sensor 1..3. Before the run starts,
+//   the whole range in a second); board 0..63, cell 1..16, sensor 1..3; capacity 1..100000 mAh; spread
+//   0..500 mV. Before the run starts,
 //   checkScenario() checks boards, cells and sensors against the image (the same file:line:col errors) and
 //   warns about steps the run will not reach or that the image ignores.
 // A value set on a cell or sensor replaces its drift; a new drift replaces the old; a drift stops at the
@@ -83,6 +91,8 @@ enum class Action : uint8_t {
   Intermittent,
   BusOff,
   Expect,
+  CellCapacity,
+  SpreadCells,
 };
 
 // The emulated quantity an expected fault's limit applies to, and which way it is crossed.
@@ -92,10 +102,11 @@ struct Step {
   uint32_t timeMs = 0;
   Action action = Action::BusOff;
   int32_t board = 0;
-  int32_t index = 0;  // cell or sensor, from 1
-  int32_t value = 0;  // mV, mA, 0.1 K, a drift per second, or expect's limit
-  bool on = false;    // comm-loss, intermittent
-  std::string fault;  // expect: a fault name or "any"
+  int32_t index = 0;   // cell or sensor, from 1
+  int32_t value = 0;   // mV, mA, 0.1 K, a drift per second, mAh, or expect's limit
+  int32_t spread = 0;  // spread-cells: the spread in mV
+  bool on = false;     // comm-loss, intermittent
+  std::string fault;   // expect: a fault name or "any"
   Watch watch = Watch::None;
   bool hasLimit = false;  // expect with a limit
   uint32_t line = 0;

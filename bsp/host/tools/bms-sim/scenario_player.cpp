@@ -87,6 +87,17 @@ void ScenarioPlayer::apply(const Step& s, uint32_t nowMs) {
     case Action::BusOff:
       if (!sim_.busOff()) busOffUnsupported_ = true;
       break;
+    case Action::CellCapacity:
+      sim_.setCellCapacityMah(s.value);
+      break;
+    case Action::SpreadCells:
+      // Cell 1 of each board at the value, each other cell 1..4 quarters of the spread above it.
+      stopCellDrifts();
+      for (int b = 0; b < boards_; ++b) {
+        for (int c = 1; c <= cellsPerBoard_; ++c)
+          setCell(b, c, c == 1 ? s.value : s.value + s.spread * (1 + (c + b) % 4) / 4);
+      }
+      break;
     case Action::Expect:
       if (s.hasLimit) {
         watching_.push_back(&s);

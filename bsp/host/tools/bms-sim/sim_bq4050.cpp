@@ -29,6 +29,8 @@ class Bq4050Sim final : public ImageSim {
     push();
   }
   void setCurrentMa(int ma) override { board_.gauge.setCurrent(static_cast<int16_t>(ma)); }
+  // The gauge balances on its own (not modelled): the cells are what the scenario set.
+  int cellSpreadMv() override { return spreadOf(truth_); }
   // The gauge's own FETs, and the image's fault output, which stands for both paths.
   Paths paths() const override {
     const Paths out = pathsOfFaultOutput(board_.faultOut.level());
@@ -72,6 +74,7 @@ class Bq4050Sim final : public ImageSim {
     f.output = "can";
     fillPackFigures(f, board_.app.pack(), board_.app.status(),
                     fw::Instant{static_cast<uint32_t>(board_.h.nowUs())}, fw::app::kDefaultLimits.staleAfter);
+    f.cellSpreadMv = cellSpreadMv();
     return f;
   }
 

@@ -40,6 +40,18 @@ class Bq769xSim final : public ImageSim {
     push(cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int ma) override { board_->emu.setCurrentMa(ma); }
+  void setCellCapacityMah(int mAh) override {
+    auto model = board_->emu.cellModel();
+    model.cellUvPerMah = bsp::host::CellModel::uvPerMah(static_cast<uint32_t>(mAh));
+    board_->emu.setCellModel(model);
+  }
+  std::vector<uint16_t> balancingCells() override { return {board_->emu.balancing()}; }
+  int cellSpreadMv() override {
+    std::vector<int> mv;
+    for (int c = 1; c <= cells_; ++c)
+      mv.push_back(board_->emu.cellNowMv(static_cast<uint8_t>(c)));
+    return spreadOf(mv);
+  }
   // The monitor's own FETs (series CHG and DSG: the CHG FET blocks charging, its body diode still passes a
   // discharge, and the DSG FET the reverse; SLUUBY2B / SLUUBY1B "body diode protection", SLUSE97 for the
   // BQ7690x's CHG and DSG drivers). The G3507 image's fault output only indicates.
@@ -109,6 +121,8 @@ class Bq769xSim final : public ImageSim {
     fillPackFigures(f, board_->app.pack(), board_->app.status(),
                     fw::Instant{static_cast<uint32_t>(board_->h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
+    f.balancingCells = balancingCells();
+    f.cellSpreadMv = cellSpreadMv();
     return f;
   }
 

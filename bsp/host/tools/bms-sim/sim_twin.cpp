@@ -106,6 +106,33 @@ class TwinSim final : public ImageSim {
     push(board, cell);
     push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
+  // Balancing as the host bindings model it: the emulators' cells (cell_model.hpp) and what they balance.
+  void setCellCapacityMah(int mAh) override {
+    bsp::host::CellModel model;
+    model.cellUvPerMah = bsp::host::CellModel::uvPerMah(static_cast<uint32_t>(mAh));
+    if (auto* e = board_.bq769x()) e->setCellModel(model);
+    if (auto* e = board_.chain()) e->setCellModel(model);
+  }
+  std::vector<uint16_t> balancingCells() override {
+    std::vector<uint16_t> out;
+    if (auto* e = board_.bq769x()) out.push_back(e->balancing());
+    if (auto* e = board_.chain()) {
+      for (size_t d = 0; d < e->size(); ++d)
+        out.push_back(e->balancingCells(d));
+    }
+    return out;
+  }
+  int cellSpreadMv() override {
+    std::vector<int> mv;
+    for (int b = 0; b < devices_; ++b) {
+      for (int c = 1; c <= cellsPerBoard(); ++c) {
+        if (auto* e = board_.bq769x()) mv.push_back(e->cellNowMv(static_cast<uint8_t>(c)));
+        if (auto* e = board_.chain()) mv.push_back(e->cellNowMicrovolts(static_cast<size_t>(b), c) / 1000);
+      }
+    }
+    if (board_.bq4050() != nullptr) return spreadOf(truth_);
+    return spreadOf(mv);
+  }
   void setCurrentMa(int ma) override {
     if (auto* e = board_.bq769x()) e->setCurrentMa(ma);
     if (gauge_ != nullptr) gauge_->setCurrent(static_cast<int16_t>(ma));
@@ -426,6 +453,8 @@ SimFigures TwinSim::figures() {
       f.commErrors = bms::ProtectionEvent::unpack(c).commErrors;  // the board's own count
     }
   }
+  f.balancingCells = balancingCells();
+  f.cellSpreadMv = cellSpreadMv();
   // CPU figures: the twin's own measurements.
   twin::Machine& m = board_.machine();
   const double perUs = static_cast<double>(m.cyclesPerUs());

@@ -12,7 +12,6 @@ set(BMS_IMAGE_OPTIONS
   FW_CAN_TI_LAYOUT=0              # the TI layout (seed 001) is the BQ79616 image's
   FW_BQ769X_PROBE_CRC=0           # removes nothing used: the configuration knows the device's CRC mode (probe never asked for)
   FW_BQ769X_CRC=0                 # removes nothing used: the device runs without CRC (link.crc false, the default Comm Type)
-  FW_BQ769X_BALANCE=0             # removes nothing used: the application never balances cells
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
   BSP_MCAN_RX=0                   # removes nothing used: the application only transmits on CAN

@@ -13,7 +13,6 @@ set(BMS_IMAGE_OPTIONS
   FW_CAN_TI_LAYOUT=0              # SLCAN carries the native messages; the TI layout is the BQ79616 image's
   FW_BQ769X_PROBE_CRC=0           # removes nothing used: the configuration knows the device's CRC mode (probe never asked for)
   FW_BQ769X_CRC=0                 # removes nothing used: the device runs without CRC (link.crc false, the default Comm Type)
-  FW_BQ769X_BALANCE=0             # removes nothing used: the application never balances cells
   FW_BQ769X_FAULT_INDICATOR=0     # the L1306 board has no fault output pin
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
