@@ -39,6 +39,12 @@ inline Reg& clkstatus() {
 inline Reset& reset() {
   return mmio::block<Reset>(kBase + 0x1300);
 }
+// RSTCAUSE 0x1220: ID 4:0, the last reset's cause, a read-to-clear field (hw_sysctl_mspm0l11xx_l13xx.h and
+// hw_sysctl_mspm0g1x0x_g3x0x.h SYSCTL_RSTCAUSE_ID: "read-to-clear"; 0 = no reset since the last read).
+inline Reg& rstcause() {
+  return mmio::block<Reg>(kBase + 0x1220);
+}
+inline constexpr uint32_t kRstcauseIdMask = 0x1F;
 
 inline constexpr uint32_t kSysoscFreqMask = 0x3;  // FREQ 1:0, 0 = base (32 MHz)
 inline constexpr uint32_t kMclkMdivMask = 0xF;    // MDIV 3:0, 0 = /1
@@ -52,6 +58,7 @@ inline constexpr uint32_t kCanClkSrcSysPll = 1U << 8;  // GENCLKCFG.CANCLKSRC: 0
 inline constexpr uint32_t kClkStatusHfclkGood = 1U << 8;
 
 inline constexpr uint32_t kResetLevelSysrst = 0;
+inline constexpr uint32_t kResetLevelBootloaderEntry = 2;  // RESETLEVEL_LEVEL_BOOTLOADERENTRY (SLAU887 3.2.2)
 inline constexpr uint32_t kResetCmdGo = 0xE4000001;  // KEY 0xE4 | GO
 
 }  // namespace bsp::mspm0::reg::sysctl

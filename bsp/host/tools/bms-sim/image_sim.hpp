@@ -17,7 +17,7 @@
 #include "slcan_output.hpp"
 
 namespace bsp::host {
-class SimSerialTx;
+class SimSerial;
 }
 
 namespace bmssim {

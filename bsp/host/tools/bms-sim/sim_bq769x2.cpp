@@ -113,7 +113,7 @@ class Bq769xSim final : public ImageSim {
     }
   }
   std::optional<SentText> slcanText() const override {
-    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
       return SentText{board_->output.text(), board_->output.writeTimes()};
     } else {
       return std::nullopt;
@@ -125,7 +125,7 @@ class Bq769xSim final : public ImageSim {
   // the line's completion on the wire. The text and its write times only grow (bms-sim never clears them),
   // so each call parses only the lines completed since the last one.
   const std::vector<SentFrame>& slcanFrames() const {
-    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
       const std::string& text = board_->output.text();
       size_t pos = slcanParsed_;
       for (size_t end; (end = text.find('\r', pos)) != std::string::npos; pos = end + 1) {
@@ -170,7 +170,7 @@ class Bq769xSim final : public ImageSim {
 // A build for one device family (FW_BQ769X_FAMILY, an image's simulator) has only that family's front end.
 #if FW_BQ769X_FAMILY != 2
 using L1306Bq76952 =
-    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
 using G3507Bq76952 =
     Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
 
@@ -189,7 +189,7 @@ const ImageRegistrar kG3507Bq76952{
 
 #if FW_BQ769X_FAMILY != 1
 using L1306Bq76907 =
-    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
 
 std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
   return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,

@@ -23,7 +23,7 @@
 namespace bmssim {
 
 // What the board's SLCAN UART has sent so far: every byte in order, and when each write's last byte left the
-// line (one entry per write, in microseconds of simulated time). The host board's SimSerialTx and the twin's
+// line (one entry per write, in microseconds of simulated time). The host board's SimSerial and the twin's
 // UART model both give it.
 struct SentText {
   const std::string& text;

@@ -10,7 +10,8 @@
 #include "regs/uart.hpp"
 #include "sysclock.hpp"
 #include "timg_clock.hpp"
-#include "uart_serial_tx.hpp"
+#include "system.hpp"
+#include "uart_serial.hpp"
 #include "watchdog.hpp"
 
 extern "C" uint32_t __stack_limit__[];
@@ -43,19 +44,21 @@ constexpr GpioEdgeInput kButton(Chip::kPa14, Edge::Falling, Pull::Up);
 constinit GpioEdgeInput button = kButton;
 constinit GpioOut led(Chip::kPa26);
 #endif
-constexpr UartSerialTx::Config kSerialConfig{
-    Chip::kUart0, Chip::kIrqUart0,
-    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)), Chip::kUart0TxPa8,
-    DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}};
-constinit UartSerialTx serial(kSerialConfig);
+constexpr UartSerial::Config kSerialConfig{
+    Chip::kUart0,      Chip::kIrqUart0,
+    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)),
+    Chip::kUart0TxPa8, DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx},
+    Chip::kUart0RxPa9};
+constinit UartSerial serial(kSerialConfig);
+constinit Mspm0System system;
 
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
-constinit Board instance{clock, watchdog, i2c, alert, serial, button, led};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
-constinit Board instance{clock, watchdog, i2c, alert, serial};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system};
 #endif
 
 }  // namespace
@@ -65,12 +68,13 @@ Board& board() {
 }
 
 void bringUp() {
+  system.capture();  // RSTCAUSE clears when read: first of all
   initSysosc(false);
   powerGpioPort(kGpioaBase);
   TimgClock::start(kClockConfig);
   i2c.init();
   kAlert.init();
-  UartSerialTx::init(kSerialConfig);
+  UartSerial::init(kSerialConfig);
 #if BMS_BOARD_LED_BUTTON
   led.init(false);
   kButton.init();

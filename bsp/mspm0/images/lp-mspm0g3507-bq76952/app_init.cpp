@@ -18,5 +18,5 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.faultIndicator = &board.faultOut;
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config).start();
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config).start();
 }

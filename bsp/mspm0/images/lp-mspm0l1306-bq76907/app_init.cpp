@@ -18,7 +18,7 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76907Settings, 7};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig,
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
                             fw::drivers::bq769x2::kBq76907)
       .start();
 }

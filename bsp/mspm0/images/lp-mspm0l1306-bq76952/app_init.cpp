@@ -18,5 +18,5 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76952Settings, 16};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig).start();
+  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig).start();
 }

@@ -1,0 +1,35 @@
+#include "system.hpp"
+
+#include "hal/irq.hpp"
+#include "mmio.hpp"
+#include "regs/sysctl.hpp"
+
+namespace bsp::mspm0 {
+
+namespace {
+// FACTORYREGION (TI hw_factoryregion.h FACTORYREGION_OPEN_Regs): TRACEID at +0x0, DEVICEID at +0x4.
+constexpr uintptr_t kFactoryRegion = 0x41C40000;
+constexpr uint32_t kPartNumShift = 12, kPartNumMask = 0xFFFF;  // DEVICEID PARTNUM 27:12
+}  // namespace
+
+void Mspm0System::capture() {
+  const mmio::Reg* factory = &mmio::block<mmio::Reg>(kFactoryRegion);
+  identity_.traceId = factory[0].read();
+  identity_.partNumber = static_cast<uint16_t>((factory[1].read() >> kPartNumShift) & kPartNumMask);
+  identity_.resetCause = static_cast<uint8_t>(reg::sysctl::rstcause().read() & reg::sysctl::kRstcauseIdMask);
+}
+
+void Mspm0System::doEnterBootloader() {
+  resetIntoBootloader();
+}
+
+void resetIntoBootloader() {
+  (void)fw::port::irqSave();  // nothing runs between the decision and the reset
+  reg::sysctl::Reset& reset = reg::sysctl::reset();
+  reset.resetlevel.write(reg::sysctl::kResetLevelBootloaderEntry);
+  reset.resetcmd.write(reg::sysctl::kResetCmdGo);
+  for (;;) {
+  }
+}
+
+}  // namespace bsp::mspm0

@@ -1,0 +1,32 @@
+// Mspm0System: fw::hal::SystemControl on an MSPM0: the chip's identity and the software-invoke reset into
+// the ROM bootloader.
+//
+// - capture() (once, in the board's bringUp(), before anything else reads RSTCAUSE): reads FACTORYREGION
+//   TRACEID (0x41C40000) and DEVICEID (0x41C40004, PARTNUM bits 27:12) (TI hw_factoryregion.h,
+//   FACTORYREGION_OPEN_Regs: "TRACEID ... defined by TI, during ATE, based on wafer"; the same addresses on
+//   both parts, FACTORYREGION_BASE in mspm0l130x.h and mspm0g350x.h) and SYSCTL RSTCAUSE, which clears when
+//   read (regs/sysctl.hpp). identity() returns what capture() read.
+// - enterBootloader(): masks interrupts, then RESETLEVEL = 2 (BOOTLOADERENTRY) and RESETCMD = KEY 0xE4 | GO:
+//   "set the RESETLEVEL as BOOTLOADERENTRY and trigger reset through the RESETCMD register" (SLAU887 3.2.2;
+//   TI's bsl_software_invoke_app_demo_uart example writes the same two registers). Never returns.
+#pragma once
+
+#include "hal/system.hpp"
+
+namespace bsp::mspm0 {
+
+class Mspm0System final : public fw::hal::SystemControl {
+ public:
+  void capture();
+
+ private:
+  fw::hal::ChipIdentity doIdentity() const override { return identity_; }
+  void doEnterBootloader() override;
+
+  fw::hal::ChipIdentity identity_{};
+};
+
+// The software-invoke reset into the ROM bootloader, for callers without a SystemControl. Never returns.
+[[noreturn]] void resetIntoBootloader();
+
+}  // namespace bsp::mspm0

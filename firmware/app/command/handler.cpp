@@ -1,0 +1,185 @@
+#include "app/command/handler.hpp"
+
+#include "app/command/identity.hpp"
+#include "core/stats.hpp"
+
+namespace fw::app::command {
+
+namespace bms = can::bms;
+
+namespace {
+
+constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,   bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
+                            bms::Identify::kDlc,      bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
+                            bms::EnterBootloader::kDlc};
+static_assert(sizeof kDlc == kCommandCount, "one DLC per received message of bms.yaml");
+static_assert(bms::kReceivedIds[0] == bms::ClearFaults::kId && bms::kReceivedIds[6] == bms::EnterBootloader::kId,
+              "kReceivedIds in catalogue order: ClearFaults .. EnterBootloader");
+// Every command begins with the E2E header this handler reads: CRC in byte 0, counter in byte 1's low
+// nibble, target in byte 2.
+static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 &&
+              bms::ClearFaults::kFields[bms::ClearFaults::kCounterField].start == 8 &&
+              bms::ClearFaults::kFields[bms::ClearFaults::kTargetField].start == 16);
+
+constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
+
+}  // namespace
+
+void CommandHandler::ack(Replies& out, uint32_t id, uint8_t counter, Result result) {
+  State& st = *state_;
+  if (result != Result::Accepted) {
+    if (st.stats.rejected != 0xFFFF) ++st.stats.rejected;
+    if (kStats) ++st.stats.rejectedFor[static_cast<uint8_t>(result)];
+  } else if (kStats) {
+    ++st.stats.accepted;
+  }
+  bms::CommandAck a{};
+  a.node = ctx_.node;
+  a.command = static_cast<uint16_t>(id);
+  a.counter = counter;
+  a.result = static_cast<uint8_t>(result);
+  a.rejected = st.stats.rejected;
+  out.add(a.pack());
+}
+
+void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
+  State& st = *state_;
+  if (kStats) ++st.stats.frames;
+  uint8_t index = 0;
+  while (index < kCommandCount && (f.extended || bms::kReceivedIds[index] != f.id))
+    ++index;
+  if (index == kCommandCount) {
+    if (kStats) ++st.stats.filtered;
+    return;
+  }
+  const uint8_t counter = counterOf(f);
+  // The target is byte 2: a frame too short to carry it is answered (it may well be meant for this node).
+  if (f.dlc > 2 && f.data[2] != ctx_.node && f.data[2] != kBroadcast) {
+    if (kStats) ++st.stats.otherTarget;
+    return;
+  }
+  Result r = Result::Accepted;
+  if (f.dlc != kDlc[index]) {
+    r = Result::WrongLength;
+  } else if (!crcValid(f)) {
+    r = Result::BadCrc;
+  } else if (!st.counters.take(index, counter)) {
+    r = Result::RepeatedCounter;
+  } else if (st.boot != Boot::Idle) {
+    r = Result::Busy;
+  } else {
+    r = act(f, out);
+    if (r == Result::Accepted && st.boot != Boot::Idle) return;  // answered once the paths are off
+  }
+  // The acknowledgement goes first: data frames act() added move behind it.
+  Replies data = out;
+  out.count = 0;
+  ack(out, f.id, counter, r);
+  for (uint8_t k = 0; k < data.count && r == Result::Accepted; ++k)
+    out.add(data.frame[k]);
+}
+
+Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
+  State& st = *state_;
+  switch (f.id) {
+    case bms::ClearFaults::kId:
+      ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kClearLatched);
+      return Result::Accepted;
+    case bms::PathRequest::kId: {
+      const auto m = bms::PathRequest::unpack(f);
+      st.hostRequest = static_cast<uint8_t>((m.chargeOff ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
+                                            (m.dischargeOff ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+      applyHostOff();
+      return Result::Accepted;
+    }
+    case bms::BalancingMode::kId:
+      // Defined for the balancing policy to come; until an image balances, no mode is taken up.
+      return bms::BalancingMode::unpack(f).mode > 2 ? Result::OutOfRange : Result::Unsupported;
+    case bms::Identify::kId: {
+      const FirmwareIdentity& fw = kFirmwareIdentity;
+      bms::IdentifyVersion v{};
+      v.node = ctx_.node;
+      v.versionMajor = fw.major, v.versionMinor = fw.minor, v.versionPatch = fw.patch;
+      v.buildId = fw.buildId;
+      v.image = fw.image;
+      out.add(v.pack());
+      const hal::ChipIdentity chip = ctx_.system.identity();
+      bms::IdentifyChip c{};
+      c.node = ctx_.node;
+      c.resetCause = chip.resetCause;
+      c.traceId = chip.traceId;
+      c.partNumber = chip.partNumber;
+      out.add(c.pack());
+      return Result::Accepted;
+    }
+    case bms::SettingRead::kId: {
+      const uint8_t id = bms::SettingRead::unpack(f).setting;
+      if (id >= kSettingCount) return Result::OutOfRange;
+      const SettingSpec s = ctx_.settings.spec(id);
+      bms::SettingValue v{};
+      v.node = ctx_.node;
+      v.setting = id;
+      v.unit = static_cast<uint8_t>(s.unit);
+      v.value = ctx_.settings.read(id);
+      out.add(v.pack());
+      bms::SettingRange r{};
+      r.node = ctx_.node;
+      r.setting = id;
+      r.min = s.min;
+      r.max = s.max;
+      out.add(r.pack());
+      return Result::Accepted;
+    }
+    case bms::SettingWrite::kId: {
+      const auto m = bms::SettingWrite::unpack(f);
+      switch (ctx_.settings.write(m.setting, m.value)) {
+        case WriteResult::Ok:
+          return Result::Accepted;
+        case WriteResult::Inconsistent:
+          return Result::Inconsistent;
+        case WriteResult::Busy:
+          return Result::Busy;
+        default:
+          return Result::OutOfRange;
+      }
+    }
+    default: {  // EnterBootloader (the last of kReceivedIds)
+      const auto m = bms::EnterBootloader::unpack(f);
+      if (m.target != ctx_.node || m.key != kBootloaderKey || m.traceId != ctx_.system.identity().traceId)
+        return Result::WrongKey;
+      st.boot = Boot::WaitingForPaths;
+      st.bootCounter = counterOf(f);
+      st.bootDeadline = ctx_.scheduler.now() + kBootTimeout;
+      applyHostOff();
+      return Result::Accepted;
+    }
+  }
+}
+
+void CommandHandler::applyHostOff() {
+  const uint8_t off = static_cast<uint8_t>(state_->hostRequest | (state_->boot != Boot::Idle ? kBothPaths : 0));
+  ctx_.protection.requestOff(off);
+  ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kHostRequest);
+}
+
+void CommandHandler::poll(Replies& out) {
+  State& st = *state_;
+  if (st.boot != Boot::WaitingForPaths) return;
+  Result r = Result::Accepted;
+  if (ctx_.protection.pathsOffConfirmed()) {
+    st.boot = Boot::Answered;
+  } else if (isDue(st.bootDeadline, ctx_.scheduler.now())) {
+    r = Result::PathsNotOff;  // the deadline has passed: release what entry held off
+    st.boot = Boot::Idle;
+    applyHostOff();
+  } else {
+    return;
+  }
+  ack(out, bms::EnterBootloader::kId, st.bootCounter, r);
+}
+
+void CommandHandler::answerSent() {
+  if (state_->boot == Boot::Answered) ctx_.system.enterBootloader();
+}
+
+}  // namespace fw::app::command
