@@ -324,7 +324,8 @@ int cmdCan(const std::vector<std::string>& args) {
   bool ok = true;
   if (!out.empty()) {
     ok = writeIfChanged(fs::path(out) / "can" / (cat.name + ".hpp"), can::emitCpp(cat, source));
-    ok = writeIfChanged(fs::path(out) / "can" / (cat.name + "_table.hpp"), can::emitCppTable(cat, source)) && ok;
+    ok = writeIfChanged(fs::path(out) / "can" / (cat.name + "_table.hpp"), can::emitCppTable(cat, source)) &&
+         ok;
   }
   const fs::path dbc = dbcDir.empty() ? fs::path(out) / "can" : fs::path(dbcDir);
   for (const std::string& layout : cat.layouts()) {

@@ -42,7 +42,8 @@ static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
 #ifndef FW_COMMAND_NODE
 #define FW_COMMAND_NODE 1
 #endif
-static_assert(FW_COMMAND_NODE >= 1 && FW_COMMAND_NODE <= 254, "FW_COMMAND_NODE: 1..254 (255 means every BMS)");
+static_assert(FW_COMMAND_NODE >= 1 && FW_COMMAND_NODE <= 254,
+              "FW_COMMAND_NODE: 1..254 (255 means every BMS)");
 
 // --- Publishing (app/publish/publish_status.hpp, app/publish/frame_plan.hpp) ---
 // The native messages a build sends: 2, the default (every image, the host and bms-sim), every one; 1,

@@ -46,8 +46,8 @@ constexpr double kSettingLo = -40000, kSettingHi = 20000, kSettings = 11;
 
 std::map<std::string, Need> commandNeeds() {
   std::map<std::string, Need> t;
-  for (const char* m : {"ClearFaults", "PathRequest", "BalancingMode", "Identify", "SettingRead", "SettingWrite",
-                        "EnterBootloader"}) {
+  for (const char* m : {"ClearFaults", "PathRequest", "BalancingMode", "Identify", "SettingRead",
+                        "SettingWrite", "EnterBootloader"}) {
     t[std::string(m) + ".Crc"] = {0, 255, false};
     t[std::string(m) + ".Counter"] = {0, 15, false};
     t[std::string(m) + ".Target"] = {1, 255, false};
@@ -82,37 +82,37 @@ const std::map<std::string, Need>& needs() {
   static const std::map<std::string, Need> table = [] {
     std::map<std::string, Need> t = commandNeeds();
     t.merge(std::map<std::string, Need>{
-      {"PackSummary.PackVoltage", {0, kBoards * kCells * kCellInputV, true}},
-      {"PackSummary.PackCurrent", {-kCurrentA, kCurrentA - 0.001, true}},
-      {"PackSummary.StateOfCharge", {0, 100, true}},
-      {"PackSummary.ChargeFet", {0, 1, false}},
-      {"PackSummary.DischargeFet", {0, 1, false}},
-      {"PackSummary.FaultOutput", {0, 1, false}},
-      {"PackSummary.DataValid", {0, 1, false}},
-      {"PackSummary.Counter", {0, 15, false}},
-      {"PackSummary.ActiveFaults", {0, kFaultBits, false}},
-      {"CellExtremes.MaxCellVoltage", {0, kCellMaxMv, true}},
-      {"CellExtremes.MinCellVoltage", {0, kCellMaxMv, true}},
-      {"CellExtremes.MaxCellIndex", {0, kBoards * kCells - 1, true}},
-      {"CellExtremes.MinCellIndex", {0, kBoards * kCells - 1, true}},
-      {"TemperatureExtremes.MaxTemperature", {kTempLo, kTempHi, true}},
-      {"TemperatureExtremes.MinTemperature", {kTempLo, kTempHi, true}},
-      {"TemperatureExtremes.MaxTemperatureIndex", {0, kBoards * kTemps - 1, true}},
-      {"TemperatureExtremes.MinTemperatureIndex", {0, kBoards * kTemps - 1, true}},
-      {"ProtectionEvent.ActiveFaults", {0, kFaultBits, false}},
-      {"ProtectionEvent.NewlyTripped", {0, kFaultBits, false}},
-      {"ProtectionEvent.NewlyCleared", {0, kFaultBits, false}},
-      {"ProtectionEvent.CommErrors", {0, 65535, false}},
-      {"CellVoltages.Board", {0, kBoards - 1, false}},
-      {"CellVoltages.FrameIndex", {0, (kCells + 2) / 3 - 1, false}},
-      {"CellVoltages.Status", {0, 4, false}},
-      {"CellVoltages.Cell", {0, kCellMaxMv, true}},
-      {"Temperatures.Board", {0, kBoards - 1, false}},
-      {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
-      {"Temperatures.Status", {0, 3, false}},
-      {"Temperatures.Temp", {kTempLo, kTempHi, true}},
-      // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
-      {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
+        {"PackSummary.PackVoltage", {0, kBoards * kCells * kCellInputV, true}},
+        {"PackSummary.PackCurrent", {-kCurrentA, kCurrentA - 0.001, true}},
+        {"PackSummary.StateOfCharge", {0, 100, true}},
+        {"PackSummary.ChargeFet", {0, 1, false}},
+        {"PackSummary.DischargeFet", {0, 1, false}},
+        {"PackSummary.FaultOutput", {0, 1, false}},
+        {"PackSummary.DataValid", {0, 1, false}},
+        {"PackSummary.Counter", {0, 15, false}},
+        {"PackSummary.ActiveFaults", {0, kFaultBits, false}},
+        {"CellExtremes.MaxCellVoltage", {0, kCellMaxMv, true}},
+        {"CellExtremes.MinCellVoltage", {0, kCellMaxMv, true}},
+        {"CellExtremes.MaxCellIndex", {0, kBoards * kCells - 1, true}},
+        {"CellExtremes.MinCellIndex", {0, kBoards * kCells - 1, true}},
+        {"TemperatureExtremes.MaxTemperature", {kTempLo, kTempHi, true}},
+        {"TemperatureExtremes.MinTemperature", {kTempLo, kTempHi, true}},
+        {"TemperatureExtremes.MaxTemperatureIndex", {0, kBoards * kTemps - 1, true}},
+        {"TemperatureExtremes.MinTemperatureIndex", {0, kBoards * kTemps - 1, true}},
+        {"ProtectionEvent.ActiveFaults", {0, kFaultBits, false}},
+        {"ProtectionEvent.NewlyTripped", {0, kFaultBits, false}},
+        {"ProtectionEvent.NewlyCleared", {0, kFaultBits, false}},
+        {"ProtectionEvent.CommErrors", {0, 65535, false}},
+        {"CellVoltages.Board", {0, kBoards - 1, false}},
+        {"CellVoltages.FrameIndex", {0, (kCells + 2) / 3 - 1, false}},
+        {"CellVoltages.Status", {0, 4, false}},
+        {"CellVoltages.Cell", {0, kCellMaxMv, true}},
+        {"Temperatures.Board", {0, kBoards - 1, false}},
+        {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
+        {"Temperatures.Status", {0, 3, false}},
+        {"Temperatures.Temp", {kTempLo, kTempHi, true}},
+        // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
+        {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
     });
     return t;
   }();

@@ -238,8 +238,8 @@ TEST_F(McanTest, FiltersAcceptExactlyTheConfiguredIdentifiersIntoFifoZero) {
   RegisterTest::SetUp();
   mcan.attach();
   static constexpr uint32_t kIds[] = {0x600, 0x601, 0x602, 0x603, 0x604, 0x605, 0x606};
-  McanBus fresh({kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6},
-                 McanBus::kNbtp500k, kIds});
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k, kIds});
   ASSERT_EQ(fresh.init(), fw::Status::Ok);
   // Four dual-ID elements at 0x100 (the last repeats 0x606), storing to RX FIFO 0; SIDFC FLSSA 0x100, LSS 4.
   EXPECT_EQ(regs().lastWrite(kBase + 0x100), 0x4E000601U);
@@ -249,16 +249,19 @@ TEST_F(McanTest, FiltersAcceptExactlyTheConfiguredIdentifiersIntoFifoZero) {
   EXPECT_EQ(regs().lastWrite(kSidfc), 0x100U | (4U << 16));
   EXPECT_EQ(regs().lastWrite(kGfc), 0x2BU);  // everything else rejected by the hardware
   // Filters and global filter are set while the controller is in INIT with CCE (protected registers).
-  EXPECT_TRUE(regs().wroteInOrder({{kCccr, 0x3}, {kGfc, 0x2B}, {kBase + 0x10C, 0x4E060606U},
-                                   {kSidfc, 0x100U | (4U << 16)}, {kCccr, 0x0}}));
+  EXPECT_TRUE(regs().wroteInOrder({{kCccr, 0x3},
+                                   {kGfc, 0x2B},
+                                   {kBase + 0x10C, 0x4E060606U},
+                                   {kSidfc, 0x100U | (4U << 16)},
+                                   {kCccr, 0x0}}));
 }
 
 TEST_F(McanTest, MoreIdentifiersThanFilterElementsIsRefused) {
   RegisterTest::SetUp();
   mcan.attach();
   static constexpr uint32_t kIds[17] = {};
-  McanBus fresh({kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6},
-                 McanBus::kNbtp500k, kIds});
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k, kIds});
   EXPECT_EQ(fresh.init(), fw::Status::InvalidArgument);
 }
 

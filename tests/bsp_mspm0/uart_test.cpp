@@ -346,7 +346,7 @@ TEST_F(SerialTxTest, WriteFeedsTheFifoByDmaAndCompletesAtEndOfTransmission) {
 // The same UART receiving too: PA9 (PINCM10, PF 2, mspm0l130x.h IOMUX_PINCM10_PF_UART0_RX), by interrupt.
 class SerialRxTest : public RegisterTest {
  protected:
-  static constexpr uint32_t kRx = 1U << 10;  // CPU_INT RXINT (hw_uart.h UART_CPU_INT_IMASK_RXINT, bit 10)
+  static constexpr uint32_t kRx = 1U << 10;   // CPU_INT RXINT (hw_uart.h UART_CPU_INT_IMASK_RXINT, bit 10)
   static constexpr uint32_t kRxfe = 1U << 2;  // STAT.RXFE
   static constexpr uint32_t kRxFrmErr = 1U << 8;  // RXDATA.FRMERR (hw_uart.h UART_RXDATA_FRMERR)
   UartSerial serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),

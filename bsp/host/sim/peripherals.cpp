@@ -12,12 +12,13 @@ SimSerial::SimSerial(SimClock& clock, SimIrq& irq, uint32_t baud, size_t rxDepth
       irq_(irq),
       baud_(baud),
       rxDepth_(rxDepth),
-      line_(irq.attach("serial", [this] {
-        busy_ = false;
-        fw::hal::Notify done = done_;
-        done_ = {};
-        done();
-      })),
+      line_(irq.attach("serial",
+                       [this] {
+                         busy_ = false;
+                         fw::hal::Notify done = done_;
+                         done_ = {};
+                         done();
+                       })),
       rxLine_(irq.attach("serial-rx", [this] { rxNotify_(); })) {}
 
 void SimSerial::peerSend(std::string_view bytes) {

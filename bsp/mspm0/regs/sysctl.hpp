@@ -59,6 +59,6 @@ inline constexpr uint32_t kClkStatusHfclkGood = 1U << 8;
 
 inline constexpr uint32_t kResetLevelSysrst = 0;
 inline constexpr uint32_t kResetLevelBootloaderEntry = 2;  // RESETLEVEL_LEVEL_BOOTLOADERENTRY (SLAU887 3.2.2)
-inline constexpr uint32_t kResetCmdGo = 0xE4000001;  // KEY 0xE4 | GO
+inline constexpr uint32_t kResetCmdGo = 0xE4000001;        // KEY 0xE4 | GO
 
 }  // namespace bsp::mspm0::reg::sysctl

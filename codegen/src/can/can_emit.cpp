@@ -69,7 +69,8 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
                         "tools). k<Signal>Field is the signal's place in kFields, for code that fills the "
                         "raw values itself. A multiplexed group's array holds the slots of one frame: item i "
                         "of the group travels in frame i / kXPerFrame, slot i % kXPerFrame.");
-  out << "#pragma once\n\n#include <array>\n#include <cstdint>\n\n#include \"app/publish/can_bits.hpp\"\n#include "
+  out << "#pragma once\n\n#include <array>\n#include <cstdint>\n\n#include "
+         "\"app/publish/can_bits.hpp\"\n#include "
          "\"hal/can_bus.hpp\"\n\n"
       << "namespace fw::can::" << cat.name << " {\n\n"
       << "inline constexpr uint32_t kBitrate = " << cat.bitrate << ";\n\n";
@@ -77,7 +78,9 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
     if (!m.description.empty()) writeComment(out, m.description);
     out << "// " << m.layout << " layout, id " << hexAddress(m.id) << (m.extended ? " (extended)" : "")
         << ", " << m.dlc << " bytes, "
-        << (m.received ? "received" : m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms" : "on event")
+        << (m.received  ? "received"
+            : m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms"
+                        : "on event")
         << "\n";
     out << "struct " << m.name << " {\n"
         << "  static constexpr uint32_t kId = " << hexAddress(m.id) << ";\n"
@@ -169,8 +172,9 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
     if (!m.received) continue;
     ids += std::string(received++ == 0 ? "" : ", ") + hexAddress(m.id);
   }
-  writeComment(out, "The identifiers of the messages the node receives (direction rx), in catalogue order: "
-                    "what its receive filter accepts.");
+  writeComment(out,
+               "The identifiers of the messages the node receives (direction rx), in catalogue order: "
+               "what its receive filter accepts.");
   out << "inline constexpr std::array<uint32_t, " << received << "> kReceivedIds = {{" << ids << "}};\n\n";
   out << "}  // namespace fw::can::" << cat.name << "\n";
   return out.str();

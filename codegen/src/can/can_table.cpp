@@ -1,5 +1,6 @@
 // The catalogue as run-time data for host tools (bms-sim's `send` steps, bmsctl send): every message and
-// signal by name, so a tool can build or print any frame without a DBC reader. The firmware never includes it.
+// signal by name, so a tool can build or print any frame without a DBC reader. The firmware never includes
+// it.
 #include <sstream>
 
 #include "can/can_emit.hpp"
@@ -54,7 +55,8 @@ std::string emitCppTable(const Catalogue& cat, const std::string& sourcePath) {
       << "  bool isSigned;\n  const char* unit;\n  const Value* values;\n  uint8_t valueCount;\n};\n\n"
       << "struct Message {\n  const char* name;\n  uint32_t id;\n  bool extended;\n  uint8_t dlc;\n"
       << "  bool received;\n  const Signal* signals;\n  uint8_t signalCount;\n};\n\n"
-      << "// One entry per line, so a reader finds each by its name (clang-format would pack them in columns).\n"
+      << "// One entry per line, so a reader finds each by its name (clang-format would pack them in "
+         "columns).\n"
       << "// clang-format off\n";
   auto list = [&out](const std::string& head, const std::vector<std::string>& members) {
     out << head << "{\n";
@@ -84,9 +86,10 @@ std::string emitCppTable(const Catalogue& cat, const std::string& sourcePath) {
                         (s.isSigned ? "true" : "false") + ", " + quote(s.unit) + ", " + values + "}");
     }
     list("inline constexpr Signal k" + m.name + "Signals[] = ", signals);
-    messages.push_back("{" + quote(m.name) + ", " + hexAddress(m.id) + ", " + (m.extended ? "true" : "false") +
-                       ", " + std::to_string(m.dlc) + ", " + (m.received ? "true" : "false") + ", k" + m.name +
-                       "Signals, " + std::to_string(slots.size()) + "}");
+    messages.push_back("{" + quote(m.name) + ", " + hexAddress(m.id) + ", " +
+                       (m.extended ? "true" : "false") + ", " + std::to_string(m.dlc) + ", " +
+                       (m.received ? "true" : "false") + ", k" + m.name + "Signals, " +
+                       std::to_string(slots.size()) + "}");
   }
   list("inline constexpr Message kMessages[] = ", messages);
   out << "// clang-format on\n\n}  // namespace fw::can::" << cat.name << "::table\n";

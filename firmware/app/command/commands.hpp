@@ -1,7 +1,7 @@
 // What every composition adds for commands (app/monitors/*_app.hpp): the link type its publisher implies, and
 // the node number. A composition holds a LimitSettings (before its ProtectionTask, which evaluates the
-// settings' limits) and a CommandTask<Link> (after its publisher, whose outbox the link fills), and in start()
-// sets the settings as protection's LimitUpdate and starts the command task.
+// settings' limits) and a CommandTask<Link> (after its publisher, whose outbox the link fills), and in
+// start() sets the settings as protection's LimitUpdate and starts the command task.
 #pragma once
 
 #include <type_traits>

@@ -34,7 +34,7 @@ inline uint8_t counterOf(const hal::CanFrame& f) {
 }
 
 template <uint8_t kMessages>
-struct CounterWindow {  // all-zero: nothing taken yet
+struct CounterWindow {      // all-zero: nothing taken yet
   uint8_t last[kMessages];  // bit 4 set: a counter has been taken (the low nibble)
   // Takes `counter` for message `index`; false if it repeats the last one taken.
   bool take(uint8_t index, uint8_t counter) {

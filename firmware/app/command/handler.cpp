@@ -9,11 +9,12 @@ namespace bms = can::bms;
 
 namespace {
 
-constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,   bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
-                            bms::Identify::kDlc,      bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
+constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,    bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
+                            bms::Identify::kDlc,       bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
                             bms::EnterBootloader::kDlc};
 static_assert(sizeof kDlc == kCommandCount, "one DLC per received message of bms.yaml");
-static_assert(bms::kReceivedIds[0] == bms::ClearFaults::kId && bms::kReceivedIds[6] == bms::EnterBootloader::kId,
+static_assert(bms::kReceivedIds[0] == bms::ClearFaults::kId &&
+                  bms::kReceivedIds[6] == bms::EnterBootloader::kId,
               "kReceivedIds in catalogue order: ClearFaults .. EnterBootloader");
 // Every command begins with the E2E header this handler reads: CRC in byte 0, counter in byte 1's low
 // nibble, target in byte 2.
@@ -87,8 +88,9 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       return Result::Accepted;
     case bms::PathRequest::kId: {
       const auto m = bms::PathRequest::unpack(f);
-      st.hostRequest = static_cast<uint8_t>((m.chargeOff ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
-                                            (m.dischargeOff ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+      st.hostRequest =
+          static_cast<uint8_t>((m.chargeOff ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
+                               (m.dischargeOff ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
       applyHostOff();
       return Result::Accepted;
     }
@@ -157,7 +159,8 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
 }
 
 void CommandHandler::applyHostOff() {
-  const uint8_t off = static_cast<uint8_t>(state_->hostRequest | (state_->boot != Boot::Idle ? kBothPaths : 0));
+  const uint8_t off =
+      static_cast<uint8_t>(state_->hostRequest | (state_->boot != Boot::Idle ? kBothPaths : 0));
   ctx_.protection.requestOff(off);
   ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kHostRequest);
 }

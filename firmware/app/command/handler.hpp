@@ -65,11 +65,11 @@ struct Replies {
 };
 
 struct CommandStats {
-  uint32_t frames;       // command frames handed in
-  uint32_t accepted;     // taken and acted on
-  uint32_t filtered;     // not a command identifier (SLCAN: the software filter)
-  uint32_t otherTarget;  // for another node
-  uint16_t rejected;     // refused (saturates; also in every CommandAck)
+  uint32_t frames;                     // command frames handed in
+  uint32_t accepted;                   // taken and acted on
+  uint32_t filtered;                   // not a command identifier (SLCAN: the software filter)
+  uint32_t otherTarget;                // for another node
+  uint16_t rejected;                   // refused (saturates; also in every CommandAck)
   uint16_t rejectedFor[kResultCount];  // by reason (index: Result)
 };
 

@@ -23,7 +23,8 @@ SettingSpec settingSpec(uint8_t id, const ProtectionConfig& defaults) {
   const int32_t hard = defaults.rules[rule].trip;  // the pack's bound: the default trip value
   const int32_t tight = clear ? kTightEnd[rule].clearEnd : kTightEnd[rule].tripEnd;
   const Unit unit = rule < 2 ? Unit::Millivolt : rule < 4 ? Unit::Milliamp : Unit::DeciKelvin;
-  return isUpperLimit(rule) ? SettingSpec{rule, clear, unit, tight, hard} : SettingSpec{rule, clear, unit, hard, tight};
+  return isUpperLimit(rule) ? SettingSpec{rule, clear, unit, tight, hard}
+                            : SettingSpec{rule, clear, unit, hard, tight};
 }
 
 int32_t& LimitSettings::valueOf(ProtectionConfig& c, uint8_t id) {

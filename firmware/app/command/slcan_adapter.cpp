@@ -34,7 +34,8 @@ bool parseFrame(const uint8_t* line, uint8_t length, hal::CanFrame& f) {
   const bool extended = line[0] == 'T';
   const uint8_t idDigits = extended ? 8 : 3;
   uint32_t id = 0, dlc = 0;
-  if (length < 2 + idDigits || !hexAt(line + 1, idDigits, id) || !hexAt(line + 1 + idDigits, 1, dlc)) return false;
+  if (length < 2 + idDigits || !hexAt(line + 1, idDigits, id) || !hexAt(line + 1 + idDigits, 1, dlc))
+    return false;
   if (dlc > 8 || id > (extended ? 0x1FFFFFFFU : 0x7FFU) || length != 2 + idDigits + 2 * dlc) return false;
   f = hal::CanFrame{id, extended, static_cast<uint8_t>(dlc), {}};
   for (uint8_t i = 0; i < dlc; ++i) {
@@ -92,7 +93,8 @@ void SlcanAdapter::execute(const Info& info, Line& out) {
     case 'V':
       if (n != 1) return;
       a[0] = 'V', a[1] = '0', a[2] = '1';
-      a[3] = static_cast<uint8_t>('0' + info.version / 10 % 10), a[4] = static_cast<uint8_t>('0' + info.version % 10);
+      a[3] = static_cast<uint8_t>('0' + info.version / 10 % 10),
+      a[4] = static_cast<uint8_t>('0' + info.version % 10);
       a[5] = kCr;
       out.answerLength = 6;
       return;

@@ -10,7 +10,8 @@
 //                                    it is recorded and nothing else); BEL while open
 //   V           version              "Vhhss" CR: hardware 01, software the firmware's major and minor digits
 //   N           serial number        "Nxxxx" CR: the low 16 bits of the chip's TraceId, hex
-//   F           status flags         "Fxx" CR (only while open): bit 3 data overrun (received bytes lost since
+//   F           status flags         "Fxx" CR (only while open): bit 3 data overrun (received bytes lost
+//   since
 //                                    the last F), cleared by reading; BEL while closed
 //   tiiildd..   standard frame       "z" CR (only while open); the frame goes to the command handler
 //   Tiiiiiiiildd.. extended frame    "Z" CR (only while open); no command is extended: it is filtered out

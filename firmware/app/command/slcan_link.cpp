@@ -12,8 +12,9 @@ bool SlcanLink::step(CommandHandler& handler, sched::Scheduler& s) {
   while (rx_.read(byte)) {
     any = true;
     const uint32_t lost = rx_.lost();
-    const SlcanAdapter::Info info{static_cast<uint8_t>(kFirmwareIdentity.major * 10 + kFirmwareIdentity.minor),
-                                  serial_, lost != lostAtLastF_};
+    const SlcanAdapter::Info info{
+        static_cast<uint8_t>(kFirmwareIdentity.major * 10 + kFirmwareIdentity.minor), serial_,
+        lost != lostAtLastF_};
     SlcanAdapter::Line line;
     if (!adapter_.feed(byte, info, line)) continue;
     if (line.answer[0] == 'F') lostAtLastF_ = lost;  // the flags were read: overrun is cleared
@@ -30,7 +31,8 @@ void SlcanLink::send(const uint8_t* answer, uint8_t length, const Replies& r, sc
   for (uint8_t i = 0; i < length; ++i)
     outbox_.text[n++] = answer[i];
   for (uint8_t k = 0; k < r.count; ++k)
-    n = static_cast<uint8_t>(n + app::slcan::encode(r.frame[k], {outbox_.text + n, static_cast<size_t>(SlcanOutbox::kBytes - n)}));
+    n = static_cast<uint8_t>(
+        n + app::slcan::encode(r.frame[k], {outbox_.text + n, static_cast<size_t>(SlcanOutbox::kBytes - n)}));
   if (n == 0) return;
   outbox_.length = n;
   s.post(kPublisherTask, SlcanPublisher::kReply);

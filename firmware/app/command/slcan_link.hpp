@@ -13,7 +13,8 @@ namespace fw::app::command {
 
 class SlcanLink {
  public:
-  SlcanLink(hal::SerialRx& rx, SlcanOutbox& outbox, uint16_t serial) : rx_(rx), outbox_(outbox), serial_(serial) {}
+  SlcanLink(hal::SerialRx& rx, SlcanOutbox& outbox, uint16_t serial)
+      : rx_(rx), outbox_(outbox), serial_(serial) {}
 
   void attach(sched::Scheduler& s) { rx_.onReceive(s.notifier(kCommandTask, command_event::kInput)); }
   bool outboxEmpty() const { return outbox_.length == 0; }

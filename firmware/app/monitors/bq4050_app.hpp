@@ -26,8 +26,8 @@
 #include "drivers/bq4050/gauge.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
-#include "hal/system.hpp"
 #include "hal/i2c_bus.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {

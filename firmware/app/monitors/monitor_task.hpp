@@ -48,7 +48,6 @@
 
 namespace fw::app {
 
-
 // The monitor task's events: the driver's two first (the DriverContext the device gives its driver).
 namespace monitor_event {
 inline constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFaultLine = 0x4, kScanTick = 0x8, kRetry = 0x10,

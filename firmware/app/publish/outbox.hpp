@@ -22,7 +22,7 @@ struct CanOutbox {
   hal::CanFrame frames[kFrames];
   uint8_t count;  // frames waiting, from `next`
   uint8_t next;
-  bool waiting;   // the command task waits for the outbox to empty
+  bool waiting;  // the command task waits for the outbox to empty
 };
 
 // SLCAN: the adapter's answer to a line and up to three answer frames as text lines ("z\r" + 3 x 22 bytes),

@@ -2,8 +2,9 @@
 // and the application tests run it: the image's application (firmware/app/monitors/bq4050_app.hpp) with the
 // gauge emulator on a 100 kHz SMBus with the image's 25 ms stretch limit, CAN at 500 kbit/s and the fault
 // output (asserted from reset), the MCU's identity and bootloader entry (SimSystem); the CAN controller's
-// receive filter takes the command identifiers only, as the G3507 BSP sets the MCAN's. The application is started by the constructor; nothing happens until the
-// harness runs. Header-only: users link fw_app_bq4050 and emul_bq4050.
+// receive filter takes the command identifiers only, as the G3507 BSP sets the MCAN's. The application is
+// started by the constructor; nothing happens until the harness runs. Header-only: users link fw_app_bq4050
+// and emul_bq4050.
 #pragma once
 
 #include "app/monitors/bq4050_app.hpp"

@@ -69,11 +69,12 @@ constinit Mspm0System system;
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal, &button};
-constinit Board instance{clock,  watchdog, monitorLink,           monitorSignal, faultOut,
-                         can,    system,   fw::Status::NotReady, button,        led};
+constinit Board instance{clock, watchdog, monitorLink,          monitorSignal, faultOut,
+                         can,   system,   fw::Status::NotReady, button,        led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal};
-constinit Board instance{clock, watchdog, monitorLink, monitorSignal, faultOut, can, system, fw::Status::NotReady};
+constinit Board instance{clock,    watchdog, monitorLink, monitorSignal,
+                         faultOut, can,      system,      fw::Status::NotReady};
 #endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
 

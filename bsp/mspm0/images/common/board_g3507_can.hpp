@@ -48,8 +48,8 @@ struct Board {
   fw::hal::I2cBus& i2c;       // the monitor's or gauge's bus (I2C0)
   fw::hal::EdgeInput& alert;  // ALERT (BQ76952) on PB0; unused by the BQ4050 image unless wired
 #endif
-  fw::hal::DigitalOut& faultOut;  // fault output PB26 (high = fault): LED2 red, BoosterPack header
-  fw::hal::CanBus& can;           // results out and commands in, 500 kbit/s
+  fw::hal::DigitalOut& faultOut;   // fault output PB26 (high = fault): LED2 red, BoosterPack header
+  fw::hal::CanBus& can;            // results out and commands in, 500 kbit/s
   fw::hal::SystemControl& system;  // chip identity, reset cause, bootloader entry
   fw::Status canStatus;            // set by bringUp()
 #if BMS_BOARD_LED_BUTTON

@@ -9,8 +9,8 @@
 #include "regs/timg.hpp"
 #include "regs/uart.hpp"
 #include "sysclock.hpp"
-#include "timg_clock.hpp"
 #include "system.hpp"
+#include "timg_clock.hpp"
 #include "uart_serial.hpp"
 #include "watchdog.hpp"
 
@@ -45,9 +45,11 @@ constinit GpioEdgeInput button = kButton;
 constinit GpioOut led(Chip::kPa26);
 #endif
 constexpr UartSerial::Config kSerialConfig{
-    Chip::kUart0,      Chip::kIrqUart0,
+    Chip::kUart0,
+    Chip::kIrqUart0,
     static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)),
-    Chip::kUart0TxPa8, DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx},
+    Chip::kUart0TxPa8,
+    DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx},
     Chip::kUart0RxPa9};
 constinit UartSerial serial(kSerialConfig);
 constinit Mspm0System system;

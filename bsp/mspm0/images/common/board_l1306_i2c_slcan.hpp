@@ -31,8 +31,8 @@ namespace image {
 struct Board {
   fw::hal::Clock& clock;
   fw::hal::Watchdog& watchdog;
-  fw::hal::I2cBus& i2c;       // the battery monitor's bus (I2C0)
-  fw::hal::EdgeInput& alert;  // the monitor's ALERT pin
+  fw::hal::I2cBus& i2c;            // the battery monitor's bus (I2C0)
+  fw::hal::EdgeInput& alert;       // the monitor's ALERT pin
   fw::hal::SerialPort& serial;     // SLCAN text to the PC, SLCAN commands from it
   fw::hal::SystemControl& system;  // chip identity, reset cause, bootloader entry
 #if BMS_BOARD_LED_BUTTON

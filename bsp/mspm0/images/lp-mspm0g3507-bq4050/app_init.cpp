@@ -13,5 +13,6 @@ const fw::app::Bq4050AppConfig kConfig{};
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq4050App;
-  image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut, board.system}, kConfig).start();
+  image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut, board.system}, kConfig)
+      .start();
 }

@@ -18,7 +18,8 @@ const fw::app::Bq79616AppConfig kConfig{.chain = {.devices = image::config::kBq7
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq79616App;
-  image::constructOnce<App>(scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut, board.system},
+  image::constructOnce<App>(scheduler,
+                            App::Io{board.bq79616, board.nfault, board.can, board.faultOut, board.system},
                             kConfig, storage)
       .start();
 }
