@@ -169,6 +169,7 @@ void SimCan::finished() {
   }
   rxQueue_.push_back(f);
   ++counters_.rxFrames;
+  ++rxInterrupts_;
   irq_.raise(rxLine_);
 }
 

@@ -54,6 +54,7 @@ class SimCan final : public fw::hal::CanBus {
   void setFilter(std::vector<uint32_t> standardIds);
   uint64_t peerFrames() const { return peerFrames_; }    // peer frames that went over the wire
   uint64_t filteredOut() const { return filteredOut_; }  // of those, rejected by the filter
+  uint64_t receiveInterrupts() const { return rxInterrupts_; }
 
  private:
   fw::Status doSend(const fw::hal::CanFrame& frame) override;
@@ -89,7 +90,7 @@ class SimCan final : public fw::hal::CanBus {
   bool transmitting_ = false;
   bool peerOnWire_ = false;  // the frame on the wire is a peer's
   fw::hal::CanFrame onWire_{};
-  uint64_t peerFrames_ = 0, filteredOut_ = 0;
+  uint64_t peerFrames_ = 0, filteredOut_ = 0, rxInterrupts_ = 0;
   uint64_t txEvent_ = 0;
   uint64_t busTimeUs_ = 0;
   bool recovering_ = false;

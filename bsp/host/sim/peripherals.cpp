@@ -59,6 +59,7 @@ fw::Status SimSerial::doWrite(std::span<const uint8_t> bytes, const fw::hal::Not
   if (bytes.empty()) return fw::Status::InvalidArgument;
   busy_ = true;
   done_ = done;
+  writeStarts_.push_back(text_.size());
   text_.append(bytes.begin(), bytes.end());
   const uint64_t us = (bytes.size() * 10ULL * 1000000ULL + baud_ - 1) / baud_;
   writeTimes_.push_back(clock_.nowUs() + us);

@@ -28,9 +28,9 @@ class SimSerial final : public fw::hal::SerialPort {
  public:
   SimSerial(SimClock& clock, SimIrq& irq, uint32_t baud = 115200, size_t rxDepth = 64);
   const std::string& text() const { return text_; }
-  // When each write's last byte left the line (one entry per write()).
+  // When each write's last byte left the line, and where in text() it began (one entry per write()).
   const std::vector<uint64_t>& writeTimes() const { return writeTimes_; }
-  void clear() { text_.clear(); }
+  const std::vector<size_t>& writeStarts() const { return writeStarts_; }
   bool busy() const { return busy_; }
 
   // The PC sends `bytes`: they arrive one after another, after whatever it sent before.
@@ -56,6 +56,7 @@ class SimSerial final : public fw::hal::SerialPort {
   bool busy_ = false;
   std::string text_;
   std::vector<uint64_t> writeTimes_;
+  std::vector<size_t> writeStarts_;
   std::deque<uint8_t> onLine_;  // sent by the PC, not arrived yet
   std::deque<uint8_t> rx_;      // arrived, not read yet
   bool arriving_ = false;
