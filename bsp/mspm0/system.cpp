@@ -2,6 +2,7 @@
 
 #include "hal/irq.hpp"
 #include "mmio.hpp"
+#include "regs/cpuss.hpp"
 #include "regs/sysctl.hpp"
 
 namespace bsp::mspm0 {
@@ -13,9 +14,13 @@ constexpr uint32_t kPartNumShift = 12, kPartNumMask = 0xFFFF;  // DEVICEID PARTN
 }  // namespace
 
 void Mspm0System::capture() {
+  mmio::Reg& ctl = reg::cpuss::ctl(cpuss_);
+  const uint32_t saved = ctl.read();
+  ctl.write(reg::cpuss::kCtlPrefetch | reg::cpuss::kCtlLiteralCache);  // instruction cache off
   const mmio::Reg* factory = &mmio::block<mmio::Reg>(kFactoryRegion);
   identity_.traceId = factory[0].read();
   identity_.partNumber = static_cast<uint16_t>((factory[1].read() >> kPartNumShift) & kPartNumMask);
+  ctl.write(saved);
   identity_.resetCause = static_cast<uint8_t>(reg::sysctl::rstcause().read() & reg::sysctl::kRstcauseIdMask);
 }
 

@@ -2,9 +2,11 @@
 // the ROM bootloader.
 //
 // - capture() (once, in the board's bringUp(), before anything else reads RSTCAUSE): reads FACTORYREGION
-//   TRACEID (0x41C40000) and DEVICEID (0x41C40004, PARTNUM bits 27:12) (TI hw_factoryregion.h,
+//   TRACEID (0x41C40000) and DEVICEID (0x41C40004, PARTNUM bits 27:12: 0xBB82 on the MSPM0L11xx/L13xx, 0xBB88
+//   on the G1x0x/G3x0x, as TI's IAR low-power patch scripts test it) (TI hw_factoryregion.h,
 //   FACTORYREGION_OPEN_Regs: "TRACEID ... defined by TI, during ATE, based on wafer"; the same addresses on
-//   both parts, FACTORYREGION_BASE in mspm0l130x.h and mspm0g350x.h) and SYSCTL RSTCAUSE, which clears when
+//   both parts, FACTORYREGION_BASE in mspm0l130x.h and mspm0g350x.h) with the instruction cache off, as
+//   TI's DL_FactoryRegion_getTraceID reads it (regs/cpuss.hpp CTL), and SYSCTL RSTCAUSE, which clears when
 //   read (regs/sysctl.hpp). identity() returns what capture() read.
 // - enterBootloader(): masks interrupts, then RESETLEVEL = 2 (BOOTLOADERENTRY) and RESETCMD = KEY 0xE4 | GO:
 //   "set the RESETLEVEL as BOOTLOADERENTRY and trigger reset through the RESETCMD register" (SLAU887 3.2.2;
@@ -17,12 +19,14 @@ namespace bsp::mspm0 {
 
 class Mspm0System final : public fw::hal::SystemControl {
  public:
+  constexpr explicit Mspm0System(uintptr_t cpussBase) : cpuss_(cpussBase) {}
   void capture();
 
  private:
   fw::hal::ChipIdentity doIdentity() const override { return identity_; }
   void doEnterBootloader() override;
 
+  uintptr_t cpuss_;
   fw::hal::ChipIdentity identity_{};
 };
 

@@ -55,7 +55,7 @@ void UartSerial::receive(uint32_t pending) {
   bool any = false;
   while ((line.stat.read() & uart::kStatRxfe) == 0) {
     const uint32_t data = line.rxdata.read();
-    if ((data & kRxDataErrors) != 0 || !rx_.push(static_cast<uint8_t>(data))) {
+    if ((data & kRxDataErrors) != 0 || !rx_->push(static_cast<uint8_t>(data))) {
       lost_ = lost_ + 1;
     } else {
       any = true;

@@ -33,6 +33,7 @@ namespace bsp::mspm0 {
 class UartSerial final : public fw::hal::SerialPort {
  public:
   static constexpr size_t kRxBuffer = 64;  // about 5.6 ms of bytes at 115 200 Bd
+  using RxBuffer = fw::SpscQueue<uint8_t, kRxBuffer>;
   static constexpr uint32_t kRxInterrupts = reg::uart::kIntRx | reg::uart::kIntOvrErr;
 
   struct Config {
@@ -44,13 +45,16 @@ class UartSerial final : public fw::hal::SerialPort {
     PinFunction rx{};  // pin 0 (PINCM 0): no receiver
   };
 
-  constexpr explicit UartSerial(const Config& config) : config_(config) {}
+  // `rxBuffer`: the receive ring, a zero-initialised object of its own (it lives in .bss, not in this
+  // object's initialised data); null without a receiver.
+  constexpr UartSerial(const Config& config, RxBuffer* rxBuffer = nullptr)
+      : config_(config), rx_(rxBuffer), rxMask_(rxBuffer != nullptr ? kRxInterrupts : 0) {}
   // Configures the UART, muxes the pins and enables the interrupt. The static form is inline: a board that
   // passes its constant configuration gets constant register writes. RX: input enabled with the internal
   // pull-up (IOMUX PINCM INENA bit 18, PIPU bit 17), so a line left open (jumpers off) idles high instead of
   // floating into noise; the XDS110 drives it otherwise.
   void init() const { init(config_); }
-  static void init(const Config& config) {
+  [[gnu::always_inline]] static void init(const Config& config) {
     const bool receiver = config.rx.pin.pincm != 0;
     uartConfigure(config.base, config.divisor64, receiver, false);
     reg::iomux::pincm(config.tx.pin.pincm).write(reg::iomux::kPc | config.tx.pf);  // as muxPeripheral()
@@ -65,19 +69,20 @@ class UartSerial final : public fw::hal::SerialPort {
 
  private:
   fw::Status doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) override;
-  bool doRead(uint8_t& byte) override { return rx_.pop(byte); }
+  bool doRead(uint8_t& byte) override { return rx_ != nullptr && rx_->pop(byte); }
   void doOnReceive(const fw::hal::Notify& notify) override { rxNotify_ = notify; }
   uint32_t doLost() const override { return lost_; }
   void finish();
   void receive(uint32_t pending);
-  uint32_t rxMask() const { return config_.rx.pin.pincm != 0 ? kRxInterrupts : 0; }
+  uint32_t rxMask() const { return rxMask_; }
 
   Config config_;
   fw::hal::Notify done_{};
   fw::hal::Notify rxNotify_{};
   volatile bool busy_ = false;
   volatile uint32_t lost_ = 0;
-  fw::SpscQueue<uint8_t, kRxBuffer> rx_;
+  RxBuffer* rx_;
+  uint32_t rxMask_;
 };
 
 }  // namespace bsp::mspm0

@@ -14,14 +14,15 @@ using fw::app::command::SlcanAdapter;
 
 struct Rig {
   SlcanAdapter adapter;
-  SlcanAdapter::Info info{1, 0x1306, false};
+  SlcanAdapter::Info info{0x1306, false};
   std::vector<fw::hal::CanFrame> frames;
   // Feeds `text`; returns the answers, one per line ended.
   std::string feed(const std::string& text) {
     std::string out;
     for (char c : text) {
       SlcanAdapter::Line line;
-      if (!adapter.feed(static_cast<uint8_t>(c), info, line)) continue;
+      if (!adapter.take(static_cast<uint8_t>(c))) continue;
+      adapter.answer(info, line);
       out.append(reinterpret_cast<const char*>(line.answer), line.answerLength);
       if (line.hasFrame) frames.push_back(line.frame);
     }

@@ -59,9 +59,9 @@ struct Rig {
   // The CommandAck lines in `text`, decoded.
   static std::vector<bms::CommandAck> acks(const std::string& text) {
     std::vector<bms::CommandAck> out;
-    for (size_t pos = 0; (pos = text.find("t5807", pos)) != std::string::npos; pos += 5) {
-      fw::hal::CanFrame f{0x580, false, 7, {}};
-      for (int i = 0; i < 7; ++i)
+    for (size_t pos = 0; (pos = text.find("t5808", pos)) != std::string::npos; pos += 5) {
+      fw::hal::CanFrame f{0x580, false, 8, {}};
+      for (int i = 0; i < 8; ++i)
         f.data[i] = static_cast<uint8_t>(std::stoul(text.substr(pos + 5 + 2 * i, 2), nullptr, 16));
       out.push_back(bms::CommandAck::unpack(f));
     }

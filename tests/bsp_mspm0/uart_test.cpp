@@ -349,8 +349,10 @@ class SerialRxTest : public RegisterTest {
   static constexpr uint32_t kRx = 1U << 10;   // CPU_INT RXINT (hw_uart.h UART_CPU_INT_IMASK_RXINT, bit 10)
   static constexpr uint32_t kRxfe = 1U << 2;  // STAT.RXFE
   static constexpr uint32_t kRxFrmErr = 1U << 8;  // RXDATA.FRMERR (hw_uart.h UART_RXDATA_FRMERR)
+  UartSerial::RxBuffer ring;
   UartSerial serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
-                     chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}, chip::Mspm0l1306::kUart0RxPa9}};
+                     chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}, chip::Mspm0l1306::kUart0RxPa9},
+                    &ring};
   // Bytes waiting in the RX FIFO: STAT reads RXFE clear once per byte, then set; RXDATA gives them in order.
   void arrive(std::initializer_list<uint32_t> data) {
     regs().queueRead(kMis, kRx);

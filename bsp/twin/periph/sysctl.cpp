@@ -8,7 +8,10 @@ namespace {
 
 constexpr uint32_t kSysosccfg = 0x1100, kMclkcfg = 0x1104, kHsclken = 0x1108, kHsclkcfg = 0x110C;
 constexpr uint32_t kHfclkclkcfg = 0x1110, kGenclkcfg = 0x1138, kClkstatus = 0x1204;
-constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304;
+constexpr uint32_t kRstcause = 0x1220, kResetlevel = 0x1300, kResetcmd = 0x1304;
+// RSTCAUSE IDs (hw_sysctl SYSCTL_RSTCAUSE_ID_*).
+constexpr uint32_t kCauseBorSupply = 0x04, kCausePorSw = 0x03, kCauseBootSw = 0x0D, kCauseSysWwdt0 = 0x0E;
+constexpr uint32_t kCauseSysSw = 0x1B, kCauseCpuSw = 0x1D;
 
 constexpr uint32_t kSysoscFreqMask = 0x3;  // SYSOSCCFG.FREQ, 0 = base 32 MHz
 constexpr uint32_t kMclkMdivMask = 0xF;    // MCLKCFG.MDIV
@@ -28,6 +31,12 @@ Sysctl::Sysctl(Machine& machine, bool hasHfxt) : machine_(machine), hasHfxt_(has
 }
 
 void Sysctl::reset(ResetKind kind) {
+  if (softwareLevel_ >= 0) {
+    resetCause_ = softwareLevel_ == 0 ? kCauseSysSw : softwareLevel_ == 1 ? kCauseBootSw : kCausePorSw;
+  } else {
+    resetCause_ = kind == ResetKind::Por ? kCauseBorSupply : kind == ResetKind::Bootrst ? kCauseSysWwdt0 : kCauseCpuSw;
+  }
+  softwareLevel_ = -1;
   sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = 0;
   // "Some crystal configurations are retained in lower reset levels" (TI driverlib,
   // DL_SYSCTL_setHFCLKSourceHFXTParams): the HFXT keeps running through a SYSRST.
@@ -55,6 +64,10 @@ bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
       return true;
     case kResetlevel:
       value = resetLevel_;
+      return true;
+    case kRstcause:
+      value = resetCause_;
+      resetCause_ = 0;  // read to clear
       return true;
     case kClkstatus:
       value = (hasHfxt_ && machine_.now() >= hfxtGoodAt_) ? kHfclkGood : 0;
@@ -107,6 +120,7 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       return true;
     case kResetcmd:
       if ((value >> 24) != kResetKey || (value & kResetGo) == 0) return true;  // without the key: ignored
+      if (resetLevel_ != 2) softwareLevel_ = static_cast<int>(resetLevel_);
       if (resetLevel_ == 0) {
         machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)");
       } else if (resetLevel_ == 1) {

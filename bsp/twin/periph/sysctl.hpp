@@ -12,6 +12,11 @@
 //   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning().
 // - RESETLEVEL/RESETCMD: KEY 0xE4 with GO issues the reset RESETLEVEL names (0 SYSRST "CPU plus peripherals
 //   only", 1 BOOTRST, 3 POR; hw_sysctl RESETLEVEL_LEVEL_*).
+// - RSTCAUSE (0x1220): ID 4:0, the last reset's cause, "a read-to-clear field" (hw_sysctl SYSCTL_RSTCAUSE_ID;
+//   0 NORST once read). Software resets give SYSSW 0x1B, BOOTSW 0x0D, PORSW 0x03 (the RESETCMD levels 0, 1,
+//   3); the twin's other BOOTRST source, the WWDT, SYSWWDT0 0x0E; its other SYSRST source (AIRCR.SYSRESETREQ)
+//   CPUSW 0x1D; a power-up BORSUPPLY 0x04 (the supply rising through BOR0). TI's documents do not say which
+//   ID a cold power-up reads (README, open questions).
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -41,6 +46,8 @@ class Sysctl final : public Device {
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0;
+  uint32_t resetCause_ = 0;
+  int softwareLevel_ = -1;  // the RESETLEVEL of a RESETCMD reset under way
   uint64_t hfxtGoodAt_ = UINT64_MAX;
 };
 

@@ -6,13 +6,14 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/outbox.hpp"
 #include "hal/can_bus.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app::command {
 
 class CanLink {
  public:
-  CanLink(hal::CanBus& bus, CanOutbox& outbox) : bus_(bus), outbox_(outbox) {}
+  CanLink(hal::CanBus& bus, CanOutbox& outbox, const hal::SystemControl&) : bus_(bus), outbox_(outbox) {}
 
   void attach(sched::Scheduler& s) { bus_.onReceive(s.notifier(kCommandTask, command_event::kInput)); }
   bool outboxEmpty() const { return outbox_.count == 0; }

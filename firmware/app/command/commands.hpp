@@ -22,12 +22,4 @@ inline constexpr uint8_t kNode = FW_COMMAND_NODE;
 template <class Publisher>
 using LinkFor = std::conditional_t<std::is_same_v<Publisher, CanPublisher>, CanLink, SlcanLink>;
 
-// The link for a publisher and the output it publishes on (a CanBus, or a serial port that also receives).
-inline CanLink makeLink(hal::CanBus& bus, CanPublisher& publisher, const hal::SystemControl&) {
-  return CanLink(bus, publisher.outbox());
-}
-inline SlcanLink makeLink(hal::SerialRx& rx, SlcanPublisher& publisher, const hal::SystemControl& system) {
-  return SlcanLink(rx, publisher.outbox(), static_cast<uint16_t>(system.identity().traceId));
-}
-
 }  // namespace fw::app::command

@@ -24,23 +24,35 @@ static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 
 
 constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
 
+// Every answer is a standard 8-byte frame (one SLCAN line each, slcan_link.cpp).
+static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && bms::IdentifyChip::kDlc == 8 &&
+              bms::SettingValue::kDlc == 8 && bms::SettingRange::kDlc == 8);
+
+// Answer frame `f` of message M from its raw values in the order of M's signals (the generated packer's
+// field table and packing loop).
+template <class M, class... Values>
+void packAnswer(hal::CanFrame& f, Values... values) {
+  static_assert(sizeof...(Values) == M::kFieldCount);
+  const uint32_t raw[] = {static_cast<uint32_t>(values)...};
+  f.id = M::kId;
+  f.extended = M::kExtended;
+  f.dlc = M::kDlc;
+  can::pack(f.data, M::kFields, raw, M::kFieldCount);  // every byte of the payload
+}
+
 }  // namespace
 
+// The acknowledgement, always the first answer (slot 0; a command's data follows it when accepted).
 void CommandHandler::ack(Replies& out, uint32_t id, uint8_t counter, Result result) {
   State& st = *state_;
   if (result != Result::Accepted) {
     if (st.stats.rejected != 0xFFFF) ++st.stats.rejected;
     if (kStats) ++st.stats.rejectedFor[static_cast<uint8_t>(result)];
+    out.count = 1;
   } else if (kStats) {
     ++st.stats.accepted;
   }
-  bms::CommandAck a{};
-  a.node = ctx_.node;
-  a.command = static_cast<uint16_t>(id);
-  a.counter = counter;
-  a.result = static_cast<uint8_t>(result);
-  a.rejected = st.stats.rejected;
-  out.add(a.pack());
+  packAnswer<bms::CommandAck>(out.frame[0], ctx_.node, id, counter, result, st.stats.rejected);
 }
 
 void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
@@ -60,6 +72,7 @@ void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
     return;
   }
   Result r = Result::Accepted;
+  out.count = 1;  // slot 0: the acknowledgement
   if (f.dlc != kDlc[index]) {
     r = Result::WrongLength;
   } else if (!crcValid(f)) {
@@ -70,14 +83,12 @@ void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
     r = Result::Busy;
   } else {
     r = act(f, out);
-    if (r == Result::Accepted && st.boot != Boot::Idle) return;  // answered once the paths are off
+    if (r == Result::Accepted && st.boot != Boot::Idle) {  // answered once the paths are off
+      out.count = 0;
+      return;
+    }
   }
-  // The acknowledgement goes first: data frames act() added move behind it.
-  Replies data = out;
-  out.count = 0;
   ack(out, f.id, counter, r);
-  for (uint8_t k = 0; k < data.count && r == Result::Accepted; ++k)
-    out.add(data.frame[k]);
 }
 
 Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
@@ -98,38 +109,20 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       // Defined for the balancing policy to come; until an image balances, no mode is taken up.
       return bms::BalancingMode::unpack(f).mode > 2 ? Result::OutOfRange : Result::Unsupported;
     case bms::Identify::kId: {
-      const FirmwareIdentity& fw = kFirmwareIdentity;
-      bms::IdentifyVersion v{};
-      v.node = ctx_.node;
-      v.versionMajor = fw.major, v.versionMinor = fw.minor, v.versionPatch = fw.patch;
-      v.buildId = fw.buildId;
-      v.image = fw.image;
-      out.add(v.pack());
+      packAnswer<bms::IdentifyVersion>(out.frame[1], ctx_.node, kVersion.major, kVersion.minor, kVersion.patch,
+                                       kBuildId, kImage);
       const hal::ChipIdentity chip = ctx_.system.identity();
-      bms::IdentifyChip c{};
-      c.node = ctx_.node;
-      c.resetCause = chip.resetCause;
-      c.traceId = chip.traceId;
-      c.partNumber = chip.partNumber;
-      out.add(c.pack());
+      packAnswer<bms::IdentifyChip>(out.frame[2], ctx_.node, chip.resetCause, chip.traceId, chip.partNumber);
+      out.count = 3;
       return Result::Accepted;
     }
     case bms::SettingRead::kId: {
       const uint8_t id = bms::SettingRead::unpack(f).setting;
       if (id >= kSettingCount) return Result::OutOfRange;
       const SettingSpec s = ctx_.settings.spec(id);
-      bms::SettingValue v{};
-      v.node = ctx_.node;
-      v.setting = id;
-      v.unit = static_cast<uint8_t>(s.unit);
-      v.value = ctx_.settings.read(id);
-      out.add(v.pack());
-      bms::SettingRange r{};
-      r.node = ctx_.node;
-      r.setting = id;
-      r.min = s.min;
-      r.max = s.max;
-      out.add(r.pack());
+      packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
+      packAnswer<bms::SettingRange>(out.frame[2], ctx_.node, id, s.min, s.max);
+      out.count = 3;
       return Result::Accepted;
     }
     case bms::SettingWrite::kId: {
@@ -152,6 +145,7 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       st.boot = Boot::WaitingForPaths;
       st.bootCounter = counterOf(f);
       st.bootDeadline = ctx_.scheduler.now() + kBootTimeout;
+      ctx_.scheduler.startTimer(st.bootTimer, kCommandTask, command_event::kTimer, kPoll, kPoll);
       applyHostOff();
       return Result::Accepted;
     }
@@ -174,10 +168,12 @@ void CommandHandler::poll(Replies& out) {
   } else if (isDue(st.bootDeadline, ctx_.scheduler.now())) {
     r = Result::PathsNotOff;  // the deadline has passed: release what entry held off
     st.boot = Boot::Idle;
+    ctx_.scheduler.stopTimer(st.bootTimer);
     applyHostOff();
   } else {
     return;
   }
+  out.count = 1;
   ack(out, bms::EnterBootloader::kId, st.bootCounter, r);
 }
 

@@ -28,6 +28,7 @@
 #include "app/command/e2e.hpp"
 #include "app/command/settings.hpp"
 #include "app/protection/protection_task.hpp"
+#include "app/tasks.hpp"
 #include "can/bms.hpp"
 #include "core/time.hpp"
 #include "core/zeroed.hpp"
@@ -56,12 +57,11 @@ inline constexpr uint8_t kCommandCount = static_cast<uint8_t>(can::bms::kReceive
 inline constexpr uint8_t kBroadcast = 255;
 inline constexpr uint8_t kBootloaderKey = 0xA5;
 
-// Up to three answer frames: CommandAck, then a command's data (Identify, SettingRead).
+// Up to three answer frames: CommandAck in frame[0], then a command's data (Identify, SettingRead).
 struct Replies {
   static constexpr uint8_t kMax = 3;
   hal::CanFrame frame[kMax];
   uint8_t count;
-  void add(const hal::CanFrame& f) { frame[count++] = f; }
 };
 
 struct CommandStats {
@@ -76,6 +76,7 @@ struct CommandStats {
 class CommandHandler {
  public:
   static constexpr Duration kBootTimeout = ms(1000);
+  static constexpr Duration kPoll = ms(10);  // bootloader entry: how often the command task checks
 
   struct Context {
     sched::Scheduler& scheduler;
@@ -100,6 +101,7 @@ class CommandHandler {
 
   const CommandStats& stats() const { return state_->stats; }
   uint8_t hostOff() const { return state_->hostRequest; }
+  sched::Scheduler& scheduler() const { return ctx_.scheduler; }
 
  private:
   Result act(const hal::CanFrame& f, Replies& out);
@@ -113,6 +115,7 @@ class CommandHandler {
     Boot boot;
     uint8_t bootCounter;
     Instant bootDeadline;
+    sched::Timer bootTimer;  // posts command_event::kTimer every kPoll while entering
   };
   Context ctx_;
   Zeroed<State> state_;

@@ -1,14 +1,9 @@
 #include "app/command/identity.hpp"
 
-#include "app/build_id.hpp"  // FW_VERSION_*, FW_BUILD_ID (generated when the build was configured)
-
-#ifndef FW_IMAGE_ID
-#define FW_IMAGE_ID 0
-#endif
+#include "app/build_id.hpp"  // FW_BUILD_ID (generated when the build was configured)
 
 namespace fw::app::command {
 
-const FirmwareIdentity kFirmwareIdentity{FW_VERSION_MAJOR, FW_VERSION_MINOR, FW_VERSION_PATCH,
-                                         FW_BUILD_ID & 0xFFFFFFU, FW_IMAGE_ID};
+const uint32_t kBuildId = FW_BUILD_ID & 0xFFFFFFU;
 
 }  // namespace fw::app::command

@@ -1,22 +1,27 @@
-// What Identify answers about the firmware: version, build and image (identity.cpp; the chip's own identity
-// comes from hal::SystemControl).
+// What Identify answers about the firmware: version, build and image (the chip's own identity comes from
+// hal::SystemControl).
 //
-// FW_VERSION_MAJOR/MINOR/PATCH: the project version (CMake project(VERSION)); FW_BUILD_ID: the first six hex
-// digits of the source's git commit when the build was configured (0 outside git), both in a header CMake
-// generates for identity.cpp alone (a new commit rebuilds one file); FW_IMAGE_ID: the image option (bms.yaml
-// IdentifyVersion.Image: 1..5, 0 = a host build).
+// kVersion: the project version (CMake project(VERSION), generated into app/version.hpp). kBuildId: the first
+// six hex digits of the source's git commit when the build was configured (0 outside git), in
+// identity.cpp alone (its generated header changes with every commit). kImage: the image option FW_IMAGE_ID
+// (bms.yaml IdentifyVersion.Image: 1..5, 0 = a host build).
 #pragma once
 
 #include <cstdint>
 
+#include "app/version.hpp"
+
+#ifndef FW_IMAGE_ID
+#define FW_IMAGE_ID 0
+#endif
+
 namespace fw::app::command {
 
-struct FirmwareIdentity {
+struct Version {
   uint8_t major, minor, patch;
-  uint32_t buildId;  // 24 bits
-  uint8_t image;
 };
-
-extern const FirmwareIdentity kFirmwareIdentity;
+inline constexpr Version kVersion{FW_VERSION_MAJOR, FW_VERSION_MINOR, FW_VERSION_PATCH};
+inline constexpr uint8_t kImage = FW_IMAGE_ID;
+extern const uint32_t kBuildId;  // 24 bits
 
 }  // namespace fw::app::command

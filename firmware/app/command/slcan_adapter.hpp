@@ -9,6 +9,7 @@
 //   S0 .. S8    set the bit rate     CR (only while closed; the board's SLCAN has no bit rate of its own, so
 //                                    it is recorded and nothing else); BEL while open
 //   V           version              "Vhhss" CR: hardware 01, software the firmware's major and minor digits
+//                                    (identity.hpp kVersion)
 //   N           serial number        "Nxxxx" CR: the low 16 bits of the chip's TraceId, hex
 //   F           status flags         "Fxx" CR (only while open): bit 3 data overrun (received bytes lost
 //   since
@@ -26,6 +27,7 @@
 
 #include <cstdint>
 
+#include "app/command/identity.hpp"
 #include "hal/can_bus.hpp"
 
 namespace fw::app::command {
@@ -42,18 +44,19 @@ class SlcanAdapter {
     hal::CanFrame frame;
   };
   struct Info {
-    uint8_t version;        // V's software digits: 10 * major + minor (0..99)
     uint16_t serial;        // N's four hex digits
     bool overrunSinceLast;  // for F: received bytes were lost since the last F
   };
 
-  // Takes one received byte. True when it ended a line: `out` then holds the answer (and the frame).
-  bool feed(uint8_t byte, const Info& info, Line& out);
+  // Takes one received byte; true when it ended a line: then answer() handles that line.
+  bool take(uint8_t byte);
+  // The answer to the line take() just ended (and its frame).
+  void answer(const Info& info, Line& out);
   bool open() const { return state_.open; }
   uint8_t bitrateCode() const { return state_.bitrate; }  // the last S<n> taken (0 until one was)
 
  private:
-  void execute(const Info& info, Line& out);
+  bool execute(const Info& info, Line& out);
 
   struct State {  // all-zero: closed, no line
     uint8_t line[kMaxLine];

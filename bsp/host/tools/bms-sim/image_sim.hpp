@@ -6,12 +6,15 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/protection/protection_task.hpp"
+#include "hal/can_bus.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 #include "slcan_output.hpp"
@@ -76,6 +79,15 @@ class ImageSim {
   virtual void setIntermittent(bool on) = 0;       // most monitor transactions are corrupted
   virtual bool busOff() = 0;                       // false when the image has no CAN
 
+  // Commands in (scenario send and flood steps). A G3507 board's CAN takes the frame from another node; an
+  // L1306 board's UART takes it as an SLCAN line, the channel opened with "O" before the first one. A flood
+  // keeps the bus (CAN) or the line (SLCAN) full with frames from `source` until it is cleared ({}).
+  // False: the image takes no commands.
+  bool sendFrame(const fw::hal::CanFrame& frame);
+  bool setFlood(std::function<std::optional<fw::hal::CanFrame>()> source);
+  // Bytes from the PC on an L1306 board's SLCAN line (--slcan pty); false without one.
+  virtual bool serialSend(std::string_view) { return false; }
+
   virtual bsp::host::Harness& harness() = 0;
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
@@ -83,13 +95,27 @@ class ImageSim {
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
   // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
   virtual std::optional<SentText> slcanText() const { return std::nullopt; }
-  virtual void afterStep() {}  // called after each simulation step (bookkeeping)
+  // Called after each simulation step (bookkeeping); a binding that overrides it calls pumpSerialFlood().
+  virtual void afterStep() { pumpSerialFlood(); }
   // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
   virtual void runFor(fw::Duration d) { harness().runFor(d); }
   // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
   virtual std::string failure() const { return {}; }
   // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.
   virtual const bsp::host::SimWatchdog* boardWatchdog() const { return nullptr; }
+
+ protected:
+  // The board's CAN: a frame from another node now, or one always waiting (a flood); false without CAN.
+  virtual bool canSend(const fw::hal::CanFrame&) { return false; }
+  virtual bool canFlood(std::function<std::optional<fw::hal::CanFrame>()>) { return false; }
+  // Bytes the PC has sent that have not arrived yet (for an SLCAN flood to keep the line full).
+  virtual size_t serialBacklog() const { return 0; }
+  // An SLCAN flood: tops the PC's line up with lines from the flood's source.
+  void pumpSerialFlood();
+
+ private:
+  bool slcanOpened_ = false;
+  std::function<std::optional<fw::hal::CanFrame>()> serialFlood_;
 };
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);

@@ -40,7 +40,8 @@ void printHelp() {
       "  --candump FILE   the frames in candump -l format, absolute times from 2025-01-01 00:00:00 UTC\n"
       "  --slcan FILE     the exact SLCAN text an L1306 board's back-channel UART sends\n"
       "  --slcan pty      the same, live on a pseudo-terminal (its path goes to stderr; the run keeps\n"
-      "                   wall-clock time) for python-can's slcan interface or slcand\n\n"
+      "                   wall-clock time) for python-can's slcan interface or slcand, both ways: what\n"
+      "                   they send reaches the board's UART receiver\n\n"
       "       bms-sim --elf <build/<preset>/<preset>.elf> [--image <preset>] [same options]\n"
       "               runs the firmware image itself on the MSPM0 instruction-level twin "
       "(bsp/twin)\n\nimages:\n");
@@ -193,6 +194,9 @@ int run(int argc, char** argv) {
   for (uint32_t t = 0;; ++t) {
     player.advance(t);
     if (t >= opt.durationMs) break;
+    if (slcanOut) {
+      if (const std::string in = slcanOut->takeInput(); !in.empty()) sim->serialSend(in);
+    }
     sim->runFor(fw::us(1000));
     if (const std::string why = sim->failure(); !why.empty()) {
       std::fprintf(stderr, "bms-sim: %s\n", why.c_str());

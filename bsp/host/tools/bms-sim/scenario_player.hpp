@@ -11,6 +11,7 @@
 #include <tuple>
 #include <vector>
 
+#include "commands/command_frames.hpp"
 #include "image_sim.hpp"
 #include "scenario.hpp"
 
@@ -27,6 +28,7 @@ class ScenarioPlayer {
 
   const Onsets& onsets() const { return onsets_; }
   bool busOffUnsupported() const { return busOffUnsupported_; }
+  uint64_t commandsSent() const { return commandsSent_; }  // send steps and flood frames
   int32_t cellMv(int board, int cell) const { return cells_[slot(board, cell, cellsPerBoard_)]; }
   int32_t tempDeciK(int board, int sensor) const { return temps_[slot(board, sensor, tempsPerBoard_)]; }
 
@@ -58,6 +60,9 @@ class ScenarioPlayer {
   Onsets onsets_;
   size_t next_ = 0;
   bool busOffUnsupported_ = false;
+  bmstool::CommandBuilder commands_;  // the counters of every message the steps send
+  uint32_t floodUntilMs_ = 0;
+  uint64_t commandsSent_ = 0;
 };
 
 }  // namespace bmssim

@@ -53,6 +53,14 @@ class Bq79616Sim final : public ImageSim {
     board_.can.injectBusOff();
     return true;
   }
+  bool canSend(const fw::hal::CanFrame& f) override {
+    board_.can.peerSend(f);
+    return true;
+  }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    board_.can.setPeerSource(std::move(source));
+    return true;
+  }
 
   void afterStep() override {
     if (intermittent_ && ++tick_ % 2 == 0) board_.emu.corruptResponse(0, 6, 0x10, 3);

@@ -137,11 +137,18 @@ class PtyOutput final : public SlcanOutput {
     }
   }
 
-  // Hands what it can to the terminal without blocking, and discards what the reader sent.
+  std::string takeInput() override {
+    pump();
+    std::string out;
+    out.swap(input_);
+    return out;
+  }
+
+  // Hands what it can to the terminal without blocking, and keeps what the reader sent (takeInput()).
   void pump() {
     char in[256];
-    while (::read(master_, in, sizeof in) > 0) {
-    }
+    for (ssize_t n; (n = ::read(master_, in, sizeof in)) > 0;)
+      input_.append(in, static_cast<size_t>(n));
     while (!pending_.empty()) {
       const ssize_t n = ::write(master_, pending_.data(), pending_.size());
       if (n <= 0) break;
@@ -155,6 +162,7 @@ class PtyOutput final : public SlcanOutput {
   bool started_ = false;
   Clock::time_point start_{};
   std::string pending_;
+  std::string input_;  // what the reader sent, not taken yet
   size_t taken_ = 0, sizeSeen_ = 0, inFlightFrom_ = 0, writesSeen_ = 0, dropped_ = 0;
 };
 

@@ -40,6 +40,8 @@ class SlcanOutput {
   virtual void step(const SentText& uart, uint64_t nowUs) = 0;
   // At the end of the run; false (and `error`) when the text could not be written.
   virtual bool finish(const SentText& uart, std::string& error) = 0;
+  // What the reader has sent since the last call (a file output: nothing).
+  virtual std::string takeInput() { return {}; }
 };
 
 }  // namespace bmssim

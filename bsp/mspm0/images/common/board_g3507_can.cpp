@@ -64,7 +64,7 @@ constinit GpioOut led(Chip::kPb22);
 constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
                        McanBus::kNbtp500k, fw::can::bms::kReceivedIds});
-constinit Mspm0System system;
+constinit Mspm0System system(Chip::kCpuss);
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 #if BMS_BOARD_LED_BUTTON

@@ -51,8 +51,9 @@ constexpr UartSerial::Config kSerialConfig{
     Chip::kUart0TxPa8,
     DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx},
     Chip::kUart0RxPa9};
-constinit UartSerial serial(kSerialConfig);
-constinit Mspm0System system;
+constinit UartSerial::RxBuffer serialReceived;  // zero: in .bss
+constinit UartSerial serial(kSerialConfig, &serialReceived);
+constinit Mspm0System system(Chip::kCpuss);
 
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
 #if BMS_BOARD_LED_BUTTON

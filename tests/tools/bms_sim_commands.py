@@ -1,0 +1,319 @@
+#!/usr/bin/python3
+"""Commands to the simulated boards as a user sends them (issue 27): python-can through `bms-sim --slcan pty`
+both ways, scenario `send` steps on CAN, and the refusals. Frames are built here from the DBC (canmatrix) with
+the CRC-8 SAE J1850 computed here, independently of the firmware and of bms-sim's own frame builder.
+
+usage: bms_sim_commands.py <check> <bms-sim> <dbc-dir> <image-or-elf> <scratch-dir> [--elf]
+checks:
+  python-can  (L1306 images) python-can's slcan interface on --slcan pty: opens the channel, reads the
+              published frames, tightens the discharge over-current limit, sees the latched over-current the
+              scenario's current causes, sends ClearFaults once the current is gone and sees the
+              acknowledgement and the fault cleared
+  send        the same through scenario send steps (any image, host or --elf on the twin): the answers and
+              the fault's trip and clear in the published frames
+  refusals    bad CRC, repeated counter, wrong node, wrong length, out-of-range setting, an identifier that is
+              not a command (CAN: rejected by the filter, no answer), a malformed SLCAN line (L1306)
+  flood       ov-cell with the bus (or line) full of valid commands from 1 s on: the protection latency, the
+              PackSummary period and, on the twin, the CPU load; REPORT lines
+With --elf the fourth argument is the image's ELF (run on the MSPM0 twin); exit 77 when it is not built."""
+import json
+import os
+import subprocess
+import sys
+import time
+
+import canmatrix
+import canmatrix.formats
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bms_sim_acceptance import fail, read_candump  # noqa: E402
+
+ACK, PACK_SUMMARY, PROTECTION_EVENT = 0x580, 0x100, 0x103
+OCD_BIT, OV_BIT = 1 << 3, 1 << 0
+RESULTS = {0: "accepted", 1: "bad_crc", 2: "repeated_counter", 3: "wrong_length", 4: "out_of_range",
+           5: "inconsistent", 6: "unsupported", 7: "wrong_key", 8: "paths_not_off", 9: "busy"}
+# The setup every check uses: the default -40 A discharge limit is beyond what a BQ769x2 reports at 1 mA per
+# LSB, so it is tightened to -20 A (clear value first: a lower limit's clear value stays above its trip).
+SETTINGS = ["SettingWrite Setting=ocd_clear Value=-15000", "SettingWrite Setting=ocd_trip Value=-20000"]
+
+
+def crc8_j1850(data):
+    """CRC-8 SAE J1850: poly 0x1D, init 0xFF, final XOR 0xFF (check value 0x4B over b'123456789')."""
+    crc = 0xFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+    return crc ^ 0xFF
+
+
+assert crc8_j1850(b"123456789") == 0x4B
+
+
+class Commands:
+    """Command frames from the DBC: Target 1, the next alive counter of the message, the CRC over the
+    identifier (low byte, high byte) and payload bytes 1 .. DLC-1."""
+
+    def __init__(self, dbc_dir):
+        self.db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
+        self.counters = {}
+
+    def frame(self, name, **signals):
+        f = self.db.frame_by_name(name)
+        values = {s.name: 0 for s in f.signals}
+        values["Target"] = 1
+        values["Counter"] = self.counters.get(name, 0)
+        self.counters[name] = (values["Counter"] + 1) % 16
+        values.update(signals)
+        data = bytearray(f.encode(values))
+        ident = f.arbitration_id.id
+        if "Crc" not in signals:
+            data[0] = crc8_j1850(bytes([ident & 0xFF, ident >> 8]) + bytes(data[1:]))
+        return ident, bytes(data)
+
+    def decode(self, ident, data):
+        f = self.db.frame_by_id(canmatrix.ArbitrationId(ident))
+        return f.name, {k: v.raw_value for k, v in f.decode(bytearray(data)).items()}
+
+
+def acks(frames):
+    return [(t, Commands.decode_ack(d)) for t, i, d in frames if i == ACK]
+
+
+def decode_ack(data):
+    return {"command": data[1] | data[2] << 8, "counter": data[3] & 0xF, "result": RESULTS[data[4]],
+            "rejected": data[5] | data[6] << 8}
+
+
+Commands.decode_ack = staticmethod(decode_ack)
+
+
+def active_faults(frames):
+    """(ms, ActiveFaults) of every PackSummary."""
+    return [(t, d[6] | d[7] << 8) for t, i, d in frames if i == PACK_SUMMARY]
+
+
+def sim_args(target, elf):
+    return ["--elf", target] if elf else ["--image", target]
+
+
+def run_scenario(sim, target, elf, scratch, name, text, duration, extra=()):
+    os.makedirs(scratch, exist_ok=True)
+    scenario = os.path.join(scratch, f"{name}.scn")
+    log = os.path.join(scratch, f"{name}.log")
+    with open(scenario, "w") as f:
+        f.write(text)
+    started = time.monotonic()
+    result = subprocess.run([sim, *sim_args(target, elf), "--scenario", scenario, "--duration", str(duration),
+                             "--json", "--candump", log, *extra], capture_output=True, text=True)
+    if result.returncode != 0:
+        fail(f"bms-sim exited {result.returncode}: {result.stderr.strip()}")
+    return json.loads(result.stdout), read_candump(log), time.monotonic() - started
+
+
+def check_latched_then_cleared(frames, clear_ms):
+    """OCD tripped (latched) before the clear and gone after it; the clear acknowledged as accepted."""
+    faults = active_faults(frames)
+    if not any(f & OCD_BIT for t, f in faults if t < clear_ms):
+        fail(f"the discharge over-current never tripped before {clear_ms} ms: {faults[:40]}")
+    latched = [f & OCD_BIT for t, f in faults if clear_ms - 200 < t < clear_ms]
+    if not latched or not all(latched):
+        fail("the over-current did not stay latched once the current had stopped")
+    after = [f for t, f in faults if t > clear_ms + 300]
+    if not after or any(f & OCD_BIT for f in after):
+        fail(f"the over-current is still active after the clear: {after[:5]}")
+    answers = [a for t, a in acks(frames)]
+    clears = [a for a in answers if a["command"] == 0x600]
+    if not clears or clears[-1]["result"] != "accepted":
+        fail(f"ClearFaults was not acknowledged as accepted: {answers}")
+    return answers
+
+
+def paths(frames):
+    """(ms, ChargeFet, DischargeFet) of every PackSummary."""
+    return [(t, d[5] & 1, (d[5] >> 1) & 1) for t, i, d in frames if i == PACK_SUMMARY]
+
+
+def check_send_without_current(sim, target, scratch, elf):
+    """The BQ79616 image measures no current (nothing latches): a held-off path and its release instead."""
+    text = "1000 send PathRequest DischargeOff=hold_off\n2000 send PathRequest DischargeOff=release\n"
+    text += "2500 send ClearFaults\n"
+    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 3500)
+    held = [d for t, c, d in paths(frames) if 1300 < t < 2000]
+    released = [c and d for t, c, d in paths(frames) if t > 2300]
+    if not held or any(held) or not released or not all(released):
+        fail(f"the fault output did not follow the path request: {paths(frames)}")
+    answers = [a["result"] for t, a in acks(frames)]
+    if answers != ["accepted"] * 3:
+        fail(f"answers {answers}")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: a discharge path held off and "
+          f"released by PathRequest (the fault output), {len(answers)} answers accepted ({seconds:.1f} s)")
+
+
+def check_send(sim, dbc_dir, target, scratch, elf):
+    if "bq79616" in target:
+        return check_send_without_current(sim, target, scratch, elf)
+    text = "".join(f"{500 + 100 * k} send {s}\n" for k, s in enumerate(SETTINGS))
+    text += "1000 current -25000\n2000 current 0\n3000 send ClearFaults\n"
+    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 4000)
+    answers = check_latched_then_cleared(frames, 3000)
+    if [a["result"] for a in answers] != ["accepted"] * 3:
+        fail(f"answers {answers}")
+    if summary["active_faults"] or not summary["discharge_on"]:
+        fail(f"the run ends with {summary['active_faults']}, discharge_on {summary['discharge_on']}")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: ocd latched then cleared by "
+          f"ClearFaults, {len(answers)} answers accepted ({seconds:.1f} s)")
+
+
+def check_refusals(sim, dbc_dir, target, scratch, elf):
+    steps = [
+        "send SettingRead Setting=cell_ov_trip Crc=0",         # bad CRC
+        "send SettingRead Setting=cell_ov_trip Counter=9",     # taken
+        "send SettingRead Setting=cell_ov_trip Counter=9",     # repeated counter
+        "send ClearFaults Target=7",                           # another node: no answer
+        "send SettingWrite Setting=ocd_trip Value=-50000",     # past the hard bound
+        "send SettingWrite Setting=12 Value=0",                # no such setting
+        "send EnterBootloader TraceId=0 Key=key",              # not this chip
+        "send ProtectionEvent",                                # not a command (CAN: the filter)
+    ]
+    text = "".join(f"{1000 + 50 * k} {s}\n" for k, s in enumerate(steps))
+    summary, frames, _ = run_scenario(sim, target, elf, scratch, "refusals", text, 2000)
+    got = [(a["command"], a["result"]) for t, a in acks(frames)]
+    want = [(0x604, "bad_crc"), (0x604, "accepted"), (0x604, "repeated_counter"), (0x605, "out_of_range"),
+            (0x605, "out_of_range"), (0x606, "wrong_key")]
+    if got != want:
+        fail(f"answers {got}, expected {want}")
+    rejected = [a["rejected"] for t, a in acks(frames)][-1]
+    if rejected != 5:
+        fail(f"the last answer counts {rejected} refusals, not 5")
+    if summary["active_faults"] or not (summary["charge_on"] and summary["discharge_on"]):
+        fail("a refused command changed the paths or the faults")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.refusals: {len(got)} answers as "
+          f"expected, the other node's frame and the non-command unanswered")
+
+
+def check_flood(sim, dbc_dir, target, scratch, elf):
+    # ov-cell (cell 2 drifts past 4.25 V from 1 s) with valid Identify commands back to back from 1 s: each is
+    # answered with three frames, so the answers alone would fill the bus.
+    text = ("0 current 5000\n0 cell 0 2 4200\n1000 ramp-cell 0 2 40\n1000 expect cell_ov 4250\n"
+            "1000 flood 5000 Identify\n")
+    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "flood", text, 6000)
+    events = [e for e in summary["protection_events"] if e["fault"] == "cell_ov"]
+    if not events or events[0]["latency_ms"] is None:
+        fail(f"no cell_ov latency under the flood: {summary['protection_events']}")
+    latency = events[0]["latency_ms"]
+    # The README's budget: scan period + the image's scan time (tick to evaluation) + 2 ms.
+    scan_ms = {"bq76952": 2.0, "bq76907": 1.2, "bq4050": 30.2, "bq79616": 2.2}[summary["image"].split("-")[-1]]
+    budget = 100 + scan_ms + 2
+    if latency > budget:
+        fail(f"cell_ov latency {latency} ms under the flood, budget {budget} ms")
+    summaries = [t for t, i, d in frames if i == PACK_SUMMARY and 1000 < t < 6000]
+    worst_gap = max(b - a for a, b in zip(summaries, summaries[1:]))
+    if worst_gap > 110:
+        fail(f"PackSummary went {worst_gap:.1f} ms without a frame under the flood")
+    answered = sum(1 for t, i, d in frames if i == ACK)
+    extra = ""
+    if elf:
+        extra = (f", twin CPU load {summary['cpu_load_pct']} % (longest ISR {summary['isr_max_us']} us, worst "
+                 f"interrupt latency {summary['wake_latency_max_us']} us)")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.flood: cell_ov latency {latency:.1f} ms "
+          f"(budget {budget:.1f} ms), PackSummary every {worst_gap:.1f} ms at worst, {answered} commands "
+          f"answered in 5 s of a full {'line' if 'l1306' in summary['image'] else 'bus'}{extra}")
+
+
+def check_python_can(sim, dbc_dir, image, scratch):
+    import can  # python3-can (Debian)
+
+    cmd = Commands(dbc_dir)
+    os.makedirs(scratch, exist_ok=True)
+    scenario = os.path.join(scratch, "python-can.scn")
+    with open(scenario, "w") as f:
+        f.write("2000 current -25000\n4000 current 0\n")
+    log = os.path.join(scratch, "python-can.log")
+    proc = subprocess.Popen([sim, "--image", image, "--duration", "8000", "--slcan", "pty", "--json",
+                             "--scenario", scenario, "--candump", log],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = proc.stderr.readline()
+    if " on /dev/" not in first:
+        proc.kill()
+        fail(f"--slcan pty did not print its terminal: {first!r}")
+    path = first.split(" on ")[1].split()[0]
+    # python-can 4.1: C, S6, O on opening (the board answers BEL, CR, CR).
+    bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
+    received, cleared_at, stage = [], None, "settings"
+    answers = []
+    start = time.monotonic()
+    try:
+        while proc.poll() is None and time.monotonic() - start < 30:
+            try:
+                msg = bus.recv(timeout=0.2)
+            except can.CanError:
+                break
+            if msg is None:
+                continue
+            received.append((msg.arbitration_id, bytes(msg.data)))
+            if msg.arbitration_id == ACK:
+                answers.append(decode_ack(msg.data))
+            if stage == "settings" and msg.arbitration_id == PACK_SUMMARY:
+                for s in SETTINGS:
+                    name, *words = s.split()
+                    fields = {k: int(v) if v.lstrip("-").isdigit() else v for k, v in (w.split("=") for w in words)}
+                    fields["Setting"] = {"ocd_clear": 7, "ocd_trip": 6}[fields["Setting"]]
+                    ident, data = cmd.frame(name, **fields)
+                    bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
+                stage = "waiting for the over-current"
+            elif stage == "waiting for the over-current" and msg.arbitration_id == PACK_SUMMARY:
+                current = int.from_bytes(msg.data[2:4], "little", signed=True)
+                if (msg.data[6] | msg.data[7] << 8) & OCD_BIT and current == 0:
+                    ident, data = cmd.frame("ClearFaults")  # the fault is latched and its current gone
+                    bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
+                    stage = "cleared"
+                    cleared_at = len(received)
+    finally:
+        try:
+            bus.shutdown()
+        except can.CanError:
+            pass
+    out, err = proc.communicate(timeout=30)
+    if proc.returncode != 0:
+        fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
+    if cleared_at is None:
+        fail(f"the latched over-current with the current gone was never seen (stage: {stage})")
+    if [a["result"] for a in answers] != ["accepted"] * 3 or answers[-1]["command"] != 0x600:
+        fail(f"python-can read the answers {answers}")
+    after = [d for i, d in received[cleared_at:] if i == PACK_SUMMARY]
+    if not after or (after[-1][6] | after[-1][7] << 8) & OCD_BIT or not after[-1][5] & 0x02:
+        fail("after ClearFaults the over-current is still active or the discharge path off")
+    summary = json.loads(out)
+    if summary["active_faults"]:
+        fail(f"the run ends with {summary['active_faults']}")
+    print(f"REPORT commands.{image}.python_can: {len(received)} frames read, 3 commands sent and acknowledged, "
+          f"the latched over-current cleared (python-can slcan over --slcan pty)")
+
+
+def main():
+    if len(sys.argv) < 6:
+        print(__doc__)
+        return 2
+    check, sim, dbc_dir, target, scratch = sys.argv[1:6]
+    elf = "--elf" in sys.argv[6:]
+    if elf and not os.path.exists(target):
+        print(f"SKIP: {target} is not built")
+        return 77
+    os.makedirs(scratch, exist_ok=True)
+    if check == "python-can":
+        check_python_can(sim, dbc_dir, target, scratch)
+    elif check == "send":
+        check_send(sim, dbc_dir, target, scratch, elf)
+    elif check == "refusals":
+        check_refusals(sim, dbc_dir, target, scratch, elf)
+    elif check == "flood":
+        check_flood(sim, dbc_dir, target, scratch, elf)
+    else:
+        print(__doc__)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
