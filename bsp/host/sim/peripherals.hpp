@@ -35,7 +35,7 @@ class SimSerial final : public fw::hal::SerialPort {
 
   // The PC sends `bytes`: they arrive one after another, after whatever it sent before.
   void peerSend(std::string_view bytes);
-  uint64_t received() const { return received_; }  // bytes that arrived (kept or lost)
+  uint64_t received() const { return received_; }    // bytes that arrived (kept or lost)
   size_t backlog() const { return onLine_.size(); }  // sent by the PC, not arrived yet
   uint64_t byteTimeUs() const { return (10ULL * 1000000ULL + baud_ - 1) / baud_; }
 

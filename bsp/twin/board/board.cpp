@@ -296,7 +296,8 @@ void Board::serialArrive() {
     serialArriving_ = false;
     return;
   }
-  world_.schedule(serialStartUs_ + (serialBytes_ + 1) * 10 * 1000000 / kSlcanBaud, [this] { serialArrive(); });
+  world_.schedule(serialStartUs_ + (serialBytes_ + 1) * 10 * 1000000 / kSlcanBaud,
+                  [this] { serialArrive(); });
 }
 
 }  // namespace twin

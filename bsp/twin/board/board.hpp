@@ -156,7 +156,7 @@ class Board {
   uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
   uint64_t pingStart_ = 0;
   bool fets_ = false;
-  std::deque<uint8_t> serialOut_;  // the PC's bytes not arrived yet
+  std::deque<uint8_t> serialOut_;                 // the PC's bytes not arrived yet
   uint64_t serialStartUs_ = 0, serialBytes_ = 0;  // timing of the bytes in flight (115 200 Bd, 10 bits each)
   bool serialArriving_ = false;
 };

@@ -201,8 +201,9 @@ void Mcan::receive(const fw::hal::CanFrame& f) {
       const uint32_t e = ram_[first + k];
       const uint32_t sft = e >> 30, sfec = (e >> 27) & 7U, id1 = (e >> 16) & 0x7FF, id2 = e & 0x7FF;
       if (sfec == 0 || sft == 3) continue;  // disabled element
-      const bool match = sft == 0 ? (id1 <= f.id && f.id <= id2) : sft == 1 ? (f.id == id1 || f.id == id2)
-                                                                            : ((f.id & id2) == (id1 & id2));
+      const bool match = sft == 0   ? (id1 <= f.id && f.id <= id2)
+                         : sft == 1 ? (f.id == id1 || f.id == id2)
+                                    : ((f.id & id2) == (id1 & id2));
       if (!match) continue;
       if (sfec != 1 && sfec != 3) {
         stop("a standard filter element storing to RX FIFO 1, a priority or an RX buffer: not modelled");
@@ -252,6 +253,7 @@ void Mcan::receive(const fw::hal::CanFrame& f) {
   }
   ++rxFill_;
   ++received_;
+  ++rf0nEvents_;
   setIr(kIrRf0n | (rxFill_ == size ? kIrRf0f : 0));
 }
 

@@ -33,10 +33,11 @@
 //   The wrapper's RIS.INTLn is set when line n asserts; a line asserted and not yet acknowledged by EOI
 //   gives no further interrupt, however many IR events follow. An EOI with IR events still pending on the
 //   line asserts it again (TI's ISRs: DL_MCAN_clearIntrStatus writes IR, then EOI).
-// - The bus: other nodes' frames (peerSend, or a peer source that always has one waiting: a flood) compete with
-//   the TX FIFO at every bus idle; the lowest identifier wins arbitration (ISO 11898-1: a dominant 0 bit wins;
-//   a standard identifier against an extended one is compared on its 11 base bits, the standard frame winning
-//   a tie), and the frame takes the wire for its real length.
+// - The bus: other nodes' frames (peerSend, or a peer source that always has one waiting: a flood) compete
+// with
+//   the TX FIFO at every bus idle; the lowest identifier wins arbitration (ISO 11898-1: a dominant 0 bit
+//   wins; a standard identifier against an extended one is compared on its 11 base bits, the standard frame
+//   winning a tie), and the frame takes the wire for its real length.
 // - Reception (hw_mcan.h GFC, SIDFC, RXF0C/RXF0S/RXF0A; the acceptance filtering of the M_CAN user manual
 //   3.4.1, as SLAU846 chapter "MCAN" describes it): a peer frame that has left the wire while the controller
 //   takes part in the bus (INIT clear, not bus-off, its RX pin routed) goes through the standard filter list
@@ -96,6 +97,7 @@ class Mcan final : public Peripheral {
   uint64_t peerFrames() const { return peerFrames_; }        // peer frames that went over the wire
   uint64_t framesReceived() const { return received_; }      // stored in RX FIFO 0
   uint64_t framesRejected() const { return rejected_; }      // filtered out: no trace, no interrupt
+  uint64_t newMessageEvents() const { return rf0nEvents_; }  // IR.RF0N raised (one per stored frame)
   const std::vector<std::string>& notes() const { return notes_; }
   // How long line n has been waiting for its EOI (0 if it is not asserted): an ISR that never writes
   // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
@@ -149,7 +151,7 @@ class Mcan final : public Peripheral {
   fw::hal::CanFrame peerFrame_{};
   uint32_t rxGet_ = 0, rxFill_ = 0;
   bool rxLost_ = false;
-  uint64_t peerFrames_ = 0, received_ = 0, rejected_ = 0;
+  uint64_t peerFrames_ = 0, received_ = 0, rejected_ = 0, rf0nEvents_ = 0;
   bool transmitting_ = false;
   fw::hal::CanFrame current_{};
   // Wrapper

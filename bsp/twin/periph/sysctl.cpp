@@ -34,7 +34,9 @@ void Sysctl::reset(ResetKind kind) {
   if (softwareLevel_ >= 0) {
     resetCause_ = softwareLevel_ == 0 ? kCauseSysSw : softwareLevel_ == 1 ? kCauseBootSw : kCausePorSw;
   } else {
-    resetCause_ = kind == ResetKind::Por ? kCauseBorSupply : kind == ResetKind::Bootrst ? kCauseSysWwdt0 : kCauseCpuSw;
+    resetCause_ = kind == ResetKind::Por       ? kCauseBorSupply
+                  : kind == ResetKind::Bootrst ? kCauseSysWwdt0
+                                               : kCauseCpuSw;
   }
   softwareLevel_ = -1;
   sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = 0;

@@ -283,17 +283,20 @@ class Parser {
     return true;
   }
 
-  // send <Message> [words], flood <ms> <Message> [words]: checked against the catalogue now (scenario_command).
+  // send <Message> [words], flood <ms> <Message> [words]: checked against the catalogue now
+  // (scenario_command).
   bool parseCommand(const std::vector<Token>& words, Step& st) {
     size_t at = 2;
     if (st.action == Action::Flood) {
-      if (words.size() < 3) return fail(st.line, words[1].column, "'flood' takes <ms> <Message> [<Signal>=<value> ...]");
+      if (words.size() < 3)
+        return fail(st.line, words[1].column, "'flood' takes <ms> <Message> [<Signal>=<value> ...]");
       if (!number(st, words[2], "a flood duration in ms", {1, 600000}, st.value)) return false;
       at = 3;
     }
     if (words.size() <= at)
-      return fail(st.line, words[1].column, std::string("'") + (st.action == Action::Flood ? "flood" : "send") +
-                                               "' needs a message of the CAN catalogue");
+      return fail(st.line, words[1].column,
+                  std::string("'") + (st.action == Action::Flood ? "flood" : "send") +
+                      "' needs a message of the CAN catalogue");
     st.message = std::string(words[at].text);
     for (size_t i = at + 1; i < words.size(); ++i)
       st.words.emplace_back(words[i].text);

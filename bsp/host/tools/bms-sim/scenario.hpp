@@ -90,10 +90,10 @@ struct Step {
   uint32_t timeMs = 0;
   Action action = Action::BusOff;
   int32_t board = 0;
-  int32_t index = 0;  // cell or sensor, from 1
-  int32_t value = 0;  // mV, mA, 0.1 K, a drift per second, or expect's limit
-  bool on = false;    // comm-loss, intermittent
-  std::string fault;  // expect: a fault name or "any"
+  int32_t index = 0;               // cell or sensor, from 1
+  int32_t value = 0;               // mV, mA, 0.1 K, a drift per second, or expect's limit
+  bool on = false;                 // comm-loss, intermittent
+  std::string fault;               // expect: a fault name or "any"
   std::string message;             // send, flood: the catalogue message
   std::vector<std::string> words;  // send, flood: its Signal=value words
   Watch watch = Watch::None;

@@ -95,8 +95,8 @@ std::optional<int64_t> parseValue(const table::Signal& s, std::string_view text,
   }
   if (negative) v = -v;
   if (v < rawMin(s) || v > rawMax(s)) {
-    error = std::string(s.name) + ": " + std::string(text) + " is outside " + std::to_string(rawMin(s)) + ".." +
-            std::to_string(rawMax(s));
+    error = std::string(s.name) + ": " + std::string(text) + " is outside " + std::to_string(rawMin(s)) +
+            ".." + std::to_string(rawMax(s));
     return std::nullopt;
   }
   return v;
@@ -110,7 +110,8 @@ int64_t signalValue(const table::Signal& s, const fw::hal::CanFrame& f) {
     const uint32_t valueBit = s.bigEndian ? s.length - 1 - i : i;
     if ((f.data[bit / 8] >> (bit % 8)) & 1U) raw |= uint64_t{1} << valueBit;
   }
-  if (s.isSigned && ((raw >> (s.length - 1)) & 1U)) return static_cast<int64_t>(raw) - (int64_t{1} << s.length);
+  if (s.isSigned && ((raw >> (s.length - 1)) & 1U))
+    return static_cast<int64_t>(raw) - (int64_t{1} << s.length);
   return static_cast<int64_t>(raw);
 }
 
@@ -146,7 +147,8 @@ std::string describe(const fw::hal::CanFrame& f) {
   return out;
 }
 
-std::optional<fw::hal::CanFrame> CommandBuilder::build(std::string_view message, const std::vector<std::string>& words,
+std::optional<fw::hal::CanFrame> CommandBuilder::build(std::string_view message,
+                                                       const std::vector<std::string>& words,
                                                        std::string& error) {
   const table::Message* m = findMessage(message);
   if (m == nullptr) {
@@ -160,7 +162,8 @@ std::optional<fw::hal::CanFrame> CommandBuilder::build(std::string_view message,
   return build(*m, words, error);
 }
 
-std::optional<fw::hal::CanFrame> CommandBuilder::build(const table::Message& m, const std::vector<std::string>& words,
+std::optional<fw::hal::CanFrame> CommandBuilder::build(const table::Message& m,
+                                                       const std::vector<std::string>& words,
                                                        std::string& error) {
   fw::hal::CanFrame f{m.id, m.extended, m.dlc, {}};
   std::map<std::string, int64_t> given;

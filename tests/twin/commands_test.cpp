@@ -1,0 +1,131 @@
+// Commands to the images themselves on the twin (build/<preset>/<preset>.elf; skipped when not built):
+// - the G3507 MCAN filter as the image programs it: the command identifiers reach RX FIFO 0 (IR.RF0N, one
+//   each), every other frame is rejected by the hardware with no trace and no interrupt;
+// - bootloader entry on the G3507-BQ76952 image: the FETs off first, the accepted answer on the bus, then the
+//   software-invoke reset with RESETLEVEL 2 (which the twin stops at: it does not model the ROM bootloader);
+// - an L1306 image answering SLCAN lines on PA9, and ignoring a line longer than any command.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "app/command/e2e.hpp"
+#include "board/board.hpp"
+#include "can/bms.hpp"
+#include "gtest/gtest.h"
+#include "sim/harness.hpp"
+
+namespace {
+
+using twin::Board;
+using twin::ElfFile;
+namespace bms = fw::can::bms;
+
+std::string elfPath(const std::string& preset) {
+  return std::string(TWIN_IMAGES) + "/" + preset + "/" + preset + ".elf";
+}
+
+struct Rig {
+  explicit Rig(const std::string& preset) : board(*twin::imageByPreset(preset), h.clock, 2) {
+    if (auto* e = board.bq769x()) {
+      for (uint8_t c = 1; c <= 16; ++c)
+        e->setCellMv(c, 3700);
+    }
+    if (std::filesystem::exists(elfPath(preset)) && elf.load(elfPath(preset))) loaded = board.load(elf);
+  }
+  uint64_t nowUs() { return board.machine().now() / board.machine().cyclesPerUs(); }
+  void runMs(uint64_t ms) { board.runUntilUs(nowUs() + ms * 1000); }
+  bsp::host::Harness h;
+  Board board;
+  ElfFile elf;
+  bool loaded = false;
+};
+
+#define RIG_OR_SKIP(r, preset)                                                             \
+  Rig r(preset);                                                                           \
+  if (!r.loaded) GTEST_SKIP() << elfPath(preset) << " is not built (./ci/test builds it)"; \
+  static_assert(true)
+
+fw::hal::CanFrame sealed(fw::hal::CanFrame f) {
+  f.data[0] = fw::app::command::frameCrc(f.id, f.data.data(), f.dlc);
+  return f;
+}
+
+TEST(TwinCommands, TheMcanFilterPassesTheCommandsAloneAndARejectedFrameRaisesNoInterrupt) {
+  RIG_OR_SKIP(r, "lp-mspm0g3507-bq76952");
+  r.runMs(500);
+  const twin::Mcan& mcan = *r.board.chip().mcan();
+  ASSERT_EQ(mcan.newMessageEvents(), 0U);
+  // Not commands: another node's telemetry, the identifier after the last command, an extended frame whose
+  // base identifier is a command's, and 0x5FF.
+  r.board.sendCan({0x100, false, 8, {}});
+  r.board.sendCan(sealed({0x607, false, 3, {0, 0, 1}}));
+  r.board.sendCan({0x600U << 18, true, 3, {}});
+  r.board.sendCan({0x5FF, false, 8, {}});
+  r.runMs(20);
+  EXPECT_EQ(mcan.framesRejected(), 4U);
+  EXPECT_EQ(mcan.newMessageEvents(), 0U);  // no RF0N: no receive interrupt for any of them
+  // Each command identifier is stored and raises RF0N once.
+  for (uint32_t id : bms::kReceivedIds)
+    r.board.sendCan(sealed({id, false, 8, {0, 0, 7}}));  // for node 7: taken in, not answered
+  r.runMs(20);
+  EXPECT_EQ(mcan.framesReceived(), bms::kReceivedIds.size());
+  EXPECT_EQ(mcan.newMessageEvents(), bms::kReceivedIds.size());
+  EXPECT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+  EXPECT_TRUE(r.board.warnings().empty());
+}
+
+TEST(TwinCommands, BootloaderEntryOpensTheFetsAnswersThenResetsIntoTheBootloader) {
+  RIG_OR_SKIP(r, "lp-mspm0g3507-bq76952");
+  r.runMs(1000);
+  ASSERT_FALSE(r.board.fetsOn().empty());
+  ASSERT_TRUE(r.board.fetsOn().back().level) << "the FETs are on before the request";
+  bms::EnterBootloader m{};
+  m.target = 1;
+  m.traceId = r.board.chip().factory().traceId();
+  m.key = 0xA5;
+  r.board.sendCan(sealed(m.pack()));
+  for (int k = 0; k < 200 && !r.board.machine().stopped(); ++k)
+    r.runMs(1);
+  ASSERT_TRUE(r.board.machine().stopped());
+  EXPECT_NE(r.board.machine().stopReason().find("RESETLEVEL 2"), std::string::npos)
+      << r.board.machine().stopReason();
+  const uint64_t stopAt = r.board.machine().now();
+  uint64_t fetsOff = 0, answered = 0;
+  for (const auto& e : r.board.fetsOn()) {
+    if (!e.level) fetsOff = e.cycle;
+  }
+  for (const auto& f : r.board.canFrames()) {
+    if (f.frame.id == bms::CommandAck::kId &&
+        bms::CommandAck::unpack(f.frame).command == bms::EnterBootloader::kId)
+      answered = bms::CommandAck::unpack(f.frame).result == 0 ? f.endCycle : 0;
+  }
+  ASSERT_NE(fetsOff, 0U);
+  ASSERT_NE(answered, 0U);
+  EXPECT_LT(fetsOff, answered);
+  EXPECT_LT(answered, stopAt);
+  std::printf(
+      "REPORT twin.lp-mspm0g3507-bq76952.bootloader_entry: FETs off %.2f ms before the answer, the "
+      "reset %.2f ms after it (CPU-counted)\n",
+      (answered - fetsOff) / 32000.0, (stopAt - answered) / 32000.0);
+}
+
+TEST(TwinCommands, AnL1306ImageAnswersSlcanLinesOnPa9) {
+  RIG_OR_SKIP(r, "lp-mspm0l1306-bq76952");
+  r.runMs(500);
+  const size_t before = r.board.slcanLines().size();
+  r.board.sendSerial("V\rO\rt6003950301\r");
+  std::string longLine(40, 'x');
+  r.board.sendSerial(longLine + "\r");
+  r.runMs(30);
+  std::string answers;
+  for (size_t k = before; k < r.board.slcanLines().size(); ++k) {
+    const std::string& t = r.board.slcanLines()[k].text;
+    if (t[0] != 't' || t.rfind("t580", 0) == 0) answers += t;
+  }
+  // V, O, the frame ("z", then its acknowledgement: ClearFaults, counter 3, accepted), the long line (BEL).
+  EXPECT_EQ(answers, "V0101\r\rz\rt58080100060300000000\r\a");
+  EXPECT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+}
+
+}  // namespace
