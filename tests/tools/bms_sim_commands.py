@@ -13,6 +13,9 @@ checks:
               the fault's trip and clear in the published frames
   refusals    bad CRC, repeated counter, wrong node, wrong length, out-of-range setting, an identifier that is
               not a command (CAN: rejected by the filter, no answer), a malformed SLCAN line (L1306)
+  bmsctl      (L1306 images; the bmsctl path as sixth argument) bmsctl send against --slcan pty: identify,
+              a setting read, a refused write (exit 1 and the reason), and a port with no board behind it
+              (exit 3) or none at all (exit 4)
   flood       ov-cell with the bus (or line) full of valid commands from 1 s on: the protection latency, the
               PackSummary period and, on the twin, the CPU load; REPORT lines
 With --elf the fourth argument is the image's ELF (run on the MSPM0 twin); exit 77 when it is not built."""
@@ -291,12 +294,66 @@ def check_python_can(sim, dbc_dir, image, scratch):
           f"the latched over-current cleared (python-can slcan over --slcan pty)")
 
 
+def check_bmsctl(sim, image, scratch, bmsctl):
+    proc = subprocess.Popen([sim, "--image", image, "--duration", "6000", "--slcan", "pty", "--json"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = proc.stderr.readline()
+    if " on /dev/" not in first:
+        proc.kill()
+        fail(f"--slcan pty did not print its terminal: {first!r}")
+    path = first.split(" on ")[1].split()[0]
+
+    def send(*args, timeout=2000):
+        r = subprocess.run([bmsctl, "send", "--port", path, "--timeout", str(timeout), *args], capture_output=True,
+                           text=True)
+        return r.returncode, r.stdout, r.stderr
+
+    try:
+        rc, out, err = send("identify")
+        lines = out.splitlines()
+        if rc != 0 or len(lines) != 3 or not lines[0].startswith("CommandAck Node=1 Command=0x603") or \
+                "Result=accepted" not in lines[0] or not lines[1].startswith("IdentifyVersion") or \
+                "Image=lp_mspm0l1306" not in lines[1] or "TraceId=0x5A5A1306" not in lines[2]:
+            fail(f"bmsctl send identify: exit {rc}, {out!r} {err!r}")
+        rc, out, err = send("setting-read", "Setting=ocd_trip")
+        if rc != 0 or "SettingValue Node=1 Setting=ocd_trip Unit=mA Value=-40000" not in out or \
+                "SettingRange Node=1 Setting=ocd_trip Min=-40000 Max=-100" not in out:
+            fail(f"bmsctl send setting-read: exit {rc}, {out!r} {err!r}")
+        rc, out, err = send("SettingWrite", "Setting=ocd_trip", "Value=-50000")
+        if rc != 1 or "refused" not in err or "Result=out_of_range" not in err:
+            fail(f"bmsctl send of an out-of-range setting: exit {rc}, {out!r} {err!r}")
+        rc, out, err = send("no-such-command")
+        if rc != 2 or "unknown command 'no-such-command'" not in err:
+            fail(f"bmsctl send no-such-command: exit {rc}, {err!r}")
+    finally:
+        proc.kill()
+        proc.communicate()
+    master, slave = os.openpty()  # a serial port with nothing behind it
+    try:
+        started = time.monotonic()
+        r = subprocess.run([bmsctl, "send", "--port", os.ttyname(slave), "--timeout", "300", "identify"],
+                           capture_output=True, text=True)
+        if r.returncode != 3 or "no answer" not in r.stderr or time.monotonic() - started > 5:
+            fail(f"bmsctl send to a silent port: exit {r.returncode}, {r.stderr!r}")
+    finally:
+        os.close(master)
+        os.close(slave)
+    r = subprocess.run([bmsctl, "send", "--port", "/dev/no-such-port", "identify"], capture_output=True, text=True)
+    if r.returncode != 4 or "cannot open /dev/no-such-port" not in r.stderr:
+        fail(f"bmsctl send to a missing port: exit {r.returncode}, {r.stderr!r}")
+    print(f"REPORT commands.{image}.bmsctl: identify, setting-read and a refused write through --slcan pty; "
+          f"exit 3 on a silent port, 4 on a missing one")
+
+
 def main():
     if len(sys.argv) < 6:
         print(__doc__)
         return 2
     check, sim, dbc_dir, target, scratch = sys.argv[1:6]
     elf = "--elf" in sys.argv[6:]
+    if check == "bmsctl" and len(sys.argv) < 7:
+        print(__doc__)
+        return 2
     if elf and not os.path.exists(target):
         print(f"SKIP: {target} is not built")
         return 77
@@ -309,6 +366,8 @@ def main():
         check_refusals(sim, dbc_dir, target, scratch, elf)
     elif check == "flood":
         check_flood(sim, dbc_dir, target, scratch, elf)
+    elif check == "bmsctl":
+        check_bmsctl(sim, target, scratch, sys.argv[6])
     else:
         print(__doc__)
         return 2

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bmsctl/cli.hpp"
+#include "bmsctl/send.hpp"
 
 namespace {
 
@@ -12,6 +13,7 @@ void printUsage(FILE* out) {
   std::fprintf(
       out,
       "usage: bmsctl trace <device> [--crc|--pec] [--devices N] <operation> [args...]\n"
+      "       bmsctl send --port DEV [--node N] [--timeout MS] <command> [Signal=value ...]\n"
       "\n"
       "Runs <operation> through the firmware driver against an emulated <device> on virtual time and\n"
       "prints every bus transaction, then the decoded result.\n"
@@ -31,8 +33,9 @@ int main(int argc, char** argv) {
     printUsage(stderr);
     return 2;
   }
+  if (std::strcmp(argv[1], "send") == 0) return bmsctl::runSend(argc - 2, argv + 2);
   if (std::strcmp(argv[1], "trace") != 0) {
-    return bmsctl::usageError(std::string("unknown command '") + argv[1] + "' (expected 'trace')");
+    return bmsctl::usageError(std::string("unknown command '") + argv[1] + "' (expected 'trace' or 'send')");
   }
   if (argc < 3) return bmsctl::usageError("trace needs a device; try 'bmsctl --help'");
 
