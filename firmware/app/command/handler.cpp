@@ -109,8 +109,8 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       // Defined for the balancing policy to come; until an image balances, no mode is taken up.
       return bms::BalancingMode::unpack(f).mode > 2 ? Result::OutOfRange : Result::Unsupported;
     case bms::Identify::kId: {
-      packAnswer<bms::IdentifyVersion>(out.frame[1], ctx_.node, kVersion.major, kVersion.minor, kVersion.patch,
-                                       kBuildId, kImage);
+      packAnswer<bms::IdentifyVersion>(out.frame[1], ctx_.node, kVersion.major, kVersion.minor,
+                                       kVersion.patch, kBuildId, kImage);
       const hal::ChipIdentity chip = ctx_.system.identity();
       packAnswer<bms::IdentifyChip>(out.frame[2], ctx_.node, chip.resetCause, chip.traceId, chip.partNumber);
       out.count = 3;

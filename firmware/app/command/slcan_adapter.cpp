@@ -5,8 +5,12 @@ namespace fw::app::command {
 namespace {
 
 constexpr uint8_t kCr = '\r', kBel = 0x07;
-constexpr uint8_t kVersionAnswer[] = {'V', '0', '1', static_cast<uint8_t>('0' + kVersion.major % 10),
-                                      static_cast<uint8_t>('0' + kVersion.minor % 10), kCr};
+constexpr uint8_t kVersionAnswer[] = {'V',
+                                      '0',
+                                      '1',
+                                      static_cast<uint8_t>('0' + kVersion.major % 10),
+                                      static_cast<uint8_t>('0' + kVersion.minor % 10),
+                                      kCr};
 
 uint8_t hexDigit(uint32_t v) {
   v &= 0xFU;

@@ -163,8 +163,8 @@ class Bq4050App {
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
-        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can,
-                 publisher_.outbox(), io.system),
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
         monitor_(scheduler, io.bus, config, *sample_, *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.gauge.cells;

@@ -277,8 +277,8 @@ class Bq769xApp {
         settings_(kDefaultLimits),
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        command_({scheduler, protection_, settings_, system, command::kNode}, output,
-                 publisher_.outbox(), system),
+        command_({scheduler, protection_, settings_, system, command::kNode}, output, publisher_.outbox(),
+                 system),
         monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_,
                  static_cast<DriverArgs&&>(driverArgs)...) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.

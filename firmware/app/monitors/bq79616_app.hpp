@@ -192,8 +192,8 @@ class Bq79616App {
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can,
-                 publisher_.outbox(), io.system),
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
         monitor_(scheduler, io.uart, io.nfault, config, storage, *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.chain.activeCells;
