@@ -3,10 +3,14 @@
 //   each), every other frame is rejected by the hardware with no trace and no interrupt;
 // - bootloader entry on the G3507-BQ76952 image: the FETs off first, the accepted answer on the bus, then the
 //   software-invoke reset with RESETLEVEL 2 (which the twin stops at: it does not model the ROM bootloader);
-// - an L1306 image answering SLCAN lines on PA9, and ignoring a line longer than any command.
+// - an L1306 image answering SLCAN lines on PA9, and ignoring a line longer than any command;
+// - the ALERT fast path with the bus (G3507) or the line (L1306) full of valid commands, in CPU-counted time:
+//   the flood must not delay protection past its 2 ms budget.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app/command/e2e.hpp"
@@ -126,6 +130,86 @@ TEST(TwinCommands, AnL1306ImageAnswersSlcanLinesOnPa9) {
   // V, O, the frame ("z", then its acknowledgement: ClearFaults, counter 3, accepted), the long line (BEL).
   EXPECT_EQ(answers, "V0101\r\rz\rt58080100060300000000\r\a");
   EXPECT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+}
+
+// A valid Identify for this node, the next counter each time.
+fw::hal::CanFrame identify(uint8_t& counter) {
+  fw::hal::CanFrame f{bms::Identify::kId, false, bms::Identify::kDlc, {0, counter, 1}};
+  counter = static_cast<uint8_t>((counter + 1) & 0x0F);
+  return sealed(f);
+}
+
+// ALERT to FETs off with commands flooding in from 1 s on, swept over the scan period (200 us grid over the
+// first 3 ms of a scan, where the bus is busy, and its last millisecond).
+void sweepUnderFlood(const std::string& preset) {
+  uint64_t worst = 0, worstAt = 0;
+  for (uint64_t offset = 0; offset < 100000; offset += offset < 3000 || offset >= 99000 ? 200 : 96000) {
+    Rig r(preset);
+    if (!r.loaded) GTEST_SKIP() << elfPath(preset) << " is not built (./ci/test builds it)";
+    uint8_t counter = 0;
+    const bool can = r.board.chip().mcan() != nullptr;
+    auto feed = [&] {  // keep the line full: the next line whenever less than one is waiting
+      if (can) return;
+      while (r.board.serialBacklog() < 32) {
+        const fw::hal::CanFrame f = identify(counter);
+        char line[32];
+        int n = std::snprintf(line, sizeof line, "t%03X%u", f.id, f.dlc);
+        for (uint8_t i = 0; i < f.dlc; ++i)
+          n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), "%02X", f.data[i]);
+        r.board.sendSerial(std::string(line) + "\r");
+      }
+    };
+    r.runMs(1000);
+    if (can) {
+      r.board.setCanFlood([&]() -> std::optional<fw::hal::CanFrame> { return identify(counter); });
+    } else {
+      r.board.sendSerial("O\r");
+    }
+    // The next scan's start: its first block read on I2C.
+    uint64_t scan = 0;
+    for (uint64_t t = r.nowUs(); scan == 0 && t < r.nowUs() + 200000; t += 100) {
+      feed();
+      r.board.runUntilUs(t);
+      for (const auto& tr : r.board.i2cLog()) {
+        if (tr.text.rfind("S 10 0A ", 0) == 0 && tr.startCycle / 32 >= 1000000) scan = tr.startCycle / 32;
+      }
+    }
+    ASSERT_NE(scan, 0U);
+    for (uint64_t t = r.nowUs(); t < scan + offset; t += 100) {
+      feed();
+      r.board.runUntilUs(std::min(t + 100, scan + offset));
+    }
+    const uint64_t t0 = r.board.machine().now();
+    r.board.driveMonitorSignal(false);
+    uint64_t acted = 0;
+    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && acted == 0; t += 50) {
+      feed();
+      r.board.runUntilUs(t);
+      for (const auto& e : r.board.fetsOn()) {
+        if (!e.level && e.cycle >= t0) {
+          acted = e.cycle;
+          break;
+        }
+      }
+    }
+    ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+    ASSERT_NE(acted, 0U) << "the FETs never went off, signal at " << offset << " us into the scan";
+    const uint64_t took = (acted - t0) / 32;
+    EXPECT_LE(took, 2000U) << "took " << took << " us with the signal " << offset << " us into the scan";
+    if (took > worst) worst = took, worstAt = offset;
+  }
+  std::printf(
+      "REPORT twin.%s.alert_to_fets_off_under_command_flood_worst_us=%llu (signal %llu us into the scan, "
+      "200 us grid; budget 2000; CPU-counted time)\n",
+      preset.c_str(), static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+}
+
+TEST(TwinCommands, AlertToFetsOffStaysInBudgetWithTheBusFullOfCommandsOnTheG3507) {
+  sweepUnderFlood("lp-mspm0g3507-bq76952");
+}
+
+TEST(TwinCommands, AlertToFetsOffStaysInBudgetWithTheLineFullOfCommandsOnTheL1306) {
+  sweepUnderFlood("lp-mspm0l1306-bq76952");
 }
 
 }  // namespace
