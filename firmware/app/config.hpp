@@ -44,6 +44,11 @@ static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
 #endif
 static_assert(FW_COMMAND_NODE >= 1 && FW_COMMAND_NODE <= 254,
               "FW_COMMAND_NODE: 1..254 (255 means every BMS)");
+// What Identify reports as the image (bms.yaml IdentifyVersion.Image): each image's options.cmake sets its
+// number, 1..5; 0 is a host build.
+#ifndef FW_IMAGE_ID
+#define FW_IMAGE_ID 0
+#endif
 
 // --- Publishing (app/publish/publish_status.hpp, app/publish/frame_plan.hpp) ---
 // The native messages a build sends: 2, the default (every image, the host and bms-sim), every one; 1,

@@ -4,16 +4,13 @@
 // kVersion: the project version (CMake project(VERSION), generated into app/version.hpp). kBuildId: the first
 // six hex digits of the source's git commit when the build was configured (0 outside git), in
 // identity.cpp alone (its generated header changes with every commit). kImage: the image option FW_IMAGE_ID
-// (bms.yaml IdentifyVersion.Image: 1..5, 0 = a host build).
+// (app/config.hpp).
 #pragma once
 
 #include <cstdint>
 
+#include "app/config.hpp"
 #include "app/version.hpp"
-
-#ifndef FW_IMAGE_ID
-#define FW_IMAGE_ID 0
-#endif
 
 namespace fw::app::command {
 
