@@ -1,9 +1,9 @@
 #include "system.hpp"
 
-#include "hal/irq.hpp"
+#include "bootloader_entry.hpp"
+#include "fault.hpp"
 #include "mmio.hpp"
 #include "regs/cpuss.hpp"
-#include "regs/sysctl.hpp"
 
 namespace bsp::mspm0 {
 
@@ -21,20 +21,15 @@ void Mspm0System::capture() {
   identity_.traceId = factory[0].read();
   identity_.partNumber = static_cast<uint16_t>((factory[1].read() >> kPartNumShift) & kPartNumMask);
   ctl.write(saved);
-  identity_.resetCause = static_cast<uint8_t>(reg::sysctl::rstcause().read() & reg::sysctl::kRstcauseIdMask);
+  identity_.resetCause = takeResetCause();
 }
 
 void Mspm0System::doEnterBootloader() {
-  resetIntoBootloader();
-}
-
-void resetIntoBootloader() {
-  (void)fw::port::irqSave();  // nothing runs between the decision and the reset
-  reg::sysctl::Reset& reset = reg::sysctl::reset();
-  reset.resetlevel.write(reg::sysctl::kResetLevelBootloaderEntry);
-  reset.resetcmd.write(reg::sysctl::kResetCmdGo);
-  for (;;) {
-  }
+#ifdef BSP_MSPM0_MMIO_MODEL
+  requestBootloaderEntry();  // the register model records the two writes and returns
+#else
+  enterBootloader();
+#endif
 }
 
 }  // namespace bsp::mspm0

@@ -6,11 +6,11 @@
 //   on the G1x0x/G3x0x, as TI's IAR low-power patch scripts test it) (TI hw_factoryregion.h,
 //   FACTORYREGION_OPEN_Regs: "TRACEID ... defined by TI, during ATE, based on wafer"; the same addresses on
 //   both parts, FACTORYREGION_BASE in mspm0l130x.h and mspm0g350x.h) with the instruction cache off, as
-//   TI's DL_FactoryRegion_getTraceID reads it (regs/cpuss.hpp CTL), and SYSCTL RSTCAUSE, which clears when
-//   read (regs/sysctl.hpp). identity() returns what capture() read.
-// - enterBootloader(): masks interrupts, then RESETLEVEL = 2 (BOOTLOADERENTRY) and RESETCMD = KEY 0xE4 | GO:
-//   "set the RESETLEVEL as BOOTLOADERENTRY and trigger reset through the RESETCMD register" (SLAU887 3.2.2;
-//   TI's bsl_software_invoke_app_demo_uart example writes the same two registers). Never returns.
+//   TI's DL_FactoryRegion_getTraceID reads it (regs/cpuss.hpp CTL), and SYSCTL RSTCAUSE (fault.hpp
+//   takeResetCause(): this is its one reader, a read clears it; the Startup message takes the cause from
+//   identity()). identity() returns what capture() read.
+// - enterBootloader(): the software-invoke reset into the ROM bootloader (bootloader_entry.hpp: interrupts
+//   masked, RESETLEVEL = BOOTLOADERENTRY, RESETCMD = KEY | GO). Never returns on the target.
 #pragma once
 
 #include "hal/system.hpp"
@@ -29,8 +29,5 @@ class Mspm0System final : public fw::hal::SystemControl {
   uintptr_t cpuss_;
   fw::hal::ChipIdentity identity_{};
 };
-
-// The software-invoke reset into the ROM bootloader, for callers without a SystemControl. Never returns.
-[[noreturn]] void resetIntoBootloader();
 
 }  // namespace bsp::mspm0

@@ -27,7 +27,10 @@ inline void uartConfigure(uintptr_t base, uint32_t divisor64, bool receiver, boo
   uart::dmaTrigTx(base).imask.write(uart::kIntTx);
   if (receiver && rxDma) uart::dmaTrigRx(base).imask.write(uart::kIntRx);
   reg::cpuInt(base).iclr.write(0xFFFFFFFF);
-  line.ctl0.write(uart::kCtl0Enable | uart::kCtl0Txe | uart::kCtl0Fen | (receiver ? uart::kCtl0Rxe : 0));
+  // RXE even without a receiver: EOT, which UartSerialTx completes on, is not raised with TXE alone
+  // (UART_ERR_02, SLAZ741/SLAZ742: "Set both CTL0.TXE and CTL0.RXE ... you do not need to assign a pin as
+  // UART receive"). No RX interrupt or DMA trigger is enabled without `receiver`.
+  line.ctl0.write(uart::kCtl0Enable | uart::kCtl0Txe | uart::kCtl0Fen | uart::kCtl0Rxe);
 }
 
 }  // namespace bsp::mspm0

@@ -13,7 +13,8 @@ Machine::Machine(const MemoryLayout& layout)
       flash_(layout.flashSize, 0xFF),
       sram_(layout.sramSize, 0),
       core_(map_, nvic_),
-      scs_(core_, nvic_, timeline_, [this] { requestReset(ResetKind::Sysrst, "AIRCR.SYSRESETREQ"); }) {
+      scs_(core_, nvic_, timeline_,
+           [this] { requestReset(ResetKind::Sysrst, "AIRCR.SYSRESETREQ", rstcause::kCpuSoftware); }) {
   core_.setFlash(flash_.data(), layout.flashSize);
   core_.setSram(sram_.data(), layout.sramBase, layout.sramSize);
   core_.setObserver(this);
@@ -30,17 +31,19 @@ bool Machine::loadFlash(const std::vector<uint8_t>& image) {
 }
 
 void Machine::powerOn() {
-  reset(ResetKind::Por, "power-on");
+  reset(ResetKind::Por, "power-on", rstcause::kPorSupply);
 }
 
-void Machine::requestReset(ResetKind kind, const std::string& cause) {
+void Machine::requestReset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   if (pendingReset_ && *pendingReset_ >= kind) return;
   pendingReset_ = kind;
   pendingResetCause_ = cause;
+  pendingCauseId_ = causeId;
 }
 
-void Machine::reset(ResetKind kind, const std::string& cause) {
+void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   pendingReset_.reset();
+  if (causeId != 0 && (resetCause_ == 0 || causeId < resetCause_)) resetCause_ = causeId;
   if (kind != ResetKind::Sysrst) {
     // SRAM content is undefined after power-up / BOOTRST: a fixed pseudo-random pattern keeps runs repeatable
     // and makes code that reads uninitialised memory visible.
@@ -55,7 +58,7 @@ void Machine::reset(ResetKind kind, const std::string& cause) {
   scs_.reset();
   irqLevels_ = 0;
   requested_.fill(false);
-  core_.reset();
+  if (!held_) core_.reset();  // held: the ROM runs, the image's vectors may be erased or half written
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6f s: ", static_cast<double>(now()) / layout_.clockHz);
   resetLog_.push_back(buf + cause);
@@ -203,10 +206,14 @@ void Machine::fireDue() {
 
 void Machine::run(uint64_t endCycle) {
   while (!core_.halted() && now() < endCycle) {
-    if (pendingReset_) reset(*pendingReset_, pendingResetCause_);
+    if (pendingReset_) reset(*pendingReset_, pendingResetCause_, pendingCauseId_);
     fireDue();
     if (core_.halted()) break;
     const uint64_t horizon = std::min({endCycle, timeline_.next(), worldNext()});
+    if (held_) {
+      timeline_.advanceTo(std::max(horizon, now()));
+      continue;
+    }
     if (core_.sleeping()) {
       core_.step();  // wakes (and returns 0) only if an interrupt would preempt
       if (core_.sleeping()) {
@@ -224,7 +231,7 @@ void Machine::run(uint64_t endCycle) {
     }
   }
   if (!core_.halted()) fireDue();
-  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_);
+  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_, pendingCauseId_);
 }
 
 }  // namespace twin

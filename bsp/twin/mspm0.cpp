@@ -116,6 +116,10 @@ Mspm0::Mspm0(Part part) : part_(part) {
     pins_->setFunctionDrive(9, 2, Drive::High);
     pins_->setFunctionDrive(24, 2, Drive::High);
   }
+  // The ROM bootloader, and the boot code as the last reset hook. Its invoke pin is PA18 on both parts
+  // (mspm0-sdk boot_config.h DEFAULT_BSL_PIN_INVOCATION_DATA0: PINCM 0x28 on the G3507, 0x13 on the L1306).
+  bsl_ = std::make_unique<RomBsl>(m, RomBsl::factoryConfig(g));
+  boot_ = std::make_unique<BootCode>(m, *sysctl_, *pins_, *bsl_, g ? 40 : 19);
 }
 
 Mspm0::~Mspm0() = default;

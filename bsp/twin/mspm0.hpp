@@ -11,6 +11,8 @@
 #include <memory>
 #include <string>
 
+#include "bsl/boot_code.hpp"
+#include "bsl/rom_bsl.hpp"
 #include "elf_file.hpp"
 #include "machine.hpp"
 #include "periph/cpuss.hpp"
@@ -52,6 +54,9 @@ class Mspm0 {
   FactoryRegion& factory() { return *factory_; }
   const Mcan* mcan() const { return mcan_.get(); }
   const Pins& pins() const { return *pins_; }
+  // The ROM bootloader and the boot code that starts it (bsl/).
+  RomBsl& bsl() { return *bsl_; }
+  const BootCode& bootCode() const { return *boot_; }
   // PINCM index of port/bit (0 if the part has no such pin).
   int pincm(int port, int bit) const;
 
@@ -73,6 +78,8 @@ class Mspm0 {
   std::unique_ptr<I2c> i2c0_, i2c1_;
   std::unique_ptr<Uart> uart_[4];
   std::unique_ptr<Mcan> mcan_;
+  std::unique_ptr<RomBsl> bsl_;
+  std::unique_ptr<BootCode> boot_;
   const ElfFile* elf_ = nullptr;
 };
 

@@ -222,4 +222,32 @@ TEST(CanBudget, EveryScanGetsACompleteTiSetUpTo64Boards) {
   }
 }
 
+// A bus-off drops the summary of the cycle it hits, whether the controller lost the frame (bus-off while it
+// was queued) or refused it (the tick came while the bus was off, as on the twin): either way
+// PackSummary.Counter skips the one that never went out (bms.yaml: a gap means a lost frame). The tick during
+// the bus-off once began no cycle, and the receiver saw no gap.
+TEST(CanBudget, ASummaryLostToABusOffLeavesACounterGap) {
+  for (const uint32_t busOffUs : {299900u, 300100u}) {  // just before the 300 ms tick, and while it is queued
+    Rig r(2, app::CanLayout::Native);
+    r.h.runFor(fw::us(busOffUs));
+    r.can.injectBusOff();
+    r.h.runFor(fw::us(700000 - busOffUs));
+    std::vector<std::pair<double, int>> summaries;
+    for (const auto& s : r.can.sent()) {
+      if (s.frame.id == bms::PackSummary::kId)
+        summaries.emplace_back(s.timeUs / 1000.0, bms::PackSummary::unpack(s.frame).counter);
+    }
+    ASSERT_GE(summaries.size(), 5u);
+    int gaps = 0;
+    for (size_t i = 1; i < summaries.size(); ++i) {
+      const int step = (summaries[i].second - summaries[i - 1].second) & 0xF;
+      const double slots = (summaries[i].first - summaries[i - 1].first) / 100.0;
+      EXPECT_NEAR(step, slots, 0.1) << "bus-off at " << busOffUs << " us: the counter steps by " << step
+                                    << " across " << slots << " periods at " << summaries[i].first << " ms";
+      gaps += step - 1;
+    }
+    EXPECT_EQ(gaps, 1) << "bus-off at " << busOffUs << " us: exactly the 300 ms summary is missing";
+  }
+}
+
 }  // namespace

@@ -113,6 +113,14 @@ const std::map<std::string, Need>& needs() {
         {"Temperatures.Temp", {kTempLo, kTempHi, true}},
         // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
         {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
+        // Startup: RSTCAUSE.ID is 5 bits; a version part is a byte; fw::Module goes up to 99 (Test); a fault
+        // line or code up to 0xFFFE (HardFault, bsp/mspm0/fault.hpp), so 0xFFFF can mean "no record".
+        {"Startup.ResetCause", {0, 31, false}},
+        {"Startup.FirmwareMajor", {0, 255, false}},
+        {"Startup.FirmwareMinor", {0, 255, false}},
+        {"Startup.FirmwarePatch", {0, 255, false}},
+        {"Startup.FaultModule", {0, 99, true}},
+        {"Startup.FaultLine", {0, 0xFFFE, true}},
     });
     return t;
   }();

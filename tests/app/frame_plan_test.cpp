@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/publish/frame_plan.hpp"
+#include "app/version.hpp"
 #include "can/bms.hpp"
 
 namespace {
@@ -411,6 +412,94 @@ TEST(FramePlan, AbandonEndsTheCycleAndCounterCountsSummaries) {
   EXPECT_EQ(f.id, 0x101u) << "no slow part waits after abandon()";
   p.plan.advance();
   EXPECT_FALSE(p.plan.active());
+}
+
+// A summary that never went out leaves a Counter gap (bms.yaml: "a gap means a lost frame"): the cycle was
+// abandoned because the controller was bus-off and refused it (the twin's MCAN model, as the M_CAN, keeps
+// nothing it was not given), or the next cycle began before it was sent. A summary held back and then sent
+// keeps its value. (The counter once counted summaries accepted, so a refused one left no gap.)
+TEST(FramePlan, ASummaryThatNeverWentOutLeavesACounterGap) {
+  Pack p;
+  fw::hal::CanFrame f;
+  auto summary = [&](uint32_t tMs) {
+    EXPECT_TRUE(p.plan.build(at(tMs), f));
+    EXPECT_EQ(f.id, bms::PackSummary::kId);
+    return bms::PackSummary::unpack(f).counter;
+  };
+  p.plan.beginFast();
+  EXPECT_EQ(summary(10), 0);
+  p.plan.advance();
+  p.drain(10);
+  p.plan.beginFast();
+  EXPECT_EQ(summary(110), 1);
+  p.plan.abandon();  // the controller refused it: bus-off
+  p.plan.beginFast();
+  EXPECT_EQ(summary(210), 2) << "the 110 ms summary (1) was never sent: the receiver sees 0, then 2";
+  p.plan.advance();
+  p.drain(210);
+  p.plan.beginFast();
+  EXPECT_EQ(summary(310), 3);  // refused (queue full): rebuilt later with the same value
+  EXPECT_EQ(summary(311), 3);
+  EXPECT_TRUE(p.plan.beginFast()) << "its cycle is dropped: the 310 ms summary never went out";
+  EXPECT_EQ(summary(410), 4) << "the receiver sees 2, then 4";
+}
+
+// The Startup message (bms.yaml Startup): once after announceStartup(), at the end of the next cycle's fast
+// part, so PackSummary keeps its time.
+TEST(FramePlan, StartupGoesOutOnceAfterTheNextFastPart) {
+  Pack p;
+  p.plan.announceStartup({0x0E, false, 0, 0});  // a WWDT0 reset: no fault record survived it
+  p.plan.beginFast();
+  const auto frames = p.drain(10);
+  EXPECT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x1F0}));
+  const auto u = bms::Startup::unpack(frames[2]);
+  EXPECT_EQ(u.resetCause, 0x0E);
+  EXPECT_EQ(u.firmwareMajor, fw::app::kFirmwareVersionMajor);
+  EXPECT_EQ(u.firmwareMinor, fw::app::kFirmwareVersionMinor);
+  EXPECT_EQ(u.firmwarePatch, fw::app::kFirmwareVersionPatch);
+  EXPECT_EQ(u.faultModule, bms::Startup::kFaultModuleNotAvailable);
+  EXPECT_EQ(u.faultLine, bms::Startup::kFaultLineNotAvailable);
+  EXPECT_EQ(bms::PackSummary::unpack(frames[0]).counter, 0);
+  p.plan.beginSlow();
+  const auto next = p.drain(20);
+  ASSERT_FALSE(next.empty());
+  for (const auto& f : next)
+    EXPECT_NE(f.id, 0x1F0u) << "once only";
+}
+
+TEST(FramePlan, StartupCarriesTheFaultRecordThatSurvived) {
+  Pack p;
+  p.plan.announceStartup({0x1B, true, 30, 0x1234});  // fw::onFault's software SYSRST kept its record
+  p.plan.beginSlow();
+  const auto frames = p.drain(10);
+  ASSERT_GE(frames.size(), 4u);
+  EXPECT_EQ(ids(frames)[2], 0x1F0u) << "after the fast part, before the slow part";
+  EXPECT_EQ(frames[3].id, 0x200u);
+  const fw::hal::CanFrame& f = frames[2];
+  EXPECT_EQ(f.data,
+            (std::array<uint8_t, 8>{0x1B, fw::app::kFirmwareVersionMajor, fw::app::kFirmwareVersionMinor,
+                                    fw::app::kFirmwareVersionPatch, 30, 0x34, 0x12, 0x00}));
+}
+
+TEST(FramePlan, StartupHeldBackByAFullQueueGoesOutWithTheNextCycle) {
+  Pack p;
+  p.plan.announceStartup({0x01, false, 0, 0});
+  p.plan.beginFast();
+  EXPECT_EQ(p.drain(10, 2).size(), 2u);
+  p.plan.abandon();  // bus-off before the Startup frame was accepted
+  p.plan.beginFast();
+  EXPECT_EQ(ids(p.drain(10)), (std::vector<uint32_t>{0x100, 0x101, 0x1F0}));
+}
+
+TEST(FramePlan, StartupPrecedesTheFirstTiSet) {
+  Pack p;
+  p.plan.announceStartup({0x01, false, 0, 0});
+  p.plan.beginTi();
+  const auto frames = p.drain(10);
+  ASSERT_EQ(frames.size(), 9u);
+  EXPECT_EQ(frames[0].id, 0x1F0u);
+  for (size_t i = 1; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].id, 0x004u);
 }
 
 }  // namespace

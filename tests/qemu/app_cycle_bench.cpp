@@ -22,6 +22,7 @@
 
 #include "board.hpp"
 #include "bq76952_responder.hpp"
+#include "common/startup_info.hpp"
 #include "core/time.hpp"
 #include "insn_counter.hpp"
 #include "qtest.hpp"
@@ -152,6 +153,9 @@ void bringUp() {
   for (unsigned irq : {kIrqClock, kIrqI2c, kIrqSerial})
     bsp::scs::nvicEnable(irq);
   gMeter.counter.start();
+}
+fw::app::StartupInfo startupInfo(uint8_t) {
+  return {};  // the stand-in board has no reset cause to report
 }
 }  // namespace image
 

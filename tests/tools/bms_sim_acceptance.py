@@ -21,6 +21,12 @@ checks:
                so when cell 3 changes afterwards
   slcan-pty    an L1306 image's SLCAN text read live through --slcan pty with python3-can's slcan interface is
                exactly the frames bms-sim reports (--json frames_by_id, --candump) and --slcan FILE's text
+  load-paths   the emulated load and charger stop while the device has their path open (the current kept
+               flowing with the discharge FET off): --json load_current_ma and, where the image measures
+               current, PackSummary.PackCurrent
+  options      options the image cannot honour are refused with a message and exit 2, never ignored
+               (--can-layout ti on an image without the TI layout, --devices on a one-device image)
+  gauge-soc    (lp-mspm0g3507-bq4050) StateOfCharge follows the current the gauge counts
 Prints REPORT lines with the figures it measured."""
 import json
 import os
@@ -36,6 +42,8 @@ EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
 STALE_AFTER_MS = 300  # firmware/app/protection/default_limits.hpp: three scan periods
 EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
 NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
+GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the one image with a state of charge
+PERIOD_MS = 100.0  # PackSummary's cycle (bms.yaml)
 
 
 def fail(message):
@@ -51,7 +59,7 @@ def run(sim, *args):
 
 
 def simulate(sim, image, scenario, scratch, duration=10000, extra=()):
-    log = os.path.join(scratch, f"{image}-{scenario}.log")
+    log = os.path.join(scratch, f"{image}-{os.path.basename(scenario)}.log")
     out = run(sim, "--image", image, "--scenario", scenario, "--duration", str(duration), "--json",
               "--candump", log, *extra)
     return json.loads(out), read_candump(log)
@@ -236,6 +244,10 @@ def check_native_dbc(sim, dbc_dir, image, scratch):
         if name == "PackSummary" and t > 200:
             if values["DataValid"] != 1:
                 fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
+            # Only the gas gauge has a state of charge; the others once sent 0 % (a zero-filled default).
+            soc = values["StateOfCharge"]
+            if (soc is not None) != (image == GAUGE_IMAGE) or (soc is not None and not 0 <= soc <= 100):
+                fail(f"PackSummary at {t} ms: StateOfCharge {soc} on {image}")
             if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * summary_cells(summary)) > 0.1:
                 fail(f"PackSummary at {t} ms: pack voltage {values['PackVoltage']} V")
         decoded += 1
@@ -287,8 +299,107 @@ def check_faults(sim, image, scratch):
             after = [t for t, _ in summaries(frames, 0x100) if t > onset]
             if not after or after[0] > onset + 150.0:
                 fail("bus-off: frames did not resume after the recovery")
+            check_bus_off_report(summary, frames, onset)
+        if summary.get("output") == "can":
+            check_counter(frames, scenario)
         print(f"REPORT sim.{image}.{scenario}.watchdog_gap_ms={summary['watchdog_longest_gap_ms']:.0f} "
               f"frames={len(frames)} events={[e['fault'] for e in summary['protection_events']]}")
+
+
+def check_bus_off_report(summary, frames, onset):
+    """--json's bus_off section: the bus-off at the onset, the controller's recovery (ISO 11898-1: 128 x 11
+    recessive bits, 2.816 ms at 500 kbit/s, after the firmware asked for it), the first frame after it, and
+    how far PackSummary.Counter jumped, as the frames show it."""
+    spans = summary.get("bus_off")
+    if not spans or abs(spans[0]["at_ms"] - onset) > 1.0:
+        fail(f"bus-off: --json bus_off does not show the bus-off at {onset} ms: {spans}")
+    b = spans[0]
+    if b["recovered_ms"] is None or not 2.816 <= b["recovery_ms"] <= 10.0:
+        fail(f"bus-off: recovery {b['recovery_ms']} ms, not the 2.816 ms of 128 x 11 bits plus the reaction")
+    after = [t for t, _, _ in frames if t > b["at_ms"]]
+    if b["first_frame_ms"] != round(after[0], 3):
+        fail(f"bus-off: first_frame_ms {b['first_frame_ms']}, the log's first frame after it {after[0]:.3f}")
+    before = [d for t, d in summaries(frames, 0x100) if t <= b["at_ms"]][-1]
+    next_ = [d for t, d in summaries(frames, 0x100) if t > b["at_ms"]][0]
+    skipped = ((next_[5] >> 4) - (before[5] >> 4) - 1) & 0xF
+    if b["pack_summary_counter_skipped"] != skipped:
+        fail(f"bus-off: --json says the counter skipped {b['pack_summary_counter_skipped']}, the frames {skipped}")
+    print(f"REPORT sim.bus_off: recovered after {b['recovery_ms']:.3f} ms, next frame at {b['first_frame_ms']:.3f} "
+          f"ms, PackSummary.Counter skipped {skipped}")
+
+
+def check_counter(frames, scenario):
+    """PackSummary.Counter (bms.yaml: +1 per frame, a gap means a lost frame): between two summaries it steps
+    by the number of 100 ms cycles between them, so each summary that never went out leaves a gap, and only
+    one that did not."""
+    s = summaries(frames, 0x100)
+    for (t0, d0), (t1, d1) in zip(s, s[1:]):
+        step = ((d1[5] >> 4) - (d0[5] >> 4)) & 0xF
+        cycles = round((t1 - t0) / PERIOD_MS)
+        if cycles < 16 and step != cycles:
+            fail(f"{scenario}: PackSummary.Counter steps by {step} from {t0:.3f} to {t1:.3f} ms ({cycles} cycles)")
+
+
+def check_load_paths(sim, image, scratch, extra=()):
+    """A load draws 15 A, then a cell falls to 2.5 V: under-voltage opens the discharge path (the BQ769x's DSG
+    FET, else the fault output) and the load must stop with it. A charger at 5 A with a cell at 4.4 V: the
+    charge path opens and the charger stops."""
+    for name, text, key, demand in (
+            ("discharge", "0 current -15000\n1500 cell 0 1 2500\n1500 expect cell_uv 2700\n", "discharge", -15000),
+            ("charge", "0 current 5000\n1500 cell 0 1 4400\n1500 expect cell_ov 4250\n", "charge", 5000)):
+        path = os.path.join(scratch, f"{image}-load-{name}.txt")
+        with open(path, "w") as f:
+            f.write(text)
+        summary, frames = simulate(sim, image, path, scratch, 3000, extra)
+        if summary["load_demand_ma"] != demand:
+            fail(f"{name}: load_demand_ma {summary['load_demand_ma']}, the scenario asks {demand}")
+        if summary[f"{key}_path_closed"] or summary["load_current_ma"] != 0:
+            fail(f"{name}: after the trip the {key} path is {'closed' if summary[f'{key}_path_closed'] else 'open'} "
+                 f"and {summary['load_current_ma']} mA flow")
+        if image == "lp-mspm0g3507-bq79616":
+            continue  # no current sensor: PackCurrent is not available
+        acted = [e["fets_off_ms"] for e in summary["protection_events"] if e["fets_off_ms"] is not None]
+        if not acted:
+            fail(f"{name}: no protection event acted: {summary['protection_events']}")
+        currents = [(t, int.from_bytes(d[2:4], "little", signed=True) * 10) for t, d in summaries(frames, 0x100)]
+        flowing = [c for t, c in currents if 500 < t < 1500]
+        stopped = [c for t, c in currents if t > min(acted) + 2 * PERIOD_MS]
+        if not flowing or any(abs(c - demand) > 10 for c in flowing):
+            fail(f"{name}: PackCurrent before the trip {flowing[:3]}, not {demand} mA")
+        if not stopped or any(c != 0 for c in stopped):
+            fail(f"{name}: PackCurrent after the path opened at {min(acted):.1f} ms: {stopped[:5]} mA, not 0")
+    print(f"REPORT {'twin' if extra else 'sim'}.{image}.load_paths: the load and the charger stop when their path "
+          "opens")
+
+
+def check_options(sim, image, scratch, extra=()):
+    def refused(args, expect):
+        r = subprocess.run([sim, "--image", image, "--duration", "100", *extra, *args], capture_output=True,
+                           text=True)
+        if r.returncode != 2 or expect not in r.stderr or not r.stderr.startswith("bms-sim: error: "):
+            fail(f"{' '.join(args)} on {image}: exit {r.returncode}, {r.stderr!r} (expected exit 2 and '{expect}')")
+    if image != "lp-mspm0g3507-bq79616":
+        refused(["--can-layout", "ti"], "--can-layout")
+        refused(["--devices", "3"], "--devices 3")
+    elif extra:
+        refused(["--can-layout", "ti"], "--can-layout")  # an image's layout is built in: native
+        run(sim, "--image", image, "--duration", "100", *extra, "--devices", "3")
+    else:
+        run(sim, "--image", image, "--duration", "100", "--can-layout", "ti", "--devices", "3")
+    print(f"REPORT sim.{image}.options: refused what the image cannot honour")
+
+
+def check_gauge_soc(sim, scratch, extra=()):
+    """30 A out of the BQ4050's 4 000 mAh (3 200 left, 80 %) for 30 s: 250 mAh, 73.75 %, sent as 74 %."""
+    image = GAUGE_IMAGE
+    path = os.path.join(scratch, "gauge-soc.txt")
+    with open(path, "w") as f:
+        f.write("0 current -30000\n")
+    _, frames = simulate(sim, image, path, scratch, 30000, extra)
+    socs = [d[4] for t, d in summaries(frames, 0x100) if t > 200 and d[5] & 0x08]
+    if socs[0] != 80 or socs[-1] != 74 or any(b > a for a, b in zip(socs, socs[1:])):
+        fail(f"StateOfCharge over 30 s at -30 A: {socs[0]} .. {socs[-1]} %, not 80 falling to 74")
+    print(f"REPORT sim.gauge_soc: {socs[0]} -> {socs[-1]} % after 250 mAh")
 
 
 def check_open_wire(sim, image, scratch):
@@ -340,21 +451,12 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     path = first.split(" on ")[1].split()[0]
     bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
     received = []
-    while True:
-        try:
-            msg = bus.recv(timeout=0.5)
-        except can.CanError:
-            break  # bms-sim closed the terminal after its reader took everything
-        if msg is None:
-            if proc.poll() is not None:
-                break
-            continue
+    # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
+    # close the terminal, and must not close it under the reader).
+    while (msg := bus.recv(timeout=2.0)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
+    bus.shutdown()
     out, err = proc.communicate(timeout=30)
-    try:
-        bus.shutdown()
-    except can.CanError:
-        pass
     if proc.returncode != 0:
         fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
     summary = json.loads(out)
@@ -419,6 +521,12 @@ def main():
         check_native_64(sim, scratch)
     elif check == "open-wire-update":
         check_open_wire_update(sim, image, scratch)
+    elif check == "load-paths":
+        check_load_paths(sim, image, scratch)
+    elif check == "options":
+        check_options(sim, image, scratch)
+    elif check == "gauge-soc":
+        check_gauge_soc(sim, scratch)
     else:
         print(__doc__)
         return 2

@@ -10,7 +10,11 @@ checks:
                other); a board the image lacks is a file:line:col error before the run
   drift        a value set on a drifting cell stays (the drift used to overwrite it), and a drift stops at
                the 5000 mV end of the range (it used to run past what the registers hold)
-  expect       the `expect` scenario.hpp documents is accepted and measures the latency from its step
+  expect       the `expect` scenario.hpp documents is accepted and measures the latency from its step; an expect
+               that does not happen is reported as missed (text and --json) and the run exits 3 (it passed
+               silently, exit 0)
+  hostile-files  --elf and --scenario given a directory, /dev/zero or an oversize file: exit 2 with one clear
+               line naming the file, promptly (--elf of a directory aborted, of /dev/zero grew without bound)
   long-run     --devices 64: the live view arrives while the run goes on (stdout a pipe, or with --json on
                stderr when it is a terminal), and no latency is negative ("fault before onset" instead)
 Prints REPORT lines with what it measured."""
@@ -109,7 +113,62 @@ def check_expect(sim, scratch):
         fail(f"comm_loss not measured from its expect at 2000 ms: {events}")
     if events.get("stale_data", {}).get("latency_note") != "no expected onset":
         fail(f"stale_data was not expected, yet: {events.get('stale_data')}")
+    summary = json.loads(r.stdout)
+    if summary["expects_missed"] != 0 or not summary["expects"][0]["met"]:
+        fail(f"the comm_loss expect is not reported as met: {summary['expects']}")
     print(f"REPORT sim.scenario.expect_comm_loss_latency_ms={e['latency_ms']:.3f}")
+    # Expects that never happen: a limit the pack never reaches, a fault that never comes, a step after the end.
+    path = scenario_file(scratch, "missed",
+                         "1000 expect ot 3332\n1000 expect comm_loss\n500 expect cell_ov\n9000 expect ut\n"
+                         "500 all-cells 4300\n")
+    for json_out in (True, False):
+        r = run(sim, "--scenario", path, "--duration", "3000", *(["--json"] if json_out else []))
+        if r.returncode != 3:
+            fail(f"missed expects: exit {r.returncode}, not 3 ({r.stderr!r})")
+        if json_out:
+            summary = json.loads(r.stdout)
+            got = {e["fault"]: (e["met"], e["missed"]) for e in summary["expects"]}
+            want = {"ot": (False, "the pack never reached 3332 0.1 K"),
+                    "comm_loss": (False, "no comm_loss event at or after the onset"),
+                    "cell_ov": (True, None),
+                    "ut": (False, "the run ended (3000 ms) before the step at 9000 ms")}
+            if got != want or summary["expects_missed"] != 3:
+                fail(f"missed expects in --json: {summary['expects']} ({summary['expects_missed']} missed)")
+        else:
+            missed = [l for l in r.stdout.splitlines() if "MISSED" in l]
+            if len(missed) != 3 or "3 expect(s) missed" not in r.stdout:
+                fail(f"missed expects in the text: {r.stdout[-600:]!r}")
+    print("REPORT sim.scenario.missed_expects=3 of 4 reported, exit 3")
+
+
+def check_hostile_files(sim, scratch):
+    big = os.path.join(scratch, "big.elf")
+    with open(big, "wb") as f:
+        f.truncate(17 << 20)  # sparse: 17 MiB of zeros, over the 16 MiB an ELF may have
+    big_text = os.path.join(scratch, "big.txt")
+    with open(big_text, "w") as f:
+        f.write("0 all-cells 3700\n" * 70000)  # 1.2 MB of valid steps, over the 1 MiB limit
+    cases = [
+        (["--elf", scratch], f"bms-sim: error: {scratch}: a directory, not a firmware ELF"),
+        (["--elf", "/dev/zero"], "bms-sim: error: /dev/zero: not a regular file (a device or a pipe), not a firmware ELF"),
+        (["--elf", big], f"bms-sim: error: {big}: larger than 16 MiB, which no firmware ELF needs"),
+        (["--image", IMAGE, "--scenario", scratch], f"{scratch}: error: a directory, not a scenario file"),
+        (["--image", IMAGE, "--scenario", "/dev/zero"],
+         "/dev/zero: error: larger than 1 MiB, which no scenario file needs"),
+        (["--image", IMAGE, "--scenario", big_text], f"{big_text}: error: larger than 1 MiB, which no scenario file needs"),
+    ]
+    for args, expect in cases:
+        started = time.monotonic()
+        r = subprocess.run([sim, *args, "--duration", "100"], capture_output=True, text=True, timeout=60)
+        took = time.monotonic() - started
+        if "runtime error" in r.stderr or "Sanitizer" in r.stderr or "terminate" in r.stderr:
+            fail(f"{' '.join(args)}: {r.stderr!r}")
+        if r.returncode != 2 or r.stderr != expect + "\n" or r.stdout:
+            fail(f"{' '.join(args)}: exit {r.returncode}, stderr {r.stderr!r}, expected exit 2 and {expect!r}")
+        if took > 10:
+            fail(f"{' '.join(args)}: took {took:.1f} s")
+    os.remove(big)
+    print(f"REPORT sim.hostile_files={len(cases)} refused with one line and exit 2")
 
 
 def arrivals(fd, proc):
@@ -187,7 +246,7 @@ def main():
     check, sim, scratch = sys.argv[1:4]
     os.makedirs(scratch, exist_ok=True)
     checks = {"bad-values": check_bad_values, "order": check_order, "drift": check_drift, "expect": check_expect,
-              "long-run": check_long_run}
+              "long-run": check_long_run, "hostile-files": check_hostile_files}
     if check not in checks:
         print(__doc__)
         return 2

@@ -208,6 +208,7 @@ class RecordingSim final : public ImageSim {
     cell_[board][cell] = mv;
   }
   void setCurrentMa(int ma) override { currentMa = ma; }
+  Paths paths() const override { return open; }
   void setTempDeciK(int board, int sensor, int deciK) override { temp_[board][sensor] = deciK; }
   void setCommLost(bool lost) override { commLost = lost; }
   void openWire(int, int) override {}
@@ -222,6 +223,7 @@ class RecordingSim final : public ImageSim {
   int temp(int b, int s) const { return temp_[b][s]; }
   int currentMa = 0, cellPushes = 0;
   bool commLost = false;
+  Paths open;  // the emulated device's paths (both closed unless a test opens one)
 
  private:
   bsp::host::Harness harness_;
@@ -327,6 +329,53 @@ TEST(EventLatency, NeverNegative) {
   // The fault's own expect wins over `any`.
   const Onsets both{{"any", 1000}, {"comm_loss", 2000}};
   EXPECT_EQ(latencyOf(event(FaultId::CommLoss, 2200000, true, 2200000), both).latencyUs, 200000U);
+}
+
+// The simulated current kept flowing with the discharge FET off: the load and the charger now stop while the
+// device has their path open, and start again when it closes; occ / ocd onsets follow the current that flows.
+TEST(ScenarioPlayer, TheLoadAndTheChargerStopWhileTheirPathIsOpen) {
+  RecordingSim sim;
+  const Scenario s = parsed("0 current -15000\n0 expect ocd -10000\n2000 current 8000\n");
+  ScenarioPlayer p(sim, s);
+  sim.open.discharge = false;  // the DSG FET is off from the start
+  playTo(p, 0, 999);
+  EXPECT_EQ(sim.currentMa, 0) << "the load draws nothing through an open discharge path";
+  EXPECT_EQ(p.demandMa(), -15000);
+  EXPECT_EQ(p.onsets().count("ocd"), 0U) << "no discharge current flows, so no over-current onset";
+  sim.open.discharge = true;
+  p.advance(1000);
+  EXPECT_EQ(sim.currentMa, -15000);
+  EXPECT_EQ(p.onsets().at("ocd"), 1000U);
+  sim.open.discharge = false;  // protection opens it again
+  p.advance(1001);
+  EXPECT_EQ(sim.currentMa, 0);
+  EXPECT_EQ(p.flowingMa(), 0);
+  playTo(p, 1002, 2000);
+  EXPECT_EQ(sim.currentMa, 8000) << "a charger is not blocked by the open discharge path";
+  sim.open.charge = false;
+  p.advance(2001);
+  EXPECT_EQ(sim.currentMa, 0);
+}
+
+// An expect that never happened passed silently (no "missed", exit 0): each is judged now.
+TEST(ExpectVerdicts, MetOnlyByAnEventOfItsFaultAtOrAfterTheOnset) {
+  using fw::app::FaultId;
+  const Scenario s = parsed(
+      "1000 expect cell_ov 4250\n1000 expect comm_loss\n1000 expect ocd -30000\n2000 expect any\n"
+      "9000 expect ot\n");
+  const Onsets onsets{{"cell_ov", 2250}, {"comm_loss", 1000}, {"any", 2000}};
+  const std::vector<fw::app::ProtectionRecord> log = {
+      event(FaultId::CommLoss, 900000, true, 900000),
+      event(FaultId::CellOvervoltage, 2302000, true, 2302500)};
+  const auto v = judgeExpects(s, onsets, log, 5000);
+  ASSERT_EQ(v.size(), 5U);
+  EXPECT_EQ(v[0].missed, "");
+  EXPECT_EQ(v[0].event->detected.us, 2302000U);
+  EXPECT_EQ(v[1].missed,
+            "no comm_loss event at or after the onset (one was detected before it, at 900.000 ms)");
+  EXPECT_EQ(v[2].missed, "the pack never reached -30000 mA");
+  EXPECT_EQ(v[3].missed, "") << "any fault meets `any`";
+  EXPECT_EQ(v[4].missed, "the run ended (5000 ms) before the step at 9000 ms");
 }
 
 }  // namespace

@@ -4,7 +4,10 @@
 //   output, wherever in the scan period the edge comes;
 // - deliberately broken variants of an image, made here by patching its flash, each caught by the twin: the
 //   MCAN interrupt never acknowledged (the MCANSS EOI store taken out), two interrupt vectors swapped, and
-//   the watchdog never restarted (the WWDTCNTRST store taken out).
+//   the watchdog never restarted (the WWDTCNTRST store taken out);
+// - what every boot publishes first (the Startup message): the reset cause, the firmware version, and the
+//   fault record only where the reset kept SRAM.
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -213,16 +216,96 @@ TEST(BrokenImage, SwappedVectorsStopThePublishingAndResetTheChip) {
 }
 
 TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
+  // Both chips: the L1306 images are supervised by WWDT0 as well (bsp/mspm0/README.md said they were not).
+  for (const std::string preset : {"lp-mspm0g3507-bq76952", "lp-mspm0l1306-bq76952"}) {
+    SCOPED_TRACE(preset);
+    LOAD_OR_SKIP(elf, preset);
+    const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
+    ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+    removeStores(*elf, feeds);
+    Rig r(preset, *elf);
+    r.board.runUntilUs(2500000);
+    ASSERT_GE(r.board.machine().resets().size(), 2U);
+    EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+        << r.board.machine().resets()[1];
+  }
+}
+
+// --- Startup message (bms.yaml Startup, 0x1F0)
+// ---------------------------------------------------------------
+
+// The payloads of the Startup frames the board sent, in order (CAN images).
+std::vector<std::array<uint8_t, 8>> startupFrames(const Board& b) {
+  std::vector<std::array<uint8_t, 8>> out;
+  for (const auto& f : b.canFrames()) {
+    if (f.frame.id == 0x1F0) out.push_back(f.frame.data);
+  }
+  return out;
+}
+uint16_t faultLine(const std::array<uint8_t, 8>& d) {
+  return static_cast<uint16_t>(d[5] | d[6] << 8);
+}
+
+TEST(Startup, EveryBootPublishesItsResetCauseAndAWatchdogResetLeavesNoFaultRecord) {
+  // A WWDT0 violation is a BOOTRST, which resets SRAM (SLAU846B WWDT overview, Table 2-12): the next boot
+  // publishes RSTCAUSE 0x0E and no fault record; the power-on before it published 0x01.
   const std::string preset = "lp-mspm0g3507-bq76952";
   LOAD_OR_SKIP(elf, preset);
   const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
-  ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+  ASSERT_FALSE(feeds.empty());
   removeStores(*elf, feeds);
   Rig r(preset, *elf);
-  r.board.runUntilUs(2500000);
-  ASSERT_GE(r.board.machine().resets().size(), 2U);
-  EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+  r.board.runUntilUs(1300000);  // one watchdog period (1 s) and the next boot's first cycle
+  ASSERT_EQ(r.board.machine().resets().size(), 2U);
+  const auto frames = startupFrames(r.board);
+  ASSERT_EQ(frames.size(), 2U);
+  EXPECT_EQ(frames[0][0], 0x01) << "power-on: VDD < POR-";
+  EXPECT_EQ(frames[0][1], 0);  // firmware version 0.1.0 (CMake project version)
+  EXPECT_EQ(frames[0][2], 1);
+  EXPECT_EQ(frames[0][3], 0);
+  EXPECT_EQ(frames[0][4], 0xFF) << "no fault record at power-on";
+  EXPECT_EQ(faultLine(frames[0]), 0xFFFF);
+  EXPECT_EQ(frames[1][0], 0x0E) << "WWDT0 violation";
+  EXPECT_EQ(frames[1][4], 0xFF) << "a BOOTRST leaves no fault record";
+  EXPECT_EQ(faultLine(frames[1]), 0xFFFF);
+}
+
+TEST(Startup, AFaultRecordSurvivesTheSoftwareSysrstAndIsPublished) {
+  // fw::onFault stores the record in .noinit and issues a software SYSRST, which keeps SRAM (SLAU846B Table
+  // 2-12): the next boot publishes RSTCAUSE 0x1B with the record. The fault: the stack guard words
+  // overwritten, which the next watchdog feed checks (watchdog.hpp).
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto guard = elf->symbol("__stack_limit__");
+  ASSERT_TRUE(guard.has_value());
+  Rig r(preset, *elf);
+  r.board.runUntilUs(500000);
+  ASSERT_EQ(r.board.machine().resets().size(), 1U);
+  ASSERT_TRUE(r.board.machine().busWrite(guard->value, 4, 0));
+  r.board.runUntilUs(1000000);
+  ASSERT_EQ(r.board.machine().resets().size(), 2U);
+  EXPECT_NE(r.board.machine().resets()[1].find("software SYSRST"), std::string::npos)
       << r.board.machine().resets()[1];
+  const auto frames = startupFrames(r.board);
+  ASSERT_EQ(frames.size(), 2U);
+  EXPECT_EQ(frames[1][0], 0x1B) << "software SYSRST";
+  EXPECT_EQ(frames[1][4], 30) << "fw::Module::Bsp";
+  EXPECT_NE(faultLine(frames[1]), 0xFFFF);
+}
+
+TEST(Startup, TheL1306SendsItFirstAsSlcanText) {
+  // The SLCAN images send the same frame as text, once: "t1F08" and the payload; power-on cause 0x01,
+  // version 0.1.0, no record.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  std::vector<std::string> startup;
+  for (const auto& line : r.board.slcanLines()) {
+    if (line.text.rfind("t1F0", 0) == 0) startup.push_back(line.text);
+  }
+  ASSERT_EQ(startup.size(), 1U);
+  EXPECT_EQ(startup[0], "t1F0801000100FFFFFF00\r");
 }
 
 }  // namespace

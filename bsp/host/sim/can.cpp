@@ -187,6 +187,7 @@ void SimCan::injectBusOff() {
     transmitting_ = false;
   }
   txQueue_.clear();
+  if (state_ != CanState::BusOff) busOffLog_.push_back({clock_.nowUs(), 0});
   state_ = CanState::BusOff;
   ++counters_.busOffEvents;
   if (!transmitting_) startNext();
@@ -202,6 +203,7 @@ Status SimCan::doRecover() {
   clock_.scheduleIn(fw::us(static_cast<uint32_t>(us)), [this] {
     recovering_ = false;
     state_ = CanState::ErrorActive;
+    busOffLog_.back().recoveredUs = clock_.nowUs();
     if (!transmitting_) startNext();
     signal();
   });

@@ -55,6 +55,11 @@ class SimCan final : public fw::hal::CanBus {
   uint64_t peerFrames() const { return peerFrames_; }    // peer frames that went over the wire
   uint64_t filteredOut() const { return filteredOut_; }  // of those, rejected by the filter
   uint64_t receiveInterrupts() const { return rxInterrupts_; }
+  // Each bus-off: when it began and when the controller was error active again (0: not yet), for reports.
+  struct BusOffSpan {
+    uint64_t startUs = 0, recoveredUs = 0;
+  };
+  const std::vector<BusOffSpan>& busOffLog() const { return busOffLog_; }
 
  private:
   fw::Status doSend(const fw::hal::CanFrame& frame) override;
@@ -94,6 +99,7 @@ class SimCan final : public fw::hal::CanBus {
   uint64_t txEvent_ = 0;
   uint64_t busTimeUs_ = 0;
   bool recovering_ = false;
+  std::vector<BusOffSpan> busOffLog_;
 };
 
 }  // namespace bsp::host

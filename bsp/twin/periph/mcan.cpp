@@ -48,6 +48,7 @@ Mcan::Mcan(Machine& machine, Pins& pins, Sysctl& sysctl)
                  [this] {
                    // ISO 11898-1: after 128 occurrences of 11 recessive bits the node is error active again.
                    busOff_ = false;
+                   if (!busOffLog_.empty()) busOffLog_.back().recoveredCycle = machine_.now();
                    errorPassive_ = false;
                    tec_ = 0;
                    setIr(kIrBo);
@@ -288,6 +289,7 @@ void Mcan::transmitDone() {
 
 void Mcan::enterBusOff() {
   busOff_ = true;
+  busOffLog_.push_back({machine_.now(), 0});
   tec_ = 256;
   transmitting_ = false;
   txDone_.cancel();

@@ -103,6 +103,11 @@ class Mcan final : public Peripheral {
   // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
   uint64_t awaitingEoiCycles(int line) const;
   bool busOff() const { return busOff_; }
+  // Each bus-off: the cycle it began and the cycle the recovery ended (0: not yet), for reports.
+  struct BusOffSpan {
+    uint64_t startCycle = 0, recoveredCycle = 0;
+  };
+  const std::vector<BusOffSpan>& busOffLog() const { return busOffLog_; }
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;
@@ -131,6 +136,7 @@ class Mcan final : public Peripheral {
   uint32_t txPf_ = 0, rxPf_ = 0;
   std::vector<uint32_t> ram_;
   std::vector<std::string> notes_;
+  std::vector<BusOffSpan> busOffLog_;
 
   // Core registers
   uint32_t cccr_ = 1, nbtp_ = 0x06000A03, dbtp_ = 0, test_ = 0, ir_ = 0, ie_ = 0, ils_ = 0, ile_ = 0;

@@ -11,12 +11,19 @@
 //   resolution. If the HFCLK startup monitor is enabled, HFXT will be checked after this time expires",
 //   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning().
 // - RESETLEVEL/RESETCMD: KEY 0xE4 with GO issues the reset RESETLEVEL names (0 SYSRST "CPU plus peripherals
-//   only", 1 BOOTRST, 3 POR; hw_sysctl RESETLEVEL_LEVEL_*).
-// - RSTCAUSE (0x1220): ID 4:0, the last reset's cause, "a read-to-clear field" (hw_sysctl SYSCTL_RSTCAUSE_ID;
-//   0 NORST once read). Software resets give SYSSW 0x1B, BOOTSW 0x0D, PORSW 0x03 (the RESETCMD levels 0, 1,
-//   3); the twin's other BOOTRST source, the WWDT, SYSWWDT0 0x0E; its other SYSRST source (AIRCR.SYSRESETREQ)
-//   CPUSW 0x1D; a power-up BORSUPPLY 0x04 (the supply rising through BOR0). TI's documents do not say which
-//   ID a cold power-up reads (README, open questions).
+//   only", 1 BOOTRST, 2 "SYSRST and enter the bootloader", 3 POR, 4 "SYSRST and exit the bootloader";
+//   hw_sysctl RESETLEVEL_LEVEL_*, the same values in mspm0-sdk dl_sysctl_mspm0{l11xx_l13xx,g1x0x_g3x0x}.h
+//   DL_SYSCTL_RESET_BOOTLOADER_ENTRY/EXIT). Levels 2 and 4 leave their request for the boot code
+//   (bsl/boot_code.hpp, takeBootRequest()), which the reset runs; 5..7 are undefined and stop the run. They
+//   leave RSTCAUSE 0x1B / 0x0D / 0x11 (SYSBSLENTRY) / 0x03 / 0x10 (SYSBSLEXIT).
+// - RSTCAUSE (0x1220): the lowest-level cause of the resets since the last read (Machine::takeResetCause:
+//   power-on 0x01, WWDT0 violation 0x0E, the software resets above, AIRCR.SYSRESETREQ 0x1D), cleared by the
+//   read ("The contents of the reset cause register are always cleared upon a read", text above SLAU846B
+//   Table 2-12 / SLAU847D Table 2-9; IDs from hw_sysctl RSTCAUSE_ID_*, their levels from SLAU846B Table
+//   2-12).
+// - SYSOSCFCLCTL (0x1310): KEY 0x2A with SETUSEFCL turns the frequency correction loop on until the next
+//   BOOTRST (CLKSTATUS.FCLMODE reads 1); without the key the write is ignored; SETUSEEXRES on the L1306
+//   stops the run (no such field there).
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -39,6 +46,14 @@ class Sysctl final : public Device {
 
   bool canClockRunning() const;
 
+  enum class BootRequest : uint8_t { None, EnterBootloader, ExitBootloader };
+  // The bootloader request of the software reset in progress (RESETLEVEL 2 or 4), taken once.
+  BootRequest takeBootRequest() {
+    const BootRequest r = bootRequest_;
+    bootRequest_ = BootRequest::None;
+    return r;
+  }
+
  private:
   void reset(ResetKind kind);
 
@@ -46,8 +61,8 @@ class Sysctl final : public Device {
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0;
-  uint32_t resetCause_ = 0;
-  int softwareLevel_ = -1;  // the RESETLEVEL of a RESETCMD reset under way
+  BootRequest bootRequest_ = BootRequest::None;
+  bool fclMode_ = false;
   uint64_t hfxtGoodAt_ = UINT64_MAX;
 };
 

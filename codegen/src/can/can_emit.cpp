@@ -186,7 +186,7 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
       << "\n\n";
   std::ostringstream comments, values;
   for (const Message& m : cat.messages) {
-    if (m.layout != layout) continue;
+    if (!m.inLayout(layout)) continue;
     const uint32_t id = dbcId(m);
     // A message the node receives is sent by an unnamed node (Vector__XXX) and received by the node.
     out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << (m.received ? "Vector__XXX" : cat.node)
@@ -238,7 +238,7 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
       << comments.str() << "BA_DEF_ BO_ \"GenMsgCycleTime\" INT 0 65535;\n"
       << "BA_DEF_DEF_ \"GenMsgCycleTime\" 0;\n";
   for (const Message& m : cat.messages) {
-    if (m.layout != layout || m.cycleMs == 0) continue;
+    if (!m.inLayout(layout) || m.cycleMs == 0) continue;
     out << "BA_ \"GenMsgCycleTime\" BO_ " << dbcId(m) << " " << m.cycleMs << ";\n";
   }
   out << values.str();

@@ -225,7 +225,8 @@ uint32_t Message::framesPerCycle() const {
 std::vector<std::string> Catalogue::layouts() const {
   std::vector<std::string> out;
   for (const Message& m : messages) {
-    if (std::find(out.begin(), out.end(), m.layout) == out.end()) out.push_back(m.layout);
+    if (m.layout != kEveryLayout && std::find(out.begin(), out.end(), m.layout) == out.end())
+      out.push_back(m.layout);
   }
   return out;
 }
@@ -297,8 +298,15 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     }
     m.description = text(node.find("description"));
     if (node.find("id") != nullptr) {
-      auto [it, fresh] = ids.emplace(std::make_pair(m.layout, m.id), m.name);
-      if (!fresh) diag.error(node.find("id")->loc, where + ": id already used by '" + it->second + "'");
+      // An id is unique within each DBC: a message of every layout clashes with any message of the id.
+      for (const auto& [key, other] : ids) {
+        const bool sameDbc = key.first == m.layout || key.first == kEveryLayout || m.layout == kEveryLayout;
+        if (key.second == m.id && sameDbc) {
+          diag.error(node.find("id")->loc, where + ": id already used by '" + other + "'");
+          break;
+        }
+      }
+      ids.emplace(std::make_pair(m.layout, m.id), m.name);
     }
     const Node* sigs = node.find("signals");
     if (sigs != nullptr && !sigs->isSeq()) {

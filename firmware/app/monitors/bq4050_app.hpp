@@ -113,6 +113,7 @@ class Bq4050Device : public MonitorBase {
       view_.hasCurrent = true;
       view_.currentMa = m.currentMa;
       view_.stateOfCharge = m.rsocPercent;
+      view_.hasStateOfCharge = true;
       view_.deviceFault = m.deviceFault();
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
@@ -181,6 +182,8 @@ class Bq4050App {
 
   const PackView& pack() const { return *view_; }
   const PublishStatus& status() const { return *status_; }
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
+  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }

@@ -297,6 +297,8 @@ class Bq769xApp {
 
   const PackView& pack() const { return *view_; }
   const PublishStatus& status() const { return *status_; }
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
+  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
   const command::LimitSettings& settings() const { return settings_; }
   using Commands = command::CommandTask<command::LinkFor<Publisher>>;

@@ -215,6 +215,8 @@ class Bq79616App {
   const command::CommandTask<command::CanLink>& commands() const { return command_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
   const PublishStatus& status() const { return *status_; }
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
+  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {

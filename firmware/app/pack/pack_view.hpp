@@ -89,7 +89,10 @@ struct PackView {
   // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
   // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).
   bool monitorRunning = false;
-  uint8_t stateOfCharge = 255;  // % from a gas gauge; 255 = unknown
+  // A gas gauge's state of charge stands behind stateOfCharge (set with it by the gauge's monitor). Zero, the
+  // state the images start from (Zeroed<PackView>), means none: StateOfCharge then goes out not available.
+  bool hasStateOfCharge = false;
+  uint8_t stateOfCharge = 0;  // %, valid with hasStateOfCharge and board 0's measurement
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
   // not publish it (FW_PUBLISH_LEVEL 0).

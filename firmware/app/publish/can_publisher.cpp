@@ -3,6 +3,18 @@
 namespace fw::app {
 
 void CanPublisher::run(sched::EventMask events) {
+  // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan (none while a set is
+  // still going out: sets go out whole). It begins during a bus-off too and is dropped at once below, so the
+  // PackSummary it would have carried leaves its Counter gap (frame_plan.hpp), as one lost in the controller.
+  const bool ti = layout_ == CanLayout::Ti;
+  if ((events & (ti ? kScanDone : kTick)) != 0) {
+    if (ti) {
+      plan_.beginTi();
+    } else if (plan_.beginNative(state_->tick, slowEvery_)) {
+      ++state_->stats.abandoned;
+    }
+    ++state_->stats.cycles;
+  }
   if (can_.state() == hal::CanState::BusOff) {
     if (plan_.active()) {
       plan_.abandon();
@@ -19,20 +31,7 @@ void CanPublisher::run(sched::EventMask events) {
     return;
   }
   state_->recovering = false;
-
-  // A new cycle: native on the tick (slow every slowEvery ticks), TI after each scan (none while a set is
-  // still going out: sets go out whole).
-  const Instant now = scheduler_.now();
-  const bool ti = layout_ == CanLayout::Ti;
-  if ((events & (ti ? kScanDone : kTick)) != 0) {
-    if (ti) {
-      plan_.beginTi();
-    } else if (plan_.beginNative(state_->tick, slowEvery_)) {
-      ++state_->stats.abandoned;
-    }
-    ++state_->stats.cycles;
-  }
-  pump(now);
+  pump(scheduler_.now());
 }
 
 inline void CanPublisher::pump(Instant now) {

@@ -7,10 +7,9 @@
 // (kCan), so it never waits. Frames still unsent when the next cycle drops them (frame_plan.hpp) count as an
 // abandoned cycle: the bus is saturated, and newer data is worth more than older frames. The command task's
 // answers (outbox(), app/publish/outbox.hpp; post kReply) are queued ahead of the plan's next frames, one
-// answer set at a time. On bus-off it
-// abandons the cycle, starts
-// the controller's recovery (at most once per fast period) and resumes with fresh frames when the bus is
-// back. Thread mode only.
+// answer set at a time. On bus-off it abandons the cycle (and drops each cycle due while the bus is off, so
+// PackSummary.Counter shows every summary that never went out), starts the controller's recovery (at most
+// once per fast period) and resumes with fresh frames when the bus is back. Thread mode only.
 #pragma once
 
 #include <cstdint>

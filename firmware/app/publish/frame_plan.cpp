@@ -2,6 +2,7 @@
 
 #include <type_traits>
 
+#include "app/version.hpp"  // generated: the CMake project version
 #include "can/bms.hpp"
 
 namespace fw::app {
@@ -152,7 +153,7 @@ template <class M, bool kSent>
 using Sent = std::conditional_t<kSent, M, Left<M>>;
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
-      Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,                  \
+      bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
       Sent<bms::TemperatureExtremes, kAllMessages>
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
@@ -192,18 +193,23 @@ static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::TemperatureExtremes::kFieldCount <= kMaxFields &&
               bms::ProtectionEvent::kFieldCount <= kMaxFields &&
               bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
-              bms::TiCellVoltages::kFieldCount <= kMaxFields);
+              bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields);
+static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
+                  bms::Startup::kFaultLineNotAvailable == 0xFFFF,
+              "a Startup field left unset goes out as not available");
 
 }  // namespace
 
 // A cycle walks steps in order, each with framesIn() frames:
-//   fast part: summary, extremes, [event]; then the slow part if one is waiting (resume_)
+//   fast part: summary, extremes, [event], [startup]; then the slow part if one is waiting (resume_)
 //   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes
 //   ti:        boards x 4 frames, top of stack first
 inline uint16_t FramePlan::framesIn(Step step) const {
   const uint16_t boards = pack_.boardCount();
   if (!sent(step)) return 0;
   switch (step) {
+    case kStartup:
+      return startupPending_;
     case kSummary:
     case kExtremes:
       return 1;
@@ -222,18 +228,26 @@ inline uint16_t FramePlan::framesIn(Step step) const {
   }
 }
 
-// Moves on from steps whose frames are all done (or that have none): after the fast part to the slow part
-// waiting (if any), after the slow part or a TI set to the end.
+// Moves on from steps whose frames are all done (or that have none): after the fast part to the Startup
+// frame (if announced) and then the slow part waiting (if any), after the slow part or a TI set to the end.
 void FramePlan::settle() {
-  if constexpr (!kCoreMessages && !kTiLayout) {  // PackSummary is the only message
-    if (index_ != 0) step_ = kDone;
+  if constexpr (!kCoreMessages && !kTiLayout) {  // PackSummary is the only message (and Startup once)
+    if (index_ != 0) {
+      step_ = step_ == kSummary && startupPending_ ? kStartup : kDone;
+      index_ = 0;
+    }
     return;
   }
   while (step_ != kDone && index_ >= framesIn(step_)) {
     index_ = 0;
-    if (kCoreMessages && step_ == kEvent) {
-      step_ = resume_, index_ = resumeIndex_;
-      resume_ = kDone;
+    if (step_ == kStartup) {  // the end of the fast part (or the start of a TI set)
+      if (tiStartup_) {
+        step_ = kTiCells;
+        tiStartup_ = false;
+      } else {
+        step_ = resume_, index_ = resumeIndex_;
+        resume_ = kDone;
+      }
     } else {
       step_ = step_ == kTempExtremes ? kDone : static_cast<Step>(step_ + 1);
     }
@@ -255,7 +269,8 @@ void FramePlan::beginTi() {
   // Only after a scan (it has just ended) that validated every board and shows no open wire: those codes are
   // not cell voltages, and the layout cannot say so.
   if (!pack_.totals.complete) return;
-  step_ = kTiCells;
+  tiStartup_ = startupPending_;
+  step_ = startupPending_ ? kStartup : kTiCells;
   index_ = 0;
   settle();
 }
@@ -279,6 +294,18 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   switch (step_) {
     case kDone:
       return 0;
+    case kStartup: {
+      using U = bms::Startup;
+      v[U::kResetCauseField] = startup_.resetCause;
+      v[U::kFirmwareMajorField] = kFirmwareVersionMajor;
+      v[U::kFirmwareMinorField] = kFirmwareVersionMinor;
+      v[U::kFirmwarePatchField] = kFirmwareVersionPatch;
+      if (startup_.faultValid) {
+        v[U::kFaultModuleField] = startup_.faultModule;
+        v[U::kFaultLineField] = startup_.faultLine;
+      }
+      break;
+    }
     case kSummary:
       // The pack voltage is the sum over every board, so only a scan that validated all of them gives it.
       {
@@ -286,7 +313,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         if (fresh && t.complete) v[S::kPackVoltageField] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
-        if (cells) v[S::kStateOfChargeField] = pack_.stateOfCharge;  // 255 (not available) without a gauge
+        if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
         v[S::kChargeFetField] = status_.chargeOn;
         v[S::kDischargeFetField] = status_.dischargeOn;
         v[S::kFaultOutputField] = status_.faultOutput;
@@ -373,7 +400,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 
 void FramePlan::advance() {
   // On a finished plan this only counts index_ up: settle() leaves kDone alone.
-  if (step_ == kSummary) ++counter_;  // PackSummary's rolling counter counts summaries sent
+  if (step_ == kStartup) startupPending_ = false;
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;
     status_.pendingCleared = 0;

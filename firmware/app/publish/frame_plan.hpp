@@ -9,6 +9,9 @@
 // nothing fresh behind them.
 //
 // Cycles
+//   start-up              after announceStartup(), the Startup message once: at the end of the next native
+//                         cycle's fast part (PackSummary keeps its time), or before the next TI set; reset
+//                         cause, firmware version, surviving fault record
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
 //                         TemperatureExtremes. The slow part may take longer than 100 ms (64 boards: 449
@@ -64,6 +67,11 @@ class FramePlan {
     return begin(slow);
   }
   bool active() const { return step_ != kDone; }
+  // The Startup message, sent once at the start of the next cycle (the image calls this once, at start-up).
+  void announceStartup(const StartupInfo& info) {
+    startup_ = info;
+    startupPending_ = true;
+  }
 
   // Fills `data` with the payload of the current frame (all 8 bytes) and returns its standard identifier,
   // or 0 when the cycle is complete. Every message of the catalogue is a classic 8-byte frame with a
@@ -84,8 +92,19 @@ class FramePlan {
 
  private:
   // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
-  // of (framesIn() == 0). Fast part: kSummary..kEvent; slow part: kCells..kTempExtremes; TI: kTiCells.
-  enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
+  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kTempExtremes;
+  // TI: kTiCells (after kStartup once).
+  enum Step : uint8_t {
+    kSummary,
+    kExtremes,
+    kEvent,
+    kStartup,
+    kCells,
+    kTemps,
+    kTempExtremes,
+    kTiCells,
+    kDone
+  };
   bool begin(bool slow);  // (.cpp) the cycles with a slow part (FW_PUBLISH_LEVEL 1 and up)
   // The fast part, PackSummary first (every build sends it, so no settle() is needed); a slow part in
   // progress waits for it (resume_). Inline: a build with PackSummary alone and no statistics keeps only
@@ -94,8 +113,12 @@ class FramePlan {
     const bool dropped = step_ <= kEvent;
     if (kCoreMessages && step_ >= kCells && step_ <= kTempExtremes) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
+    tiStartup_ = false;
     step_ = kSummary;
     index_ = 0;
+    // Each cycle's PackSummary carries the next Counter value whether it goes out or not, so one that never
+    // did (dropped here by the next cycle, or abandoned on a bus-off) leaves the gap bms.yaml promises.
+    ++counter_;
     return dropped;
   }
   inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
@@ -108,9 +131,12 @@ class FramePlan {
   void settle();
 
   Step step_ = kDone;
-  Step resume_ = kDone;  // where a slow part continues once the fast part is done (kDone: none)
-  bool event_ = false;   // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
-  uint8_t counter_ = 0;
+  Step resume_ = kDone;     // where a slow part continues once the fast part is done (kDone: none)
+  bool tiStartup_ = false;  // the Startup frame opens a TI set (kTiCells follows it)
+  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  bool startupPending_ = false;  // announceStartup() was called and its frame has not gone out yet
+  StartupInfo startup_{};
+  uint8_t counter_ = 0xFF;  // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
   uint16_t index_ = 0;        // frame within the current step
   uint16_t resumeIndex_ = 0;  // ... and within resume_
   const PackView& pack_;

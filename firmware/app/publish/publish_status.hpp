@@ -22,4 +22,13 @@ struct PublishStatus {
   bool faultOutput = false;
 };
 
+// What the Startup message carries, once after a reset (bms.yaml Startup): the image fills it from its BSP's
+// start-up report (bsp/mspm0/fault.hpp takeStartupReport) and hands it to FramePlan::announceStartup().
+struct StartupInfo {
+  uint8_t resetCause = 0;   // SYSCTL RSTCAUSE.ID (0: none since it was last read)
+  bool faultValid = false;  // a fault record of the previous run survived the reset
+  uint8_t faultModule = 0;  // fw::Module of that record
+  uint16_t faultLine = 0;   // its line or code
+};
+
 }  // namespace fw::app

@@ -56,7 +56,8 @@ constexpr Op opOf(const Step& s) {
   return static_cast<Op>(s.code >> 4);
 }
 
-enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle };
+// kPerDevice and kAdcSettle scale with the configured device count, kPerDeviceAndOneMore with one more.
+enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle, kPerDeviceAndOneMore };
 
 // Frame steps: writes first, then reads (kRDllSync and above).
 enum Kind : uint8_t {
@@ -127,7 +128,10 @@ constexpr Step kBringUp[] = {
     ping(kWakePing),
     delay(kOnce, 11000),
     frame(kWBase, regs::kControl1, regs::kControl1SendWake),
-    delay(kPerDevice, 11600),  // WAKE tone ~1.6 ms + ACTIVE entry ~10 ms per device (SLUUC56B)
+    // The WAKE tone up the stack: TI's example waits 12 ms per board (bq79616_uart_to_can), SLUUC56B gives
+    // ~1.6 ms tone + ~10 ms ACTIVE entry per device; waited for the configured devices and one more, so
+    // that discovery finds a device beyond the configured count awake and reports it.
+    delay(kPerDeviceAndOneMore, 12000),
     kPhase,
     // Auto-address (SLUSE81E table 9-19; protocol.md §6), then discovery and read-back.
     frame(kWDllSync, regs::kOtpEccDatain1, 0x00),
@@ -463,7 +467,8 @@ void Chain::run() {
         break;
       case Op::Delay: {
         uint32_t t = static_cast<uint32_t>(s.arg) << s.value;
-        if (s.code >= code(Op::Delay, kPerDevice)) t *= configured_;
+        if (s.code >= code(Op::Delay, kPerDevice))
+          t *= configured_ + (s.code == code(Op::Delay, kPerDeviceAndOneMore) ? 1U : 0U);
         Duration d = us(t);
         if (s.code == code(Op::Delay, kAdcSettle)) d = d + config_.adcSettle;
         wait(Wait::Timer, d);

@@ -13,8 +13,9 @@
 //   startWake()         WAKE ping 2.25 ms (inside tHLD_WAKE 2.0..2.5 ms with 10 % margin each side), wait
 //                       tSU(WAKE_SHUT) max + 10 % = 11 ms, a second WAKE + wait (a chain shut down by a
 //                       SHUTDOWN ping only listens after the second), single write CONTROL1[SEND_WAKE] to
-//                       the base, then (1.6 ms tone + 10 ms) per configured device (TI SLUUC56B), which
-//                       also covers one device more than configured so discovery can notice it.
+//                       the base, then 12 ms per device (TI's example: 12 ms per board; SLUUC56B: 1.6 ms
+//                       tone + 10 ms ACTIVE entry) for the configured devices and one more, so discovery
+//                       can notice a device beyond the configured count: 36 ms for 2 devices.
 //   startAutoAddress()  TI's sequence (SLUSE81E table 9-19): 8 DLL-sync dummy writes, CONTROL1[ADDR_WR],
 //                       DIR0_ADDR = 0..N (one address more than configured; writes that reach no device in
 //                       ADDR_WR mode are ignored), COMM_CTRL stack/base/top, 8 DLL-sync dummy reads,

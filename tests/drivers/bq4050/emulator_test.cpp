@@ -127,5 +127,55 @@ TEST(Bq4050Emulator, FaultsActOnlyOnTheTransactionsTheyName) {
   EXPECT_EQ(r.rig.emu.pendingFaults(), 0u);
 }
 
+// The charge state followed no current: RelativeStateOfCharge stayed at 80 % whatever flowed. With a clock
+// the gauge counts charge (SLUUAQ3A: Current() mA, RemainingCapacity() mAh with BatteryMode()[CAPM] = 0,
+// RelativeStateOfCharge() % of FullChargeCapacity()), read back over SMBus as the driver reads it.
+TEST(Bq4050Emulator, ChargeStateFollowsTheCurrentOnceAClockIsAttached) {
+  Raw r;
+  auto word = [&](uint8_t command) {
+    EXPECT_EQ(r.run({command}, 2), Status::Ok);
+    return static_cast<uint16_t>(r.readBuf[0] | r.readBuf[1] << 8);
+  };
+  // `ma` flows for `seconds`, then stops (the reads in between take bus time, and move no charge).
+  auto flow = [&](int16_t ma, uint32_t seconds) {
+    r.rig.emu.setCurrent(ma);
+    r.rig.harness.runFor(fw::s(seconds));
+    r.rig.emu.setCurrent(0);
+  };
+  flow(-4000, 1);
+  EXPECT_EQ(word(0x0F), 3200) << "no clock: nothing is counted";
+  r.rig.emu.attachClock(r.rig.harness.clock);
+  flow(-4000, 360);  // 4 A for a tenth of an hour: 400 mAh out
+  EXPECT_EQ(word(0x0F), 2800);
+  EXPECT_EQ(word(0x0D), 70) << "2800 of 4000 mAh";
+  EXPECT_EQ(word(0x10), 4000) << "FullChargeCapacity is not learned";
+  flow(2000, 1800);  // charging: 2 A for half an hour, 1000 mAh in
+  EXPECT_EQ(word(0x0F), 3800);
+  EXPECT_EQ(word(0x0D), 95);
+  flow(2000, 3600);
+  EXPECT_EQ(word(0x0F), 4000) << "never above FullChargeCapacity";
+  EXPECT_EQ(word(0x0D), 100);
+  flow(-1, 3599);  // 1 mA for 3599 s: not yet a whole mAh
+  EXPECT_EQ(word(0x0F), 4000);
+  flow(-1, 1);
+  EXPECT_EQ(word(0x0F), 3999);
+  EXPECT_EQ(word(0x0D), 100) << "99.975 % rounds up";
+}
+
+TEST(Bq4050Emulator, WithCapmTheChargeStateCountsEnergyIn10mWh) {
+  Raw r;
+  r.rig.emu.setWord(0x03, 0x8000);  // BatteryMode()[CAPM]: capacities in 10 mWh
+  r.rig.emu.setFullChargeCapacity(6000);
+  r.rig.emu.setRemainingCapacity(3000);
+  r.rig.emu.setVoltage(15000);
+  r.rig.emu.attachClock(r.rig.harness.clock);
+  r.rig.emu.setCurrent(-2000);  // 30 W for an hour: 30 Wh = 3000 x 10 mWh
+  r.rig.harness.runFor(fw::s(3600));
+  ASSERT_EQ(r.run({0x0F}, 2), Status::Ok);
+  EXPECT_EQ(r.readBuf[0] | r.readBuf[1] << 8, 0);
+  ASSERT_EQ(r.run({0x0D}, 2), Status::Ok);
+  EXPECT_EQ(r.readBuf[0] | r.readBuf[1] << 8, 0);
+}
+
 }  // namespace
 }  // namespace bq4050_test

@@ -19,6 +19,7 @@ namespace bsp::host {
 struct Bq4050Board {
   Bq4050Board() {
     can.setFilter({fw::can::bms::kReceivedIds.begin(), fw::can::bms::kReceivedIds.end()});
+    gauge.attachClock(h.clock);  // its charge state follows the current (gauge_emulator.hpp)
     bus.attach(Bq4050Emulator::kAddress, gauge);
     app.start();
   }

@@ -1,5 +1,7 @@
 #include "bq4050/gauge_emulator.hpp"
 
+#include <algorithm>
+
 #include <functional>
 #include <optional>
 
@@ -89,6 +91,34 @@ Bq4050Emulator::Bq4050Emulator() {
   blocks_[0x20] = text("Texas Inst.");
   blocks_[0x21] = text("bq4050");
   blocks_[0x22] = text("LION");
+}
+
+void Bq4050Emulator::attachClock(const SimClock& clock) {
+  clock_ = &clock;
+  countedUs_ = clock.nowUs();
+  residue_ = 0;
+}
+
+// Coulomb counting (SLUUAQ3A SBS commands, units in the header): the charge Current() moved since the last
+// count, in whole units of RemainingCapacity() (mAh = 3.6e9 mA x us; 10 mWh = 36 J = 3.6e13 mV x mA x us),
+// the remainder kept for the next count.
+void Bq4050Emulator::count() {
+  if (clock_ == nullptr) return;
+  const uint64_t now = clock_->nowUs();
+  const auto dt = static_cast<int64_t>(now - countedUs_);
+  countedUs_ = now;
+  if (dt == 0) return;
+  const bool energy = (words_[0x03] & 0x8000U) != 0;  // BatteryMode()[CAPM]: 10 mWh instead of mAh
+  const auto currentMa = static_cast<int64_t>(static_cast<int16_t>(words_[0x0A]));
+  residue_ += currentMa * dt * (energy ? static_cast<int64_t>(words_[0x09]) : 1);
+  const int64_t unit = energy ? 36000000000000LL : 3600000000LL;
+  const int64_t whole = residue_ / unit;  // toward zero: the remainder keeps its sign
+  if (whole == 0) return;
+  residue_ -= whole * unit;
+  const int64_t full = words_[0x10];
+  const int64_t remaining = std::clamp<int64_t>(static_cast<int64_t>(words_[0x0F]) + whole, 0, full);
+  words_[0x0F] = static_cast<uint16_t>(remaining);
+  if (full > 0) words_[0x0D] = static_cast<uint16_t>((remaining * 100 + full - 1) / full);  // rounded up
 }
 
 void Bq4050Emulator::setCell(int cell, uint16_t mv) {
@@ -276,6 +306,7 @@ void Bq4050Emulator::onBusRecovery() {
 // --- the gauge -------------------------------------------------------------------------------------------
 
 void Bq4050Emulator::buildResponse() {
+  count();  // every word a read returns is that of now
   std::vector<uint8_t> data;
   if (!written_.empty()) {
     const uint8_t command = written_[0];

@@ -32,6 +32,15 @@
 //   becomes a raw-data block echoing 0xF081 until ExitCalibrationOutputMode (0xF080); readable subcommands
 //   are ignored meanwhile (a gauge "left in an unexpected mode" answers with stale, foreign data).
 // - Timing: no clock stretching unless injected; bus time is then the pure wire time.
+// - Charge state, with a clock attached (attachClock; bms-sim and the twin attach one): the gauge counts the
+//   charge Current() moves, as its coulomb counter does, and RemainingCapacity() follows it. Units as
+//   SLUUAQ3A gives them for the SBS commands: Current() 0x0A in mA (charge positive); RemainingCapacity()
+//   0x0F and FullChargeCapacity() 0x10 in mAh with BatteryMode()[CAPM] = 0 and in 10 mWh with [CAPM] = 1
+//   (then the energy Voltage() x Current() is counted); RelativeStateOfCharge() 0x0D in % of
+//   FullChargeCapacity(). RemainingCapacity stays within 0..FullChargeCapacity, and FullChargeCapacity is not
+//   learned ("not updated during charging", SLUUAQ3A 0x10). SLUUAQ3A does not say how RelativeStateOfCharge
+//   rounds: the emulator rounds up, as TI states for StateOfCharge() of its BQ27220 (SLUUBD4A), so 1 mAh left
+//   is 1 %. The time estimates (0x11..0x13) and AverageCurrent stay as set. Without a clock nothing moves.
 //
 // Faults (inject(), applied to the next transactions that match, each `times` times):
 //   AddressNack      the START's address is not acknowledged (gauge busy or absent)
@@ -58,6 +67,7 @@
 
 #include "core/time.hpp"
 #include "sim/i2c_target.hpp"
+#include "sim/sim_clock.hpp"
 
 namespace bsp::host {
 
@@ -99,12 +109,26 @@ class Bq4050Emulator final : public I2cTarget {
   void setWord(uint8_t command, uint16_t value) { words_[command] = value; }
   uint16_t word(uint8_t command) const { return words_[command]; }
   void setBlock(uint8_t command, std::vector<uint8_t> data) { blocks_[command] = std::move(data); }
-  void setVoltage(uint16_t mv) { words_[0x09] = mv; }
-  void setCurrent(int16_t ma) { words_[0x0A] = static_cast<uint16_t>(ma); }
+  void setVoltage(uint16_t mv) {
+    count();
+    words_[0x09] = mv;
+  }
+  void setCurrent(int16_t ma) {
+    count();  // the charge moved at the old current up to now
+    words_[0x0A] = static_cast<uint16_t>(ma);
+  }
   void setTemperature(uint16_t deciK) { words_[0x08] = deciK; }
   void setRsoc(uint16_t percent) { words_[0x0D] = percent; }
-  void setRemainingCapacity(uint16_t v) { words_[0x0F] = v; }
-  void setFullChargeCapacity(uint16_t v) { words_[0x10] = v; }
+  void setRemainingCapacity(uint16_t v) {
+    count();
+    words_[0x0F] = v;
+  }
+  void setFullChargeCapacity(uint16_t v) {
+    count();
+    words_[0x10] = v;
+  }
+  // Counts charge from now on (see "Charge state" above); the clock must outlive the emulator.
+  void attachClock(const SimClock& clock);
   void setTimeToEmpty(uint16_t minutes) { words_[0x12] = minutes; }
   void setTimeToFull(uint16_t minutes) { words_[0x13] = minutes; }
   void setCell(int cell, uint16_t mv);  // cell 1..4 (CellVoltage1 is 0x3F)
@@ -167,8 +191,12 @@ class Bq4050Emulator final : public I2cTarget {
   void runMac(uint16_t subcommand, const std::vector<uint8_t>& data);
   std::optional<std::vector<uint8_t>> macData(uint16_t subcommand) const;
   void buildResponse();
+  void count();  // moves the charge state to the clock's now
 
   std::array<uint16_t, 256> words_{};
+  const SimClock* clock_ = nullptr;
+  uint64_t countedUs_ = 0;  // the charge state is that of this instant
+  int64_t residue_ = 0;     // counted, less than one unit of RemainingCapacity (mA x us, or mV x mA x us)
   std::map<uint8_t, std::vector<uint8_t>> blocks_;
   std::map<uint16_t, std::vector<uint8_t>> macResults_;  // overrides from the backend
   uint32_t safetyStatus_ = 0;

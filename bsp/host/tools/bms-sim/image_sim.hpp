@@ -53,6 +53,19 @@ struct SimFigures {
       extra;  // more --json keys and values (the twin's CPU figures)
 };
 
+// A bus-off of the board's CAN controller: when it began and when the controller was error active again (its
+// ISO 11898-1 recovery done), in microseconds of simulated time; no recovery yet: nullopt.
+struct BusOffSpan {
+  uint64_t startUs = 0;
+  std::optional<uint64_t> recoveredUs;
+};
+
+// The pack's current paths as the emulated device has them (its FETs, or the fault output where that stands
+// for them): a load or charger drives current only through a closed one.
+struct Paths {
+  bool charge = true, discharge = true;
+};
+
 struct SentFrame {
   uint64_t timeUs;
   uint32_t id;
@@ -69,15 +82,21 @@ class ImageSim {
   virtual int tempsPerBoard() const = 0;
   virtual bool hasCurrent() const = 0;
 
-  // The emulated pack (scenario inputs).
+  // The emulated pack (scenario inputs). setCurrentMa is the current that flows (ScenarioPlayer gives the
+  // load's or charger's current only while paths() has its direction closed).
   virtual void setCellMv(int board, int cell, int mv) = 0;
   virtual void setCurrentMa(int ma) = 0;
+  virtual Paths paths() const { return {}; }
   virtual void setTempDeciK(int board, int sensor, int deciK) = 0;
   // Faults.
   virtual void setCommLost(bool lost) = 0;         // the monitor stops answering
   virtual void openWire(int board, int cell) = 0;  // the sense line below `cell` is disconnected
   virtual void setIntermittent(bool on) = 0;       // most monitor transactions are corrupted
   virtual bool busOff() = 0;                       // false when the image has no CAN
+  // Every bus-off so far, in order (empty on an image without CAN).
+  virtual std::vector<BusOffSpan> busOffLog() const { return {}; }
+  // --can-layout ti is honoured: the run sends seed 001's layout (only the BQ79616 image builds it).
+  virtual bool sendsTiLayout() const { return false; }
 
   // Commands in (scenario send and flood steps). A G3507 board's CAN takes the frame from another node; an
   // L1306 board's UART takes it as an SLCAN line, the channel opened with "O" before the first one. A flood

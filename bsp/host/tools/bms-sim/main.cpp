@@ -3,12 +3,17 @@
 //   bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]
 //           [--can-layout ti|native] [--candump <file>] [--slcan <file>|pty] [--json]
 //   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
+// Every option is one row of kOptions: the parser accepts those rows only and --help prints them all.
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
 // (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
-// L1306 board's SLCAN text (slcan_output.hpp). Exit status: 0 run completed, 2 bad arguments, 1 the run
-// failed. Each image runs in its own simulator built with the image's option file (bms-sim-<preset>, see
-// CMakeLists.txt); this one hands the run to it, except --elf, which it runs itself.
+// L1306 board's SLCAN text (slcan_output.hpp). An option the image cannot honour (--can-layout ti on an image
+// without the TI layout, --devices on a one-device image) is refused before the run.
+// Exit status: 0 the run completed and every scenario `expect` was met; 1 the run failed (the twin stopped,
+// an output could not be written); 2 bad arguments or input (an option, a scenario file, a file too large or
+// not a file, an option the image cannot honour); 3 the run completed and an `expect` was missed
+// (scenario.hpp). Each image runs in its own simulator built with the image's option file
+// (bms-sim-<preset>, see CMakeLists.txt); this one hands the run to it, except --elf, which it runs itself.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -17,6 +22,7 @@
 #include <unistd.h>
 
 #include "image_sim.hpp"
+#include "input_file.hpp"
 #include "report.hpp"
 #include "scenario.hpp"
 #include "scenario_player.hpp"
@@ -33,24 +39,59 @@ int usage(const std::string& message) {
   return 2;
 }
 
+// Every option the parser accepts, with its value and its help line.
+struct OptionSpec {
+  const char* name;
+  const char* value;  // nullptr: a switch
+  const char* help;
+};
+constexpr OptionSpec kOptions[] = {
+    {"--image", "<preset>", "the image to run (below); with --elf, the image the ELF must be"},
+    {"--elf", "<file.elf>",
+     "run the firmware image itself on the MSPM0 instruction-level twin (bsp/twin) instead of the host "
+     "build"},
+    {"--devices", "<N>", "BQ79616 chain length, 1..64 (default 2); the other images have one device"},
+    {"--duration", "<ms>", "simulated time, 1..3600000 ms (default 10000)"},
+    {"--scenario", "<name|file>",
+     "a built-in scenario (below, default idle) or a scenario file (scenario.hpp)"},
+    {"--can-layout", "ti|native",
+     "native (default) or seed 001's TI layout, which only lp-mspm0g3507-bq79616 builds (host runs only)"},
+    {"--candump", "<file>",
+     "the CAN frames in candump -l format, absolute times from 2025-01-01 00:00:00 UTC"},
+    {"--slcan", "<file>|pty",
+     "an L1306 image's SLCAN text: the exact bytes to a file, or live on a pseudo-terminal (its path goes to "
+     "stderr; the run starts when a reader sends SLCAN's O, keeps wall-clock time, and waits for the reader "
+     "to close the terminal) for python-can or slcand, both ways: what they send reaches the board's UART "
+     "receiver"},
+    {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
+    {"--help", nullptr, "this text (also -h)"},
+};
+
+const OptionSpec* optionNamed(const std::string& name) {
+  for (const auto& o : kOptions) {
+    if (name == o.name || (name == "-h" && std::string(o.name) == "--help")) return &o;
+  }
+  return nullptr;
+}
+
 void printHelp() {
   std::printf(
-      "usage: bms-sim --image <preset> [--devices N] [--duration <ms>] [--scenario <name|file>]\n"
-      "               [--can-layout ti|native] [--candump <file>] [--slcan <file>|pty] [--json]\n\n"
-      "  --candump FILE   the frames in candump -l format, absolute times from 2025-01-01 00:00:00 UTC\n"
-      "  --slcan FILE     the exact SLCAN text an L1306 board's back-channel UART sends\n"
-      "  --slcan pty      the same, live on a pseudo-terminal (its path goes to stderr; the run keeps\n"
-      "                   wall-clock time) for python-can's slcan interface or slcand, both ways: what\n"
-      "                   they send reaches the board's UART receiver\n\n"
-      "       bms-sim --elf <build/<preset>/<preset>.elf> [--image <preset>] [same options]\n"
-      "               runs the firmware image itself on the MSPM0 instruction-level twin "
-      "(bsp/twin)\n\nimages:\n");
+      "usage: bms-sim --image <preset> [options]\n"
+      "       bms-sim --elf <build/<preset>/<preset>.elf> [options]\n\noptions:\n");
+  for (const auto& o : kOptions) {
+    const std::string head = std::string(o.name) + (o.value != nullptr ? std::string(" ") + o.value : "");
+    std::printf("  %-26s %s\n", head.c_str(), o.help);
+  }
+  std::printf("\nimages:\n");
   for (const auto& e : images())
     std::printf("  %-24s %s\n", e.image, e.summary);
   std::printf("\nscenarios:");
   for (const auto& n : builtinNames())
     std::printf(" %s", n.c_str());
   std::printf(" (or a file: see bsp/host/tools/bms-sim/scenario.hpp)\n");
+  std::printf(
+      "\nexit status: 0 done, every expect met; 1 the run failed; 2 bad arguments or input; 3 an expect of "
+      "the scenario was missed\n");
 }
 
 bool parseUint(const char* text, uint32_t max, uint32_t& out) {
@@ -61,50 +102,61 @@ bool parseUint(const char* text, uint32_t max, uint32_t& out) {
   return true;
 }
 
+// An ELF of a firmware image with its debug information is about 0.5 MiB; the parts' flash is 128 KiB.
+constexpr size_t kMaxElfBytes = 16U << 20;
+
 }  // namespace
 
 int run(int argc, char** argv) {
   SimOptions opt;
   std::string scenarioArg = "idle", candump, layout = "native", slcan;
-  bool json = false;
+  bool json = false, devicesGiven = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
-    if (a == "--help" || a == "-h") {
+    const OptionSpec* o = optionNamed(a);
+    if (o == nullptr) return usage("unknown option '" + a + "' (try --help)");
+    const std::string name = o->name;
+    if (name == "--help") {
       printHelp();
       return 0;
-    } else if (a == "--json") {
+    }
+    if (o->value == nullptr) {  // --json
       json = true;
-    } else if (a == "--image" || a == "--scenario" || a == "--candump" || a == "--can-layout" ||
-               a == "--slcan" || a == "--elf") {
-      const char* v = value();
-      if (v == nullptr || *v == '\0') return usage(a + " needs a value");
-      (a == "--image"      ? opt.image
-       : a == "--scenario" ? scenarioArg
-       : a == "--candump"  ? candump
-       : a == "--slcan"    ? slcan
-       : a == "--elf"      ? opt.elf
-                           : layout) = v;
-    } else if (a == "--devices" || a == "--duration") {
-      const char* v = value();
+      continue;
+    }
+    const char* v = i + 1 < argc ? argv[++i] : nullptr;
+    if (v == nullptr || *v == '\0') return usage(name + " needs a value: " + o->value);
+    if (name == "--devices" || name == "--duration") {
       uint32_t n = 0;
-      if (v == nullptr || !parseUint(v, a == "--devices" ? 64 : 3600000, n) || n == 0) {
-        return usage(a + (a == "--devices" ? " needs a number 1..64" : " needs a number of ms, 1..3600000"));
+      if (!parseUint(v, name == "--devices" ? 64 : kMaxTimeMs, n) || n == 0) {
+        return usage(name +
+                     (name == "--devices" ? " needs a number 1..64" : " needs a number of ms, 1..3600000"));
       }
-      if (a == "--devices") {
+      if (name == "--devices") {
         opt.devices = static_cast<int>(n);
+        devicesGiven = true;
       } else {
         opt.durationMs = n;
       }
-    } else {
-      return usage("unknown option '" + a + "' (try --help)");
+      continue;
     }
+    (name == "--image"      ? opt.image
+     : name == "--scenario" ? scenarioArg
+     : name == "--candump"  ? candump
+     : name == "--slcan"    ? slcan
+     : name == "--elf"      ? opt.elf
+                            : layout) = v;
   }
   if (opt.image.empty() && opt.elf.empty()) return usage("--image or --elf is required (try --help)");
   if (layout != "native" && layout != "ti") return usage("--can-layout must be ti or native");
   opt.tiLayout = layout == "ti";
   if (opt.tiLayout && !opt.elf.empty())
     return usage("--can-layout applies to host runs; an image has its layout built in");
+  if (!opt.elf.empty()) {
+    std::string error;
+    if (checkInputFile(opt.elf, kMaxElfBytes, "firmware ELF", error) != InputError::None)
+      return usage(opt.elf + ": " + error);
+  }
 
   const ImageEntry* entry = nullptr;
   for (const auto& e : images()) {
@@ -142,7 +194,7 @@ int run(int argc, char** argv) {
     scenario = loadScenario(scenarioArg, diag);
     if (!scenario) {
       if (diag.unreadable) {
-        return usage("unknown scenario '" + scenarioArg + "' (not a built-in name, and not a readable file)");
+        return usage("unknown scenario '" + scenarioArg + "' (not a built-in name, and no such file)");
       }
       std::fprintf(stderr, "%s\n", diag.error.c_str());
       return 2;
@@ -157,7 +209,18 @@ int run(int argc, char** argv) {
   std::unique_ptr<ImageSim> sim = opt.elf.empty() ? entry->make(opt, error) : makeTwinSim(opt, error);
 #endif
   if (!sim) return usage(error);
+  // Options the image cannot honour are refused, never ignored.
   if (opt.tiLayout && sim->figures().output != "can") return usage("--can-layout applies to CAN images only");
+  if (opt.tiLayout && !sim->sendsTiLayout()) {
+    return usage(
+        "--can-layout ti: " + opt.image +
+        " has no TI layout (its options.cmake builds FW_CAN_TI_LAYOUT=0); only lp-mspm0g3507-bq79616 "
+        "sends seed 001's layout");
+  }
+  if (devicesGiven && opt.devices != sim->boards()) {
+    return usage("--devices " + std::to_string(opt.devices) + ": " + opt.image +
+                 " has one monitor device; --devices sets the length of a BQ79616 chain");
+  }
   // The steps against this image, before anything runs: a board it does not have is an error at its line.
   // Warnings are for files (a built-in's steps past --duration or its current on a BQ79616 are expected).
   const bool fits =
@@ -206,8 +269,9 @@ int run(int argc, char** argv) {
     report.tick(h.nowUs());
   }
 
-  report.finish(player.onsets(), player.busOffUnsupported(),
-                sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
+  const size_t missed = report.finish(
+      {player.onsets(), player.busOffUnsupported(), player.demandMa(), player.flowingMa(), sim->paths()},
+      sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
     return 1;
@@ -215,6 +279,10 @@ int run(int argc, char** argv) {
   if (slcanOut && !slcanOut->finish(*sim->slcanText(), error)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s: %s\n", slcan.c_str(), error.c_str());
     return 1;
+  }
+  if (missed != 0) {
+    std::fprintf(stderr, "bms-sim: %zu expect(s) of %s missed\n", missed, scenario->name.c_str());
+    return 3;
   }
   return 0;
 }

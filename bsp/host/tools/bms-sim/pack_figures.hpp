@@ -66,6 +66,20 @@ inline std::vector<SentFrame> canFrames(const bsp::host::SimCan& can) {
   return out;
 }
 
+// The controller's bus-offs as bms-sim reports them.
+inline std::vector<BusOffSpan> busOffSpans(const bsp::host::SimCan& can) {
+  std::vector<BusOffSpan> out;
+  for (const auto& s : can.busOffLog())
+    out.push_back({s.startUs, s.recoveredUs != 0 ? std::optional<uint64_t>(s.recoveredUs) : std::nullopt});
+  return out;
+}
+
+// The paths of a pack whose fault output stands for them (the BQ79616 and BQ4050 images: the output drives
+// the contactor or the FETs' enable, high = fault): both open while it is asserted.
+inline Paths pathsOfFaultOutput(bool asserted) {
+  return {!asserted, !asserted};
+}
+
 template <class App>
 std::vector<fw::app::ProtectionRecord> protectionLogOf(const App& app) {
   const auto log = app.protection().log();

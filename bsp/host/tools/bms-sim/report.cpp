@@ -1,9 +1,11 @@
 #include "report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
 #include "app/protection/protection.hpp"
+#include "can/bms.hpp"
 
 namespace bmssim {
 namespace {
@@ -25,7 +27,101 @@ std::string ms(uint64_t us) {
   return buf;
 }
 
+const char* unitOf(Watch w) {
+  switch (w) {
+    case Watch::CellAbove:
+    case Watch::CellBelow:
+      return "mV";
+    case Watch::CurrentAbove:
+    case Watch::CurrentBelow:
+      return "mA";
+    case Watch::TempAbove:
+    case Watch::TempBelow:
+      return "0.1 K";
+    case Watch::None:
+      break;
+  }
+  return "";
+}
+
+// "cell_ov 4250" or "comm_loss": the expect as written.
+std::string expectText(const Step& st) {
+  return st.fault + (st.hasLimit ? " " + std::to_string(st.value) : "");
+}
+
+// A bus-off as a reader of the bus sees it: the first frame after it began, and how far PackSummary.Counter
+// jumped across it (bms.yaml: each cycle's summary counts one; a gap is a summary that never went out).
+struct BusOffView {
+  BusOffSpan span;
+  std::optional<uint64_t> firstFrameUs;
+  std::optional<unsigned> counterSkipped;
+};
+
+std::vector<BusOffView> busOffViews(const std::vector<BusOffSpan>& spans,
+                                    const std::vector<SentFrame>& frames) {
+  namespace bms = fw::can::bms;
+  std::vector<BusOffView> out;
+  for (const BusOffSpan& span : spans) {
+    BusOffView v{span, std::nullopt, std::nullopt};
+    std::optional<uint8_t> before, after;
+    for (const SentFrame& f : frames) {
+      const bool summary = !f.extended && f.id == bms::PackSummary::kId && f.data.size() == 8;
+      fw::hal::CanFrame c{f.id, f.extended, static_cast<uint8_t>(f.data.size()), {}};
+      std::copy(f.data.begin(), f.data.end(), c.data.begin());
+      if (f.timeUs <= span.startUs) {
+        if (summary) before = bms::PackSummary::unpack(c).counter;
+        continue;
+      }
+      if (!v.firstFrameUs) v.firstFrameUs = f.timeUs;
+      if (summary) {
+        after = bms::PackSummary::unpack(c).counter;
+        break;
+      }
+    }
+    if (before && after) v.counterSkipped = static_cast<unsigned>((*after - *before - 1) & 0x0F);
+    out.push_back(v);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<ExpectVerdict> judgeExpects(const Scenario& scenario, const Onsets& onsets,
+                                        const std::vector<fw::app::ProtectionRecord>& log,
+                                        uint32_t durationMs) {
+  std::vector<ExpectVerdict> out;
+  for (const Step& st : scenario.steps) {
+    if (st.action != Action::Expect) continue;
+    ExpectVerdict v;
+    v.step = &st;
+    if (const auto o = onsets.find(st.fault); o != onsets.end()) v.onsetMs = o->second;
+    if (!v.onsetMs) {
+      v.missed = st.timeMs > durationMs
+                     ? "the run ended (" + std::to_string(durationMs) + " ms) before the step at " +
+                           std::to_string(st.timeMs) + " ms"
+                     : "the pack never reached " + std::to_string(st.value) + " " + unitOf(st.watch);
+      out.push_back(std::move(v));
+      continue;
+    }
+    const uint64_t onsetUs = static_cast<uint64_t>(*v.onsetMs) * 1000;
+    std::optional<uint64_t> before;  // an event of the fault detected before the onset
+    for (const auto& e : log) {
+      if (st.fault != "any" && st.fault != fw::app::faultName(e.fault)) continue;
+      if (e.detected.us >= onsetUs) {
+        v.event = e;
+        break;
+      }
+      before = e.detected.us;
+    }
+    if (!v.event) {
+      v.missed =
+          "no " + (st.fault == "any" ? std::string("protection") : st.fault) + " event at or after the onset";
+      if (before) v.missed += " (one was detected before it, at " + ms(*before) + " ms)";
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
 
 EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets) {
   EventLatency out;
@@ -64,13 +160,18 @@ void Report::tick(uint64_t nowUs) {
   std::fflush(live_);
 }
 
-void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog) {
+size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog) {
   const SimFigures f = sim_.figures();
   const auto log = sim_.protectionLog();
   const uint64_t now = sim_.harness().nowUs();
+  const Onsets& onsets = end.onsets;
+  const auto verdicts = judgeExpects(scenario_, onsets, log, options_.durationMs);
+  const size_t missed = static_cast<size_t>(std::count_if(
+      verdicts.begin(), verdicts.end(), [](const ExpectVerdict& v) { return !v.missed.empty(); }));
+  const auto busOffs = busOffViews(sim_.busOffLog(), sim_.frames());
   if (!json_) {
     std::printf("\nscenario %s: %s\n", scenario_.name.c_str(), scenario_.description.c_str());
-    if (busOffUnsupported) std::printf("(this image has no CAN bus: the bus-off step did nothing)\n");
+    if (end.busOffUnsupported) std::printf("(this image has no CAN bus: the bus-off step did nothing)\n");
     std::printf("scans %u (%u failed), scan period %u ms, bus %.0f us and %.1f transactions per scan\n",
                 f.scans, f.scanFailures, f.scanPeriodMs, f.scanBusUs, f.scanTransactions);
     std::printf("%s %llu, comm errors %llu, recoveries %u, watchdog fed %zu times (longest gap %.0f ms)\n",
@@ -87,7 +188,31 @@ void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::hos
                   e.actionDone ? (ms(e.acted.us) + " ms").c_str() : "(pending)",
                   l.latencyUs ? (ms(*l.latencyUs) + " ms after the onset").c_str() : l.note);
     }
-    return;
+    for (const BusOffView& b : busOffs) {
+      std::printf("bus-off at %s ms: %s, next frame %s, PackSummary.Counter %s\n", ms(b.span.startUs).c_str(),
+                  b.span.recoveredUs ? ("error active again at " + ms(*b.span.recoveredUs) + " ms (after " +
+                                        ms(*b.span.recoveredUs - b.span.startUs) + " ms)")
+                                           .c_str()
+                                     : "not recovered by the end of the run",
+                  b.firstFrameUs ? ("at " + ms(*b.firstFrameUs) + " ms").c_str() : "none",
+                  b.counterSkipped ? ("skips " + std::to_string(*b.counterSkipped)).c_str() : "-");
+    }
+    std::printf("load %+.3f A asked, %+.3f A flowing (charge path %s, discharge path %s)\n",
+                end.loadDemandMa / 1000.0, end.loadFlowingMa / 1000.0, end.paths.charge ? "closed" : "open",
+                end.paths.discharge ? "closed" : "open");
+    for (const ExpectVerdict& v : verdicts) {
+      const Step& st = *v.step;
+      if (v.missed.empty()) {
+        std::printf("expect %s (%s:%u): met, onset %s ms, %s detected %s ms\n", expectText(st).c_str(),
+                    scenario_.name.c_str(), st.line, ms(static_cast<uint64_t>(*v.onsetMs) * 1000).c_str(),
+                    fw::app::faultName(v.event->fault), ms(v.event->detected.us).c_str());
+      } else {
+        std::printf("expect %s (%s:%u): MISSED: %s\n", expectText(st).c_str(), scenario_.name.c_str(),
+                    st.line, v.missed.c_str());
+      }
+    }
+    if (missed != 0) std::printf("%zu expect(s) missed\n", missed);
+    return missed;
   }
   auto num = [](double v) {
     char buf[32];
@@ -116,7 +241,26 @@ void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::hos
   std::printf("},\n");
   std::printf("  \"comm_errors\": %llu,\n", static_cast<unsigned long long>(f.commErrors));
   std::printf("  \"recoveries\": %u,\n", f.recoveries);
-  std::printf("  \"bus_off_applicable\": %s,\n", busOffUnsupported ? "false" : "true");
+  std::printf("  \"bus_off_applicable\": %s,\n", end.busOffUnsupported ? "false" : "true");
+  // Each bus-off: when, when the controller was error active again, the first frame after it, and how far
+  // PackSummary.Counter jumped across it.
+  std::printf("  \"bus_off\": [");
+  for (size_t i = 0; i < busOffs.size(); ++i) {
+    const BusOffView& b = busOffs[i];
+    std::printf(
+        "%s\n    {\"at_ms\": %s, \"recovered_ms\": %s, \"recovery_ms\": %s, \"first_frame_ms\": %s, "
+        "\"pack_summary_counter_skipped\": %s}",
+        i == 0 ? "" : ",", ms(b.span.startUs).c_str(),
+        b.span.recoveredUs ? ms(*b.span.recoveredUs).c_str() : "null",
+        b.span.recoveredUs ? ms(*b.span.recoveredUs - b.span.startUs).c_str() : "null",
+        b.firstFrameUs ? ms(*b.firstFrameUs).c_str() : "null",
+        b.counterSkipped ? std::to_string(*b.counterSkipped).c_str() : "null");
+  }
+  std::printf("%s],\n", busOffs.empty() ? "" : "\n  ");
+  // The emulated load or charger: what it asks for, what flows through the device's paths.
+  std::printf("  \"load_demand_ma\": %d,\n  \"load_current_ma\": %d,\n", end.loadDemandMa, end.loadFlowingMa);
+  std::printf("  \"charge_path_closed\": %s,\n  \"discharge_path_closed\": %s,\n",
+              end.paths.charge ? "true" : "false", end.paths.discharge ? "true" : "false");
   std::printf("  \"watchdog_feeds\": %zu,\n", watchdog.feeds().size());
   std::printf("  \"watchdog_longest_gap_ms\": %s,\n",
               num(static_cast<double>(watchdog.longestGapUs(0)) / 1000.0).c_str());
@@ -147,7 +291,23 @@ void Report::finish(const Onsets& onsets, bool busOffUnsupported, const bsp::hos
         l.note ? ("\"" + std::string(l.note) + "\"").c_str() : "null");
     first = false;
   }
-  std::printf("%s]\n}\n", first ? "" : "\n  ");
+  std::printf("%s],\n", first ? "" : "\n  ");
+  // What became of each expect (scenario.hpp): a missed one makes the run exit with status 3.
+  std::printf("  \"expects\": [");
+  for (size_t i = 0; i < verdicts.size(); ++i) {
+    const ExpectVerdict& v = verdicts[i];
+    const Step& st = *v.step;
+    std::printf(
+        "%s\n    {\"fault\": \"%s\", \"limit\": %s, \"line\": %u, \"onset_ms\": %s, \"detected_ms\": %s, "
+        "\"met\": %s, \"missed\": %s}",
+        i == 0 ? "" : ",", st.fault.c_str(), st.hasLimit ? std::to_string(st.value).c_str() : "null", st.line,
+        v.onsetMs ? ms(static_cast<uint64_t>(*v.onsetMs) * 1000).c_str() : "null",
+        v.event ? ms(v.event->detected.us).c_str() : "null", v.missed.empty() ? "true" : "false",
+        v.missed.empty() ? "null" : ("\"" + v.missed + "\"").c_str());
+  }
+  std::printf("%s],\n", verdicts.empty() ? "" : "\n  ");
+  std::printf("  \"expects_missed\": %zu\n}\n", missed);
+  return missed;
 }
 
 bool Report::writeCandump(const std::string& path) const {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "image_sim.hpp"
 #include "scenario.hpp"
@@ -22,6 +23,29 @@ struct EventLatency {
 };
 EventLatency latencyOf(const fw::app::ProtectionRecord& event, const Onsets& onsets);
 
+// What became of an `expect` step: met when a protection event of its fault (any fault for `any`) was
+// detected at or after its onset; missed when the onset never came (the run ended before the step, or the
+// pack never reached the limit) or no such event followed it. A scenario with a missed expect fails the run
+// (exit status 3, scenario.hpp).
+struct ExpectVerdict {
+  const Step* step = nullptr;
+  std::optional<uint32_t> onsetMs;
+  std::optional<fw::app::ProtectionRecord> event;  // the first one detected at or after the onset
+  std::string missed;                              // why it was missed; empty when met
+};
+std::vector<ExpectVerdict> judgeExpects(const Scenario& scenario, const Onsets& onsets,
+                                        const std::vector<fw::app::ProtectionRecord>& log,
+                                        uint32_t durationMs);
+
+// What the end of a run hands the report: besides the image's own figures, the scenario player's view.
+struct RunEnd {
+  const Onsets& onsets;
+  bool busOffUnsupported;
+  int32_t loadDemandMa;   // what the load or charger asks for
+  int32_t loadFlowingMa;  // what flows through the pack's paths
+  Paths paths;            // the emulated device's paths at the end
+};
+
 class Report {
  public:
   Report(ImageSim& sim, const SimOptions& options, const Scenario& scenario, bool json)
@@ -34,8 +58,9 @@ class Report {
   // Called after every millisecond of simulated time: feeds the SLCAN output, prints the live view every
   // 500 ms of simulated time.
   void tick(uint64_t nowUs);
-  // Prints the JSON summary (with --json) or the final view and the protection events.
-  void finish(const Onsets& onsets, bool busOffUnsupported, const bsp::host::SimWatchdog& watchdog);
+  // Prints the JSON summary (with --json) or the final view, the protection events, the bus-offs and what
+  // became of each expect. Returns the number of expects missed.
+  size_t finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog);
   // candump -l format: "(seconds.micros) can0 ID#DATA", one frame per line. Times are absolute, as candump
   // writes them: the run starts at kEpochSeconds (so can-utils' log2asc sees one start, not "time 0").
   bool writeCandump(const std::string& path) const;

@@ -7,6 +7,8 @@
 #include <charconv>
 #include <cstdio>
 
+#include "input_file.hpp"
+
 namespace bmssim {
 namespace {
 
@@ -131,7 +133,8 @@ constexpr std::array<Builtin, 9> kBuiltins = {{
     {"open-wire", "the sense wire between cells 2 and 3 of board 0 opens at 2 s",
      "2000 open-wire 0 3\n2000 expect any\n"},
     {"comm-loss", "the battery monitor stops answering at 2 s", "2000 comm-loss on\n2000 expect any\n"},
-    {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n2000 expect any\n"},
+    // Bus-off is no protection fault: the summary's bus-off section reports it (no expect).
+    {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n"},
     {"stale", "from 2 s to 6 s most monitor transactions are corrupted, then the link heals",
      "2000 intermittent on\n2000 expect any\n6000 intermittent off\n"},
 }};
@@ -427,26 +430,17 @@ std::optional<Scenario> parseScenario(std::string_view text, const std::string& 
 }
 
 std::optional<Scenario> loadScenario(const std::string& path, Diagnostics& diag) {
-  constexpr size_t kMaxBytes = 1 << 20;
-  FILE* in = std::fopen(path.c_str(), "rb");
-  std::string text;
-  bool readable = in != nullptr;
-  if (in != nullptr) {
-    char buf[4096];
-    size_t n = 0;
-    while (text.size() <= kMaxBytes && (n = std::fread(buf, 1, sizeof buf, in)) > 0)
-      text.append(buf, n);
-    readable = std::ferror(in) == 0;  // a directory opens but does not read
-    std::fclose(in);
-  }
-  if (!readable) {
-    diag.unreadable = true;
-    diag.error = path + ": error: cannot read the scenario file";
-    return std::nullopt;
-  }
-  if (text.size() > kMaxBytes) {
-    diag.error = path + ": error: larger than 1 MiB, which no scenario file needs";
-    return std::nullopt;
+  std::string text, error;
+  switch (readInputFile(path, kMaxScenarioBytes, "scenario file", text, error)) {
+    case InputError::None:
+      break;
+    case InputError::Missing:
+      diag.unreadable = true;
+      diag.error = path + ": error: no such file";
+      return std::nullopt;
+    case InputError::Unreadable:
+      diag.error = path + ": error: " + error;
+      return std::nullopt;
   }
   auto s = parseScenario(text, path, diag);
   if (s) s->description = "steps from " + path;

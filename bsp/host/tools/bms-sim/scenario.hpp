@@ -3,7 +3,10 @@
 // Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale. Each built-in
 // is scenario text in the file format below, so a file can do whatever a built-in does. A file holds one step
 // per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
-//   <time_ms> current <mA>                             the pack current, charge positive
+//   <time_ms> current <mA>                             the charger (positive) or load (negative): it
+//                                                      flows while the device's path for its direction is
+//                                                      closed (its FETs, or the fault output that stands
+//                                                      for them) and stops while it is open
 //   <time_ms> cell <board> <cell> <mV>
 //   <time_ms> all-cells <mV>
 //   <time_ms> ramp-cell <board> <cell> <mV_per_s>      drift from the present value (0 stops the drift)
@@ -41,11 +44,22 @@
 // expect names a protection fault (cell_ov, cell_uv, occ, ocd, ot, ut, device_safety, stale_data, comm_loss)
 // or `any` (every fault), once each. Without a limit the onset is the step's time. With one (cell_ov,
 // cell_uv: mV; occ, ocd: mA; ot, ut: 0.1 K) the onset is the first millisecond from the step's time at which
-// the emulated pack reaches it: any cell >= limit (cell_ov) or <= limit (cell_uv), the current >= (occ) or <=
-// (ocd), any sensor >= (ot) or <= (ut). The summary gives each protection event's latency from its fault's
-// onset (or the `any` onset); an event detected before that onset is reported as "fault before onset".
+// the emulated pack reaches it: any cell >= limit (cell_ov) or <= limit (cell_uv), the current that flows >=
+// (occ) or <= (ocd), any sensor >= (ot) or <= (ut). The summary gives each protection event's latency from
+// its fault's onset (or the `any` onset); an event detected before that onset is reported as "fault before
+// onset".
+// Scenario files are tests: an expect is met when an event of its fault (any fault for `any`) is detected at
+// or after its onset, and missed when the run ends before its step, the pack never reaches its limit, or no
+// such event follows the onset. The summary lists each expect as met or MISSED with the reason (--json:
+// "expects", "expects_missed"), and bms-sim's exit status says it:
+//   0  the run completed and every expect was met (or there was none)
+//   1  the run failed (the twin stopped on an access no model covers, an output could not be written)
+//   2  bad arguments or input: an option, a value out of range at file:line:col, a file too large or not a
+//      file, an option the image cannot honour
+//   3  the run completed and at least one expect was missed
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -115,7 +129,7 @@ using Onsets = std::map<std::string, uint32_t>;
 struct Diagnostics {
   std::string error;
   std::vector<std::string> warnings;
-  bool unreadable = false;  // loadScenario: no such file, or not a readable file
+  bool unreadable = false;  // loadScenario: no such file (other read failures set `error`)
 };
 
 // The image's side of the checks the parser cannot make.
@@ -134,7 +148,9 @@ std::vector<std::string> expectableFaults();
 // Parses scenario text; `source` names it in messages. On error returns nullopt and sets diag.error; adds a
 // warning for each step that was out of time order.
 std::optional<Scenario> parseScenario(std::string_view text, const std::string& source, Diagnostics& diag);
-// Reads (at most 1 MiB) and parses a scenario file.
+// Reads (at most kMaxScenarioBytes; a directory, a device or a larger file is an error naming the path)
+// and parses a scenario file.
+inline constexpr size_t kMaxScenarioBytes = 1 << 20;
 std::optional<Scenario> loadScenario(const std::string& path, Diagnostics& diag);
 // Checks the steps against the image: false with diag.error for a board, cell or sensor it does not have;
 // warnings for steps after `durationMs` and current steps on an image that measures no current.

@@ -32,6 +32,14 @@ void ScenarioPlayer::advance(uint32_t nowMs) {
       setCell(board, index, v);
     }
   }
+  // Charge flows through a closed charge path, a discharge through a closed discharge path.
+  const Paths paths = sim_.paths();
+  const int32_t flowing =
+      currentMa_ > 0 ? (paths.charge ? currentMa_ : 0) : (paths.discharge ? currentMa_ : 0);
+  if (flowing != flowingMa_) {
+    flowingMa_ = flowing;
+    sim_.setCurrentMa(flowing);
+  }
   std::erase_if(watching_, [&](const Step* e) {
     if (!reached(*e)) return false;
     onsets_.emplace(e->fault, nowMs);
@@ -42,8 +50,7 @@ void ScenarioPlayer::advance(uint32_t nowMs) {
 void ScenarioPlayer::apply(const Step& s, uint32_t nowMs) {
   switch (s.action) {
     case Action::Current:
-      currentMa_ = s.value;
-      sim_.setCurrentMa(s.value);
+      currentMa_ = s.value;  // it flows as the paths allow (advance())
       break;
     case Action::Cell:
       drifts_.erase({false, s.board, s.index});
@@ -151,9 +158,9 @@ bool ScenarioPlayer::reached(const Step& e) const {
     case Watch::TempBelow:
       return lo <= e.value;
     case Watch::CurrentAbove:
-      return currentMa_ >= e.value;
+      return flowingMa_ >= e.value;
     case Watch::CurrentBelow:
-      return currentMa_ <= e.value;
+      return flowingMa_ <= e.value;
     case Watch::None:
       break;
   }

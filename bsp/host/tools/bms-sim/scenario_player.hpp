@@ -4,6 +4,10 @@
 // its time comes, moves the drifts (integer mV or 0.1 K, clamped to the scenario ranges, pushed to the image
 // only when the value changes), and records the onset of each expected condition from the same integers the
 // image was given, so an onset can never trail what the firmware saw.
+// The current is the load's or the charger's: it flows only while the emulated device has the path for its
+// direction closed (ImageSim::paths(), read at every millisecond: a path that opens stops the current from
+// the next one), so protection that opens a path stops what it protects against, and occ / ocd onsets are
+// those of the current that flows.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +33,8 @@ class ScenarioPlayer {
   const Onsets& onsets() const { return onsets_; }
   bool busOffUnsupported() const { return busOffUnsupported_; }
   uint64_t commandsSent() const { return commandsSent_; }  // send steps and flood frames
+  int32_t demandMa() const { return currentMa_; }   // what the load or charger draws or drives (`current`)
+  int32_t flowingMa() const { return flowingMa_; }  // what flows through the pack's paths
   int32_t cellMv(int board, int cell) const { return cells_[slot(board, cell, cellsPerBoard_)]; }
   int32_t tempDeciK(int board, int sensor) const { return temps_[slot(board, sensor, tempsPerBoard_)]; }
 
@@ -55,6 +61,7 @@ class ScenarioPlayer {
   int boards_, cellsPerBoard_, tempsPerBoard_;
   std::vector<int32_t> cells_, temps_;
   int32_t currentMa_ = 0;
+  int32_t flowingMa_ = 0;
   std::map<DriftKey, Drift> drifts_;
   std::vector<const Step*> watching_;  // expects with a limit not reached yet
   Onsets onsets_;

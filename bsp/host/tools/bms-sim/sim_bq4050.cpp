@@ -29,6 +29,11 @@ class Bq4050Sim final : public ImageSim {
     push();
   }
   void setCurrentMa(int ma) override { board_.gauge.setCurrent(static_cast<int16_t>(ma)); }
+  // The gauge's own FETs, and the image's fault output, which stands for both paths.
+  Paths paths() const override {
+    const Paths out = pathsOfFaultOutput(board_.faultOut.level());
+    return {out.charge && board_.gauge.chgFet(), out.discharge && board_.gauge.dsgFet()};
+  }
   void setTempDeciK(int, int, int deciK) override {
     board_.gauge.setTemperature(static_cast<uint16_t>(deciK));
   }
@@ -53,6 +58,7 @@ class Bq4050Sim final : public ImageSim {
     board_.can.setPeerSource(std::move(source));
     return true;
   }
+  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.

@@ -40,6 +40,10 @@ class Bq769xSim final : public ImageSim {
     push(cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int ma) override { board_->emu.setCurrentMa(ma); }
+  // The monitor's own FETs (series CHG and DSG: the CHG FET blocks charging, its body diode still passes a
+  // discharge, and the DSG FET the reverse; SLUUBY2B / SLUUBY1B "body diode protection", SLUSE97 for the
+  // BQ7690x's CHG and DSG drivers). The G3507 image's fault output only indicates.
+  Paths paths() const override { return {board_->emu.chgFet(), board_->emu.dsgFet()}; }
   void setTempDeciK(int, int sensor, int deciK) override {
     // Sensor 1 is the internal one (BQ7690x: whole degC), 2 and 3 are TS1 and TS3.
     if (sensor == 1) {
@@ -63,6 +67,13 @@ class Bq769xSim final : public ImageSim {
       return true;
     } else {
       return false;
+    }
+  }
+  std::vector<BusOffSpan> busOffLog() const override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      return busOffSpans(board_->output);
+    } else {
+      return {};
     }
   }
 

@@ -34,7 +34,8 @@ class Bq79616Sim final : public ImageSim {
     push(board, cell);
     push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
-  void setCurrentMa(int) override {}
+  void setCurrentMa(int) override {}  // no current sensor on the chain
+  Paths paths() const override { return pathsOfFaultOutput(board_.faultOut.level()); }
   void setTempDeciK(int board, int sensor, int deciK) override {
     // DIETEMP: 0.025 degC per LSB around 0 degC = 273.15 K (measurement.hpp).
     board_.emu.setDieTempRaw(static_cast<size_t>(board), sensor, static_cast<int16_t>(deciK * 4 - 10926));
@@ -60,6 +61,10 @@ class Bq79616Sim final : public ImageSim {
   bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
     board_.can.setPeerSource(std::move(source));
     return true;
+  }
+  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
+  bool sendsTiLayout() const override {
+    return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;
   }
 
   void afterStep() override {

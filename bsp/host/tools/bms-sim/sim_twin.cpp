@@ -70,6 +70,7 @@ class TwinSim final : public ImageSim {
         board_(id, h_.clock, devices_),
         watchdog_(h_.clock) {
     board_.onWatchdogFeed([this] { watchdog_.feed(); });
+    if (gauge_ != nullptr) gauge_->attachClock(h_.clock);  // as the host board: the charge state is counted
     truth_.assign(static_cast<size_t>(devices_ * cellsPerBoard()), 3700);
     for (int b = 0; b < devices_; ++b) {
       for (int c = 1; c <= cellsPerBoard(); ++c)
@@ -107,7 +108,16 @@ class TwinSim final : public ImageSim {
   }
   void setCurrentMa(int ma) override {
     if (auto* e = board_.bq769x()) e->setCurrentMa(ma);
-    if (auto* e = board_.bq4050()) e->setCurrent(static_cast<int16_t>(ma));
+    if (gauge_ != nullptr) gauge_->setCurrent(static_cast<int16_t>(ma));
+  }
+  // As the host bindings: the BQ769x2/BQ7690x FETs, else the fault output PB26 (with the BQ4050's own FETs).
+  // Before the image first drives PB26 it counts as asserted, as the host boards' output starts.
+  Paths paths() const override {
+    if (const auto* e = board_.bq769x()) return {e->chgFet(), e->dsgFet()};
+    const auto& out = board_.faultOutput();
+    const Paths p = pathsOfFaultOutput(out.empty() || out.back().level);
+    if (gauge_ == nullptr) return p;
+    return {p.charge && gauge_->chgFet(), p.discharge && gauge_->dsgFet()};
   }
   void setTempDeciK(int board, int sensor, int deciK) override {
     if (auto* e = board_.bq769x()) {
@@ -119,7 +129,7 @@ class TwinSim final : public ImageSim {
         e->setTs(static_cast<uint8_t>(sensor == 2 ? 0 : 2), static_cast<int16_t>(deciK));
       }
     }
-    if (auto* e = board_.bq4050()) e->setTemperature(static_cast<uint16_t>(deciK));
+    if (gauge_ != nullptr) gauge_->setTemperature(static_cast<uint16_t>(deciK));
     // DIETEMP: 0.025 degC per LSB around 0 degC (drivers/bq79616/measurement.hpp).
     if (auto* e = board_.chain())
       e->setDieTempRaw(static_cast<size_t>(board), sensor, static_cast<int16_t>(deciK * 4 - 10926));
@@ -141,6 +151,15 @@ class TwinSim final : public ImageSim {
   }
   bool serialSend(std::string_view bytes) override { return board_.sendSerial(bytes); }
   size_t serialBacklog() const override { return board_.serialBacklog(); }
+  std::vector<BusOffSpan> busOffLog() const override {
+    std::vector<BusOffSpan> out;
+    if (mcan_ == nullptr) return out;
+    for (const auto& s : mcan_->busOffLog()) {
+      out.push_back({us(s.startCycle),
+                     s.recoveredCycle != 0 ? std::optional<uint64_t>(us(s.recoveredCycle)) : std::nullopt});
+    }
+    return out;
+  }
 
   void runFor(fw::Duration d) override { board_.runUntilUs(h_.nowUs() + d.us); }
   std::string failure() const override {
@@ -220,6 +239,8 @@ class TwinSim final : public ImageSim {
   int devices_;
   bsp::host::Harness h_;
   twin::Board board_;
+  bsp::host::Bq4050Emulator* gauge_ = board_.bq4050();  // the BQ4050 image's gauge, else null
+  const twin::Mcan* mcan_ = board_.chip().mcan();       // the G3507's CAN controller, else null
   bsp::host::SimWatchdog watchdog_;
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;

@@ -101,6 +101,7 @@ class PtyOutput final : public SlcanOutput {
     }
     if (dropped_ != 0)
       std::fprintf(stderr, "bms-sim: the SLCAN reader fell behind: %zu bytes dropped\n", dropped_);
+    waitForClose();
     return true;
   }
 
@@ -113,11 +114,47 @@ class PtyOutput final : public SlcanOutput {
   // much the reader has not taken yet.
   void waitForReader() {
     pollfd p{master_, POLLIN, 0};
-    const auto end = Clock::now() + std::chrono::seconds(60);
+    auto end = Clock::now() + std::chrono::seconds(60);
     while (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0 && Clock::now() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    std::this_thread::sleep_for(std::chrono::milliseconds(250));
     slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY);
+    // Until the reader sends O (its port is set up and it listens), at most 3 s.
+    end = Clock::now() + std::chrono::seconds(3);
+    while (!sawCommand('O') && Clock::now() < end)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+
+  // After the run: until the reader closes the terminal (the master hangs up once no one else holds it
+  // open) or sends C, at most 5 s.
+  void waitForClose() {
+    if (slave_ >= 0) ::close(slave_);
+    slave_ = -1;
+    const auto end = Clock::now() + std::chrono::seconds(5);
+    pollfd p{master_, POLLIN, 0};
+    while (Clock::now() < end && !sawCommand('C')) {
+      if (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+
+  // Reads what the reader sent and keeps it for the board (takeInput()); true once a line of it was the
+  // SLCAN command `command` alone ("O\r").
+  bool sawCommand(char command) {
+    char in[256];
+    ssize_t n;
+    bool seen = false;
+    while ((n = ::read(master_, in, sizeof in)) > 0) {
+      input_.append(in, static_cast<size_t>(n));
+      for (ssize_t i = 0; i < n; ++i) {
+        if (in[i] == '\r') {
+          seen = seen || line_ == std::string(1, command);
+          line_.clear();
+        } else if (line_.size() < 32) {
+          line_ += in[i];
+        }
+      }
+    }
+    return seen;
   }
 
   // Takes the text whose write has finished by `nowUs`. Writes go one at a time (the UART is busy until its
@@ -146,9 +183,7 @@ class PtyOutput final : public SlcanOutput {
 
   // Hands what it can to the terminal without blocking, and keeps what the reader sent (takeInput()).
   void pump() {
-    char in[256];
-    for (ssize_t n; (n = ::read(master_, in, sizeof in)) > 0;)
-      input_.append(in, static_cast<size_t>(n));
+    (void)sawCommand('O');
     while (!pending_.empty()) {
       const ssize_t n = ::write(master_, pending_.data(), pending_.size());
       if (n <= 0) break;
@@ -159,6 +194,7 @@ class PtyOutput final : public SlcanOutput {
   int master_ = -1;
   int slave_ = -1;
   std::string path_;
+  std::string line_;  // the reader's command line so far
   bool started_ = false;
   Clock::time_point start_{};
   std::string pending_;

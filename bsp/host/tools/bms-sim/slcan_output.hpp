@@ -2,16 +2,19 @@
 //
 //   --slcan FILE  the exact bytes the simulated UART carried (the SlcanPublisher's lines), written when the
 //                 run ends.
-//   --slcan pty   a pseudo-terminal in raw mode; its path goes to stderr, and the run starts once a reader
-//   has
-//                 opened it (a serial port that is opened discards what arrived before, so the board is
-//                 switched on after the PC is listening) or after 60 s. Each write reaches the terminal once
-//                 its last byte has left the simulated 115 200 Bd UART, and the run is paced to the wall
-//                 clock, so python-can's slcan interface or slcand see the board at its real rate. What a
-//                 reader sends (slcand's and python-can's C, S6, O commands) is read and ignored: the board's
-//                 firmware does not listen. Nothing waits without a bound: a reader that stops reading loses
-//                 the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART sends into a
-//                 full buffer), and at the end the run waits at most 5 s for the reader to take the rest.
+//   --slcan pty   a pseudo-terminal in raw mode; its path goes to stderr. The run starts once a reader has
+//                 opened it and sent SLCAN's open command O (python-can and slcand send C, S6, O once the
+//                 port is set up; python-can after its sleep_after_open), or 3 s after it opened the terminal
+//                 without one (a reader that is not an SLCAN tool), or after 60 s with no reader: the board
+//                 is switched on once the PC is listening, so nothing piles up to arrive in one burst. Each
+//                 write reaches the terminal once its last byte has left the simulated 115 200 Bd UART, and
+//                 the run is paced to the wall clock, so the reader sees the board at its real rate. Apart
+//                 from that O, what a reader sends is read and ignored: the board's firmware does not listen.
+//                 At the end the run waits for the reader to take the rest and then to close the terminal
+//                 (python-can's shutdown sends C and closes it), so a reader that stops after a silence ends
+//                 cleanly instead of on a vanished port. Nothing waits without a bound: a reader that stops
+//                 reading loses the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART
+//                 sends into a full buffer); the rest is waited for at most 5 s, the close at most 5 s more.
 #pragma once
 
 #include <chrono>

@@ -32,6 +32,9 @@ struct DeviceEntry {
   const char* name;
   const char* summary;  // one line for `bmsctl --help`
   TraceHandler handler;
+  // Every operation and option the handler accepts, one per line ("read <cmd> <len>   what it does"), for
+  // `bmsctl --help` (tests/tools/help_check.py holds it to the handler's parser).
+  const char* usage = nullptr;
 };
 
 // Registers a device at static-initialisation time: `static bmsctl::Registrar r{{"bq76952", "...", &run}};`

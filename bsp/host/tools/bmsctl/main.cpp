@@ -6,20 +6,33 @@
 
 #include "bmsctl/cli.hpp"
 #include "bmsctl/send.hpp"
+#include "flash/flash_command.hpp"
 
 namespace {
 
 void printUsage(FILE* out) {
   std::fprintf(
       out,
-      "usage: bmsctl trace <device> [--crc|--pec] [--devices N] <operation> [args...]\n"
+      "usage: bmsctl trace <device> [--<option>[=value]...] <operation> [args...]\n"
       "       bmsctl send --port DEV [--node N] [--timeout MS] <command> [Signal=value ...]\n"
+      "       bmsctl flash IMAGE --port DEV [options]   (options: bmsctl flash --help)\n"
+      "       bmsctl --help | -h\n"
       "\n"
       "Runs <operation> through the firmware driver against an emulated <device> on virtual time and\n"
-      "prints every bus transaction, then the decoded result.\n"
-      "\ndevices:\n");
-  for (const auto& d : bmsctl::devices())
-    std::fprintf(out, "  %-10s %s\n", d.name, d.summary);
+      "prints every bus transaction, then the decoded result. Exit status: 0 done, 1 the operation failed "
+      "on\n"
+      "the emulated bus, 2 bad arguments.\n"
+      "\ndevices, their operations and options:\n");
+  for (const auto& d : bmsctl::devices()) {
+    std::fprintf(out, "\n  %-10s %s\n", d.name, d.summary);
+    // The usage text, one line per operation or option, indented under the device.
+    for (const char* line = d.usage; line != nullptr && *line != '\0';) {
+      const char* end = std::strchr(line, '\n');
+      const int n = static_cast<int>(end != nullptr ? end - line : static_cast<long>(std::strlen(line)));
+      std::fprintf(out, "    %.*s\n", n, line);
+      line = end != nullptr ? end + 1 : line + n;
+    }
+  }
 }
 
 }  // namespace
@@ -34,8 +47,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (std::strcmp(argv[1], "send") == 0) return bmsctl::runSend(argc - 2, argv + 2);
+  if (std::strcmp(argv[1], "flash") == 0) return bmsctl::flash::runFlash(argc - 2, argv + 2);
   if (std::strcmp(argv[1], "trace") != 0) {
-    return bmsctl::usageError(std::string("unknown command '") + argv[1] + "' (expected 'trace' or 'send')");
+    return bmsctl::usageError(std::string("unknown command '") + argv[1] +
+                              "' (expected 'trace', 'send' or 'flash')");
   }
   if (argc < 3) return bmsctl::usageError("trace needs a device; try 'bmsctl --help'");
 

@@ -222,6 +222,11 @@ int run(const bmsctl::TraceRequest& request) {
 }
 
 const bmsctl::Registrar registrar{
-    {"bq4050", "BQ4050 gas gauge on SMBus: word|block|mac <cmd> [--pec], app-start", &run}};
+    {"bq4050", "BQ4050 gas gauge on SMBus, 100 kHz", &run,
+     "word <cmd>                   SMBus read word (an SBS command: hex, or its name, e.g. Voltage)\n"
+     "block <cmd>                  SMBus block read\n"
+     "mac <subcmd>                 ManufacturerBlockAccess read (hex, or its name, e.g. DeviceType)\n"
+     "app-start                    the image's application from reset to its first complete scan\n"
+     "--pec                        every transaction with a PEC (else each value is read twice)"}};
 
 }  // namespace

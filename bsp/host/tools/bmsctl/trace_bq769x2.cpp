@@ -362,11 +362,26 @@ int runBq76905(const bmsctl::TraceRequest& r) {
   return run(r, Bq769xEmulator::Model::Bq76905);
 }
 
+// The operations and options run() accepts, for `bmsctl --help`.
+constexpr const char* kUsage =
+    "read <cmd> <len>             direct read of len bytes (across contiguous commands)\n"
+    "write <cmd> <bytes...>       direct write\n"
+    "subcmd <code>                command-only subcommand\n"
+    "subcmd-read <code> [len]     subcommand read: echo poll, 0x61 length, 0x60 checksum\n"
+    "dm-read <addr> <len>         data-memory read\n"
+    "dm-write <addr> <bytes...>   data-memory write in CONFIG_UPDATE (skipped when the value is there)\n"
+    "app-start                    the image's application from reset to its first complete scan\n"
+    "<cmd>, <code>, <addr>: hex (0x14, 14) or register-map names (Cell1Voltage, FET_ENABLE); <len> decimal\n"
+    "--crc                        device and driver use the per-byte I2C CRC (not with app-start)\n"
+    "--address=<7-bit>            the address the driver uses (the device stays at 0x08)\n"
+    "--fault=<kind>               one fault injected before the operation: nack, nack-always, stretch,\n"
+    "                             crc, checksum, length, stale, reset";
+
 const bmsctl::Registrar kBq76952{
-    {"bq76952", "BQ76952 (BQ769x2) battery monitor on I2C, 16 cells", &runBq76952}};
+    {"bq76952", "BQ76952 (BQ769x2) battery monitor on I2C, 16 cells", &runBq76952, kUsage}};
 const bmsctl::Registrar kBq76907{
-    {"bq76907", "BQ76907 (BQ7690x) battery monitor on I2C, 7 cells", &runBq76907}};
+    {"bq76907", "BQ76907 (BQ7690x) battery monitor on I2C, 7 cells", &runBq76907, kUsage}};
 const bmsctl::Registrar kBq76905{
-    {"bq76905", "BQ76905 (BQ7690x) battery monitor on I2C, 5 cells", &runBq76905}};
+    {"bq76905", "BQ76905 (BQ7690x) battery monitor on I2C, 5 cells", &runBq76905, kUsage}};
 
 }  // namespace

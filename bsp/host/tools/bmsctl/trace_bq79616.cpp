@@ -296,7 +296,15 @@ int run(const bmsctl::TraceRequest& request) {
 }
 
 const bmsctl::Registrar kRegistrar{
-    {"bq79616", "BQ79616 daisy chain on UART (--devices N): wake, autoaddress, read, write, app-start",
-     &run}};
+    {"bq79616", "BQ79616 daisy chain on UART, 1 Mbaud", &run,
+     "wake                                  WAKE pings from SHUTDOWN\n"
+     "autoaddress                           wake, then TI's auto-addressing\n"
+     "read single <dev> <reg> <len>         after bring-up, one read frame and its response\n"
+     "read stack|broadcast <reg> <len>\n"
+     "write single <dev> <reg> <bytes...>\n"
+     "write stack|broadcast|reverse <reg> <bytes...>\n"
+     "app-start                             the image's application from reset to its first complete scan\n"
+     "<reg>: hex (0x0309) or a register-map name (Control1); <dev>, <len> decimal; bytes hex\n"
+     "--devices N                           chain length, 1..64 (default 2)"}};
 
 }  // namespace

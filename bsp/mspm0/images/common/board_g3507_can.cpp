@@ -86,7 +86,10 @@ Board& board() {
 
 void bringUp() {
   system.capture();  // RSTCAUSE clears when read: first of all
-  initSysosc(true);
+  // The LP-MSPM0G3507 fits R8, 100 kOhm 0.1 %, from ROSC (PA2) to ground (SLAU873D 2.7 and its schematic):
+  // the SYSOSC runs in FCL mode on the external resistor (README "Clocks").
+  initSysosc(true,
+             reg::sysctl::kFclKey | reg::sysctl::kFclSetUseFcl | reg::sysctl::kFclSetUseExternalResistor);
   powerGpioPort(kGpioaBase);
   powerGpioPort(kGpioaBase + kGpioPortStride);
   faultOut.init(true);  // asserted until the application has measured the pack and released it

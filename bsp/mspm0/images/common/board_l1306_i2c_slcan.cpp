@@ -72,7 +72,9 @@ Board& board() {
 
 void bringUp() {
   system.capture();  // RSTCAUSE clears when read: first of all
-  initSysosc(false);
+  // The LaunchPad's ROSC resistor on PA2 lets the SYSOSC run in FCL mode (README "Clocks"; its fitting on the
+  // LP-MSPM0L1306 is an open question there: pass 0 for a board without it).
+  initSysosc(false, reg::sysctl::kFclKey | reg::sysctl::kFclSetUseFcl);
   powerGpioPort(kGpioaBase);
   TimgClock::start(kClockConfig);
   i2c.init();

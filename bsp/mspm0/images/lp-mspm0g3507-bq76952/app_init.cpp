@@ -5,6 +5,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -18,5 +19,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.faultIndicator = &board.faultOut;
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config).start();
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  app.start();
 }
