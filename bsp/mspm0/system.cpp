@@ -25,10 +25,11 @@ void Mspm0System::capture() {
 }
 
 void Mspm0System::doEnterBootloader() {
+// Qualified: unqualified, the name finds SystemControl::enterBootloader(), which calls this again.
 #ifdef BSP_MSPM0_MMIO_MODEL
-  requestBootloaderEntry();  // the register model records the two writes and returns
+  bsp::mspm0::requestBootloaderEntry();  // the register model records the two writes and returns
 #else
-  enterBootloader();
+  bsp::mspm0::enterBootloader();
 #endif
 }
 

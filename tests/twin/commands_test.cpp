@@ -8,6 +8,7 @@
 //   the flood must not delay protection past its 2 ms budget.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -89,12 +90,19 @@ TEST(TwinCommands, BootloaderEntryOpensTheFetsAnswersThenResetsIntoTheBootloader
   m.traceId = r.board.chip().factory().traceId();
   m.key = 0xA5;
   r.board.sendCan(sealed(m.pack()));
-  for (int k = 0; k < 200 && !r.board.machine().stopped(); ++k)
+  // The reset into the ROM bootloader: the boot code holds the core and starts the BSL (bsp/twin/bsl).
+  for (int k = 0; k < 200 && !r.board.machine().coreHeld(); ++k)
     r.runMs(1);
-  ASSERT_TRUE(r.board.machine().stopped());
-  EXPECT_NE(r.board.machine().stopReason().find("RESETLEVEL 2"), std::string::npos)
-      << r.board.machine().stopReason();
-  const uint64_t stopAt = r.board.machine().now();
+  ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+  ASSERT_TRUE(r.board.machine().coreHeld()) << "no reset into the bootloader within 200 ms";
+  EXPECT_EQ(r.board.chip().bootCode().bslReason(), "software invoke (RESETLEVEL BOOTLOADERENTRY)");
+  ASSERT_FALSE(r.board.machine().resets().empty());
+  EXPECT_NE(r.board.machine().resets().back().find("bootloader entry (RESETCMD, RESETLEVEL 2)"),
+            std::string::npos)
+      << r.board.machine().resets().back();
+  // The reset log's entries begin with the time in seconds to the microsecond.
+  const uint64_t resetAt =
+      static_cast<uint64_t>(std::strtod(r.board.machine().resets().back().c_str(), nullptr) * 32e6);
   uint64_t fetsOff = 0, answered = 0;
   for (const auto& e : r.board.fetsOn()) {
     if (!e.level) fetsOff = e.cycle;
@@ -107,11 +115,11 @@ TEST(TwinCommands, BootloaderEntryOpensTheFetsAnswersThenResetsIntoTheBootloader
   ASSERT_NE(fetsOff, 0U);
   ASSERT_NE(answered, 0U);
   EXPECT_LT(fetsOff, answered);
-  EXPECT_LT(answered, stopAt);
+  EXPECT_LT(answered, resetAt);
   std::printf(
       "REPORT twin.lp-mspm0g3507-bq76952.bootloader_entry: FETs off %.2f ms before the answer, the "
       "reset %.2f ms after it (CPU-counted)\n",
-      (answered - fetsOff) / 32000.0, (stopAt - answered) / 32000.0);
+      (answered - fetsOff) / 32000.0, (resetAt - answered) / 32000.0);
 }
 
 TEST(TwinCommands, AnL1306ImageAnswersSlcanLinesOnPa9) {
