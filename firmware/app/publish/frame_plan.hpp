@@ -136,7 +136,7 @@ class FramePlan {
   bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
   bool startupPending_ = false;  // announceStartup() was called and its frame has not gone out yet
   StartupInfo startup_{};
-  uint8_t counter_ = 0xFF;  // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
+  uint8_t counter_ = 0xFF;    // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
   uint16_t index_ = 0;        // frame within the current step
   uint16_t resumeIndex_ = 0;  // ... and within resume_
   const PackView& pack_;
