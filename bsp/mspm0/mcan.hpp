@@ -9,10 +9,11 @@
 // storing to FIFO 0; there the non-matching frames go to FIFO 1). The TX FIFO (TXBC.TFQM = 0) sends frames in
 // the order they were queued, which is what the contract asks of frames of equal priority.
 //
-// Bit timing (bq79616-protocol.md section 8, TI's example): CANCLK = HFXT 40 MHz, prescaler 1, 1 + 69 + 10
-// = 80 tq of 25 ns = 500 kbit/s, sample point 70/80 = 87.5 %, SJW 10 tq. kNbtp500k below is that word.
-// Documented alternative without the crystal: SYSPLLCLK1 as CANCLK (GENCLKCFG.CANCLKSRC = 1) at 40 MHz
-// gives the same NBTP; from a 32 MHz clock, 1 + 55 + 8 = 64 tq gives 500 kbit/s at 87.5 % as well.
+// Bit timing (TI's bq79616_uart_to_can example, MSPM0 SDK 2.09, ti_msp_dl_config.c): CANCLK = HFXT 40 MHz,
+// prescaler 1, 1 + 69 + 10 = 80 tq of 25 ns = 500 kbit/s, sample point 70/80 = 87.5 %, SJW 10 tq. kNbtp500k
+// below is that word. Documented alternative without the crystal: SYSPLLCLK1 as CANCLK (GENCLKCFG.CANCLKSRC =
+// 1) at 40 MHz gives the same NBTP; from a 32 MHz clock, 1 + 55 + 8 = 64 tq gives 500 kbit/s at 87.5 % as
+// well.
 //
 // Contract (see hal/can_bus.hpp)
 // - init(): thread mode; Ok, NotReady when the message RAM or an INIT handshake (entering configuration,
@@ -49,7 +50,7 @@ inline constexpr bool kMcanRx = BSP_MCAN_RX != 0;
 class McanBus final : public fw::hal::CanBus {
  public:
   static constexpr uint32_t kNbtp500k = reg::mcan::nbtp(10, 1, 69, 10);
-  static_assert(kNbtp500k == 0x12004409, "bq79616-protocol.md section 8 NBTP word");
+  static_assert(kNbtp500k == 0x12004409, "the NBTP word of TI's bq79616_uart_to_can configuration");
 
   struct Config {
     uintptr_t base = 0;

@@ -45,3 +45,27 @@ TEST(Bq4050Recovery, OutageSweep) {
 }
 
 }  // namespace
+
+namespace {
+
+// The gauge's SafetyStatus maps bit by bit to the paths its FETs guard (issue 24 item 1; SLUUAQ3A chapter 2,
+// each protection's XCHG / XDSG): COV charge, CUV discharge, OTF both, a permanent failure both; no flag,
+// no path. The old code took any flag as "both".
+TEST(Bq4050App, TheGaugesFlagsMapToThePathsTheyGuard) {
+  using S = fw::regmap::bq4050::bits::SafetyStatus;
+  fw::drivers::bq4050::Measurement m{};
+  EXPECT_EQ(fw::app::blockedPaths(m), 0);
+  m.safetyStatus = S::fromRaw(S::cov_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 1) << "charge";
+  m.safetyStatus = S::fromRaw(S::cuv_mask | S::ascd_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 2) << "discharge";
+  m.safetyStatus = S::fromRaw(S::occ1_mask | S::otd_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 3);
+  m.safetyStatus = S::fromRaw(S::otf_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 3) << "FET overtemperature: both";
+  m.safetyStatus = S::fromRaw(0);
+  m.pfStatus = 1;
+  EXPECT_EQ(fw::app::blockedPaths(m), 3) << "permanent failure: both";
+}
+
+}  // namespace

@@ -1,5 +1,5 @@
-// The CAN bus budget (ARCHITECTURE.md: "CAN bus load at 500 kbit/s, worst configuration (64 boards): every
-// message at its stated or documented period").
+// The CAN bus budget (README "CAN and SLCAN output": "CAN bus load at 500 kbit/s, worst configuration (64
+// boards): every message at its stated or documented period").
 //
 // Worst case on paper: every configuration the firmware supports (1..64 boards of a BQ79616 chain, both
 // layouts, and the single-board images), every frame with its worst-case stuff bits, every message at its

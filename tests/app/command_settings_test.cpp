@@ -11,8 +11,10 @@ namespace {
 using namespace fw::app;
 using namespace fw::app::command;
 
+// Settings 0..11 are FaultId 0..5 (trip, clear); 12..15 the charge temperature limits (FaultId 10, 11).
 constexpr uint8_t id(FaultId f, bool clear) {
-  return static_cast<uint8_t>(static_cast<uint8_t>(f) * 2 + (clear ? 1 : 0));
+  const auto rule = static_cast<uint8_t>(f);
+  return static_cast<uint8_t>((rule < 6 ? rule * 2 : 12 + (rule - 10) * 2) + (clear ? 1 : 0));
 }
 
 TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
@@ -20,10 +22,12 @@ TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
   // Upper limits: the default trip value is the highest allowed; lower limits: the lowest.
   EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4251), WriteResult::OutOfRange);
   EXPECT_EQ(s.write(id(FaultId::ChargeOvercurrent, false), 20001), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::Overtemperature, false), 3333), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::OvertempDischarge, false), 3333), WriteResult::OutOfRange);  // 60 degC
+  EXPECT_EQ(s.write(id(FaultId::OvertempCharge, false), 3183), WriteResult::OutOfRange);     // 45 degC
+  EXPECT_EQ(s.write(id(FaultId::UndertempCharge, false), 2731), WriteResult::OutOfRange);    // 0 degC
   EXPECT_EQ(s.write(id(FaultId::CellUndervoltage, false), 2699), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::DischargeOvercurrent, false), -40001), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::Undertemperature, false), 2531), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::DischargeOvercurrent, false), -30001), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::UndertempDischarge, false), 2531), WriteResult::OutOfRange);  // -20 degC
   for (uint8_t k = 0; k < kSettingCount; ++k) {
     const SettingSpec spec = s.spec(k);
     const Rule& r = kDefaultLimits.rules[spec.rule];
@@ -31,6 +35,16 @@ TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
     EXPECT_EQ(upper ? spec.max : spec.min, r.trip)
         << "setting " << int(k) << ": the bound is the default trip";
     EXPECT_EQ(s.read(k), spec.clear ? r.clear : r.trip);
+    EXPECT_TRUE(s.read(k) >= spec.min && s.read(k) <= spec.max)
+        << "setting " << int(k) << ": the default is in range";
+    EXPECT_EQ(spec.unit, spec.rule < 2 ? Unit::Millivolt : spec.rule < 4 ? Unit::Milliamp : Unit::DeciKelvin);
+  }
+  // Every value limit of the protection has its two settings, once each.
+  for (uint8_t rule : {0, 1, 2, 3, 4, 5, 10, 11}) {
+    int seen = 0;
+    for (uint8_t k = 0; k < kSettingCount; ++k)
+      seen += s.spec(k).rule == rule ? 1 : 0;
+    EXPECT_EQ(seen, 2) << "rule " << int(rule);
   }
   EXPECT_EQ(s.write(kSettingCount, 0), WriteResult::UnknownSetting);
   s.apply();
@@ -41,13 +55,14 @@ TEST(LimitSettings, AWriteWaitsForTheScanBoundaryAndThenTakesEffectWhole) {
   LimitSettings s(kDefaultLimits);
   const uint8_t ocdTrip = id(FaultId::DischargeOvercurrent, false),
                 ocdClear = id(FaultId::DischargeOvercurrent, true);
-  // Lower limit: the clear value must stay at or above the trip value. Tightening the trip to -20 A needs
-  // the clear value moved first (-35 A would lie below it).
-  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Inconsistent);
+  // Lower limit: the clear value must stay at or above the trip value. A clear value of -25 A (clearing while
+  // 25 A still flow) with the trip left at -20 A would lie below it.
+  EXPECT_EQ(s.write(ocdClear, -25000), WriteResult::Ok);
+  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Inconsistent);  // judged against the waiting clear value
   EXPECT_EQ(s.write(ocdClear, -15000), WriteResult::Ok);
-  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Ok);  // judged against the waiting clear value
-  EXPECT_EQ(s.read(ocdTrip), -40000);                    // nothing changed before the boundary
-  EXPECT_EQ(s.limits().rules[3].clear, -35000);
+  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Ok);
+  EXPECT_EQ(s.read(ocdTrip), -30000);  // nothing changed before the boundary
+  EXPECT_EQ(s.limits().rules[3].clear, 200);
   s.apply();
   EXPECT_EQ(s.limits().rules[3].trip, -20000);
   EXPECT_EQ(s.limits().rules[3].clear, -15000);

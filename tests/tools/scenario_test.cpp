@@ -142,13 +142,14 @@ TEST(ScenarioParser, ExpectIsWhatTheHeaderDocuments) {
   EXPECT_NE(errorOf("0 onset").find("unknown action 'onset'"), std::string::npos);
   EXPECT_NE(errorOf("0 expect fire").find("s.txt:1:10: error: unknown fault 'fire' (known: cell_ov,"),
             std::string::npos);
-  EXPECT_EQ(errorOf("0 expect ot 3332\n5 expect ot"),
-            "s.txt:2:10: error: 'ot' is already expected on line 1 (one expect per fault)");
-  EXPECT_EQ(
-      errorOf("0 expect any 5"),
-      "s.txt:1:14: error: 'any' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
-  EXPECT_EQ(errorOf("0 expect ut 100"),
-            "s.txt:1:13: error: a temperature in 0.1 K must be in 2182..4232, got '100'");
+  EXPECT_EQ(errorOf("0 expect otd 3332\n5 expect otd"),
+            "s.txt:2:10: error: 'otd' is already expected on line 1 (one expect per fault)");
+  EXPECT_EQ(errorOf("0 expect any 5"),
+            "s.txt:1:14: error: 'any' takes no limit (only cell_ov, cell_uv, occ, ocd, otc, otd, utc and utd "
+            "watch a "
+            "value)");
+  EXPECT_EQ(errorOf("0 expect utd 100"),
+            "s.txt:1:14: error: a temperature in 0.1 K must be in 2182..4232, got '100'");
 }
 
 TEST(ScenarioParser, ExpectableFaultsAreTheFirmwaresFaultNames) {
@@ -362,7 +363,7 @@ TEST(ExpectVerdicts, MetOnlyByAnEventOfItsFaultAtOrAfterTheOnset) {
   using fw::app::FaultId;
   const Scenario s = parsed(
       "1000 expect cell_ov 4250\n1000 expect comm_loss\n1000 expect ocd -30000\n2000 expect any\n"
-      "9000 expect ot\n");
+      "9000 expect otd\n");
   const Onsets onsets{{"cell_ov", 2250}, {"comm_loss", 1000}, {"any", 2000}};
   const std::vector<fw::app::ProtectionRecord> log = {
       event(FaultId::CommLoss, 900000, true, 900000),

@@ -37,7 +37,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check_gauge_soc,  # noqa: E402
                                 check_load_paths, check_options, read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
-FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "ot", "ut", "device_safety", "stale_data", "comm_loss", "open_wire"]
+FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
+          "otc", "utc"]
 PACK_SUMMARY, PROTECTION_EVENT, STARTUP = 0x100, 0x103, 0x1F0
 PERIOD_TOLERANCE_MS = 1.0  # PackSummary period against the configured scan period (check_ov_cell says why)
 
@@ -69,7 +70,7 @@ def check_published(image, frames, scenario):
     without one sent 0 % from their zero-filled state), and a PackSummary.Counter gap for each summary that
     never went out, and none otherwise."""
     for t, ident, d in frames:
-        if ident == PACK_SUMMARY and d[5] & 0x08 and (d[4] == 255) == (image == GAUGE_IMAGE):
+        if ident == PACK_SUMMARY and d[7] & 0x80 and (d[4] == 255) == (image == GAUGE_IMAGE):  # DataValid
             fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {d[4]} on {image}")
     if image.startswith("lp-mspm0g3507-"):
         check_counter(frames, scenario)
@@ -105,12 +106,14 @@ def decode_all(dbc_dir, frames):
 
 
 def pack_summaries(frames):
-    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml)."""
+    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml:
+    ChargeFet bits 40-41 and DischargeFet 42-43, 3 = not available; ActiveFaults 48-61, FaultOutput 62,
+    DataValid 63)."""
     out = []
     for t, ident, d in frames:
         if ident == PACK_SUMMARY and len(d) == 8:
-            out.append((t, d[5] & 1, (d[5] >> 1) & 1, (d[5] >> 2) & 1, (d[5] >> 3) & 1,
-                        int.from_bytes(d[6:8], "little")))
+            tail = int.from_bytes(d[6:8], "little")
+            out.append((t, d[5] & 3, (d[5] >> 2) & 3, (tail >> 14) & 1, (tail >> 15) & 1, tail & 0x3FFF))
     return out
 
 

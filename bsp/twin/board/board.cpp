@@ -177,7 +177,7 @@ void Board::wireChain(int devices) {
   });
 }
 
-// Command frames (bq79616-protocol.md): INIT (bit 7 set, request type 6:4, data length - 1 in 2:0), the
+// Command frames (SLUSE81E §9.3.6.1.1): INIT (bit 7 set, request type 6:4, data length - 1 in 2:0), the
 // device address for single-device requests (types 0 and 1), the register (2 bytes), data (1 byte for reads),
 // CRC.
 void Board::noteChainByte(uint8_t byte) {

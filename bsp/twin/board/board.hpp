@@ -1,6 +1,6 @@
 // Board: one of the five LaunchPad set-ups around a twin MSPM0, wired to the device emulators the host tools
 // use (bsp/host/emul), on the emulators' SimClock. The wiring is the README's "Connections" table
-// (bsp/mspm0/README.md) and the ARCHITECTURE.md image table, not the firmware's choices: if an image muxes a
+// (bsp/mspm0/README.md) and the README's image table, not the firmware's choices: if an image muxes a
 // signal to another pin, nothing arrives where the board expects it.
 //
 //   L1306 + BQ76952 / BQ76907 EVM: I2C0 PA0 SDA / PA1 SCL (pull-ups on the board), the monitor's ALERT
@@ -54,7 +54,7 @@ struct PinEdge {
   bool level;
 };
 
-// A command frame the MCU sent the BQ79616 chain (INIT byte and register; bq79616-protocol.md frame layout).
+// A command frame the MCU sent the BQ79616 chain (INIT byte and register; SLUSE81E §9.3.6.1.1 frame layout).
 struct ChainCommand {
   uint64_t cycle;
   uint8_t init;

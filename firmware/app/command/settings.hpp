@@ -1,8 +1,8 @@
 // LimitSettings: the firmware protection limits a command may read and write, and the rules a write obeys.
 //
 // The limits live here, in RAM, started from the image's defaults (app/protection/default_limits.hpp); the
-// protection evaluates them by reference. Twelve settings: the trip and clear values of the six value limits
-// (firmware/app/can/bms.yaml, SettingRead.Setting), in mV, mA or 0.1 K.
+// protection evaluates them by reference. Sixteen settings: the trip and clear values of the eight value
+// limits (firmware/app/can/bms.yaml, SettingRead.Setting), in mV, mA or 0.1 K.
 //
 // Safety rules (tests/app/command_settings_test.cpp):
 // - A write outside its setting's range is refused (OutOfRange). Every range stops at the image's default on
@@ -33,9 +33,10 @@ struct SettingSpec {
   int32_t min, max;
 };
 
-inline constexpr uint8_t kSettingCount = 12;
+inline constexpr uint8_t kSettingCount = 16;
 
-// Setting n: rule n / 2, its trip value (n even) or clear value (n odd); the range from `defaults`.
+// Setting n: its trip value (n even) or clear value (n odd) of rule n / 2 (n < 12: cell_ov .. utd) or of
+// OvertempCharge / UndertempCharge (12..15); the range from `defaults`.
 SettingSpec settingSpec(uint8_t id, const ProtectionConfig& defaults);
 
 enum class WriteResult : uint8_t { Ok, UnknownSetting, OutOfRange, Inconsistent, Busy };

@@ -38,6 +38,13 @@ struct Bq4050AppConfig {
   Duration retryInterval = ms(100);  // between failed probes (a probe of an absent gauge is a few NACKs)
 };
 
+// The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each
+// protection's table names the FET it turns off, OperationStatus()[XCHG] or [XDSG]): charge for COV, OCC1/2,
+// ASCC/ASCCL, OTC, UTC, PTO, CTO, OC, CHGC, CHGV, PCHGC; discharge for CUV, CUVC, OCD1/2, AOLD/AOLDL,
+// ASCD/ASCDL, OTD, UTD; both for OTF and a permanent failure (PFStatus). Bit for bit, so a gauge that stops
+// charging does not read as a pack that cannot discharge (bq4050_app.cpp).
+uint8_t blockedPaths(const drivers::bq4050::Measurement& m);
+
 struct Bq4050Stats {
   uint32_t scans = 0;
   uint32_t scanFailures = 0;
@@ -114,7 +121,7 @@ class Bq4050Device : public MonitorBase {
       view_.currentMa = m.currentMa;
       view_.stateOfCharge = m.rsocPercent;
       view_.hasStateOfCharge = true;
-      view_.deviceFault = m.deviceFault();
+      view_.deviceBlocks = blockedPaths(m);
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
   }

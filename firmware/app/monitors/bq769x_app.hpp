@@ -71,6 +71,12 @@ struct Bq769xAppConfig {
   // Driven high while protection holds a path off, low while both are on (the G3507 image's fault output,
   // PB26); nullptr: none. The FETs stay the device's to switch: this pin only tells the outside.
   hal::DigitalOut* faultIndicator = nullptr;
+  // The BQ769x2's CFETOFF / DFETOFF inputs where the board wires them to MCU pins (bsp/mspm0/README.md
+  // "Connections"; the settings table configures them active-high, that FET only): driven high while
+  // protection holds the charge / discharge path off, so a path opens without I2C, at once, also when the
+  // link has failed. nullptr: not wired (the BQ7690x has no such pins).
+  hal::DigitalOut* chargeOffPin = nullptr;
+  hal::DigitalOut* dischargeOffPin = nullptr;
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -87,6 +93,10 @@ void toSample(const drivers::bq769x2::Bq769x2Measurement& m, uint8_t cells, Boar
               PackView& view);
 void toSample(const drivers::bq769x2::Bq7690xMeasurement& m, uint8_t cells, BoardSample& sample,
               PackView& view);
+// The paths the device's own protection holds off or is about to (its safety alert, status and permanent-fail
+// flags, bit by bit; bq769x_app.cpp): PackView::deviceBlocks.
+uint8_t deviceBlocks(const drivers::bq769x2::Bq769x2Measurement& m);
+uint8_t deviceBlocks(const drivers::bq769x2::Bq7690xMeasurement& m);
 // Temperature sensors each family reports: BQ769x2 internal, TS1, TS3; BQ7690x internal.
 constexpr uint8_t tempsOf(const drivers::bq769x2::Bq769x2Measurement*) {
   return 3;
@@ -135,9 +145,9 @@ class Bq769xDevice : public MonitorBase {
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
-  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets) needs the
-  // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
-  // it (it runs right after protection, before the command goes out).
+  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (README "Figures", the budget) needs
+  // the command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task
+  // takes it (it runs right after protection, before the command goes out).
   void commandPosted() {
     flags_->fetWanted = true;
     flags_->fetRequested = true;
@@ -273,7 +283,7 @@ class Bq769xApp {
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
             hal::SystemControl& system, const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
       : plan_(*view_, *addressOf(status_), kDefaultLimits.staleAfter),  // status_ is built after plan_
-        fet_(scheduler),
+        fet_(scheduler, config.chargeOffPin, config.dischargeOffPin),
         settings_(kDefaultLimits),
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
@@ -284,6 +294,7 @@ class Bq769xApp {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.cells;
     view_->tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
+    view_->hasFetStatus = true;  // every scan reads the FETs' state back
     view_->boards = {&*sample_, 1};
   }
 

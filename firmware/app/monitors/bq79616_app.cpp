@@ -58,7 +58,8 @@ inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
     s->takenAt = r->takenAt;
     s->valid = anyValid = true;
   }
-  view_.deviceFault = deviceFault;
+  // A BQ79616 fault has no direction (its image has no FETs): both paths, which the fault output stands for.
+  view_.deviceBlocks = deviceFault ? static_cast<uint8_t>(Action::AllOff) : 0;
   // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
   // over, and the next recovery may start at the lightest rung again.
   if (driver_.devices() != 0 && records_->summary.validDevices == driver_.devices())

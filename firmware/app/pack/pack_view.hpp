@@ -84,7 +84,14 @@ struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
   uint8_t tempsPerBoard = 0;  // temperature sensors per board
   bool hasCurrent = false;    // pack-level values, valid with board 0's measurement
-  bool deviceFault = false;   // a monitor reports a tripped protection of its own
+  // The paths a monitor's own protection holds off or is about to (its safety flags, alert or trip, mapped
+  // bit by bit in the monitor: 1 charge, 2 discharge, as Action's bits; 0 none). Written with each scan.
+  uint8_t deviceBlocks = 0;
+  // The paths that are on as the device itself reports them (BQ769x2 FET Status, BQ7690x Battery Status
+  // CHG/DSG; 1 charge, 2 discharge), written with each validated scan, meaningful only on a monitor that
+  // reports them (hasFetStatus). Publishers say "unknown" whenever the scan behind it is not fresh.
+  uint8_t devicePaths = 0;
+  bool hasFetStatus = false;
   // The monitor is set up and scanning (written by the monitor task only). Protection takes the fault line
   // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
   // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).

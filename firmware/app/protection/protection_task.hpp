@@ -4,8 +4,12 @@
 // Acting goes through an Actuator, because images differ: on BQ769x2/BQ7690x images it is a FET command on
 // the monitor's bus (a mailbox the monitor task reads, monitors/fet_mailbox.hpp: it completes later, and the
 // monitor posts kActuated as it handles the completion); on BQ79616 and BQ4050 images it is the fault
-// output pin (done at once). Every fault that trips is logged with when it was detected and when the action
-// took effect, so the detection-to-FET-off latency is measurable (bms-sim prints it as protection_events).
+// output pin (done at once). Every fault that trips is logged with when it was detected, when the action
+// took effect and when the paths were confirmed off, so the detection-to-FET-off latency is measurable
+// (bms-sim prints it as protection_events). What the publishers say about the paths (PublishStatus::chargeOn,
+// dischargeOn, pathsKnown) is only ever what was confirmed: on FET images the device's own FET read-back
+// with each fresh scan (unknown from a failed scan or stale data until the next fresh one), on fault-output
+// images the pin's state.
 // Protection and the monitor hold no reference to each other: they share the PackView (the monitor writes,
 // protection reads), the actuator, and events posted by task id.
 //
@@ -74,10 +78,16 @@ class FaultPinActuator final : public Actuator {
 
 struct ProtectionRecord {  // all-zero until written: the log needs no constructor
   FaultId fault;
-  bool actionDone;  // `acted` holds when the FET-off / fault output took effect
+  bool actionDone;  // `acted` holds when the request took effect: the FET command completed, the pin driven
   bool cleared;
+  // `confirmed` holds when the paths this fault opens (offPaths, Action bits) were seen off: on FET images
+  // the first scan whose FET read-back (PackView::devicePaths) shows them off, on fault-output images the
+  // instant the pin was driven (`acted`). Never set on what was only asked for.
+  bool confirmedOff;
+  uint8_t offPaths;
   Instant detected;
   Instant acted;
+  Instant confirmed;
 };
 
 class ProtectionTask final : public sched::Task {
@@ -132,6 +142,9 @@ class ProtectionTask final : public sched::Task {
   inline void apply(const ProtectionState& st, bool fresh, Instant now);  // inline (.cpp): one caller
   inline void record(const ProtectionState& st, Instant now);             // the log's part of apply()
   void actuated(Instant at);  // the last request took effect at `at`
+  // What the publishers report about the paths, from this evaluation's inputs (FET images only).
+  inline void readBack(const ProtectionInputs& in, Instant now);
+  void confirm(uint8_t offNow, Instant at);  // records whose paths are all in `offNow` are confirmed at `at`
 
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.

@@ -314,8 +314,11 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
         if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
-        v[S::kChargeFetField] = status_.chargeOn;
-        v[S::kDischargeFetField] = status_.dischargeOn;
+        // The paths only as confirmed (publish_status.hpp); not available otherwise.
+        if (status_.pathsKnown) {
+          v[S::kChargeFetField] = status_.chargeOn;
+          v[S::kDischargeFetField] = status_.dischargeOn;
+        }
         v[S::kFaultOutputField] = status_.faultOutput;
         v[S::kDataValidField] = cells;
         v[S::kCounterField] = counter_;

@@ -61,10 +61,11 @@ Status Monitor::startProbe(Identity& out) {
 }
 
 Status Monitor::startConfigure(std::span<const Setting> settings) {
-  if (!kConfigPaths || settings.empty() || settings.size() > 32) return Status::InvalidArgument;
+  if (!kConfigPaths || settings.empty() || settings.size() > kMaxSettings) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->settings = settings;
-  state_->diff = 0;
+  for (uint8_t& d : state_->diff)
+    d = 0;
   state_->index = 0;
   state_->written = 0;
   state_->error = Status::Ok;
@@ -323,9 +324,9 @@ inline void Monitor::configStep(Status r) {
   const bool flag = (link_.data()[0] & facts().cfgUpdateMask) != 0;
   switch (state_->step) {
     case kCompare:
-      if (!matches()) state_->diff |= 1UL << state_->index;
+      if (!matches()) state_->diff[state_->index >> 3] |= static_cast<uint8_t>(1U << (state_->index & 7));
       if (++state_->index < state_->settings.size()) return next(nextSetting(false));
-      if (state_->diff == 0) return finish(Status::Ok);
+      if (!differs()) return finish(Status::Ok);
       state_->step = kEnter;
       return next(link_.startSubcommand(regmap::code16(sub::SetCfgupdate)));
     case kEnter:
@@ -363,8 +364,16 @@ void Monitor::pollStatus() {
   finish(state_->error);
 }
 
+bool Monitor::differs() const {
+  uint8_t any = 0;
+  for (uint8_t d : state_->diff)
+    any |= d;
+  return any != 0;
+}
+
 void Monitor::writeNext() {
-  while (state_->index < state_->settings.size() && (state_->diff & (1UL << state_->index)) == 0)
+  while (state_->index < state_->settings.size() &&
+         (state_->diff[state_->index >> 3] & (1U << (state_->index & 7))) == 0)
     ++state_->index;
   if (state_->index == state_->settings.size()) return exitUpdate();
   state_->step = kWrite;

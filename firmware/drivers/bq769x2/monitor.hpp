@@ -22,7 +22,7 @@
 //                         CFGUPDATE is set (Timeout), write each setting that differed and read it back
 //                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
 //                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
-//                         the first failure. At most 32 settings; written() counts the writes.
+//                         the first failure. At most kMaxSettings (64) settings; written() counts the writes.
 //   startScan(m)          (typed front ends) the measurement set in 4 block reads: the `blocks:` of
 //                         regmaps/bq769x2 (bq7690x) commands.yaml in their order (<family>::blocks).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
@@ -230,6 +230,9 @@ inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
 inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
 
+// The most settings a CONFIG_UPDATE table may hold.
+inline constexpr uint8_t kMaxSettings = 64;
+
 struct MonitorConfig {
   LinkConfig link{};
   bool probeCrc = false;                // startProbe tries both CRC modes
@@ -334,6 +337,7 @@ class Monitor {
   inline void runtimeSetupStep(Status r);
   inline void balanceStep(Status r);
   bool matches() const;
+  bool differs() const;
   Status nextSetting(bool write);
   void writeNext();
   void exitUpdate();
@@ -366,7 +370,7 @@ class Monitor {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
     } out;
-    uint32_t diff;
+    uint8_t diff[kMaxSettings / 8];  // bit i: setting i differs from the table
     uint32_t scanRetries;
   };
 

@@ -1,4 +1,5 @@
-// The recurring BQ769x2 user problems of LANDSCAPE.md "(c) Recurring user problems", one test each, on the
+// The recurring BQ769x2 user problems reported on TI's E2E forum and by LibreSolar's bms-firmware users, one
+// test each, on the
 // emulator that reproduces them.
 #include <gtest/gtest.h>
 

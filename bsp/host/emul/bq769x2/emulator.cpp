@@ -136,7 +136,14 @@ void Bq769xEmulator::initRegisters() {
   safetyStatusA_ = 0;
   safetyAlertB_ = 0;
   safetyStatusB_ = 0;
+  safetyAlertC_ = 0;
+  safetyStatusC_ = 0;
   covSince_ = cuvSince_ = UINT64_MAX;
+  occSince_ = ocd1Since_ = ocd2Since_ = scdSince_ = UINT64_MAX;
+  occRecoverSince_ = ocdRecoverSince_ = scdlRecoverSince_ = UINT64_MAX;
+  scdTrippedAt_ = 0;
+  scdlCounter_ = 0;
+  lastCommUs_ = clock_.nowUs();
   fetControl_ = 0;
   // SLEEP is allowed after a reset (Power Config[SLEEP], set by default: SLUUBY2B 7.3); the device wakes
   // into NORMAL mode.
@@ -211,6 +218,12 @@ I2cReply Bq769xEmulator::onStart(bool read) {
   }
   addressed_ = true;
   reading_ = read;
+  // Communication the host watchdog counts (SLUUBY2B 5.2 / SLUUCJ0 6.15: it recovers when communication is
+  // received): a transaction the device acknowledged.
+  lastCommUs_ = clock_.nowUs();
+  const bool hwd = bq7690x() ? (safetyStatusB_ & m7::bits::SafetyB::hwd_mask) != 0
+                             : (safetyStatusC_ & m2::bits::SafetyC::hwdf_mask) != 0;
+  if (hwd) update();
   if (read) {
     refresh();
     readIndex_ = 0;
@@ -579,8 +592,12 @@ void Bq769xEmulator::refresh() {
     using B = m2::bits::BatteryStatus;
     regs_[0x02] = safetyAlertA_;
     regs_[0x03] = safetyStatusA_;
+    regs_[0x04] = safetyAlertB_;
+    regs_[0x05] = safetyStatusB_;
+    regs_[0x06] = safetyAlertC_;
+    regs_[0x07] = safetyStatusC_;
     uint16_t bs = static_cast<uint16_t>(1U << 8);  // SEC = FULLACCESS
-    if (safetyStatusA_ != 0) bs |= B::ss_mask;
+    if ((safetyStatusA_ | safetyStatusB_ | safetyStatusC_) != 0) bs |= B::ss_mask;
     if (por_) bs |= B::por_mask;
     if (sleepAllowed_) bs |= B::sleep_en_mask;
     if (sleeping_) bs |= B::sleep_mask;

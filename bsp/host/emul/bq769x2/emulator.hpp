@@ -1,5 +1,5 @@
 // Bq769xEmulator: a BQ76952 (BQ769x2 family) or BQ76905/BQ76907 (BQ7690x) battery monitor on the simulated
-// I2C bus, with two faces in the Zephyr manner (STYLE.md section 3-4):
+// I2C bus, with two faces in the manner of Zephyr's emulators:
 //   bus face      bsp::host::I2cTarget: attach it to a SimI2cBus at 0x08. It behaves like the chip on the
 //                 wire: the 128-byte direct-command space with auto-increment on reads and writes, the
 //                 subcommand window (0x3E/0x3F read FF FF while a command runs, then echo it; the result in
@@ -53,6 +53,14 @@ struct Bq769xTiming {
   fw::Duration sleepEntry = fw::s(1);
   int16_t sleepCurrent7690xMa = 20;
   uint8_t sleepVoltageTime7690xS = 5;
+  // The board, not the device: the sense resistor the current comparators (OCC, OCD1/2, SCD) see the current
+  // through, in micro-ohms (the BQ76952EVM's and BQ76907EVM's 1 mOhm).
+  uint32_t shuntMicroOhm = 1000;
+  // BQ7690x COV/CUV delays count ADSCAN intervals (SLUUCI8 Cell Undervoltage Protection Delay); how long one
+  // is depends on the measurement speed settings, which no TI text read gives in time: assumed.
+  fw::Duration adscan7690x = fw::ms(10);
+  // BQ7690x Recovery Time (Protections:Current, 0x903F) has no default in the register map: assumed.
+  uint8_t currentRecovery7690xS = 3;
 };
 
 class Bq769xEmulator final : public I2cTarget {
@@ -81,6 +89,9 @@ class Bq769xEmulator final : public I2cTarget {
   void setTs(uint8_t index, int16_t raw);  // TS1..TS3 (index 0..2) in 0.1 K; BQ7690x: index 0 = TS counts
   // BQ7690x: the REGOUT LDO out of regulation (Safety Status A[REGOUT] when that protection is enabled).
   void setRegoutFault(bool on);
+  // BQ769x2 CFETOFF / DFETOFF pins as the host drives them (high = true); they act as their Pin Config says
+  // (device.cpp).
+  void setFetOffPins(bool cfetoff, bool dfetoff);
   void setDeviceNumber(uint16_t number) { deviceNumber_ = number; }
   void setCrc(bool on) { crc_ = on; }  // the device's Comm Type CRC setting ("OTP": survives resets)
   bool crc() const { return crc_; }
@@ -101,6 +112,7 @@ class Bq769xEmulator final : public I2cTarget {
   uint8_t safetyStatusA() const { return safetyStatusA_; }
   uint8_t safetyAlertA() const { return safetyAlertA_; }
   uint8_t safetyStatusB() const { return safetyStatusB_; }  // BQ7690x
+  uint8_t safetyStatusC() const { return safetyStatusC_; }  // BQ769x2 (SCDL, HWDF)
   bool sleepAllowed() const { return sleepAllowed_; }       // Battery Status[SLEEP_EN]
   bool sleeping() const { return sleeping_; }               // Battery Status[SLEEP]
   // The alarm (Alarm Status non-zero), whatever the pin does with it.
@@ -165,6 +177,9 @@ class Bq769xEmulator final : public I2cTarget {
   void executeWrite();
   void update();
   void evaluateProtections();
+  void evaluateCurrentProtections(uint64_t now, uint64_t& next);
+  void evaluateHostWatchdog(uint64_t now, uint64_t& next);
+  bool fetOffPin(uint16_t configAddress, bool level, bool& both) const;
   void scheduleProtection(uint64_t atUs);
   void setAlert(bool asserted);
   void loadDefaults();
@@ -213,8 +228,18 @@ class Bq769xEmulator final : public I2cTarget {
   bool regoutFault_ = false;
   bool alertAsserted_ = false;
   bool alertLine_ = true;
+  uint8_t safetyAlertC_ = 0;  // BQ769x2
+  uint8_t safetyStatusC_ = 0;
   uint64_t covSince_ = UINT64_MAX;
   uint64_t cuvSince_ = UINT64_MAX;
+  // Current protections: when each condition (or, tripped, its recovery criterion) began; SCD's trip time.
+  uint64_t occSince_ = UINT64_MAX, ocd1Since_ = UINT64_MAX, ocd2Since_ = UINT64_MAX, scdSince_ = UINT64_MAX;
+  uint64_t occRecoverSince_ = UINT64_MAX, ocdRecoverSince_ = UINT64_MAX, scdlRecoverSince_ = UINT64_MAX;
+  uint64_t scdTrippedAt_ = 0;
+  uint8_t scdlCounter_ = 0;
+  uint64_t lastCommUs_ = 0;  // the last transaction the device acknowledged (host watchdog)
+  bool cfetoffPin_ = false;
+  bool dfetoffPin_ = false;
   SimClock::EventId protectionEvent_ = 0;
   std::function<void(bool)> alertHook_;
   Measured measured_;

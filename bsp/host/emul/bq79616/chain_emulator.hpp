@@ -50,8 +50,9 @@
 //   FAULT_SYS[DRST] (bit 4, SLUSF21 FAULT_SYS) set.
 //   A communication fault injected into a stack device latches there (FAULT_COMM2 bit 0) and, through the
 //   fault signal, in the base (FAULT_COMM3 bit 4, FCOMM_DET): the base's latch comes back while any stack
-//   device still holds its fault, so it clears only when base and stack are both cleared (LANDSCAPE.md
-//   problem 4). nFAULT (attachFaultPin) is low while any awake device has a non-zero FAULT_SUMMARY.
+//   device still holds its fault, so it clears only when base and stack are both cleared (SLUSE81E;
+//   TI E2E thread 1231370). nFAULT (attachFaultPin) is low while any awake device has a non-zero
+//   FAULT_SUMMARY.
 //
 // Injected faults: a shorter chain (construct with fewer devices than the driver expects), a broken link
 // above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),

@@ -44,7 +44,8 @@ struct SimFigures {
   uint32_t recoveries = 0;
   uint64_t outputFrames = 0;  // CAN frames sent, or SLCAN lines written
   std::string output;         // "can" or "slcan"
-  bool chargeOn = false, dischargeOn = false, faultOutput = false;
+  // The paths as the board confirmed them (PublishStatus::pathsKnown): unknown while nothing confirms them.
+  bool chargeOn = false, dischargeOn = false, pathsKnown = false, faultOutput = false;
   uint16_t activeFaults = 0;
   int minCellMv = 0, maxCellMv = 0;
   int boards = 0, validBoards = 0;

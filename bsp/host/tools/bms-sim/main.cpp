@@ -5,7 +5,7 @@
 //   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Every option is one row of kOptions: the parser accepts those rows only and --help prints them all.
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
-// (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
+// (README "Host tools" lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
 // L1306 board's SLCAN text (slcan_output.hpp). An option the image cannot honour (--can-layout ti on an image
 // without the TI layout, --devices on a one-device image) is refused before the run.

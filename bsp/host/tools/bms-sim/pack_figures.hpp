@@ -103,6 +103,7 @@ inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const 
   f.currentMa = view.hasCurrent ? view.currentMa : 0;
   f.chargeOn = st.chargeOn;
   f.dischargeOn = st.dischargeOn;
+  f.pathsKnown = st.pathsKnown;
   f.faultOutput = st.faultOutput;
   f.activeFaults = st.active;
 }

@@ -89,17 +89,19 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 11> kFaults = {{
+constexpr std::array<FaultSpec, 13> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
     {"ocd", Watch::CurrentBelow},
-    {"ot", Watch::TempAbove},
-    {"ut", Watch::TempBelow},
+    {"otd", Watch::TempAbove},
+    {"utd", Watch::TempBelow},
     {"device_safety", Watch::None},
     {"stale_data", Watch::None},
     {"comm_loss", Watch::None},
     {"open_wire", Watch::None},
+    {"otc", Watch::TempAbove},
+    {"utc", Watch::TempBelow},
     {"any", Watch::None},
 }};
 
@@ -128,8 +130,9 @@ constexpr std::array<Builtin, 9> kBuiltins = {{
      "0 current -15000\n0 ramp-all -20\n"},
     {"ov-cell", "cell 2 of board 0 drifts up 40 mV/s from 4.20 V past the 4.25 V over-voltage limit",
      "0 current 5000\n0 cell 0 2 4200\n1000 ramp-cell 0 2 40\n1000 expect cell_ov 4250\n"},
-    {"ot", "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 60 degC limit",
-     "1000 ramp-temp 0 1 50\n1000 expect ot 3332\n"},
+    {"ot",
+     "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 45 degC charge and 60 degC discharge limits",
+     "1000 ramp-temp 0 1 50\n1000 expect otc 3182\n1000 expect otd 3332\n"},
     {"open-wire", "the sense wire between cells 2 and 3 of board 0 opens at 2 s",
      "2000 open-wire 0 3\n2000 expect any\n"},
     {"comm-loss", "the battery monitor stops answering at 2 s", "2000 comm-loss on\n2000 expect any\n"},
@@ -354,7 +357,8 @@ class Parser {
     if (st.watch == Watch::None) {
       return fail(
           st.line, t.column,
-          "'" + st.fault + "' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
+          "'" + st.fault +
+              "' takes no limit (only cell_ov, cell_uv, occ, ocd, otc, otd, utc and utd watch a value)");
     }
     const ArgSpec& sp = spec(limitArg(st.watch));
     st.hasLimit = true;

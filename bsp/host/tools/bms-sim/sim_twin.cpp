@@ -393,6 +393,9 @@ std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
         r.actionDone = true;  // already off for an earlier fault
         r.acted = r.detected;
       }
+      // The twin sees the emulated device's own pins: what it took as acted is what happened.
+      r.confirmedOff = r.actionDone;
+      r.confirmed = r.acted;
       log.push_back(r);
     }
   }
@@ -416,8 +419,9 @@ SimFigures TwinSim::figures() {
     const fw::hal::CanFrame c = toCanFrame(s);
     if (s.id == bms::PackSummary::kId) {
       const auto p = bms::PackSummary::unpack(c);
-      f.chargeOn = p.chargeFet != 0;
-      f.dischargeOn = p.dischargeFet != 0;
+      f.pathsKnown = p.chargeFet != bms::PackSummary::kChargeFetNotAvailable;
+      f.chargeOn = p.chargeFet == 1;
+      f.dischargeOn = p.dischargeFet == 1;
       f.faultOutput = p.faultOutput != 0;
       f.activeFaults = p.activeFaults;
       f.validBoards = p.dataValid ? devices_ : 0;

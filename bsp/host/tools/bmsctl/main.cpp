@@ -1,5 +1,5 @@
 // bmsctl: run one operation against a built-in device emulator through the real firmware driver and print
-// the exact wire traffic (see ARCHITECTURE.md, "Host tools").
+// the exact wire traffic (README "Host tools").
 #include <cstdio>
 #include <cstring>
 #include <string>
