@@ -58,12 +58,13 @@ struct Rig {
 constexpr uint8_t kAccepted = 0, kBadCrc = 1, kRepeated = 2, kWrongLength = 3, kOutOfRange = 4,
                   kInconsistent = 5, kUnsupported = 6, kWrongKey = 7, kBusy = 9;
 
-// The "done when" scenario: a latched discharge over-current cleared only once its condition has gone.
-TEST(Commands, ClearFaultsClearsALatchedOverCurrentOnlyOnceItHasGone) {
+// Protection latches no fault by default (app/protection/default_limits.hpp): a discharge over-current stays
+// until its recovery, a charge for 3 s. ClearFaults is answered and never ends it earlier (a command never
+// overrides protection); the recovery then goes out in ProtectionEvent.NewlyCleared.
+TEST(Commands, ClearFaultsNeverEndsAnOverCurrentBeforeItsRecovery) {
   Rig r;
-  // The default -40 A lies beyond what the BQ76952 reports at 1 mA per LSB: tighten it to -20 A (clear value
-  // first, so the pair stays consistent), then discharge at 25 A.
-  EXPECT_EQ(r.ack("SettingWrite", {"Setting=ocd_clear", "Value=-15000"}).result, kAccepted);
+  // Tighten the discharge limit from -30 A to -20 A (its clear value, +200 mA, stays), then discharge at 25
+  // A.
   EXPECT_EQ(r.ack("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}).result, kAccepted);
   r.b.h.runFor(fw::ms(200));
   EXPECT_EQ(r.b.app.settings().limits().rules[3].trip, -20000);
@@ -72,22 +73,24 @@ TEST(Commands, ClearFaultsClearsALatchedOverCurrentOnlyOnceItHasGone) {
   r.b.h.runFor(fw::ms(200));
   EXPECT_FALSE(r.b.app.status().dischargeOn);
   EXPECT_FALSE(r.b.emu.dsgFet());
-  // While the current still flows the clear changes nothing.
+  // While the current still flows, and once it has stopped, the clear changes nothing.
   EXPECT_EQ(r.ack("ClearFaults").result, kAccepted);
   r.b.h.runFor(fw::ms(300));
   EXPECT_TRUE(r.active(FaultId::DischargeOvercurrent));
-  // The current stops: the fault stays latched until cleared.
   r.b.emu.setCurrentMa(0);
+  r.b.h.runFor(fw::ms(500));
+  EXPECT_EQ(r.ack("ClearFaults").result, kAccepted);
   r.b.h.runFor(fw::ms(500));
   EXPECT_TRUE(r.active(FaultId::DischargeOvercurrent));
   EXPECT_FALSE(r.b.emu.dsgFet());
+  // The recovery: a charge.
   const size_t before = r.b.output.sent().size();
-  EXPECT_EQ(r.ack("ClearFaults").result, kAccepted);
-  ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(300)));
+  r.b.emu.setCurrentMa(1000);
+  ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(4000)));
   r.b.h.runFor(fw::ms(200));  // the next publish slot
   EXPECT_FALSE(r.active(FaultId::DischargeOvercurrent));
   EXPECT_TRUE(r.b.app.status().dischargeOn);
-  bool published = false;  // the clear goes out in ProtectionEvent.NewlyCleared
+  bool published = false;
   for (size_t k = before; k < r.b.output.sent().size(); ++k) {
     const auto& f = r.b.output.sent()[k].frame;
     if (f.id == bms::ProtectionEvent::kId)
@@ -181,7 +184,7 @@ TEST(Commands, APathRequestOpensPathsAndNeverTurnsOnOneProtectionHoldsOff) {
   EXPECT_FALSE(r.b.app.status().chargeOn);
   EXPECT_EQ(r.ack("PathRequest", {"ChargeOff=release"}).result, kAccepted);
   ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.chgFet(); }, fw::ms(300)));
-  // Over-voltage holds both paths off: releasing every request turns nothing on.
+  // Over-voltage holds the charge path off: releasing every request and clearing turn it not on.
   r.b.emu.setCellMv(3, 4300);
   ASSERT_TRUE(r.b.h.runUntil([&] { return r.active(FaultId::CellOvervoltage); }, fw::ms(300)));
   r.b.h.runFor(fw::ms(50));
@@ -189,8 +192,12 @@ TEST(Commands, APathRequestOpensPathsAndNeverTurnsOnOneProtectionHoldsOff) {
   EXPECT_EQ(r.ack("ClearFaults").result, kAccepted);
   r.b.h.runFor(fw::ms(500));
   EXPECT_FALSE(r.b.emu.chgFet());
-  EXPECT_FALSE(r.b.emu.dsgFet());
-  EXPECT_FALSE(r.b.app.status().chargeOn || r.b.app.status().dischargeOn);
+  EXPECT_FALSE(r.b.app.status().chargeOn);
+  EXPECT_TRUE(r.b.emu.dsgFet());  // over-voltage leaves discharge allowed
+  // A request holds the path protection leaves on off: requests only ever open paths.
+  EXPECT_EQ(r.ack("PathRequest", {"DischargeOff=hold_off"}).result, kAccepted);
+  ASSERT_TRUE(r.b.h.runUntil([&] { return !r.b.emu.dsgFet(); }, fw::ms(300)));
+  EXPECT_FALSE(r.b.emu.chgFet());
 }
 
 TEST(Commands, IdentifyAnswersVersionImageChipAndResetCause) {
@@ -214,7 +221,7 @@ TEST(Commands, IdentifyAnswersVersionImageChipAndResetCause) {
 TEST(Commands, SettingReadAnswersValueUnitAndRange) {
   Rig r;
   r.answers();
-  r.send("SettingRead", {"Setting=ut_clear"});
+  r.send("SettingRead", {"Setting=utd_clear"});
   r.b.h.runFor(fw::ms(20));
   const auto a = r.answers();
   ASSERT_EQ(a.size(), 3U);

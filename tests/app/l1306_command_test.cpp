@@ -94,15 +94,15 @@ TEST(L1306Commands, PythonCanOpensTheChannelAndTheAdapterAnswers) {
   EXPECT_EQ(answers, "\a\r\rV0101\rN1306\rF00\r");
 }
 
-TEST(L1306Commands, ClearFaultsOverSlcanAfterALatchedOverCurrentHasGone) {
+// Protection latches no fault by default (app/protection/default_limits.hpp): ClearFaults is answered, and a
+// discharge over-current whose current has stopped stays until its recovery, a charge for 3 s.
+TEST(L1306Commands, ClearFaultsOverSlcanNeverEndsAnOverCurrentBeforeItsRecovery) {
   Rig r;
   r.exchange("O\r");
-  std::string out = r.exchange(r.line("SettingWrite", {"Setting=ocd_clear", "Value=-15000"}) +
-                               r.line("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}));
+  std::string out = r.exchange(r.line("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}));
   auto acks = Rig::acks(out);
-  ASSERT_EQ(acks.size(), 2U) << out;
+  ASSERT_EQ(acks.size(), 1U) << out;
   EXPECT_EQ(acks[0].result, 0);
-  EXPECT_EQ(acks[1].result, 0);
   EXPECT_NE(out.find("z\r"), std::string::npos);
   r.b.h.runFor(fw::ms(200));
   r.b.emu.setCurrentMa(-25000);
@@ -116,8 +116,11 @@ TEST(L1306Commands, ClearFaultsOverSlcanAfterALatchedOverCurrentHasGone) {
   ASSERT_EQ(acks.size(), 1U);
   EXPECT_EQ(acks[0].command, bms::ClearFaults::kId);
   EXPECT_EQ(acks[0].result, 0);
-  EXPECT_FALSE(r.active(FaultId::DischargeOvercurrent));
-  EXPECT_TRUE(r.b.emu.dsgFet());
+  EXPECT_TRUE(r.active(FaultId::DischargeOvercurrent));
+  EXPECT_FALSE(r.b.emu.dsgFet());
+  r.b.emu.setCurrentMa(1000);  // a charge: the recovery
+  ASSERT_TRUE(r.b.h.runUntil([&] { return !r.active(FaultId::DischargeOvercurrent); }, fw::ms(4000)));
+  ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(300)));
 }
 
 TEST(L1306Commands, AMalformedLineGetsBelAndABadFrameARefusal) {

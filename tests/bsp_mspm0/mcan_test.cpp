@@ -2,9 +2,9 @@
 // subsystem rules (mcan_model.hpp: clock before divider, INIT read-back, line held until EOI). Addresses:
 // CANFD0_BASE 0x40508000 + the MCAN.* offsets of mspm0g3507.tsv (message RAM at the base), MCANSS_EOI at
 // 0x7220 (TI MSPM0 SDK hw_mcan.h); bit timing from TI's bq79616_uart_to_can configuration (MSPM0 SDK 2.09);
-// element layout from the tsv "MCAN TX element" rows; the standard filter element and SIDFC from TI's dl_mcan.c
-// (MCANSS_STD_ID_FILTER_* shifts: SFT 30, SFEC 27, SFID1 16, SFID2 0) and hw_mcan.h (SIDFC FLSSA at bit 2, LSS
-// at 16; IR RF0N bit 0, RF0L bit 3; GFC ANFS at bit 4).
+// element layout from the tsv "MCAN TX element" rows; the standard filter element and SIDFC from TI's
+// dl_mcan.c (MCANSS_STD_ID_FILTER_* shifts: SFT 30, SFEC 27, SFID1 16, SFID2 0) and hw_mcan.h (SIDFC FLSSA at
+// bit 2, LSS at 16; IR RF0N bit 0, RF0L bit 3; GFC ANFS at bit 4).
 #include <gtest/gtest.h>
 
 #include <cstdint>

@@ -6,9 +6,10 @@ the CRC-8 SAE J1850 computed here, independently of the firmware and of bms-sim'
 usage: bms_sim_commands.py <check> <bms-sim> <dbc-dir> <image-or-elf> <scratch-dir> [--elf]
 checks:
   python-can  (L1306 images) python-can's slcan interface on --slcan pty: opens the channel, reads the
-              published frames, tightens the discharge over-current limit, sees the latched over-current the
+              published frames, tightens the discharge over-current limit, sees the over-current the
               scenario's current causes, sends ClearFaults once the current is gone and sees the
-              acknowledgement and the fault cleared
+              acknowledgement; the fault, which protection does not latch, stays until its recovery (a charge
+              for 3 s, default_limits.hpp): a command never overrides protection
   send        the same through scenario send steps (any image, host or --elf on the twin): the answers and
               the fault's trip and clear in the published frames
   refusals    bad CRC, repeated counter, wrong node, wrong length, out-of-range setting, an identifier that is
@@ -35,9 +36,9 @@ ACK, PACK_SUMMARY, PROTECTION_EVENT = 0x580, 0x100, 0x103
 OCD_BIT, OV_BIT = 1 << 3, 1 << 0
 RESULTS = {0: "accepted", 1: "bad_crc", 2: "repeated_counter", 3: "wrong_length", 4: "out_of_range",
            5: "inconsistent", 6: "unsupported", 7: "wrong_key", 8: "paths_not_off", 9: "busy"}
-# The setup every check uses: the default -40 A discharge limit is beyond what a BQ769x2 reports at 1 mA per
-# LSB, so it is tightened to -20 A (clear value first: a lower limit's clear value stays above its trip).
-SETTINGS = ["SettingWrite Setting=ocd_clear Value=-15000", "SettingWrite Setting=ocd_trip Value=-20000"]
+# The setup every check uses: the discharge over-current limit tightened from -30 A to -20 A (its clear value
+# stays +200 mA: the fault recovers only while a charge flows, app/protection/default_limits.hpp).
+SETTINGS = ["SettingWrite Setting=ocd_trip Value=-20000"]
 
 
 def crc8_j1850(data):
@@ -93,7 +94,7 @@ Commands.decode_ack = staticmethod(decode_ack)
 
 def active_faults(frames):
     """(ms, ActiveFaults) of every PackSummary."""
-    return [(t, d[6] | d[7] << 8) for t, i, d in frames if i == PACK_SUMMARY]
+    return [(t, (d[6] | d[7] << 8) & 0x3FFF) for t, i, d in frames if i == PACK_SUMMARY]
 
 
 def sim_args(target, elf):
@@ -114,17 +115,18 @@ def run_scenario(sim, target, elf, scratch, name, text, duration, extra=()):
     return json.loads(result.stdout), read_candump(log), time.monotonic() - started
 
 
-def check_latched_then_cleared(frames, clear_ms):
-    """OCD tripped (latched) before the clear and gone after it; the clear acknowledged as accepted."""
+def check_held_then_recovered(frames, clear_ms, charge_ms):
+    """OCD tripped before the clear, held after it (not latched: a command never ends protection's recovery
+    wait), and recovered by the charge from charge_ms (30 scans); the clear acknowledged as accepted."""
     faults = active_faults(frames)
     if not any(f & OCD_BIT for t, f in faults if t < clear_ms):
         fail(f"the discharge over-current never tripped before {clear_ms} ms: {faults[:40]}")
-    latched = [f & OCD_BIT for t, f in faults if clear_ms - 200 < t < clear_ms]
-    if not latched or not all(latched):
-        fail("the over-current did not stay latched once the current had stopped")
-    after = [f for t, f in faults if t > clear_ms + 300]
+    held = [f & OCD_BIT for t, f in faults if clear_ms - 200 < t < charge_ms]
+    if not held or not all(held):
+        fail("the over-current did not stay until its recovery (the clear or the stopped current ended it)")
+    after = [f for t, f in faults if t > charge_ms + 3500]
     if not after or any(f & OCD_BIT for f in after):
-        fail(f"the over-current is still active after the clear: {after[:5]}")
+        fail(f"the over-current is still active after 3 s of charge: {after[:5]}")
     answers = [a for t, a in acks(frames)]
     clears = [a for a in answers if a["command"] == 0x600]
     if not clears or clears[-1]["result"] != "accepted":
@@ -133,17 +135,18 @@ def check_latched_then_cleared(frames, clear_ms):
 
 
 def paths(frames):
-    """(ms, ChargeFet, DischargeFet) of every PackSummary."""
-    return [(t, d[5] & 1, (d[5] >> 1) & 1) for t, i, d in frames if i == PACK_SUMMARY]
+    """(ms, ChargeFet, DischargeFet) of every PackSummary (2 bits each from bit 40: 0 off, 1 on, 3 unknown)."""
+    return [(t, d[5] & 3, (d[5] >> 2) & 3) for t, i, d in frames if i == PACK_SUMMARY]
 
 
 def check_send_without_current(sim, target, scratch, elf):
-    """The BQ79616 image measures no current (nothing latches): a held-off path and its release instead."""
+    """The fault-output images (BQ79616: no current measured; BQ4050: one output for both paths, so an
+    over-current's recovery by a charge cannot flow): a held-off path and its release instead."""
     text = "1000 send PathRequest DischargeOff=hold_off\n2000 send PathRequest DischargeOff=release\n"
     text += "2500 send ClearFaults\n"
     summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 3500)
     held = [d for t, c, d in paths(frames) if 1300 < t < 2000]
-    released = [c and d for t, c, d in paths(frames) if t > 2300]
+    released = [c == 1 and d == 1 for t, c, d in paths(frames) if t > 2300]
     if not held or any(held) or not released or not all(released):
         fail(f"the fault output did not follow the path request: {paths(frames)}")
     answers = [a["result"] for t, a in acks(frames)]
@@ -154,18 +157,18 @@ def check_send_without_current(sim, target, scratch, elf):
 
 
 def check_send(sim, dbc_dir, target, scratch, elf):
-    if "bq79616" in target:
+    if "bq79616" in target or "bq4050" in target:
         return check_send_without_current(sim, target, scratch, elf)
     text = "".join(f"{500 + 100 * k} send {s}\n" for k, s in enumerate(SETTINGS))
-    text += "1000 current -25000\n2000 current 0\n3000 send ClearFaults\n"
-    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 4000)
-    answers = check_latched_then_cleared(frames, 3000)
-    if [a["result"] for a in answers] != ["accepted"] * 3:
+    text += "1000 current -25000\n2000 current 0\n3000 send ClearFaults\n3500 current 1000\n"
+    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 7500)
+    answers = check_held_then_recovered(frames, 3000, 3500)
+    if [a["result"] for a in answers] != ["accepted"] * 2:
         fail(f"answers {answers}")
     if summary["active_faults"] or not summary["discharge_on"]:
         fail(f"the run ends with {summary['active_faults']}, discharge_on {summary['discharge_on']}")
-    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: ocd latched then cleared by "
-          f"ClearFaults, {len(answers)} answers accepted ({seconds:.1f} s)")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: ocd held through ClearFaults, "
+          f"recovered by the charge, {len(answers)} answers accepted ({seconds:.1f} s)")
 
 
 def check_refusals(sim, dbc_dir, target, scratch, elf):
@@ -231,9 +234,9 @@ def check_python_can(sim, dbc_dir, image, scratch):
     os.makedirs(scratch, exist_ok=True)
     scenario = os.path.join(scratch, "python-can.scn")
     with open(scenario, "w") as f:
-        f.write("2000 current -25000\n4000 current 0\n")
+        f.write("2000 current -25000\n4000 current 0\n6000 current 1000\n")
     log = os.path.join(scratch, "python-can.log")
-    proc = subprocess.Popen([sim, "--image", image, "--duration", "8000", "--slcan", "pty", "--json",
+    proc = subprocess.Popen([sim, "--image", image, "--duration", "11000", "--slcan", "pty", "--json",
                              "--scenario", scenario, "--candump", log],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     first = proc.stderr.readline()
@@ -261,14 +264,14 @@ def check_python_can(sim, dbc_dir, image, scratch):
                 for s in SETTINGS:
                     name, *words = s.split()
                     fields = {k: int(v) if v.lstrip("-").isdigit() else v for k, v in (w.split("=") for w in words)}
-                    fields["Setting"] = {"ocd_clear": 7, "ocd_trip": 6}[fields["Setting"]]
+                    fields["Setting"] = {"ocd_trip": 6}[fields["Setting"]]
                     ident, data = cmd.frame(name, **fields)
                     bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
                 stage = "waiting for the over-current"
             elif stage == "waiting for the over-current" and msg.arbitration_id == PACK_SUMMARY:
                 current = int.from_bytes(msg.data[2:4], "little", signed=True)
                 if (msg.data[6] | msg.data[7] << 8) & OCD_BIT and current == 0:
-                    ident, data = cmd.frame("ClearFaults")  # the fault is latched and its current gone
+                    ident, data = cmd.frame("ClearFaults")  # the current is gone, its recovery not yet
                     bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
                     stage = "cleared"
                     cleared_at = len(received)
@@ -281,17 +284,20 @@ def check_python_can(sim, dbc_dir, image, scratch):
     if proc.returncode != 0:
         fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
     if cleared_at is None:
-        fail(f"the latched over-current with the current gone was never seen (stage: {stage})")
-    if [a["result"] for a in answers] != ["accepted"] * 3 or answers[-1]["command"] != 0x600:
+        fail(f"the over-current with the current gone was never seen (stage: {stage})")
+    if [a["result"] for a in answers] != ["accepted"] * 2 or answers[-1]["command"] != 0x600:
         fail(f"python-can read the answers {answers}")
     after = [d for i, d in received[cleared_at:] if i == PACK_SUMMARY]
-    if not after or (after[-1][6] | after[-1][7] << 8) & OCD_BIT or not after[-1][5] & 0x02:
-        fail("after ClearFaults the over-current is still active or the discharge path off")
+    idle = [d for d in after if int.from_bytes(d[2:4], "little", signed=True) == 0]
+    if not idle or not all((d[6] | d[7] << 8) & OCD_BIT for d in idle):
+        fail("ClearFaults ended the over-current before its recovery (a command overrode protection)")
+    if not after or (after[-1][6] | after[-1][7] << 8) & OCD_BIT or (after[-1][5] >> 2) & 3 != 1:
+        fail("after 3 s of charge the over-current is still active or the discharge path off")
     summary = json.loads(out)
     if summary["active_faults"]:
         fail(f"the run ends with {summary['active_faults']}")
-    print(f"REPORT commands.{image}.python_can: {len(received)} frames read, 3 commands sent and acknowledged, "
-          f"the latched over-current cleared (python-can slcan over --slcan pty)")
+    print(f"REPORT commands.{image}.python_can: {len(received)} frames read, 2 commands sent and acknowledged, "
+          f"the over-current held through ClearFaults and recovered by the charge (python-can slcan over --slcan pty)")
 
 
 def check_bmsctl(sim, image, scratch, bmsctl):
@@ -316,8 +322,8 @@ def check_bmsctl(sim, image, scratch, bmsctl):
                 "Image=lp_mspm0l1306" not in lines[1] or "TraceId=0x5A5A1306" not in lines[2]:
             fail(f"bmsctl send identify: exit {rc}, {out!r} {err!r}")
         rc, out, err = send("setting-read", "Setting=ocd_trip")
-        if rc != 0 or "SettingValue Node=1 Setting=ocd_trip Unit=mA Value=-40000" not in out or \
-                "SettingRange Node=1 Setting=ocd_trip Min=-40000 Max=-100" not in out:
+        if rc != 0 or "SettingValue Node=1 Setting=ocd_trip Unit=mA Value=-30000" not in out or \
+                "SettingRange Node=1 Setting=ocd_trip Min=-30000 Max=-100" not in out:
             fail(f"bmsctl send setting-read: exit {rc}, {out!r} {err!r}")
         rc, out, err = send("SettingWrite", "Setting=ocd_trip", "Value=-50000")
         if rc != 1 or "refused" not in err or "Result=out_of_range" not in err:
