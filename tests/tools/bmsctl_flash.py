@@ -140,10 +140,13 @@ def same_frames(preset, flashed_path, reset_cause=None):
               f"{preset}: Startup after the BSL gives reset cause 0x{reset_cause:02X}: {startup}")
         for f in startup:
             f[2] = "01" + f[2][2:]  # else as after the power-on of the direct run
-        # The monitor kept its state through the MCU's reset (a BQ79616 chain stays awake): until the first
-        # PackSummary with a pack voltage, the flashed image's values may still be "not available".
-        first_valid = next((i for i, f in enumerate(got) if f[1] == "100" and not f[2].startswith("FFFF")), 0)
-        for i in range(min(first_valid, len(want))):
+        # The monitor kept its state through the MCU's reset (a BQ79616 chain stays awake, a BQ76952 stays
+        # configured): until the first PackSummary with a pack voltage in both runs, one run's values may
+        # still be "not available" where the other has readings.
+        def first_valid(frames):
+            return next((i for i, f in enumerate(frames) if f[1] == "100" and not f[2].startswith("FFFF")), 0)
+
+        for i in range(min(max(first_valid(got), first_valid(want)), len(want), len(got))):
             if got[i][1] == want[i][1]:
                 got[i][2] = want[i][2]
     check(len(want) > 0, f"{preset}: the image published no frames in {RUN_MS} ms")

@@ -98,6 +98,9 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
         slcanPending_.clear();
       }
     });
+    // A reset cuts the line it interrupts: a reader drops that fragment at the next line, so it is not
+    // glued to the restarted image's first line.
+    chip_.machine().onReset([this](ResetKind) { slcanPending_.clear(); });
   }
   if (signalPincm_ != 0) {
     chip_.pins().onChange(signalPincm_, [this](bool level) {
