@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/monitors/bq769x_settings.hpp"
+#include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 
 namespace {
@@ -51,6 +52,9 @@ std::string ms33(int64_t setting) {  // BQ769x2 3.3 ms x (2 + setting)
   return fmt("%.1f ms", 3.3 * static_cast<double>(setting + 2));
 }
 
+// The link rules wait for the first bring-up (PackView::inStartupGrace(): Device::firstDataBound()).
+constexpr const char* kGrace = "not before the first bring-up's bound";
+
 // What each rule compares, how it is worded.
 struct Words {
   std::string trip, clear;
@@ -76,13 +80,22 @@ Words words(const LimitRow& r) {
       return {"the monitor reports a protection alert or trip of its own, or its fault line asserts",
               "no such flag in a scan"};
     case FaultId::StaleData:
-      return {"no valid measurement for " + std::to_string(fw::app::kDefaultLimits.staleAfter.toMs()) + " ms",
+      return {"no valid measurement for " + std::to_string(fw::app::kDefaultLimits.staleAfter.toMs()) +
+                  " ms (" + kGrace + ")",
               "a fresh valid measurement"};
     case FaultId::CommLoss:
-      return {std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed",
-              "a scan succeeds"};
+      return {
+          std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed (" + kGrace + ")",
+          "a scan succeeds"};
     case FaultId::OpenWire:
-      return {"a sense wire is open (readings or the monitor)", "the readings show none"};
+      return {"a sense wire is open: two neighbouring cells more than " +
+                  std::to_string(fw::app::kOpenWireStepMv) + " mV apart, a cell below " +
+                  std::to_string(fw::app::kCellFloorMv) + " mV, or the monitor says so",
+              "the readings show none"};
+    case FaultId::CommErrorRate:
+      return {t + " of the last " + std::to_string(fw::app::kDefaultLimits.rateWindow) +
+                  " scan attempts failed (" + kGrace + ")",
+              "none of the last " + std::to_string(fw::app::kDefaultLimits.rateWindow) + " failed"};
   }
   return {};
 }
@@ -156,6 +169,9 @@ std::string backstop(FaultId f) {
       return "(the device's own)";
     case FaultId::OpenWire:
       return "none configured";
+    case FaultId::CommErrorRate:
+      return "BQ76952 the CFETOFF/DFETOFF pins (the scans that succeed feed the host watchdog); none on the "
+             "BQ7690x";
   }
   return "";
 }

@@ -43,8 +43,10 @@ ProtectionConfig baseConfig() {
   c.rules[idx(FaultId::StaleData)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::CommLoss)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::OpenWire)] = rule(1, 1, 1, ms(0), Action::AllOff);
+  c.rules[idx(FaultId::CommErrorRate)] = rule(4, 1, 1, ms(0), Action::AllOff);
   c.staleAfter = ms(500);
   c.commLossScans = 3;
+  c.rateWindow = 10;
   return c;
 }
 
@@ -217,11 +219,77 @@ TEST(Protection, CommLossAfterConsecutiveFailedScans) {
   p.evaluate(s.fresh(0), at(0));
   EXPECT_EQ(p.evaluate(s.failed(), at(100)).active, 0);
   EXPECT_EQ(p.evaluate(s.failed(), at(200)).active, 0);
-  p.evaluate(s.fresh(300), at(300));  // one success resets the run
-  EXPECT_EQ(p.evaluate(s.failed(), at(400)).active, 0);
-  EXPECT_EQ(p.evaluate(s.failed(), at(450)).active, 0);
-  EXPECT_EQ(p.evaluate(s.failed(), at(480)).active, bit(FaultId::CommLoss));
-  EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active, 0);
+  p.evaluate(s.fresh(300), at(300));              // one success resets the run
+  constexpr auto kLoss = bit(FaultId::CommLoss);  // (the failure rate trips too: four of the last five)
+  EXPECT_EQ(p.evaluate(s.failed(), at(400)).active & kLoss, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(450)).active & kLoss, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(480)).active & kLoss, kLoss);
+  EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active & kLoss, 0);
+}
+
+// An intermittent link: two failures, one success, over and over, never three failures in a row. comm_loss
+// never trips; comm_rate does at the fourth failure within the last ten attempts, and clears only once ten
+// attempts in a row validated.
+TEST(Protection, CommErrorRateCountsFailuresWithinTheWindowNotInARow) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  uint32_t t = 0;
+  int failures = 0;
+  for (int cycle = 0; cycle < 4; ++cycle) {
+    for (int k = 0; k < 2; ++k) {
+      t += 100;
+      ++failures;
+      const auto st = p.evaluate(s.failed(), at(t));
+      EXPECT_EQ(st.active & bit(FaultId::CommLoss), 0) << t;
+      EXPECT_EQ((st.active & bit(FaultId::CommErrorRate)) != 0, failures >= 4) << t;
+    }
+    t += 100;
+    EXPECT_EQ((p.evaluate(s.fresh(t), at(t)).active & bit(FaultId::CommErrorRate)) != 0, failures >= 4) << t;
+  }
+  // Healed (one success already): still tripped while a failure is among the last ten attempts.
+  for (int k = 2; k < 10; ++k) {
+    t += 100;
+    EXPECT_NE(p.evaluate(s.fresh(t), at(t)).active & bit(FaultId::CommErrorRate), 0) << t;
+  }
+  t += 100;
+  const auto st = p.evaluate(s.fresh(t), at(t));
+  EXPECT_EQ(st.active, 0);
+  EXPECT_EQ(st.newlyCleared, bit(FaultId::CommErrorRate));
+}
+
+// A scan that validated some boards and failed on others (kNewData and kScanFailed together) counts as a
+// failed attempt for the rate, not for comm_loss (the link answered).
+TEST(Protection, APartlyFailedScanCountsTowardTheRateOnly) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  for (uint32_t t = 0; t < 400; t += 100) {
+    auto in = s.fresh(t);
+    in.scanFailed = true;
+    const auto st = p.evaluate(in, at(t));
+    EXPECT_EQ(st.active & bit(FaultId::CommLoss), 0);
+    EXPECT_EQ((st.active & bit(FaultId::CommErrorRate)) != 0, t == 300) << t;
+  }
+}
+
+// While the monitor's first bring-up runs within its bound (PackView::startupGrace), a pack never measured is
+// neither stale nor lost; once the grace ends it is stale at once (counted from power-up).
+TEST(Protection, StartupGraceHoldsStaleDataAndCommLossUntilItEnds) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.view.startupGrace = true;
+  s.view.firstDataDue = at(5000);
+  s.board.valid = false;
+  for (uint32_t t = 100; t <= 900; t += 100) {
+    auto in = s.tick();
+    in.scanFailed = true;  // a failed period, should one be reported
+    EXPECT_EQ(p.evaluate(in, at(t)).active, 0) << t;
+  }
+  s.view.startupGrace = false;
+  EXPECT_EQ(p.evaluate(s.tick(), at(1000)).active, bit(FaultId::StaleData));
 }
 
 TEST(Protection, ActionsAreTheUnionOfActiveFaults) {

@@ -60,7 +60,7 @@ TEST(ScenarioParser, RejectsValuesOutsideTheirPhysicalRange) {
             "s.txt:1:12: error: a cell drift in mV/s must be in -5000..5000, got '99999999999999999999999'");
   EXPECT_EQ(errorOf("0 cell 64 1 3700"), "s.txt:1:8: error: a board number must be in 0..63, got '64'");
   EXPECT_EQ(errorOf("0 cell 0 0 3700"), "s.txt:1:10: error: a cell number must be in 1..16, got '0'");
-  EXPECT_EQ(errorOf("0 open-wire 0 17"), "s.txt:1:15: error: a cell number must be in 1..16, got '17'");
+  EXPECT_EQ(errorOf("0 open-wire 0 18"), "s.txt:1:15: error: a sense wire number must be in 1..17, got '18'");
   EXPECT_EQ(errorOf("0 temp 0 4 3000"), "s.txt:1:10: error: a sensor number must be in 1..3, got '4'");
 }
 
@@ -180,8 +180,13 @@ TEST(ScenarioCheck, ImageDependentIndicesGiveFileLineAndColumn) {
   EXPECT_FALSE(checkScenario(s, {2, 16, 2, false}, 1000, diag));
   EXPECT_EQ(diag.error, "s.txt:2:10: error: board 2 does not exist: this image has boards 0..1");
   diag = {};
-  EXPECT_FALSE(checkScenario(parsed("0 open-wire 0 5"), {1, 4, 1, true}, 1000, diag));
-  EXPECT_EQ(diag.error, "s.txt:1:15: error: cell 5 does not exist: this image has cells 1..4 per board");
+  // The sense wires of a 4-cell board: 1..4 below each cell, 5 above the top cell (its top tap).
+  EXPECT_TRUE(checkScenario(parsed("0 open-wire 0 5"), {1, 4, 1, true}, 1000, diag)) << diag.error;
+  EXPECT_FALSE(checkScenario(parsed("0 open-wire 0 6"), {1, 4, 1, true}, 1000, diag));
+  EXPECT_EQ(
+      diag.error,
+      "s.txt:1:15: error: sense wire 6 does not exist: this image has sense wires 1..5 per board (n below "
+      "cell n, 5 above the top cell)");
   diag = {};
   EXPECT_FALSE(checkScenario(parsed("0 ramp-temp 0 2 10"), {1, 4, 1, true}, 1000, diag));
   EXPECT_EQ(diag.error, "s.txt:1:15: error: sensor 2 does not exist: this image has sensors 1..1 per board");

@@ -77,6 +77,9 @@ class Bq4050Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // The probe and the first scan, from power-up (about 20 ms: the probe's few words and a 12.2 ms scan at
+  // 100 kHz): one scan period.
+  Duration firstDataBound() const { return config_.scanPeriod; }
   // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   static constexpr bool kFaultLineToo = false;
@@ -125,8 +128,12 @@ class Bq4050Device : public MonitorBase {
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
   }
-  // The readings cannot show the open wire: the gauge's words were refused (summarize() would clear it).
-  void afterSummarize() { view_.totals.openWire = sample_.last == Status::Implausible; }
+  // A refused word: the readings cannot show the open wire (summarize() found none in them), so say it here.
+  // An open line at the bottom or the top leaves one cell reading about 0 V, which the gauge accepts and
+  // summarize() itself flags (kCellFloorMv): that flag stays.
+  void afterSummarize() {
+    if (sample_.last == Status::Implausible) view_.totals.openWire = true;
+  }
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
   [[gnu::always_inline]] void recover() {
     setRunning(view_, false);

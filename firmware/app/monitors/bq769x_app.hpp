@@ -136,6 +136,10 @@ class Bq769xDevice : public MonitorBase {
   enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // Probe, CONFIG_UPDATE, FET enable, run-time set-up and the first scan, from power-up: two scan periods
+  // (measured with every setting written: 130.5 ms on the BQ76952, 41 settings; 90.3 ms on the BQ76907, 12;
+  // tests/latency/startup_grace_test.cpp holds each image to it).
+  Duration firstDataBound() const { return config_.scanPeriod * 2; }
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   // ALERT goes to protection alone, which opens the FETs without waiting for a scan (the scan after the
   // command says which fault it was; the protection log holds the trip and when it was detected).

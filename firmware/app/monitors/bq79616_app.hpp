@@ -89,6 +89,14 @@ class Bq79616Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // The first bring-up and its first scan, from power-up: 120 ms + 15 ms per device. The chain driver waits
+  // 69 ms whatever the length (two WAKE pings with tSU(WAKE_SHUT), the 38 ms LPF settling, 4.4 ms after
+  // addressing) and 11.6 ms per address slot, one more than the devices (WAKE tone and ACTIVE entry,
+  // SLUUC56B), plus its frames (about 1.8 ms per device at 1 Mbaud) and the first scan: computed 81 ms +
+  // 13.4 ms per device before the scan. First valid data in bms-sim at 105 / 120 / 320 / 393 / 1023 ms for
+  // 1 / 2 / 16 / 21 / 64 devices, within 135 / 150 / 360 / 435 / 1080 ms. Longer than staleAfter from 13
+  // devices on: without this grace a chain of 21 or more tripped stale_data at every power-up.
+  Duration firstDataBound() const { return ms(120) + ms(15) * config_.chain.devices; }
   // The events this task gave the chain (its DriverContext, and attachFaultLine()): driver_.events(), as
   // constants.
   static constexpr sched::EventMask driverEvents() {

@@ -11,8 +11,9 @@
 //                waiting device command first, else a scan when one is due.
 //   finished()   set-up and command results go to the device; a scan's result becomes samples and view
 //                fields (the device), then the statistics, the failure count (kFailuresBeforeRecovery failed
-//                scans in a row: the device's recovery), summarize(), kNewData or kScanFailed to protection
-//                and the device's scan-done event to the publisher.
+//                scans in a row: the device's recovery), summarize(), kNewData and/or kScanFailed to
+//                protection (both when some boards validated and others failed) and the device's scan-done
+//                event to the publisher.
 // The fault line (ALERT/nFAULT) is wired to the protection task itself; the monitor gets it too only where it
 // needs it (BQ79616: Scheduler::notifier(a, ea, b, eb)). Protection and the monitor hold no reference to each
 // other: the monitor writes the PackView (PackView::monitorRunning, the loop's own running flag, also gates
@@ -26,7 +27,8 @@
 //                                      the publisher's scan-done event (0: none)
 //   kFaultLineToo                      the monitor gets the fault line as well (then faultLine())
 //   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), attachFaultLine(),
-//   scanTick()
+//   scanTick(), firstDataBound() (from power-up: the documented bound of the first bring-up and its first
+//   scan; PackView::inStartupGrace() until then or the first scan's result)
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
@@ -96,10 +98,14 @@ class MonitorTask final : public Device, public sched::Task {
   bool running() const { return this->view_.monitorRunning; }
 
   [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
+    this->view_.startupGrace = true;     // until the first scan's result, or firstDataBound()
+    this->view_.firstDataDue = Instant{this->firstDataBound().us};
     this->scheduler_.addTask(kId, *this, {}, true);
     this->attachFaultLine();
-    this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick, this->scanPeriod(),
-                                this->scanPeriod());
+    // Scans start on the clock's scan-period grid, whatever start-up took: the host build and the image on
+    // the twin (which boots for 0.5 ms first) then scan at the same instants and see a scenario the same way.
+    this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick,
+                                untilGrid(this->scheduler_.now(), this->scanPeriod()), this->scanPeriod());
     this->scheduler_.post(kId, monitor_event::kRetry);
   }
 
@@ -133,9 +139,11 @@ class MonitorTask final : public Device, public sched::Task {
     MonitorOp op = MonitorOp::Setup;
     if (!this->view_.monitorRunning) {
       if (loop.scanDue) {
-        loop.scanDue =
-            false;  // nothing measured until set-up is done: protection counts the period as failed
-        this->scheduler_.post(kProtectionTask, ProtectionTask::kScanFailed);
+        // Nothing measured until set-up is done: protection counts the period as failed, except while the
+        // first bring-up runs within its bound.
+        loop.scanDue = false;
+        if (!this->view_.inStartupGrace(this->scheduler_.now()))
+          this->scheduler_.post(kProtectionTask, ProtectionTask::kScanFailed);
       }
       if (!loop.retryDue) return;
       s = this->startSetup();
@@ -176,8 +184,12 @@ class MonitorTask final : public Device, public sched::Task {
     }
     summarize(this->view_, now);
     this->afterSummarize();
+    this->view_.startupGrace = false;  // the first result is in: protection judges the data from now on
+    // A scan that validated some boards and failed on others is both: new data, and a failed attempt
+    // (protection's failure rate counts it).
     this->scheduler_.post(kProtectionTask,
-                          v.newData ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
+                          (v.newData ? ProtectionTask::kNewData : 0) |
+                              (!v.newData || (v.failed && v.counts) ? ProtectionTask::kScanFailed : 0));
     if constexpr (Device::kPublisherScanDone != 0)
       this->scheduler_.post(kPublisherTask, Device::kPublisherScanDone);
   }

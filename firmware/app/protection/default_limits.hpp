@@ -71,6 +71,9 @@ inline constexpr LimitRow kLimits[kFaultCount] = {
     {FaultId::OpenWire, 1, 1, 1, 1, Action::AllOff, false},
     {FaultId::OvertempCharge, degC(45), degC(40), 1, 1, Action::ChargeOff, false},
     {FaultId::UndertempCharge, degC(0), degC(5), 1, 1, Action::ChargeOff, false},
+    // An intermittent link: 4 of the last rateWindow (10) scan attempts failed (a link that fails 40 % of its
+    // scans gives no data to trust); clears once none of the last 10 failed.
+    {FaultId::CommErrorRate, 4, 1, 1, 1, Action::AllOff, false},
 };
 
 constexpr bool everyFaultOnceInOrder() {
@@ -87,6 +90,7 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
     r.trip = row.trip, r.clear = row.clear, r.debounce = row.debounce, r.recover = row.recover;
     r.action = row.action, r.latch = row.latch, r.enabled = true;
   }
+  c.rateWindow = 10;
   c.staleAfter = scanPeriod * 3;
   c.commLossScans = 3;
   return c;

@@ -22,8 +22,10 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   } else if (in.scanFailed && state_->failedScans < 0xFF) {
     ++state_->failedScans;
   }
+  if (in.fresh || in.scanFailed)
+    state_->attempts = static_cast<uint16_t>((state_->attempts << 1) | in.scanFailed);
 
-  // Every rule compares one value with its thresholds; build the twelve values, and the set of rules that
+  // Every rule compares one value with its thresholds; build the thirteen values, and the set of rules that
   // have one to look at now, then one loop does the rest. Value limits are only looked at with fresh data:
   // missing data neither trips nor clears them. The device rule's value is the paths the monitor's own
   // protection holds (or is about to hold) off: both at once on the fault line, which says nothing about
@@ -33,7 +35,10 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   const PackView* pack = in.pack;
   const PackTotals* t = &pack->totals;
   int32_t value[kFaultCount];  // each read only where `evaluated` has its bit, and those are all written
-  FaultMask evaluated = bit(FaultId::StaleData);
+  // While the monitor's first bring-up runs within its bound (PackView::startupGrace) nothing is stale or
+  // lost yet: a 64-device BQ79616 chain takes about 1 s to bring up, three times the default stale limit.
+  const bool grace = pack->inStartupGrace(now);
+  FaultMask evaluated = grace ? 0 : bit(FaultId::StaleData);
   if (in.fresh) {
     if (t->cells) {
       value[0] = t->extreme[kMaxCell];
@@ -59,7 +64,11 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
   value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
   value[8] = state_->failedScans >= config_.commLossScans;
-  if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
+  if ((in.fresh || in.scanFailed) && !grace)
+    evaluated |= bit(FaultId::CommLoss) | bit(FaultId::CommErrorRate);
+  // The failures among the last rateWindow attempts: over a window, not in a row, so how the failures of an
+  // intermittent link fall on the scan grid (which shifts with its onset) does not decide whether it trips.
+  value[12] = __builtin_popcount(state_->attempts & ((1U << config_.rateWindow) - 1U));
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
   // of the actions (ChargeOff and DischargeOff are bits) of every active fault; the device rule's are
@@ -156,6 +165,8 @@ const char* faultName(FaultId id) {
       return "otc";
     case FaultId::UndertempCharge:
       return "utc";
+    case FaultId::CommErrorRate:
+      return "comm_rate";
   }
   return "?";
 }

@@ -62,8 +62,9 @@ enum class FaultId : uint8_t {
   OpenWire,              // a sense wire is open: the readings of the cells beside it are not cell voltages
   OvertempCharge,        // otc: highest temperature, the charge limit (below otd)
   UndertempCharge,       // utc: lowest temperature, the charge limit (above utd)
+  CommErrorRate,         // comm_rate: of the last rateWindow scan attempts, the rule's trip count failed
 };
-inline constexpr uint8_t kFaultCount = 12;
+inline constexpr uint8_t kFaultCount = 13;
 using FaultMask = uint16_t;
 constexpr FaultMask bit(FaultId id) {
   return static_cast<FaultMask>(1U << static_cast<uint8_t>(id));
@@ -97,6 +98,9 @@ struct ProtectionConfig {
   Rule rules[kFaultCount];  // by FaultId; upper limits: Ov, ChargeOc, Ot*; lower: Uv, DischargeOc, Ut*
   Duration staleAfter = ms(1000);
   uint8_t commLossScans = 3;
+  // The scan attempts CommErrorRate counts failures over (1..16): an intermittent link that fails scans
+  // without failing commLossScans of them in a row still trips it.
+  uint8_t rateWindow = 10;
 };
 
 // One evaluation's inputs. Value limits are evaluated only when `fresh` (a scan just validated) and only over
@@ -104,7 +108,7 @@ struct ProtectionConfig {
 struct ProtectionInputs {
   const PackView* pack = nullptr;  // the measured pack (required; all zero before the first scan)
   bool fresh = false;              // a scan just completed and the device answered (what validated: `pack`)
-  bool scanFailed = false;         // a scan attempt just failed
+  bool scanFailed = false;         // a scan attempt just failed (with `fresh`: some board of it did)
   bool faultLine = false;          // ALERT / nFAULT is asserted: the monitor signals a fault of its own
 };
 
@@ -142,6 +146,7 @@ class Protection {
     FaultMask conditionNow;  // last evaluation's raw conditions (for clearLatched)
     uint8_t failedScans;
     uint8_t deviceBlocks;  // DeviceSafety's paths (Action bits): the last scan's flags, or both on the line
+    uint16_t attempts;     // the latest scan attempts, newest in bit 0: 1 = it failed (CommErrorRate)
     // Per fault: consecutive evaluations the condition (or, when tripped, its absence) was seen, and when
     // that run started (for the delay).
     uint8_t count[kFaultCount];

@@ -119,7 +119,7 @@ class ProtectionTask final : public sched::Task {
   // until then the outputs stay as reset left them (a fault pin asserted, the monitor's FETs its own).
   void start() {
     scheduler_.addTask(id_, *this, {}, true);
-    scheduler_.startTimer(state_->timer, id_, kTick, checkPeriod_, checkPeriod_);
+    scheduler_.startTimer(state_->timer, id_, kTick, untilGrid(scheduler_.now(), checkPeriod_), checkPeriod_);
   }
   void run(sched::EventMask events) override;
 

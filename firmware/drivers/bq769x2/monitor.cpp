@@ -78,10 +78,12 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
   state_->out.record = measurement;
   state_->bytes = 0;
+  state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
+  state_->index = 0;
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
-  return begin(Op::Scan, link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len));
+  return begin(Op::Scan, startScanRead());
 }
 
 Status Monitor::startFet(FetCommand command) {
@@ -200,23 +202,41 @@ inline void Monitor::probeStep(Status r) {
 // Scan steps: the variant's reads, then the Alarm Status clear when a read bit was set.
 constexpr uint8_t kScanClear = sizeof(Variant::blocks) / sizeof(ScanBlock);
 
+// The part of the scan's current block (state_->step) that the next read takes, from state_->index bytes
+// into it: at most kScanReadBytes (kScanReadBytesCrc with CRC, whose wire carries two bytes per byte).
+// Bounding each read bounds how long a FET command waits for the read in progress (yieldScan()): the
+// BQ76952's 50-byte cell block in one read is 1.2 ms of wire at 400 kHz, which with the command and its echo
+// poll (0.84 ms) overran the 2 ms ALERT-to-FETs-off budget when ALERT came as that read started. A block is
+// the device's consecutive direct commands (auto-increment, E2E 1560065), so its parts are reads at
+// cmd + offset; offsets stay even, so no 16-bit value is split between two reads.
+Status Monitor::startScanRead() {
+  const ScanBlock& b = facts().blocks[state_->step];
+  const uint8_t limit = link_.crc() ? kScanReadBytesCrc : kScanReadBytes;
+  const uint8_t rest = static_cast<uint8_t>(b.len - state_->index);
+  state_->tmp = rest < limit ? rest : limit;  // this read's length
+  return link_.startRead(static_cast<uint8_t>(b.cmd + state_->index), static_cast<uint8_t>(state_->tmp),
+                         state_->bytes);
+}
+
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
   if (state_->step == kScanClear) return publish();
   if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
-  state_->bytes = static_cast<uint8_t>(state_->bytes + v.blocks[state_->step].len);
-  if (++state_->step < sizeof v.blocks / sizeof v.blocks[0]) {
-    const ScanBlock& b = v.blocks[state_->step];
-    return next(link_.startRead(b.cmd, b.len, state_->bytes));
+  state_->bytes = static_cast<uint8_t>(state_->bytes + state_->tmp);
+  state_->index = static_cast<uint8_t>(state_->index + state_->tmp);
+  if (state_->index == v.blocks[state_->step].len) {
+    state_->index = 0;
+    ++state_->step;
   }
+  if (state_->step < sizeof v.blocks / sizeof v.blocks[0]) return next(startScanRead());
   if (link_.stats().retries != state_->scanRetries && !state_->restarted) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
     // reads, so the snapshot is taken again from its first read (once).
     state_->restarted = true;
     state_->bytes = 0;
     state_->step = 0;
-    return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
+    return next(startScanRead());
   }
   const uint8_t* raw = link_.scratch();
   for (uint8_t i = 0; i < v.checkCount; ++i) {

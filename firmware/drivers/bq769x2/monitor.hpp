@@ -34,6 +34,8 @@
 //                         event makes a new edge; the record is written after that write succeeded.
 //                         yieldScan() makes a running scan end with Aborted instead of starting its next
 //                         read (the record is not written): a FET command need not wait for a whole scan.
+//                         Each read takes at most kScanReadBytes of a block (kScanReadBytesCrc in CRC
+//                         mode), so the command waits at most one such read (0.7 ms at 400 kHz).
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
 //                         both paths. BQ769x2: ALL_FETS_ON 0x0096 and ALL_FETS_OFF 0x0095; one path off is
 //                         FET_CONTROL 0x0097 with that path's OFF bits (0x03 discharge, 0x0C charge), because
@@ -226,6 +228,12 @@ inline constexpr Variant kBq76952{
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
+// The longest read of a scan, in data bytes, without and with CRC (whose wire carries a CRC byte after each
+// data byte): 26 bytes are 30 bytes on the wire with the address and command bytes, 0.68 ms at 400 kHz.
+// Even, so a block's parts never split a 16-bit value. The BQ7690x's blocks fit in one read each.
+inline constexpr uint8_t kScanReadBytes = 26;
+inline constexpr uint8_t kScanReadBytesCrc = 12;
+
 // The family this build's Monitor serves and the CRC-mode probe: drivers/bq769x2/config.hpp.
 inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
 inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
@@ -345,6 +353,7 @@ class Monitor {
   Status readStatus();
   Status readFetEn();
   Status sendFet();
+  Status startScanRead();
   void publish();
   FetIntent nextIntent() const;
   void finish(Status s);
@@ -356,7 +365,7 @@ class Monitor {
     Status result;
     Status error;  // a configure failure kept while CONFIG_UPDATE is being left
     uint8_t step;
-    uint8_t index;
+    uint8_t index;  // configure: the setting; scan: bytes of the current block read so far
     uint8_t polls;
     uint8_t bytes;
     uint8_t written;
@@ -364,7 +373,8 @@ class Monitor {
     FetIntent intent;
     bool restarted;
     bool yield;    // the scan ends at its next read boundary
-    uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
+    uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified; the
+                   // length of the scan's read in progress
     std::span<const Setting> settings;
     union {
       Identity* identity;  // startProbe

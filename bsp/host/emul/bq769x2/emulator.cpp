@@ -278,6 +278,12 @@ uint8_t Bq769xEmulator::onRead(fw::Duration& stretch) {
   if (!dead_ && !resetIfDue()) {
     if (!crc_ || index % 2 == 0) {
       byte = readData_ = regs_[ptr_];
+      if (straddleEcho_ && ptr_ == kSub && commandEvent_ != 0) {
+        straddleEcho_ = false;
+        clock_.cancel(commandEvent_);
+        commandEvent_ = 0;
+        complete(running_);
+      }
       ptr_ = static_cast<uint8_t>((ptr_ + 1) & 0x7F);
     } else {
       byte = crc8(index == 1 ? crcAcc_ : 0, readData_);

@@ -144,6 +144,10 @@ class Bq769xEmulator final : public I2cTarget {
   // The next result's echo appears `lag` before its buffer, checksum and length are updated.
   void staleBufferNext(fw::Duration lag = fw::ms(2));
   void resetAfterBytes(int bytes);  // the device resets after that many more bytes on the bus
+  // The running subcommand completes right after the next read of 0x3E, before 0x3F is read: the poll
+  // reads FF and the code's high byte, as a poll straddling the command's end does on the wire (the MSPM0
+  // twin's byte-timed I2C shows it; the host bus serves a transaction's bytes at one instant).
+  void straddleNextEcho() { straddleEcho_ = true; }
   void setLatency(uint16_t code, fw::Duration d) { latencyOverride_ = {code, d}; }
 
  private:
@@ -283,6 +287,7 @@ class Bq769xEmulator final : public I2cTarget {
   bool corruptThis_ = false;
   int wrongLength_ = -1;
   bool wrongChecksum_ = false;
+  bool straddleEcho_ = false;
   fw::Duration staleLag_{};
   int resetAfter_ = -1;
   std::pair<uint16_t, fw::Duration> latencyOverride_{0, {}};

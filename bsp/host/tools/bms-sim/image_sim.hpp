@@ -117,8 +117,10 @@ class ImageSim {
   virtual std::optional<SentText> slcanText() const { return std::nullopt; }
   // Called after each simulation step (bookkeeping); a binding that overrides it calls pumpSerialFlood().
   virtual void afterStep() { pumpSerialFlood(); }
-  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
-  virtual void runFor(fw::Duration d) { harness().runFor(d); }
+  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU. What is
+  // due at the end is left for the next run (Harness::runBefore), so a scenario step at t comes before the
+  // firmware's tick at t on the host as on the twin: both see a step on the scan grid in the same scan.
+  virtual void runFor(fw::Duration d) { harness().runBefore(d); }
   // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
   virtual std::string failure() const { return {}; }
   // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.

@@ -34,7 +34,8 @@ enum class Arg : uint8_t {
   CellRate,
   TempRate,
   OnOff,
-  Fault
+  Fault,
+  Tap
 };
 
 struct ArgSpec {
@@ -44,7 +45,7 @@ struct ArgSpec {
 };
 
 const ArgSpec& spec(Arg a) {
-  static const std::array<ArgSpec, 10> specs = {{
+  static const std::array<ArgSpec, 11> specs = {{
       {"<board>", "a board number", {0, 63}},
       {"<cell>", "a cell number", {1, 16}},
       {"<sensor>", "a sensor number", {1, 3}},
@@ -55,6 +56,7 @@ const ArgSpec& spec(Arg a) {
       {"<deciK_per_s>", "a temperature drift in 0.1 K/s", {-2050, 2050}},
       {"on|off", "on or off", {0, 1}},
       {"<fault>|any", "a fault name", {0, 0}},
+      {"<cell>", "a sense wire number", {1, 17}},  // the wire below that cell; cells + 1: above the top
   }};
   return specs[static_cast<size_t>(a)];
 }
@@ -75,7 +77,7 @@ constexpr std::array<ActionSpec, 14> kActions = {{
     {"temp", Action::Temp, {Arg::Board, Arg::Sensor, Arg::TempDeciK}, 3},
     {"ramp-temp", Action::RampTemp, {Arg::Board, Arg::Sensor, Arg::TempRate}, 3},
     {"comm-loss", Action::CommLoss, {Arg::OnOff}, 1},
-    {"open-wire", Action::OpenWire, {Arg::Board, Arg::Cell}, 2},
+    {"open-wire", Action::OpenWire, {Arg::Board, Arg::Tap}, 2},
     {"intermittent", Action::Intermittent, {Arg::OnOff}, 1},
     {"bus-off", Action::BusOff, {}, 0},
     {"expect", Action::Expect, {Arg::Fault}, 1},  // and an optional limit
@@ -89,7 +91,7 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 13> kFaults = {{
+constexpr std::array<FaultSpec, 14> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
@@ -102,6 +104,7 @@ constexpr std::array<FaultSpec, 13> kFaults = {{
     {"open_wire", Watch::None},
     {"otc", Watch::TempAbove},
     {"utc", Watch::TempBelow},
+    {"comm_rate", Watch::None},
     {"any", Watch::None},
 }};
 
@@ -326,6 +329,7 @@ class Parser {
         st.boardColumn = t.column;
         return number(st, t, sp.what, sp.range, st.board);
       case Arg::Cell:
+      case Arg::Tap:
       case Arg::Sensor:
         st.indexColumn = t.column;
         return number(st, t, sp.what, sp.range, st.index);
@@ -464,7 +468,16 @@ bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t du
                    " does not exist: this image has boards 0.." + std::to_string(shape.boards - 1);
       return false;
     }
-    const int count = cellStep ? shape.cellsPerBoard : shape.tempsPerBoard;
+    // The sense wires: below each cell, and one above the top cell (open-wire <board> <cells + 1>).
+    const int count = st.action == Action::OpenWire ? shape.cellsPerBoard + 1
+                      : cellStep                    ? shape.cellsPerBoard
+                                                    : shape.tempsPerBoard;
+    if (st.action == Action::OpenWire && st.index > count) {
+      diag.error = where(st, st.indexColumn) + ": error: sense wire " + std::to_string(st.index) +
+                   " does not exist: this image has sense wires 1.." + std::to_string(count) +
+                   " per board (n below cell n, " + std::to_string(count) + " above the top cell)";
+      return false;
+    }
     if ((cellStep || tempStep) && st.index > count) {
       diag.error = where(st, st.indexColumn) + ": error: " + (cellStep ? "cell " : "sensor ") +
                    std::to_string(st.index) + " does not exist: this image has " +

@@ -14,7 +14,8 @@
 //   <time_ms> temp <board> <sensor> <deciK>
 //   <time_ms> ramp-temp <board> <sensor> <deciK_per_s>
 //   <time_ms> comm-loss on|off                         the monitor stops answering
-//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens
+//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens (cell 1: the bottom
+//                                                      tap; the board's cell count + 1: the top tap)
 //   <time_ms> intermittent on|off                      most monitor transactions fail
 //   <time_ms> bus-off                                  the CAN controller goes bus-off
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
@@ -42,12 +43,12 @@
 // signal's raw range, is an error at its file:line:col. flood's <ms> is 1..600000.
 //
 // expect names a protection fault (cell_ov, cell_uv, occ, ocd, otd, utd, device_safety, stale_data,
-// comm_loss, open_wire, otc, utc) or `any` (every fault), once each. Without a limit the onset is the step's
-// time. With one (cell_ov, cell_uv: mV; occ, ocd: mA; otc, otd, utc, utd: 0.1 K) the onset is the first
-// millisecond from the step's time at which the emulated pack reaches it: any cell >= limit (cell_ov) or <=
-// limit (cell_uv), the current that flows >= (occ) or <= (ocd), any sensor >= (otc, otd) or <= (utc, utd).
-// The summary gives each protection event's latency from its fault's onset (or the `any` onset); an event
-// detected before that onset is reported as "fault before onset".
+// comm_loss, open_wire, otc, utc, comm_rate) or `any` (every fault), once each. Without a limit the onset is
+// the step's time. With one (cell_ov, cell_uv: mV; occ, ocd: mA; otc, otd, utc, utd: 0.1 K) the onset is
+// the first millisecond from the step's time at which the emulated pack reaches it: any cell >= limit
+// (cell_ov) or <= limit (cell_uv), the current that flows >= (occ) or <= (ocd), any sensor >= (otc, otd) or
+// <= (utc, utd). The summary gives each protection event's latency from its fault's onset (or the `any`
+// onset); an event detected before that onset is reported as "fault before onset".
 // Scenario files are tests: an expect is met when an event of its fault (any fault for `any`) is detected at
 // or after its onset, and missed when the run ends before its step, the pack never reaches its limit, or no
 // such event follows the onset. The summary lists each expect as met or MISSED with the reason (--json:
