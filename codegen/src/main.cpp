@@ -48,8 +48,10 @@ constexpr const char* kUsage =
     "folders;\n"
     "                                  exit 0 if nothing differs, 1 if something does, 2 on errors\n"
     "  regmapgen can --out DIR [--dbc-dir DIR] FILE\n"
-    "                                  CAN catalogue: DIR/can/<name>.hpp packers and <name>_<layout>.dbc\n"
-    "                                  (in --dbc-dir, default DIR/can); every error as file:line:col\n"
+    "                                  CAN catalogue: DIR/can/<name>.hpp packers and unpackers,\n"
+    "                                  DIR/can/<name>_table.hpp (host tools), <name>_<layout>.dbc and\n"
+    "                                  REFERENCE.md (in --dbc-dir, default DIR/can); every error as\n"
+    "                                  file:line:col\n"
     "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
     "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
 
@@ -314,12 +316,16 @@ int cmdCan(const std::vector<std::string>& args) {
   }
   const std::string source = fs::path(file).filename().string();
   bool ok = true;
-  if (!out.empty())
+  if (!out.empty()) {
     ok = writeIfChanged(fs::path(out) / "can" / (cat.name + ".hpp"), can::emitCpp(cat, source));
+    ok = writeIfChanged(fs::path(out) / "can" / (cat.name + "_table.hpp"), can::emitCppTable(cat, source)) &&
+         ok;
+  }
   const fs::path dbc = dbcDir.empty() ? fs::path(out) / "can" : fs::path(dbcDir);
   for (const std::string& layout : cat.layouts()) {
     ok = writeIfChanged(dbc / (cat.name + "_" + layout + ".dbc"), can::emitDbc(cat, layout, source)) && ok;
   }
+  ok = writeIfChanged(dbc / "REFERENCE.md", can::emitMarkdown(cat, source)) && ok;
   return ok ? 0 : 1;
 }
 

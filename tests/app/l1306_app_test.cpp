@@ -33,7 +33,7 @@ using Measurement = std::conditional_t<kBq76952, b769::Bq769x2Measurement, b769:
 constexpr uint8_t kCells = kBq76952 ? 16 : 7;
 
 // The image's board (bq769x2/board.hpp) with the image's settings table.
-using Board = bsp::host::Bq769xBoard<Driver, Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+using Board = bsp::host::Bq769xBoard<Driver, Measurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
 std::unique_ptr<Board> makeBoard() {
   if constexpr (kBq76952) {
     return std::make_unique<Board>(Emulator::Model::Bq76952, fw::app::kBq76952Settings, kCells, false);
@@ -49,7 +49,7 @@ struct L1306 {
   bsp::host::SimI2cBus& bus = board->bus;
   Emulator& emu = board->emu;
   bsp::host::SimEdgeInput& alert = board->alert;
-  bsp::host::SimSerialTx& serial = board->output;
+  bsp::host::SimSerial& serial = board->output;
   const fw::app::Bq769xAppConfig& config = board->config;
   Board::App& app = board->app;
 

@@ -1,18 +1,21 @@
 // The application of the lp-mspm0g3507-bq4050 image: a BQ4050 gas gauge on SMBus, CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
-//   1 monitor      MonitorTask<Bq4050Device> (monitor_task.hpp): probe (device type, PEC detection), then a
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
+//   2 monitor      MonitorTask<Bq4050Device> (monitor_task.hpp): probe (device type, PEC detection), then a
 //                  scan every scan period; after three failed scans in a row it probes again at once (the
 //                  gauge may have reset: PEC and device type are checked anew), and while probes fail, again
 //                  every retry interval
-//   0 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
+//   1 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary) and
+//                  the command answers
+//   0 command      commands from CAN (app/command)
 // The gauge protects the pack with its own FETs (SafetyStatus); the firmware layer adds its limits and acts
 // through the fault output, as on the BQ79616 image.
 #pragma once
 
 #include <cstdint>
 
+#include "app/command/commands.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -24,6 +27,7 @@
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
@@ -161,6 +165,7 @@ class Bq4050App {
     hal::I2cBus& bus;
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
+    hal::SystemControl& system;
   };
   static constexpr sched::TaskId kProtectionId = kProtectionTask;
   static constexpr sched::TaskId kPublisherId = kPublisherTask;
@@ -171,8 +176,12 @@ class Bq4050App {
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
       : plan_(*view_, *status_, kLimits.staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, kLimits, *view_, *status_, actuator_, config.scanPeriod),
+        settings_(kLimits),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
+                    config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
         monitor_(scheduler, io.bus, config, *sample_, *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.gauge.cells;
@@ -180,9 +189,11 @@ class Bq4050App {
     view_->boards = {&*sample_, 1};
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
@@ -192,6 +203,7 @@ class Bq4050App {
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }
+  const command::CommandTask<command::CanLink>& commands() const { return command_; }
 
  private:
   Zeroed<BoardSample> sample_;
@@ -199,8 +211,10 @@ class Bq4050App {
   Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   CanPublisher publisher_;
+  command::CommandTask<command::CanLink> command_;
   Bq4050Monitor monitor_;  // last: its gauge driver's buffers would push the rest far away
 };
 

@@ -1,10 +1,10 @@
 // The application of the BQ769x2-family images (lp-mspm0l1306-bq76952, lp-mspm0l1306-bq76907 and
 // lp-mspm0g3507-bq76952): one monitor device on I2C, FET control through it, SLCAN or CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan, on ALERT at once (the pin's interrupt posts to it), and
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan, on ALERT at once (the pin's interrupt posts to it), and
 //                  every scan period; FETs through the FetMailbox (fet_mailbox.hpp), which the monitor reads
-//   1 monitor      MonitorTask<Bq769xDevice> (monitor_task.hpp): probe, configuration (one CONFIG_UPDATE,
+//   2 monitor      MonitorTask<Bq769xDevice> (monitor_task.hpp): probe, configuration (one CONFIG_UPDATE,
 //                  only if the device differs), FET enable, the
 //                  run-time set-up (SLEEP disabled as TI's examples do: in SLEEP the device measures only
 //                  every few seconds; Alarm Enable from the table's Default Alarm Mask), a scan every scan
@@ -13,7 +13,9 @@
 // reloads SLEEP_EN from Power Config and loses the RAM configuration: settings, FET_EN, SLEEP_DISABLE): the
 // monitor goes through the set-up again at once, and then sends protection's last FET request again (a reset
 // device has forgotten it).
-//   0 publisher    SLCAN lines (L1306) or CAN frames (G3507)
+//   1 publisher    SLCAN lines (L1306) or CAN frames (G3507), and the command answers
+//   0 command      commands from the same line or bus (app/command): clear latched faults, hold paths off,
+//                  identify, read and write the limits, enter the bootloader
 // Balancing (app/balancing, built with FW_BQ769X_BALANCE): after each scan the monitor posts itself kBalance,
 // so the policy runs once protection has evaluated that scan; its mask goes to CB_ACTIVE_CELLS as a device
 // command behind any FET command and after the scan (startBalance: write and read request, three short
@@ -39,6 +41,7 @@
 #include "app/balancing/balancing_config.hpp"
 #include "app/balancing/balancing_policy.hpp"
 #include "app/balancing/balancing_status.hpp"
+#include "app/command/commands.hpp"
 #include "app/config.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/monitors/fet_mailbox.hpp"
@@ -56,6 +59,7 @@
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
 #include "hal/serial.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
@@ -419,8 +423,8 @@ inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::Ca
   return CanPublisher(s, id, out, plan, CanLayout::Native, ms(100), 10);
 }
 
-// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold) and the
-// publisher.
+// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold), the
+// publisher and the command task. `output` is a CanBus (G3507) or a SerialPort (L1306: SLCAN out and in).
 template <class Driver, class Measurement, class Publisher>
 class Bq769xApp {
  public:
@@ -429,11 +433,14 @@ class Bq769xApp {
 
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
-            const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
+            hal::SystemControl& system, const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
       : plan_(*view_, *addressOf(status_), kDefaultLimits.staleAfter),  // status_ is built after plan_
         fet_(scheduler, config.chargeOffPin, config.dischargeOffPin),
-        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, fet_, config.scanPeriod),
+        settings_(kDefaultLimits),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
+        command_({scheduler, protection_, settings_, system, command::kNode}, output, publisher_.outbox(),
+                 system),
         monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_, *status_,
                  static_cast<DriverArgs&&>(driverArgs)...) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
@@ -445,9 +452,12 @@ class Bq769xApp {
   }
 
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    if constexpr (drivers::bq769x2::kBalance) command_.setBalancing(monitor_.balancing(), *view_);
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
@@ -455,6 +465,9 @@ class Bq769xApp {
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
+  const command::LimitSettings& settings() const { return settings_; }
+  using Commands = command::CommandTask<command::LinkFor<Publisher>>;
+  const Commands& commands() const { return command_; }
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }
   const Publisher& publisher() const { return publisher_; }
@@ -468,8 +481,10 @@ class Bq769xApp {
   FramePlan plan_;
   Zeroed<PublishStatus> status_;
   FetMailbox fet_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   Publisher publisher_;
+  Commands command_;
   Monitor monitor_;
   Zeroed<BoardSample> sample_;
 };

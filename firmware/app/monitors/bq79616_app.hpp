@@ -1,8 +1,8 @@
 // The application of the lp-mspm0g3507-bq79616 image: a BQ79616 daisy chain on a UART, CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
-//   1 monitor      MonitorTask<Bq79616Device> (monitor_task.hpp), the chain: bring-up, a scan every
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
+//   2 monitor      MonitorTask<Bq79616Device> (monitor_task.hpp), the chain: bring-up, a scan every
 //   scanPeriod (at once on an nFAULT edge), recovery after
 //                  three failed scans in a row: at once if a scan validated since the last recovery,
 //                  otherwise recoveryInterval later. Recovery climbs the driver's ladder (chain.hpp) from
@@ -13,7 +13,9 @@
 //                  bring-up. A bring-up or recovery that found no chain at all is tried again
 //                  retryAfterFailure after it ended (the link is down, the bus idle): a healed link is then
 //                  up again within about one failed attempt plus one bring-up.
-//   0 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
+//   1 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan; the
+//                  command answers
+//   0 command      commands from CAN (app/command)
 // Balancing (app/balancing; the device rules: drivers/bq79616/balancer.hpp): after each scan, once protection
 // has seen it (kBalance), the policy gives one mask per device. Devices whose mask changed, and every 10 s
 // the ones balancing (their timers run 30 s), get their timers and BAL_GO, at most kBalanceAppliesPerScan
@@ -31,6 +33,7 @@
 #include "app/balancing/balancing_config.hpp"
 #include "app/balancing/balancing_policy.hpp"
 #include "app/balancing/balancing_status.hpp"
+#include "app/command/commands.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -42,6 +45,7 @@
 #include "drivers/bq79616/chain.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
+#include "hal/system.hpp"
 #include "hal/uart.hpp"
 #include "sched/scheduler.hpp"
 
@@ -235,6 +239,7 @@ class Bq79616App {
     hal::EdgeInput& nfault;
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
+    hal::SystemControl& system;
   };
   static constexpr sched::TaskId kProtectionId = kProtectionTask;
   static constexpr sched::TaskId kPublisherId = kPublisherTask;
@@ -245,9 +250,12 @@ class Bq79616App {
              Bq79616Storage& storage)
       : plan_(*view_, *status_, limitsOf(config).staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, limitsOf(config), *view_, *status_, actuator_,
+        settings_(limitsOf(config)),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
         monitor_(scheduler, io.uart, io.nfault, config, storage, *view_, *status_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.chain.activeCells;
@@ -257,14 +265,18 @@ class Bq79616App {
     view_->balancing = &storage.balancing;
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    command_.setBalancing(monitor_.balancing(), *view_);
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
   const ProtectionTask& protection() const { return protection_; }
   const CanPublisher& publisher() const { return publisher_; }
+  const command::CommandTask<command::CanLink>& commands() const { return command_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
   const PublishStatus& status() const { return *status_; }
   BalancingPolicy& balancing() { return monitor_.balancing(); }  // the command interface's entry
@@ -280,8 +292,10 @@ class Bq79616App {
   Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   CanPublisher publisher_;
+  command::CommandTask<command::CanLink> command_;
   Bq79616Monitor monitor_;  // last: its chain driver's buffers would push everything after it far away
 };
 

@@ -42,17 +42,13 @@
 
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
+#include "app/tasks.hpp"
 #include "core/stats.hpp"
 #include "core/zeroed.hpp"
 #include "drivers/operation.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
-
-// The tasks of every image, by priority (TaskId, higher runs first).
-inline constexpr sched::TaskId kPublisherTask = 0;
-inline constexpr sched::TaskId kMonitorTask = 1;
-inline constexpr sched::TaskId kProtectionTask = 2;
 
 // The monitor task's events: the driver's two first (the DriverContext the device gives its driver).
 namespace monitor_event {

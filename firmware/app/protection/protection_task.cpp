@@ -19,6 +19,7 @@ void ProtectionTask::run(sched::EventMask events) {
     in.pack = &pack_;
     in.fresh = (events & kNewData) != 0;
     in.scanFailed = (events & kScanFailed) != 0;
+    if (in.fresh && update_ != nullptr) update_->apply();  // limit changes: at a scan boundary, all at once
     // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
     // bring-up and recovery it is expected to be asserted.
     in.faultLine = ((events & kFaultLine) != 0) & pack_.monitorRunning;  // no branch: a byte load and an and
@@ -45,9 +46,11 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   status_.faultOutput = st.faultOutput();
   if constexpr (kLogSize != 0) record(st, now);
 
-  const bool chargeOn = !st.chargeOff;
-  const bool dischargeOn = !st.dischargeOff;
-  if (!state_->requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
+  const uint8_t hostOff = state_->hostOff;
+  const bool chargeOn = !st.chargeOff && (hostOff & static_cast<uint8_t>(Action::ChargeOff)) == 0;
+  const bool dischargeOn = !st.dischargeOff && (hostOff & static_cast<uint8_t>(Action::DischargeOff)) == 0;
+  if (!state_->requested && !fresh && st.active == 0 && hostOff == 0)
+    return;  // nothing measured, nothing wrong and nothing asked yet
   if (state_->requested && chargeOn == state_->chargeOn && dischargeOn == state_->dischargeOn &&
       st.newlyTripped == 0)
     return;

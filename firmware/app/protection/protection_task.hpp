@@ -20,9 +20,13 @@
 // while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
 // periodic check would. Thread mode only.
 //
-// kClearLatched needs a user action that posts it (a button, a CAN command). The images have none yet, so
-// they build without it (FW_PROTECTION_CLEAR_LATCHED=0: the event is ignored and a latched fault stays until
-// reset); an image that wires such an action builds with 1, the default (host, bms-sim).
+// kClearLatched needs a user action that posts it: the images' command task (app/command) does, on
+// ClearFaults, so they build with FW_PROTECTION_CLEAR_LATCHED=1 (the default); 0 ignores the event and a
+// latched fault stays until reset.
+// Host requests (app/command, PathRequest and bootloader entry): requestOff() holds paths off on top of
+// whatever the faults ask (a request only ever opens a path), then post kHostRequest. A LimitUpdate, if set,
+// is applied just before each evaluation of a new scan (kNewData), so the limits change only at a scan
+// boundary.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +41,16 @@
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
+
+// A source of limit changes (app/command/settings.hpp), applied by the protection task just before it
+// evaluates a new scan.
+class LimitUpdate {
+ public:
+  virtual void apply() = 0;
+
+ protected:
+  ~LimitUpdate() = default;
+};
 
 class Actuator {
  public:
@@ -83,6 +97,7 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kFaultLine = 0x4;
   static constexpr sched::EventMask kClearLatched = 0x8;
   static constexpr sched::EventMask kActuated = 0x20;
+  static constexpr sched::EventMask kHostRequest = 0x40;
   // Trips logged since start-up (the log does not wrap: later trips are not logged once it is full). Images
   // may shorten it (FW_PROTECTION_LOG_SIZE), or leave it out with 0 (the L1306 images: nothing in them
   // reads it; log() is then empty); the host keeps 16 for bms-sim.
@@ -108,6 +123,15 @@ class ProtectionTask final : public sched::Task {
   }
   void run(sched::EventMask events) override;
 
+  // The paths the host wants held off (Action bits: ChargeOff, DischargeOff), in effect from the next run
+  // (post kHostRequest). They add to what the faults ask; nothing here can turn a path on.
+  void requestOff(uint8_t actions) { state_->hostOff = actions; }
+  void setLimitUpdate(LimitUpdate& update) { update_ = &update; }
+  // Both paths off, and the actuator has confirmed it (FETs commanded off / fault output asserted).
+  bool pathsOffConfirmed() const {
+    return state_->requested && !state_->pendingAction && !state_->chargeOn && !state_->dischargeOn;
+  }
+
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
   std::span<const ProtectionRecord> log() const { return {state_->log, state_->logCount}; }
@@ -131,6 +155,7 @@ class ProtectionTask final : public sched::Task {
     bool pendingAction;
     bool resultSinceTick;  // run() evaluated for something else than the periodic tick alone since the last
                            // tick
+    uint8_t hostOff;       // Action bits the host holds off (requestOff)
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;
@@ -143,6 +168,7 @@ class ProtectionTask final : public sched::Task {
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
+  LimitUpdate* update_ = nullptr;
   Zeroed<State> state_;
   Duration checkPeriod_;
   Protection protection_;

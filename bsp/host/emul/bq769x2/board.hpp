@@ -3,8 +3,10 @@
 // (firmware/app/monitors/bq769x_app.hpp) with the monitor emulator on a 400 kHz I2C bus (4 ms stretch limit),
 // the device's ALERT line into a pulled-up falling-edge input (as the device's configuration drives it), the
 // MCU outputs to the BQ76952's CFETOFF / DFETOFF inputs (asserted from reset, as the images drive them), the
-// output (CAN at 500 kbit/s on the G3507, SLCAN text at 115 200 Bd on the L1306) and a fault output asserted
-// from reset (the L1306 boards have none: the application is then given no pin). Every cell at 3.700 V. The
+// output (CAN at 500 kbit/s on the G3507, SLCAN text at 115 200 Bd both ways on the L1306), a fault output
+// asserted from reset (the L1306 boards have none: the application is then given no pin), and the MCU's
+// identity and bootloader entry (SimSystem). The CAN controller's receive filter takes the command
+// identifiers only, as the G3507 BSP sets the MCAN's. Every cell at 3.700 V. The
 // application is started by the constructor; nothing happens until the harness runs. Header-only: users link
 // fw_app_bq769x2 and emul_bq769x2.
 #pragma once
@@ -12,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <type_traits>
 
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
@@ -53,7 +56,10 @@ struct Bq769xBoard {
         config(makeConfig(settings, cells, faultOutput ? &faultOut : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &cfetoff : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &dfetoff : nullptr)),
-        app(h.sched, bus, alert, output, config, driverArgs...) {
+        app(h.sched, bus, alert, output, system, config, driverArgs...) {
+    if constexpr (std::is_same_v<Output, SimCan>) {
+      output.setFilter({fw::can::bms::kReceivedIds.begin(), fw::can::bms::kReceivedIds.end()});
+    }
     bus.attach(0x08, emu);
     emu.onAlertLine([this](bool high) { alert.drive(high); });
     // The FET-off pins start asserted, as the images' GPIO init drives them: the paths stay off until
@@ -90,6 +96,7 @@ struct Bq769xBoard {
   FetOffWire cfetoff{emu, cfetoffLevel, dfetoffLevel, true};
   FetOffWire dfetoff{emu, dfetoffLevel, cfetoffLevel, false};
   Output output{h.clock, h.irq};
+  SimSystem system{h.clock};
   fw::app::Bq769xAppConfig config;
   App app;
 };
@@ -108,7 +115,7 @@ inline std::unique_ptr<G3507Bq76952Board> makeG3507Bq76952Board() {
 #if FW_BQ769X_FAMILY != 1
 // lp-mspm0l1306-bq76907 (also with a BQ76905): SLCAN, no fault output.
 using L1306Bq7690xBoard = Bq769xBoard<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769x2::Bq7690xMeasurement,
-                                      fw::app::SlcanPublisher, SimSerialTx>;
+                                      fw::app::SlcanPublisher, SimSerial>;
 inline std::unique_ptr<L1306Bq7690xBoard> makeL1306Bq7690xBoard(Bq769xEmulator::Model model) {
   const bool bq76907 = model == Bq769xEmulator::Model::Bq76907;
   return std::make_unique<L1306Bq7690xBoard>(

@@ -6,18 +6,21 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/protection/protection_task.hpp"
+#include "hal/can_bus.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 #include "slcan_output.hpp"
 
 namespace bsp::host {
-class SimSerialTx;
+class SimSerial;
 }
 
 namespace bmssim {
@@ -105,6 +108,15 @@ class ImageSim {
   // --can-layout ti is honoured: the run sends seed 001's layout (only the BQ79616 image builds it).
   virtual bool sendsTiLayout() const { return false; }
 
+  // Commands in (scenario send and flood steps). A G3507 board's CAN takes the frame from another node; an
+  // L1306 board's UART takes it as an SLCAN line, the channel opened with "O" before the first one. A flood
+  // keeps the bus (CAN) or the line (SLCAN) full with frames from `source` until it is cleared ({}).
+  // False: the image takes no commands.
+  bool sendFrame(const fw::hal::CanFrame& frame);
+  bool setFlood(std::function<std::optional<fw::hal::CanFrame>()> source);
+  // Bytes from the PC on an L1306 board's SLCAN line (--slcan pty); false without one.
+  virtual bool serialSend(std::string_view) { return false; }
+
   virtual bsp::host::Harness& harness() = 0;
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
@@ -112,7 +124,8 @@ class ImageSim {
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
   // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
   virtual std::optional<SentText> slcanText() const { return std::nullopt; }
-  virtual void afterStep() {}  // called after each simulation step (bookkeeping)
+  // Called after each simulation step (bookkeeping); a binding that overrides it calls pumpSerialFlood().
+  virtual void afterStep() { pumpSerialFlood(); }
   // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU. What is
   // due at the end is left for the next run (Harness::runBefore), so a scenario step at t comes before the
   // firmware's tick at t on the host as on the twin: both see a step on the scan grid in the same scan.
@@ -121,6 +134,19 @@ class ImageSim {
   virtual std::string failure() const { return {}; }
   // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.
   virtual const bsp::host::SimWatchdog* boardWatchdog() const { return nullptr; }
+
+ protected:
+  // The board's CAN: a frame from another node now, or one always waiting (a flood); false without CAN.
+  virtual bool canSend(const fw::hal::CanFrame&) { return false; }
+  virtual bool canFlood(std::function<std::optional<fw::hal::CanFrame>()>) { return false; }
+  // Bytes the PC has sent that have not arrived yet (for an SLCAN flood to keep the line full).
+  virtual size_t serialBacklog() const { return 0; }
+  // An SLCAN flood: tops the PC's line up with lines from the flood's source.
+  void pumpSerialFlood();
+
+ private:
+  bool slcanOpened_ = false;
+  std::function<std::optional<fw::hal::CanFrame>()> serialFlood_;
 };
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);

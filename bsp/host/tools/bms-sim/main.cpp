@@ -61,8 +61,8 @@ constexpr OptionSpec kOptions[] = {
     {"--slcan", "<file>|pty",
      "an L1306 image's SLCAN text: the exact bytes to a file, or live on a pseudo-terminal (its path goes to "
      "stderr; the run starts when a reader sends SLCAN's O, keeps wall-clock time, and waits for the reader "
-     "to "
-     "close the terminal) for python-can or slcand"},
+     "to close the terminal) for python-can or slcand, both ways: what they send reaches the board's UART "
+     "receiver"},
     {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
     {"--help", nullptr, "this text (also -h)"},
 };
@@ -257,6 +257,9 @@ int run(int argc, char** argv) {
   for (uint32_t t = 0;; ++t) {
     player.advance(t);
     if (t >= opt.durationMs) break;
+    if (slcanOut) {
+      if (const std::string in = slcanOut->takeInput(); !in.empty()) sim->serialSend(in);
+    }
     sim->runFor(fw::us(1000));
     if (const std::string why = sim->failure(); !why.empty()) {
       std::fprintf(stderr, "bms-sim: %s\n", why.c_str());

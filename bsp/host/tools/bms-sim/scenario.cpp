@@ -1,5 +1,7 @@
 #include "scenario.hpp"
 
+#include "scenario_command.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -70,7 +72,7 @@ struct ActionSpec {
   uint8_t count;
 };
 
-constexpr std::array<ActionSpec, 14> kActions = {{
+constexpr std::array<ActionSpec, 16> kActions = {{
     {"current", Action::Current, {Arg::CurrentMa}, 1},
     {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
     {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
@@ -85,6 +87,8 @@ constexpr std::array<ActionSpec, 14> kActions = {{
     {"expect", Action::Expect, {Arg::Fault}, 1},  // and an optional limit
     {"cell-capacity", Action::CellCapacity, {Arg::CapacityMah}, 1},
     {"spread-cells", Action::SpreadCells, {Arg::CellMv, Arg::SpreadMv}, 2},
+    {"send", Action::Send, {}, 0},    // <Message> [<Signal>=<value> ...]
+    {"flood", Action::Flood, {}, 0},  // <ms> <Message> [<Signal>=<value> ...]
 }};
 
 // The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
@@ -283,6 +287,7 @@ class Parser {
                   "unknown action " + quoted(name.text) + " (known: " + namesOf(kActions) + ")");
     }
     st.action = action->action;
+    if (st.action == Action::Send || st.action == Action::Flood) return parseCommand(words, st);
     const size_t given = words.size() - 2;
     const bool optionalLimit = action->action == Action::Expect;
     if (given != action->count && !(optionalLimit && given == action->count + 1U)) {
@@ -299,6 +304,29 @@ class Parser {
     }
     if (given > action->count) return parseLimit(words.back(), st);
     return true;
+  }
+
+  // send <Message> [words], flood <ms> <Message> [words]: checked against the catalogue now
+  // (scenario_command).
+  bool parseCommand(const std::vector<Token>& words, Step& st) {
+    size_t at = 2;
+    if (st.action == Action::Flood) {
+      if (words.size() < 3)
+        return fail(st.line, words[1].column, "'flood' takes <ms> <Message> [<Signal>=<value> ...]");
+      if (!number(st, words[2], "a flood duration in ms", {1, 600000}, st.value)) return false;
+      at = 3;
+    }
+    if (words.size() <= at)
+      return fail(st.line, words[1].column,
+                  std::string("'") + (st.action == Action::Flood ? "flood" : "send") +
+                      "' needs a message of the CAN catalogue");
+    st.message = std::string(words[at].text);
+    for (size_t i = at + 1; i < words.size(); ++i)
+      st.words.emplace_back(words[i].text);
+    size_t bad = 0;
+    const std::string error = checkCommand(st.message, st.words, bad);
+    if (error.empty()) return true;
+    return fail(st.line, words[bad == 0 ? at : at + bad].column, error);
   }
 
   bool parseArg(Arg arg, const Token& t, Step& st) {

@@ -24,8 +24,11 @@
 //                                                      mV over the capacity (bsp/host/emul/cell_model.hpp);
 //                                                      2500 mAh until a scenario says otherwise
 //   <time_ms> spread-cells <mV> <spread_mV>            every board: cell 1 at <mV>, each other cell a
-//   quarter,
-//                                                      a half, three quarters or all of <spread_mV> above it
+//                                                      quarter, a half, three quarters or all of <spread_mV>
+//                                                      above it
+//   <time_ms> send <Message> [<Signal>=<value> ...]    a command from the PC or another CAN node
+//   <time_ms> flood <ms> <Message> [<Signal>=<value> ...]  that command back to back for <ms>: the bus (CAN)
+//                                                      or the line (SLCAN) full
 //
 // Numbers are decimal integers (no fractions, exponents, nan or inf). Each must lie in its range, or the
 // parser stops with "file:line:col: error: ..." naming the range:
@@ -38,6 +41,14 @@
 // A value set on a cell or sensor replaces its drift; a new drift replaces the old; a drift stops at the
 // range's ends. Steps run in time order, steps with the same time in file order: a file written out of order
 // is sorted so, with a warning naming each line that moved.
+//
+// send and flood take any message of the CAN catalogue (firmware/app/can/bms.yaml) by name and its signals
+// by name, each value a decimal or 0x-hex integer or a name from the signal's value table (Setting=ocd_trip,
+// Target=all, Key=key). A command's Target (1), Counter (the next of its message) and Crc (the right one)
+// are filled in unless given, so a step can send a frame the firmware must refuse (Crc=0, Counter=3 twice).
+// On a G3507 image the frame goes on CAN; on an L1306 image it goes as an SLCAN line on the UART (the
+// channel opened with "O" before the first one). An unknown message or signal, or a value outside the
+// signal's raw range, is an error at its file:line:col. flood's <ms> is 1..600000.
 //
 // expect names a protection fault (cell_ov, cell_uv, occ, ocd, otd, utd, device_safety, stale_data,
 // comm_loss, open_wire, otc, utc, comm_rate) or `any` (every fault), once each. Without a limit the onset is
@@ -93,6 +104,8 @@ enum class Action : uint8_t {
   Expect,
   CellCapacity,
   SpreadCells,
+  Send,
+  Flood,
 };
 
 // The emulated quantity an expected fault's limit applies to, and which way it is crossed.
@@ -102,11 +115,13 @@ struct Step {
   uint32_t timeMs = 0;
   Action action = Action::BusOff;
   int32_t board = 0;
-  int32_t index = 0;   // cell or sensor, from 1
-  int32_t value = 0;   // mV, mA, 0.1 K, a drift per second, mAh, or expect's limit
-  int32_t spread = 0;  // spread-cells: the spread in mV
-  bool on = false;     // comm-loss, intermittent
-  std::string fault;   // expect: a fault name or "any"
+  int32_t index = 0;               // cell or sensor, from 1
+  int32_t value = 0;               // mV, mA, 0.1 K, a drift per second, mAh, or expect's limit
+  int32_t spread = 0;              // spread-cells: the spread in mV
+  bool on = false;                 // comm-loss, intermittent
+  std::string fault;               // expect: a fault name or "any"
+  std::string message;             // send, flood: the catalogue message
+  std::vector<std::string> words;  // send, flood: its Signal=value words
   Watch watch = Watch::None;
   bool hasLimit = false;  // expect with a limit
   uint32_t line = 0;

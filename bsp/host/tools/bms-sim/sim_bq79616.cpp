@@ -73,6 +73,14 @@ class Bq79616Sim final : public ImageSim {
     board_.can.injectBusOff();
     return true;
   }
+  bool canSend(const fw::hal::CanFrame& f) override {
+    board_.can.peerSend(f);
+    return true;
+  }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    board_.can.setPeerSource(std::move(source));
+    return true;
+  }
   std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
   bool sendsTiLayout() const override {
     return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;

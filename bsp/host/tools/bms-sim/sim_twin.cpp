@@ -172,6 +172,12 @@ class TwinSim final : public ImageSim {
     if (!on) board_.setMonitorPresent(true);
   }
   bool busOff() override { return board_.injectBusOff(); }
+  bool canSend(const fw::hal::CanFrame& f) override { return board_.sendCan(f); }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    return board_.setCanFlood(std::move(source));
+  }
+  bool serialSend(std::string_view bytes) override { return board_.sendSerial(bytes); }
+  size_t serialBacklog() const override { return board_.serialBacklog(); }
   std::vector<BusOffSpan> busOffLog() const override {
     std::vector<BusOffSpan> out;
     if (mcan_ == nullptr) return out;
@@ -189,6 +195,7 @@ class TwinSim final : public ImageSim {
   const bsp::host::SimWatchdog* boardWatchdog() const override { return &watchdog_; }
 
   void afterStep() override {
+    pumpSerialFlood();
     // The same intermittent link as the host bindings: the I2C monitor drops off the bus for 250 ms of every
     // 350 ms; the BQ79616 base corrupts every other millisecond's response.
     if (intermittent_) {

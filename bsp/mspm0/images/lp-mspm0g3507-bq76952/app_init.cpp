@@ -31,7 +31,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   config.faultIndicator = &board.faultOut;
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
-  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

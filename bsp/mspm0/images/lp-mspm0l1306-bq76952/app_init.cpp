@@ -30,7 +30,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
-  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, config);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, config);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }
