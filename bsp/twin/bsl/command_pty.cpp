@@ -9,6 +9,8 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include "bsl/raw_pty.hpp"
+
 namespace twin {
 
 namespace {
@@ -62,24 +64,7 @@ CommandPty::~CommandPty() {
 }
 
 bool CommandPty::open(std::string& error) {
-  master_ = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (master_ < 0 || grantpt(master_) != 0 || unlockpt(master_) != 0 || ptsname(master_) == nullptr) {
-    error = std::string("cannot create a pseudo-terminal: ") + std::strerror(errno);
-    return false;
-  }
-  path_ = ptsname(master_);
-  // Our own hold on the other side, raw: a program may open and close it any number of times.
-  slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  termios tio{};
-  if (slave_ < 0 || tcgetattr(slave_, &tio) != 0) {
-    error = path_ + ": " + std::strerror(errno);
-    return false;
-  }
-  cfmakeraw(&tio);
-  cfsetispeed(&tio, B115200);
-  cfsetospeed(&tio, B115200);
-  tcsetattr(slave_, TCSANOW, &tio);
-  return true;
+  return openRawPty(B115200, master_, slave_, path_, error);
 }
 
 void CommandPty::toHost(const std::string& text) {
