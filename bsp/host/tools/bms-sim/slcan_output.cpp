@@ -118,8 +118,9 @@ class PtyOutput final : public SlcanOutput {
     while (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0 && Clock::now() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY);
-    // Until the reader sends O (its port is set up and it listens), at most 3 s.
-    end = Clock::now() + std::chrono::seconds(3);
+    // Until the reader sends O (its port is set up and it listens), at most 10 s: on a loaded machine
+    // python-can took over 3 s to send it once, and the text sent before it was discarded with its set-up.
+    end = Clock::now() + std::chrono::seconds(10);
     while (!sawCommand('O') && Clock::now() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
