@@ -100,6 +100,21 @@ Words words(const LimitRow& r) {
   return {};
 }
 
+// Latching (Rule::latchTrips, tripDecayS): when it latches, and what ends it (ClearFaults, once the condition
+// is gone: for a current limit, no more than the clear threshold's magnitude flowing the tripped way).
+std::string latch(const LimitRow& r) {
+  const uint8_t trips = r.latch ? 1 : r.latchTrips;
+  if (trips == 0) return "no";
+  std::string when = trips == 1 ? "on its first trip" : "on trip " + std::to_string(trips);
+  if (trips > 1 && r.tripDecayS != 0)
+    when += ", each within " + std::to_string(r.tripDecayS) + " s of the one before";
+  std::string gone = "the condition is gone";
+  const int32_t magnitude = r.clear < 0 ? -r.clear : r.clear;
+  if (r.fault == FaultId::DischargeOvercurrent) gone = "current > " + std::to_string(-magnitude) + " mA";
+  if (r.fault == FaultId::ChargeOvercurrent) gone = "current < " + std::to_string(magnitude) + " mA";
+  return when + "; then until ClearFaults with " + gone;
+}
+
 std::string action(const LimitRow& r) {
   if (r.fault == FaultId::DeviceSafety)
     return "the paths the device's flags concern (both on the fault line)";
@@ -184,8 +199,8 @@ std::string table() {
   for (const LimitRow& r : fw::app::kLimits) {
     const Words w = words(r);
     o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | "
-      << scans(r.debounce) << " | " << action(r) << " | " << (r.latch ? "yes" : "no") << " | "
-      << scans(r.recover) << " | " << backstop(r.fault) << " |\n";
+      << scans(r.debounce) << " | " << action(r) << " | " << latch(r) << " | " << scans(r.recover) << " | "
+      << backstop(r.fault) << " |\n";
   }
   return o.str();
 }

@@ -19,6 +19,16 @@
 // with a discharge of more than 200 mA, one in discharge with a charge of more than 200 mA, so a charger or a
 // load that is still there is not switched back on to trip again.
 //
+// Latch: repeated discharge over-currents latch the discharge path off (TI's OCDL, SLUUBY2B 5.2,
+// Protections:OCDL): each trip counts one, one is forgiven every 10 s after the latest (TI's Counter Dec
+// Delay default), and the third trip so counted latches (TI ships OCDL Latch Limit 0, off; 3 is the trip
+// after the BQ7690x's smallest latch setting of two retries, SLUUCJ0 Protections:Current:Latch Limit). A
+// latched over-current stays through its recovery until ClearFaults finds the current gone (no more than 200
+// mA of discharge); the charge path stays available throughout (on a single-output image, below, the one
+// output holds both off). Three trips each within 10 s of the one before latch (with the 3 s recovery between
+// them, the third comes 6.4 s after the first at the soonest); a load that trips once every 10 s or more
+// never latches.
+//
 // Cell voltages and temperatures act on the first scan that shows them: the monitors already filter their
 // readings (BQ769x2 per-cell averaging, BQ79616 26 Hz low-pass, BQ4050 gauge filtering), and a second sample
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
@@ -39,7 +49,8 @@ namespace fw::app {
 inline constexpr Duration kScanPeriod = ms(100);
 
 // One row of the limit table: the fault, its thresholds (mV, mA, 0.1 K; 0/1 for the flag rules), the trip and
-// recovery counts (evaluations, one per scan), the action and whether it latches.
+// recovery counts (evaluations, one per scan), the action, whether it latches on its first trip, and the
+// trip count that latches it with the decay (s) that forgives one (Rule::latchTrips, tripDecayS).
 struct LimitRow {
   FaultId fault;
   int32_t trip;
@@ -48,6 +59,8 @@ struct LimitRow {
   uint8_t recover;
   Action action;
   bool latch;
+  uint8_t latchTrips = 0;
+  uint8_t tripDecayS = 0;
 };
 
 inline constexpr int32_t kDeciKelvinAtZeroCelsius = 2732;
@@ -57,12 +70,16 @@ constexpr int32_t degC(int32_t c) {
 
 // Recovery of the current limits: 3 s of current the other way (TI's Protections:Recovery:Time default).
 inline constexpr uint8_t kCurrentRecoveryScans = 30;
+// The discharge over-current latch: trips counted, and the seconds after the latest that forgive one.
+inline constexpr uint8_t kOcdLatchTrips = 3;
+inline constexpr uint8_t kOcdTripDecayS = 10;
 
 inline constexpr LimitRow kLimits[kFaultCount] = {
     {FaultId::CellOvervoltage, 4250, 4150, 1, 1, Action::ChargeOff, false},
     {FaultId::CellUndervoltage, 2700, 2900, 1, 1, Action::DischargeOff, false},
     {FaultId::ChargeOvercurrent, 20000, -200, 2, kCurrentRecoveryScans, Action::ChargeOff, false},
-    {FaultId::DischargeOvercurrent, -30000, 200, 2, kCurrentRecoveryScans, Action::DischargeOff, false},
+    {FaultId::DischargeOvercurrent, -30000, 200, 2, kCurrentRecoveryScans, Action::DischargeOff, false,
+     kOcdLatchTrips, kOcdTripDecayS},
     {FaultId::OvertempDischarge, degC(60), degC(55), 1, 1, Action::DischargeOff, false},
     {FaultId::UndertempDischarge, degC(-20), degC(-15), 1, 1, Action::DischargeOff, false},
     {FaultId::DeviceSafety, 1, 1, 1, 1, Action::AllOff, false},  // narrowed to the device flags' paths
@@ -88,7 +105,8 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   for (const LimitRow& row : kLimits) {
     Rule& r = c.rules[static_cast<uint8_t>(row.fault)];
     r.trip = row.trip, r.clear = row.clear, r.debounce = row.debounce, r.recover = row.recover;
-    r.action = row.action, r.latch = row.latch, r.enabled = true;
+    r.action = row.action, r.enabled = true;
+    r.latchTrips = row.latch ? 1 : row.latchTrips, r.tripDecayS = row.tripDecayS;
   }
   c.rateWindow = 10;
   c.staleAfter = scanPeriod * 3;
