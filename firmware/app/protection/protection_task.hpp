@@ -16,9 +16,9 @@
 // Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (the ALERT/nFAULT
 // edge, posted by the pin's interrupt itself), kActuated (a deferred request took effect: post it from the
 // run() that saw it complete; this task, the highest priority, runs next, takes that instant and evaluates),
-// kClearLatched (a user request). The periodic check is internal. The fault line counts as a fault only
-// while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
-// periodic check would. Thread mode only.
+// kClearLatched (clearLatched() posts it). The periodic check is internal. The fault line counts as a fault
+// only while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits
+// as a periodic check would. Thread mode only.
 //
 // Latched faults clear only on a user action: clearLatched(), which the images' command task (app/command)
 // calls on ClearFaults, so they build with FW_PROTECTION_CLEAR_LATCHED=1 (the default); with 0 it clears
