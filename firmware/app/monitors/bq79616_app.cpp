@@ -135,13 +135,8 @@ inline void Bq79616Device::balanceCheck() {
 inline Status Bq79616Device::startCommand() {
   auto& f = *flags_;
   Status started;
-  if (f.openWireDue && !f.stopWanted) {
-    // Balancing pauses for the check (a balancing FET falsifies its cell's comparison): one broadcast stop
-    // first, and the policy starts it again after the check (the masks written are then zero).
-    for (uint8_t d = 0; d < config_.chain.devices; ++d)
-      f.stopWanted = f.stopWanted || store_.balanceWritten[d] != 0;
-  }
-  if (f.openWireDue && !f.stopWanted) {
+  if (f.openWireDue) {
+    // The check pauses balancing itself (BAL_CTRL2[CB_PAUSE], timers held) and resumes it (open_wire.hpp).
     f.op = BalanceOp::OpenWire;
     f.openWireDue = false;
     f.openWireIn = config_.openWireEvery;

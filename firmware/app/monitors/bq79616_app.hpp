@@ -26,7 +26,7 @@
 // Open wire (drivers/bq79616/open_wire.hpp): the devices' own VC open-wire check over the whole chain after the
 // first scan of every bring-up or recovery and then every openWireEvery scans (10: once a second), in the
 // balancing slot after a scan, never in place of one (about 6 ms for 2 devices, OpenWireCheck::worstCase()
-// at most). Balancing stops for it (one broadcast stop; the policy starts it again at the next scan). A cell
+// at most). Balancing pauses for it (CB_PAUSE, timers held) and resumes after. A cell
 // the device reports below the threshold, and the cell above it (both beside the pin that may be open), are
 // published as open_wire from every scan until a check says otherwise: their readings are replaced by the
 // no-reading 0 mV, which the pack's open-wire rule (pack_view.hpp) turns into open_wire and keeps out of

@@ -15,8 +15,8 @@ Status OpenWireCheck::start(std::span<uint16_t> failing) {
   verdict_ = false;
   failure_ = Status::Ok;
   result_ = Status::Ok;
-  const Status s = write(regs::kDiagCompCtrl2, kThresholdCode);
-  if (s == Status::Ok) stage_ = Stage::Threshold;
+  const Status s = write(regs::kBalCtrl2, regs::kBalCtrl2Pause);
+  if (s == Status::Ok) stage_ = Stage::PauseBalancing;
   return s;
 }
 
@@ -28,9 +28,10 @@ Status OpenWireCheck::write(uint16_t reg, uint8_t value) {
 bool OpenWireCheck::next(Stage stage, Status started) {
   stage_ = stage;
   if (started == Status::Ok) return true;
-  // Nothing went out: once the sinks may be on, they are turned off before the check ends.
+  // Nothing went out: the sinks go off and balancing resumes before the check ends (each only once).
   if (failure_ == Status::Ok) failure_ = started;
-  if (stage == Stage::SinksOff || stage == Stage::Threshold) return end(failure_);
+  if (stage == Stage::Resume) return end(failure_);
+  if (stage == Stage::SinksOff) return next(Stage::Resume, write(regs::kBalCtrl2, regs::kBalCtrl2Resume));
   return next(Stage::SinksOff, write(regs::kDiagCompCtrl3, 0));
 }
 
@@ -44,16 +45,6 @@ bool OpenWireCheck::step(Status r) {
   switch (stage_) {
     case Stage::Idle:
       return false;
-    case Stage::Threshold:
-      // The sinks are not on yet: a failure ends the check with nothing to undo.
-      if (r != Status::Ok) return end(r);
-      return next(Stage::SinksOn, write(regs::kDiagCompCtrl3, regs::kDiagOwSinksVc));
-    case Stage::SinksOn:
-    case Stage::Deplete:
-    case Stage::Go:
-    case Stage::Wait:
-    case Stage::Poll:
-      break;
     case Stage::SinksOff:
       if (r != Status::Ok) {
         if (failure_ == Status::Ok) failure_ = r;
@@ -61,8 +52,10 @@ bool OpenWireCheck::step(Status r) {
           retried_ = true;
           return next(Stage::SinksOff, write(regs::kDiagCompCtrl3, 0));
         }
-        return end(failure_);
       }
+      return next(Stage::Resume, write(regs::kBalCtrl2, regs::kBalCtrl2Resume));
+    case Stage::Resume:
+      if (r != Status::Ok && failure_ == Status::Ok) failure_ = r;
       if (failure_ != Status::Ok) return end(failure_);
       return next(Stage::Read, chain_.startRead(RequestType::BroadcastRead, 0, regs::kFaultCompVcow1, 2, rx_));
     case Stage::Read:
@@ -70,13 +63,20 @@ bool OpenWireCheck::step(Status r) {
       return next(Stage::Clear, write(regs::kFaultRst1, regs::kFaultRst1Comp));
     case Stage::Clear:
       return end(r);  // the verdict stands whether the latch reset went through or not
+    default:
+      break;
   }
-  // The stages while the sinks are on: a failure turns them off and ends the check.
+  // The stages from the balancing pause to the last poll: a failure turns the sinks off, resumes balancing
+  // and ends the check.
   if (r != Status::Ok) {
     failure_ = r;
     return next(Stage::SinksOff, write(regs::kDiagCompCtrl3, 0));
   }
   switch (stage_) {
+    case Stage::PauseBalancing:
+      return next(Stage::Threshold, write(regs::kDiagCompCtrl2, kThresholdCode));
+    case Stage::Threshold:
+      return next(Stage::SinksOn, write(regs::kDiagCompCtrl3, regs::kDiagOwSinksVc));
     case Stage::SinksOn:
       return next(Stage::Deplete, chain_.startPause(kDeplete));
     case Stage::Deplete:

@@ -12,6 +12,9 @@
 // The sequence (SLUSF21 "Open Wire Detection": host ensures the Main ADC runs continuously; the order and
 // values as two independent BQ79616/BQ79656 drivers write them, each quoting the data sheet's steps; both
 // agree): broadcast writes
+//   0. BAL_CTRL2 = FLTSTOP_EN | CB_PAUSE: balancing pauses with its timers held (SLUSE81E BAL_CTRL2; a FET
+//      that bleeds its cell during the comparison pulls that cell's measurement down, and the comparison
+//      would report an open wire that is not there). Nothing else in BAL_CTRL2 acts without BAL_GO.
 //   1. DIAG_COMP_CTRL2 = OW_THR (kThresholdCode: 1 700 mV)
 //   2. DIAG_COMP_CTRL3 = OW_SNK 01 (VC sinks on; 0x10)
 //   3. wait kDeplete for the capacitors to deplete (both drivers wait 3 ms: 0.47 uF at 380 uA minimum)
@@ -20,13 +23,15 @@
 //      kPolls times (then Timeout)
 //   6. DIAG_COMP_CTRL3 = 0 (sinks off): always once step 2 was sent, whatever failed in between, and tried a
 //      second time if it fails (a sink left on drains its cell)
+//   6b. BAL_CTRL2 = FLTSTOP_EN: balancing resumes where it paused (always, as 6)
 //   7. broadcast read of FAULT_COMP_VCOW1/2: the verdict
 //   8. FAULT_RST1 = RST_COMP: the latch is cleared, so the next check reports afresh (a repaired wire is seen)
-// Bus time: 5 frames + the polls; the waits: kDeplete + about one comparison (the emulator's estimate, 1.5 ms)
+// Bus time: 7 frames + the polls; the waits: kDeplete + about one comparison (the emulator's estimate, 1.5 ms)
 // rounded up to the poll interval. worstCase() bounds the whole check.
 //
-// The caller must not run it while a device balances: a balancing FET pulls its cell's measurement down and
-// makes the comparison meaningless (the application stops balancing first and lets it start again after).
+// A broadcast write has no answer: a write the link lost looks sent. So after a link failure during a check
+// the sinks may still be on, or balancing paused; the owner runs the check again after every recovery (which
+// ends with them off and resumed), and a WAKE resets both anyway.
 //
 // Operations (start() returns Ok when the first frame went out, Busy while the chain or a check is busy,
 // NotReady before the chain is up, InvalidArgument if `failing` is shorter than the chain; the owner forwards
@@ -73,11 +78,24 @@ class OpenWireCheck {
     const uint32_t write = 80 + 100 + 6U * devices;                  // a broadcast write and its slack
     const uint32_t read1 = 70 + 100 + 6U * devices + 70U * devices;  // 1 register from every device
     const uint32_t read2 = 70 + 100 + 6U * devices + 80U * devices;  // 2 registers
-    return us(kDeplete.us + kPolls * (kPollInterval.us + read1) + 6 * write + read2);
+    return us(kDeplete.us + kPolls * (kPollInterval.us + read1) + 8 * write + read2);
   }
 
  private:
-  enum class Stage : uint8_t { Idle, Threshold, SinksOn, Deplete, Go, Wait, Poll, SinksOff, Read, Clear };
+  enum class Stage : uint8_t {
+    Idle,
+    PauseBalancing,
+    Threshold,
+    SinksOn,
+    Deplete,
+    Go,
+    Wait,
+    Poll,
+    SinksOff,
+    Resume,
+    Read,
+    Clear
+  };
   Status write(uint16_t reg, uint8_t value);
   bool next(Stage stage, Status started);
   bool polled();

@@ -38,6 +38,7 @@ inline constexpr uint16_t kFaultSummary = code16(r::FaultSummary);
 inline constexpr uint16_t kDiagCompCtrl2 = code16(r::DiagCompCtrl2);
 inline constexpr uint16_t kDiagCompCtrl3 = code16(r::DiagCompCtrl3);
 inline constexpr uint16_t kAdcStat2 = code16(r::AdcStat2);
+inline constexpr uint16_t kBalCtrl2 = code16(r::BalCtrl2);
 inline constexpr uint16_t kFaultCompVcow1 = code16(r::FaultCompVcow1);
 // Measurements.
 inline constexpr uint16_t kVcell16Hi = code16(r::Vcell16Hi);
@@ -104,6 +105,11 @@ inline constexpr uint8_t kDiagCompGo = 0x01;
 static_assert(kDiagOwSinksVc == 0x10 && (kDiagOwSinksVc | kDiagSelVcOw | kDiagCompGo) == 0x15);
 // ADC_STAT2[DRDY_VCOW] bit 3: the VC open-wire comparison has ended (0x08 in both drivers; regmaps/README.md).
 inline constexpr uint8_t kAdcStat2DrdyVcow = 0x08;
+// BAL_CTRL2 around the check: CB_PAUSE with FLTSTOP_EN (what the Balancer's BAL_GO wrote), then FLTSTOP_EN
+// alone; without BAL_GO only CB_PAUSE acts (SLUSE81E BAL_CTRL2).
+inline constexpr uint8_t kBalCtrl2Resume = b::BalCtrl2{}.with_fltstop_en(true).raw();
+inline constexpr uint8_t kBalCtrl2Pause = b::BalCtrl2{}.with_fltstop_en(true).with_cb_pause(true).raw();
+static_assert(kBalCtrl2Pause == 0x60 && kBalCtrl2Resume == 0x20);
 // FAULT_RST1[RST_COMP]: clears every FAULT_COMP_* register.
 inline constexpr uint8_t kFaultRst1Comp = b::FaultRst1{}.with_rst_comp(true).raw();
 static_assert(kFaultRst1Comp == 0x04);
