@@ -1,8 +1,8 @@
 // The lp-mspm0g3507-bq79616 application with the devices' own open-wire check (bq79616_app.hpp,
 // drivers/bq79616/open_wire.hpp), on the host BSP against the chain emulator: an open sense wire whose cells
-// keep reading a plausible 3.7 V (the case the reading rules of pack_view.hpp cannot see) at the bottom tap, a
-// middle tap and the top tap, on a 2-device and an 8-device chain, becomes open_wire with the cells beside it
-// out of what is published; a repaired wire clears it. The checks keep the scan period and the nFAULT fast
+// keep reading a plausible 3.7 V (the case the reading rules of pack_view.hpp cannot see) at the bottom tap,
+// a middle tap and the top tap, on a 2-device and an 8-device chain, becomes open_wire with the cells beside
+// it out of what is published; a repaired wire clears it. The checks keep the scan period and the nFAULT fast
 // path within budget.
 #include <gtest/gtest.h>
 
@@ -63,7 +63,8 @@ TEST_P(Bq79616AppOpenWire, AnOpenWireThatReadsPlausiblyIsOpenWireFromTheDevicesC
 }
 
 INSTANTIATE_TEST_SUITE_P(Taps, Bq79616AppOpenWire,
-                         ::testing::Combine(::testing::Values(0, 1, 2), ::testing::Values(size_t{2}, size_t{8})));
+                         ::testing::Combine(::testing::Values(0, 1, 2),
+                                            ::testing::Values(size_t{2}, size_t{8})));
 
 // Ten seconds with a check every second: no scan period overrun, every check within its bound, the scans on
 // their grid; and nFAULT during a check reaches the fault output within the 2 ms budget (protection acts on
@@ -85,8 +86,9 @@ TEST(Bq79616AppOpenWireBudget, ChecksKeepTheScanPeriodAndTheFaultPath) {
     EXPECT_LE(st.openWireChecks - checks0, 11u);
     EXPECT_GE(st.scans - scans0, 99u) << "a scan every 100 ms";
     EXPECT_LE(longest.us, fw::drivers::bq79616::OpenWireCheck::worstCase(static_cast<uint8_t>(devices)).us);
-    std::printf("REPORT app.bq79616.open_wire_check_us devices=%zu longest=%u (virtual time, a check a second)\n",
-                devices, longest.us);
+    std::printf(
+        "REPORT app.bq79616.open_wire_check_us devices=%zu longest=%u (virtual time, a check a second)\n",
+        devices, longest.us);
 
     // nFAULT while the sinks are on.
     ASSERT_TRUE(b.h.runUntil([&] { return b.emu.owSinksOn(0); }, fw::ms(1200)));
@@ -97,8 +99,8 @@ TEST(Bq79616AppOpenWireBudget, ChecksKeepTheScanPeriodAndTheFaultPath) {
     for (const auto& [t, level] : b.faultOut.history())
       if (t >= t0 && level && at == 0) at = t;
     EXPECT_LE(at - t0, 2000u);
-    std::printf("REPORT app.bq79616.nfault_during_open_wire_check_us devices=%zu took=%llu (budget 2000)\n", devices,
-                static_cast<unsigned long long>(at - t0));
+    std::printf("REPORT app.bq79616.nfault_during_open_wire_check_us devices=%zu took=%llu (budget 2000)\n",
+                devices, static_cast<unsigned long long>(at - t0));
   }
 }
 

@@ -23,8 +23,8 @@
 // one broadcast stops the whole chain (three frames). BAL_STAT of every device is read once a second while
 // anything balances: a device counts as balancing (BalancingStatus) only while it reports CB_RUN, not paused;
 // INVALID_CBCONF or ABORTFLT make the policy back off.
-// Open wire (drivers/bq79616/open_wire.hpp): the devices' own VC open-wire check over the whole chain after the
-// first scan of every bring-up or recovery and then every openWireEvery scans (10: once a second), in the
+// Open wire (drivers/bq79616/open_wire.hpp): the devices' own VC open-wire check over the whole chain after
+// the first scan of every bring-up or recovery and then every openWireEvery scans (10: once a second), in the
 // balancing slot after a scan, never in place of one (about 6 ms for 2 devices, OpenWireCheck::worstCase()
 // at most). Balancing pauses for it (CB_PAUSE, timers held) and resumes after. A cell
 // the device reports below the threshold, and the cell above it (both beside the pin that may be open), are
@@ -91,14 +91,14 @@ inline constexpr BalancingRules kBq79616BalancingRules{drivers::bq79616::Balance
 inline constexpr uint8_t kBalanceAppliesPerScan = 8;
 
 struct MonitorStats {
-  uint32_t scans = 0;         // scans completed
-  uint32_t scanFailures = 0;  // scans that did not validate every device
-  uint32_t earlyScans = 0;    // scans started by the fault line
-  uint32_t scanOverruns = 0;  // scan periods that came while the previous scan was still running
-  uint32_t recoveries = 0;    // bring-up and recovery operations run
-  Duration lastScan{};        // duration of the last scan (its start: ScanSummary::started)
-  uint32_t openWireChecks = 0;  // the devices' open-wire checks that gave a verdict
-  uint32_t openWireFailed = 0;  // ... that ended without one (the last verdict stands)
+  uint32_t scans = 0;            // scans completed
+  uint32_t scanFailures = 0;     // scans that did not validate every device
+  uint32_t earlyScans = 0;       // scans started by the fault line
+  uint32_t scanOverruns = 0;     // scan periods that came while the previous scan was still running
+  uint32_t recoveries = 0;       // bring-up and recovery operations run
+  Duration lastScan{};           // duration of the last scan (its start: ScanSummary::started)
+  uint32_t openWireChecks = 0;   // the devices' open-wire checks that gave a verdict
+  uint32_t openWireFailed = 0;   // ... that ended without one (the last verdict stands)
   Duration lastOpenWireCheck{};  // duration of the last check
 };
 

@@ -72,7 +72,8 @@
 //                       for a single read, devices()−1 for a stack read and devices() for a broadcast read;
 //                       result() is the UART's status and received() the bytes stored in `rx`. The caller
 //                       parses the frames with frame.hpp.
-//   startPause(d)       a wait of `d` (at most 1 s) with the bus idle, for a diagnostic's settling time between
+//   startPause(d)       a wait of `d` (at most 1 s) with the bus idle, for a diagnostic's settling time
+//   between
 //                       raw frames (open_wire.hpp); always Ok at its end.
 //
 // nFAULT: attachFaultLine() enables the pin's falling-edge notification as `event` to the owning task; the

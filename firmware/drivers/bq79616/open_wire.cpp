@@ -57,7 +57,8 @@ bool OpenWireCheck::step(Status r) {
     case Stage::Resume:
       if (r != Status::Ok && failure_ == Status::Ok) failure_ = r;
       if (failure_ != Status::Ok) return end(failure_);
-      return next(Stage::Read, chain_.startRead(RequestType::BroadcastRead, 0, regs::kFaultCompVcow1, 2, rx_));
+      return next(Stage::Read,
+                  chain_.startRead(RequestType::BroadcastRead, 0, regs::kFaultCompVcow1, 2, rx_));
     case Stage::Read:
       if (r != Status::Ok || !readVerdict()) return end(r != Status::Ok ? r : result_);
       return next(Stage::Clear, write(regs::kFaultRst1, regs::kFaultRst1Comp));
@@ -106,8 +107,7 @@ bool OpenWireCheck::polled() {
     if (r != Status::Ok) break;
     done = done && (f[4] & regs::kAdcStat2DrdyVcow) != 0;
   }
-  if (r == Status::Ok && !done && polls_ < kPolls)
-    return next(Stage::Wait, chain_.startPause(kPollInterval));
+  if (r == Status::Ok && !done && polls_ < kPolls) return next(Stage::Wait, chain_.startPause(kPollInterval));
   if (r == Status::Ok && !done) r = Status::Timeout;
   failure_ = r;
   return next(Stage::SinksOff, write(regs::kDiagCompCtrl3, 0));

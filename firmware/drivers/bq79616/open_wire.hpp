@@ -1,13 +1,14 @@
-// OpenWireCheck: the BQ79616's own VC open-wire diagnostic, over the whole chain at once, built on the Chain's
-// raw frames (chain.hpp startWrite/startRead/startPause) as the Balancer is.
+// OpenWireCheck: the BQ79616's own VC open-wire diagnostic, over the whole chain at once, built on the
+// Chain's raw frames (chain.hpp startWrite/startRead/startPause) as the Balancer is.
 //
 // What the device does (SLUSF21 "Open Wire Detection"): a current sink on every VC pin, a current source on
 // VC0. With a sense wire open, the filter capacitor on that pin is depleted (VC0 pulled up) and the cell
 // measurement below the pin drops; the diagnostic comparison compares every cell's Main ADC measurement with
 // the host's threshold DIAG_COMP_CTRL2[OW_THR] (500 mV + 300 mV x OW_THR) and latches a cell below it in
 // FAULT_COMP_VCOW1 (cells 16..9) / FAULT_COMP_VCOW2 (cells 8..1), which FAULT_SUMMARY[FAULT_COMP_ADC] sums
-// up (SLUSE81E table 9-23). So a failing cell n says: the wire of VCn (n >= 1) or, for cell 1, of VC0 is open;
-// the cell above the open pin reads too high at the same time, so both cells beside the pin are suspect.
+// up (SLUSE81E table 9-23). So a failing cell n says: the wire of VCn (n >= 1) or, for cell 1, of VC0 is
+// open; the cell above the open pin reads too high at the same time, so both cells beside the pin are
+// suspect.
 //
 // The sequence (SLUSF21 "Open Wire Detection": host ensures the Main ADC runs continuously; the order and
 // values as two independent BQ79616/BQ79656 drivers write them, each quoting the data sheet's steps; both
@@ -19,15 +20,17 @@
 //   2. DIAG_COMP_CTRL3 = OW_SNK 01 (VC sinks on; 0x10)
 //   3. wait kDeplete for the capacitors to deplete (both drivers wait 3 ms: 0.47 uF at 380 uA minimum)
 //   4. DIAG_COMP_CTRL3 = OW_SNK 01 | COMP_ADC_SEL 010 (VC open wire) | COMP_ADC_GO (0x15)
-//   5. poll ADC_STAT2[DRDY_VCOW] (a broadcast read) every kPollInterval until every device reports it, at most
+//   5. poll ADC_STAT2[DRDY_VCOW] (a broadcast read) every kPollInterval until every device reports it, at
+//   most
 //      kPolls times (then Timeout)
 //   6. DIAG_COMP_CTRL3 = 0 (sinks off): always once step 2 was sent, whatever failed in between, and tried a
 //      second time if it fails (a sink left on drains its cell)
 //   6b. BAL_CTRL2 = FLTSTOP_EN: balancing resumes where it paused (always, as 6)
 //   7. broadcast read of FAULT_COMP_VCOW1/2: the verdict
-//   8. FAULT_RST1 = RST_COMP: the latch is cleared, so the next check reports afresh (a repaired wire is seen)
-// Bus time: 7 frames + the polls; the waits: kDeplete + about one comparison (the emulator's estimate, 1.5 ms)
-// rounded up to the poll interval. worstCase() bounds the whole check.
+//   8. FAULT_RST1 = RST_COMP: the latch is cleared, so the next check reports afresh (a repaired wire is
+//   seen)
+// Bus time: 7 frames + the polls; the waits: kDeplete + about one comparison (the emulator's estimate, 1.5
+// ms) rounded up to the poll interval. worstCase() bounds the whole check.
 //
 // A broadcast write has no answer: a write the link lost looks sent. So after a link failure during a check
 // the sinks may still be on, or balancing paused; the owner runs the check again after every recovery (which

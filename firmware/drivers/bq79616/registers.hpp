@@ -103,7 +103,8 @@ inline constexpr uint8_t kDiagOwSinksVc = 0x01 << 4;
 inline constexpr uint8_t kDiagSelVcOw = 0x02 << 1;
 inline constexpr uint8_t kDiagCompGo = 0x01;
 static_assert(kDiagOwSinksVc == 0x10 && (kDiagOwSinksVc | kDiagSelVcOw | kDiagCompGo) == 0x15);
-// ADC_STAT2[DRDY_VCOW] bit 3: the VC open-wire comparison has ended (0x08 in both drivers; regmaps/README.md).
+// ADC_STAT2[DRDY_VCOW] bit 3: the VC open-wire comparison has ended (0x08 in both drivers;
+// regmaps/README.md).
 inline constexpr uint8_t kAdcStat2DrdyVcow = 0x08;
 // BAL_CTRL2 around the check: CB_PAUSE with FLTSTOP_EN (what the Balancer's BAL_GO wrote), then FLTSTOP_EN
 // alone; without BAL_GO only CB_PAUSE acts (SLUSE81E BAL_CTRL2).

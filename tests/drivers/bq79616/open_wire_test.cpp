@@ -1,8 +1,9 @@
 // The BQ79616's own VC open-wire check (drivers/bq79616/open_wire.hpp) against the chain emulator's model of
-// the diagnostic (bsp/host/emul/bq79616/open_wire.cpp): an open wire at the bottom tap (VC0), a middle tap and
-// the top tap, on a 2-device chain and a 16-device chain, found by the device's comparison alone (every cell
-// keeps reading a plausible 3.7 V, which no reading rule can flag); the sinks are off at the end whatever
-// happened; the latch is cleared so a repaired wire is seen; the check's time stays within its bound.
+// the diagnostic (bsp/host/emul/bq79616/open_wire.cpp): an open wire at the bottom tap (VC0), a middle tap
+// and the top tap, on a 2-device chain and a 16-device chain, found by the device's comparison alone (every
+// cell keeps reading a plausible 3.7 V, which no reading rule can flag); the sinks are off at the end
+// whatever happened; the latch is cleared so a repaired wire is seen; the check's time stays within its
+// bound.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -155,9 +156,9 @@ struct BalancingRig : CheckRig {
                                       timers)),
               Status::Ok);
     const uint8_t go = 0x22;  // FLTSTOP_EN | BAL_GO, as the Balancer writes it
-    EXPECT_EQ(finish(chain.startWrite(bq::RequestType::SingleWrite, 1, fw::regmap::code16(r::BalCtrl2),
-                                      {&go, 1})),
-              Status::Ok);
+    EXPECT_EQ(
+        finish(chain.startWrite(bq::RequestType::SingleWrite, 1, fw::regmap::code16(r::BalCtrl2), {&go, 1})),
+        Status::Ok);
     EXPECT_EQ(emulator.balancingCells(1), 0x0100);
   }
   Status broadcast(uint16_t reg, uint8_t value) {
@@ -176,7 +177,8 @@ TEST(Bq79616OpenWire, TheCheckPausesBalancingAndResumesIt) {
 
 TEST(Bq79616OpenWire, WithoutThePauseTheEmulatorReportsTheBalancingCellLow) {
   BalancingRig rig;
-  ASSERT_EQ(rig.broadcast(fw::regmap::code16(r::DiagCompCtrl2), bq::OpenWireCheck::kThresholdCode), Status::Ok);
+  ASSERT_EQ(rig.broadcast(fw::regmap::code16(r::DiagCompCtrl2), bq::OpenWireCheck::kThresholdCode),
+            Status::Ok);
   ASSERT_EQ(rig.broadcast(fw::regmap::code16(r::DiagCompCtrl3), 0x10), Status::Ok);
   rig.harness.runFor(fw::ms(4));
   ASSERT_EQ(rig.broadcast(fw::regmap::code16(r::DiagCompCtrl3), 0x15), Status::Ok);

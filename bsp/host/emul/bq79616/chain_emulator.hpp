@@ -101,7 +101,7 @@ class Bq79616ChainEmulator final : public UartPeer {
     uint32_t sleepToActiveToneUs = 270;
     uint32_t hwResetUs = 75000;
     uint32_t adcSettleUs = 38000;
-    uint32_t custCrcUs = 2000;  // one pass of the customer CRC state machine (estimate, see above)
+    uint32_t custCrcUs = 2000;    // one pass of the customer CRC state machine (estimate, see above)
     uint32_t owDepleteUs = 2000;  // sinks on this long deplete an open pin (estimate, open_wire.cpp)
     uint32_t owCompareUs = 1500;  // one VC open-wire comparison (estimate, open_wire.cpp)
     uint32_t pingTolerancePercent = 5;
@@ -159,7 +159,7 @@ class Bq79616ChainEmulator final : public UartPeer {
   // readings stay what the test sets (the pin's filter capacitor holds the node between checks); only the
   // device's own diagnostic sees it.
   void setOpenWire(size_t device, int pin, bool open);
-  bool owSinksOn(size_t device) const;        // DIAG_COMP_CTRL3[OW_SNK] = VC sinks, now
+  bool owSinksOn(size_t device) const;                       // DIAG_COMP_CTRL3[OW_SNK] = VC sinks, now
   uint32_t owComparisons() const { return owComparisons_; }  // VC open-wire comparisons completed
 
   // --- balancing (balancing.cpp) ---------------------------------------------------------------------------
@@ -214,11 +214,11 @@ class Bq79616ChainEmulator final : public UartPeer {
     bool crcDoneLatched = false;  // a pass ended before crcEpoch and DEV_STAT was not read since
     SimClock::EventId crcCheck = 0;
     // The VC open-wire diagnostic (open_wire.cpp).
-    uint32_t openPins = 0;       // the world: bit p = the wire of VCp is open
-    uint64_t sinksSince = 0;     // when DIAG_COMP_CTRL3 last turned the VC sinks on
-    uint64_t owDoneAt = 0;       // the running comparison ends (0: none since the last GO)
-    uint32_t owGeneration = 0;   // a reset or a new GO makes a pending completion void
-    bool owDepleted = false;     // the sinks had been on long enough when the comparison started
+    uint32_t openPins = 0;      // the world: bit p = the wire of VCp is open
+    uint64_t sinksSince = 0;    // when DIAG_COMP_CTRL3 last turned the VC sinks on
+    uint64_t owDoneAt = 0;      // the running comparison ends (0: none since the last GO)
+    uint32_t owGeneration = 0;  // a reset or a new GO makes a pending completion void
+    bool owDepleted = false;    // the sinks had been on long enough when the comparison started
     // Cell balancing (balancing.cpp).
     struct Balance {
       bool running = false;  // BAL_STAT[CB_RUN]

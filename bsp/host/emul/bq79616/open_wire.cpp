@@ -90,7 +90,8 @@ void Bq79616ChainEmulator::owComplete(size_t k, uint32_t generation) {
     // 1 down when VC0 is open. Pins above the active cells are not measured.
     const bool open = depleted && ((d.openPins >> n) & 1U || (n == 1 && (d.openPins & 1U) != 0));
     const int32_t uv = static_cast<int32_t>(cellRaw(k, n)) * 19073 / 100;
-    if (open || uv < thresholdUv || ((balancing >> (n - 1)) & 1U) != 0) low = static_cast<uint16_t>(low | 1U << (n - 1));
+    if (open || uv < thresholdUv || ((balancing >> (n - 1)) & 1U) != 0)
+      low = static_cast<uint16_t>(low | 1U << (n - 1));
   }
   d.regs[kFaultCompVcow1] |= static_cast<uint8_t>(low >> 8);
   d.regs[kFaultCompVcow2] |= static_cast<uint8_t>(low);
