@@ -494,6 +494,11 @@ def check_open_wire_update(sim, image, scratch):
         f.write("0 cell 0 2 2000\n500 open-wire 0 3\n1000 cell 0 3 3000\n")
     summary = json.loads(run(sim, "--image", image, "--scenario", path, "--duration", "2000", "--json"))
     expected = 2000 + 3000
+    if image == "lp-mspm0g3507-bq79616":
+        # The devices' own open-wire check (drivers/bq79616/open_wire.hpp, once a second) names cell 2 within
+        # a second, and the application then publishes no reading for cells 2 and 3: what is left is the
+        # healthy cells' 3700 mV. (The world model is the same code for every image; the others check it.)
+        expected = 3700
     print(f"REPORT sim.{image}.open_wire_update.max_cell_mv={summary['max_cell_mv']} (expected {expected})")
     if abs(summary["max_cell_mv"] - expected) > 2:
         fail(f"cell 2 reads {summary['max_cell_mv']} mV, not cells 2 and 3 together ({expected} mV)")

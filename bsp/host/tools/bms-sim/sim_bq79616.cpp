@@ -67,6 +67,8 @@ class Bq79616Sim final : public ImageSim {
     openBoard_ = board, openCell_ = cell;
     push(board, cell);
     push(board, cell - 1);
+    // The wire below `cell` is VC(cell - 1): the devices' own open-wire check sees it too.
+    board_.emu.setOpenWire(static_cast<size_t>(board), cell - 1, true);
   }
   void setIntermittent(bool on) override { intermittent_ = on; }
   bool busOff() override {
