@@ -12,6 +12,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
+#include "drivers/bq79616/open_wire.hpp"
 
 namespace {
 
@@ -88,10 +89,15 @@ Words words(const LimitRow& r) {
           std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed (" + kGrace + ")",
           "a scan succeeds"};
     case FaultId::OpenWire:
-      return {"a sense wire is open: two neighbouring cells more than " +
-                  std::to_string(fw::app::kOpenWireStepMv) + " mV apart, a cell below " +
-                  std::to_string(fw::app::kCellFloorMv) + " mV, or the monitor says so",
-              "the readings show none"};
+      return {
+          "a sense wire is open: two neighbouring cells more than " +
+              std::to_string(fw::app::kOpenWireStepMv) + " mV apart, a cell below " +
+              std::to_string(fw::app::kCellFloorMv) +
+              " mV, or the monitor says so (BQ79616: the devices' own VC open-wire check, every second and "
+              "after every bring-up, names a cell below " +
+              std::to_string(fw::drivers::bq79616::OpenWireCheck::kThresholdMv) +
+              " mV with its VC sinks on: that cell and the one above it; BQ4050: a refused cell word)",
+          "the readings show none (BQ79616: and the last check named no cell)"};
     case FaultId::CommErrorRate:
       return {t + " of the last " + std::to_string(fw::app::kDefaultLimits.rateWindow) +
                   " scan attempts failed (" + kGrace + ")",
@@ -183,7 +189,8 @@ std::string backstop(FaultId f) {
     case FaultId::DeviceSafety:
       return "(the device's own)";
     case FaultId::OpenWire:
-      return "none configured";
+      return "the BQ79616 checks itself (VC open-wire diagnostic, read by the firmware); the BQ769x2/BQ7690x "
+             "checks are not read yet";
     case FaultId::CommErrorRate:
       return "BQ76952 the CFETOFF/DFETOFF pins (the scans that succeed feed the host watchdog); none on the "
              "BQ7690x";
@@ -198,9 +205,12 @@ std::string table() {
        "|---|---|---|---|---|---|---|---|\n";
   for (const LimitRow& r : fw::app::kLimits) {
     const Words w = words(r);
-    o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | "
-      << scans(r.debounce) << " | " << action(r) << " | " << latch(r) << " | " << scans(r.recover) << " | "
-      << backstop(r.fault) << " |\n";
+    std::string after = scans(r.debounce);
+    // The BQ79616's own check runs every openWireEvery scans (bq79616_app.hpp: 10, once a second).
+    if (r.fault == FaultId::OpenWire) after += " (BQ79616 device check: within 1 s + 1 scan)";
+    o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | " << after
+      << " | " << action(r) << " | " << latch(r) << " | " << scans(r.recover) << " | " << backstop(r.fault)
+      << " |\n";
   }
   return o.str();
 }
