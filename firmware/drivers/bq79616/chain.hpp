@@ -194,6 +194,9 @@ class Chain : private detail::ChainState {
   Status startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data);
   Status startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t count, std::span<uint8_t> rx);
   Status startPause(Duration d);
+  // The chain's own receive buffer (kRxBufferBytes), lent to a caller's startRead() while no scan or
+  // bring-up runs: the next scan overwrites it, so the caller reads its answer as soon as the read ends.
+  std::span<uint8_t> receiveBuffer() { return rx_; }
 
   sched::EventMask events() const { return ctx_.events() | faultEvent_; }
   Progress onEvent(sched::EventMask events);

@@ -58,7 +58,7 @@ bool OpenWireCheck::step(Status r) {
       if (r != Status::Ok && failure_ == Status::Ok) failure_ = r;
       if (failure_ != Status::Ok) return end(failure_);
       return next(Stage::Read,
-                  chain_.startRead(RequestType::BroadcastRead, 0, regs::kFaultCompVcow1, 2, rx_));
+                  chain_.startRead(RequestType::BroadcastRead, 0, regs::kFaultCompVcow1, 2, rx()));
     case Stage::Read:
       if (r != Status::Ok || !readVerdict()) return end(r != Status::Ok ? r : result_);
       return next(Stage::Clear, write(regs::kFaultRst1, regs::kFaultRst1Comp));
@@ -87,7 +87,7 @@ bool OpenWireCheck::step(Status r) {
       return next(Stage::Wait, chain_.startPause(kPollInterval));
     case Stage::Wait:
       ++polls_;
-      return next(Stage::Poll, chain_.startRead(RequestType::BroadcastRead, 0, regs::kAdcStat2, 1, rx_));
+      return next(Stage::Poll, chain_.startRead(RequestType::BroadcastRead, 0, regs::kAdcStat2, 1, rx()));
     default:  // Poll
       return polled();
   }
@@ -98,7 +98,7 @@ bool OpenWireCheck::step(Status r) {
 bool OpenWireCheck::polled() {
   const size_t size = responseSize(1);
   size_t left = chain_.received();
-  const uint8_t* f = rx_;
+  const uint8_t* f = rx().data();
   bool done = true;
   Status r = Status::Ok;
   for (uint8_t d = chain_.devices(); d-- != 0; f += size, left -= size) {
@@ -118,7 +118,7 @@ bool OpenWireCheck::polled() {
 bool OpenWireCheck::readVerdict() {
   const size_t size = responseSize(2);
   size_t left = chain_.received();
-  const uint8_t* f = rx_;
+  const uint8_t* f = rx().data();
   for (uint8_t d = chain_.devices(); d-- != 0; f += size, left -= size) {
     Status r = left < size ? Status::Truncated : checkResponse(f, left, regs::kFaultCompVcow1, 2);
     if (r == Status::Ok && f[1] != d) r = Status::DeviceId;
@@ -127,7 +127,7 @@ bool OpenWireCheck::readVerdict() {
       return false;
     }
   }
-  f = rx_;
+  f = rx().data();
   for (uint8_t d = chain_.devices(); d-- != 0; f += size)
     failing_[d] = static_cast<uint16_t>(f[4] << 8 | f[5]);
   verdict_ = true;

@@ -113,7 +113,9 @@ class OpenWireCheck {
   bool verdict_ = false;
   Status failure_ = Status::Ok;  // the first failure while the sinks were on
   Status result_ = Status::Ok;
-  uint8_t rx_[kMaxDevices * responseSize(2)];  // ADC_STAT2, or FAULT_COMP_VCOW1/2, of every device
+  // ADC_STAT2, or FAULT_COMP_VCOW1/2, of every device: read into the chain's receive buffer (idle during a
+  // check; 512 B of SRAM saved on the 64-device build) and taken from it as each read ends.
+  std::span<uint8_t> rx() { return chain_.receiveBuffer(); }
 };
 
 }  // namespace fw::drivers::bq79616
