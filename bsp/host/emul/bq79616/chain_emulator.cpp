@@ -1,5 +1,6 @@
 // BQ79616 daisy-chain emulator (see chain_emulator.hpp for what is modelled and where each fact comes from).
 #include "bq79616/chain_emulator.hpp"
+#include "bq79616/register_address.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,10 +19,7 @@ namespace {
 namespace r = fw::regmap::bq79616::reg;
 namespace b = fw::regmap::bq79616::bits;
 
-template <class D>
-constexpr uint16_t at(D) {
-  return static_cast<uint16_t>(D::address);
-}
+using bq79616_emul::at;
 
 constexpr uint16_t kDir0Addr = at(r::Dir0Addr);
 constexpr uint16_t kCommCtrl = at(r::CommCtrl);

@@ -19,6 +19,7 @@
 // - Main ADC not running at GO: COMP_ADC_ABORT, no DRDY_VCOW ("host ensures the Main ADC runs continuously").
 // Not modelled: what the readings do while the sinks are on (VCELL registers keep what the test set).
 #include "bq79616/chain_emulator.hpp"
+#include "bq79616/register_address.hpp"
 #include "regmap/bq79616.hpp"
 
 namespace bsp::host {
@@ -27,10 +28,7 @@ namespace {
 
 namespace r = fw::regmap::bq79616::reg;
 
-template <class D>
-constexpr uint16_t at(D) {
-  return static_cast<uint16_t>(D::address);
-}
+using bq79616_emul::at;
 constexpr uint16_t kDiagCompCtrl2 = at(r::DiagCompCtrl2);
 constexpr uint16_t kDiagCompCtrl3 = at(r::DiagCompCtrl3);
 constexpr uint16_t kActiveCell = at(r::ActiveCell);
