@@ -477,6 +477,8 @@ class Bq769xApp {
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
   // base register, farther ones cost an address computation each): the wiring first, the zero blocks last.
+  // Still pays under link-time optimisation: the plain order (the three blocks first) is +48 B on each
+  // BQ769x-family image (measured).
   Zeroed<PackView> view_;
   FramePlan plan_;
   Zeroed<PublishStatus> status_;
