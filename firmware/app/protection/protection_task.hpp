@@ -167,6 +167,7 @@ class ProtectionTask final : public sched::Task {
   };
   // The references every run() uses before the state: with the log inside, the state would push them past
   // the 124 bytes a Thumb load reaches from the object's address; its byte fields stay within 31 bytes.
+  // Still pays under link-time optimisation: the state first is +28..+36 B per image (measured).
   sched::TaskId id_;
   sched::Scheduler& scheduler_;
   const PackView& pack_;
