@@ -372,7 +372,8 @@ class Bq769xDevice : public MonitorBase {
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
-  // references, the driver with its buffers last.
+  // references, the driver with its buffers last. Still pays under link-time optimisation: the flags after
+  // the references are +20..+32 B on the BQ769x-family images (measured).
   struct Flags {
     Step step;  // the next set-up step (Probe while running)
     bool fetWanted;
