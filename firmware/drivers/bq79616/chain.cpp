@@ -426,7 +426,7 @@ inline void Chain::unwind(Status status) {
   advance();
 }
 
-[[gnu::noinline]] void Chain::count(Status status) {
+void Chain::count(Status status) {
   ++stats_.errors[static_cast<uint8_t>(status)];
 }
 
