@@ -304,7 +304,7 @@ inline void Monitor::runtimeSetupStep(Status r) {
     if (step == 3) return finish(bytes::loadLe16(d) == state_->tmp ? Status::Ok : Status::VerifyFailed);
     for (const Setting& m : state_->settings) {
       if (m.address != facts().alarmMaskAddress) continue;
-      state_->tmp = m.value;
+      state_->tmp = static_cast<uint16_t>(m.value);
       uint8_t mask[2];
       bytes::storeLe16(mask, state_->tmp);
       return next(link_.startWrite(kAlarmEnable, mask));
@@ -352,8 +352,8 @@ bool Monitor::matches() const {
 Status Monitor::nextSetting(bool write) {
   const Setting& s = state_->settings[state_->index];
   if (!write) return link_.startSubcommandRead(s.address, s.size);
-  uint8_t value[2];
-  bytes::storeLe16(value, s.value);
+  uint8_t value[4];
+  bytes::storeLe32(value, s.value);
   return link_.startSubcommandWrite(s.address, {value, s.size});
 }
 

@@ -103,26 +103,24 @@
 namespace fw::drivers::bq769x2 {
 
 // One data-memory setting of a configuration table. Build it with setting() from a generated descriptor.
-// Six bytes: every setting a start-up table needs (thresholds, delays, pin and protection configuration) is
-// one or two bytes wide, so the value is 16 bits (the BQ76952 table is 46 of these in flash).
 struct Setting {
   uint16_t address;
-  uint16_t value;  // little-endian on the wire, `size` bytes of it
-  uint8_t size;    // 1 or 2
+  uint8_t size;  // 1, 2 or 4
+  uint32_t value;
 };
 
 // A setting from a data-memory descriptor and a value of its type; a value outside the TRM's min..max is a
 // compile error in a constexpr table (and an assert at run time).
 template <regmap::ConfigUpdateOnly D>
-requires regmap::FixedSize<D> &&(D::size <= 2) constexpr Setting setting(D d, typename D::value_type value) {
+requires regmap::FixedSize<D> &&(D::size <= 4) constexpr Setting setting(D d, typename D::value_type value) {
   const auto bytes = regmap::encode(d, value);
-  uint16_t raw = 0;
+  uint32_t raw = 0;
   for (size_t i = 0; i < D::size; ++i)
-    raw = static_cast<uint16_t>(raw | bytes[i] << (8 * i));
+    raw |= static_cast<uint32_t>(bytes[i]) << (8 * i);
   if constexpr (std::is_integral_v<typename D::value_type>) {
     FW_ASSERT_MODULE(::fw::Module::DriverBq769x2, regmap::inRange(d, value));
   }
-  return Setting{regmap::code16(d), raw, static_cast<uint8_t>(D::size)};
+  return Setting{regmap::code16(d), static_cast<uint8_t>(D::size), raw};
 }
 
 struct ScanBlock {
