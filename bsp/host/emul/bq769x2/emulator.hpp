@@ -18,7 +18,8 @@
 // and release below threshold minus hysteresis, in SLEEP the measurements are taken only every Power:Sleep:
 // Voltage Time, and the emulator stretches SCL where Timing says so. Wire time itself is SimI2cBus's
 // business. The files: emulator.cpp the bus face, registers and subcommands; device.cpp the device's own
-// behaviour (measurements and SLEEP, protections, FETs, Alarm Status and the ALERT pin).
+// behaviour (measurements and SLEEP, protections, FETs, Alarm Status and the ALERT pin); balancing.cpp host
+// balancing; open_wire.cpp a detached sense wire and the BQ769x2's cell open-wire check.
 //
 // Register facts come from the generated register maps (regmap/bq769x2*.hpp, regmap/bq7690x*.hpp); data
 // memory starts at the maps' defaults. Where the maps have no default that the protections need (BQ7690x
