@@ -34,6 +34,7 @@ import canmatrix.formats
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bms_sim_acceptance import fail, read_candump  # noqa: E402
+import slcan_pty  # noqa: E402
 
 ACK, PACK_SUMMARY, PROTECTION_EVENT = 0x580, 0x100, 0x103
 OCD_BIT, OV_BIT = 1 << 3, 1 << 0
@@ -283,16 +284,9 @@ def check_python_can(sim, dbc_dir, image, scratch):
     with open(scenario, "w") as f:
         f.write(LATCH_SCENARIO)
     log = os.path.join(scratch, "python-can.log")
-    proc = subprocess.Popen([sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--slcan", "pty",
-                             "--json", "--scenario", scenario, "--candump", log],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    if " on /dev/" not in first:
-        proc.kill()
-        fail(f"--slcan pty did not print its terminal: {first!r}")
-    path = first.split(" on ")[1].split()[0]
-    # python-can 4.1: C, S6, O on opening (the board answers BEL, CR, CR).
-    bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--json",
+                                 "--scenario", scenario, "--candump", log)
+    bus = slcan_pty.open_bus(path)
     received, answers, marks, trips, stage = [], [], {}, 0, "settings"
     ocd_before, charged_while_latched = False, 0
 
@@ -377,13 +371,7 @@ def check_python_can(sim, dbc_dir, image, scratch):
 
 
 def check_bmsctl(sim, image, scratch, bmsctl):
-    proc = subprocess.Popen([sim, "--image", image, "--duration", "6000", "--slcan", "pty", "--json"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    if " on /dev/" not in first:
-        proc.kill()
-        fail(f"--slcan pty did not print its terminal: {first!r}")
-    path = first.split(" on ")[1].split()[0]
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", "6000", "--json")
 
     def send(*args, timeout=2000):
         r = subprocess.run([bmsctl, "send", "--port", path, "--timeout", str(timeout), *args], capture_output=True,

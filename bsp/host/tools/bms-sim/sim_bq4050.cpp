@@ -5,13 +5,14 @@
 #include "app/monitors/bq4050_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq4050/board.hpp"
+#include "can_image_sim.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
 
 namespace bmssim {
 namespace {
 
-class Bq4050Sim final : public ImageSim {
+class Bq4050Sim final : public CanImageSim {
  public:
   Bq4050Sim() {
     for (int c = 1; c <= 4; ++c)
@@ -48,19 +49,6 @@ class Bq4050Sim final : public ImageSim {
     intermittent_ = on;
     if (!on) board_.attachGauge(true);
   }
-  bool busOff() override {
-    board_.can.injectBusOff();
-    return true;
-  }
-  bool canSend(const fw::hal::CanFrame& f) override {
-    board_.can.peerSend(f);
-    return true;
-  }
-  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
-    board_.can.setPeerSource(std::move(source));
-    return true;
-  }
-  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.
@@ -89,9 +77,11 @@ class Bq4050Sim final : public ImageSim {
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {
     return protectionLogOf(board_.app);
   }
-  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
  private:
+  bsp::host::SimCan& can() override { return board_.can; }
+  const bsp::host::SimCan& can() const override { return board_.can; }
+
   // The gauge measures each cell across its sense lines: an open line reads 0 below and the sum above.
   void push() {
     int pack = 0;

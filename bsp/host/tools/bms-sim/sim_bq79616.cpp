@@ -5,6 +5,7 @@
 #include "app/monitors/bq79616_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq79616/board.hpp"
+#include "can_image_sim.hpp"
 #include "drivers/bq79616/measurement.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
@@ -12,7 +13,7 @@
 namespace bmssim {
 namespace {
 
-class Bq79616Sim final : public ImageSim {
+class Bq79616Sim final : public CanImageSim {
  public:
   Bq79616Sim(const SimOptions& o) : board_(configFor(o)) {
     truth_.assign(static_cast<size_t>(o.devices) * 16, 3700);
@@ -71,19 +72,6 @@ class Bq79616Sim final : public ImageSim {
     board_.emu.setOpenWire(static_cast<size_t>(board), cell - 1, true);
   }
   void setIntermittent(bool on) override { intermittent_ = on; }
-  bool busOff() override {
-    board_.can.injectBusOff();
-    return true;
-  }
-  bool canSend(const fw::hal::CanFrame& f) override {
-    board_.can.peerSend(f);
-    return true;
-  }
-  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
-    board_.can.setPeerSource(std::move(source));
-    return true;
-  }
-  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
   bool sendsTiLayout() const override {
     return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;
   }
@@ -119,9 +107,11 @@ class Bq79616Sim final : public ImageSim {
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {
     return protectionLogOf(board_.app);
   }
-  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
  private:
+  bsp::host::SimCan& can() override { return board_.can; }
+  const bsp::host::SimCan& can() const override { return board_.can; }
+
   const fw::app::PublishStatus& status() const { return board_.app.status(); }
 
   // The voltage the device measures across `cell`: its own, or with an open sense wire below it, nothing
