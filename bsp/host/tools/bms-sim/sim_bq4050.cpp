@@ -5,14 +5,14 @@
 #include "app/monitors/bq4050_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq4050/board.hpp"
-#include "can_image_sim.hpp"
+#include "can_board_sim.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
 
 namespace bmssim {
 namespace {
 
-class Bq4050Sim final : public CanImageSim {
+class Bq4050Sim final : public CanBoardSim<bsp::host::Bq4050Board> {
  public:
   Bq4050Sim() {
     for (int c = 1; c <= 4; ++c)
@@ -56,8 +56,6 @@ class Bq4050Sim final : public CanImageSim {
     meter_.observe(board_.app.monitor().stats().scans, 0, board_.bus.busTimeUs(), board_.bus.transactions());
   }
 
-  bsp::host::Harness& harness() override { return board_.h; }
-
   SimFigures figures() override {
     SimFigures f;
     const auto& st = board_.app.monitor().stats();
@@ -74,14 +72,7 @@ class Bq4050Sim final : public CanImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    return protectionLogOf(board_.app);
-  }
-
  private:
-  bsp::host::SimCan& can() override { return board_.can; }
-  const bsp::host::SimCan& can() const override { return board_.can; }
-
   // The gauge measures each cell across its sense lines: an open line reads 0 below and the sum above.
   void push() {
     int pack = 0;
@@ -92,7 +83,6 @@ class Bq4050Sim final : public CanImageSim {
     board_.gauge.setVoltage(static_cast<uint16_t>(pack));
   }
 
-  bsp::host::Bq4050Board board_;
   std::vector<int> truth_ = std::vector<int>(4, 3700);
   int openCell_ = -1;
   bool intermittent_ = false;

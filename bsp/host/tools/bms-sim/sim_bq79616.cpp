@@ -5,7 +5,7 @@
 #include "app/monitors/bq79616_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq79616/board.hpp"
-#include "can_image_sim.hpp"
+#include "can_board_sim.hpp"
 #include "drivers/bq79616/measurement.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
@@ -13,9 +13,9 @@
 namespace bmssim {
 namespace {
 
-class Bq79616Sim final : public CanImageSim {
+class Bq79616Sim final : public CanBoardSim<bsp::host::Bq79616Board> {
  public:
-  Bq79616Sim(const SimOptions& o) : board_(configFor(o)) {
+  explicit Bq79616Sim(const SimOptions& o) : CanBoardSim(configFor(o)) {
     truth_.assign(static_cast<size_t>(o.devices) * 16, 3700);
     for (int b = 0; b < o.devices; ++b) {
       for (int c = 1; c <= 16; ++c)
@@ -85,8 +85,6 @@ class Bq79616Sim final : public CanImageSim {
                    board_.app.monitor().chain().stats().commandFrames);
   }
 
-  bsp::host::Harness& harness() override { return board_.h; }
-
   SimFigures figures() override {
     SimFigures f;
     const auto& st = board_.app.monitor().stats();
@@ -104,14 +102,7 @@ class Bq79616Sim final : public CanImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    return protectionLogOf(board_.app);
-  }
-
  private:
-  bsp::host::SimCan& can() override { return board_.can; }
-  const bsp::host::SimCan& can() const override { return board_.can; }
-
   const fw::app::PublishStatus& status() const { return board_.app.status(); }
 
   // The voltage the device measures across `cell`: its own, or with an open sense wire below it, nothing
@@ -129,7 +120,6 @@ class Bq79616Sim final : public CanImageSim {
     return c;
   }
 
-  bsp::host::Bq79616Board board_;
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;
   bool intermittent_ = false;
