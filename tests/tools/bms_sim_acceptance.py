@@ -443,7 +443,8 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     duration = "2500"
     # The exact text first (--slcan FILE), then the same run live through a pseudo-terminal.
     run(sim, "--image", image, "--duration", duration, "--slcan", text_path)
-    proc, path = slcan_pty.start(sim, "--image", image, "--duration", duration, "--json", "--candump", log)
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", duration, "--slcan", "pty", "--json",
+                                 "--candump", log)
     bus = slcan_pty.open_bus(path)
     received = []
     # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to

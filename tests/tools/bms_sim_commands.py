@@ -284,7 +284,8 @@ def check_python_can(sim, dbc_dir, image, scratch):
     with open(scenario, "w") as f:
         f.write(LATCH_SCENARIO)
     log = os.path.join(scratch, "python-can.log")
-    proc, path = slcan_pty.start(sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--json",
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--slcan", "pty",
+                                 "--json",
                                  "--scenario", scenario, "--candump", log)
     bus = slcan_pty.open_bus(path)
     received, answers, marks, trips, stage = [], [], {}, 0, "settings"
@@ -371,7 +372,7 @@ def check_python_can(sim, dbc_dir, image, scratch):
 
 
 def check_bmsctl(sim, image, scratch, bmsctl):
-    proc, path = slcan_pty.start(sim, "--image", image, "--duration", "6000", "--json")
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", "6000", "--slcan", "pty", "--json")
 
     def send(*args, timeout=2000):
         r = subprocess.run([bmsctl, "send", "--port", path, "--timeout", str(timeout), *args], capture_output=True,
