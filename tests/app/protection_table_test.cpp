@@ -189,8 +189,12 @@ std::string backstop(FaultId f) {
     case FaultId::DeviceSafety:
       return "(the device's own)";
     case FaultId::OpenWire:
-      return "the BQ79616 checks itself (VC open-wire diagnostic, read by the firmware); the BQ769x2/BQ7690x "
-             "checks are not read yet";
+      return "the BQ79616 checks itself (VC open-wire diagnostic, read by the firmware); the BQ76952 drains "
+             "a "
+             "detached input every " +
+             std::to_string(bq76952(m2::dm::CheckTime.address)) +
+             " s (Cell Open-Wire Check Time): its cell reads low (device CUV), the one above high (COV); VC0 "
+             "has no sink; the BQ7690x's check is not configured";
     case FaultId::CommErrorRate:
       return "BQ76952 the CFETOFF/DFETOFF pins (the scans that succeed feed the host watchdog); none on the "
              "BQ7690x";
@@ -207,7 +211,11 @@ std::string table() {
     const Words w = words(r);
     std::string after = scans(r.debounce);
     // The BQ79616's own check runs every openWireEvery scans (bq79616_app.hpp: 10, once a second).
-    if (r.fault == FaultId::OpenWire) after += " (BQ79616 device check: within 1 s + 1 scan)";
+    // The BQ76952's check drains a detached node in about two Check Times (1650 mV each on an assumed
+    // 100 nF, bsp/host/emul/bq769x2/open_wire.cpp) before a cell reads under the 500 mV floor.
+    if (r.fault == FaultId::OpenWire)
+      after += " (BQ79616 device check: within 1 s + 1 scan; BQ76952 device check: about " +
+               std::to_string(2 * bq76952(m2::dm::CheckTime.address)) + " s + 1 scan)";
     o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | " << after
       << " | " << action(r) << " | " << latch(r) << " | " << scans(r.recover) << " | " << backstop(r.fault)
       << " |\n";

@@ -116,6 +116,15 @@ inline constexpr uint16_t kBq76952ProtectionConfiguration = 0x0402;
 inline constexpr uint8_t kFetOffPinActiveHigh = 0x02;
 }  // namespace settings_detail
 
+// BQ76952 cell open-wire check (SLUUBY2B "Cell Open Wire" and Settings:Cell Open-Wire:Check Time, 0x9314, U1
+// seconds, 0 = off, default 5): every Check Time the device sinks about 55 uA (typical) from each cell input
+// VC1..VC16 to VSS for one ADC measurement (3 ms). A detached input's node then drains, so its cell reads low
+// (device CUV, the firmware's cell_uv, then open_wire below 500 mV) and the cell above it reads high (COV).
+// 1 s, the shortest: detection takes a number of checks that depends on the board's node capacitance (about
+// 1.65 V per check on 100 nF), so it scales with this interval; the average sink is about 165 nA per input
+// (SLUUBY2B's figure for 1 s). Written explicitly so a device that shipped with 0 (off) still checks.
+inline constexpr uint8_t kBq76952OpenWireCheckS = 1;
+
 // Sense resistor of the EVMs the images are set up for (BQ76952EVM, BQ76907EVM).
 inline constexpr uint32_t kShuntMicroOhm = 1000;
 
@@ -169,6 +178,7 @@ inline constexpr drivers::bq769x2::Setting kBq76952Settings[] = {
     settings_detail::setting(settings_detail::m2::dm::UtintThreshold, -25),
     settings_detail::setting(settings_detail::m2::dm::UtintDelay, 2),
     settings_detail::setting(settings_detail::m2::dm::HwdDelay, 2),  // s
+    settings_detail::setting(settings_detail::m2::dm::CheckTime, kBq76952OpenWireCheckS),
     settings_detail::setting(settings_detail::m2::dm::BalancingConfiguration,
                              settings_detail::m2::bits::BalancingConfiguration{}),
     settings_detail::setting(settings_detail::m2::dm::CellBalanceMaxCells, kBq769x2BalanceCells),
