@@ -113,8 +113,8 @@ class I2c : public Chip {
     wr(kI2c0 + 0x1004, 1U << 3);       // CLKSEL BUSCLK
     wr(kI2c0 + 0x1224, 7);             // MTPR: (1 + 7) x 10 clocks = 400 kHz at 32 MHz
     wr(kI2c0 + 0x1228, 1U | 4U);       // MCR ACTIVE, CLKSTRETCH
-    wr(0x40428000 + 4 * 1, 0x80 | 3);  // PA0 -> I2C0_SDA (PF 3)
-    wr(0x40428000 + 4 * 2, 0x80 | 3);  // PA1 -> I2C0_SCL
+    wr(0x40428000 + 4 * 1, 0x40000 | 0x80 | 3);  // PA0 -> I2C0_SDA (PF 3), INENA
+    wr(0x40428000 + 4 * 2, 0x40000 | 0x80 | 3);  // PA1 -> I2C0_SCL, INENA
     chip_.pins().setBoardPullUp(1, true);
     chip_.pins().setBoardPullUp(2, true);
   }

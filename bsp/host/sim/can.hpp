@@ -6,6 +6,10 @@
 // `txDepth` frames (the MCAN dedicated buffers/FIFO the BSP configures).
 // Fault injection: injectBusOff() puts the controller bus-off (queued frames are discarded, as MCAN does when
 // it enters Bus_Off with INIT set); recover() takes 128 x 11 recessive bits to return to ErrorActive.
+// injectErrorFrames(n): another node destroys the next n transmission attempts with error frames; each adds 8
+// to the transmit error counter (ISO 11898-1 12.1.4 rule 3) and the frame is sent again; error passive from
+// 128, bus-off above 255 (queued frames discarded, as for injectBusOff); a successful frame subtracts 1, error
+// active again below 128.
 // Every frame sent is recorded with the time its transmission completed, for candump output and tests.
 #pragma once
 
@@ -35,6 +39,8 @@ class SimCan final : public fw::hal::CanBus {
 
   const std::vector<SentCanFrame>& sent() const { return sent_; }
   void injectBusOff();
+  void injectErrorFrames(uint32_t attempts) { errorFramesLeft_ += attempts; }
+  uint32_t transmitErrors() const { return tec_; }
   void injectRx(const fw::hal::CanFrame& frame);
   uint64_t busTimeUs() const { return busTimeUs_; }
   // Each bus-off: when it began and when the controller was error active again (0: not yet), for reports.
@@ -69,6 +75,7 @@ class SimCan final : public fw::hal::CanBus {
   uint64_t txEvent_ = 0;
   uint64_t busTimeUs_ = 0;
   bool recovering_ = false;
+  uint32_t tec_ = 0, errorFramesLeft_ = 0;
   std::vector<BusOffSpan> busOffLog_;
 };
 

@@ -33,6 +33,16 @@
 //   The wrapper's RIS.INTLn is set when line n asserts; a line asserted and not yet acknowledged by EOI
 //   gives no further interrupt, however many IR events follow. An EOI with IR events still pending on the
 //   line asserts it again (TI's ISRs: DL_MCAN_clearIntrStatus writes IR, then EOI).
+// - Wire agreement (rules.hpp), checked when the controller leaves INIT to join the bus: the nominal bit
+//   rate, CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (1 + (NTSEG1 + 1) + (NTSEG2 + 1)), equals the bus's (setBus)
+//   within the oscillator tolerance the image's own bit timing allows (ISO 11898-1 bit timing: df <=
+//   min(PS2 / (2 (13 NBT - PS2)), SJW / (20 NBT)) in time quanta; TSEG1's split into propagation and phase
+//   segment is not known, so PS2 stands for min(PS1, PS2)): WIRE-CAN-BITRATE stops; a sample point
+//   (1 + NTSEG1 + 1) / NBT more than 5 points from 87.5 % (CiA 301; TI's bq79616_uart_to_can NBTP) warns
+//   (WIRE-CAN-SAMPLE). The CAN RX pin needs INENA (PIN-INENA): the M_CAN reads its own bits back.
+// - Error frames from the bus (injectErrorFrames, bms-sim's can-error-frames): each of the next n attempts
+//   is destroyed by an error frame: TEC + 8 (ISO 11898-1 12.1.4 rule 3), error passive at 128 (IR.EP),
+//   bus-off above 255; the M_CAN retransmits unless CCCR.DAR. The error frame's own 17 bits are not counted.
 // Reception, FD, dedicated TX buffers, the TX event FIFO, filters and test modes are not modelled: an
 // enabled reception path is harmless (nothing is ever received), anything else that would act stops the run.
 #pragma once
@@ -69,6 +79,9 @@ class Mcan final : public Peripheral {
   }
   void onFrame(std::function<void(const CanWireFrame&)> sink) { sink_ = std::move(sink); }
   void injectBusOff();
+  void setBus(uint32_t bitRate) { busBitRate_ = bitRate; }
+  void injectErrorFrames(uint32_t attempts) { errorFramesLeft_ += attempts; }
+  uint32_t errorFrames() const { return errorFrames_; }  // attempts destroyed so far
   const std::vector<std::string>& notes() const { return notes_; }
   // How long line n has been waiting for its EOI (0 if it is not asserted): an ISR that never writes
   // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
@@ -95,6 +108,7 @@ class Mcan final : public Peripheral {
   void transmitDone();
   void enterBusOff();
   void note(const std::string& text);
+  void checkWire();
 
   Pins& pins_;
   Sysctl& sysctl_;
@@ -113,6 +127,7 @@ class Mcan final : public Peripheral {
   uint32_t txbc_ = 0, txesc_ = 0, txefc_ = 0, txbrp_ = 0, txbto_ = 0, txbtie_ = 0, txbcie_ = 0, tscc_ = 0;
   uint32_t tocc_ = 0, tdcr_ = 0;
   uint32_t tec_ = 0;
+  uint32_t busBitRate_ = 0, errorFramesLeft_ = 0, errorFrames_ = 0;
   bool initValue_ = true;  // INIT as the core sees it once synchronised
   uint64_t initSyncAt_ = 0;
   bool busOff_ = false, errorPassive_ = false, integrating_ = false;
