@@ -97,10 +97,11 @@ void Machine::violate(Rule rule, const std::string& detail) {
     ruleWarnings_.push_back(text);
 }
 
-void Machine::enableImageRules(uint32_t raceLow, uint32_t raceHigh) {
+void Machine::enableImageRules(uint32_t stackLow) {
   imageRules_ = true;
   race_ = std::make_unique<RaceWatch>(
-      core_, raceLow, raceHigh, [this] { return armedExceptions(); },
+      core_, layout_.sramBase, layout_.sramBase + layout_.sramSize, stackLow,
+      [this] { return armedExceptions(); },
       [this](const std::string& what) { violate(Rule::IsrRace, what); });
   race_->setDescribe([this](uint32_t pc) { return describePc(pc); });
   core_.setSramWatch(race_.get());

@@ -89,10 +89,12 @@ class Machine final : public CoreObserver {
   void violate(Rule rule, const std::string& detail);
   const std::vector<std::string>& ruleWarnings() const { return ruleWarnings_; }
   // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
-  // RACE-ISR-RMW over static RAM [raceLow, raceHigh) (rules.hpp).
-  void enableImageRules(uint32_t raceLow, uint32_t raceHigh);
+  // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
+  void enableImageRules(uint32_t stackLow);
   // Whether IRQ n's source can assert now (a peripheral with IMASK != 0); lines without one count as able.
-  void setIrqArmed(int irq, std::function<bool()> armed) { irqArmed_[static_cast<size_t>(irq)] = std::move(armed); }
+  void setIrqArmed(int irq, std::function<bool()> armed) {
+    irqArmed_[static_cast<size_t>(irq)] = std::move(armed);
+  }
   // Cycles per function and per exception (profiler.hpp); null: none.
   void setProfiler(Profiler* profiler) { profiler_ = profiler; }
   bool stopped() const { return core_.halted(); }

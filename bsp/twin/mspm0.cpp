@@ -139,11 +139,10 @@ bool Mspm0::load(const ElfFile& elf) {
     return false;
   }
   machine_->setSymbolizer([this](uint32_t address) { return elf_->symbolAt(address); });
-  // The image's static RAM (.data, .bss, .noinit: below the stack reservation, bsp/mspm0/linker) for the
-  // data-race rule; IDLE-WFI too (rules.hpp).
+  // The data-race rule and IDLE-WFI (rules.hpp); the stack reservation starts at __stack_limit__
+  // (bsp/mspm0/linker).
   const auto limit = elf.symbol("__stack_limit__");
-  const uint32_t sramBase = machine_->layout().sramBase;
-  machine_->enableImageRules(sramBase, limit ? limit->value : sramBase);
+  machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase);
   machine_->powerOn();
   return true;
 }

@@ -74,8 +74,8 @@ void Profiler::write(std::ostream& out, const std::string& image, uint64_t clock
   out << "# exception\tnumber\tname\tentries\tcycles\tpct_of_busy\n";
   for (int n : order) {
     const ExceptionRow& e = exceptions_[static_cast<size_t>(n)];
-    out << "exception\t" << n << "\t" << clean(handlerName(n)) << "\t" << e.entries << "\t" << e.cycles << "\t"
-        << pct(e.cycles) << "\n";
+    out << "exception\t" << n << "\t" << clean(handlerName(n)) << "\t" << e.entries << "\t" << e.cycles
+        << "\t" << pct(e.cycles) << "\n";
   }
   std::vector<const Row*> rows;
   for (const Row& r : rows_) {

@@ -4,11 +4,12 @@
 
 namespace twin {
 
-RaceWatch::RaceWatch(Core& core, uint32_t low, uint32_t high, std::function<uint64_t()> armed,
-                     std::function<void(const std::string&)> report)
+RaceWatch::RaceWatch(Core& core, uint32_t low, uint32_t high, uint32_t stackLow,
+                     std::function<uint64_t()> armed, std::function<void(const std::string&)> report)
     : core_(core),
       low_(low),
       high_(high > low ? high : low),
+      stackLow_(stackLow),
       armed_(std::move(armed)),
       report_(std::move(report)),
       bytes_(high_ - low_) {}
@@ -33,9 +34,10 @@ void RaceWatch::onSramStore(uint32_t address, unsigned bytes) {
   if (core_.handlerMode()) {
     const int e = static_cast<int>(core_.ipsr());
     const uint64_t bit = 1ULL << e;
+    const uint32_t ownTop = core_.handlerStackTop();
     for (unsigned i = 0; i < bytes; ++i) {
       const uint32_t a = address + i;
-      if (a - low_ >= bytes_.size()) continue;
+      if (a - low_ >= bytes_.size() || (a >= stackLow_ && a < ownTop)) continue;
       Byte& b = bytes_[a - low_];
       b.writers |= bit;
       b.handlerPc = pc;
@@ -51,7 +53,8 @@ void RaceWatch::onSramStore(uint32_t address, unsigned bytes) {
     Byte& b = bytes_[a - low_];
     if (!b.threadLoaded) continue;
     b.threadLoaded = false;
-    const bool protectedUpdate = core_.primask() && b.loadSection != 0 && b.loadSection == core_.maskSections();
+    const bool protectedUpdate =
+        core_.primask() && b.loadSection != 0 && b.loadSection == core_.maskSections();
     if (protectedUpdate) continue;
     if (!armedKnown) armedNow = armed_(), armedKnown = true;
     b.raced |= armedNow;

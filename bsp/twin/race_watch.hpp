@@ -2,10 +2,12 @@
 // the rule does not wait for one: it watches who writes each byte of the image's static RAM and where Thread
 // code updates one outside a critical section, and stops the run as soon as both meet.
 //
-// Per byte of [low, high) (the image's .data, .bss and .noinit: SRAM below __stack_limit__; the stack is
-// every handler's scratch and is left out):
+// Per byte of SRAM [low, high) (the images keep their long-lived objects in .data/.bss and in main()'s
+// frame on the stack, the scheduler among them):
 // - writers: the exceptions whose handler code stored to it (IPSR at the store; the entry's stacking and the
-//   return's unstacking are the hardware's, not a handler's);
+//   return's unstacking are the hardware's, not a handler's). A store into the stack reservation [stackLow,
+//   the MSP the outermost exception was taken at) is the handler's own frame, not the Thread's data: left
+//   out;
 // - a Thread-mode read-modify-write: a load of the byte, then a store to it with no other Thread store in
 //   between, not both inside one unbroken PRIMASK section (Core::maskSections()). The load and the store may
 //   lie far apart: `if (flag) { flag = false; ... }` is one too.
@@ -29,7 +31,7 @@ namespace twin {
 class RaceWatch final : public SramWatch {
  public:
   // `armed`: the exceptions (bit = exception number) that can run now. `report`: called once per byte pair.
-  RaceWatch(Core& core, uint32_t low, uint32_t high, std::function<uint64_t()> armed,
+  RaceWatch(Core& core, uint32_t low, uint32_t high, uint32_t stackLow, std::function<uint64_t()> armed,
             std::function<void(const std::string&)> report);
 
   void onSramLoad(uint32_t address, unsigned bytes) override;
@@ -50,7 +52,7 @@ class RaceWatch final : public SramWatch {
   void fire(uint32_t address, int exception, uint32_t threadPc, uint32_t handlerPc);
 
   Core& core_;
-  uint32_t low_, high_;
+  uint32_t low_, high_, stackLow_;
   std::function<uint64_t()> armed_;
   std::function<void(const std::string&)> report_;
   std::function<std::string(uint32_t)> describe_;

@@ -9,13 +9,14 @@
 //
 // The table (bsp/twin/README.md "Rules" lists the same):
 //   WIRE-UART-BAUD    UART baud (BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD/64))) against the link
-//                     partner's rate within the tolerance the receiver allows (BQ79616: SLUSE81E "UART RX baud
-//                     rate error" +-1 %; XDS110 back-channel: half the 16x sampling margin, computed)
+//                     partner's rate within the tolerance the receiver allows (BQ79616: SLUSE81E "UART RX
+//                     baud rate error" +-1 %; XDS110 back-channel: half the 16x sampling margin, computed)
 //   WIRE-I2C-SCL      SCL = f_func / ((1 + TPR) x 10) inside the addressed device's range (BQ76952 / BQ7690x
 //                     SLUSE13B 14: up to 400 kHz; BQ4050 SMBus 10..100 kHz, SLUSC67A)
 //   WIRE-I2C-TPR      the controller's own limits: MTPR.TPR 1..127 (hw_i2c.h MTPR) and SCL <= 1 MHz
 //                     (Fast-mode Plus, SLAU846B 20.1 / SLAU847D 21.1)
-//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 + NTSEG2)) equal
+//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 + NTSEG2))
+//   equal
 //                     to the bus's within the oscillator tolerance its own bit timing allows (ISO 11898-1 bit
 //                     timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
 //   WIRE-CAN-SAMPLE   (warns) sample point within 5 points of 87.5 % (CiA 301 / the TI example's 87.5 %)
@@ -33,9 +34,9 @@
 //   I2C-CLKSTRETCH    a target stretches SCL on any byte with MCR.CLKSTRETCH clear (hw_i2c.h MCR.CLKSTRETCH:
 //                     the controller then does not detect the stretch)
 //   I2C-FLUSH         MFIFOCTL.TXFLUSH/RXFLUSH held as TI describes: while set the FIFO is flushed (a byte
-//                     written or a burst started then is lost), and cleared only after MFIFOSR showed the flush
-//                     complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT should
-//                     be checked to be 8"; DL_I2C_flushControllerTXFIFO waits the same way)
+//                     written or a burst started then is lost), and cleared only after MFIFOSR showed the
+//                     flush complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT
+//                     should be checked to be 8"; DL_I2C_flushControllerTXFIFO waits the same way)
 #pragma once
 
 #include <cstdint>

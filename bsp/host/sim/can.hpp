@@ -8,9 +8,9 @@
 // it enters Bus_Off with INIT set); recover() takes 128 x 11 recessive bits to return to ErrorActive.
 // injectErrorFrames(n): another node destroys the next n transmission attempts with error frames; each adds 8
 // to the transmit error counter (ISO 11898-1 12.1.4 rule 3) and the frame is sent again; error passive from
-// 128, bus-off above 255 (queued frames discarded, as for injectBusOff); a successful frame subtracts 1, error
-// active again below 128.
-// Every frame sent is recorded with the time its transmission completed, for candump output and tests.
+// 128, bus-off above 255 (queued frames discarded, as for injectBusOff); a successful frame subtracts 1,
+// error active again below 128. Every frame sent is recorded with the time its transmission completed, for
+// candump output and tests.
 #pragma once
 
 #include <cstddef>

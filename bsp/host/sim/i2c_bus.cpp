@@ -131,7 +131,8 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
   };
   // Accounts a target reply; false when the stretch exceeded the limit (the controller timed out).
   auto stretched = [&](fw::Duration stretch) {
-    const uint64_t sNs = (static_cast<uint64_t>(stretch.us) + (target != nullptr ? deviceStretch_.us : 0)) * 1000;
+    const uint64_t sNs =
+        (static_cast<uint64_t>(stretch.us) + (target != nullptr ? deviceStretch_.us : 0)) * 1000;
     if (sNs > limitNs) {
       ns += limitNs;
       text += " TIMEOUT";

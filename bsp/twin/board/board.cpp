@@ -120,8 +120,9 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
     // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text, at
     // 115 200 Bd. Its tolerance is not documented: half the margin of a 16x-oversampling receiver (sampling
     // mid-bit, 7/16 of a bit over the 9.5 bits to the stop bit: 4.6 %), the other half left to our clock.
-    chip_.uart(0).setLink({"XDS110 back-channel", 115200, 23000,
-                           "computed: half a 16x receiver's 4.6 % margin; bsp/twin/README.md open questions"});
+    chip_.uart(0).setLink(
+        {"XDS110 back-channel", 115200, 23000,
+         "computed: half a 16x receiver's 4.6 % margin; bsp/twin/README.md open questions"});
     chip_.uart(0).onTransmit([this](uint8_t byte) {
       ++uartBytes_;
       if (!chip_.pins().routed(kL1306Pa8, kPf2)) {
@@ -180,8 +181,8 @@ void Board::wireI2cMonitor() {
   chip_.i2c0().attach(i2cAddress_, *line_);
   // BQ76952: "supports rates up to 400 kHz" (SLUSE13B 14, I2C Communications Subsystem); the BQ7690x data
   // sheet (SLUSE97) gives the same 400 kHz maximum.
-  chip_.i2c0().setTargetRange(i2cAddress_, {image_.family == Family::Bq76907 ? "BQ76907" : "BQ76952", 1, 400000,
-                                            "SLUSE13B 14 / SLUSE97: I2C up to 400 kHz"});
+  chip_.i2c0().setTargetRange(i2cAddress_, {image_.family == Family::Bq76907 ? "BQ76907" : "BQ76952", 1,
+                                            400000, "SLUSE13B 14 / SLUSE97: I2C up to 400 kHz"});
   // ALERT: the line as the device's ALERT Pin Config drives it (the emulator's alertLine()); where it drives
   // nothing or high, the MCU's own pull-up must make the high (an input left floating is a twin warning).
   signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;
@@ -252,7 +253,7 @@ void Board::noteChainByte(uint8_t byte) {
 
 void Board::wireCan() {
   chip_.mcan()->onFrame([this](const CanWireFrame& f) { canFrames_.push_back(f); });
-  chip_.mcan()->setBus(500000);  // the product's CAN bus (README "The five images")
+  chip_.mcan()->setBus(500000);                       // the product's CAN bus (README "The five images")
   chip_.pins().setExternal(kG3507Pa13, Drive::High);  // the transceiver's RXD: recessive while idle
 }
 

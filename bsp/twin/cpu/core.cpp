@@ -219,6 +219,7 @@ void Core::bxWritePc(uint32_t address) {
 
 void Core::takeException(int exception, uint32_t returnAddress) {
   // PushStack (B1.5.6): eight words on the stack in use, 8-byte aligned, xPSR bit 9 records the padding.
+  if (ipsr_ == 0) handlerStackTop_ = msp_;
   const bool threadPsp = ipsr_ == 0 && spsel_;
   uint32_t& sp = threadPsp ? psp_ : msp_;
   const uint32_t padding = (sp >> 2) & 1U;

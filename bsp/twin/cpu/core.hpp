@@ -99,6 +99,9 @@ class Core {
   // Critical sections entered so far: +1 each time PRIMASK goes from 0 to 1 (CPSID, MSR). Two accesses with
   // PRIMASK set and the same count lie in one unbroken section.
   uint32_t maskSections() const { return maskSections_; }
+  // MSP when the outermost exception now active was taken, before its frame: handlers' own stack lies
+  // below it (the data-race rule tells their locals from the Thread's data, race_watch.hpp).
+  uint32_t handlerStackTop() const { return handlerStackTop_; }
   uint32_t ipsr() const { return ipsr_; }
   bool handlerMode() const { return ipsr_ != 0; }
   uint32_t control() const { return (spsel_ ? 2U : 0U) | (npriv_ ? 1U : 0U); }
@@ -132,6 +135,7 @@ class Core {
   SramWatch* watch_ = nullptr;
   bool stacking_ = false;  // exception entry or return moves the frame: not an instruction's access
   uint32_t maskSections_ = 0;
+  uint32_t handlerStackTop_ = 0;
   const uint8_t* flash_ = nullptr;
   uint32_t flashSize_ = 0;
   uint8_t* sram_ = nullptr;

@@ -80,28 +80,33 @@ uint32_t I2c::sclHz() const {
 void I2c::checkWire(uint8_t address7) {
   char buf[200];
   const uint32_t tpr = mtpr_ & 0x7F, scl = sclHz();
-  if (tpr == 0 || scl > 1000000) {
-    std::snprintf(buf, sizeof buf,
-                  "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) is outside the controller's own range (TPR 1..127, at "
-                  "most 1 MHz Fast-mode Plus)",
-                  name(), scl, tpr, clock_.divider());
-    machine_.violate(Rule::I2cTpr, buf);
-    return;
-  }
+  // The device's range first (it names the partner that would misread the bus), then the controller's own.
   auto range = ranges_.find(address7);
-  if (range == ranges_.end()) return;
-  const TargetRange& r = range->second;
-  if (scl < r.minHz || scl > r.maxHz) {
-    std::snprintf(buf, sizeof buf, "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) to the %s, which accepts %u..%u Hz (%s)",
-                  name(), scl, tpr, clock_.divider(), r.device.c_str(), r.minHz, r.maxHz, r.source.c_str());
-    machine_.violate(Rule::I2cScl, buf);
+  if (tpr != 0 && range != ranges_.end()) {
+    const TargetRange& r = range->second;
+    if (scl < r.minHz || scl > r.maxHz) {
+      std::snprintf(buf, sizeof buf,
+                    "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) to the %s, which accepts %u..%u Hz (%s)", name(),
+                    scl, tpr, clock_.divider(), r.device.c_str(), r.minHz, r.maxHz, r.source.c_str());
+      machine_.violate(Rule::I2cScl, buf);
+      return;
+    }
+  }
+  if (tpr == 0 || scl > 1000000) {
+    std::snprintf(
+        buf, sizeof buf,
+        "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) is outside the controller's own range (TPR 1..127, at "
+        "most 1 MHz Fast-mode Plus)",
+        name(), scl, tpr, clock_.divider());
+    machine_.violate(Rule::I2cTpr, buf);
   }
 }
 
 bool I2c::checkStretch(uint64_t stretchCycles, const char* byte) {
   if (stretchCycles == 0 || (mcr_ & kMcrClkStretch) != 0) return true;
-  machine_.violate(Rule::I2cClockStretch, name() + std::string(": the target stretched SCL on ") + byte +
-                                              " with MCR.CLKSTRETCH clear: the controller does not wait for it");
+  machine_.violate(Rule::I2cClockStretch,
+                   name() + std::string(": the target stretched SCL on ") + byte +
+                       " with MCR.CLKSTRETCH clear: the controller does not wait for it");
   return false;
 }
 
@@ -539,7 +544,8 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       const uint32_t cleared = mfifoctl_ & ~value & (kTxFlush | kRxFlush);
       if (cleared != 0 && !flushSeenDone_) {
         machine_.violate(Rule::I2cFlush,
-                         name() + std::string(": MFIFOCTL.") + ((cleared & kTxFlush) ? "TXFLUSH" : "RXFLUSH") +
+                         name() + std::string(": MFIFOCTL.") +
+                             ((cleared & kTxFlush) ? "TXFLUSH" : "RXFLUSH") +
                              " cleared before MFIFOSR showed the flush complete (TXFIFOCNT 8 / RXFIFOCNT 0)");
         return true;
       }
@@ -554,8 +560,9 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       return true;
     case kMtxdata:
       if (mfifoctl_ & kTxFlush) {
-        machine_.violate(Rule::I2cFlush, name() + std::string(": MTXDATA written while MFIFOCTL.TXFLUSH is set: "
-                                                              "the flush goes on and the byte is lost"));
+        machine_.violate(Rule::I2cFlush,
+                         name() + std::string(": MTXDATA written while MFIFOCTL.TXFLUSH is set: "
+                                              "the flush goes on and the byte is lost"));
         return true;
       }
       if (tx_.size() >= kFifoDepth) {

@@ -35,15 +35,16 @@
 // stretches SCL on any byte (address, written or read) with MCR.CLKSTRETCH clear (rules.hpp I2C-CLKSTRETCH).
 // MFIFOCTL.TXFLUSH/RXFLUSH (rules.hpp I2C-FLUSH): "Setting this bit will Flush the TX FIFO. Before clearing
 // this bit to stop Flush the TXFIFOCNT should be checked to be 8 and indicating that the Flush has completed"
-// and MFIFOSR.TXFLUSH "When this bit is set a Flush operation for the TX FIFO is active. Clear the TXFLUSH bit
-// in the control register to stop" (hw_i2c.h; the same for RX with RXFIFOCNT = 0): a flush empties its FIFO
-// one functional clock after it is set and goes on while the bit stays set, so a byte written to MTXDATA or a
-// burst started meanwhile is lost (stop); clearing the bit before an MFIFOSR read has shown the FIFO flushed
-// stops the run too (DL_I2C_flushControllerTXFIFO polls the same way).
+// and MFIFOSR.TXFLUSH "When this bit is set a Flush operation for the TX FIFO is active. Clear the TXFLUSH
+// bit in the control register to stop" (hw_i2c.h; the same for RX with RXFIFOCNT = 0): a flush empties its
+// FIFO one functional clock after it is set and goes on while the bit stays set, so a byte written to MTXDATA
+// or a burst started meanwhile is lost (stop); clearing the bit before an MFIFOSR read has shown the FIFO
+// flushed stops the run too (DL_I2C_flushControllerTXFIFO polls the same way).
 //
-// Wire agreement (rules.hpp): at every START the SCL the settings give, f_func / ((1 + TPR) x 10), must lie in
-// the addressed device's range (setTargetRange: the board's device's data sheet) and within the controller's
-// own limits (TPR 1..127, hw_i2c.h MTPR; at most 1 MHz, Fast-mode Plus); SDA and SCL need INENA (PIN-INENA).
+// Wire agreement (rules.hpp): at every START the SCL the settings give, f_func / ((1 + TPR) x 10), must lie
+// in the addressed device's range (setTargetRange: the board's device's data sheet) and within the
+// controller's own limits (TPR 1..127, hw_i2c.h MTPR; at most 1 MHz, Fast-mode Plus); SDA and SCL need INENA
+// (PIN-INENA).
 //
 // Lines held by a device (the board drives the pin low, bms-sim's stuck-scl / stuck-sda): a START with SCL
 // low waits for it, with the clock-low timeout running; a START with SDA low loses arbitration (MARBLOST; the

@@ -114,18 +114,20 @@ void Mcan::checkWire() {
                            static_cast<int64_t>(busBitRate_);
   char buf[240];
   if (static_cast<uint64_t>(errorPpm < 0 ? -errorPpm : errorPpm) > df) {
-    std::snprintf(buf, sizeof buf,
-                  "CANFD0: nominal bit rate %llu bit/s (NBTP 0x%08X: BRP %llu, %llu tq, CANCLK %u Hz /%llu) on a "
-                  "%u bit/s bus: %+.2f %%, beyond the +-%.2f %% its bit timing tolerates",
-                  static_cast<unsigned long long>(rate), nbtp_, static_cast<unsigned long long>(brp),
-                  static_cast<unsigned long long>(nbt), kCanClockHz, static_cast<unsigned long long>(div),
-                  busBitRate_, static_cast<double>(errorPpm) / 1e4, static_cast<double>(df) / 1e4);
+    std::snprintf(
+        buf, sizeof buf,
+        "CANFD0: nominal bit rate %llu bit/s (NBTP 0x%08X: BRP %llu, %llu tq, CANCLK %u Hz /%llu) on a "
+        "%u bit/s bus: %+.2f %%, beyond the +-%.2f %% its bit timing tolerates",
+        static_cast<unsigned long long>(rate), nbtp_, static_cast<unsigned long long>(brp),
+        static_cast<unsigned long long>(nbt), kCanClockHz, static_cast<unsigned long long>(div), busBitRate_,
+        static_cast<double>(errorPpm) / 1e4, static_cast<double>(df) / 1e4);
     machine_.violate(Rule::CanBitRate, buf);
     return;
   }
   const uint64_t samplePermille = 1000 * (1 + tseg1) / nbt;
   if (samplePermille + 50 < 875 || samplePermille > 875 + 50) {
-    std::snprintf(buf, sizeof buf, "CANFD0: sample point %.1f %% (NBTP 0x%08X), more than 5 points from 87.5 %%",
+    std::snprintf(buf, sizeof buf,
+                  "CANFD0: sample point %.1f %% (NBTP 0x%08X), more than 5 points from 87.5 %%",
                   static_cast<double>(samplePermille) / 10.0, nbtp_);
     machine_.violate(Rule::CanSamplePoint, buf);
   }

@@ -15,7 +15,8 @@
 //   hw_sysctl RESETLEVEL_LEVEL_*, the same values in mspm0-sdk dl_sysctl_mspm0{l11xx_l13xx,g1x0x_g3x0x}.h
 //   DL_SYSCTL_RESET_BOOTLOADER_ENTRY/EXIT). Levels 2 and 4 leave their request for the boot code
 //   (bsl/boot_code.hpp, takeBootRequest()), which the reset runs; 5..7 are undefined and stop the run.
-// - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT, HFCLKCLKCFG.HFXTRSEL
+// - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT,
+// HFCLKCLKCFG.HFXTRSEL
 //   must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1 8..16, 2 16..32, 3 32..48
 //   MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
 // Registers the images do not use are not modelled: an access stops the run.

@@ -113,12 +113,13 @@ void Uart::checkLink() {
   const int64_t errorPpm = (actual64 - target64) * 1000000 / target64;
   if (errorPpm <= tolerance && errorPpm >= -tolerance) return;
   char buf[240];
-  std::snprintf(buf, sizeof buf,
-                "%s: %.0f Bd (IBRD %u, FBRD %u, %dx oversampling, CLKDIV /%u) against the %s's %u Bd: %+.2f %%, "
-                "beyond the +-%.2f %% the receivers allow (%s)",
-                name(), static_cast<double>(actual64) / 64.0, ibrd_ & 0xFFFF, fbrd_ & 0x3F,
-                static_cast<int>(oversampling), clock_.divider(), link_.partner.c_str(), link_.baud,
-                static_cast<double>(errorPpm) / 1e4, static_cast<double>(tolerance) / 1e4, link_.source.c_str());
+  std::snprintf(
+      buf, sizeof buf,
+      "%s: %.0f Bd (IBRD %u, FBRD %u, %dx oversampling, CLKDIV /%u) against the %s's %u Bd: %+.2f %%, "
+      "beyond the +-%.2f %% the receivers allow (%s)",
+      name(), static_cast<double>(actual64) / 64.0, ibrd_ & 0xFFFF, fbrd_ & 0x3F,
+      static_cast<int>(oversampling), clock_.divider(), link_.partner.c_str(), link_.baud,
+      static_cast<double>(errorPpm) / 1e4, static_cast<double>(tolerance) / 1e4, link_.source.c_str());
   machine_.violate(Rule::UartBaud, buf);
 }
 
