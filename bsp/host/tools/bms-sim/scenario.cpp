@@ -32,7 +32,10 @@ enum class Arg : uint8_t {
   CellRate,
   TempRate,
   OnOff,
-  Fault
+  Fault,
+  StretchUs,
+  Ppm,
+  Count
 };
 
 struct ArgSpec {
@@ -42,7 +45,7 @@ struct ArgSpec {
 };
 
 const ArgSpec& spec(Arg a) {
-  static const std::array<ArgSpec, 10> specs = {{
+  static const std::array<ArgSpec, 13> specs = {{
       {"<board>", "a board number", {0, 63}},
       {"<cell>", "a cell number", {1, 16}},
       {"<sensor>", "a sensor number", {1, 3}},
@@ -53,6 +56,9 @@ const ArgSpec& spec(Arg a) {
       {"<deciK_per_s>", "a temperature drift in 0.1 K/s", {-2050, 2050}},
       {"on|off", "on or off", {0, 1}},
       {"<fault>|any", "a fault name", {0, 0}},
+      {"<us>", "a stretch in us", {0, 100000}},
+      {"<ppm>", "a bit error rate in ppm", {0, 1000000}},
+      {"<count>", "a number of frames", {1, 1000}},
   }};
   return specs[static_cast<size_t>(a)];
 }
@@ -64,7 +70,7 @@ struct ActionSpec {
   uint8_t count;
 };
 
-constexpr std::array<ActionSpec, 12> kActions = {{
+constexpr std::array<ActionSpec, 17> kActions = {{
     {"current", Action::Current, {Arg::CurrentMa}, 1},
     {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
     {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
@@ -77,6 +83,11 @@ constexpr std::array<ActionSpec, 12> kActions = {{
     {"intermittent", Action::Intermittent, {Arg::OnOff}, 1},
     {"bus-off", Action::BusOff, {}, 0},
     {"expect", Action::Expect, {Arg::Fault}, 1},  // and an optional limit
+    {"stretch", Action::Stretch, {Arg::StretchUs}, 1},
+    {"stuck-scl", Action::StuckScl, {}, 0},
+    {"stuck-sda", Action::StuckSda, {}, 0},
+    {"uart-noise", Action::UartNoise, {Arg::Ppm}, 1},
+    {"can-error-frames", Action::CanErrorFrames, {Arg::Count}, 1},
 }};
 
 // The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
@@ -451,6 +462,16 @@ bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t du
     if (currentStep && !shape.hasCurrent) {
       diag.warnings.push_back(where(st, 1) +
                               ": warning: this image measures no current: the step does nothing");
+    }
+    const bool i2cStep =
+        st.action == Action::Stretch || st.action == Action::StuckScl || st.action == Action::StuckSda;
+    const char* missing = i2cStep && !shape.i2c                               ? "no I2C device"
+                          : st.action == Action::UartNoise && !shape.uart     ? "no UART link to its monitor"
+                          : st.action == Action::CanErrorFrames && !shape.can ? "no CAN bus"
+                                                                              : nullptr;
+    if (missing != nullptr) {
+      diag.warnings.push_back(where(st, 1) + ": warning: this image has " + missing +
+                              ": the step does nothing");
     }
   }
   return true;

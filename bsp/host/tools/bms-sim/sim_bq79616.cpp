@@ -55,6 +55,10 @@ class Bq79616Sim final : public ImageSim {
     return true;
   }
   std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
+  // Device faults (scenario.hpp), as the twin's board has them (bsp/twin/board/board.hpp).
+  FaultLinks faultLinks() const override { return {false, true, true}; }
+  void uartNoise(uint32_t ppm) override { board_.uart.noise().setPpm(ppm); }
+  void canErrorFrames(uint32_t attempts) override { board_.can.injectErrorFrames(attempts); }
   bool sendsTiLayout() const override {
     return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;
   }
