@@ -1,4 +1,5 @@
-// Target fault handling: fw::onFault, HardFault_Handler, unexpected interrupts and abort().
+// Target fault handling: fw::onFault, HardFault_Handler, unexpected interrupts and abort(); the start-up
+// report (fault.hpp).
 #include "fault.hpp"
 
 #include "mmio.hpp"
@@ -37,7 +38,7 @@ void unexpectedInterrupt() {
   recordAndReset(fw::Module::Bsp, static_cast<uint16_t>(0xF000 | (ipsr & 0x3F)));
 }
 
-FaultRecord takeFaultRecord() {
+StartupReport takeStartupReport(uint8_t resetCause) {
   FaultRecord record;
   const uint32_t moduleLine = gRecord.moduleLine;
   if ((moduleLine ^ kRecordCheck) == gRecord.check) {
@@ -45,8 +46,8 @@ FaultRecord takeFaultRecord() {
     record.module = static_cast<fw::Module>(moduleLine >> 16);
     record.line = static_cast<uint16_t>(moduleLine);
   }
-  gRecord.check = ~(moduleLine ^ kRecordCheck);
-  return record;
+  gRecord.check = ~(moduleLine ^ kRecordCheck);  // taken: the next run starts without it
+  return startupReport(resetCause, record);
 }
 
 }  // namespace bsp::mspm0

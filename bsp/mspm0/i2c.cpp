@@ -41,7 +41,10 @@ void I2cController::configure() {
   clock.clksel.write(i2c::kClkselBusclk);
   clock.clkdiv.write(config_.timing.clkdivRatio);
   i2c::Controller& r = i2c::controller(config_.base);
-  r.gfctl.write(i2c::kGfctlAnalog50ns);  // the 50 ns spike filter I2C fast mode asks for
+  // GFCTL keeps its reset value 0: no glitch filter, as TI's I2C controller and bq769x2 examples
+  // (DL_I2C_disableAnalogGlitchFilter) and TI's Zephyr driver leave it. The analog filter (AGFEN) alone
+  // would not even be in the path: without GFCTL.CHAIN only the digital filter's output reaches the
+  // controller (hw_i2c.h GFCTL.CHAIN), and TI documents no example that chains them (README, choices).
   r.mtpr.write(config_.timing.tpr);
   r.mfifoctl.write(kFifoTriggers);
   r.timeoutCtl.write(i2c::kTimeoutAEnable | config_.timing.timeoutCount);
@@ -123,10 +126,10 @@ void I2cController::beginRead() {
                    (block ? i2c::kIntRxDone : 0));
   r.msa.write((static_cast<uint32_t>(t.address) << 1) | i2c::kMsaRead);
   if (block) {
-    // The count byte alone, with the ACK override: the controller raises RXDONE and waits at its ACK
-    // (blockReadAck decides).
+    // The count byte alone, ACKed, no STOP: the controller keeps the bus and raises RXDONE (blockCount()
+    // continues the read).
     phase_ = Phase::BlockCount;
-    r.mctr.write((1U << i2c::kMctrLenShift) | i2c::kMctrAckOverride | i2c::kMctrBurstRun | i2c::kMctrStart);
+    r.mctr.write((1U << i2c::kMctrLenShift) | i2c::kMctrAck | i2c::kMctrBurstRun | i2c::kMctrStart);
     return;
   }
   phase_ = Phase::Read;
@@ -135,40 +138,38 @@ void I2cController::beginRead() {
   r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStart | i2c::kMctrStop);
 }
 
-// RXDONE of a block read: the controller holds the last byte of its burst (MCTR.MACKOEN) and waits at its
-// ACK for the next MCTR write, which sends ACK or NACK and may carry on with new MBLEN/BURSTRUN/STOP
-// ("The ACK or NACK is selected by writing the MCTR register and setting ACK accordingly. The other fields
-// in this register can also be written at this time to continue on with the transaction. If a NACK is sent
-// the state machine will automatically send a Stop": hw_i2c.h MCTR.MACKOEN, the same text in dl_i2c.h
-// DL_I2C_enableControllerACKOverride; a burst without START continues the receive, SLAU846A controller
-// transfer table). The order - count byte first, then N data bytes plus the PEC without a new START, PECCNT
-// rewritten to N + 1 in between - is that of TI's SMBus library (smbus_nwk.c
-// SMBus_NWK_startRxTransfer / SMBus_NWK_startRxBlockPayloadTransfer). MACKOEN stays set (driverlib
-// updates MCTR around it), so the last data byte waits too and is NACKed here: ACK = 1 would otherwise
-// acknowledge it before the STOP (hw_i2c.h MCTR.ACK).
-void I2cController::blockReadAck() {
+// RXDONE after a block read's count byte. The sequence is TI's SMBus library's (mspm0-sdk source/ti/smbus
+// smbus_nwk.c SMBus_NWK_startRxTransfer / SMBus_NWK_startRxBlockPayloadTransfer, smbus_phy.c
+// SMBus_PHY_controllerStartRx): the count byte was read alone with MBLEN 1, ACK = 1 and no STOP, so the
+// controller acknowledged it and keeps the bus; a burst without START now continues the receive (SLAU846A
+// I2C controller transfer table: a burst without START continues the receive), N data bytes plus the PEC
+// with PECCNT rewritten to N + 1 in between (a PECCTL write clears the byte count, not the CRC: hw_i2c.h
+// CONTROLLER_I2CPECCTL.PECCNT), the last byte NACKed (ACK = 0) and STOP. A count of 0 or one that does not
+// fit the buffer was already acknowledged, so the target sends on: one more byte is read and NACKed before
+// the STOP, which ends the read the way I2C requires (UM10204 3.1.6) where TI's library sends a bare STOP:
+// Length, readCount 1. The controller ACK override (MCTR.MACKOEN) is not used: no TI example or library
+// does (README, open questions).
+void I2cController::blockCount() {
   i2c::Controller& r = i2c::controller(config_.base);
   I2cTransaction& t = current();
-  drainRx();
-  if (phase_ == Phase::BlockCount) {
-    const uint32_t count = t.read[0];
-    if (t.readCount == 1 && count != 0 && count <= rxLeft_) {
-      rxLeft_ = static_cast<uint16_t>(count);
-      const uint32_t pec = t.pec ? 1 : 0;
-      // Any write clears the PEC byte count, not the CRC (hw_i2c.h CONTROLLER_I2CPECCTL.PECCNT).
-      if (pec) r.pecctl.write(i2c::kPecEnable | (count + 1));
-      phase_ = Phase::BlockData;
-      r.mctr.write(((count + pec) << i2c::kMctrLenShift) | i2c::kMctrAckOverride | i2c::kMctrAck |
-                   i2c::kMctrBurstRun);
-      return;
-    }
-    result_ = Status::Length;
+  // I2C_ERR_08 (SLAZ741/SLAZ742): at RXDONE the RX FIFO may not hold the byte yet ("wait 2 I2C CLK cycles");
+  // its count is polled, bounded, instead of being read at once.
+  for (uint32_t poll = 0; poll < kFlushPolls && (r.mfifosr.read() & i2c::kFifoRxCountMask) == 0; ++poll) {
   }
-  // A wrong PEC byte is NACKed by the hardware itself, which then sends STOP (hw_i2c.h
-  // CONTROLLER_I2CPECCTL.PECEN): nothing to write then (MPEC_RX_ERR comes with RXDONE, after the byte).
-  if (result_ == Status::Pec) return;
-  // NACK the byte held (a count that does not fit, or the last of the block); STOP follows by itself.
-  r.mctr.write(i2c::kMctrAckOverride | i2c::kMctrBurstRun | i2c::kMctrStop);
+  drainRx();
+  const uint32_t count = t.read[0];
+  uint32_t length = 1;  // a count that does not fit: the byte after it, NACKed
+  if (t.readCount == 1 && count != 0 && count <= rxLeft_) {
+    rxLeft_ = static_cast<uint16_t>(count);
+    const uint32_t pec = t.pec ? 1 : 0;
+    if (pec) r.pecctl.write(i2c::kPecEnable | (count + 1));
+    length = count + pec;
+  } else {
+    result_ = Status::Length;
+    rxLeft_ = 0;  // the extra byte is not stored
+  }
+  phase_ = Phase::BlockData;
+  r.mctr.write((length << i2c::kMctrLenShift) | i2c::kMctrBurstRun | i2c::kMctrStop);
 }
 
 // Empties both FIFOs (bytes a NACKed or aborted transfer left behind) the way the TRM asks: set the flush
@@ -252,8 +253,8 @@ void I2cController::onInterrupt() {
     complete(result_);
     return;
   }
-  if (kI2cPec && (pending & i2c::kIntRxDone) && phase_ >= Phase::BlockCount) {
-    blockReadAck();
+  if (kI2cPec && (pending & i2c::kIntRxDone) && phase_ == Phase::BlockCount) {
+    blockCount();
     return;
   }
   if ((pending & i2c::kIntTxDone) && phase_ == Phase::Write && result_ == Status::Ok &&

@@ -26,11 +26,11 @@
 //   before a transaction when SDA is found low on an idle bus.
 // - ArbitrationLost: another controller won the bus (the hardware has released it).
 // - Pec: with `pec` set, the hardware PEC check of the received PEC byte failed (MPEC_RX_ERR).
-// - SMBus block read (blockRead, in builds with PEC): the count byte is read alone with the controller ACK
-//   override (MCTR.MACKOEN), so the controller stops before acknowledging it and raises RXDONE. The ISR
-//   reads the count; one that fits the buffer is acknowledged by the MCTR write that asks for the N data
-//   bytes (and the PEC), the last of which waits again at its ACK and is NACKed with STOP; a count of 0 or
-//   one that does not fit is NACKed with STOP at once: Length, readCount 1.
+// - SMBus block read (blockRead, in builds with PEC), TI's SMBus library's sequence: the count byte is read
+//   alone and ACKed without STOP (the controller keeps the bus and raises RXDONE); the ISR reads the count
+//   and continues the receive without a new START for the N data bytes (and the PEC), the last NACKed,
+//   then STOP. A count of 0 or one that does not fit the buffer ends with one more byte NACKed and STOP:
+//   Length, readCount 1.
 // - Hardware PEC: PECCNT counts every data byte of the transaction (not the address bytes, which the CRC
 //   still covers) through the repeated START, up to and including the PEC byte; a write appends a dummy
 //   byte that the hardware replaces with the PEC (i2c_v1 CONTROLLER_I2CPECCTL description).
@@ -84,12 +84,12 @@ class I2cController final : public fw::hal::I2cBus {
   bool recoverBus();
   void startTransaction();
   void beginRead();
-  void blockReadAck();
+  void blockCount();
   void flushFifos();
   void fillTx();
   void drainRx();
   void complete(fw::Status status);
-  inline void finish();  // inline (.cpp): one caller, complete(), folds it in
+  inline void finish();
   // The transaction in progress (the list's only one in a build without lists).
   fw::hal::I2cTransaction& current() const { return list_[kI2cLists ? index_ : 0]; }
 

@@ -15,7 +15,8 @@ Machine::Machine(const MemoryLayout& layout)
       flash_(layout.flashSize, 0xFF),
       sram_(layout.sramSize, 0),
       core_(map_, nvic_),
-      scs_(core_, nvic_, timeline_, [this] { requestReset(ResetKind::Sysrst, "AIRCR.SYSRESETREQ"); }) {
+      scs_(core_, nvic_, timeline_,
+           [this] { requestReset(ResetKind::Sysrst, "AIRCR.SYSRESETREQ", rstcause::kCpuSoftware); }) {
   core_.setFlash(flash_.data(), layout.flashSize);
   core_.setSram(sram_.data(), layout.sramBase, layout.sramSize);
   core_.setObserver(this);
@@ -32,17 +33,19 @@ bool Machine::loadFlash(const std::vector<uint8_t>& image) {
 }
 
 void Machine::powerOn() {
-  reset(ResetKind::Por, "power-on");
+  reset(ResetKind::Por, "power-on", rstcause::kPorSupply);
 }
 
-void Machine::requestReset(ResetKind kind, const std::string& cause) {
+void Machine::requestReset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   if (pendingReset_ && *pendingReset_ >= kind) return;
   pendingReset_ = kind;
   pendingResetCause_ = cause;
+  pendingCauseId_ = causeId;
 }
 
-void Machine::reset(ResetKind kind, const std::string& cause) {
+void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   pendingReset_.reset();
+  if (causeId != 0 && (resetCause_ == 0 || causeId < resetCause_)) resetCause_ = causeId;
   if (kind != ResetKind::Sysrst) {
     // SRAM content is undefined after power-up / BOOTRST: a fixed pseudo-random pattern keeps runs repeatable
     // and makes code that reads uninitialised memory visible.
@@ -260,7 +263,7 @@ void Machine::fireDue() {
 
 void Machine::run(uint64_t endCycle) {
   while (!core_.halted() && now() < endCycle) {
-    if (pendingReset_) reset(*pendingReset_, pendingResetCause_);
+    if (pendingReset_) reset(*pendingReset_, pendingResetCause_, pendingCauseId_);
     fireDue();
     if (core_.halted()) break;
     const uint64_t horizon = std::min({endCycle, timeline_.next(), worldNext()});
@@ -289,7 +292,7 @@ void Machine::run(uint64_t endCycle) {
     }
   }
   if (!core_.halted()) fireDue();
-  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_);
+  if (pendingReset_ && !core_.halted()) reset(*pendingReset_, pendingResetCause_, pendingCauseId_);
 }
 
 }  // namespace twin

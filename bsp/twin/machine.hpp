@@ -49,6 +49,20 @@ struct MemoryLayout {
 
 enum class ResetKind : uint8_t { Sysrst, Bootrst, Por };
 
+// SYSCTL RSTCAUSE.ID of the resets the twin performs (hw_sysctl_*.h SYSCTL_RSTCAUSE_ID_*; SLAU846B Table 2-12
+// / SLAU847D Table 2-9 give each cause's reset level: 0x01..0x03 POR, 0x0C..0x0E BOOTRST, 0x10..0x1B SYSRST,
+// 0x1C..0x1D CPURST).
+namespace rstcause {
+inline constexpr uint8_t kPorSupply = 0x01;  // VDD < POR- (power-on)
+inline constexpr uint8_t kPorSoftware = 0x03;
+inline constexpr uint8_t kBootSoftware = 0x0D;
+inline constexpr uint8_t kBootWwdt0 = 0x0E;  // "WWDT0 violation" (a BOOTRST: SLAU846B/SLAU847D WWDT overview)
+inline constexpr uint8_t kSysBslExit = 0x10;   // RESETLEVEL 4, "BSL exit"
+inline constexpr uint8_t kSysBslEntry = 0x11;  // RESETLEVEL 2, "BSL entry"
+inline constexpr uint8_t kSysSoftware = 0x1B;
+inline constexpr uint8_t kCpuSoftware = 0x1D;  // AIRCR.SYSRESETREQ: a CPU-only reset (SLAU893B 2.4.x)
+}  // namespace rstcause
+
 struct InterruptFigures {
   uint64_t entries = 0;
   uint64_t worstLatencyCycles = 0;
@@ -73,10 +87,18 @@ class Machine final : public CoreObserver {
   // Power-on reset: SRAM filled with a pattern (its content is undefined at power-up), every model reset.
   void powerOn();
   // A reset of the given level (SLAU846B Table 2-12 / SLAU847D Table 2-9): every peripheral and the CPU;
-  // SRAM keeps its content on SYSRST and is lost on BOOTRST and POR. `cause` is logged.
-  void reset(ResetKind kind, const std::string& cause);
+  // SRAM keeps its content on SYSRST and is lost on BOOTRST and POR. `cause` is logged; `causeId` is the
+  // RSTCAUSE.ID it leaves for the firmware (rstcause::*, 0: none).
+  void reset(ResetKind kind, const std::string& cause, uint8_t causeId = 0);
   // The same from a model (a register write, a watchdog event): done before the next instruction.
-  void requestReset(ResetKind kind, const std::string& cause);
+  void requestReset(ResetKind kind, const std::string& cause, uint8_t causeId = 0);
+  // RSTCAUSE.ID: the lowest-level cause of the resets since it was last taken (the lowest ID: the IDs rise
+  // with the level), and 0 once taken: "always cleared upon a read" (SLAU846B, text above Table 2-12).
+  uint8_t takeResetCause() {
+    const uint8_t id = resetCause_;
+    resetCause_ = 0;
+    return id;
+  }
 
   void attachWorld(bsp::host::SimClock& clock) { world_ = &clock; }
   // Brings the world clock up to the CPU's time now (from a register access, outside any world event), so
@@ -167,6 +189,8 @@ class Machine final : public CoreObserver {
   std::array<std::function<bool()>, 32> irqArmed_{};
   Profiler* profiler_ = nullptr;
   bool enteredException_ = false;  // the step just taken was an exception entry (profiler)
+  uint8_t pendingCauseId_ = 0;
+  uint8_t resetCause_ = 0;
 };
 
 }  // namespace twin

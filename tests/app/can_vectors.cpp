@@ -45,6 +45,13 @@ int main() {
   print("native", s.pack(),
         "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=1 DischargeFet=0 FaultOutput=1 DataValid=0 "
         "Counter=9 ActiveFaults=512");
+  s.chargeFet = 3;  // nothing confirms the paths (comm loss)
+  s.dischargeFet = 3;
+  s.activeFaults = 0x0900;  // utc, comm_loss
+  print(
+      "native", s.pack(),
+      "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=na DischargeFet=na FaultOutput=1 DataValid=0 "
+      "Counter=9 ActiveFaults=2304");
 
   CellExtremes e;
   e.maxCellVoltage = 4201;
@@ -113,5 +120,21 @@ int main() {
   ti.vCell[2] = 0x16B4;
   ti.vCell[3] = -1;
   print("ti", ti.pack(), "VCell1=1.11081152 VCell2=1.1100486 VCell3=1.10852276 VCell4=-0.00019073");
+
+  // Startup goes out in either layout, so both DBCs decode it.
+  Startup up;
+  up.resetCause = 0x1B;  // software SYSRST: the fault record survived
+  up.firmwareMajor = 0;
+  up.firmwareMinor = 1;
+  up.firmwarePatch = 0;
+  up.faultModule = 30;
+  up.faultLine = 0xFFFE;
+  print("native", up.pack(),
+        "ResetCause=27 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=30 FaultLine=65534");
+  up.resetCause = 0x0E;  // WWDT0: a BOOTRST, nothing survived
+  up.faultModule = Startup::kFaultModuleNotAvailable;
+  up.faultLine = Startup::kFaultLineNotAvailable;
+  print("ti", up.pack(),
+        "ResetCause=14 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=na FaultLine=na");
   return 0;
 }

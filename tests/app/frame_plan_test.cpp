@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/publish/frame_plan.hpp"
+#include "app/version.hpp"
 #include "can/bms.hpp"
 
 namespace {
@@ -270,17 +271,31 @@ TEST(FramePlan, AnOpenSenseWireMarksTheTwoCellsBesideIt) {
   EXPECT_EQ(bms::PackSummary::unpack(frames[0]).packVoltage, kNa);
 }
 
-TEST(FramePlan, OpenWirePatternNeedsBothAHighAndALowReading) {
+// An open wire shows as two neighbours too far apart, or one reading below the plausibility floor (500 mV):
+// the bottom and top taps have no neighbour beyond them, and a 0 mV reading is never a cell voltage.
+TEST(FramePlan, OpenWireIsAPairTooFarApartOrAReadingBelowTheFloor) {
   const int16_t normal[4] = {3700, 4300, 3700, 3700};
   EXPECT_EQ(fw::app::openWireCells(normal, 4), 0);
-  const int16_t empty[4] = {3700, 0, 3700, 3700};  // a flat cell is a cell_uv matter
-  EXPECT_EQ(fw::app::openWireCells(empty, 4), 0);
+  const int16_t flat[4] = {3700, 501, 3700, 3700};  // a deeply discharged cell is a cell_uv matter
+  EXPECT_EQ(fw::app::openWireCells(flat, 4), 0);
+  const int16_t empty[4] = {3700, 0, 3700, 3700};  // below the floor: not a cell voltage
+  EXPECT_EQ(fw::app::openWireCells(empty, 4), 0b0010);
+  const int16_t bottom[4] = {0, 3700, 3700, 3700};  // VC0 open (SLUSF21: its current source pulls it up)
+  EXPECT_EQ(fw::app::openWireCells(bottom, 4), 0b0001);
+  const int16_t top[4] = {3700, 3700, 3700, 499};  // the top tap open: its node drained
+  EXPECT_EQ(fw::app::openWireCells(top, 4), 0b1000);
+  const int16_t negative[4] = {3700, 3700, -40, 3700};
+  EXPECT_EQ(fw::app::openWireCells(negative, 4), 0b0100);
   const int16_t below[4] = {3700, 7400, 0, 3700};  // bms-sim's model: the cell below the open tap reads both
   EXPECT_EQ(fw::app::openWireCells(below, 4), 0b0110);
   const int16_t above[4] = {0, 6250, 3700, 3700};  // or the other way round; BQ79616 full scale 6 250 mV
   EXPECT_EQ(fw::app::openWireCells(above, 4), 0b0011);
   const int16_t last[4] = {3700, 3700, 3700, 7400};  // beyond the board's cells: not looked at
   EXPECT_EQ(fw::app::openWireCells(last, 3), 0);
+  const int16_t beyond[4] = {3700, 3700, 3700, 0};
+  EXPECT_EQ(fw::app::openWireCells(beyond, 3), 0);
+  const int16_t one[1] = {0};
+  EXPECT_EQ(fw::app::openWireCells(one, 1), 0b1);
 }
 
 TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {
@@ -441,6 +456,64 @@ TEST(FramePlan, ASummaryThatNeverWentOutLeavesACounterGap) {
   EXPECT_EQ(summary(311), 3);
   EXPECT_TRUE(p.plan.beginFast()) << "its cycle is dropped: the 310 ms summary never went out";
   EXPECT_EQ(summary(410), 4) << "the receiver sees 2, then 4";
+}
+
+// The Startup message (bms.yaml Startup): once after announceStartup(), at the end of the next cycle's fast
+// part, so PackSummary keeps its time.
+TEST(FramePlan, StartupGoesOutOnceAfterTheNextFastPart) {
+  Pack p;
+  p.plan.announceStartup({0x0E, false, 0, 0});  // a WWDT0 reset: no fault record survived it
+  p.plan.beginFast();
+  const auto frames = p.drain(10);
+  EXPECT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x1F0}));
+  const auto u = bms::Startup::unpack(frames[2]);
+  EXPECT_EQ(u.resetCause, 0x0E);
+  EXPECT_EQ(u.firmwareMajor, fw::app::kFirmwareVersionMajor);
+  EXPECT_EQ(u.firmwareMinor, fw::app::kFirmwareVersionMinor);
+  EXPECT_EQ(u.firmwarePatch, fw::app::kFirmwareVersionPatch);
+  EXPECT_EQ(u.faultModule, bms::Startup::kFaultModuleNotAvailable);
+  EXPECT_EQ(u.faultLine, bms::Startup::kFaultLineNotAvailable);
+  EXPECT_EQ(bms::PackSummary::unpack(frames[0]).counter, 0);
+  p.plan.beginSlow();
+  const auto next = p.drain(20);
+  ASSERT_FALSE(next.empty());
+  for (const auto& f : next)
+    EXPECT_NE(f.id, 0x1F0u) << "once only";
+}
+
+TEST(FramePlan, StartupCarriesTheFaultRecordThatSurvived) {
+  Pack p;
+  p.plan.announceStartup({0x1B, true, 30, 0x1234});  // fw::onFault's software SYSRST kept its record
+  p.plan.beginSlow();
+  const auto frames = p.drain(10);
+  ASSERT_GE(frames.size(), 4u);
+  EXPECT_EQ(ids(frames)[2], 0x1F0u) << "after the fast part, before the slow part";
+  EXPECT_EQ(frames[3].id, 0x200u);
+  const fw::hal::CanFrame& f = frames[2];
+  EXPECT_EQ(f.data,
+            (std::array<uint8_t, 8>{0x1B, fw::app::kFirmwareVersionMajor, fw::app::kFirmwareVersionMinor,
+                                    fw::app::kFirmwareVersionPatch, 30, 0x34, 0x12, 0x00}));
+}
+
+TEST(FramePlan, StartupHeldBackByAFullQueueGoesOutWithTheNextCycle) {
+  Pack p;
+  p.plan.announceStartup({0x01, false, 0, 0});
+  p.plan.beginFast();
+  EXPECT_EQ(p.drain(10, 2).size(), 2u);
+  p.plan.abandon();  // bus-off before the Startup frame was accepted
+  p.plan.beginFast();
+  EXPECT_EQ(ids(p.drain(10)), (std::vector<uint32_t>{0x100, 0x101, 0x1F0}));
+}
+
+TEST(FramePlan, StartupPrecedesTheFirstTiSet) {
+  Pack p;
+  p.plan.announceStartup({0x01, false, 0, 0});
+  p.plan.beginTi();
+  const auto frames = p.drain(10);
+  ASSERT_EQ(frames.size(), 9u);
+  EXPECT_EQ(frames[0].id, 0x1F0u);
+  for (size_t i = 1; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].id, 0x004u);
 }
 
 }  // namespace

@@ -44,6 +44,13 @@ class G3507I2cBoardTest : public RegisterTest {
   int calls = 0;
 };
 
+TEST_F(G3507I2cBoardTest, TheSysoscRunsInFclModeOnTheLaunchPadsRoscResistor) {
+  // R8, 100 kOhm 0.1 % on ROSC (SLAU873D 2.7): SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL | SETUSEEXRES
+  // (dl_sysctl_mspm0g1x0x_g3x0x.h DL_SYSCTL_enableSYSOSCFCLExternalResistor).
+  EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1310), 0x2A000003U);
+  EXPECT_TRUE(sysctl.fclOn());
+}
+
 TEST_F(G3507I2cBoardTest, CanRunsOnTheCrystalAndEveryInterruptIsAcknowledged) {
   ASSERT_EQ(image::board().canStatus, fw::Status::Ok);
   EXPECT_FALSE(can.initVisible());  // the controller left INIT before bring-up went on
@@ -67,9 +74,11 @@ TEST_F(G3507I2cBoardTest, AlertIsAFallingEdgeInputWithThePullUp) {
   image::board().alert.disable();
 }
 
-TEST_F(G3507I2cBoardTest, I2cTimeoutCoversTheStretchLimitUnderBothReadings) {
-  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Header, kBusClockHz), kBq769x2StretchLimitUs);
-  EXPECT_GE(i2c.timeoutUs(I2cModel::Reading::Trm, kBusClockHz), kBq769x2StretchLimitUs);
+TEST_F(G3507I2cBoardTest, I2cTimeoutIsTheStretchLimitWithinOneCount) {
+  // TI's count of TIMEOUT_CTL.TCNTLA (i2c_model.hpp): 4 ms at 400 kHz is 84 counts of 48 us = 4.03 ms (the
+  // old 247 counts were 11.9 ms).
+  EXPECT_GE(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs);
+  EXPECT_LT(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs + 48);
 }
 
 }  // namespace

@@ -43,6 +43,13 @@ class G3507UartBoardTest : public RegisterTest {
   int calls = 0;
 };
 
+TEST_F(G3507UartBoardTest, TheSysoscRunsInFclModeOnTheLaunchPadsRoscResistor) {
+  // R8, 100 kOhm 0.1 % on ROSC (SLAU873D 2.7): SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL | SETUSEEXRES
+  // (dl_sysctl_mspm0g1x0x_g3x0x.h DL_SYSCTL_enableSYSOSCFCLExternalResistor).
+  EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1310), 0x2A000003U);
+  EXPECT_TRUE(sysctl.fclOn());
+}
+
 TEST_F(G3507UartBoardTest, Bq79616FramesLeaveByDmaAtOneFreeEntry) {
   // The frame TI prints in its BQ79600-Q1 documents (SLUUC56B): single write of CONTROL1 = 0x20 to device 0.
   const std::array<uint8_t, 7> frame{0x90, 0x00, 0x03, 0x09, 0x20, 0x13, 0x95};

@@ -16,10 +16,14 @@
 // - A GPRCM reset (RSTCTL.RESETASSERT) empties both FIFOs and clears MCR and MFIFOCTL (the peripheral
 //   returns to its reset state).
 // - timeoutUs() turns the programmed CLKDIV, MTPR and TIMEOUT_CTL.TCNTLA into the SCL-low time after which
-//   timeout A fires, under each of TI's two readings (bsp/mspm0/README.md, open questions):
-//     Header: TCNTLA x 520 functional clocks (hw_i2c.h TIMEOUT_CTL.TCNTLA, DL_I2C_setTimeoutACount);
-//     Trm:    TCNTLA is the upper 8 bits of a 12-bit count stepping every (1 + TPR) x 12 functional clocks
-//             (SLAU847D 21.2 / SLAU846B 20.2: 0xDA -> 0xDA0 steps of 12 us at 20 MHz, TPR 19 = 41.856 ms).
+//   timeout A fires, counted as TI's code counts it: TCNTLA is the upper 8 bits of a 12-bit count (low 4
+//   bits 0) stepping every (1 + TPR) x 12 functional clocks (SLAU847D 21.2 / SLAU846B 20.2: 0xDA -> 0xDA0
+//   steps of 12 us at 20 MHz, TPR 19 = 41.856 ms; TI's Zephyr driver msp-zephyr drivers/i2c/i2c_mspm0.c
+//   i2c_mspm0_configure_timeout). hw_i2c.h's "520 functional clocks" per count is not followed (no TI code
+//   uses it; bsp/mspm0/README.md, open questions).
+// - GFCTL with the analog glitch filter enabled (AGFEN) but CHAIN clear is flagged: "When 0, chaining is
+//   disabled and only digital filter output is available to IP logic" (hw_i2c.h GFCTL.CHAIN), so the
+//   filter would do nothing. The driver leaves GFCTL at 0, as TI's examples do.
 // - Controller receive (MSA.DIR = read, MCTR.BURSTRUN) against a scripted target (targetSends): the burst
 //   takes MBLEN bytes into the RX FIFO, holding SCL while the FIFO is full; every byte but the last is
 //   ACKed; the last is ACKed per MCTR.ACK, then STOP if MCTR.STOP (SLAU846A controller transfer table;
@@ -27,10 +31,11 @@
 //   A controller receiver that ACKs the last byte before a STOP is flagged (UM10204 3.1.6: the controller
 //   signals the end of the data with a NACK; SLAU846A "acknowledge": "signals the end of data to the target
 //   transmitter by not generating an acknowledge on the last data byte").
-// - Controller ACK override (MCTR.MACKOEN): after MBLEN bytes the controller raises RXDONE and waits at the
-//   start of the last byte's ACK; the next MCTR write sends ACK or NACK per MCTR.ACK and, with BURSTRUN,
-//   continues with its MBLEN; a NACK is followed by STOP on its own (hw_i2c.h MCTR.MACKOEN; dl_i2c.h
-//   DL_I2C_enableControllerACKOverride).
+// - A receive burst that ended without STOP keeps the bus; the next burst without START continues the
+//   receive (SLAU846A I2C controller transfer table; TI's SMBus library reads a block read's count byte so,
+//   smbus_nwk.c SMBus_NWK_startRxBlockPayloadTransfer).
+// - MCTR.MACKOEN (controller ACK override) is flagged: no TI example or library uses it and no TRM text
+//   describes it beyond hw_i2c.h's field description (bsp/mspm0/README.md, open questions).
 // - MCTR.BURSTRUN written while a burst runs (not waiting at an override ACK) is flagged: "HW will ignore new
 //   transfer requests while a transfer is active" (TI SMBus library, smbus_phy.c
 //   SMBus_PHY_controllerStartRx).
@@ -46,7 +51,6 @@ namespace bsp::mspm0::test {
 
 class I2cModel {
  public:
-  enum class Reading : uint8_t { Header, Trm };
   static constexpr uint32_t kFifoDepth = 8;
 
   explicit I2cModel(uintptr_t base) : base_(base) {}
@@ -69,7 +73,7 @@ class I2cModel {
 
   const std::vector<uint8_t>& wire() const { return wire_; }
   uint32_t txLevel() const { return static_cast<uint32_t>(tx_.size()); }
-  uint64_t timeoutUs(Reading reading, uint32_t busClockHz) const;
+  uint64_t timeoutUs(uint32_t busClockHz) const;
 
  private:
   struct Flush {
@@ -95,11 +99,10 @@ class I2cModel {
   size_t targetNext_ = 0;
   std::string readWire_;
   uint32_t raised_ = 0;
-  uint32_t burstLeft_ = 0;   // bytes of the running receive burst still to come
-  bool receiving_ = false;   // a receive burst runs (or waits)
-  bool waitingAck_ = false;  // MACKOEN: holding the last byte's ACK for the next MCTR write
-  bool busHeld_ = false;     // a burst ended without STOP: the controller keeps the bus
-  uint32_t mctr_ = 0;        // the running burst's MCTR
+  uint32_t burstLeft_ = 0;  // bytes of the running receive burst still to come
+  bool receiving_ = false;  // a receive burst runs (or waits)
+  bool busHeld_ = false;    // a burst ended without STOP: the controller keeps the bus
+  uint32_t mctr_ = 0;       // the running burst's MCTR
 };
 
 }  // namespace bsp::mspm0::test

@@ -53,5 +53,25 @@ TEST_F(SysclockTest, WithoutACrystalTheWaitIsBoundedAndTimesOut) {
   EXPECT_EQ(regs().readCount(kClkstatus), 500U);  // ~5 ms of polls, then give up
 }
 
+TEST_F(SysclockTest, TheFclComesOnWithItsKeyAfterTheBaseFrequency) {
+  // TI's order (SysConfig SYSCTL.Board.c.xdt): DL_SYSCTL_setSYSOSCFreq(BASE), then
+  // DL_SYSCTL_enableSYSOSCFCLExternalResistor: SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL | SETUSEEXRES on the G350x
+  // (dl_sysctl_mspm0g1x0x_g3x0x.h).
+  constexpr uintptr_t kSysosccfg = kSysctl + 0x1100, kFclctl = kSysctl + 0x1310;
+  initSysosc(true,
+             reg::sysctl::kFclKey | reg::sysctl::kFclSetUseFcl | reg::sysctl::kFclSetUseExternalResistor);
+  EXPECT_EQ(regs().value(kSysosccfg) & 0x3U, 0U);  // FREQ 0: base, 32 MHz
+  EXPECT_EQ(regs().lastWrite(kFclctl), 0x2A000003U);
+  EXPECT_LT(regs().findWrite(kSysosccfg, 0), regs().findWrite(kFclctl, 0x2A000003U));
+  EXPECT_TRUE(sysctl.fclOn());
+  EXPECT_NE(regs().read(kClkstatus) & (1U << 24), 0U);  // CLKSTATUS.FCLMODE
+}
+
+TEST_F(SysclockTest, ABoardWithoutTheResistorLeavesTheFclOff) {
+  initSysosc(true, 0);
+  EXPECT_FALSE(regs().lastWrite(kSysctl + 0x1310).has_value());
+  EXPECT_FALSE(sysctl.fclOn());
+}
+
 }  // namespace
 }  // namespace bsp::mspm0::test

@@ -11,6 +11,8 @@ constexpr uintptr_t kRis = 0x1030;
 constexpr uintptr_t kMis = 0x1038;
 constexpr uintptr_t kIclr = 0x1048;
 constexpr uintptr_t kDmaTrigTxImask = 0x1088;
+constexpr uintptr_t kCtl0 = 0x1100;
+constexpr uint32_t kCtl0Rxe = 1U << 3;  // UART_CTL0_RXE
 constexpr uintptr_t kStat = 0x1108;
 constexpr uintptr_t kIfls = 0x110C;
 constexpr uintptr_t kTxdata = 0x1120;
@@ -83,7 +85,8 @@ void UartTxDmaModel::transmit(uint32_t bytes) {
     sent_.push_back(fifo_.front());
     fifo_.pop_front();
     pump();
-    if (fifo_.empty()) ris_ |= kEot;  // last stop bit out, nothing queued
+    // Last stop bit out, nothing queued: EOT, but only with the receiver enabled too (UART_ERR_02).
+    if (fifo_.empty() && (model().value(uart_ + kCtl0) & kCtl0Rxe) != 0) ris_ |= kEot;
   }
 }
 

@@ -12,6 +12,9 @@
 //   per trigger); when DMASZ reaches 0 the channel disables itself and the UART sets DMA_DONE_TX.
 // - The FIFO holds 4 bytes. transmit() shifts bytes out one at a time; EOT is set once the FIFO and the
 //   shift register are empty, and STAT.BUSY reads 1 while any byte is still queued.
+// - EOT is not set when the UART transmits with CTL0.TXE but not CTL0.RXE: "UART End Of Transmission (EOT)
+//   interrupt does not trigger when the device is set for transmit only (CTL0.TXE = 1, CTL0.RXE = 0)"
+//   (UART_ERR_02, SLAZ742G; in SLAZ741B's table for the L130x too).
 // - CPU_INT MIS = RIS & IMASK; ICLR clears RIS bits.
 #pragma once
 

@@ -184,6 +184,7 @@ def cmd_elf(args):
 CI_NODE = re.compile(r'^node: \{ title: "([^"]+)" label: "([^"]*)"')
 CI_EDGE = re.compile(r'^edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)" label: "([^"]*)"')
 CI_BYTES = re.compile(r"\\n(\d+) bytes \(([a-z,]+)\)")
+STB_WEAK = 2  # ELF symbol binding
 EXCEPTION_FRAME = 32 + 4  # 8 stacked words + up to 4 bytes of alignment padding (ARMv6-M B1.5.7)
 
 
@@ -214,6 +215,7 @@ class CallGraph:
     def __init__(self, elf, elf_path, ci_root, objdump, cxxfilt):
         self.elf = elf
         self.elf_path = elf_path
+        self.ci_root = os.path.abspath(ci_root)
         self.errors = []
         self.funcs = elf.functions()
         self.addr_to_name = {}
@@ -348,12 +350,31 @@ class CallGraph:
                     entries.add(self.thumb[w])
         return entries
 
+    def _source_path(self, path):
+        """The file a .ci label names. A compiler cache may have recorded a path relative to the build that
+        first compiled it (ccache's base_dir): then the longest tail of it found under the source tree (the
+        build folder's parents) is the file."""
+        if os.path.exists(path):
+            return path
+        parts = [p for p in os.path.normpath(path).split(os.sep) if p not in ("", "..", ".")]
+        roots = [self.ci_root, os.path.dirname(self.ci_root), os.path.dirname(os.path.dirname(self.ci_root))]
+        for k in range(len(parts)):
+            for root in roots:
+                candidate = os.path.join(root, *parts[k:])
+                if os.path.exists(candidate):
+                    return candidate
+        return None
+
     def indirect_targets(self, label):
         """Candidates for an indirect call at `label` (path:line:col, the column of the call's '(')."""
         name = None
         m = re.match(r"^(.*):(\d+):(\d+)$", label)
-        if m and os.path.exists(m.group(1)):
-            with open(m.group(1), encoding="utf-8", errors="replace") as f:
+        source = self._source_path(m.group(1)) if m else None
+        if source is None:
+            # The call's source cannot be read: it may call anything address-taken, virtual members included.
+            return set(self.address_taken), None
+        if m:
+            with open(source, encoding="utf-8", errors="replace") as f:
                 lines = f.read().splitlines()
             line_no, col = int(m.group(2)), int(m.group(3))
             if 0 < line_no <= len(lines):
@@ -369,12 +390,13 @@ class CallGraph:
         return self.address_taken - self.virtual, name
 
     def worst(self, root):
-        """Worst-case stack from `root` down, and its path. Calls into a function already on the path through
-        an indirect edge are ignored (the over-approximated candidate sets create such false cycles; the
-        firmware has no recursion); a direct cycle is an error."""
+        """Worst-case stack from `root` down, and its path. A cycle that goes through an indirect edge is
+        ignored (the over-approximated candidate sets create such false cycles: a function reached through a
+        pointer may call directly into one already on the path; the firmware has no recursion); a cycle of
+        direct calls only is an error. `direct` is the part of the path since its last indirect edge."""
         memo = {}
 
-        def visit(name, path):
+        def visit(name, path, direct):
             if name in memo:
                 return memo[name]
             frame = self.frame.get(name)
@@ -386,11 +408,15 @@ class CallGraph:
                 self.errors.append(f"{name}: dynamic stack frame")
             best, best_path, clean = 0, [], True
             on_path = path | {name}
+            on_direct = direct | {name}
             for callee in sorted(self.edges.get(name, ())):  # sorted: the same path on every run
-                if callee in on_path:
+                if callee in on_direct:
                     self.errors.append(f"recursion: {name} -> {callee}")
                     continue
-                depth, sub, c = visit(callee, on_path)
+                if callee in on_path:  # the cycle goes through an indirect edge: a false one
+                    clean = False
+                    continue
+                depth, sub, c = visit(callee, on_path, on_direct)
                 clean &= c
                 if depth > best:
                     best, best_path = depth, sub
@@ -400,7 +426,7 @@ class CallGraph:
                     if callee in on_path:
                         clean = False
                         continue
-                    depth, sub, c = visit(callee, on_path)
+                    depth, sub, c = visit(callee, on_path, frozenset())
                     clean &= c
                     if depth > best:
                         best, best_path = depth, [f"[{ident or 'fn ptr'}]"] + sub
@@ -409,7 +435,7 @@ class CallGraph:
                 memo[name] = result
             return result
 
-        depth, path, _ = visit(root, frozenset())
+        depth, path, _ = visit(root, frozenset(), frozenset())
         return depth, path
 
     def deepest(self, roots):
@@ -436,6 +462,16 @@ def analyse_stack(args):
     isr, isr_path = graph.deepest(isr_names - fault_names)
     fault, fault_path = graph.deepest(fault_names)
     total = thread + EXCEPTION_FRAME + isr + EXCEPTION_FRAME + fault
+    # The entry points must come with GCC's call graph: a prologue alone hides every pointer and virtual call.
+    # Under link-time optimisation the code (and so its .ci) is generated by the link, not by the compiles.
+    # The default handler (the address weak vector aliases share) is plain code outside LTO, read from its
+    # disassembly like libgcc (ccache does not keep .ci files).
+    weak_alias_at = {addr for defs in graph.funcs.values() for addr, _, bind in defs if bind == STB_WEAK}
+    for root in sorted(({reset} | isr_names | fault_names) - {None}):
+        addrs = {addr for addr, _, _ in graph.funcs.get(root, [])}
+        if graph.source.get(root) != "ci" and not addrs & weak_alias_at:
+            graph.errors.append(f"{root}: no call graph (.ci) for this entry point: was the image's link given "
+                                "-fcallgraph-info=su (LTO) or its objects compiled with it?")
     errors = sorted(set(graph.errors))
     from_disassembly = sorted(n for n, s in graph.source.items() if s == "disassembly" and n in graph.funcs)
     return dict(total=total, thread=thread, isr=isr, fault=fault, thread_path=thread_path, isr_path=isr_path,

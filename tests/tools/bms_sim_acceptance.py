@@ -6,7 +6,7 @@ firmware's own bookkeeping.
 usage: bms_sim_acceptance.py <check> <bms-sim> <dbc-dir> <image> [scratch-dir]
 checks:
   ov-cell      the ov-cell scenario ends with the FETs off / the fault output set, within one scan period of the
-               onset (ARCHITECTURE.md budget), and every contract key of --json is present
+               onset (README "Figures" budget), and every contract key of --json is present
   ti-candump   --can-layout ti writes seed 001's layout (ID 0x004, 8 bytes, 4 big-endian cells, top of stack
                first, 4 frames per device), with absolute times that can-utils' log2asc converts cleanly (one
                header, every frame at its offset from the first)
@@ -282,7 +282,7 @@ def check_faults(sim, image, scratch):
             # it valid and no cell frame may carry a valid status.
             cutoff = onset + STALE_AFTER_MS + 110.0
             for t, d in summaries(frames, 0x100):
-                if t > cutoff and d[5] & 0x08:
+                if t > cutoff and d[7] & 0x80:  # DataValid, bit 63
                     fail(f"comm-loss: PackSummary at {t:.1f} ms still says DataValid")
             for t, d in summaries(frames, 0x200):
                 if t > cutoff and (d[1] >> 4) == 0:
@@ -390,15 +390,16 @@ def check_options(sim, image, scratch, extra=()):
 
 
 def check_gauge_soc(sim, scratch, extra=()):
-    """30 A out of the BQ4050's 4 000 mAh (3 200 left, 80 %) for 30 s: 250 mAh, 73.75 %, sent as 74 %."""
+    """25 A out of the BQ4050's 4 000 mAh (3 200 left, 80 %) for 36 s: 250 mAh, 73.75 %, sent as 74 % (25 A:
+    inside the -30 A discharge over-current limit, which opens the discharge path and stops the load)."""
     image = GAUGE_IMAGE
     path = os.path.join(scratch, "gauge-soc.txt")
     with open(path, "w") as f:
-        f.write("0 current -30000\n")
-    _, frames = simulate(sim, image, path, scratch, 30000, extra)
-    socs = [d[4] for t, d in summaries(frames, 0x100) if t > 200 and d[5] & 0x08]
+        f.write("0 current -25000\n")
+    _, frames = simulate(sim, image, path, scratch, 36000, extra)
+    socs = [d[4] for t, d in summaries(frames, 0x100) if t > 200 and d[7] & 0x80]  # DataValid, bit 63
     if socs[0] != 80 or socs[-1] != 74 or any(b > a for a, b in zip(socs, socs[1:])):
-        fail(f"StateOfCharge over 30 s at -30 A: {socs[0]} .. {socs[-1]} %, not 80 falling to 74")
+        fail(f"StateOfCharge over 36 s at -25 A: {socs[0]} .. {socs[-1]} %, not 80 falling to 74")
     print(f"REPORT sim.gauge_soc: {socs[0]} -> {socs[-1]} % after 250 mAh")
 
 
@@ -452,9 +453,12 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
     received = []
     # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
-    # close the terminal, and must not close it under the reader).
-    while (msg := bus.recv(timeout=2.0)) is not None:
+    # close the terminal, and must not close it under the reader). The first frame may take longer on a loaded
+    # machine (bms-sim starts the board only once this reader has sent O): up to 20 s.
+    timeout = 20.0
+    while (msg := bus.recv(timeout=timeout)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
+        timeout = 2.0
     bus.shutdown()
     out, err = proc.communicate(timeout=30)
     if proc.returncode != 0:
@@ -490,6 +494,11 @@ def check_open_wire_update(sim, image, scratch):
         f.write("0 cell 0 2 2000\n500 open-wire 0 3\n1000 cell 0 3 3000\n")
     summary = json.loads(run(sim, "--image", image, "--scenario", path, "--duration", "2000", "--json"))
     expected = 2000 + 3000
+    if image == "lp-mspm0g3507-bq79616":
+        # The devices' own open-wire check (drivers/bq79616/open_wire.hpp, once a second) names cell 2 within
+        # a second, and the application then publishes no reading for cells 2 and 3: what is left is the
+        # healthy cells' 3700 mV. (The world model is the same code for every image; the others check it.)
+        expected = 3700
     print(f"REPORT sim.{image}.open_wire_update.max_cell_mv={summary['max_cell_mv']} (expected {expected})")
     if abs(summary["max_cell_mv"] - expected) > 2:
         fail(f"cell 2 reads {summary['max_cell_mv']} mV, not cells 2 and 3 together ({expected} mV)")

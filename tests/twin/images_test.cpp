@@ -4,11 +4,14 @@
 //   output, wherever in the scan period the edge comes;
 // - deliberately broken variants of an image, made here by patching its flash, each caught by the twin: the
 //   MCAN interrupt never acknowledged (the MCANSS EOI store taken out), two interrupt vectors swapped, and
-//   the watchdog never restarted (the WWDTCNTRST store taken out); and one per kind of rules.hpp, each
-//   stopped with that rule named: a UART at 1.1 Mbaud, SCL at 1.6 MHz, CAN at 250 kbit/s, the 40 MHz
-//   crystal on the 16..32 MHz range, the UART RX pin without INENA, WFI with interrupts enabled, the
-//   scheduler's post() without its critical section, clock stretching switched off, an I2C flush never
-//   ended.
+//   the watchdog never restarted (the WWDTCNTRST store taken out);
+// - what every boot publishes first (the Startup message): the reset cause, the firmware version, and the
+//   fault record only where the reset kept SRAM.
+// - one broken image per kind of rules.hpp, each stopped with that rule named: a UART at 1.1 Mbaud, SCL at
+//   1.6 MHz, CAN at 250 kbit/s, the 40 MHz crystal on the 16..32 MHz range, the UART RX pin without INENA,
+//   WFI with interrupts enabled, the scheduler's post() without its critical section, clock stretching
+//   switched off, an I2C flush never ended.
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -63,8 +66,9 @@ std::unique_ptr<ElfFile> loadElf(const std::string& preset) {
   if (!elf) GTEST_SKIP() << elfPath(preset) << " is not built (./ci/test builds it)"; \
   static_assert(true)
 
-// The start (us) of the first scan at or after `fromUs`: its first access on the monitor's bus.
-uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
+// The start (us) of the first scan at or after `fromUs`: its first access on the monitor's bus (I2C images:
+// the write of the first scan block's command, `firstRead`).
+uint64_t nextScanUs(Rig& r, uint64_t fromUs, const std::string& firstRead) {
   for (uint64_t t = fromUs; t < fromUs + 200000; t += 100) {
     r.board.runUntilUs(t);
     if (r.board.chain() != nullptr) {
@@ -73,7 +77,7 @@ uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
       }
     } else {
       for (const auto& tr : r.board.i2cLog()) {
-        if (tr.text.rfind("S 10 0A ", 0) == 0 && tr.startCycle / 32 >= fromUs) return tr.startCycle / 32;
+        if (tr.text.rfind(firstRead, 0) == 0 && tr.startCycle / 32 >= fromUs) return tr.startCycle / 32;
       }
     }
   }
@@ -81,11 +85,21 @@ uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
 }
 
 // Cycles from the monitor's signal falling to the action: the FETs leaving "both on", or the fault output
-// rising. Swept on a 50 us grid over the first 3 ms of a scan (where the bus is busy; after it the time is
-// flat) and the last millisecond before the next one (where a scan may start under the action).
+// rising; on the BQ769x images also to the FET-off command complete (BQ76952: the end of the read that found
+// ALL_FETS_OFF echoed in 0x3E/0x3F; BQ76907: the FET Control write; what the protection log records as
+// `acted`). Swept on a 50 us grid over the first 3 ms of a scan (where the bus is busy; after it the time is
+// flat, and 0 is the scan's first access, as when the signal lands on the scan tick) and the last
+// millisecond before the next one (where a scan may start under the action).
 void sweepFastPath(const std::string& preset, const char* what) {
   LOAD_OR_SKIP(elf, preset);
-  uint64_t worst = 0, worstAt = 0;
+  uint64_t worst = 0, worstAt = 0, worstDone = 0, worstDoneAt = 0;
+  // The scan's first read: BQ769x2 0x0A (PF Status and the voltages), BQ7690x 0x12 (Battery Status and the
+  // voltages): drivers/bq769x2 Variant::blocks.
+  // The FET-off command complete: BQ769x2 the read that finds ALL_FETS_OFF echoed in 0x3E/0x3F; BQ7690x the
+  // write of FET Control (0x68) with CHG_OFF and DSG_OFF (SLUUCJ0), a direct command with no echo.
+  const bool bq7690x = preset.find("bq7690") != std::string::npos;
+  const std::string firstRead = bq7690x ? "S 10 12 " : "S 10 0A ";
+  const std::string fetsOffDone = bq7690x ? "S 10 68 0C" : "S 10 3E Sr 11 [95 00]";
   std::vector<uint64_t> offsets;
   for (uint64_t us = 0; us < 3000; us += 50)
     offsets.push_back(us);
@@ -94,21 +108,23 @@ void sweepFastPath(const std::string& preset, const char* what) {
   for (uint64_t offset : offsets) {
     Rig r(preset, *elf);
     ASSERT_TRUE(r.loaded) << r.board.error();
-    const uint64_t scan = nextScanUs(r, 1000000);
+    const uint64_t scan = nextScanUs(r, 1000000, firstRead);
     ASSERT_NE(scan, 0U) << "no scan after 1 s";
     r.board.runUntilUs(scan + offset);
     const uint64_t t0 = r.board.machine().now();
     r.board.driveMonitorSignal(false);
-    uint64_t acted = 0;
-    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && acted == 0; t += 50) {
+    const bool fets = r.board.bq769x() != nullptr;
+    uint64_t acted = 0, done = 0;
+    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && (acted == 0 || (fets && done == 0)); t += 50) {
       r.board.runUntilUs(t);
-      const auto& edges = r.board.bq769x() != nullptr ? r.board.fetsOn() : r.board.faultOutput();
+      const auto& edges = fets ? r.board.fetsOn() : r.board.faultOutput();
       for (const auto& e : edges) {
-        const bool off = r.board.bq769x() != nullptr ? !e.level : e.level;
-        if (off && e.cycle >= t0) {
-          acted = e.cycle;
-          break;
-        }
+        const bool off = fets ? !e.level : e.level;
+        if (acted == 0 && off && e.cycle >= t0) acted = e.cycle;
+      }
+      if (!fets) continue;
+      for (const auto& tr : r.board.i2cLog()) {
+        if (done == 0 && tr.startCycle >= t0 && tr.text.rfind(fetsOffDone, 0) == 0) done = tr.endCycle;
       }
     }
     ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
@@ -117,11 +133,22 @@ void sweepFastPath(const std::string& preset, const char* what) {
     EXPECT_LE(took, 2000U) << what << " took " << took << " us with the signal " << offset
                            << " us into the scan";
     if (took > worst) worst = took, worstAt = offset;
+    if (!fets) continue;
+    ASSERT_NE(done, 0U) << "no FET-off command completed, signal at " << offset << " us into the scan";
+    const uint64_t complete = (done - t0) / 32;
+    EXPECT_LE(complete, 2000U) << "the FET-off command completed " << complete << " us after the signal, "
+                               << offset << " us into the scan";
+    if (complete > worstDone) worstDone = complete, worstDoneAt = offset;
   }
   std::printf(
       "REPORT twin.%s.%s_worst_us=%llu (signal %llu us into the scan, 50 us grid; budget 2000; CPU-counted "
       "time)\n",
       preset.c_str(), what, static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+  if (worstDone != 0)
+    std::printf(
+        "REPORT twin.%s.%s_command_complete_worst_us=%llu (signal %llu us into the scan; budget 2000)\n",
+        preset.c_str(), what, static_cast<unsigned long long>(worstDone),
+        static_cast<unsigned long long>(worstDoneAt));
 }
 
 TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
@@ -130,6 +157,10 @@ TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
 
 TEST(FastPath, Bq76952AlertToFetsOffOnTheL1306) {
   sweepFastPath("lp-mspm0l1306-bq76952", "alert_to_fets_off");
+}
+
+TEST(FastPath, Bq76907AlertToFetsOffOnTheL1306) {
+  sweepFastPath("lp-mspm0l1306-bq76907", "alert_to_fets_off");
 }
 
 TEST(FastPath, Bq79616NfaultToFaultOutput) {
@@ -227,16 +258,96 @@ TEST(BrokenImage, SwappedVectorsStopThePublishingAndAreNamed) {
 }
 
 TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
+  // Both chips: the L1306 images are supervised by WWDT0 as well (bsp/mspm0/README.md said they were not).
+  for (const std::string preset : {"lp-mspm0g3507-bq76952", "lp-mspm0l1306-bq76952"}) {
+    SCOPED_TRACE(preset);
+    LOAD_OR_SKIP(elf, preset);
+    const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
+    ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+    removeStores(*elf, feeds);
+    Rig r(preset, *elf);
+    r.board.runUntilUs(2500000);
+    ASSERT_GE(r.board.machine().resets().size(), 2U);
+    EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+        << r.board.machine().resets()[1];
+  }
+}
+
+// --- Startup message (bms.yaml Startup, 0x1F0)
+// ---------------------------------------------------------------
+
+// The payloads of the Startup frames the board sent, in order (CAN images).
+std::vector<std::array<uint8_t, 8>> startupFrames(const Board& b) {
+  std::vector<std::array<uint8_t, 8>> out;
+  for (const auto& f : b.canFrames()) {
+    if (f.frame.id == 0x1F0) out.push_back(f.frame.data);
+  }
+  return out;
+}
+uint16_t faultLine(const std::array<uint8_t, 8>& d) {
+  return static_cast<uint16_t>(d[5] | d[6] << 8);
+}
+
+TEST(Startup, EveryBootPublishesItsResetCauseAndAWatchdogResetLeavesNoFaultRecord) {
+  // A WWDT0 violation is a BOOTRST, which resets SRAM (SLAU846B WWDT overview, Table 2-12): the next boot
+  // publishes RSTCAUSE 0x0E and no fault record; the power-on before it published 0x01.
   const std::string preset = "lp-mspm0g3507-bq76952";
   LOAD_OR_SKIP(elf, preset);
   const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
-  ASSERT_FALSE(feeds.empty()) << "the image never restarts WWDT0";
+  ASSERT_FALSE(feeds.empty());
   removeStores(*elf, feeds);
   Rig r(preset, *elf);
-  r.board.runUntilUs(2500000);
-  ASSERT_GE(r.board.machine().resets().size(), 2U);
-  EXPECT_NE(r.board.machine().resets()[1].find("WWDT0 violation"), std::string::npos)
+  r.board.runUntilUs(1300000);  // one watchdog period (1 s) and the next boot's first cycle
+  ASSERT_EQ(r.board.machine().resets().size(), 2U);
+  const auto frames = startupFrames(r.board);
+  ASSERT_EQ(frames.size(), 2U);
+  EXPECT_EQ(frames[0][0], 0x01) << "power-on: VDD < POR-";
+  EXPECT_EQ(frames[0][1], 0);  // firmware version 0.1.0 (CMake project version)
+  EXPECT_EQ(frames[0][2], 1);
+  EXPECT_EQ(frames[0][3], 0);
+  EXPECT_EQ(frames[0][4], 0xFF) << "no fault record at power-on";
+  EXPECT_EQ(faultLine(frames[0]), 0xFFFF);
+  EXPECT_EQ(frames[1][0], 0x0E) << "WWDT0 violation";
+  EXPECT_EQ(frames[1][4], 0xFF) << "a BOOTRST leaves no fault record";
+  EXPECT_EQ(faultLine(frames[1]), 0xFFFF);
+}
+
+TEST(Startup, AFaultRecordSurvivesTheSoftwareSysrstAndIsPublished) {
+  // fw::onFault stores the record in .noinit and issues a software SYSRST, which keeps SRAM (SLAU846B Table
+  // 2-12): the next boot publishes RSTCAUSE 0x1B with the record. The fault: the stack guard words
+  // overwritten, which the next watchdog feed checks (watchdog.hpp).
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto guard = elf->symbol("__stack_limit__");
+  ASSERT_TRUE(guard.has_value());
+  Rig r(preset, *elf);
+  r.board.runUntilUs(500000);
+  ASSERT_EQ(r.board.machine().resets().size(), 1U);
+  ASSERT_TRUE(r.board.machine().busWrite(guard->value, 4, 0));
+  r.board.runUntilUs(1000000);
+  ASSERT_EQ(r.board.machine().resets().size(), 2U);
+  EXPECT_NE(r.board.machine().resets()[1].find("software SYSRST"), std::string::npos)
       << r.board.machine().resets()[1];
+  const auto frames = startupFrames(r.board);
+  ASSERT_EQ(frames.size(), 2U);
+  EXPECT_EQ(frames[1][0], 0x1B) << "software SYSRST";
+  EXPECT_EQ(frames[1][4], 30) << "fw::Module::Bsp";
+  EXPECT_NE(faultLine(frames[1]), 0xFFFF);
+}
+
+TEST(Startup, TheL1306SendsItFirstAsSlcanText) {
+  // The SLCAN images send the same frame as text, once: "t1F08" and the payload; power-on cause 0x01,
+  // version 0.1.0, no record.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  std::vector<std::string> startup;
+  for (const auto& line : r.board.slcanLines()) {
+    if (line.text.rfind("t1F0", 0) == 0) startup.push_back(line.text);
+  }
+  ASSERT_EQ(startup.size(), 1U);
+  EXPECT_EQ(startup[0], "t1F0801000100FFFFFF00\r");
 }
 
 // --- broken images, one per kind of rules.hpp --------------------------------------------------------------

@@ -55,11 +55,8 @@ inline Controller& controller(uintptr_t base) {
 
 inline constexpr uint32_t kClkselBusclk = 1U << 3;
 
-// GFCTL: analog glitch filter enable (bit 8), AGFSEL 10:9 = 50 ns (0x600).
-inline constexpr uint32_t kGfctlAnalog50ns = (1U << 8) | 0x600U;
-
-// TIMEOUT_CTL: TCNTLA 7:0 (SCL-low timeout count; its unit is an open question, i2c_timing.hpp), TCNTAEN
-// bit 15.
+// TIMEOUT_CTL: TCNTLA 7:0 (SCL-low timeout count, the upper 8 bits of a 12-bit counter: i2c_timing.hpp),
+// TCNTAEN bit 15.
 inline constexpr uint32_t kTimeoutAEnable = 1U << 15;
 
 // MSA: SADDR 10:1, DIR bit 0 (1 = receive).
@@ -70,10 +67,6 @@ inline constexpr uint32_t kMctrBurstRun = 1U << 0;
 inline constexpr uint32_t kMctrStart = 1U << 1;
 inline constexpr uint32_t kMctrStop = 1U << 2;
 inline constexpr uint32_t kMctrAck = 1U << 3;
-// MACKOEN, controller ACK override: receiving, after MBLEN bytes the controller raises RXDONE and waits at
-// the ACK of the last one until MCTR is written again (hw_i2c.h MCTR.MACKOEN; dl_i2c.h
-// DL_I2C_enableControllerACKOverride).
-inline constexpr uint32_t kMctrAckOverride = 1U << 4;
 inline constexpr uint32_t kMctrLenShift = 16;  // MBLEN 27:16
 inline constexpr uint32_t kMctrLenMax = 0xFFF;
 

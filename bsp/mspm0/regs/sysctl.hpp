@@ -1,6 +1,7 @@
 // SYSCTL registers (SYSCTL_BASE 0x400AF000 on both parts). Source: mspm0*.tsv rows "SYSCTL.SOCLOCK.*" and
-// "SYSCTL_*" (MSPM0 TRM SLAU846A section 2); reset levels from SLAU846A 2.4 (RESETLEVEL 0 is a software
-// SYSRST: peripherals reset, SRAM kept; 1 is BOOTRST, which power-cycles SRAM).
+// "SYSCTL_*" (MSPM0 TRM SLAU846A section 2); reset levels from SLAU846B Table 2-12 / SLAU847D Table 2-9
+// (RESETLEVEL 0 is a software SYSRST: CPU and peripherals reset, SRAM kept; 1 is a software BOOTRST, which
+// also resets SRAM).
 #pragma once
 
 #include <cstddef>
@@ -39,6 +40,12 @@ inline Reg& clkstatus() {
 inline Reset& reset() {
   return mmio::block<Reset>(kBase + 0x1300);
 }
+inline Reg& sysoscFclCtl() {
+  return mmio::block<Reg>(kBase + 0x1310);
+}
+inline Reg& rstcause() {
+  return mmio::block<Reg>(kBase + 0x1220);
+}
 
 inline constexpr uint32_t kSysoscFreqMask = 0x3;  // FREQ 1:0, 0 = base (32 MHz)
 inline constexpr uint32_t kMclkMdivMask = 0xF;    // MDIV 3:0, 0 = /1
@@ -50,6 +57,20 @@ inline constexpr uint32_t kHfclkStartupCheck = 1U << 28;
 inline constexpr uint32_t kHfxtEnable = 1U << 0;
 inline constexpr uint32_t kCanClkSrcSysPll = 1U << 8;  // GENCLKCFG.CANCLKSRC: 0 = HFCLK
 inline constexpr uint32_t kClkStatusHfclkGood = 1U << 8;
+
+// SYSOSCFCLCTL (hw_sysctl_*.h): KEY 0x2A in 31:24 with SETUSEFCL (bit 0) turns the frequency correction loop
+// on, locked until the next BOOTRST; SETUSEEXRES (bit 1, MSPM0G only) selects the external ROSC resistor. The
+// L11xx/L13xx FCL always uses the external resistor and has no SETUSEEXRES (dl_sysctl_mspm0l11xx_l13xx.h
+// DL_SYSCTL_enableSYSOSCFCLExternalResistor writes KEY | SETUSEFCL; dl_sysctl_mspm0g1x0x_g3x0x.h writes
+// KEY | SETUSEFCL | SETUSEEXRES).
+inline constexpr uint32_t kFclKey = 0x2A000000;
+inline constexpr uint32_t kFclSetUseFcl = 1U << 0;
+inline constexpr uint32_t kFclSetUseExternalResistor = 1U << 1;
+inline constexpr uint32_t kClkStatusFclMode = 1U << 24;  // CLKSTATUS.FCLMODE: SYSOSC runs in FCL mode
+
+// RSTCAUSE.ID 4:0: the lowest-level reset cause since the last read, cleared by the read (SLAU846B Table
+// 2-12 / SLAU847D Table 2-9 and the text above them; hw_sysctl_*.h RSTCAUSE).
+inline constexpr uint32_t kRstcauseIdMask = 0x1F;
 
 inline constexpr uint32_t kResetLevelSysrst = 0;
 inline constexpr uint32_t kResetLevelBootloaderEntry = 2;  // hw_sysctl RESETLEVEL_LEVEL_BOOTLOADERENTRY

@@ -186,6 +186,11 @@ void I2c::startBurst() {
                                          " still set: the flush goes on and its FIFO's bytes are lost");
     return;
   }
+  if (mctr_ & kAckOverride) {
+    stop("MCTR.MACKOEN (controller ACK override): no TI example or library uses it, not modelled");
+    return;
+  }
+  const bool continuesRead = read_ && ackLast_;  // the previous burst's direction and last ACK
   read_ = (msa_ & 1U) != 0;
   remaining_ = (mctr_ >> 16) & 0xFFF;
   stopAfter_ = (mctr_ & kStop) != 0;
@@ -193,6 +198,16 @@ void I2c::startBurst() {
   adrNack_ = dataNack_ = err_ = false;
   if ((mctr_ & kStart) == 0 && !busOwned_) {
     stop("MCTR.BURSTRUN without START while the controller does not own the bus");
+    return;
+  }
+  releaseScl();
+  if ((mctr_ & kStart) == 0) {
+    // The receive goes on where the last burst stopped: no START, no address.
+    if (!read_ || !continuesRead) {
+      stop("MCTR.BURSTRUN without START after a transmit burst or a NACKed byte, not modelled");
+      return;
+    }
+    nextByte();
     return;
   }
   phase_ = Phase::Start;
@@ -275,13 +290,6 @@ void I2c::step() {
       releaseScl();
       byteDone();
       return;
-    case Phase::AckSlot:  // the override's ACK or NACK clock has passed
-      if (!ackSent_) {
-        sendStop();
-        return;
-      }
-      nextByte();
-      return;
     case Phase::Stop:
       if (target_ != nullptr) target_->onStop();
       log("P");
@@ -342,9 +350,7 @@ void I2c::nextByte() {
   log((readOpen_ ? "" : "[") + hex2(byte_));  // target-driven bytes inside [ ]
   readOpen_ = true;
   phase_ = Phase::Data;
-  // Under the ACK override the burst's last byte stops before its ACK clock (byteDone waits there).
-  const bool waitsAtAck = (mctr_ & kAckOverride) && remaining_ == 1;
-  step_.after((waitsAtAck ? 8 : 9) * bitCycles() + stretchCycles);
+  step_.after(9 * bitCycles() + stretchCycles);
 }
 
 void I2c::byteDone() {
@@ -355,18 +361,6 @@ void I2c::byteDone() {
     if (pecFail_) {
       pecsr_ |= kPecsrError;
       raise(kMpecRxErr);
-    }
-    if ((mctr_ & kAckOverride) && remaining_ == 0) {
-      raise(kMrxDone);
-      if (pecFail_) {  // NACKed by the hardware itself, then STOP
-        ackSent_ = false;
-        phase_ = Phase::AckSlot;
-        step_.after(bitCycles());
-        return;
-      }
-      phase_ = Phase::WaitAck;  // SCL low until MCTR is written
-      holdSclLow(machine_.now());
-      return;
     }
     nextByte();
     return;
@@ -386,25 +380,10 @@ void I2c::finishBurst() {
   if (stopAfter_) {
     sendStop();
   } else {
-    phase_ = Phase::Idle;  // the controller keeps the bus for a repeated START
+    // The controller keeps the bus, SCL low, for a repeated START or a continuation.
+    phase_ = Phase::Idle;
+    holdSclLow(machine_.now());
   }
-}
-
-void I2c::resolveAck(uint32_t mctr) {
-  mctr_ = mctr;
-  ackSent_ = (mctr & kAck) != 0;
-  if (ackSent_ && ((mctr & kBurstRun) == 0 || (mctr & kStart) != 0)) {
-    stop("MCTR written with ACK at the ACK override's wait without BURSTRUN, or with START: not modelled");
-    return;
-  }
-  releaseScl();
-  if (ackSent_) {  // the new burst: MBLEN more bytes, no START
-    remaining_ = (mctr >> 16) & 0xFFF;
-    stopAfter_ = (mctr & kStop) != 0;
-    ackLast_ = (mctr & kAck) != 0;
-  }
-  phase_ = Phase::AckSlot;
-  step_.after(bitCycles());
 }
 
 void I2c::sendStop() {
@@ -533,10 +512,6 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       mcr_ = value;
       return true;
     case kMctr:
-      if (phase_ == Phase::WaitAck) {
-        resolveAck(value);
-        return true;
-      }
       mctr_ = value;
       if (value & kBurstRun) startBurst();
       return true;

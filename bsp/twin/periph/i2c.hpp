@@ -18,17 +18,15 @@
 // burst, MSTART, MSTOP, MNACK; MTXFIFOTRG "when Transmit FIFO contains <= defined bytes" and MRXFIFOTRG "when
 // RX FIFO contains >= defined bytes" (hw_i2c.h RIS descriptions), evaluated at every FIFO change.
 //
-// Controller ACK override (hw_i2c.h MCTR.MACKOEN, the same text in dl_i2c.h
-// DL_I2C_enableControllerACKOverride): receiving with MACKOEN set, after the MBLEN-th byte's eight bits the
-// controller puts it in the RX FIFO, raises MRXDONE and waits at the start of its ACK, holding SCL low (the
-// clock-low timeout runs). The next MCTR write sends ACK or NACK per MCTR.ACK; after an ACK, BURSTRUN
-// continues the receive with the new MBLEN/STOP/ACK/MACKOEN and no START (SLAU846A controller transfer
-// table: a burst without START goes on with DATA x n); after a NACK the controller sends STOP by itself
-// ("If a NACK is sent the state machine will automatically send a Stop"). A wrong received PEC byte is
-// NACKed by the controller itself, also under the override (hw_i2c.h CONTROLLER_I2CPECCTL.PECEN: "the NACK
-// is automatically send following a PEC byte that results in a PEC error"; the override's wait is then
-// skipped: open question in bsp/mspm0/README.md). An ACK write without BURSTRUN, or one with START, stops
-// the run (not modelled).
+// A burst that ends without STOP keeps the bus and holds SCL low (the clock-low timeout runs) until the next
+// MCTR write. With START that write opens a repeated START; without START it continues a receive whose last
+// byte was acknowledged (MCTR.ACK) with MBLEN more bytes, no address (SLAU846A controller transfer table: a
+// burst without START goes on with DATA x n). That is how TI's SMBus library reads a block read's count byte
+// and then its payload (mspm0-sdk source/ti/smbus smbus_nwk.c SMBus_NWK_startRxTransfer /
+// SMBus_NWK_startRxBlockPayloadTransfer: MBLEN 1 with ACK and no STOP, then the rest without START). The
+// controller ACK override (MCTR.MACKOEN) is refused: no TI example or library uses it and no TRM text
+// describes it beyond hw_i2c.h's field (bsp/mspm0/README.md, open questions). A continuation after a
+// transmit burst or after a NACKed byte stops the run (not modelled).
 //
 // Rules that stop the run (the part would lose data silently): a write to MTXDATA with the TX FIFO full
 // ("the model drops and flags a write to a full FIFO"); a burst while MCR.ACTIVE is clear; a target that
@@ -115,7 +113,7 @@ class I2c final : public Peripheral {
   uint64_t busCycles() const { return busCycles_; }
 
  private:
-  enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, WaitAck, AckSlot, Stop, TimedOut };
+  enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, Stop, TimedOut };
 
   bool readRegister(uint32_t offset, uint32_t& value) override;
   bool writeRegister(uint32_t offset, uint32_t value) override;
@@ -129,7 +127,6 @@ class I2c final : public Peripheral {
   void nextByte();
   void byteDone();
   void finishBurst();
-  void resolveAck(uint32_t mctr);  // MCTR written while the ACK override waits
   void sendStop();
   void holdSclLow(uint64_t from);  // the timeout counter runs from `from`
   void releaseScl() { timeout_.cancel(); }
@@ -166,7 +163,6 @@ class I2c final : public Peripheral {
   uint8_t byte_ = 0;
   bool byteAck_ = true;
   bool pecFail_ = false;  // the byte being received is a PEC byte that does not match
-  bool ackSent_ = false;  // AckSlot: the override's answer (ACK goes on, NACK ends with STOP)
   uint32_t pecDataBytes_ = 0;
   uint8_t crc_ = 0;
 

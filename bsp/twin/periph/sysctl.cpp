@@ -8,7 +8,7 @@ namespace {
 
 constexpr uint32_t kSysosccfg = 0x1100, kMclkcfg = 0x1104, kHsclken = 0x1108, kHsclkcfg = 0x110C;
 constexpr uint32_t kHfclkclkcfg = 0x1110, kGenclkcfg = 0x1138, kClkstatus = 0x1204;
-constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304;
+constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304, kRstcause = 0x1220, kSysoscfclctl = 0x1310;
 
 constexpr uint32_t kSysoscFreqMask = 0x3;  // SYSOSCCFG.FREQ, 0 = base 32 MHz
 constexpr uint32_t kMclkMdivMask = 0xF;    // MCLKCFG.MDIV
@@ -20,6 +20,8 @@ constexpr uint32_t kHfclkFaultCheck = 1U << 28;           // HFCLKCLKCFG.HFCLKFL
 constexpr uint32_t kCanclkSysPll = 1U << 8;               // GENCLKCFG.CANCLKSRC
 constexpr uint32_t kHfclkGood = 1U << 8;                  // CLKSTATUS.HFCLKGOOD
 constexpr uint32_t kResetKey = 0xE4, kResetGo = 1U << 0;  // RESETCMD KEY 31:24, GO bit 0
+constexpr uint32_t kFclKey = 0x2A, kSetUseFcl = 1U << 0, kSetUseExRes = 1U << 1;  // SYSOSCFCLCTL
+constexpr uint32_t kFclMode = 1U << 24;                                           // CLKSTATUS.FCLMODE
 
 }  // namespace
 
@@ -29,6 +31,10 @@ Sysctl::Sysctl(Machine& machine, bool hasHfxt) : machine_(machine), hasHfxt_(has
 
 void Sysctl::reset(ResetKind kind) {
   sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = 0;
+  // The FCL stays on until the next BOOTRST ("Once enabled, this state is locked until the next BOOTRST",
+  // hw_sysctl SYSOSCFCLCTL.SETUSEFCL; a BOOTRST resets "SYSOSC FCL mode (if enabled)", SLAU847F, BOOTRST
+  // section).
+  if (kind != ResetKind::Sysrst) fclMode_ = false;
   // "Some crystal configurations are retained in lower reset levels" (TI driverlib,
   // DL_SYSCTL_setHFCLKSourceHFXTParams): the HFXT keeps running through a SYSRST.
   if (kind != ResetKind::Sysrst) {
@@ -57,7 +63,10 @@ bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
       value = resetLevel_;
       return true;
     case kClkstatus:
-      value = (hasHfxt_ && machine_.now() >= hfxtGoodAt_) ? kHfclkGood : 0;
+      value = ((hasHfxt_ && machine_.now() >= hfxtGoodAt_) ? kHfclkGood : 0) | (fclMode_ ? kFclMode : 0);
+      return true;
+    case kRstcause:
+      value = machine_.takeResetCause();  // read-to-clear
       return true;
     default:
       break;
@@ -105,21 +114,36 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
     case kResetlevel:
       resetLevel_ = value & 7U;
       return true;
+    case kSysoscfclctl:
+      // Without KEY 0x2A the write is ignored (hw_sysctl SYSOSCFCLCTL.KEY). SETUSEEXRES exists on the MSPM0G
+      // only (hw_sysctl_mspm0l11xx_l13xx.h has no such field). The twin's SYSOSC runs at exactly 32 MHz
+      // either way; FCL mode shows in CLKSTATUS.FCLMODE.
+      if ((value >> 24) != kFclKey) return true;
+      if (!hasHfxt_ && (value & kSetUseExRes)) {
+        machine_.stop("SYSCTL: SYSOSCFCLCTL.SETUSEEXRES on the MSPM0L1306, which has no such field");
+        return true;
+      }
+      if (value & kSetUseFcl) fclMode_ = true;
+      return true;
     case kResetcmd:
       if ((value >> 24) != kResetKey || (value & kResetGo) == 0) return true;  // without the key: ignored
       if (resetLevel_ == 0) {
-        machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)");
+        machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)",
+                              rstcause::kSysSoftware);
       } else if (resetLevel_ == 1) {
-        machine_.requestReset(ResetKind::Bootrst, "software BOOTRST (RESETCMD, RESETLEVEL 1)");
+        machine_.requestReset(ResetKind::Bootrst, "software BOOTRST (RESETCMD, RESETLEVEL 1)",
+                              rstcause::kBootSoftware);
       } else if (resetLevel_ == 2) {
         bootRequest_ = BootRequest::EnterBootloader;
-        machine_.requestReset(ResetKind::Sysrst,
-                              "software SYSRST, bootloader entry (RESETCMD, RESETLEVEL 2)");
+        machine_.requestReset(ResetKind::Sysrst, "software SYSRST, bootloader entry (RESETCMD, RESETLEVEL 2)",
+                              rstcause::kSysBslEntry);
       } else if (resetLevel_ == 3) {
-        machine_.requestReset(ResetKind::Por, "software POR (RESETCMD, RESETLEVEL 3)");
+        machine_.requestReset(ResetKind::Por, "software POR (RESETCMD, RESETLEVEL 3)",
+                              rstcause::kPorSoftware);
       } else if (resetLevel_ == 4) {
         bootRequest_ = BootRequest::ExitBootloader;
-        machine_.requestReset(ResetKind::Sysrst, "software SYSRST, bootloader exit (RESETCMD, RESETLEVEL 4)");
+        machine_.requestReset(ResetKind::Sysrst, "software SYSRST, bootloader exit (RESETCMD, RESETLEVEL 4)",
+                              rstcause::kSysBslExit);
       } else {
         machine_.stop("SYSCTL: RESETCMD with RESETLEVEL " + std::to_string(resetLevel_) +
                       ", which hw_sysctl does not define");

@@ -14,11 +14,19 @@
 //   only", 1 BOOTRST, 2 "SYSRST and enter the bootloader", 3 POR, 4 "SYSRST and exit the bootloader";
 //   hw_sysctl RESETLEVEL_LEVEL_*, the same values in mspm0-sdk dl_sysctl_mspm0{l11xx_l13xx,g1x0x_g3x0x}.h
 //   DL_SYSCTL_RESET_BOOTLOADER_ENTRY/EXIT). Levels 2 and 4 leave their request for the boot code
-//   (bsl/boot_code.hpp, takeBootRequest()), which the reset runs; 5..7 are undefined and stop the run.
+//   (bsl/boot_code.hpp, takeBootRequest()), which the reset runs; 5..7 are undefined and stop the run. They
+//   leave RSTCAUSE 0x1B / 0x0D / 0x11 (SYSBSLENTRY) / 0x03 / 0x10 (SYSBSLEXIT).
+// - RSTCAUSE (0x1220): the lowest-level cause of the resets since the last read (Machine::takeResetCause:
+//   power-on 0x01, WWDT0 violation 0x0E, the software resets above, AIRCR.SYSRESETREQ 0x1D), cleared by the
+//   read ("The contents of the reset cause register are always cleared upon a read", text above SLAU846B
+//   Table 2-12 / SLAU847D Table 2-9; IDs from hw_sysctl RSTCAUSE_ID_*, their levels from SLAU846B Table
+//   2-12).
+// - SYSOSCFCLCTL (0x1310): KEY 0x2A with SETUSEFCL turns the frequency correction loop on until the next
+//   BOOTRST (CLKSTATUS.FCLMODE reads 1); without the key the write is ignored; SETUSEEXRES on the L1306
+//   stops the run (no such field there).
 // - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT,
-// HFCLKCLKCFG.HFXTRSEL
-//   must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1 8..16, 2 16..32, 3 32..48
-//   MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
+//   HFCLKCLKCFG.HFXTRSEL must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1
+//   8..16, 2 16..32, 3 32..48 MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -58,6 +66,7 @@ class Sysctl final : public Device {
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0;
   BootRequest bootRequest_ = BootRequest::None;
+  bool fclMode_ = false;
   uint64_t hfxtGoodAt_ = UINT64_MAX;
   uint32_t crystalHz_ = 0;
 };

@@ -186,8 +186,8 @@ void Uart::frameDone() {
   if (txSink_) txSink_(shiftByte_);
   if (!txFifo_.empty()) {
     startNextFrame();
-  } else {
-    raise(kEot);
+  } else if (ctl0_ & kRxe) {
+    raise(kEot);  // not with TXE alone: UART_ERR_02 (SLAZ742G, SLAZ741B)
   }
 }
 

@@ -23,7 +23,9 @@
 //   indicating the UART is ready to transmit data, so enabling the DMA will start the transfer").
 //   A DMA request is DMA_TRIG_x.MIS; the DMA's acknowledge clears that RIS bit.
 // EOT: "the last bit of all transmitted data and flags has left the serializer and without any further
-// Data in the TX Fifo" (hw_uart.h CPU_INT RIS EOT). DMA_DONE_TX/RX when the DMA channel on this UART's
+// Data in the TX Fifo" (hw_uart.h CPU_INT RIS EOT), and only with CTL0.RXE set as well: "UART End Of
+// Transmission (EOT) interrupt does not trigger when the device is set for transmit only" (UART_ERR_02,
+// SLAZ742G; SLAZ741B lists it for the L130x). DMA_DONE_TX/RX when the DMA channel on this UART's
 // trigger reaches DMASZ = 0.
 // RX: a byte that arrives with the FIFO full is lost and sets OVRERR; a framing error sets FRMERR.
 // Anything else (IrDA, LIN, 9-bit, RS485, flow control, loopback, RX timeout) stops the run if enabled.

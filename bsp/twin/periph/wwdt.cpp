@@ -36,7 +36,7 @@ uint64_t Wwdt::periodCycles() const {
 void Wwdt::violation(const std::string& why) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "%s violation: %s", name(), why.c_str());
-  machine_.requestReset(ResetKind::Bootrst, buf);
+  machine_.requestReset(ResetKind::Bootrst, buf, rstcause::kBootWwdt0);
 }
 
 bool Wwdt::readRegister(uint32_t offset, uint32_t& value) {

@@ -8,10 +8,10 @@
 //   starts it (RUN); without the key a write is ignored;
 // - "Writing 00A7h to [WWDTCNTRST] restarts the WWDT Counter. Writing any other value causes an error": a
 //   wrong value, a restart inside the closed window (WINDOWx percent of the period, WINSEL choosing), or the
-//   period expiring is a violation, and a WWDT0 violation resets the device. The reset level is BOOTRST
-//   (reset cause 0x0E "WWDT0 violation" sits in the BOOTRST rows of the MSPM0 reset tables: SLAU893B Table
-//   2-5; SLAU846B Table 2-12 and SLAU847D Table 2-9 as far as the twin's sources show them, README open
-//   questions), so SRAM is not kept.
+//   period expiring is a violation, and a WWDT0 violation resets the device. The reset level is BOOTRST, so
+//   SRAM is not kept: "A WWDT0 violation generates a BOOTRST ... A WWDT1 violation generates a SYSRST"
+//   (SLAU846A/B and SLAU847D WWDT overview); RSTCAUSE reads 0x0E "WWDT0 violation" (hw_sysctl RSTCAUSE_ID,
+//   a BOOTRST row of SLAU893B Table 2-5 and of the MSPM0 reset tables).
 // Interval-timer mode is not modelled (the run stops).
 #pragma once
 

@@ -225,7 +225,8 @@ uint32_t Message::framesPerCycle() const {
 std::vector<std::string> Catalogue::layouts() const {
   std::vector<std::string> out;
   for (const Message& m : messages) {
-    if (std::find(out.begin(), out.end(), m.layout) == out.end()) out.push_back(m.layout);
+    if (m.layout != kEveryLayout && std::find(out.begin(), out.end(), m.layout) == out.end())
+      out.push_back(m.layout);
   }
   return out;
 }
@@ -263,7 +264,8 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     m.loc = node.loc;
     m.name = text(node.find("name"));
     const std::string where = "message '" + m.name + "'";
-    checkKeys(node, {"name", "id", "extended", "layout", "dlc", "cycle_ms", "description", "signals"},
+    checkKeys(node,
+              {"name", "id", "extended", "layout", "direction", "dlc", "cycle_ms", "description", "signals"},
               {"name", "id", "signals"}, m.name.empty() ? "a message" : where, diag);
     if (!m.name.empty() && !isCanIdentifier(m.name))
       diag.error(node.find("name")->loc, where + ": not an identifier");
@@ -279,6 +281,13 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
       m.id = static_cast<uint32_t>(std::clamp<int64_t>(*v, 0, limit));
     }
     if (const Node* l = node.find("layout")) m.layout = l->text;
+    if (const Node* d = node.find("direction")) {
+      if (d->text == "rx") {
+        m.received = true;
+      } else if (d->text != "tx") {
+        diag.error(d->loc, where + ": direction must be tx or rx");
+      }
+    }
     if (!isCanIdentifier(m.layout)) diag.error(node.loc, where + ": layout must be an identifier");
     if (auto v = integer(node.find("dlc"), where + " dlc", diag)) {
       if (*v < 0 || *v > 8) diag.error(node.find("dlc")->loc, where + ": dlc must be 0..8 (classic CAN)");
@@ -289,8 +298,15 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     }
     m.description = text(node.find("description"));
     if (node.find("id") != nullptr) {
-      auto [it, fresh] = ids.emplace(std::make_pair(m.layout, m.id), m.name);
-      if (!fresh) diag.error(node.find("id")->loc, where + ": id already used by '" + it->second + "'");
+      // An id is unique within each DBC: a message of every layout clashes with any message of the id.
+      for (const auto& [key, other] : ids) {
+        const bool sameDbc = key.first == m.layout || key.first == kEveryLayout || m.layout == kEveryLayout;
+        if (key.second == m.id && sameDbc) {
+          diag.error(node.find("id")->loc, where + ": id already used by '" + other + "'");
+          break;
+        }
+      }
+      ids.emplace(std::make_pair(m.layout, m.id), m.name);
     }
     const Node* sigs = node.find("signals");
     if (sigs != nullptr && !sigs->isSeq()) {

@@ -9,7 +9,11 @@
 //   messages:
 //     - name: CellVoltages         identifier (PascalCase)
 //       id: 0x200                  11-bit, or 29-bit with `extended: true`
-//       layout: native | ti        which DBC the message belongs to (ti = seed 001's frame layout)
+//       layout: native | ti | all  which DBC the message belongs to (ti = seed 001's frame layout; all =
+//                                  every layout's DBC, for a message every image sends whatever its layout)
+//       direction: tx | rx         tx (default): the node sends it; rx: the node receives it (a command).
+//                                  C++ kReceived and kReceivedIds (the identifiers a receive filter
+//                                  accepts); DBC: sent by Vector__XXX, received by the node
 //       dlc: 8
 //       cycle_ms: 1000             0 = event-driven only
 //       description: ...
@@ -76,17 +80,22 @@ struct Signal {
   int64_t readingMax() const { return notAvailable == rawMax() ? rawMax() - 1 : rawMax(); }
 };
 
+// The `layout` of a message in every layout's DBC.
+inline constexpr const char* kEveryLayout = "all";
+
 struct Message {
   std::string name;
   Loc loc;
   uint32_t id = 0;
   bool extended = false;
   std::string layout = "native";
+  bool received = false;  // direction: rx
   uint32_t dlc = 8;
   uint32_t cycleMs = 0;
   std::string description;
   std::vector<Signal> signals;
 
+  bool inLayout(const std::string& l) const { return layout == l || layout == kEveryLayout; }
   const Signal* multiplexer() const;
   // Frames needed for a multiplexed group (1 when there is none).
   uint32_t framesPerCycle() const;
@@ -97,7 +106,7 @@ struct Catalogue {
   uint32_t bitrate = 500000;
   std::string node = "BMS";
   std::vector<Message> messages;
-  std::vector<std::string> layouts() const;  // in order of first use
+  std::vector<std::string> layouts() const;  // in order of first use, `all` not counted as one
 };
 
 // Reads, builds and checks the catalogue in `file`; problems go to `diag`.

@@ -9,8 +9,7 @@ namespace {
 // Folds `n` values into an extremes pair (ext[0] max, ext[1] min) and their places (at[]), numbering them
 // from `first`, and returns their sum. kNoReading values are left out. Out of line: one copy serves cells
 // and temperatures.
-[[gnu::noinline]] int32_t fold(int16_t* ext, uint16_t* at, bool& seen, const int16_t* values, uint8_t n,
-                               uint16_t first) {
+int32_t fold(int16_t* ext, uint16_t* at, bool& seen, const int16_t* values, uint8_t n, uint16_t first) {
   int32_t sum = 0;
   for (uint8_t k = 0; k < n; ++k, ++first) {
     const int16_t v = values[k];
@@ -27,7 +26,9 @@ namespace {
 
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
   uint32_t open = 0;
-  for (uint32_t pair = 3; cells-- > 1; pair <<= 1, ++cellMv) {
+  for (uint32_t pair = 3; cells-- != 0; pair <<= 1, ++cellMv) {
+    if (cellMv[0] < kCellFloorMv) open |= pair & (pair >> 1);  // this cell alone (bit 0 of the pair)
+    if (cells == 0) break;                                     // the last cell has no neighbour above
     const int32_t step = cellMv[1] - cellMv[0];
     if (step > kOpenWireStepMv || step < -kOpenWireStepMv) open |= pair;
   }

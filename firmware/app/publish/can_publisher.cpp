@@ -20,9 +20,14 @@ void CanPublisher::run(sched::EventMask events) {
       plan_.abandon();
       ++state_->stats.abandoned;
     }
-    if (!state_->recovering) {
+    // A bus-off the controller counted since recovery was last asked for is a new one, even when this task
+    // never saw the bus on in between (it can come microseconds after a recovery, before this task ran):
+    // recover at once, not a publish period later.
+    const uint32_t busOffs = can_.counters().busOffEvents;
+    if (!state_->recovering || busOffs != state_->busOffsSeen) {
       ++state_->stats.busOff;
       state_->recovering = true;
+      state_->busOffsSeen = busOffs;
       // Busy (a recovery is under way) or NotReady are answered by the retry below: ignoring them is safe.
       (void)can_.recover();
     } else if ((events & kTick) != 0) {
@@ -35,6 +40,7 @@ void CanPublisher::run(sched::EventMask events) {
 }
 
 inline void CanPublisher::pump(Instant now) {
+  if (!sendAnswers()) return;
   hal::CanFrame frame;
   while (plan_.build(now, frame)) {
     const Status s = can_.send(frame);
@@ -51,6 +57,26 @@ inline void CanPublisher::pump(Instant now) {
     }
     return;
   }
+}
+
+// The waiting answers into the controller's queue; when the last has gone the outbox is the command task's
+// again. An answer the controller cannot take for good (bus-off) is dropped with the rest of its set.
+inline bool CanPublisher::sendAnswers() {
+  CanOutbox& box = state_->outbox;
+  while (box.count != 0) {
+    const Status s = can_.send(box.frames[box.next]);
+    if (s == Status::Overflow) {
+      ++state_->stats.refused;
+      return false;
+    }
+    if (s == Status::Ok) ++state_->stats.answers;
+    ++box.next;
+    if (--box.count == 0 && box.waiting) {
+      box.waiting = false;
+      scheduler_.post(kCommandTask, command_event::kOutboxFree);
+    }
+  }
+  return true;
 }
 
 }  // namespace fw::app

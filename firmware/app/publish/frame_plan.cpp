@@ -2,6 +2,8 @@
 
 #include <type_traits>
 
+#include "app/balancing/balancing_status.hpp"
+#include "app/version.hpp"  // generated: the CMake project version
 #include "can/bms.hpp"
 
 namespace fw::app {
@@ -50,7 +52,7 @@ uint16_t clampU16(int32_t v) {
   return static_cast<uint16_t>(v < 0 ? 0 : (v > 0xFFFE ? 0xFFFE : v));
 }
 // A 16-bit reading (mV, 0.1 K) never reaches the not-available value: only a negative one needs clamping.
-[[gnu::always_inline]] inline uint32_t reading(int32_t v) {
+inline uint32_t reading(int32_t v) {
   return static_cast<uint32_t>(v & ~(v >> 31));
 }
 int16_t clampI16(int32_t v) {
@@ -64,7 +66,7 @@ constexpr uint16_t framesPerBoard(uint8_t items) {
 static_assert(kMaxCellsPerBoard + 2 < 128 && kMaxTempsPerBoard <= kMaxCellsPerBoard);
 // x / 10, truncated toward zero as C division is, without a division: the quotient of |x| by shifts and
 // adds (Hacker's Delight 10-17), corrected by the remainder.
-[[gnu::noinline]] constexpr int32_t divideBy10(int32_t x) {
+constexpr int32_t divideBy10(int32_t x) {
   const uint32_t n = x < 0 ? 0U - static_cast<uint32_t>(x) : static_cast<uint32_t>(x);
   uint32_t q = (n >> 1) + (n >> 2);
   q += q >> 4;
@@ -108,7 +110,7 @@ constexpr size_t fieldCount() {
     return 0;
   }
 }
-// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 16 bits each (so a
+// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 24 bits each (so a
 // 32-bit accumulator with under 8 bits pending never overflows), big-endian ones 16 bits on a byte boundary.
 template <class M>
 constexpr bool streamable() {
@@ -118,7 +120,7 @@ constexpr bool streamable() {
     uint16_t next = 0;
     for (const can::Field& f : M::kFields) {
       const uint16_t lsb = f.bigEndian ? static_cast<uint16_t>(f.start / 8 * 8) : f.start;  // its first bit
-      if (f.length > 16 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
+      if (f.length > 24 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
       next = static_cast<uint16_t>(next + f.length);
     }
     return next <= 64;
@@ -152,8 +154,8 @@ template <class M, bool kSent>
 using Sent = std::conditional_t<kSent, M, Left<M>>;
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
-      Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,                  \
-      Sent<bms::TemperatureExtremes, kAllMessages>
+      bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
+      Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::BalancingStatus, kAllMessages>
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
@@ -169,7 +171,7 @@ static_assert(
     "standard identifiers above 0");
 
 // Writes the values of `count` fields (codes as above) as the frame's bit stream: all 8 bytes, the bits no
-// field covers 0.
+// field covers 0. Kept out of line by hand: inlined into fill() it costs 12..16 B per image (measured, LTO).
 [[gnu::noinline]] void packStream(uint8_t* data, const uint8_t* fields, const uint32_t* values,
                                   uint32_t count) {
   uint8_t* const end = data + 8;
@@ -192,18 +194,25 @@ static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::TemperatureExtremes::kFieldCount <= kMaxFields &&
               bms::ProtectionEvent::kFieldCount <= kMaxFields &&
               bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
-              bms::TiCellVoltages::kFieldCount <= kMaxFields);
+              bms::BalancingStatus::kFieldCount <= kMaxFields &&
+              bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields);
+static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
+                  bms::Startup::kFaultLineNotAvailable == 0xFFFF,
+              "a Startup field left unset goes out as not available");
 
 }  // namespace
 
 // A cycle walks steps in order, each with framesIn() frames:
-//   fast part: summary, extremes, [event]; then the slow part if one is waiting (resume_)
-//   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes
+//   fast part: summary, extremes, [event], [startup]; then the slow part if one is waiting (resume_)
+//   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes, balancing
+//              (one per board, where the pack balances)
 //   ti:        boards x 4 frames, top of stack first
 inline uint16_t FramePlan::framesIn(Step step) const {
   const uint16_t boards = pack_.boardCount();
   if (!sent(step)) return 0;
   switch (step) {
+    case kStartup:
+      return startupPending_;
     case kSummary:
     case kExtremes:
       return 1;
@@ -215,6 +224,8 @@ inline uint16_t FramePlan::framesIn(Step step) const {
           boards * framesPerBoard(step == kCells ? pack_.cellsPerBoard : pack_.tempsPerBoard));
     case kTempExtremes:
       return pack_.tempsPerBoard != 0;
+    case kBalancing:
+      return pack_.balancing != nullptr ? boards : 0;
     case kTiCells:
       return kTiLayout && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
     default:
@@ -222,20 +233,28 @@ inline uint16_t FramePlan::framesIn(Step step) const {
   }
 }
 
-// Moves on from steps whose frames are all done (or that have none): after the fast part to the slow part
-// waiting (if any), after the slow part or a TI set to the end.
+// Moves on from steps whose frames are all done (or that have none): after the fast part to the Startup
+// frame (if announced) and then the slow part waiting (if any), after the slow part or a TI set to the end.
 void FramePlan::settle() {
-  if constexpr (!kCoreMessages && !kTiLayout) {  // PackSummary is the only message
-    if (index_ != 0) step_ = kDone;
+  if constexpr (!kCoreMessages && !kTiLayout) {  // PackSummary is the only message (and Startup once)
+    if (index_ != 0) {
+      step_ = step_ == kSummary && startupPending_ ? kStartup : kDone;
+      index_ = 0;
+    }
     return;
   }
   while (step_ != kDone && index_ >= framesIn(step_)) {
     index_ = 0;
-    if (kCoreMessages && step_ == kEvent) {
-      step_ = resume_, index_ = resumeIndex_;
-      resume_ = kDone;
+    if (step_ == kStartup) {  // the end of the fast part (or the start of a TI set)
+      if (tiStartup_) {
+        step_ = kTiCells;
+        tiStartup_ = false;
+      } else {
+        step_ = resume_, index_ = resumeIndex_;
+        resume_ = kDone;
+      }
     } else {
-      step_ = step_ == kTempExtremes ? kDone : static_cast<Step>(step_ + 1);
+      step_ = step_ == kBalancing ? kDone : static_cast<Step>(step_ + 1);
     }
   }
 }
@@ -255,7 +274,8 @@ void FramePlan::beginTi() {
   // Only after a scan (it has just ended) that validated every board and shows no open wire: those codes are
   // not cell voltages, and the layout cannot say so.
   if (!pack_.totals.complete) return;
-  step_ = kTiCells;
+  tiStartup_ = startupPending_;
+  step_ = startupPending_ ? kStartup : kTiCells;
   index_ = 0;
   settle();
 }
@@ -279,6 +299,18 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   switch (step_) {
     case kDone:
       return 0;
+    case kStartup: {
+      using U = bms::Startup;
+      v[U::kResetCauseField] = startup_.resetCause;
+      v[U::kFirmwareMajorField] = kFirmwareVersionMajor;
+      v[U::kFirmwareMinorField] = kFirmwareVersionMinor;
+      v[U::kFirmwarePatchField] = kFirmwareVersionPatch;
+      if (startup_.faultValid) {
+        v[U::kFaultModuleField] = startup_.faultModule;
+        v[U::kFaultLineField] = startup_.faultLine;
+      }
+      break;
+    }
     case kSummary:
       // The pack voltage is the sum over every board, so only a scan that validated all of them gives it.
       {
@@ -287,8 +319,11 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
         if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
-        v[S::kChargeFetField] = status_.chargeOn;
-        v[S::kDischargeFetField] = status_.dischargeOn;
+        // The paths only as confirmed (publish_status.hpp); not available otherwise.
+        if (status_.pathsKnown) {
+          v[S::kChargeFetField] = status_.chargeOn;
+          v[S::kDischargeFetField] = status_.dischargeOn;
+        }
         v[S::kFaultOutputField] = status_.faultOutput;
         v[S::kDataValidField] = cells;
         v[S::kCounterField] = counter_;
@@ -350,6 +385,18 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       }
       break;
     }
+    case kBalancing: {
+      if (!sent(kBalancing)) return 0;
+      // One frame per board: what its device confirmed and for how long, and the pack's mode and state.
+      using B = bms::BalancingStatus;
+      const BalancingStatus& b = *pack_.balancing;
+      v[B::kBoardField] = index_;
+      v[B::kModeField] = static_cast<uint8_t>(b.mode());
+      v[B::kStateField] = static_cast<uint8_t>(b.state);
+      v[B::kCellsField] = b.cells[index_];
+      v[B::kTimeField] = b.seconds[index_] < 0xFFFFFFU ? b.seconds[index_] : 0xFFFFFFU;
+      break;
+    }
     case kTiCells: {
       if constexpr (!kTiLayout) return 0;  // compiled out: framesIn() gives this step no frames
       // Top of stack first: slot 0 is the highest board. A board that stopped being Valid since the set
@@ -373,6 +420,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
 
 void FramePlan::advance() {
   // On a finished plan this only counts index_ up: settle() leaves kDone alone.
+  if (step_ == kStartup) startupPending_ = false;
   if (sent(kEvent) && step_ == kEvent) {
     status_.pendingTripped = 0;
     status_.pendingCleared = 0;

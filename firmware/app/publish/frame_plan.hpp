@@ -9,9 +9,13 @@
 // nothing fresh behind them.
 //
 // Cycles
+//   start-up              after announceStartup(), the Startup message once: at the end of the next native
+//                         cycle's fast part (PackSummary keeps its time), or before the next TI set; reset
+//                         cause, firmware version, surviving fault record
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
-//                         TemperatureExtremes. The slow part may take longer than 100 ms (64 boards: 449
+//                         TemperatureExtremes, and BalancingStatus of every board where the pack balances
+//                         (PackView::balancing). The slow part may take longer than 100 ms (64 boards: 449
 //                         frames, about 120 ms at 500 kbit/s): a fast cycle that begins while it is still
 //                         going sends its own frames first and then lets the slow part continue where it
 //                         stopped. Only a slow cycle drops what is left of the previous one.
@@ -64,6 +68,11 @@ class FramePlan {
     return begin(slow);
   }
   bool active() const { return step_ != kDone; }
+  // The Startup message, sent once at the start of the next cycle (the image calls this once, at start-up).
+  void announceStartup(const StartupInfo& info) {
+    startup_ = info;
+    startupPending_ = true;
+  }
 
   // Fills `data` with the payload of the current frame (all 8 bytes) and returns its standard identifier,
   // or 0 when the cycle is complete. Every message of the catalogue is a classic 8-byte frame with a
@@ -84,16 +93,29 @@ class FramePlan {
 
  private:
   // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
-  // of (framesIn() == 0). Fast part: kSummary..kEvent; slow part: kCells..kTempExtremes; TI: kTiCells.
-  enum Step : uint8_t { kSummary, kExtremes, kEvent, kCells, kTemps, kTempExtremes, kTiCells, kDone };
+  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kBalancing;
+  // TI: kTiCells (after kStartup once).
+  enum Step : uint8_t {
+    kSummary,
+    kExtremes,
+    kEvent,
+    kStartup,
+    kCells,
+    kTemps,
+    kTempExtremes,
+    kBalancing,
+    kTiCells,
+    kDone
+  };
   bool begin(bool slow);  // (.cpp) the cycles with a slow part (FW_PUBLISH_LEVEL 1 and up)
   // The fast part, PackSummary first (every build sends it, so no settle() is needed); a slow part in
   // progress waits for it (resume_). Inline: a build with PackSummary alone and no statistics keeps only
   // the stores.
   bool startFast() {
     const bool dropped = step_ <= kEvent;
-    if (kCoreMessages && step_ >= kCells && step_ <= kTempExtremes) resume_ = step_, resumeIndex_ = index_;
+    if (kCoreMessages && step_ >= kCells && step_ <= kBalancing) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
+    tiStartup_ = false;
     step_ = kSummary;
     index_ = 0;
     // Each cycle's PackSummary carries the next Counter value whether it goes out or not, so one that never
@@ -101,18 +123,22 @@ class FramePlan {
     ++counter_;
     return dropped;
   }
-  inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
+  inline uint16_t framesIn(Step step) const;
   // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
-  [[gnu::always_inline]] static constexpr bool sent(Step step) {
-    if (step == kExtremes || step == kTemps || step == kTempExtremes) return kAllMessages;
+  static constexpr bool sent(Step step) {
+    if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kBalancing)
+      return kAllMessages;
     if (step == kEvent || step == kCells) return kCoreMessages;
     return true;
   }
   void settle();
 
   Step step_ = kDone;
-  Step resume_ = kDone;  // where a slow part continues once the fast part is done (kDone: none)
-  bool event_ = false;   // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  Step resume_ = kDone;     // where a slow part continues once the fast part is done (kDone: none)
+  bool tiStartup_ = false;  // the Startup frame opens a TI set (kTiCells follows it)
+  bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
+  bool startupPending_ = false;  // announceStartup() was called and its frame has not gone out yet
+  StartupInfo startup_{};
   uint8_t counter_ = 0xFF;    // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
   uint16_t index_ = 0;        // frame within the current step
   uint16_t resumeIndex_ = 0;  // ... and within resume_

@@ -288,15 +288,15 @@ void Gauge::sendMac(uint16_t subcommand) {
 
 // ManufacturerAccess: the subcommand written to 0x00 (a read then reads state_->readCmd). Inlined into its
 // two callers, so sendMac (the path the images link) pays nothing for the read's parameters.
-[[gnu::always_inline]] inline void Gauge::macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags) {
+inline void Gauge::macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags) {
   buffers_->tx[0] = kManufacturerAccess;
   bytes::storeLe16(buffers_->tx + 1, subcommand);
   access(3, readLen, flags, subcommand);
 }
 
-// Starts the next transaction once the bus has been idle for `gap` (LANDSCAPE.md: polling a BQ40zxy gauge
-// back to back can reset it). Always goes through onEvent(), so a start*() call never completes an
-// operation inside itself.
+// Starts the next transaction once the bus has been idle for `gap` (polling a TI gauge too fast
+// can reset it: Zephyr issue #116889 on the bq274xx). Always goes through onEvent(), so a start*() call never
+// completes an operation inside itself.
 void Gauge::schedule(Duration gap) {
   state_->wait = Wait::Timer;
   const Instant now = clock_.now();

@@ -93,7 +93,7 @@ static_assert(kMaxReadBytes >= kWindowBytes,
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
 inline constexpr bool kBalance =
-    FW_BQ769X_BALANCE != 0;  // the CRC mode is built (drivers/bq769x2/config.hpp)
+    FW_BQ769X_BALANCE != 0;  // host-controlled balancing is built (drivers/bq769x2/config.hpp)
 
 struct LinkConfig {
   uint8_t address = kDefaultAddress;
@@ -154,8 +154,7 @@ class Link {
 
   Status request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8_t len);
   void phase(Phase p);
-  inline void transfer(uint8_t cmd, const uint8_t* data, uint8_t count,
-                       uint8_t readLen);  // one caller: phase()
+  inline void transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen);
   void onBus();
   void fail(Status s);
   void finish(Status s);

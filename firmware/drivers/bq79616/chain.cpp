@@ -9,7 +9,7 @@
 //
 // Sources: SLUSE81E (BQ79616-Q1 datasheet) §6.6 timing, §9.3.6 communication and auto-addressing
 // (table 9-19), §9.4 power modes and pings, §9.5.4 register map; SLUUC56B (TI bring-up procedure, wake
-// timing); TI's MSPM0 SDK example as summarised in bq79616-protocol.md (§5, §6).
+// timing); TI's MSPM0 SDK 2.09 bq79616_uart_to_can example (main.c start-up, AutoAddress()).
 #include "drivers/bq79616/chain.hpp"
 
 #include <cstddef>
@@ -56,7 +56,9 @@ constexpr Op opOf(const Step& s) {
   return static_cast<Op>(s.code >> 4);
 }
 
-enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle };
+// kPerDevice and kAdcSettle scale with the configured device count, kPerDeviceAndOneMore with one more;
+// kPause is startPause()'s wait.
+enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle, kPerDeviceAndOneMore, kPause };
 
 // Frame steps: writes first, then reads (kRDllSync and above).
 enum Kind : uint8_t {
@@ -127,9 +129,13 @@ constexpr Step kBringUp[] = {
     ping(kWakePing),
     delay(kOnce, 11000),
     frame(kWBase, regs::kControl1, regs::kControl1SendWake),
-    delay(kPerDevice, 11600),  // WAKE tone ~1.6 ms + ACTIVE entry ~10 ms per device (SLUUC56B)
+    // The WAKE tone up the stack: TI's example waits 12 ms per board (bq79616_uart_to_can), SLUUC56B gives
+    // ~1.6 ms tone + ~10 ms ACTIVE entry per device; waited for the configured devices and one more, so
+    // that discovery finds a device beyond the configured count awake and reports it.
+    delay(kPerDeviceAndOneMore, 12000),
     kPhase,
-    // Auto-address (SLUSE81E table 9-19; protocol.md §6), then discovery and read-back.
+    // Auto-address (SLUSE81E table 9-19; TI's bq79616_uart_to_can AutoAddress()), then discovery and
+    // read-back.
     frame(kWDllSync, regs::kOtpEccDatain1, 0x00),
     frame(kWBcast, regs::kControl1, regs::kControl1AddrWr),
     frame(kWAddress, regs::kDir0Addr),
@@ -185,8 +191,9 @@ constexpr Step kClearFaults[] = {
     kEnd,
 };
 
-// The recovery ladder (LANDSCAPE.md, BQ79616 problem 3): drain before COMM CLEAR, because a COMM CLEAR
-// while stack responses are still arriving makes the host receive stray frames (SLUSE81E §9.3.6.1.2.1.2).
+// The recovery ladder (BQ79600 data sheet, COMM CLEAR; TI E2E thread 1400830): drain before COMM CLEAR,
+// because a COMM CLEAR while stack responses are still arriving makes the host receive stray frames (SLUSE81E
+// §9.3.6.1.2.1.2).
 constexpr Step kRecovery[] = {
     {code(Op::Drain)},
     ping(kCommClearPing),
@@ -215,6 +222,7 @@ constexpr Step kRecovered[] = {
 };
 
 constexpr Step kRaw[] = {{code(Op::Raw)}, kEnd};
+constexpr Step kPauseScript[] = {{code(Op::Delay, kPause)}, kEnd};
 
 constexpr Duration kGapTimeout = us(200);  // 20 byte times of silence inside a response
 
@@ -346,6 +354,13 @@ Status Chain::startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t 
   return begin(kRaw, false);
 }
 
+Status Chain::startPause(Duration d) {
+  if (active_) return Status::Busy;
+  if (d.us == 0 || d.us > 1000000) return Status::InvalidArgument;
+  pause_ = d;
+  return begin(kPauseScript, false);
+}
+
 // --- the interpreter
 // ----------------------------------------------------------------------------------------
 
@@ -401,7 +416,7 @@ void Chain::fail(Status status, uint8_t device) {
   unwind(status);
 }
 
-[[gnu::always_inline]] inline void Chain::unwind(Status status) {
+inline void Chain::unwind(Status status) {
   if (ret_ == nullptr) return finish(status);
   // A nested bring-up failed or left the chain degraded: the recovery ladder goes on with the rung after its
   // Call.
@@ -411,7 +426,7 @@ void Chain::fail(Status status, uint8_t device) {
   advance();
 }
 
-[[gnu::noinline]] void Chain::count(Status status) {
+void Chain::count(Status status) {
   ++stats_.errors[static_cast<uint8_t>(status)];
 }
 
@@ -462,8 +477,13 @@ void Chain::run() {
         send(txLen_, userRx_.data(), userRx_.size());
         break;
       case Op::Delay: {
+        if (s.code == code(Op::Delay, kPause)) {
+          wait(Wait::Timer, pause_);
+          break;
+        }
         uint32_t t = static_cast<uint32_t>(s.arg) << s.value;
-        if (s.code >= code(Op::Delay, kPerDevice)) t *= configured_;
+        if (s.code >= code(Op::Delay, kPerDevice))
+          t *= configured_ + (s.code == code(Op::Delay, kPerDeviceAndOneMore) ? 1U : 0U);
         Duration d = us(t);
         if (s.code == code(Op::Delay, kAdcSettle)) d = d + config_.adcSettle;
         wait(Wait::Timer, d);
@@ -598,7 +618,7 @@ void Chain::issue(const Step& s) {
   send(encodeFrame(init, device, reg, bytes, len, tx_), rx_, rxLen);
 }
 
-[[gnu::always_inline]] inline void Chain::onBus() {
+inline void Chain::onBus() {
   const Step& s = *pc_;
   const Status st = exchange_.status;
   if (draining_) {
@@ -627,7 +647,7 @@ void Chain::issue(const Step& s) {
   }
 }
 
-[[gnu::always_inline]] inline void Chain::onRead(const Step& s) {
+inline void Chain::onRead(const Step& s) {
   Status r = Status::Ok;
   uint8_t dev = first_;
   const size_t size = responseSize(count_);
@@ -812,7 +832,7 @@ void Chain::markFailed(uint8_t device, Status status) {
   if (status == Status::NoResponse) broken_ = true;
 }
 
-[[gnu::always_inline]] inline void Chain::endScan() {
+inline void Chain::endScan() {
   ScanSummary& sum = *summary_;
   sum.devices = devices_;
   for (uint8_t d = 0; d < configured_; ++d) {

@@ -13,8 +13,9 @@
 //   startWake()         WAKE ping 2.25 ms (inside tHLD_WAKE 2.0..2.5 ms with 10 % margin each side), wait
 //                       tSU(WAKE_SHUT) max + 10 % = 11 ms, a second WAKE + wait (a chain shut down by a
 //                       SHUTDOWN ping only listens after the second), single write CONTROL1[SEND_WAKE] to
-//                       the base, then (1.6 ms tone + 10 ms) per configured device (TI SLUUC56B), which
-//                       also covers one device more than configured so discovery can notice it.
+//                       the base, then 12 ms per device (TI's example: 12 ms per board; SLUUC56B: 1.6 ms
+//                       tone + 10 ms ACTIVE entry) for the configured devices and one more, so discovery
+//                       can notice a device beyond the configured count: 36 ms for 2 devices.
 //   startAutoAddress()  TI's sequence (SLUSE81E table 9-19): 8 DLL-sync dummy writes, CONTROL1[ADDR_WR],
 //                       DIR0_ADDR = 0..N (one address more than configured; writes that reach no device in
 //                       ADDR_WR mode are ignored), COMM_CTRL stack/base/top, 8 DLL-sync dummy reads,
@@ -71,6 +72,9 @@
 //                       for a single read, devices()−1 for a stack read and devices() for a broadcast read;
 //                       result() is the UART's status and received() the bytes stored in `rx`. The caller
 //                       parses the frames with frame.hpp.
+//   startPause(d)       a wait of `d` (at most 1 s) with the bus idle, for a diagnostic's settling time
+//   between
+//                       raw frames (open_wire.hpp); always Ok at its end.
 //
 // nFAULT: attachFaultLine() enables the pin's falling-edge notification as `event` to the owning task; the
 // task forwards it with the others (events() includes it). An edge only counts in stats() and makes the next
@@ -107,7 +111,7 @@ struct ChainConfig {
 
 enum class RecoveryLevel : uint8_t { CommClear = 0, SleepToActive = 1, Rewake = 2, HardwareReset = 3 };
 
-// Ping low times and waits (SLUSE81E §6.6, protocol.md §4; each chosen inside its window with margin).
+// Ping low times and waits (SLUSE81E §6.6; each chosen inside its window with margin).
 inline constexpr Duration kWakePing = us(2250);          // tHLD_WAKE 2.0..2.5 ms
 inline constexpr Duration kSleepToActivePing = us(275);  // tUART(StA) 250..300 us
 inline constexpr Duration kHwResetPing = ms(40);         // tHLD_HWRST >= 36 ms
@@ -158,6 +162,7 @@ struct ChainState {
   ScanSummary* summary_;
   uint32_t crcDone_[2];  // devices that reported CUST_CRC_DONE in the CRC wait, one bit each
   std::span<uint8_t> userRx_;
+  Duration pause_;  // startPause()'s wait
   hal::EdgeInput* nfault_;
   sched::EventMask faultEvent_;
   hal::UartExchange exchange_;
@@ -188,6 +193,10 @@ class Chain : private detail::ChainState {
   Status startRecovery(RecoveryLevel from = RecoveryLevel::CommClear);
   Status startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data);
   Status startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t count, std::span<uint8_t> rx);
+  Status startPause(Duration d);
+  // The chain's own receive buffer (kRxBufferBytes), lent to a caller's startRead() while no scan or
+  // bring-up runs: the next scan overwrites it, so the caller reads its answer as soon as the read ends.
+  std::span<uint8_t> receiveBuffer() { return rx_; }
 
   sched::EventMask events() const { return ctx_.events() | faultEvent_; }
   Progress onEvent(sched::EventMask events);

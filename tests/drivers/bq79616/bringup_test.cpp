@@ -66,9 +66,21 @@ TEST(Bq79616BringUpSequence, WakeIsTwoPingsInsideTheWindowThenSendWake) {
   // tSU(WAKE_SHUT) (10 ms max) passes between the end of a WAKE and the next step; TI's example waited 0.
   EXPECT_GE(timeline[1].first - timeline[0].first, 10000u + 2250u);
   EXPECT_GE(timeline[2].first - timeline[1].first, 10000u);
-  // Then (1.6 ms tone + 10 ms) per configured device before the operation ends.
-  EXPECT_GE(rig.harness.nowUs() - timeline[2].first, 2u * 11600u);
+  // Then TI's 12 ms per board for the configured devices and one more (3 x 12 ms for 2) before it ends.
+  EXPECT_GE(rig.harness.nowUs() - timeline[2].first, 3u * 12000u);
   EXPECT_TRUE(rig.emulator.awake(1));
+}
+
+TEST(Bq79616BringUpSequence, OneDeviceMoreThanConfiguredIsAwakeAtTisTwelveMsPerBoard) {
+  // A stack that takes TI's 12 ms per board (1.6 ms tone + 10.4 ms to ACTIVE) with a device more than
+  // configured: the wake wait covers it, so discovery finds it awake and reports it (11.6 ms per configured
+  // device left it asleep and the extra device went unnoticed).
+  Bq79616ChainEmulator::Timing ti;
+  ti.stackWakeUs = 10400;
+  ChainRig rig(3, test::configFor(2), ti);
+  EXPECT_EQ(rig.bringUp(), Status::VerifyFailed);
+  EXPECT_EQ(rig.chain.discovered(), 3);
+  EXPECT_EQ(rig.chain.devices(), 2);
 }
 
 TEST(Bq79616BringUpSequence, AutoAddressSendsTiSequenceForTwoDevices) {
@@ -85,7 +97,7 @@ TEST(Bq79616BringUpSequence, AutoAddressSendsTiSequenceForTwoDevices) {
     ADD_FAILURE() << "no vector " << what;
     return std::string();
   };
-  // SLUSE81E table 9-19 / protocol.md §6, with TI's own bytes where section 3 has them.
+  // SLUSE81E table 9-19 / TI's AutoAddress(), with TI's own bytes where SLUUC56B / SLUAA17A print them.
   ASSERT_GE(tx.size(), 24u);
   EXPECT_EQ(tx[0], vec("broadcast W OTP_ECC_DATAIN1=0x00"));
   EXPECT_EQ(tx[7].substr(0, 14), "TX D0 03 4A 00");  // ... through OTP_ECC_DATAIN8
@@ -217,10 +229,11 @@ TEST(Bq79616BringUpSequence, NoChainAtAllFailsWithNoResponse) {
 }
 
 TEST(Bq79616BringUpSequence, ASlowerStackThanTheDatasheetAllowsIsCaught) {
-  // The emulator enforces the wake timing: a stack that needs 2 ms more than tSU(WAKE_SHUT) max per device
-  // is not awake when addressing starts, so the driver must report it rather than assume it.
+  // The emulator enforces the wake timing: a stack that needs 16 ms per device (a third more than TI's 12 ms
+  // per board) is not awake when addressing starts after 12 ms x (8 + 1), so the driver must report it rather
+  // than assume it.
   Bq79616ChainEmulator::Timing slow;
-  slow.stackWakeUs = 12000;
+  slow.stackWakeUs = 14400;
   ChainRig rig(8, test::configFor(8), slow);
   EXPECT_EQ(rig.bringUp(), Status::CommFault);
   EXPECT_LT(rig.chain.discovered(), 8);

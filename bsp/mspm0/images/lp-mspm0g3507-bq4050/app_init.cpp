@@ -3,6 +3,7 @@
 #include "app/monitors/bq4050_app.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -13,5 +14,9 @@ const fw::app::Bq4050AppConfig kConfig{};
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq4050App;
-  image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut}, kConfig).start();
+  App& app = image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut, board.system},
+                                       kConfig);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  app.start();
 }

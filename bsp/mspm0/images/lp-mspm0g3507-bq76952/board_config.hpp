@@ -6,9 +6,8 @@
 namespace image::config {
 
 // BQ76952 on I2C0: fast mode. The device may stretch SCL up to 4 ms; a longer stretch is a stuck bus.
-// i2cTiming() makes timeout A at least that long under both of TI's readings of TIMEOUT_CTL.TCNTLA
-// (i2c_timing.hpp): 247 counts at the undivided 32 MHz clock (TPR 7) are 4.01 ms at the header's 520 clocks
-// per count and 11.9 ms at the TRM's 16 x (1 + TPR) x 12.
+// i2cTiming() makes timeout A that long, counted as TI counts TIMEOUT_CTL.TCNTLA (i2c_timing.hpp): 84 counts
+// of 16 x (1 + TPR) x 12 clocks at the undivided 32 MHz clock (TPR 7) = 4.03 ms.
 inline constexpr uint32_t kI2cBitRate = 400000;
 inline constexpr uint32_t kI2cStretchLimitUs = 4000;
 

@@ -5,6 +5,7 @@
 #include "board.hpp"
 #include "board_config.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -18,7 +19,10 @@ const fw::app::Bq79616AppConfig kConfig{.chain = {.devices = image::config::kBq7
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq79616App;
-  image::constructOnce<App>(scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut},
-                            kConfig, storage)
-      .start();
+  App& app = image::constructOnce<App>(
+      scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut, board.system}, kConfig,
+      storage);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  app.start();
 }

@@ -6,6 +6,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#include "common/startup_info.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -18,7 +19,9 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76907Settings, 7};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig,
-                            fw::drivers::bq769x2::kBq76907)
-      .start();
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
+                                       fw::drivers::bq769x2::kBq76907);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  app.start();
 }

@@ -6,9 +6,8 @@
 namespace image::config {
 
 // BQ76907 / BQ76905 on I2C0: fast mode (the BQ7690x supports 400 kHz). The device may stretch SCL up to 4 ms;
-// a longer stretch is a stuck bus. i2cTiming() makes timeout A at least that long under both of TI's
-// readings of TIMEOUT_CTL.TCNTLA (i2c_timing.hpp): 247 counts at 32 MHz (TPR 7) are 4.01 ms at the header's
-// 520 clocks per count and 11.9 ms at the TRM's 16 x (1 + TPR) x 12.
+// a longer stretch is a stuck bus. i2cTiming() makes timeout A that long, counted as TI counts
+// TIMEOUT_CTL.TCNTLA (i2c_timing.hpp): 84 counts at 32 MHz (TPR 7) = 4.03 ms.
 inline constexpr uint32_t kI2cBitRate = 400000;
 inline constexpr uint32_t kI2cStretchLimitUs = 4000;
 // XDS110 back-channel UART rate for SLCAN text.
