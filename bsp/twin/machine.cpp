@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "cpu/timing.hpp"
+#include "profiler.hpp"
+#include "race_watch.hpp"
 #include "sim/sim_clock.hpp"
 
 namespace twin {
@@ -53,6 +55,7 @@ void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
       b = static_cast<uint8_t>(x >> 24);
     }
   }
+  if (race_) race_->reset();
   for (auto& hook : resetHooks_)
     hook(kind);
   scs_.reset();
@@ -74,6 +77,59 @@ void Machine::stop(const std::string& why) {
     if (!fn.empty()) where += " in " + fn;
   }
   core_.halt(why + where + ")");
+}
+
+std::string Machine::describePc(uint32_t pc) const {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%08X", pc);
+  std::string text = buf;
+  if (symbolizer_) {
+    const std::string fn = symbolizer_(pc);
+    if (!fn.empty()) text += " in " + fn;
+  }
+  return text;
+}
+
+void Machine::violate(Rule rule, const std::string& detail) {
+  if (ruleInfo(rule).stops) {
+    stop(ruleText(rule, detail));
+    return;
+  }
+  const std::string text = ruleText(rule, detail) + " (PC " + describePc(core_.pc()) + ")";
+  if (std::find(ruleWarnings_.begin(), ruleWarnings_.end(), text) == ruleWarnings_.end())
+    ruleWarnings_.push_back(text);
+}
+
+void Machine::enableImageRules(uint32_t stackLow) {
+  imageRules_ = true;
+  race_ = std::make_unique<RaceWatch>(
+      core_, layout_.sramBase, layout_.sramBase + layout_.sramSize, stackLow,
+      [this] { return armedExceptions(); },
+      [this](const std::string& what) { violate(Rule::IsrRace, what); });
+  race_->setDescribe([this](uint32_t pc) { return describePc(pc); });
+  core_.setSramWatch(race_.get());
+}
+
+uint64_t Machine::armedExceptions() const {
+  // PendSV and SVCall are the software's own; SysTick only with TICKINT (the SCS pends it only then).
+  uint64_t armed = (1ULL << Nvic::kSvcall) | (1ULL << Nvic::kPendsv) | (1ULL << Nvic::kSystick);
+  const uint32_t enabled = nvic_.enabledIrqs();
+  for (int irq = 0; irq < 32; ++irq) {
+    if (((enabled >> irq) & 1U) == 0) continue;
+    const auto& armedQuery = irqArmed_[static_cast<size_t>(irq)];
+    if (!armedQuery || armedQuery()) armed |= 1ULL << (Nvic::kIrq0 + irq);
+  }
+  return armed;
+}
+
+void Machine::onWfi() {
+  // The idle rule (firmware/hal/irq.hpp): Thread code sleeps with interrupts masked, so an interrupt that
+  // arrives between its last check for work and the WFI leaves the WFI at once.
+  if (imageRules_ && !core_.handlerMode() && !core_.primask()) {
+    violate(Rule::IdleWfi,
+            "WFI in Thread mode with PRIMASK clear: an interrupt between the last check for work and the WFI "
+            "is slept through until the next one");
+  }
 }
 
 std::string Machine::stopReason() const {
@@ -102,6 +158,7 @@ void Machine::setIrq(int irq, bool asserted) {
 }
 
 void Machine::onExceptionEntry(int exception) {
+  enteredException_ = true;
   const uint64_t start = now() + cycles::kExceptionEntry;  // the handler's first instruction
   InterruptFigures& f = irqFigures_[exception];
   ++f.entries;
@@ -223,8 +280,12 @@ void Machine::run(uint64_t endCycle) {
     }
     timeline_.clearRearmed();
     while (now() < horizon) {
+      const uint32_t pc = core_.pc();
+      const uint32_t ipsr = core_.ipsr();
+      enteredException_ = false;
       const uint32_t spent = core_.step();
       if (spent == 0) break;
+      if (profiler_ != nullptr) profiler_->account(pc, ipsr, core_.ipsr(), enteredException_, spent);
       timeline_.advanceTo(now() + spent);
       busy_ += spent;
       if (timeline_.rearmed() || pendingReset_ || core_.sleeping()) break;

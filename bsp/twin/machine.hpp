@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,7 @@
 #include "cpu/nvic.hpp"
 #include "cpu/scs.hpp"
 #include "elf_file.hpp"
+#include "rules.hpp"
 #include "timeline.hpp"
 
 namespace bsp::host {
@@ -34,6 +36,9 @@ class SimClock;
 }
 
 namespace twin {
+
+class Profiler;
+class RaceWatch;
 
 struct MemoryLayout {
   uint32_t flashSize = 0;
@@ -101,6 +106,19 @@ class Machine final : public CoreObserver {
   void syncWorld();
   void run(uint64_t endCycle);
   void stop(const std::string& why);  // the run stops after the current instruction
+  // A rule of rules.hpp broken here: stops the run, or (a rule that warns) records the warning once, with the
+  // PC and the function either way.
+  void violate(Rule rule, const std::string& detail);
+  const std::vector<std::string>& ruleWarnings() const { return ruleWarnings_; }
+  // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
+  // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
+  void enableImageRules(uint32_t stackLow);
+  // Whether IRQ n's source can assert now (a peripheral with IMASK != 0); lines without one count as able.
+  void setIrqArmed(int irq, std::function<bool()> armed) {
+    irqArmed_[static_cast<size_t>(irq)] = std::move(armed);
+  }
+  // Cycles per function and per exception (profiler.hpp); null: none.
+  void setProfiler(Profiler* profiler) { profiler_ = profiler; }
   bool stopped() const { return core_.halted(); }
   std::string stopReason() const;
 
@@ -135,6 +153,9 @@ class Machine final : public CoreObserver {
   void onExceptionEntry(int exception) override;
   void onExceptionReturn(int exception) override;
   void onHardFault(const std::string& why) override;
+  void onWfi() override;
+  std::string describePc(uint32_t pc) const;
+  uint64_t armedExceptions() const;
   uint64_t worldNext() const;
   void fireDue();
 
@@ -162,6 +183,12 @@ class Machine final : public CoreObserver {
   std::vector<std::string> hardFaultLog_;
   std::optional<ResetKind> pendingReset_;
   std::string pendingResetCause_;
+  std::vector<std::string> ruleWarnings_;
+  bool imageRules_ = false;
+  std::unique_ptr<RaceWatch> race_;
+  std::array<std::function<bool()>, 32> irqArmed_{};
+  Profiler* profiler_ = nullptr;
+  bool enteredException_ = false;  // the step just taken was an exception entry (profiler)
   uint8_t pendingCauseId_ = 0;
   uint8_t resetCause_ = 0;
 };

@@ -56,7 +56,10 @@ template <class Model, class... Args>
 Model* Mspm0::add(uint32_t base, uint32_t size, int irq, Args&&... args) {
   auto* model = new Model(*machine_, std::forward<Args>(args)...);
   machine_->map().add(base, size, *model);
-  if (irq >= 0) model->connectInterrupt([this, irq](bool level) { machine_->setIrq(irq, level); });
+  if (irq >= 0) {
+    model->connectInterrupt([this, irq](bool level) { machine_->setIrq(irq, level); });
+    machine_->setIrqArmed(irq, [model] { return model->interruptArmed(); });
+  }
   machine_->onReset([model](ResetKind) { model->systemReset(); });
   return model;
 }
@@ -82,6 +85,7 @@ Mspm0::Mspm0(Part part) : part_(part) {
   dma_ = std::make_unique<Dma>(m, g ? 7 : 3);
   m.map().add(Dma::kBase, Dma::kSize, *dma_);
   dma_->connectInterrupt([&m](bool level) { m.setIrq(31, level); });
+  m.setIrqArmed(31, [this] { return dma_->interruptArmed(); });
 
   // GPIO ports feed INT_GROUP1: GPIOA is member 1, GPIOB member 2 (tsv group_iidx rows).
   gpioA_.reset(add<Gpio>(kGpioa, kPeripheralSpan, -1, "GPIOA", 0, *pins_));
@@ -91,6 +95,7 @@ Mspm0::Mspm0(Part part) : part_(part) {
     gpioB_.reset(add<Gpio>(kGpiob, kPeripheralSpan, -1, "GPIOB", 1, *pins_));
     gpioB_->connectInterrupt([this](bool level) { cpuss_->setMember(1, 2, level); });
   }
+  m.setIrqArmed(1, [this] { return gpioA_->interruptArmed() || (gpioB_ && gpioB_->interruptArmed()); });
   wwdt0_.reset(add<Wwdt>(kWwdt0, kPeripheralSpan, -1, "WWDT0"));
   i2c0_.reset(add<I2c>(kI2c0, kPeripheralSpan, 24, "I2C0", *pins_));
   i2c1_.reset(add<I2c>(kI2c1, kPeripheralSpan, 25, "I2C1", *pins_));
@@ -137,6 +142,10 @@ bool Mspm0::load(const ElfFile& elf) {
     return false;
   }
   machine_->setSymbolizer([this](uint32_t address) { return elf_->symbolAt(address); });
+  // The data-race rule and IDLE-WFI (rules.hpp); the stack reservation starts at __stack_limit__
+  // (bsp/mspm0/linker).
+  const auto limit = elf.symbol("__stack_limit__");
+  machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase);
   machine_->powerOn();
   return true;
 }

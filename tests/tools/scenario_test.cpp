@@ -203,6 +203,38 @@ TEST(ScenarioCheck, WarnsAboutStepsTheRunDoesNotReachOrTheImageIgnores) {
       "s.txt:2:1: warning: the step at 5000 ms comes after the end of the run (2000 ms): it does not happen");
 }
 
+TEST(ScenarioParser, DeviceFaultStepsTakeTheirValuesAndWarnWhereTheImageHasNoSuchLink) {
+  const Scenario s = parsed(
+      "0 stretch 1500\n1 stuck-scl\n2 stuck-sda\n3 uart-noise 1000\n4 can-error-frames 40\n5 stretch 0\n");
+  ASSERT_EQ(s.steps.size(), 6U);
+  EXPECT_EQ(s.steps[0].action, Action::Stretch);
+  EXPECT_EQ(s.steps[0].value, 1500);
+  EXPECT_EQ(s.steps[1].action, Action::StuckScl);
+  EXPECT_EQ(s.steps[2].action, Action::StuckSda);
+  EXPECT_EQ(s.steps[3].action, Action::UartNoise);
+  EXPECT_EQ(s.steps[3].value, 1000);
+  EXPECT_EQ(s.steps[4].action, Action::CanErrorFrames);
+  EXPECT_EQ(s.steps[4].value, 40);
+  EXPECT_EQ(errorOf("0 stretch 100001"),
+            "s.txt:1:11: error: a stretch in us must be in 0..100000, got '100001'");
+  EXPECT_EQ(errorOf("0 uart-noise -1"),
+            "s.txt:1:14: error: a bit error rate in ppm must be in 0..1000000, got '-1'");
+  EXPECT_EQ(errorOf("0 can-error-frames 0"),
+            "s.txt:1:20: error: a number of frames must be in 1..1000, got '0'");
+  EXPECT_EQ(errorOf("0 stuck-scl 5"), "s.txt:1:3: error: 'stuck-scl' takes no arguments, got 1 argument(s)");
+  Diagnostics diag;
+  // The BQ79616 image: no I2C device; an L1306 image: no UART link to its monitor and no CAN.
+  EXPECT_TRUE(checkScenario(s, {2, 16, 2, false, false, true, true}, 10000, diag));
+  ASSERT_EQ(diag.warnings.size(), 4U);  // the three I2C steps and the last stretch
+  EXPECT_EQ(diag.warnings[0], "s.txt:1:1: warning: this image has no I2C device: the step does nothing");
+  diag = {};
+  EXPECT_TRUE(checkScenario(s, {1, 16, 3, true, true, false, false}, 10000, diag));
+  ASSERT_EQ(diag.warnings.size(), 2U);
+  EXPECT_EQ(diag.warnings[0],
+            "s.txt:4:1: warning: this image has no UART link to its monitor: the step does nothing");
+  EXPECT_EQ(diag.warnings[1], "s.txt:5:1: warning: this image has no CAN bus: the step does nothing");
+}
+
 // An image that records what the player pushed to it.
 class RecordingSim final : public ImageSim {
  public:

@@ -7,15 +7,21 @@
 //   the watchdog never restarted (the WWDTCNTRST store taken out);
 // - what every boot publishes first (the Startup message): the reset cause, the firmware version, and the
 //   fault record only where the reset kept SRAM.
+// - one broken image per kind of rules.hpp, each stopped with that rule named: a UART at 1.1 Mbaud, SCL at
+//   1.6 MHz, CAN at 250 kbit/s, the 40 MHz crystal on the 16..32 MHz range, the UART RX pin without INENA,
+//   WFI with interrupts enabled, the scheduler's post() without its critical section, clock stretching
+//   switched off, an I2C flush never ended.
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "board/board.hpp"
 #include "gtest/gtest.h"
+#include "image_patch.hpp"
 #include "sim/harness.hpp"
 
 namespace {
@@ -215,7 +221,10 @@ TEST(BrokenImage, AnMcanInterruptNeverAcknowledgedIsCaught) {
   EXPECT_NE(caught[0].find("waiting for MCANSS_EOI"), std::string::npos) << caught[0];
 }
 
-TEST(BrokenImage, SwappedVectorsStopThePublishingAndResetTheChip) {
+TEST(BrokenImage, SwappedVectorsStopThePublishingAndAreNamed) {
+  // The I2C driver's handler entered through TIMG0's vector (exception 32) writes the driver's state while
+  // Thread code updates it unguarded, with TIMG0's interrupt able to come: the race rule names it. (Before
+  // that rule the run went on publishing nothing until the watchdog reset the chip.)
   const std::string preset = "lp-mspm0g3507-bq76952";
   LOAD_OR_SKIP(elf, preset);
   // Vector table entries 16 + IRQ (tsv irq rows): TIMG0 is IRQ 16 (0x80), I2C0 IRQ 24 (0xA0).
@@ -225,22 +234,27 @@ TEST(BrokenImage, SwappedVectorsStopThePublishingAndResetTheChip) {
            static_cast<uint32_t>(flash[at + 3]) << 24;
   };
   const uint32_t timg0 = word(0x80), i2c0 = word(0xA0);
-  auto run = [&](const ElfFile& image, uint64_t& summaries, size_t& resets) {
+  auto run = [&](const ElfFile& image, uint64_t& summaries, size_t& resets, std::string& stop) {
     Rig r(preset, image);
     r.board.runUntilUs(1500000);  // past the watchdog's 1 s period
     summaries = packSummariesAfter(r.board, 0);
     resets = r.board.machine().resets().size() - 1;
+    stop = r.board.machine().stopReason();
   };
   uint64_t good = 0, bad = 0;
   size_t goodResets = 0, badResets = 0;
-  run(*elf, good, goodResets);
+  std::string goodStop, badStop;
+  run(*elf, good, goodResets, goodStop);
   elf->patch32(0x80, i2c0);
   elf->patch32(0xA0, timg0);
-  run(*elf, bad, badResets);
+  run(*elf, bad, badResets, badStop);
   EXPECT_GE(good, 12U);
   EXPECT_EQ(goodResets, 0U);
+  EXPECT_EQ(goodStop, "");
   EXPECT_EQ(bad, 0U) << "the timer interrupt lands in the I2C handler: nothing may come out";
-  EXPECT_GE(badResets, 1U) << "and the watchdog resets the chip";
+  EXPECT_NE(badStop.find("[RACE-ISR-RMW]"), std::string::npos) << badStop;
+  EXPECT_NE(badStop.find("exception 32"), std::string::npos) << badStop;
+  EXPECT_NE(badStop.find("I2cController"), std::string::npos) << badStop;
 }
 
 TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
@@ -334,6 +348,211 @@ TEST(Startup, TheL1306SendsItFirstAsSlcanText) {
   }
   ASSERT_EQ(startup.size(), 1U);
   EXPECT_EQ(startup[0], "t1F0801000100FFFFFF00\r");
+}
+
+// --- broken images, one per kind of rules.hpp --------------------------------------------------------------
+
+using StoreSite = twinpatch::Store;
+
+// Every store to `address` in the first `us` of a run: the instruction, LR then, the value.
+std::vector<StoreSite> storeSites(const std::string& preset, const ElfFile& elf, uint32_t address,
+                                  uint64_t us) {
+  Rig r(preset, elf);
+  std::vector<StoreSite> sites;
+  twin::Machine& m = r.board.machine();
+  m.map().onStore([&](uint32_t a, uint32_t v) {
+    if (a != address) return;
+    for (const auto& s : sites) {
+      if (s.pc == m.core().pc() && s.value == v) return;
+    }
+    StoreSite site;
+    site.pc = m.core().pc(), site.lr = m.core().reg(14), site.value = v;
+    for (int i = 0; i < 8; ++i)
+      site.regs[i] = m.core().reg(i);
+    sites.push_back(site);
+  });
+  r.board.runUntilUs(us);
+  return sites;
+}
+
+// The image with the store at `site` writing `value` instead (image_patch.hpp).
+::testing::AssertionResult storeValue(ElfFile& elf, const StoreSite& site, uint32_t value) {
+  std::string why;
+  if (twinpatch::setStoredValue(elf, site, value, why)) return ::testing::AssertionSuccess();
+  char pc[16];
+  std::snprintf(pc, sizeof pc, "0x%X", site.pc);
+  return ::testing::AssertionFailure() << "the store at " << pc << ": " << why;
+}
+
+// Runs the image `us` and returns why the twin stopped ("" if it did not).
+std::string stopOf(const std::string& preset, const ElfFile& elf, uint64_t us,
+                   const std::function<void(Board&)>& setup = {}) {
+  Rig r(preset, elf);
+  if (setup) setup(r.board);
+  r.board.runUntilUs(us);
+  return r.board.machine().stopReason();
+}
+
+#define EXPECT_RULE(stop, rule) EXPECT_NE((stop).find("[" rule "]"), std::string::npos) << (stop)
+
+// The first store of `value` to `address`.
+StoreSite siteOf(const std::vector<StoreSite>& sites, uint32_t value) {
+  for (const auto& s : sites) {
+    if (s.value == value) return s;
+  }
+  return {};
+}
+
+TEST(BrokenImage, AUartAt1Point1MbaudIsStoppedByTheWireRule) {
+  // IBRD 1 + FBRD 52/64 at 16x from 32 MHz: 1 103 448 Bd against the BQ79616's 1 Mbps (+-1 %).
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto ibrd = storeSites(preset, *elf, 0x40108000 + 0x1110, 50000);
+  const auto fbrd = storeSites(preset, *elf, 0x40108000 + 0x1114, 50000);
+  ASSERT_EQ(ibrd.size(), 1U);
+  ASSERT_EQ(fbrd.size(), 1U);
+  ASSERT_TRUE(storeValue(*elf, ibrd[0], 1));
+  ASSERT_TRUE(storeValue(*elf, fbrd[0], 52));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-UART-BAUD");
+  EXPECT_NE(stop.find("1103448 Bd"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("BQ79616"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, AnSclFourTimesTheBq76952MaximumIsStoppedByTheWireRule) {
+  // MTPR.TPR 1 instead of 7: (1 + 1) x 10 clocks of 32 MHz, 1.6 MHz against the BQ76952's 400 kHz.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto mtpr = storeSites(preset, *elf, 0x400F0000 + 0x1224, 50000);
+  ASSERT_FALSE(mtpr.empty());
+  ASSERT_EQ(mtpr[0].value, 7U);
+  ASSERT_TRUE(storeValue(*elf, mtpr[0], 1));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-I2C-SCL");
+  EXPECT_NE(stop.find("SCL 1600000 Hz"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, ACanBitRateOfHalfTheBusIsStoppedByTheWireRule) {
+  // NBTP.NBRP 1 instead of 0: 250 kbit/s on the 500 kbit/s bus.
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto nbtp = storeSites(preset, *elf, 0x40508000 + 0x701C, 50000);
+  ASSERT_EQ(nbtp.size(), 1U);
+  ASSERT_TRUE(storeValue(*elf, nbtp[0], nbtp[0].value | (1U << 16)));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-CAN-BITRATE");
+  EXPECT_NE(stop.find("250000 bit/s"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, TheCrystalOnTheWrongRangeIsStoppedByTheWireRule) {
+  // HFCLKCLKCFG.HFXTRSEL 2 (16..32 MHz) for the LaunchPad's 40 MHz crystal.
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto cfg = storeSites(preset, *elf, 0x400AF000 + 0x1110, 50000);
+  const StoreSite first = siteOf(cfg, 0x300A);
+  ASSERT_NE(first.pc, 0U) << "no HFCLKCLKCFG write of 0x300A (range 3, HFXTTIME 10)";
+  ASSERT_TRUE(storeValue(*elf, first, 0x200A));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-HFXT-RANGE");
+}
+
+TEST(BrokenImage, AUartRxPinWithoutInputEnableIsStoppedByThePinRule) {
+  // PINCM22 (PA11, UART0 RX) written with the pull-up but without INENA: silicon receives nothing.
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  const auto rx = storeSites(preset, *elf, 0x40428000 + 4 * 22, 50000);
+  ASSERT_FALSE(rx.empty());
+  ASSERT_NE(rx[0].value & 0x40000U, 0U) << "the image sets INENA on PA11";
+  ASSERT_TRUE(storeValue(*elf, rx[0], rx[0].value & ~0x40000U));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "PIN-INENA");
+  EXPECT_NE(stop.find("UART0 RX on PA11"), std::string::npos) << stop;
+}
+
+// The address of the first `op` in the function whose name contains `function`, or 0.
+uint32_t findInstruction(const ElfFile& elf, const std::string& function, uint16_t op) {
+  for (const auto& s : elf.symbols()) {
+    if (!s.function || elf.symbolAt(s.value & ~1U).find(function) == std::string::npos) continue;
+    for (uint32_t at = s.value & ~1U; at < (s.value & ~1U) + s.size; at += 2) {
+      if (twinpatch::half(elf, at) == op) return at;
+    }
+  }
+  return 0;
+}
+
+TEST(BrokenImage, WfiWithInterruptsEnabledIsStoppedByTheIdleRule) {
+  // The CPSID before the scheduler's WFI taken out.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  uint32_t wfi = 0;
+  for (uint32_t at = 0; at + 2 <= elf->flashImage().size() && wfi == 0; at += 2) {
+    if (twinpatch::half(*elf, at) == 0xBF30) wfi = at;
+  }
+  ASSERT_NE(wfi, 0U);
+  uint32_t cpsid = 0;
+  for (uint32_t at = wfi; at > wfi - 64 && cpsid == 0; at -= 2) {
+    if (twinpatch::half(*elf, at) == 0xB672) cpsid = at;
+  }
+  ASSERT_NE(cpsid, 0U) << "no CPSID before the WFI";
+  elf->patch16(cpsid, 0xBF00);
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "IDLE-WFI");
+}
+
+TEST(BrokenImage, ThePostWithoutItsCriticalSectionIsStoppedByTheRaceRule) {
+  // fw::sched::Scheduler::post() updates the pending events and the ready set with PRIMASK set; interrupt
+  // handlers post too (the I2C driver's completion). Its CPSID taken out, a Thread post (a timer's) is an
+  // unguarded update of the ready set while the I2C interrupt can come. (The scheduler lives in main()'s
+  // frame: the rule watches the stack as well as .data and .bss.)
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 1000000), "");
+  const uint32_t cpsid = findInstruction(*elf, "fw::sched::Scheduler::post(", 0xB672);
+  ASSERT_NE(cpsid, 0U);
+  elf->patch16(cpsid, 0xBF00);
+  const std::string stop = stopOf(preset, *elf, 1000000);
+  EXPECT_RULE(stop, "RACE-ISR-RMW");
+  EXPECT_NE(stop.find("Scheduler::post"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, ClockStretchingSwitchedOffIsStoppedWhenTheDeviceStretches) {
+  // MCR = ACTIVE without CLKSTRETCH, and the BQ76952 stretching SCL 5 us on every byte.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto stretching = [](Board& b) { b.setI2cStretch(fw::us(5)); };
+  EXPECT_EQ(stopOf(preset, *elf, 300000, stretching), "");
+  const auto mcr = storeSites(preset, *elf, 0x400F0000 + 0x1228, 50000);
+  const StoreSite active = siteOf(mcr, 5);
+  ASSERT_NE(active.pc, 0U);
+  ASSERT_TRUE(storeValue(*elf, active, 1));
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "") << "without stretching nothing shows";
+  const std::string stop = stopOf(preset, *elf, 300000, stretching);
+  EXPECT_RULE(stop, "I2C-CLKSTRETCH");
+}
+
+TEST(BrokenImage, AnI2cFlushNeverEndedIsStoppedByTheFlushRule) {
+  // The driver's flush sets TXFLUSH and RXFLUSH, polls MFIFOSR, then clears them; the clearing store taken
+  // out, the flush goes on and the next byte written is lost.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto ctl = storeSites(preset, *elf, 0x400F0000 + 0x1238, 50000);
+  std::vector<uint32_t> clears;
+  bool afterFlush = false;
+  for (const auto& s : ctl) {
+    if (s.value & 0x8080U) {
+      afterFlush = true;
+    } else if (afterFlush) {
+      clears.push_back(s.pc);
+      afterFlush = false;
+    }
+  }
+  ASSERT_FALSE(clears.empty()) << "no store ends a flush";
+  removeStores(*elf, clears);
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "I2C-FLUSH");
 }
 
 }  // namespace

@@ -120,11 +120,11 @@ class I2c : public Chip {
  protected:
   void start() {
     wr(kI2c0 + 0x800, kPwrenOn);
-    wr(kI2c0 + 0x1004, 1U << 3);       // CLKSEL BUSCLK
-    wr(kI2c0 + 0x1224, 7);             // MTPR: (1 + 7) x 10 clocks = 400 kHz at 32 MHz
-    wr(kI2c0 + 0x1228, 1U | 4U);       // MCR ACTIVE, CLKSTRETCH
-    wr(0x40428000 + 4 * 1, 0x80 | 3);  // PA0 -> I2C0_SDA (PF 3)
-    wr(0x40428000 + 4 * 2, 0x80 | 3);  // PA1 -> I2C0_SCL
+    wr(kI2c0 + 0x1004, 1U << 3);                 // CLKSEL BUSCLK
+    wr(kI2c0 + 0x1224, 7);                       // MTPR: (1 + 7) x 10 clocks = 400 kHz at 32 MHz
+    wr(kI2c0 + 0x1228, 1U | 4U);                 // MCR ACTIVE, CLKSTRETCH
+    wr(0x40428000 + 4 * 1, 0x40000 | 0x80 | 3);  // PA0 -> I2C0_SDA (PF 3), INENA
+    wr(0x40428000 + 4 * 2, 0x40000 | 0x80 | 3);  // PA1 -> I2C0_SCL, INENA
     chip_.pins().setBoardPullUp(1, true);
     chip_.pins().setBoardPullUp(2, true);
   }
@@ -241,6 +241,63 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   EXPECT_EQ(rd(kI2c0 + 0x1030) & (1U << 14), 0U);
   runUs(200);
   EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 14), 0U);  // TIMEOUTA
+}
+
+// A target that stretches SCL before each byte it sends (a BQ76952 or BQ4050 extending the clock).
+class StretchingReader final : public bsp::host::I2cTarget {
+ public:
+  bsp::host::I2cReply onStart(bool) override { return {}; }
+  bsp::host::I2cReply onWrite(uint8_t) override { return {}; }
+  uint8_t onRead(fw::Duration& stretch) override {
+    stretch = fw::us(20);
+    return 0x5A;
+  }
+  void onStop() override {}
+};
+
+TEST_F(I2c, AStretchOnAReadByteWithClockStretchingOffStopsTheRun) {
+  // MCR.CLKSTRETCH "controls the support for clock stretching": without it the controller does not wait for
+  // the target, so a stretch on any byte - here the data byte of a read, the address got none - stops.
+  start();
+  StretchingReader target;
+  chip_.i2c0().attach(0x0B, target);
+  wr(kI2c0 + 0x1228, 1U);                         // MCR: ACTIVE, no CLKSTRETCH
+  wr(kI2c0 + 0x1210, (0x0B << 1) | 1);            // MSA: read
+  wr(kI2c0 + 0x1214, (1U << 16) | 1U | 2U | 4U);  // 1 byte, BURSTRUN, START, STOP
+  runUs(500);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-CLKSTRETCH]"), std::string::npos) << why();
+  EXPECT_NE(why().find("a read byte"), std::string::npos) << why();
+}
+
+TEST_F(I2c, AFlushIsHeldWhileItsBitIsSetAndEndedOnlyAfterMfifosrShowedItDone) {
+  // hw_i2c.h MFIFOCTL.TXFLUSH: "Setting this bit will Flush the TX FIFO. Before clearing this bit to stop
+  // Flush the TXFIFOCNT should be checked to be 8"; MFIFOSR.TXFLUSH: "a Flush operation for the TX FIFO is
+  // active. Clear the TXFLUSH bit in the control register to stop."
+  start();
+  wr(kI2c0 + 0x1220, 0x11);  // a stale byte
+  wr(kI2c0 + 0x1238, 0x80);  // TXFLUSH
+  runUs(1);
+  EXPECT_EQ((rd(kI2c0 + 0x123C) >> 8) & 0xF, 8U);  // flushed: TXFIFOCNT 8 (and the firmware saw it)
+  wr(kI2c0 + 0x1238, 0);                           // ended after the check: fine
+  EXPECT_FALSE(stopped()) << why();
+  wr(kI2c0 + 0x1238, 0x80);
+  runUs(1);
+  wr(kI2c0 + 0x1220, 0x22);  // written while the flush goes on: lost
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-FLUSH]"), std::string::npos) << why();
+  EXPECT_NE(why().find("TXFLUSH is set"), std::string::npos) << why();
+}
+
+TEST_F(I2c, AFlushEndedBeforeMfifosrShowedItDoneStopsTheRun) {
+  start();
+  wr(kI2c0 + 0x1220, 0x11);
+  wr(kI2c0 + 0x1238, 0x80);  // TXFLUSH ...
+  runUs(1);
+  wr(kI2c0 + 0x1238, 0);  // ... cleared without reading MFIFOSR: a one-shot pulse
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-FLUSH]"), std::string::npos) << why();
+  EXPECT_NE(why().find("cleared before MFIFOSR"), std::string::npos) << why();
 }
 
 // --- MCAN

@@ -26,6 +26,13 @@ checks:
   load        the emulated load and charger stop when the image opens their path (FETs or fault output)
   options     options the image cannot honour (--devices on a one-device image, --can-layout ti) exit 2
   gauge-soc   (BQ4050) StateOfCharge follows the current the emulated gauge counts
+  profile     --profile FILE: the format of bsp/twin/profiler.hpp; the function rows and the exception rows
+              each add up to the busy cycles, sleep is the rest; the I2C/UART handler was entered; --profile
+              without --elf exits 2. Prints the top ten functions (REPORT)
+  faults      every device fault of scenario.hpp the image's links have (SCL stretch within and beyond the
+              stretch limit, SCL and SDA held, UART noise, CAN error frames), on the twin and on the host
+              build: the image publishes valid data again within RECOVERY_MS of the fault's end (and PackSummary
+              keeps coming, but for the bus-off error frames cause); a stretch within the limit loses nothing
 Every check also finds StateOfCharge not available in each PackSummary of an image without a gauge (it was
 0 %), and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
 Prints REPORT lines (CPU load, interrupt latency, longest ISR, the twin's speed).
@@ -401,6 +408,126 @@ def check_slcan(sim, elf, image, scratch):
     print(f"REPORT twin.{image}.slcan_frames={len(parsed)} (--slcan FILE = --candump = --json)")
 
 
+RECOVERY_MS = 500.0  # valid data again after a device fault ends (README "Device faults")
+CAN_RESUME_MS = 250.0  # PackSummary again after error frames drove the controller bus-off
+
+
+def recovery(frames, end_ms):
+    """Milliseconds from end_ms to the first PackSummary from which on every one is valid without comm_loss,
+    or None."""
+    comm_loss = 1 << FAULTS.index("comm_loss")
+    good = None
+    for t, *_, valid, faults in pack_summaries(frames):
+        ok = valid and not faults & comm_loss
+        if ok and good is None:
+            good = t
+        elif not ok and t >= end_ms:
+            good = None
+    return None if good is None else max(0.0, good - end_ms)
+
+
+def check_faults(sim, elf, image, scratch):
+    i2c = image != "lp-mspm0g3507-bq79616"
+    can = image.startswith("lp-mspm0g3507-")
+    # (name, steps, when the fault ends, duration): the device's own timeouts end the held lines (board.hpp).
+    release = 1035 if image == GAUGE_IMAGE else 3000
+    cases = []
+    if i2c:
+        cases += [("stretch-within", "1000 stretch 1000\n2000 stretch 0\n", None, 3000),
+                  ("stretch-beyond", "1000 stretch 50000\n2000 stretch 0\n", 2000, 3500),
+                  ("stuck-scl", "1000 stuck-scl\n", release, release + 1500),
+                  ("stuck-sda", "1000 stuck-sda\n", 1000, 2500)]
+    else:
+        cases += [("uart-noise", "1000 uart-noise 1000\n3000 uart-noise 0\n", 3000, 4500)]
+    if can:
+        cases += [("can-error-frames-passive", "1000 can-error-frames 20\n", None, 2500),
+                  ("can-error-frames-bus-off", "1000 can-error-frames 40\n", 1000, 2500)]
+    for name, steps, end, duration in cases:
+        path = os.path.join(scratch, f"{image}-{name}.txt")
+        with open(path, "w") as f:
+            f.write(steps)
+        for build, source in (("twin", ["--elf", elf, "--image", image]), ("host", ["--image", image])):
+            summary, frames, _ = simulate(sim, scratch, f"{build}-{image}", path, duration, source)
+            if build == "twin":
+                check_healthy(summary)
+            times = [s[0] for s in pack_summaries(frames)]
+            gaps = [b - a for a, b in zip(times, times[1:])]
+            start = first_valid(frames)
+            if start is None:
+                fail(f"{name} ({build}): never valid data")
+            if end is None:
+                # Nothing may be lost: every summary from the first valid one on is valid, none missing.
+                lost = [s[0] for s in pack_summaries(frames) if s[0] > start and not s[4]]
+                if lost or max(gaps) > 150.0:
+                    fail(f"{name} ({build}): data not valid at {lost[:3]} ms, longest PackSummary gap "
+                         f"{max(gaps):.1f} ms")
+                print(f"REPORT twin.faults.{image}.{name}.{build}: nothing lost")
+                continue
+            if name.startswith("can-"):
+                after = [t for t in times if t > end]
+                resume = (after[0] - end) if after else None
+                if resume is None or max(gaps) > CAN_RESUME_MS + 100.0:
+                    fail(f"{name} ({build}): PackSummary stopped (longest gap {max(gaps):.1f} ms, bus-off "
+                         f"{summary['bus_off']})")
+                if not summary["bus_off"]:
+                    fail(f"{name} ({build}): 40 error frames did not take the controller bus-off")
+                print(f"REPORT twin.faults.{image}.{name}.{build}: bus-off at "
+                      f"{summary['bus_off'][0]['at_ms']:.1f} ms, longest PackSummary gap {max(gaps):.1f} ms "
+                      f"(bound {CAN_RESUME_MS + 100.0:.0f})")
+                continue
+            took = recovery(frames, end)
+            if took is None or took > RECOVERY_MS:
+                fail(f"{name} ({build}): valid data {took} ms after the fault ended at {end} ms "
+                     f"(bound {RECOVERY_MS} ms)")
+            print(f"REPORT twin.faults.{image}.{name}.{build}: valid again {took:.1f} ms after the fault "
+                  f"ended at {end} ms (bound {RECOVERY_MS:.0f}); {summary['comm_errors']} comm errors")
+
+
+def read_profile(path):
+    """bsp/twin/profiler.hpp's format: key TAB value lines, exception and function rows."""
+    keys, exceptions, functions = {}, [], []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            fields = line.rstrip("\n").split("\t")
+            if fields[0] == "exception":
+                n, name, entries, cycles, pct = fields[1:]
+                exceptions.append((int(n), name, int(entries), int(cycles), float(pct)))
+            elif fields[0] == "function":
+                name, calls, cycles, pct, address, size = fields[1:]
+                functions.append((name, int(calls), int(cycles), float(pct), int(address, 16), int(size)))
+            elif len(fields) == 2:
+                keys[fields[0]] = fields[1]
+            else:
+                fail(f"{path}: a line of no known kind: {line!r}")
+    return keys, exceptions, functions
+
+
+def check_profile(sim, elf, image, scratch):
+    path = os.path.join(scratch, f"{image}.profile")
+    result = subprocess.run([sim, "--image", image, "--profile", path], capture_output=True, text=True)
+    if result.returncode != 2 or "--profile applies to --elf runs" not in result.stderr:
+        fail(f"--profile without --elf: exit {result.returncode}, {result.stderr.strip()}")
+    run(sim, ["--elf", elf, "--scenario", "idle", "--duration", "4000", "--json", "--profile", path])
+    keys, exceptions, functions = read_profile(path)
+    if keys.get("profile") != "1" or keys.get("image") != image or keys.get("clock_hz") != "32000000":
+        fail(f"profile header: {keys}")
+    busy, run_cycles, sleep = (int(keys[k]) for k in ("busy_cycles", "run_cycles", "sleep_cycles"))
+    if run_cycles != 4000 * 32000 or busy + sleep != run_cycles or busy == 0:
+        fail(f"run {run_cycles}, busy {busy}, sleep {sleep} cycles")
+    if sum(e[3] for e in exceptions) != busy or sum(f[2] for f in functions) != busy:
+        fail(f"the rows do not add up to the busy cycles {busy}: exceptions {sum(e[3] for e in exceptions)}, "
+             f"functions {sum(f[2] for f in functions)}")
+    if [f[2] for f in functions] != sorted((f[2] for f in functions), reverse=True):
+        fail("function rows not in order of cycles")
+    handler = "UART0_IRQHandler" if image == "lp-mspm0g3507-bq79616" else "I2C0_IRQHandler"
+    if not any(e[1] == handler and e[2] > 0 for e in exceptions):
+        fail(f"{handler} never entered: {exceptions}")
+    top = ", ".join(f"{f[0]} {f[3]:.1f} %" for f in functions[:10])
+    print(f"REPORT twin.{image}.profile: busy {100.0 * busy / run_cycles:.2f} % of 4 s idle; top ten: {top}")
+
+
 def main():
     if len(sys.argv) != 6:
         print(__doc__)
@@ -431,6 +558,10 @@ def main():
         check_options(sim, image, scratch, ("--elf", elf))
     elif check == "gauge-soc":
         check_gauge_soc(sim, scratch, ("--elf", elf))
+    elif check == "profile":
+        check_profile(sim, elf, image, scratch)
+    elif check == "faults":
+        check_faults(sim, elf, image, scratch)
     else:
         print(__doc__)
         return 2

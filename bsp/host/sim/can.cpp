@@ -147,6 +147,25 @@ bool SimCan::accepts(const CanFrame& f) const {
 
 void SimCan::finished() {
   if (!peerOnWire_) {
+    if (errorFramesLeft_ != 0) {  // destroyed by an error frame: TEC + 8, then sent again
+      --errorFramesLeft_;
+      tec_ += 8;
+      if (tec_ > 255) {
+        injectBusOff();
+        return;
+      }
+      if (tec_ >= 128 && state_ == CanState::ErrorActive) {
+        state_ = CanState::ErrorPassive;
+        signal();
+      }
+      startNext();
+      return;
+    }
+    if (tec_ > 0) --tec_;
+    if (tec_ < 128 && state_ == CanState::ErrorPassive) {
+      state_ = CanState::ErrorActive;
+      signal();
+    }
     sent_.push_back(SentCanFrame{clock_.nowUs(), txQueue_.front()});
     txQueue_.pop_front();
     ++counters_.txFrames;
@@ -203,6 +222,7 @@ Status SimCan::doRecover() {
   clock_.scheduleIn(fw::us(static_cast<uint32_t>(us)), [this] {
     recovering_ = false;
     state_ = CanState::ErrorActive;
+    tec_ = 0;
     busOffLog_.back().recoveredUs = clock_.nowUs();
     if (!transmitting_) startNext();
     signal();

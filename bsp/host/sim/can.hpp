@@ -13,7 +13,11 @@
 // interrupt (onReceive). A frame the filter rejects raises nothing.
 // Fault injection: injectBusOff() puts the controller bus-off (queued frames are discarded, as MCAN does when
 // it enters Bus_Off with INIT set); recover() takes 128 x 11 recessive bits to return to ErrorActive.
-// Every frame sent is recorded with the time its transmission completed, for candump output and tests.
+// injectErrorFrames(n): another node destroys the next n transmission attempts with error frames; each adds 8
+// to the transmit error counter (ISO 11898-1 12.1.4 rule 3) and the frame is sent again; error passive from
+// 128, bus-off above 255 (queued frames discarded, as for injectBusOff); a successful frame subtracts 1,
+// error active again below 128. Every frame sent is recorded with the time its transmission completed, for
+// candump output and tests.
 #pragma once
 
 #include <cstddef>
@@ -45,6 +49,8 @@ class SimCan final : public fw::hal::CanBus {
   const std::vector<SentCanFrame>& sent() const { return sent_; }
   void injectBusOff();
   uint64_t busTimeUs() const { return busTimeUs_; }  // time our own frames took on the wire
+  void injectErrorFrames(uint32_t attempts) { errorFramesLeft_ += attempts; }
+  uint32_t transmitErrors() const { return tec_; }
 
   // Another node sends `frame` (it competes for the bus from now).
   void peerSend(const fw::hal::CanFrame& frame);
@@ -99,6 +105,7 @@ class SimCan final : public fw::hal::CanBus {
   uint64_t txEvent_ = 0;
   uint64_t busTimeUs_ = 0;
   bool recovering_ = false;
+  uint32_t tec_ = 0, errorFramesLeft_ = 0;
   std::vector<BusOffSpan> busOffLog_;
 };
 

@@ -92,6 +92,20 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
   auto it = targets_.find(txn.address);
   I2cTarget* target = it == targets_.end() ? nullptr : it->second;
 
+  if (sclHeldUntilUs_ != 0) {
+    if (clock_.nowUs() < sclHeldUntilUs_) {
+      // A device holds SCL low: the controller's clock-low timeout ends the attempt, and its recovery cannot
+      // clock SCL.
+      text = "SCL LOW TIMEOUT";
+      ns += limitNs;
+      ++recoveries_;
+      text += " RECOVERY FAILED";
+      txn.status = Status::BusStuck;
+      return ns;
+    }
+    sclHeldUntilUs_ = 0;  // released by the device's own timeout, which resets its interface
+    if (target != nullptr) target->onBusRecovery();
+  }
   if (sdaHeldClocks_ != 0) {
     // A device holds SDA low: no START is possible. The controller times out, then tries to recover.
     text = "BUS LOW TIMEOUT";
@@ -117,7 +131,8 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
   };
   // Accounts a target reply; false when the stretch exceeded the limit (the controller timed out).
   auto stretched = [&](fw::Duration stretch) {
-    const uint64_t sNs = static_cast<uint64_t>(stretch.us) * 1000;
+    const uint64_t sNs =
+        (static_cast<uint64_t>(stretch.us) + (target != nullptr ? deviceStretch_.us : 0)) * 1000;
     if (sNs > limitNs) {
       ns += limitNs;
       text += " TIMEOUT";
@@ -227,6 +242,12 @@ void SimI2cBus::finish() {
 Status SimI2cBus::doRecover() {
   if (busy_) return Status::Busy;
   std::string text;
+  if (sclHeldUntilUs_ != 0 && clock_.nowUs() < sclHeldUntilUs_) {
+    ++recoveries_;
+    log_.push_back({clock_.nowUs(), clock_.nowUs(), Status::BusStuck, "RECOVERY FAILED (SCL held low)"});
+    if (sink_) sink_(log_.back());
+    return Status::BusStuck;
+  }
   const uint64_t ns = recoverNs(nullptr, text);
   busTimeNs_ += ns;
   I2cWireRecord record{clock_.nowUs(), clock_.nowUs() + ns / 1000, Status::Ok, "RECOVERY"};

@@ -50,6 +50,12 @@ class SimI2cBus final : public fw::hal::I2cBus {
 
   // Holds SDA low until the recovery sequence has clocked `clocks` times (negative: forever).
   void holdSdaLow(int clocks) { sdaHeldClocks_ = clocks; }
+  // A device holds SCL low until `untilUs` (its own bus timeout releases it; then it resets its interface,
+  // onBusRecovery): every transaction meanwhile times out after stretchLimit and the recovery cannot clock.
+  void holdSclLow(uint64_t untilUs) { sclHeldUntilUs_ = untilUs; }
+  // The devices stretch SCL by `perByte` on every byte (address ACK, written byte's ACK, before a read
+  // byte), on top of what a target itself replies (bms-sim's `stretch <us>`).
+  void setDeviceStretch(fw::Duration perByte) { deviceStretch_ = perByte; }
 
   const std::vector<I2cWireRecord>& wireLog() const { return log_; }
   void clearWireLog() { log_.clear(); }
@@ -83,6 +89,8 @@ class SimI2cBus final : public fw::hal::I2cBus {
   fw::hal::Notify done_;
   bool busy_ = false;
   int sdaHeldClocks_ = 0;
+  uint64_t sclHeldUntilUs_ = 0;
+  fw::Duration deviceStretch_{};
   uint64_t transactions_ = 0;
   uint64_t busTimeNs_ = 0;
   uint64_t recoveries_ = 0;

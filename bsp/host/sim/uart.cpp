@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include "sim/sim_irq.hpp"
 
@@ -55,7 +56,20 @@ void SimUart::txComplete() {
   txEvent_ = 0;
   txDone_ = true;
   fw::hal::UartExchange& ex = *exchange_;
-  if (peer_ != nullptr && !ex.tx.empty()) peer_->onHostBytes(ex.tx, clock_.nowUs());
+  if (peer_ != nullptr && !ex.tx.empty()) {
+    if (noise_.ppm() == 0) {
+      peer_->onHostBytes(ex.tx, clock_.nowUs());
+    } else {
+      // The peer takes what the line delivers; a byte whose frame is lost never reaches it.
+      std::vector<uint8_t> line;
+      for (uint8_t b : ex.tx) {
+        bool lost = false;
+        const uint8_t got = noise_.pass(b, lost);
+        if (!lost) line.push_back(got);
+      }
+      peer_->onHostBytes(line, clock_.nowUs());
+    }
+  }
   if (exchange_ == nullptr) return;  // the peer's reaction aborted the exchange
   if (ex.rx.empty()) {
     complete(Status::Ok);
@@ -100,6 +114,7 @@ void SimUart::complete(Status status) {
 
 void SimUart::arrive(uint8_t byte, bool framingError) {
   ++rxBytes_;
+  byte = noise_.pass(byte, framingError);
   if (tap_) {
     tap_(byte, framingError);
     return;

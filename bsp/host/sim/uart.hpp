@@ -8,6 +8,9 @@
 // Bytes that arrive while no exchange is armed, or beyond the armed buffer, are counted as unsolicited and
 // dropped, as a real UART would overrun.
 //
+// Noise (noise().setPpm, bms-sim's uart-noise): bit errors on both directions of the line, as BitNoise says;
+// a byte that loses its frame arrives as a framing error.
+//
 // Wire log, in the contract format of `bmsctl trace`: "TX 90 00 03 09 20 13 95", "RX ...",
 // "PING WAKE 2250us" (the name comes from the peer's classification of the low time).
 #pragma once
@@ -19,6 +22,7 @@
 #include <vector>
 
 #include "hal/uart.hpp"
+#include "sim/bit_noise.hpp"
 #include "sim/sim_clock.hpp"
 
 namespace bsp::host {
@@ -44,6 +48,8 @@ class SimUart final : public fw::hal::Uart {
   void peerFramingError(uint64_t atUs);
 
   uint64_t byteTimeUs() const { return 10000000ULL / baud_; }
+  // Bit errors on the line, both directions (the MSPM0 twin applies the host-to-peer side itself).
+  BitNoise& noise() { return noise_; }
 
   // Hands every byte the peer sends (at its arrival time) to `tap` instead of an exchange: the MSPM0 twin's
   // UART model receives them there (bsp/twin).
@@ -88,6 +94,7 @@ class SimUart final : public fw::hal::Uart {
   std::vector<std::string> log_;
   std::function<void(const std::string&)> sink_;
   std::function<void(uint8_t, bool)> tap_;
+  BitNoise noise_;
   uint64_t txBytes_ = 0;
   uint64_t rxBytes_ = 0;
   uint64_t unsolicited_ = 0;

@@ -63,6 +63,37 @@ std::optional<ImageId> identify(const ElfFile& elf, std::string& error) {
   return std::nullopt;
 }
 
+// The I2C device as the controller sees it: the emulator's replies, plus the SCL stretch the scenario puts on
+// every byte and, while the device holds SCL, a stretch to the end of the hold.
+class Board::DeviceLine final : public bsp::host::I2cTarget {
+ public:
+  DeviceLine(bsp::host::I2cTarget& device, bsp::host::SimClock& clock) : device_(device), clock_(clock) {}
+  bsp::host::I2cReply onStart(bool read) override { return more(device_.onStart(read)); }
+  bsp::host::I2cReply onWrite(uint8_t byte) override { return more(device_.onWrite(byte)); }
+  uint8_t onRead(fw::Duration& stretch) override {
+    const uint8_t byte = device_.onRead(stretch);
+    stretch = stretch + extra();
+    return byte;
+  }
+  void onStop() override { device_.onStop(); }
+  void onBusRecovery() override { device_.onBusRecovery(); }
+
+  fw::Duration stretch{};
+  uint64_t holdUntilUs = 0;
+
+ private:
+  fw::Duration extra() const {
+    const uint64_t now = clock_.nowUs();
+    return stretch + fw::us(holdUntilUs > now ? static_cast<uint32_t>(holdUntilUs - now) : 0);
+  }
+  bsp::host::I2cReply more(bsp::host::I2cReply reply) const {
+    reply.stretch = reply.stretch + extra();
+    return reply;
+  }
+  bsp::host::I2cTarget& device_;
+  bsp::host::SimClock& clock_;
+};
+
 Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
     : image_(image), world_(world), chip_(image.part) {
   Machine& m = chip_.machine();
@@ -79,13 +110,20 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
     wireI2cMonitor();
   }
   if (image.part == Part::G3507) {
+    // The LaunchPad's 40 MHz crystal (tsv "HFXT" example row; LP-MSPM0G3507 user's guide).
+    chip_.sysctl().setHfxtCrystalHz(40000000);
     wireCan();
     faultPincm_ = kG3507Pb26;
     chip_.pins().onChange(faultPincm_, [this](bool level) {
       faultOutput_.push_back({chip_.machine().now(), level});
     });
   } else {
-    // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text.
+    // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text, at
+    // 115 200 Bd. Its tolerance is not documented: half the margin of a 16x-oversampling receiver (sampling
+    // mid-bit, 7/16 of a bit over the 9.5 bits to the stop bit: 4.6 %), the other half left to our clock.
+    chip_.uart(0).setLink(
+        {"XDS110 back-channel", 115200, 23000,
+         "computed: half a 16x receiver's 4.6 % margin; bsp/twin/README.md open questions"});
     chip_.uart(0).onTransmit([this](uint8_t byte) {
       ++uartBytes_;
       if (!chip_.pins().routed(kL1306Pa8, kPf2)) {
@@ -123,18 +161,32 @@ void Board::wireI2cMonitor() {
   Pins& pins = chip_.pins();
   pins.setBoardPullUp(kPa0, true);
   pins.setBoardPullUp(kPa1, true);
+  // A device holding SDA lets go once the controller has clocked SCL kHeldSdaClocks times (holdSda).
+  pins.onChange(kPa1, [this](bool level) {
+    if (level || sdaHeldClocks_ == 0 || --sdaHeldClocks_ != 0) return;
+    chip_.pins().setExternal(kPa0, Drive::None);
+    line_->onBusRecovery();
+  });
   chip_.i2c0().onTransaction([this](const I2cWireLog& t) { i2cLog_.push_back(t); });
   if (image_.family == Family::Bq4050) {
     bq4050_ = std::make_unique<bsp::host::Bq4050Emulator>();
     i2cAddress_ = bsp::host::Bq4050Emulator::kAddress;
-    chip_.i2c0().attach(i2cAddress_, *bq4050_);
+    line_ = std::make_unique<DeviceLine>(*bq4050_, world_);
+    chip_.i2c0().attach(i2cAddress_, *line_);
+    // SMBus: 10..100 kHz (SLUSC67A SMBus timing, fSMB; SMBus 2.0 3.1.1).
+    chip_.i2c0().setTargetRange(i2cAddress_, {"BQ4050", 10000, 100000, "SLUSC67A fSMB 10..100 kHz"});
     return;
   }
   using Model = bsp::host::Bq769xEmulator::Model;
   bq769x_ = std::make_unique<bsp::host::Bq769xEmulator>(
       world_, image_.family == Family::Bq76907 ? Model::Bq76907 : Model::Bq76952);
   i2cAddress_ = kBq769xAddress;
-  chip_.i2c0().attach(i2cAddress_, *bq769x_);
+  line_ = std::make_unique<DeviceLine>(*bq769x_, world_);
+  chip_.i2c0().attach(i2cAddress_, *line_);
+  // BQ76952: "supports rates up to 400 kHz" (SLUSE13B 14, I2C Communications Subsystem); the BQ7690x data
+  // sheet (SLUSE97) gives the same 400 kHz maximum.
+  chip_.i2c0().setTargetRange(i2cAddress_, {image_.family == Family::Bq76907 ? "BQ76907" : "BQ76952", 1,
+                                            400000, "SLUSE13B 14 / SLUSE97: I2C up to 400 kHz"});
   // ALERT: the line as the device's ALERT Pin Config drives it (the emulator's alertLine()); where it drives
   // nothing or high, the MCU's own pull-up must make the high (an input left floating is a twin warning).
   signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;
@@ -153,18 +205,25 @@ void Board::wireChain(int devices) {
   chip_.pins().setExternal(signalPincm_, Drive::High);  // nFAULT is driven by the base device
   Pins& pins = chip_.pins();
   Uart& uart = chip_.uart(0);
+  // "The device supports 1-Mbps baud rate" (SLUSE81E 9.3.6.1.1, UART); the host's baud error must lie within
+  // +-1 % (SLUSE81E electrical characteristics, "UART RX baud rate error").
+  uart.setLink({"BQ79616", 1000000, 10000, "SLUSE81E: 1 Mbps, UART RX baud rate error +-1 %"});
   uart.onTransmit([this](uint8_t byte) {
     ++uartBytes_;
     if (!chip_.pins().routed(kG3507Pa10, kPf2)) {
       ++unroutedBytes_;
       return;
     }
+    bool lost = false;  // the line's noise (setUartNoise); the chain's side is SimUart's
+    byte = chainUart_->noise().pass(byte, lost);
+    if (lost) return;
     noteChainByte(byte);
     chain_->onHostBytes(std::span<const uint8_t>(&byte, 1), world_.nowUs());
   });
   chainUart_->onPeerByte([this](uint8_t byte, bool framingError) {
     ++uartRxBytes_;
-    if (chip_.pins().routed(kG3507Pa11, kPf2)) chip_.uart(0).receive(byte, framingError);
+    if (chip_.pins().routed(kG3507Pa11, kPf2) && chip_.pins().requireInput(kG3507Pa11, "UART0 RX"))
+      chip_.uart(0).receive(byte, framingError);
   });
   // A ping: the TX line low (the firmware drives it as a GPIO) for its length, measured on the line.
   pins.onChange(kG3507Pa10, [this](bool level) {
@@ -198,6 +257,7 @@ void Board::noteChainByte(uint8_t byte) {
 
 void Board::wireCan() {
   chip_.mcan()->onFrame([this](const CanWireFrame& f) { canFrames_.push_back(f); });
+  chip_.mcan()->setBus(500000);                       // the product's CAN bus (README "The five images")
   chip_.pins().setExternal(kG3507Pa13, Drive::High);  // the transceiver's RXD: recessive while idle
 }
 
@@ -219,7 +279,7 @@ void Board::samplePins() {
 void Board::setMonitorPresent(bool present) {
   if (bq4050_) {
     if (present) {
-      chip_.i2c0().attach(i2cAddress_, *bq4050_);
+      chip_.i2c0().attach(i2cAddress_, *line_);
     } else {
       chip_.i2c0().detach(i2cAddress_);
     }
@@ -256,6 +316,43 @@ std::vector<std::string> Board::warnings() const {
     }
   }
   return out;
+}
+
+bool Board::setI2cStretch(fw::Duration perByte) {
+  if (!line_) return false;
+  line_->stretch = perByte;
+  return true;
+}
+
+bool Board::holdScl() {
+  if (!line_) return false;
+  const uint64_t until = world_.nowUs() + (bq4050_ ? 35000 : 2000000);
+  line_->holdUntilUs = until;
+  chip_.pins().setExternal(kPa1, Drive::Low);
+  world_.schedule(until, [this] {
+    chip_.pins().setExternal(kPa1, Drive::None);
+    line_->onBusRecovery();  // its timeout reset the device's interface
+  });
+  return true;
+}
+
+bool Board::holdSda() {
+  if (!line_) return false;
+  sdaHeldClocks_ = kHeldSdaClocks;
+  chip_.pins().setExternal(kPa0, Drive::Low);
+  return true;
+}
+
+bool Board::setUartNoise(uint32_t ppm) {
+  if (!chainUart_) return false;
+  chainUart_->noise().setPpm(ppm);
+  return true;
+}
+
+bool Board::injectCanErrorFrames(uint32_t attempts) {
+  if (chip_.mcan() == nullptr) return false;
+  chip_.mcan()->injectErrorFrames(attempts);
+  return true;
 }
 
 bool Board::injectBusOff() {

@@ -107,6 +107,25 @@ class Board {
   bool sendSerial(std::string_view bytes);
   size_t serialBacklog() const { return serialOut_.size(); }
 
+  // Device faults (bms-sim's scenario steps stretch, stuck-scl, stuck-sda, uart-noise, can-error-frames);
+  // each is false on a board without that link.
+  // The I2C device stretches SCL by `perByte` on every byte: after the address and each written byte's ACK
+  // and before each byte it sends, the places a BQ76952 or BQ4050 extends the clock (SLUSE13B 14 "clock low
+  // responder extend"; SLUSC67A tLOW:SEXT). 0 stops it.
+  bool setI2cStretch(fw::Duration perByte);
+  // The I2C device holds SCL low from now until its own bus timeout resets its interface: 2 s on the
+  // BQ76952 / BQ7690x (SLUSE13B 14: "a long-term timeout if the SCL pin is detected low for more than 2
+  // seconds"), 35 ms on the BQ4050 (the end of SMBus tTIMEOUT 25..35 ms, SLUSC67A).
+  bool holdScl();
+  // The I2C device holds SDA low (a read byte cut by a reset: it drives a 0 bit) until the controller has
+  // clocked SCL 8 times (the I2C bus clear, UM10204 3.1.16: at most 9 clocks).
+  bool holdSda();
+  // Bit errors on the BQ79616 UART link, both directions (bsp/host/sim/bit_noise.hpp), in ppm; 0 stops.
+  bool setUartNoise(uint32_t ppm);
+  // Another node destroys the next `attempts` CAN transmissions with error frames (Mcan::injectErrorFrames).
+  bool injectCanErrorFrames(uint32_t attempts);
+  static constexpr uint32_t kHeldSdaClocks = 8;
+
   // What the board did.
   const std::vector<CanWireFrame>& canFrames() const { return canFrames_; }
   const std::vector<SlcanLine>& slcanLines() const { return slcanLines_; }
@@ -131,6 +150,7 @@ class Board {
   void samplePins();
   void serialArrive();
   void noteChainByte(uint8_t byte);
+  class DeviceLine;
 
   ImageId image_;
   bsp::host::SimClock& world_;
@@ -140,6 +160,8 @@ class Board {
   std::unique_ptr<bsp::host::SimUart> chainUart_;
   std::unique_ptr<bsp::host::Bq79616ChainEmulator> chain_;
   std::unique_ptr<bsp::host::SimEdgeInput> nfault_;
+  std::unique_ptr<DeviceLine> line_;  // the I2C device as the bus sees it (its faults on top)
+  uint32_t sdaHeldClocks_ = 0;
   int signalPincm_ = 0;  // ALERT or nFAULT input
   int faultPincm_ = 0;   // fault output
   uint8_t i2cAddress_ = 0;

@@ -99,6 +99,7 @@ bool Core::load(uint32_t address, unsigned bytes, uint32_t& value) {
     p = sram_ + (address - sramBase_);
   }
   if (p != nullptr) {
+    if (watch_ != nullptr && !stacking_ && address >= sramBase_) watch_->onSramLoad(address, bytes);
     value = p[0];
     if (bytes >= 2) value |= static_cast<uint32_t>(p[1]) << 8;
     if (bytes == 4) value |= static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
@@ -116,6 +117,7 @@ bool Core::store(uint32_t address, unsigned bytes, uint32_t value) {
     return false;
   }
   if (address - sramBase_ < sramSize_) {
+    if (watch_ != nullptr && !stacking_) watch_->onSramStore(address, bytes);
     uint8_t* p = sram_ + (address - sramBase_);
     p[0] = static_cast<uint8_t>(value);
     if (bytes >= 2) p[1] = static_cast<uint8_t>(value >> 8);
@@ -217,18 +219,22 @@ void Core::bxWritePc(uint32_t address) {
 
 void Core::takeException(int exception, uint32_t returnAddress) {
   // PushStack (B1.5.6): eight words on the stack in use, 8-byte aligned, xPSR bit 9 records the padding.
+  if (ipsr_ == 0) handlerStackTop_ = msp_;
   const bool threadPsp = ipsr_ == 0 && spsel_;
   uint32_t& sp = threadPsp ? psp_ : msp_;
   const uint32_t padding = (sp >> 2) & 1U;
   const uint32_t frame = (sp - 0x20) & ~7U;
   const uint32_t xpsr = apsr() | ipsr_ | (padding << 9) | (1U << 24);
   const uint32_t words[8] = {r_[0], r_[1], r_[2], r_[3], r_[12], lr_, returnAddress, xpsr};
+  stacking_ = true;
   for (uint32_t i = 0; i < 8; ++i) {
     if (!store(frame + 4 * i, 4, words[i])) {
+      stacking_ = false;
       halt("exception " + std::to_string(exception) + ": stacking to " + hex(frame + 4 * i) + " failed");
       return;
     }
   }
+  stacking_ = false;
   sp = frame;
   lr_ = ipsr_ != 0 ? kReturnHandler : threadPsp ? kReturnThreadPsp : kReturnThreadMsp;
   // ExceptionTaken (B1.5.6): Handler mode on the main stack.
@@ -265,12 +271,15 @@ void Core::exceptionReturn(uint32_t excReturn) {
   }
   uint32_t& sp = excReturn == kReturnThreadPsp ? psp_ : msp_;
   uint32_t words[8];
+  stacking_ = true;
   for (uint32_t i = 0; i < 8; ++i) {
     if (!load(sp + 4 * i, 4, words[i])) {
+      stacking_ = false;
       halt("exception return: unstacking from " + hex(sp + 4 * i) + " failed");
       return;
     }
   }
+  stacking_ = false;
   const uint32_t xpsr = words[7];
   sp = (sp + 0x20) | (bit(xpsr, 9) << 2);
   r_[0] = words[0], r_[1] = words[1], r_[2] = words[2], r_[3] = words[3], r_[12] = words[4];
@@ -584,7 +593,7 @@ uint32_t Core::execute(uint16_t op) {
         }
         case 0x6:
           if ((op & 0xFFEF) == 0xB662) {  // CPSIE i / CPSID i: bit 4 (im) set disables
-            primask_ = bit(op, 4) != 0;
+            setPrimask(bit(op, 4) != 0);
             return kCps;
           }
           break;
@@ -646,6 +655,7 @@ uint32_t Core::execute(uint16_t op) {
               }
               return kWait;
             case 3:  // WFI (B1.5.19)
+              if (observer_ != nullptr) observer_->onWfi();
               if (nvic_.pendingToTake(nvic_.executionPriority(false)) == 0) sleeping_ = true;
               return kWait;
             case 4:  // SEV
@@ -735,7 +745,7 @@ uint32_t Core::execute32(uint16_t hw1, uint16_t hw2) {
     } else if (sysm == 9) {
       psp_ = v & ~3U;
     } else if (sysm == 16) {
-      primask_ = (v & 1U) != 0;
+      setPrimask((v & 1U) != 0);
     } else if (sysm == 20) {
       npriv_ = (v & 1U) != 0;
       if (ipsr_ == 0) spsel_ = (v & 2U) != 0;  // SPSEL is writable in Thread mode only

@@ -39,15 +39,29 @@ class CoreBus {
   ~CoreBus() = default;
 };
 
-// Told about exception entry and return (interrupt latency and ISR time measurements).
+// Told about exception entry and return (interrupt latency and ISR time measurements), and WFI (the idle
+// rule, rules.hpp IDLE-WFI).
 class CoreObserver {
  public:
   virtual void onExceptionEntry(int exception) = 0;
   virtual void onExceptionReturn(int exception) = 0;
   virtual void onHardFault(const std::string& why) = 0;
+  virtual void onWfi() {}
 
  protected:
   ~CoreObserver() = default;
+};
+
+// Told about every SRAM access an instruction makes (not the exception entry's stacking or the return's
+// unstacking): the data-race rule (race_watch.hpp). Null by default: the interpreter's hot path pays one
+// branch.
+class SramWatch {
+ public:
+  virtual void onSramLoad(uint32_t address, unsigned bytes) = 0;
+  virtual void onSramStore(uint32_t address, unsigned bytes) = 0;
+
+ protected:
+  ~SramWatch() = default;
 };
 
 class Core {
@@ -59,6 +73,7 @@ class Core {
     sram_ = data, sramBase_ = base, sramSize_ = size;
   }
   void setObserver(CoreObserver* observer) { observer_ = observer; }
+  void setSramWatch(SramWatch* watch) { watch_ = watch; }
 
   // Reset (B1.5.5): MSP and PC from the vector table at VTOR = 0, Thread mode, PRIMASK 0, NVIC reset.
   void reset();
@@ -81,6 +96,12 @@ class Core {
   uint32_t apsr() const;
   void setApsr(uint32_t value);
   bool primask() const { return primask_; }
+  // Critical sections entered so far: +1 each time PRIMASK goes from 0 to 1 (CPSID, MSR). Two accesses with
+  // PRIMASK set and the same count lie in one unbroken section.
+  uint32_t maskSections() const { return maskSections_; }
+  // MSP when the outermost exception now active was taken, before its frame: handlers' own stack lies
+  // below it (the data-race rule tells their locals from the Thread's data, race_watch.hpp).
+  uint32_t handlerStackTop() const { return handlerStackTop_; }
   uint32_t ipsr() const { return ipsr_; }
   bool handlerMode() const { return ipsr_ != 0; }
   uint32_t control() const { return (spsel_ ? 2U : 0U) | (npriv_ ? 1U : 0U); }
@@ -111,6 +132,10 @@ class Core {
   CoreBus& bus_;
   Nvic& nvic_;
   CoreObserver* observer_ = nullptr;
+  SramWatch* watch_ = nullptr;
+  bool stacking_ = false;  // exception entry or return moves the frame: not an instruction's access
+  uint32_t maskSections_ = 0;
+  uint32_t handlerStackTop_ = 0;
   const uint8_t* flash_ = nullptr;
   uint32_t flashSize_ = 0;
   uint8_t* sram_ = nullptr;
@@ -127,6 +152,10 @@ class Core {
   bool sleeping_ = false, waitForEvent_ = false, event_ = false;
   bool faulted_ = false;      // the current instruction raised HardFault
   uint32_t extraCycles_ = 0;  // an exception return inside the current instruction (its frame pop)
+  void setPrimask(bool on) {
+    if (on && !primask_) ++maskSections_;
+    primask_ = on;
+  }
   bool halted_ = false;
   std::string haltReason_;
   uint64_t instructions_ = 0;

@@ -52,6 +52,7 @@ class Dma final : public Device {
   // A requester's request for `trigger` was raised.
   void requestRaised(int trigger);
   void connectInterrupt(std::function<void(bool)> line) { line_ = std::move(line); }
+  bool interruptArmed() const { return cpuInt_.imask != 0; }  // race_watch.hpp
 
  private:
   struct Channel {

@@ -1,5 +1,7 @@
 #include "periph/gpio.hpp"
 
+#include <string>
+
 namespace twin {
 
 namespace {
@@ -24,9 +26,17 @@ void Gpio::padChanged(int bit, bool level) {
   const PinId* pin = pins_.find(port_, bit);
   if (pin == nullptr || !powered()) return;
   const uint32_t cm = pins_.pincm(pin->pincm);
-  if ((cm & (Pins::kPc | 0x3FU)) != (Pins::kPc | Pins::kPfGpio) || (cm & Pins::kInputEnable) == 0) return;
+  if ((cm & (Pins::kPc | 0x3FU)) != (Pins::kPc | Pins::kPfGpio)) return;
   const uint32_t pol = (polarity_[bit >> 4] >> (2 * (bit & 15))) & 3U;
-  if ((level && (pol & kRise)) || (!level && (pol & kFall))) raise(1U << bit);
+  const bool edge = (level && (pol & kRise)) || (!level && (pol & kFall));
+  // An edge the firmware listens for (POLARITY and IMASK set) on a pin whose input buffer is off: silicon
+  // never sees it (PIN-INENA).
+  if ((cm & Pins::kInputEnable) == 0) {
+    if (edge && (cpuInt_.imask & (1U << bit)) != 0)
+      pins_.requireInput(pin->pincm, name() + std::string(" edge input DIO") + std::to_string(bit));
+    return;
+  }
+  if (edge) raise(1U << bit);
 }
 
 bool Gpio::readRegister(uint32_t offset, uint32_t& value) {

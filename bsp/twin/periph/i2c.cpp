@@ -70,6 +70,44 @@ void I2c::resetRegisters() {
   step_.cancel();
   timeout_.cancel();
   flush_.cancel();
+  flushSeenDone_ = true;
+}
+
+uint32_t I2c::sclHz() const {
+  return machine_.clockHz() / clock_.divider() / (((mtpr_ & 0x7F) + 1) * 10);
+}
+
+void I2c::checkWire(uint8_t address7) {
+  char buf[200];
+  const uint32_t tpr = mtpr_ & 0x7F, scl = sclHz();
+  // The device's range first (it names the partner that would misread the bus), then the controller's own.
+  auto range = ranges_.find(address7);
+  if (tpr != 0 && range != ranges_.end()) {
+    const TargetRange& r = range->second;
+    if (scl < r.minHz || scl > r.maxHz) {
+      std::snprintf(buf, sizeof buf,
+                    "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) to the %s, which accepts %u..%u Hz (%s)", name(),
+                    scl, tpr, clock_.divider(), r.device.c_str(), r.minHz, r.maxHz, r.source.c_str());
+      machine_.violate(Rule::I2cScl, buf);
+      return;
+    }
+  }
+  if (tpr == 0 || scl > 1000000) {
+    std::snprintf(
+        buf, sizeof buf,
+        "%s: SCL %u Hz (MTPR.TPR %u, CLKDIV /%u) is outside the controller's own range (TPR 1..127, at "
+        "most 1 MHz Fast-mode Plus)",
+        name(), scl, tpr, clock_.divider());
+    machine_.violate(Rule::I2cTpr, buf);
+  }
+}
+
+bool I2c::checkStretch(uint64_t stretchCycles, const char* byte) {
+  if (stretchCycles == 0 || (mcr_ & kMcrClkStretch) != 0) return true;
+  machine_.violate(Rule::I2cClockStretch,
+                   name() + std::string(": the target stretched SCL on ") + byte +
+                       " with MCR.CLKSTRETCH clear: the controller does not wait for it");
+  return false;
 }
 
 uint64_t I2c::bitCycles() const {
@@ -142,6 +180,12 @@ void I2c::startBurst() {
     stop("MCTR.BURSTRUN written while a burst is running (MSR.BUSY)");
     return;
   }
+  if (mfifoctl_ & (kTxFlush | kRxFlush)) {
+    machine_.violate(Rule::I2cFlush, name() + std::string(": a burst started with MFIFOCTL.") +
+                                         ((mfifoctl_ & kTxFlush) ? "TXFLUSH" : "RXFLUSH") +
+                                         " still set: the flush goes on and its FIFO's bytes are lost");
+    return;
+  }
   if (mctr_ & kAckOverride) {
     stop("MCTR.MACKOEN (controller ACK override): no TI example or library uses it, not modelled");
     return;
@@ -190,8 +234,31 @@ void I2c::startBurst() {
 void I2c::step() {
   switch (phase_) {
     case Phase::Start: {
+      // A device holding SCL low: the controller waits, its clock-low timeout running; one holding SDA low:
+      // the START is lost (arbitration).
+      if (routed() && !pins_.level(sclPincm_)) {
+        if (!timeout_.armed()) holdSclLow(machine_.now());
+        step_.after(bitCycles());
+        return;
+      }
+      releaseScl();
+      if (routed() && !pins_.level(sdaPincm_)) {
+        log("ARBLOST");
+        busOwned_ = false;
+        phase_ = Phase::Idle;
+        err_ = true;
+        endTransaction(true);
+        raise(kMarbLost);
+        return;
+      }
       raise(kMstart);
       const auto address = static_cast<uint8_t>((msa_ >> 1) & 0x7F);
+      if (routed()) {
+        if (!pins_.requireInput(sdaPincm_, name() + std::string(" SDA")) ||
+            !pins_.requireInput(sclPincm_, name() + std::string(" SCL")))
+          return;
+      }
+      checkWire(address);
       const uint8_t wire = static_cast<uint8_t>(address << 1 | (read_ ? 1 : 0));
       log(hex2(wire));
       pecAdd(wire);
@@ -201,10 +268,7 @@ void I2c::step() {
       if (target_ != nullptr) reply = target_->onStart(read_);
       byteAck_ = reply.ack;
       const uint64_t stretch = static_cast<uint64_t>(reply.stretch.us) * machine_.cyclesPerUs();
-      if (stretch != 0 && (mcr_ & kMcrClkStretch) == 0) {
-        stop("the target stretched SCL with MCR.CLKSTRETCH clear");
-        return;
-      }
+      if (!checkStretch(stretch, "the address byte")) return;
       phase_ = Phase::Address;
       // The target holds SCL low after the eighth bit, before it releases the acknowledge clock.
       if (stretch != 0) holdSclLow(machine_.now() + 8 * bitCycles());
@@ -263,6 +327,7 @@ void I2c::nextByte() {
         target_ != nullptr ? target_->onWrite(byte_) : bsp::host::I2cReply{false, {}};
     byteAck_ = reply.ack;
     const uint64_t stretch = static_cast<uint64_t>(reply.stretch.us) * machine_.cyclesPerUs();
+    if (!checkStretch(stretch, "a written byte")) return;
     if (stretch != 0) holdSclLow(machine_.now() + 8 * bitCycles());
     phase_ = Phase::Data;
     step_.after(9 * bitCycles() + stretch);
@@ -276,6 +341,7 @@ void I2c::nextByte() {
   fw::Duration stretch{};
   byte_ = target_ != nullptr ? target_->onRead(stretch) : 0xFF;
   const uint64_t stretchCycles = static_cast<uint64_t>(stretch.us) * machine_.cyclesPerUs();
+  if (!checkStretch(stretchCycles, "a read byte")) return;
   if (stretchCycles != 0) holdSclLow(machine_.now());
   pecFail_ = pecByte && byte_ != crc_;  // checked after the byte's last bit (byteDone)
   pecAdd(byte_);
@@ -394,6 +460,9 @@ bool I2c::readRegister(uint32_t offset, uint32_t& value) {
     case kMfifosr:
       value = static_cast<uint32_t>(rx_.size()) | static_cast<uint32_t>(kFifoDepth - tx_.size()) << 8 |
               ((mfifoctl_ & kRxFlush) ? 1U << 7 : 0) | ((mfifoctl_ & kTxFlush) ? 1U << 15 : 0);
+      // The firmware has now seen whether the flushes it asked for are complete (TXFIFOCNT 8, RXFIFOCNT 0).
+      if ((!(mfifoctl_ & kTxFlush) || tx_.empty()) && (!(mfifoctl_ & kRxFlush) || rx_.empty()))
+        flushSeenDone_ = true;
       return true;
     case kMrxdata: {
       if (rx_.empty()) {
@@ -446,15 +515,31 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
       mctr_ = value;
       if (value & kBurstRun) startBurst();
       return true;
-    case kMfifoctl:
+    case kMfifoctl: {
+      const uint32_t cleared = mfifoctl_ & ~value & (kTxFlush | kRxFlush);
+      if (cleared != 0 && !flushSeenDone_) {
+        machine_.violate(Rule::I2cFlush,
+                         name() + std::string(": MFIFOCTL.") +
+                             ((cleared & kTxFlush) ? "TXFLUSH" : "RXFLUSH") +
+                             " cleared before MFIFOSR showed the flush complete (TXFIFOCNT 8 / RXFIFOCNT 0)");
+        return true;
+      }
+      if ((value & ~mfifoctl_) & (kTxFlush | kRxFlush)) flushSeenDone_ = false;
       mfifoctl_ = value;
       if (value & (kTxFlush | kRxFlush)) flush_.after(clock_.divider());
       return true;
+    }
     case kPecctl:
       pecctl_ = value;
       pecDataBytes_ = 0;  // "any write ... will clear the current PEC Byte Count"; the CRC runs on
       return true;
     case kMtxdata:
+      if (mfifoctl_ & kTxFlush) {
+        machine_.violate(Rule::I2cFlush,
+                         name() + std::string(": MTXDATA written while MFIFOCTL.TXFLUSH is set: "
+                                              "the flush goes on and the byte is lost"));
+        return true;
+      }
       if (tx_.size() >= kFifoDepth) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "MTXDATA written (0x%02X) with the TX FIFO full: the byte is dropped",

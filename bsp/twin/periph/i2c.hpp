@@ -30,9 +30,23 @@
 //
 // Rules that stop the run (the part would lose data silently): a write to MTXDATA with the TX FIFO full
 // ("the model drops and flags a write to a full FIFO"); a burst while MCR.ACTIVE is clear; a target that
-// stretches SCL with MCR.CLKSTRETCH clear. MFIFOCTL.TXFLUSH/RXFLUSH empty the FIFO one functional clock after
-// they are set, and only if they are still set then ("Before clearing this bit to stop Flush the TXFIFOCNT
-// should be checked", hw_i2c.h MFIFOCTL).
+// stretches SCL on any byte (address, written or read) with MCR.CLKSTRETCH clear (rules.hpp I2C-CLKSTRETCH).
+// MFIFOCTL.TXFLUSH/RXFLUSH (rules.hpp I2C-FLUSH): "Setting this bit will Flush the TX FIFO. Before clearing
+// this bit to stop Flush the TXFIFOCNT should be checked to be 8 and indicating that the Flush has completed"
+// and MFIFOSR.TXFLUSH "When this bit is set a Flush operation for the TX FIFO is active. Clear the TXFLUSH
+// bit in the control register to stop" (hw_i2c.h; the same for RX with RXFIFOCNT = 0): a flush empties its
+// FIFO one functional clock after it is set and goes on while the bit stays set, so a byte written to MTXDATA
+// or a burst started meanwhile is lost (stop); clearing the bit before an MFIFOSR read has shown the FIFO
+// flushed stops the run too (DL_I2C_flushControllerTXFIFO polls the same way).
+//
+// Wire agreement (rules.hpp): at every START the SCL the settings give, f_func / ((1 + TPR) x 10), must lie
+// in the addressed device's range (setTargetRange: the board's device's data sheet) and within the
+// controller's own limits (TPR 1..127, hw_i2c.h MTPR; at most 1 MHz, Fast-mode Plus); SDA and SCL need INENA
+// (PIN-INENA).
+//
+// Lines held by a device (the board drives the pin low, bms-sim's stuck-scl / stuck-sda): a START with SCL
+// low waits for it, with the clock-low timeout running; a START with SDA low loses arbitration (MARBLOST; the
+// controller cannot drive SDA high, UM10204 3.1.8).
 //
 // Clock-low timeout A (SLAU846B 20.2 / SLAU847D 21.2, "clock low timeout"): TCNTLA is the upper 8 bits of
 // a 12-bit counter, "each count is equal to a timeout period of (1 + TPR) x 12 of functional clocks",
@@ -84,6 +98,14 @@ class I2c final : public Peripheral {
   void setPins(int sdaPincm, uint32_t sdaPf, int sclPincm, uint32_t sclPf);
   void attach(uint8_t address7, bsp::host::I2cTarget& target) { targets_[address7] = &target; }
   void detach(uint8_t address7) { targets_.erase(address7); }  // the device left the bus (NACKs from now)
+  // The SCL range the device at `address7` accepts (its data sheet, named in `source`).
+  struct TargetRange {
+    std::string device;
+    uint32_t minHz = 0, maxHz = 0;
+    std::string source;
+  };
+  void setTargetRange(uint8_t address7, TargetRange range) { ranges_[address7] = std::move(range); }
+  uint32_t sclHz() const;
 
   // Each transaction (START .. STOP) as it completes.
   void onTransaction(std::function<void(const I2cWireLog&)> sink) { sink_ = std::move(sink); }
@@ -115,10 +137,14 @@ class I2c final : public Peripheral {
   void log(const std::string& token);
   void endTransaction(bool failed);
   void watchRecovery(bool sdaChanged);
+  bool checkStretch(uint64_t stretchCycles, const char* byte);
+  void checkWire(uint8_t address7);
 
   Pins& pins_;
   TimedEvent step_, timeout_, flush_;
   std::map<uint8_t, bsp::host::I2cTarget*> targets_;
+  std::map<uint8_t, TargetRange> ranges_;
+  bool flushSeenDone_ = true;  // since a flush bit was set, MFIFOSR has shown the flush complete
   std::function<void(const I2cWireLog&)> sink_;
   int sdaPincm_ = 0, sclPincm_ = 0;
   uint32_t sdaPf_ = 0, sclPf_ = 0;

@@ -1,5 +1,6 @@
 #include "periph/mcan.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "machine.hpp"
@@ -98,6 +99,43 @@ uint64_t Mcan::bitCycles() const {
   const uint32_t ratio = clkdiv_ & 3U;
   const uint64_t div = ratio == 1 ? 2 : ratio == 2 ? 4 : 1;  // MCAN_CLKDIV_RATIO: /1, /2, /4, /1
   return tq * brp * div * machine_.clockHz() / kCanClockHz;
+}
+
+void Mcan::checkWire() {
+  if (pins_.routed(rxPincm_, rxPf_) && !pins_.requireInput(rxPincm_, "CANFD0 CAN RX")) return;
+  if (busBitRate_ == 0) return;
+  const uint64_t brp = ((nbtp_ >> 16) & 0x1FF) + 1, tseg1 = ((nbtp_ >> 8) & 0xFF) + 1;
+  const uint64_t tseg2 = (nbtp_ & 0x7F) + 1, sjw = ((nbtp_ >> 25) & 0x7F) + 1;
+  const uint64_t nbt = 1 + tseg1 + tseg2;
+  const uint32_t ratio = clkdiv_ & 3U;
+  const uint64_t div = ratio == 1 ? 2 : ratio == 2 ? 4 : 1;
+  const uint64_t rate = kCanClockHz / (div * brp * nbt);
+  // The oscillator tolerance the bit timing allows, in ppm.
+  const uint64_t dfPs = 1000000 * tseg2 / (2 * (13 * nbt - tseg2));
+  const uint64_t dfSjw = 1000000 * sjw / (20 * nbt);
+  const uint64_t df = std::min(dfPs, dfSjw);
+  const int64_t errorPpm = (static_cast<int64_t>(uint64_t{kCanClockHz} * 1000000 / (div * brp * nbt)) -
+                            static_cast<int64_t>(busBitRate_) * 1000000) /
+                           static_cast<int64_t>(busBitRate_);
+  char buf[240];
+  if (static_cast<uint64_t>(errorPpm < 0 ? -errorPpm : errorPpm) > df) {
+    std::snprintf(
+        buf, sizeof buf,
+        "CANFD0: nominal bit rate %llu bit/s (NBTP 0x%08X: BRP %llu, %llu tq, CANCLK %u Hz /%llu) on a "
+        "%u bit/s bus: %+.2f %%, beyond the +-%.2f %% its bit timing tolerates",
+        static_cast<unsigned long long>(rate), nbtp_, static_cast<unsigned long long>(brp),
+        static_cast<unsigned long long>(nbt), kCanClockHz, static_cast<unsigned long long>(div), busBitRate_,
+        static_cast<double>(errorPpm) / 1e4, static_cast<double>(df) / 1e4);
+    machine_.violate(Rule::CanBitRate, buf);
+    return;
+  }
+  const uint64_t samplePermille = 1000 * (1 + tseg1) / nbt;
+  if (samplePermille + 50 < 875 || samplePermille > 875 + 50) {
+    std::snprintf(buf, sizeof buf,
+                  "CANFD0: sample point %.1f %% (NBTP 0x%08X), more than 5 points from 87.5 %%",
+                  static_cast<double>(samplePermille) / 10.0, nbtp_);
+    machine_.violate(Rule::CanSamplePoint, buf);
+  }
 }
 
 void Mcan::setIr(uint32_t bits) {
@@ -262,7 +300,9 @@ void Mcan::transmitDone() {
   transmitting_ = false;
   const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
   const uint32_t bit = 1U << (ndtb + get_ % tfqs);
-  if (!pins_.routed(txPincm_, txPf_) || !pins_.routed(rxPincm_, rxPf_)) {
+  const bool destroyed = errorFramesLeft_ != 0;  // another node's error frame (injectErrorFrames)
+  if (destroyed) --errorFramesLeft_, ++errorFrames_;
+  if (destroyed || !pins_.routed(txPincm_, txPf_) || !pins_.routed(rxPincm_, rxPf_)) {
     // Nothing reaches the bus (or the controller cannot see its own bits): a transmit error, and the
     // M_CAN retries unless CCCR.DAR (ISO 11898-1 12.1.4: TEC + 8).
     tec_ += 8;
@@ -278,6 +318,10 @@ void Mcan::transmitDone() {
     return;
   }
   if (tec_ > 0) --tec_;
+  if (errorPassive_ && tec_ < 128) {
+    errorPassive_ = false;  // error active again (ISO 11898-1 12.1.4.2; the RX side has no errors here)
+    setIr(kIrEp);
+  }
   txbrp_ &= ~bit;
   txbto_ |= bit;
   get_ = (get_ + 1) % tfqs;
@@ -500,6 +544,7 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
         initValue_ = init;
         initSyncAt_ = machine_.now() + kInitSyncCycles;
         if (!init) {
+          checkWire();
           integrating_ = true;
           // Leaving INIT: bus-off recovery (129 x 11 recessive bits) or bus integration (11 bits).
           if (busOff_) {

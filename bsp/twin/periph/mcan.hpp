@@ -33,11 +33,20 @@
 //   The wrapper's RIS.INTLn is set when line n asserts; a line asserted and not yet acknowledged by EOI
 //   gives no further interrupt, however many IR events follow. An EOI with IR events still pending on the
 //   line asserts it again (TI's ISRs: DL_MCAN_clearIntrStatus writes IR, then EOI).
-// - The bus: other nodes' frames (peerSend, or a peer source that always has one waiting: a flood) compete
-// with
-//   the TX FIFO at every bus idle; the lowest identifier wins arbitration (ISO 11898-1: a dominant 0 bit
-//   wins; a standard identifier against an extended one is compared on its 11 base bits, the standard frame
-//   winning a tie), and the frame takes the wire for its real length.
+// - Wire agreement (rules.hpp), checked when the controller leaves INIT to join the bus: the nominal bit
+//   rate, CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (1 + (NTSEG1 + 1) + (NTSEG2 + 1)), equals the bus's (setBus)
+//   within the oscillator tolerance the image's own bit timing allows (ISO 11898-1 bit timing: df <=
+//   min(PS2 / (2 (13 NBT - PS2)), SJW / (20 NBT)) in time quanta; TSEG1's split into propagation and phase
+//   segment is not known, so PS2 stands for min(PS1, PS2)): WIRE-CAN-BITRATE stops; a sample point
+//   (1 + NTSEG1 + 1) / NBT more than 5 points from 87.5 % (CiA 301; TI's bq79616_uart_to_can NBTP) warns
+//   (WIRE-CAN-SAMPLE). The CAN RX pin needs INENA (PIN-INENA): the M_CAN reads its own bits back.
+// - Error frames from the bus (injectErrorFrames, bms-sim's can-error-frames): each of the next n attempts
+//   is destroyed by an error frame: TEC + 8 (ISO 11898-1 12.1.4 rule 3), error passive at 128 (IR.EP),
+//   bus-off above 255; the M_CAN retransmits unless CCCR.DAR. The error frame's own 17 bits are not counted.
+// - The bus: other nodes' frames (peerSend, or a peer source that always has one waiting: a flood)
+//   compete with the TX FIFO at every bus idle; the lowest identifier wins arbitration (ISO 11898-1: a
+//   dominant 0 bit wins; a standard identifier against an extended one is compared on its 11 base bits, the
+//   standard frame winning a tie), and the frame takes the wire for its real length.
 // - Reception (hw_mcan.h GFC, SIDFC, RXF0C/RXF0S/RXF0A; the acceptance filtering of the M_CAN user manual
 //   3.4.1, as SLAU846 chapter "MCAN" describes it): a peer frame that has left the wire while the controller
 //   takes part in the bus (INIT clear, not bus-off, its RX pin routed) goes through the standard filter list
@@ -90,6 +99,9 @@ class Mcan final : public Peripheral {
   }
   void onFrame(std::function<void(const CanWireFrame&)> sink) { sink_ = std::move(sink); }
   void injectBusOff();
+  void setBus(uint32_t bitRate) { busBitRate_ = bitRate; }
+  void injectErrorFrames(uint32_t attempts) { errorFramesLeft_ += attempts; }
+  uint32_t errorFrames() const { return errorFrames_; }  // attempts destroyed so far
   // Another node sends `frame` (it competes for the bus from now); while a source is set, another node always
   // has a frame waiting: the source gives the next one each time the last has left (nullopt: none this time).
   void peerSend(const fw::hal::CanFrame& frame);
@@ -127,6 +139,7 @@ class Mcan final : public Peripheral {
   bool busIdle() const { return !transmitting_ && !peerOnWire_; }
   void enterBusOff();
   void note(const std::string& text);
+  void checkWire();
 
   Pins& pins_;
   Sysctl& sysctl_;
@@ -145,6 +158,7 @@ class Mcan final : public Peripheral {
   uint32_t txbc_ = 0, txesc_ = 0, txefc_ = 0, txbrp_ = 0, txbto_ = 0, txbtie_ = 0, txbcie_ = 0, tscc_ = 0;
   uint32_t tocc_ = 0, tdcr_ = 0;
   uint32_t tec_ = 0;
+  uint32_t busBitRate_ = 0, errorFramesLeft_ = 0, errorFrames_ = 0;
   bool initValue_ = true;  // INIT as the core sees it once synchronised
   uint64_t initSyncAt_ = 0;
   bool busOff_ = false, errorPassive_ = false, integrating_ = false;

@@ -69,12 +69,18 @@ class Peripheral : public Device {
   bool powered() const { return powered_; }
   // Where the CPU_INT output goes (an NVIC line, a group member); called with the new level.
   void connectInterrupt(std::function<void(bool)> line) { line_ = std::move(line); }
+  // Whether the interrupt output can assert at all now (some CPU_INT.IMASK bit set): the data-race rule asks
+  // which handlers can preempt (race_watch.hpp).
+  // A model whose events stop at times (a stopped timer) says so in eventsPossible().
+  bool interruptArmed() const { return cpuInt_.mis() != 0 || (cpuInt_.imask != 0 && eventsPossible()); }
 
  protected:
   // Registers beyond GPRCM and CPU_INT. False: no such register (the run stops).
   virtual bool readRegister(uint32_t offset, uint32_t& value) = 0;
   virtual bool writeRegister(uint32_t offset, uint32_t value) = 0;
   virtual void resetRegisters() = 0;  // reset values, no event armed
+  // Whether the peripheral can raise an interrupt event at all now (a timer only while it counts).
+  virtual bool eventsPossible() const { return true; }
   // CPU_INT changed (the ISR cleared or masked something, or an event set a flag): recompute the output.
   void updateInterrupt();
   void raise(uint32_t bits) {

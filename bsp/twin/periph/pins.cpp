@@ -1,5 +1,7 @@
 #include "periph/pins.hpp"
 
+#include <cstdio>
+
 #include "periph/gpio.hpp"
 
 namespace twin {
@@ -94,6 +96,24 @@ bool Pins::floating(int index) const {
   const auto i = static_cast<size_t>(index);
   return mcuDrive(index) == Drive::None && external_[i] == Drive::None && !boardPullUp_[i] &&
          (pincm_[i] & (kPullUp | kPullDown)) == 0;
+}
+
+std::string Pins::pinName(int index) const {
+  for (const PinId& p : pins_) {
+    if (p.pincm == index)
+      return std::string("P") + static_cast<char>('A' + p.port) + std::to_string(p.bit) + " (PINCM" +
+             std::to_string(index) + ")";
+  }
+  return "PINCM" + std::to_string(index);
+}
+
+bool Pins::requireInput(int index, const std::string& function) {
+  if (inputEnabled(index)) return true;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "PINCM 0x%08X", pincm(index));
+  machine_.violate(Rule::InputEnable, function + " on " + pinName(index) + " without IOMUX INENA (" + buf +
+                                          "): the input reads 0 on silicon");
+  return false;
 }
 
 void Pins::noteFloatingRead(const PinId& pin) {

@@ -58,6 +58,13 @@ class Pins final : public Device {
   // The pin is connected (PC) to peripheral function `pf`.
   bool routed(int index, uint32_t pf) const { return (pincm(index) & (kPc | 0x3FU)) == (kPc | pf); }
   bool level(int index) const { return level_[static_cast<size_t>(index)]; }
+  // IOMUX PINCM.INENA: the pin's input buffer is on. Without it an input function reads 0 on silicon
+  // (hw_iomux.h "Input Enable Control"); rules.hpp PIN-INENA.
+  bool inputEnabled(int index) const { return (pincm(index) & kInputEnable) != 0; }
+  // Stops the run (PIN-INENA) when `function` (e.g. "UART0 RX") is to read the pin and INENA is clear.
+  // True when the input is enabled.
+  bool requireInput(int index, const std::string& function);
+  std::string pinName(int index) const;  // "PA11 (PINCM22)"
   // What the MCU does to the pin now (GPIO output), for the board's observers.
   Drive mcuDrive(int index) const;
 

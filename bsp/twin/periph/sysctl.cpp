@@ -160,6 +160,21 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       if ((value & kHfxtEnable) == 0) {
         hfxtGoodAt_ = UINT64_MAX;
       } else if (start) {
+        const uint32_t range = (hfclkclkcfg_ >> 12) & 3U;
+        const uint32_t wanted = crystalHz_ <= 8000000    ? 0
+                                : crystalHz_ <= 16000000 ? 1
+                                : crystalHz_ <= 32000000 ? 2
+                                                         : 3;
+        if (crystalHz_ != 0 && range != wanted) {
+          static const char* const kRanges[] = {"4..8", "8..16", "16..32", "32..48"};
+          char buf[200];
+          std::snprintf(
+              buf, sizeof buf,
+              "SYSCTL: HFXT started with HFCLKCLKCFG.HFXTRSEL %u (%s MHz) for the board's %u Hz crystal "
+              "(range %u, %s MHz)",
+              range, kRanges[range], crystalHz_, wanted, kRanges[wanted]);
+          machine_.violate(Rule::HfxtRange, buf);
+        }
         const uint64_t startup = (hfclkclkcfg_ & kHfxtTimeMask) * 64 * machine_.cyclesPerUs();
         hfxtGoodAt_ = (hfclkclkcfg_ & kHfclkFaultCheck) ? machine_.now() + startup : UINT64_MAX;
       }

@@ -24,6 +24,9 @@
 // - SYSOSCFCLCTL (0x1310): KEY 0x2A with SETUSEFCL turns the frequency correction loop on until the next
 //   BOOTRST (CLKSTATUS.FCLMODE reads 1); without the key the write is ignored; SETUSEEXRES on the L1306
 //   stops the run (no such field there).
+// - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT,
+//   HFCLKCLKCFG.HFXTRSEL must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1
+//   8..16, 2 16..32, 3 32..48 MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -45,6 +48,7 @@ class Sysctl final : public Device {
   bool write(uint32_t offset, unsigned bytes, uint32_t value) override;
 
   bool canClockRunning() const;
+  void setHfxtCrystalHz(uint32_t hz) { crystalHz_ = hz; }
 
   enum class BootRequest : uint8_t { None, EnterBootloader, ExitBootloader };
   // The bootloader request of the software reset in progress (RESETLEVEL 2 or 4), taken once.
@@ -64,6 +68,7 @@ class Sysctl final : public Device {
   BootRequest bootRequest_ = BootRequest::None;
   bool fclMode_ = false;
   uint64_t hfxtGoodAt_ = UINT64_MAX;
+  uint32_t crystalHz_ = 0;
 };
 
 }  // namespace twin

@@ -38,6 +38,7 @@ class Timg final : public Peripheral {
   void resetRegisters() override;
 
   bool running() const;
+  bool eventsPossible() const override { return running() && !stoppedAtZero_; }
   uint64_t tickCycles() const;
   uint32_t counterNow() const;  // value at timeline now
   void rebase();                // counter value at now becomes the new base

@@ -1,5 +1,6 @@
 #include "periph/uart.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "machine.hpp"
@@ -72,6 +73,7 @@ void Uart::resetRegisters() {
   shifting_ = false;
   frameRemainder64_ = 0;
   frameEnd_.cancel();
+  linkChecked_ = false;
 }
 
 bool Uart::enabled() const {
@@ -88,6 +90,37 @@ uint64_t Uart::frameCycles64() const {
   const uint64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
   const uint64_t bits = 1 + (5 + ((lcrh_ >> 4) & 3U)) + ((lcrh_ & kPen) ? 1 : 0) + ((lcrh_ & kStp2) ? 2 : 1);
   return bits * oversampling * divisor64 * clock_.divider();
+}
+
+uint64_t Uart::baud64() const {
+  const uint64_t divisor64 = 64ULL * (ibrd_ & 0xFFFF) + (fbrd_ & 0x3F);
+  const uint32_t hse = (ctl0_ >> kHseShift) & 3U;
+  const uint64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
+  if (divisor64 == 0) return 0;
+  return static_cast<uint64_t>(machine_.clockHz()) * 64 * 64 / (clock_.divider() * oversampling * divisor64);
+}
+
+void Uart::checkLink() {
+  if (linkChecked_ || link_.baud == 0) return;
+  linkChecked_ = true;
+  const uint32_t hse = (ctl0_ >> kHseShift) & 3U;
+  const int64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
+  // The MSPM0 receiver's margin in ppm: (1/2 - 1/oversampling) / 9.5 of a bit; half of it is ours.
+  const int64_t ownPpm = (1000000 * (oversampling - 2) / (2 * oversampling)) * 10 / 95 / 2;
+  const int64_t tolerance = std::min<int64_t>(link_.tolerancePpm, ownPpm);
+  const auto actual64 = static_cast<int64_t>(baud64());
+  const int64_t target64 = static_cast<int64_t>(link_.baud) * 64;
+  const int64_t errorPpm = (actual64 - target64) * 1000000 / target64;
+  if (errorPpm <= tolerance && errorPpm >= -tolerance) return;
+  char buf[240];
+  std::snprintf(
+      buf, sizeof buf,
+      "%s: %.0f Bd (IBRD %u, FBRD %u, %dx oversampling, CLKDIV /%u) against the %s's %u Bd: %+.2f %%, "
+      "beyond the +-%.2f %% the receivers allow (%s)",
+      name(), static_cast<double>(actual64) / 64.0, ibrd_ & 0xFFFF, fbrd_ & 0x3F,
+      static_cast<int>(oversampling), clock_.divider(), link_.partner.c_str(), link_.baud,
+      static_cast<double>(errorPpm) / 1e4, static_cast<double>(tolerance) / 1e4, link_.source.c_str());
+  machine_.violate(Rule::UartBaud, buf);
 }
 
 void Uart::checkMode() {
@@ -137,6 +170,7 @@ void Uart::rxFillChanged(size_t before) {
 
 void Uart::startNextFrame() {
   if (shifting_ || txFifo_.empty() || !enabled() || (ctl0_ & kTxe) == 0) return;
+  checkLink();
   const size_t before = txFifo_.size();
   shiftByte_ = txFifo_.front();
   txFifo_.pop_front();
@@ -159,6 +193,7 @@ void Uart::frameDone() {
 
 void Uart::receive(uint8_t byte, bool framingError) {
   if (!enabled() || (ctl0_ & kRxe) == 0) return;  // the receiver is off: the byte is not sampled
+  checkLink();
   if (framingError) raise(kFrmErr);
   if (rxFifo_.size() >= depth()) {
     raise(kOvrErr);  // the FIFO is full: this byte is lost
@@ -242,7 +277,11 @@ bool Uart::writeRegister(uint32_t offset, uint32_t value) {
     if (dmaTx_.mis() & kTxInt) dma_.requestRaised(txTrigger_);
     return ok;
   }
-  if (clock_.write(offset, value)) return true;  // BUSCLK is checked when the UART is enabled
+  if (clock_.write(offset, value)) {
+    linkChecked_ = false;
+    return true;  // BUSCLK is checked when the UART is enabled
+  }
+  if (offset == kLcrh || offset == kIbrd || offset == kFbrd || offset == kCtl0) linkChecked_ = false;
   switch (offset) {
     case kLcrh:
       lcrh_ = value;

@@ -29,11 +29,18 @@
 // trigger reaches DMASZ = 0.
 // RX: a byte that arrives with the FIFO full is lost and sets OVRERR; a framing error sets FRMERR.
 // Anything else (IrDA, LIN, 9-bit, RS485, flow control, loopback, RX timeout) stops the run if enabled.
+// Wire agreement (rules.hpp WIRE-UART-BAUD): with a link partner set (the board), the first frame sent or
+// received after any change of the divisors, line or clock settings checks the UART's baud,
+// BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD / 64)), against the partner's: the error may be at most the
+// partner's documented receive tolerance, and at most half the margin the MSPM0's own receiver has at its
+// oversampling (it samples mid-bit, (1/2 - 1/oversampling) bit times over the 9.5 bits to the stop bit; the
+// other half is the partner's clock's).
 #pragma once
 
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <string>
 
 #include "periph/dma.hpp"
 #include "periph/peripheral.hpp"
@@ -53,6 +60,16 @@ class Uart final : public Peripheral, public DmaRequester {
   void onTransmit(std::function<void(uint8_t byte)> sink) { txSink_ = std::move(sink); }
   // A byte whose stop bit has just arrived on the RX pin.
   void receive(uint8_t byte, bool framingError);
+  // The device on this UART's pins: its name, rate and the baud error it accepts (ppm), with the source.
+  struct Link {
+    std::string partner;
+    uint32_t baud = 0;
+    uint32_t tolerancePpm = 0;
+    std::string source;
+  };
+  void setLink(Link link) { link_ = std::move(link), linkChecked_ = false; }
+  // The baud the settings give, in 1/64 Bd (0 if not configured).
+  uint64_t baud64() const;
   // Cycles one frame takes with the current settings (0 if not configured).
   uint64_t frameCycles64() const;  // in 1/64 cycles
 
@@ -73,6 +90,7 @@ class Uart final : public Peripheral, public DmaRequester {
   void startNextFrame();
   void frameDone();
   void checkMode();
+  void checkLink();
 
   Dma& dma_;
   int rxTrigger_, txTrigger_;
@@ -86,6 +104,8 @@ class Uart final : public Peripheral, public DmaRequester {
   uint64_t frameRemainder64_ = 0;  // fractional cycles carried between frames
   ClockRegs clock_{0x1008};
   uint32_t ctl0_ = 0, lcrh_ = 0, ifls_ = 0, ibrd_ = 0, fbrd_ = 0, gfctl_ = 0;
+  Link link_;
+  bool linkChecked_ = false;
 };
 
 }  // namespace twin

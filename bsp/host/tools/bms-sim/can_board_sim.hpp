@@ -35,6 +35,7 @@ class CanBoardSim : public ImageSim {
     return true;
   }
   std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
+  void canErrorFrames(uint32_t attempts) override { board_.can.injectErrorFrames(attempts); }
   std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
   std::vector<fw::app::ProtectionRecord> protectionLog() const override {

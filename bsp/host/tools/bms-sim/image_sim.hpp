@@ -105,6 +105,23 @@ class ImageSim {
   virtual bool busOff() = 0;                       // false when the image has no CAN
   // Every bus-off so far, in order (empty on an image without CAN).
   virtual std::vector<BusOffSpan> busOffLog() const { return {}; }
+  // Device faults (scenario.hpp: stretch, stuck-scl, stuck-sda, uart-noise, can-error-frames) on the
+  // board's links; faultLinks() says which links the board has (a step on another does nothing).
+  struct FaultLinks {
+    bool i2c = false, uart = false, can = false;
+  };
+  virtual FaultLinks faultLinks() const { return {}; }
+  virtual void i2cStretch(fw::Duration) {}
+  virtual void stuckScl() {}
+  virtual void stuckSda() {}
+  virtual void uartNoise(uint32_t) {}
+  virtual void canErrorFrames(uint32_t) {}
+  // --profile (the twin only): count cycles per function from now on, then write them (profiler.hpp).
+  virtual void startProfile() {}
+  virtual bool writeProfile(const std::string& path, std::string& error) {
+    error = path + ": only a run on the twin (--elf) is profiled";
+    return false;
+  }
   // --can-layout ti is honoured: the run sends seed 001's layout (only the BQ79616 image builds it).
   virtual bool sendsTiLayout() const { return false; }
 

@@ -6,6 +6,7 @@
 // Every option is one row of kOptions: the parser accepts those rows only and --help prints them all.
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
 // (README "Host tools" lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
+// --profile (with --elf) writes the cycles per function and per interrupt (bsp/twin/profiler.hpp).
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
 // L1306 board's SLCAN text (slcan_output.hpp). An option the image cannot honour (--can-layout ti on an image
 // without the TI layout, --devices on a one-device image) is refused before the run.
@@ -64,6 +65,9 @@ constexpr OptionSpec kOptions[] = {
      "to close the terminal) for python-can or slcand, both ways: what they send reaches the board's UART "
      "receiver"},
     {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
+    {"--profile", "<file>",
+     "with --elf: CPU cycles per function and per interrupt of the run, to a file (format: "
+     "bsp/twin/profiler.hpp)"},
     {"--help", nullptr, "this text (also -h)"},
 };
 
@@ -109,7 +113,7 @@ constexpr size_t kMaxElfBytes = 16U << 20;
 
 int run(int argc, char** argv) {
   SimOptions opt;
-  std::string scenarioArg = "idle", candump, layout = "native", slcan;
+  std::string scenarioArg = "idle", candump, layout = "native", slcan, profile;
   bool json = false, devicesGiven = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -145,6 +149,7 @@ int run(int argc, char** argv) {
      : name == "--candump"  ? candump
      : name == "--slcan"    ? slcan
      : name == "--elf"      ? opt.elf
+     : name == "--profile"  ? profile
                             : layout) = v;
   }
   if (opt.image.empty() && opt.elf.empty()) return usage("--image or --elf is required (try --help)");
@@ -152,6 +157,8 @@ int run(int argc, char** argv) {
   opt.tiLayout = layout == "ti";
   if (opt.tiLayout && !opt.elf.empty())
     return usage("--can-layout applies to host runs; an image has its layout built in");
+  if (!profile.empty() && opt.elf.empty())
+    return usage("--profile applies to --elf runs: it counts the image's own instructions on the twin");
   if (!opt.elf.empty()) {
     std::string error;
     if (checkInputFile(opt.elf, kMaxElfBytes, "firmware ELF", error) != InputError::None)
@@ -223,9 +230,11 @@ int run(int argc, char** argv) {
   }
   // The steps against this image, before anything runs: a board it does not have is an error at its line.
   // Warnings are for files (a built-in's steps past --duration or its current on a BQ79616 are expected).
-  const bool fits =
-      checkScenario(*scenario, {sim->boards(), sim->cellsPerBoard(), sim->tempsPerBoard(), sim->hasCurrent()},
-                    opt.durationMs, diag);
+  const ImageSim::FaultLinks links = sim->faultLinks();
+  const bool fits = checkScenario(*scenario,
+                                  {sim->boards(), sim->cellsPerBoard(), sim->tempsPerBoard(),
+                                   sim->hasCurrent(), links.i2c, links.uart, links.can},
+                                  opt.durationMs, diag);
   for (const auto& w : diag.warnings) {
     if (!builtin) std::fprintf(stderr, "%s\n", w.c_str());
   }
@@ -242,6 +251,7 @@ int run(int argc, char** argv) {
     if (!slcanOut) return usage(error);
   }
 
+  if (!profile.empty()) sim->startProfile();
   auto& h = sim->harness();
   // The watchdog supervision every image's main() sets up: fed every 250 ms if every watched task made
   // progress. Its longest gap shows whether anything stalled.
@@ -274,6 +284,10 @@ int run(int argc, char** argv) {
       sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
+    return 1;
+  }
+  if (!profile.empty() && !sim->writeProfile(profile, error)) {
+    std::fprintf(stderr, "bms-sim: error: cannot write %s: %s\n", profile.c_str(), error.c_str());
     return 1;
   }
   if (slcanOut && !slcanOut->finish(*sim->slcanText(), error)) {

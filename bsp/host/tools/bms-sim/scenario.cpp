@@ -38,6 +38,9 @@ enum class Arg : uint8_t {
   Tap,
   CapacityMah,
   SpreadMv,
+  StretchUs,
+  Ppm,
+  Count,
 };
 
 struct ArgSpec {
@@ -47,7 +50,7 @@ struct ArgSpec {
 };
 
 const ArgSpec& spec(Arg a) {
-  static const std::array<ArgSpec, 13> specs = {{
+  static const std::array<ArgSpec, 16> specs = {{
       {"<board>", "a board number", {0, 63}},
       {"<cell>", "a cell number", {1, 16}},
       {"<sensor>", "a sensor number", {1, 3}},
@@ -61,6 +64,9 @@ const ArgSpec& spec(Arg a) {
       {"<cell>", "a sense wire number", {1, 17}},  // the wire below that cell; cells + 1: above the top
       {"<mAh>", "a cell capacity in mAh", {1, 100000}},
       {"<spread_mV>", "a spread in mV", {0, 500}},
+      {"<us>", "a stretch in us", {0, 100000}},
+      {"<ppm>", "a bit error rate in ppm", {0, 1000000}},
+      {"<count>", "a number of frames", {1, 1000}},
   }};
   return specs[static_cast<size_t>(a)];
 }
@@ -72,7 +78,7 @@ struct ActionSpec {
   uint8_t count;
 };
 
-constexpr std::array<ActionSpec, 16> kActions = {{
+constexpr std::array<ActionSpec, 21> kActions = {{
     {"current", Action::Current, {Arg::CurrentMa}, 1},
     {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
     {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
@@ -89,6 +95,11 @@ constexpr std::array<ActionSpec, 16> kActions = {{
     {"spread-cells", Action::SpreadCells, {Arg::CellMv, Arg::SpreadMv}, 2},
     {"send", Action::Send, {}, 0},    // <Message> [<Signal>=<value> ...]
     {"flood", Action::Flood, {}, 0},  // <ms> <Message> [<Signal>=<value> ...]
+    {"stretch", Action::Stretch, {Arg::StretchUs}, 1},
+    {"stuck-scl", Action::StuckScl, {}, 0},
+    {"stuck-sda", Action::StuckSda, {}, 0},
+    {"uart-noise", Action::UartNoise, {Arg::Ppm}, 1},
+    {"can-error-frames", Action::CanErrorFrames, {Arg::Count}, 1},
 }};
 
 // The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
@@ -512,6 +523,16 @@ bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t du
     if (currentStep && !shape.hasCurrent) {
       diag.warnings.push_back(where(st, 1) +
                               ": warning: this image measures no current: the step does nothing");
+    }
+    const bool i2cStep =
+        st.action == Action::Stretch || st.action == Action::StuckScl || st.action == Action::StuckSda;
+    const char* missing = i2cStep && !shape.i2c                               ? "no I2C device"
+                          : st.action == Action::UartNoise && !shape.uart     ? "no UART link to its monitor"
+                          : st.action == Action::CanErrorFrames && !shape.can ? "no CAN bus"
+                                                                              : nullptr;
+    if (missing != nullptr) {
+      diag.warnings.push_back(where(st, 1) + ": warning: this image has " + missing +
+                              ": the step does nothing");
     }
   }
   return true;

@@ -18,6 +18,20 @@
 //                                                      tap; the board's cell count + 1: the top tap)
 //   <time_ms> intermittent on|off                      most monitor transactions fail
 //   <time_ms> bus-off                                  the CAN controller goes bus-off
+// Device faults, on the link the image has (another image warns that the step does nothing); each image
+// recovers from each (bsp/twin/README.md "Device faults", tests/twin/twin_images.py faults):
+//   <time_ms> stretch <us>                             the I2C device stretches SCL <us> on every byte
+//                                                      (after the address and written bytes' ACK, before
+//                                                      each byte it sends; 0 stops it)
+//   <time_ms> stuck-scl                                the I2C device holds SCL low until its own bus
+//                                                      timeout resets its interface (BQ769x: 2 s, BQ4050:
+//                                                      35 ms)
+//   <time_ms> stuck-sda                                the I2C device holds SDA low until the controller
+//                                                      clocks SCL 8 times (a bus clear)
+//   <time_ms> uart-noise <ppm>                         bit errors on the BQ79616 UART link, both
+//                                                      directions, <ppm> per million bits (0 stops them)
+//   <time_ms> can-error-frames <count>                 another node destroys the next <count> CAN
+//                                                      transmissions (TEC + 8 each; 32 reach bus-off)
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
 //   <time_ms> cell-capacity <mAh>                      every emulated cell holds this much: balancing takes
 //                                                      V / R from a balanced cell and its voltage falls 700
@@ -35,7 +49,7 @@
 //   time 0..3600000 ms (the longest --duration); cell 0..5000 mV; current -32768..32767 mA;
 //   temperature 2182..4232 (0.1 K, -55..+150 degC); ramps -5000..5000 mV/s and -2050..2050 0.1 K/s (at most
 //   the whole range in a second); board 0..63, cell 1..16, sensor 1..3; capacity 1..100000 mAh; spread
-//   0..500 mV. Before the run starts,
+//   0..500 mV; stretch 0..100000 us; noise 0..1000000 ppm; error frames 1..1000. Before the run starts,
 //   checkScenario() checks boards, cells and sensors against the image (the same file:line:col errors) and
 //   warns about steps the run will not reach or that the image ignores.
 // A value set on a cell or sensor replaces its drift; a new drift replaces the old; a drift stops at the
@@ -106,6 +120,11 @@ enum class Action : uint8_t {
   SpreadCells,
   Send,
   Flood,
+  Stretch,
+  StuckScl,
+  StuckSda,
+  UartNoise,
+  CanErrorFrames,
 };
 
 // The emulated quantity an expected fault's limit applies to, and which way it is crossed.
@@ -148,6 +167,7 @@ struct Diagnostics {
 struct PackShape {
   int boards = 1, cellsPerBoard = 1, tempsPerBoard = 1;
   bool hasCurrent = true;
+  bool i2c = true, uart = true, can = true;  // the device-fault steps' links
 };
 
 std::vector<std::string> builtinNames();

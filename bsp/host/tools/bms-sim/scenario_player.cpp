@@ -91,6 +91,21 @@ void ScenarioPlayer::apply(const Step& s, uint32_t nowMs) {
     case Action::BusOff:
       if (!sim_.busOff()) busOffUnsupported_ = true;
       break;
+    case Action::Stretch:
+      sim_.i2cStretch(fw::us(static_cast<uint32_t>(s.value)));
+      break;
+    case Action::StuckScl:
+      sim_.stuckScl();
+      break;
+    case Action::StuckSda:
+      sim_.stuckSda();
+      break;
+    case Action::UartNoise:
+      sim_.uartNoise(static_cast<uint32_t>(s.value));
+      break;
+    case Action::CanErrorFrames:
+      sim_.canErrorFrames(static_cast<uint32_t>(s.value));
+      break;
     case Action::CellCapacity:
       sim_.setCellCapacityMah(s.value);
       break;

@@ -49,6 +49,12 @@ class Bq4050Sim final : public CanBoardSim<bsp::host::Bq4050Board> {
     intermittent_ = on;
     if (!on) board_.attachGauge(true);
   }
+  // Device faults (scenario.hpp), as the twin's board has them (bsp/twin/board/board.hpp).
+  FaultLinks faultLinks() const override { return {true, false, true}; }
+  void i2cStretch(fw::Duration perByte) override { board_.bus.setDeviceStretch(perByte); }
+  // The gauge resets its SMBus interface at the end of tTIMEOUT, 25..35 ms (SLUSC67A).
+  void stuckScl() override { board_.bus.holdSclLow(board_.h.nowUs() + 35000); }
+  void stuckSda() override { board_.bus.holdSdaLow(8); }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.

@@ -88,6 +88,15 @@ class Bq769xSim final : public ImageSim {
       return {};
     }
   }
+  // Device faults (scenario.hpp), as the twin's board has them (bsp/twin/board/board.hpp).
+  FaultLinks faultLinks() const override { return {true, false, std::is_same_v<Output, bsp::host::SimCan>}; }
+  void i2cStretch(fw::Duration perByte) override { board_->bus.setDeviceStretch(perByte); }
+  // The BQ76952 / BQ7690x resets its interface after SCL has been low 2 s (SLUSE13B 14).
+  void stuckScl() override { board_->bus.holdSclLow(board_->h.nowUs() + 2000000); }
+  void stuckSda() override { board_->bus.holdSdaLow(8); }
+  void canErrorFrames(uint32_t attempts) override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) board_->output.injectErrorFrames(attempts);
+  }
 
   bool canSend(const fw::hal::CanFrame& f) override {
     if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {

@@ -72,6 +72,9 @@ class Bq79616Sim final : public CanBoardSim<bsp::host::Bq79616Board> {
     board_.emu.setOpenWire(static_cast<size_t>(board), cell - 1, true);
   }
   void setIntermittent(bool on) override { intermittent_ = on; }
+  // Device faults (scenario.hpp), as the twin's board has them (bsp/twin/board/board.hpp).
+  FaultLinks faultLinks() const override { return {false, true, true}; }
+  void uartNoise(uint32_t ppm) override { board_.uart.noise().setPpm(ppm); }
   bool sendsTiLayout() const override {
     return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;
   }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <optional>
 
 #include "app/protection/default_limits.hpp"
@@ -16,6 +17,7 @@
 #include "can/bms.hpp"
 #include "drivers/bq769x2/measurement.hpp"
 #include "pack_figures.hpp"
+#include "profiler.hpp"
 #include "sim/peripherals.hpp"
 
 namespace bmssim {
@@ -174,6 +176,15 @@ class TwinSim final : public ImageSim {
     if (!on) board_.setMonitorPresent(true);
   }
   bool busOff() override { return board_.injectBusOff(); }
+  // Device faults (scenario.hpp) on the board's links (board.hpp).
+  FaultLinks faultLinks() const override {
+    return {id_.family != Family::Bq79616, id_.family == Family::Bq79616, id_.part == twin::Part::G3507};
+  }
+  void i2cStretch(fw::Duration perByte) override { board_.setI2cStretch(perByte); }
+  void stuckScl() override { board_.holdScl(); }
+  void stuckSda() override { board_.holdSda(); }
+  void uartNoise(uint32_t ppm) override { board_.setUartNoise(ppm); }
+  void canErrorFrames(uint32_t attempts) override { board_.injectCanErrorFrames(attempts); }
   bool canSend(const fw::hal::CanFrame& f) override { return board_.sendCan(f); }
   bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
     return board_.setCanFlood(std::move(source));
@@ -191,6 +202,18 @@ class TwinSim final : public ImageSim {
   }
 
   void runFor(fw::Duration d) override { board_.runUntilUs(h_.nowUs() + d.us); }
+  void startProfile() override {
+    profiler_ = std::make_unique<twin::Profiler>(*elf_);
+    board_.machine().setProfiler(profiler_.get());
+  }
+  bool writeProfile(const std::string& path, std::string& error) override {
+    std::ofstream out(path);
+    const twin::Machine& m = board_.machine();
+    if (profiler_) profiler_->write(out, id_.preset, m.clockHz(), m.now(), m.busyCycles());
+    out.close();
+    if (!out) error = "the file could not be written";
+    return static_cast<bool>(out);
+  }
   std::string failure() const override {
     return board_.machine().stopped() ? "the twin stopped: " + board_.machine().stopReason() : "";
   }
@@ -265,6 +288,7 @@ class TwinSim final : public ImageSim {
 
   twin::ImageId id_;
   std::unique_ptr<twin::ElfFile> elf_;
+  std::unique_ptr<twin::Profiler> profiler_;
   int devices_;
   bsp::host::Harness h_;
   twin::Board board_;

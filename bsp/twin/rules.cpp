@@ -1,0 +1,34 @@
+#include "rules.hpp"
+
+#include <array>
+
+namespace twin {
+
+namespace {
+
+constexpr std::array<RuleInfo, 11> kRules = {{
+    {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
+    {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
+    {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
+    {"WIRE-CAN-BITRATE", "ISO 11898-1 bit timing, oscillator tolerance of the image's NBTP", true},
+    {"WIRE-CAN-SAMPLE", "CiA 301 sample point 87.5 %; TI bq79616_uart_to_can NBTP", false},
+    {"WIRE-HFXT-RANGE", "hw_sysctl HFCLKCLKCFG.HFXTRSEL; SLAU846B 2 SYSCTL HFXT", true},
+    {"PIN-INENA", "hw_iomux.h PINCM.INENA; SLAU846B/SLAU847D IOMUX input enable", true},
+    {"IDLE-WFI", "firmware/hal/irq.hpp idle rule; DDI 0419E B1.5.19", true},
+    {"RACE-ISR-RMW", "DDI 0419E B1.5 exception preemption between a load and its store", true},
+    {"I2C-CLKSTRETCH", "hw_i2c.h MCR.CLKSTRETCH", true},
+    {"I2C-FLUSH", "hw_i2c.h MFIFOCTL.TXFLUSH/RXFLUSH; DL_I2C_flushControllerTXFIFO", true},
+}};
+
+}  // namespace
+
+const RuleInfo& ruleInfo(Rule rule) {
+  return kRules[static_cast<size_t>(rule)];
+}
+
+std::string ruleText(Rule rule, const std::string& detail) {
+  const RuleInfo& r = ruleInfo(rule);
+  return std::string("[") + r.id + "] " + detail + " (" + r.source + ")";
+}
+
+}  // namespace twin

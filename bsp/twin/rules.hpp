@@ -1,0 +1,71 @@
+// Rules: what the twin checks that silicon would get wrong without a word, each with its TI source (or the
+// standard's), so a violation names the rule, the document and the place in the image.
+//
+// A rule either stops the run (the part would fail: the device or the bus partner misreads the wire, an input
+// reads 0, an update is lost) or warns (the part would only degrade: a CAN sample point away from the bus's
+// recommendation). The message of a stop is "[<id>] <peripheral>: <what> (<source>) (PC 0x... in <function>)"
+// like every other reason the twin stops (Machine::stop); a warning has the same form and is kept in
+// Machine::ruleWarnings() (bms-sim --json twin_warnings).
+//
+// The table (bsp/twin/README.md "Rules" lists the same):
+//   WIRE-UART-BAUD    UART baud (BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD/64))) against the link
+//                     partner's rate within the tolerance the receiver allows (BQ79616: SLUSE81E "UART RX
+//                     baud rate error" +-1 %; XDS110 back-channel: half the 16x sampling margin, computed)
+//   WIRE-I2C-SCL      SCL = f_func / ((1 + TPR) x 10) inside the addressed device's range (BQ76952 / BQ7690x
+//                     SLUSE13B 14: up to 400 kHz; BQ4050 SMBus 10..100 kHz, SLUSC67A)
+//   WIRE-I2C-TPR      the controller's own limits: MTPR.TPR 1..127 (hw_i2c.h MTPR) and SCL <= 1 MHz
+//                     (Fast-mode Plus, SLAU846B 20.1 / SLAU847D 21.1)
+//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 + NTSEG2))
+//   equal
+//                     to the bus's within the oscillator tolerance its own bit timing allows (ISO 11898-1 bit
+//                     timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
+//   WIRE-CAN-SAMPLE   (warns) sample point within 5 points of 87.5 % (CiA 301 / the TI example's 87.5 %)
+//   WIRE-HFXT-RANGE   HFCLKCLKCFG.HFXTRSEL selects the crystal's range when HFXTEN starts it (hw_sysctl
+//                     HFXTRSEL: 32..48 MHz = 3 for the LaunchPad's 40 MHz)
+//   PIN-INENA         every input function's pin has IOMUX PINCM.INENA (hw_iomux.h "Input Enable Control";
+//                     SLAU846B / SLAU847D IOMUX: without it the input reads 0): UART RX, CAN RX, I2C SDA and
+//                     SCL, GPIO edge inputs
+//   IDLE-WFI          WFI in Thread mode only with PRIMASK set (the idle rule of firmware/hal/irq.hpp: an
+//                     interrupt between the last ready check and WFI is otherwise slept through; DDI 0419E
+//                     B1.5.19: WFI wakes on a pending interrupt with PRIMASK set)
+//   RACE-ISR-RMW      a Thread-mode read-modify-write of RAM that a handler also writes, outside a critical
+//                     section (PRIMASK), while that handler can run (DDI 0419E B1.5: an exception can preempt
+//                     between the load and the store)
+//   I2C-CLKSTRETCH    a target stretches SCL on any byte with MCR.CLKSTRETCH clear (hw_i2c.h MCR.CLKSTRETCH:
+//                     the controller then does not detect the stretch)
+//   I2C-FLUSH         MFIFOCTL.TXFLUSH/RXFLUSH held as TI describes: while set the FIFO is flushed (a byte
+//                     written or a burst started then is lost), and cleared only after MFIFOSR showed the
+//                     flush complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT
+//                     should be checked to be 8"; DL_I2C_flushControllerTXFIFO waits the same way)
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace twin {
+
+enum class Rule : uint8_t {
+  UartBaud,
+  I2cScl,
+  I2cTpr,
+  CanBitRate,
+  CanSamplePoint,
+  HfxtRange,
+  InputEnable,
+  IdleWfi,
+  IsrRace,
+  I2cClockStretch,
+  I2cFlush,
+};
+
+struct RuleInfo {
+  const char* id;
+  const char* source;
+  bool stops;  // false: a warning (the part would degrade, not fail)
+};
+
+const RuleInfo& ruleInfo(Rule rule);
+// "[<id>] <detail> (<source>)"
+std::string ruleText(Rule rule, const std::string& detail);
+
+}  // namespace twin
