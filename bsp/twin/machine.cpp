@@ -104,7 +104,7 @@ void Machine::enableImageRules(uint32_t stackLow) {
   imageRules_ = true;
   race_ = std::make_unique<RaceWatch>(
       core_, layout_.sramBase, layout_.sramBase + layout_.sramSize, stackLow,
-      [this] { return armedExceptions(); },
+      [this] { return armedExceptions(); }, [this](int exception) { return interruptSources(exception); },
       [this](const std::string& what) { violate(Rule::IsrRace, what); });
   race_->setDescribe([this](uint32_t pc) { return describePc(pc); });
   core_.setSramWatch(race_.get());
@@ -116,10 +116,17 @@ uint64_t Machine::armedExceptions() const {
   const uint32_t enabled = nvic_.enabledIrqs();
   for (int irq = 0; irq < 32; ++irq) {
     if (((enabled >> irq) & 1U) == 0) continue;
-    const auto& armedQuery = irqArmed_[static_cast<size_t>(irq)];
-    if (!armedQuery || armedQuery()) armed |= 1ULL << (Nvic::kIrq0 + irq);
+    const auto& sources = irqSources_[static_cast<size_t>(irq)];
+    if (!sources || sources().possible != 0) armed |= 1ULL << (Nvic::kIrq0 + irq);
   }
   return armed;
+}
+
+InterruptSources Machine::interruptSources(int exception) const {
+  const int irq = exception - Nvic::kIrq0;
+  if (irq < 0 || irq >= 32) return {};
+  const auto& sources = irqSources_[static_cast<size_t>(irq)];
+  return sources ? sources() : InterruptSources{};
 }
 
 void Machine::onWfi() {
@@ -159,6 +166,7 @@ void Machine::setIrq(int irq, bool asserted) {
 
 void Machine::onExceptionEntry(int exception) {
   enteredException_ = true;
+  if (race_) race_->onExceptionEntry(exception);
   const uint64_t start = now() + cycles::kExceptionEntry;  // the handler's first instruction
   InterruptFigures& f = irqFigures_[exception];
   ++f.entries;

@@ -28,6 +28,7 @@
 #include "cpu/nvic.hpp"
 #include "cpu/scs.hpp"
 #include "elf_file.hpp"
+#include "race_watch.hpp"
 #include "rules.hpp"
 #include "timeline.hpp"
 
@@ -38,7 +39,6 @@ class SimClock;
 namespace twin {
 
 class Profiler;
-class RaceWatch;
 
 struct MemoryLayout {
   uint32_t flashSize = 0;
@@ -113,9 +113,10 @@ class Machine final : public CoreObserver {
   // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
   // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
   void enableImageRules(uint32_t stackLow);
-  // Whether IRQ n's source can assert now (a peripheral with IMASK != 0); lines without one count as able.
-  void setIrqArmed(int irq, std::function<bool()> armed) {
-    irqArmed_[static_cast<size_t>(irq)] = std::move(armed);
+  // What can raise IRQ n now (race_watch.hpp InterruptSources: the peripheral's IMASK and MIS); a line
+  // without one counts as able to assert at any time, for no source in particular.
+  void setIrqSources(int irq, std::function<InterruptSources()> sources) {
+    irqSources_[static_cast<size_t>(irq)] = std::move(sources);
   }
   // Cycles per function and per exception (profiler.hpp); null: none.
   void setProfiler(Profiler* profiler) { profiler_ = profiler; }
@@ -156,6 +157,7 @@ class Machine final : public CoreObserver {
   void onWfi() override;
   std::string describePc(uint32_t pc) const;
   uint64_t armedExceptions() const;
+  InterruptSources interruptSources(int exception) const;
   uint64_t worldNext() const;
   void fireDue();
 
@@ -186,7 +188,7 @@ class Machine final : public CoreObserver {
   std::vector<std::string> ruleWarnings_;
   bool imageRules_ = false;
   std::unique_ptr<RaceWatch> race_;
-  std::array<std::function<bool()>, 32> irqArmed_{};
+  std::array<std::function<InterruptSources()>, 32> irqSources_{};
   Profiler* profiler_ = nullptr;
   bool enteredException_ = false;  // the step just taken was an exception entry (profiler)
   uint8_t pendingCauseId_ = 0;

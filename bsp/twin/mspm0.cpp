@@ -58,7 +58,7 @@ Model* Mspm0::add(uint32_t base, uint32_t size, int irq, Args&&... args) {
   machine_->map().add(base, size, *model);
   if (irq >= 0) {
     model->connectInterrupt([this, irq](bool level) { machine_->setIrq(irq, level); });
-    machine_->setIrqArmed(irq, [model] { return model->interruptArmed(); });
+    machine_->setIrqSources(irq, [model] { return model->interruptSources(); });
   }
   machine_->onReset([model](ResetKind) { model->systemReset(); });
   return model;
@@ -85,7 +85,7 @@ Mspm0::Mspm0(Part part) : part_(part) {
   dma_ = std::make_unique<Dma>(m, g ? 7 : 3);
   m.map().add(Dma::kBase, Dma::kSize, *dma_);
   dma_->connectInterrupt([&m](bool level) { m.setIrq(31, level); });
-  m.setIrqArmed(31, [this] { return dma_->interruptArmed(); });
+  m.setIrqSources(31, [this] { return dma_->interruptSources(); });
 
   // GPIO ports feed INT_GROUP1: GPIOA is member 1, GPIOB member 2 (tsv group_iidx rows).
   gpioA_.reset(add<Gpio>(kGpioa, kPeripheralSpan, -1, "GPIOA", 0, *pins_));
@@ -95,7 +95,16 @@ Mspm0::Mspm0(Part part) : part_(part) {
     gpioB_.reset(add<Gpio>(kGpiob, kPeripheralSpan, -1, "GPIOB", 1, *pins_));
     gpioB_->connectInterrupt([this](bool level) { cpuss_->setMember(1, 2, level); });
   }
-  m.setIrqArmed(1, [this] { return gpioA_->interruptArmed() || (gpioB_ && gpioB_->interruptArmed()); });
+  // The group's sources are its members (bit 1 GPIOA, bit 2 GPIOB), as the handler tells them apart by IIDX.
+  m.setIrqSources(1, [this] {
+    auto member = [](const Gpio* port, uint32_t bit) {
+      if (port == nullptr) return InterruptSources{};
+      const InterruptSources s = port->interruptSources();
+      return InterruptSources{s.possible != 0 ? bit : 0, s.pending != 0 ? bit : 0};
+    };
+    const InterruptSources a = member(gpioA_.get(), 1U << 1), b = member(gpioB_.get(), 1U << 2);
+    return InterruptSources{a.possible | b.possible, a.pending | b.pending};
+  });
   wwdt0_.reset(add<Wwdt>(kWwdt0, kPeripheralSpan, -1, "WWDT0"));
   i2c0_.reset(add<I2c>(kI2c0, kPeripheralSpan, 24, "I2C0", *pins_));
   i2c1_.reset(add<I2c>(kI2c1, kPeripheralSpan, 25, "I2C1", *pins_));

@@ -52,7 +52,9 @@ class Dma final : public Device {
   // A requester's request for `trigger` was raised.
   void requestRaised(int trigger);
   void connectInterrupt(std::function<void(bool)> line) { line_ = std::move(line); }
-  bool interruptArmed() const { return cpuInt_.imask != 0; }  // race_watch.hpp
+  InterruptSources interruptSources() const {  // race_watch.hpp
+    return {cpuInt_.imask | cpuInt_.mis(), cpuInt_.mis()};
+  }
 
  private:
   struct Channel {

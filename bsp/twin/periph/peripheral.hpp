@@ -28,6 +28,7 @@
 #include <string>
 
 #include "address_map.hpp"
+#include "race_watch.hpp"
 
 namespace twin {
 
@@ -69,10 +70,12 @@ class Peripheral : public Device {
   bool powered() const { return powered_; }
   // Where the CPU_INT output goes (an NVIC line, a group member); called with the new level.
   void connectInterrupt(std::function<void(bool)> line) { line_ = std::move(line); }
-  // Whether the interrupt output can assert at all now (some CPU_INT.IMASK bit set): the data-race rule asks
-  // which handlers can preempt (race_watch.hpp).
+  // Which CPU_INT events can raise the interrupt output now (IMASK bits, or pending ones) and which are
+  // pending (MIS): the data-race rule asks which handlers can preempt, for which source (race_watch.hpp).
   // A model whose events stop at times (a stopped timer) says so in eventsPossible().
-  bool interruptArmed() const { return cpuInt_.mis() != 0 || (cpuInt_.imask != 0 && eventsPossible()); }
+  InterruptSources interruptSources() const {
+    return {cpuInt_.mis() | (eventsPossible() ? cpuInt_.imask : 0), cpuInt_.mis()};
+  }
 
  protected:
   // Registers beyond GPRCM and CPU_INT. False: no such register (the run stops).
