@@ -68,4 +68,24 @@ TEST(SimCan, BusOffRefusesFramesUntilRecoveryCompletes) {
   EXPECT_EQ(can.counters().busOffEvents, 1u);
 }
 
+TEST(SimCan, ErrorFramesPassThroughErrorPassiveToBusOffAndFramesFlowAfterRecovery) {
+  // ISO 11898-1 fault confinement: each destroyed transmission adds 8 to TEC; error passive at 128, bus-off
+  // above 255 (the 32nd). After recovery the next frame goes out (it stayed queued forever before: the
+  // transmission that ended in bus-off left the controller marked busy).
+  bsp::host::Harness h;
+  bsp::host::SimCan can(h.clock, h.irq, 500000);
+  can.injectErrorFrames(40);
+  EXPECT_EQ(can.send(CanFrame{0x100, false, 8, {}}), Status::Ok);
+  h.runFor(fw::ms(20));
+  EXPECT_EQ(can.state(), CanState::BusOff);
+  EXPECT_TRUE(can.sent().empty());
+  EXPECT_EQ(can.recover(), Status::Ok);
+  h.runFor(fw::ms(3));
+  ASSERT_EQ(can.state(), CanState::ErrorActive);
+  EXPECT_EQ(can.send(CanFrame{0x101, false, 8, {}}), Status::Ok);
+  h.runFor(fw::ms(3));
+  ASSERT_FALSE(can.sent().empty()) << "nothing was sent after recovery";
+  EXPECT_EQ(can.sent().back().frame.id, 0x101u);
+}
+
 }  // namespace

@@ -151,6 +151,7 @@ void SimCan::finished() {
       --errorFramesLeft_;
       tec_ += 8;
       if (tec_ > 255) {
+        transmitting_ = false;  // this attempt is over: after recovery the next one must start
         injectBusOff();
         return;
       }
