@@ -29,8 +29,8 @@
 //                     interrupt between the last ready check and WFI is otherwise slept through; DDI 0419E
 //                     B1.5.19: WFI wakes on a pending interrupt with PRIMASK set)
 //   RACE-ISR-RMW      a Thread-mode read-modify-write of RAM that a handler also writes, outside a critical
-//                     section (PRIMASK), while that handler can run (DDI 0419E B1.5: an exception can preempt
-//                     between the load and the store)
+//                     section (PRIMASK), while that handler can run for the sources that led it to write
+//                     (DDI 0419E B1.5: an exception can preempt between the load and the store)
 //   I2C-CLKSTRETCH    a target stretches SCL on any byte with MCR.CLKSTRETCH clear (hw_i2c.h MCR.CLKSTRETCH:
 //                     the controller then does not detect the stretch)
 //   I2C-FLUSH         MFIFOCTL.TXFLUSH/RXFLUSH held as TI describes: while set the FIFO is flushed (a byte

@@ -547,6 +547,37 @@ TEST(BrokenImage, ThePostWithoutItsCriticalSectionIsStoppedByTheRaceRule) {
   EXPECT_NE(stop.find("Scheduler::post"), std::string::npos) << stop;
 }
 
+TEST(BrokenImage, AUartThatLeavesEotEnabledAfterItsLastByteIsStoppedByTheRaceRule) {
+  // The SLCAN UART masks its transmit interrupts (IMASK = the receive ones) before it clears its busy flag,
+  // and write() tests and sets that flag in Thread mode while only reception can interrupt: no race, and the
+  // image runs clean. Without that IMASK write, EOT stays enabled, so the handler's flag-clearing path can
+  // preempt the test-and-set: the rule must stop the run there.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 1000000), "");
+  const auto imask = storeSites(preset, *elf, 0x40108000 + 0x1028, 300000);
+  std::vector<uint32_t> finishMask;
+  uint32_t receiveOnly = 0;
+  for (const auto& s : imask) {
+    if (elf->symbolAt(s.pc).find("UartSerial::doWrite") != std::string::npos) continue;
+    if (elf->symbolAt(s.pc).find("IRQHandler") == std::string::npos &&
+        elf->symbolAt(s.pc).find("UartSerial::finish") == std::string::npos)
+      receiveOnly = s.value;  // init(): the receive interrupts alone
+  }
+  ASSERT_NE(receiveOnly, 0U);
+  for (const auto& s : imask) {
+    const std::string where = elf->symbolAt(s.pc);
+    if (s.value == receiveOnly && (where.find("IRQHandler") != std::string::npos ||
+                                   where.find("UartSerial::finish") != std::string::npos))
+      finishMask.push_back(s.pc);
+  }
+  ASSERT_FALSE(finishMask.empty()) << "no IMASK write back to the receive interrupts in the handler";
+  removeStores(*elf, finishMask);
+  const std::string stop = stopOf(preset, *elf, 1000000);
+  EXPECT_RULE(stop, "RACE-ISR-RMW");
+  EXPECT_NE(stop.find("UartSerial::doWrite"), std::string::npos) << stop;
+}
+
 TEST(BrokenImage, ClockStretchingSwitchedOffIsStoppedWhenTheDeviceStretches) {
   // MCR = ACTIVE without CLKSTRETCH, and the BQ76952 stretching SCL 5 us on every byte.
   const std::string preset = "lp-mspm0l1306-bq76952";
