@@ -71,15 +71,28 @@ Status Monitor::startConfigure(std::span<const Setting> settings) {
   return begin(Op::Configure, nextSetting(false));
 }
 
-Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
+// Scan steps: the charge request, the variant's blocks (0..3), the charge read, the Alarm Status clear.
+constexpr uint8_t kScanBlocks = sizeof(Variant::blocks) / sizeof(ScanBlock);
+constexpr uint8_t kScanCharge = kScanBlocks;
+constexpr uint8_t kScanClear = kScanBlocks + 1;
+constexpr uint8_t kScanRequest = kScanBlocks + 2;
+
+Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge) {
   if (busy()) return Status::Busy;
   // A build for one family checks the record size at compile time (the front ends).
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
   state_->out.record = measurement;
+  state_->charge = charge;
   state_->bytes = 0;
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
+  if (kCharge) {
+    const Status s = begin(Op::Scan, link_.startSubcommand(facts().chargeCode, false));
+    state_->step = kScanRequest;
+    state_->chargeAsked = clock_.now();
+    return s;
+  }
   return begin(Op::Scan, link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len));
 }
 
@@ -196,14 +209,16 @@ inline void Monitor::probeStep(Status r) {
   finish(Status::Ok);
 }
 
-// Scan steps: the variant's reads, then the Alarm Status clear when a read bit was set.
-constexpr uint8_t kScanClear = sizeof(Variant::blocks) / sizeof(ScanBlock);
-
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
   if (state_->step == kScanClear) return publish();
   if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
+  if (state_->step == kScanRequest) {
+    state_->step = 0;
+    return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
+  }
+  if (state_->step == kScanCharge) return scanEnd();
   state_->bytes = static_cast<uint8_t>(state_->bytes + v.blocks[state_->step].len);
   if (++state_->step < sizeof v.blocks / sizeof v.blocks[0]) {
     const ScanBlock& b = v.blocks[state_->step];
@@ -211,9 +226,14 @@ inline void Monitor::scanStep(Status r) {
   }
   if (link_.stats().retries != state_->scanRetries && !state_->restarted) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
-    // reads, so the snapshot is taken again from its first read (once).
+    // reads, so the snapshot is taken again from its first read (once), the charge asked for again.
     state_->restarted = true;
     state_->bytes = 0;
+    if (kCharge) {
+      state_->step = kScanRequest;
+      state_->chargeAsked = clock_.now();
+      return next(link_.startSubcommand(v.chargeCode, false));
+    }
     state_->step = 0;
     return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
   }
@@ -221,9 +241,21 @@ inline void Monitor::scanStep(Status r) {
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  // Alarm Status is latched: 1s written to the bits read clear them (SLUUBY2B / SLUUCJ0 "Alarm Status"), so
-  // ALERT releases and the next event asserts it again. A write does not touch the scratch buffer.
-  const uint8_t* alarm = raw + v.alarmOffset;
+  if (kCharge) {
+    // The charge the request at the scan's start asked for, no earlier than the variant's wait after it.
+    state_->step = kScanCharge;
+    const Duration since = elapsed(state_->chargeAsked, clock_.now());
+    const Duration wait = us(v.chargeWaitUs) > since ? us(v.chargeWaitUs) - since : Duration{};
+    return next(link_.startRead(kCmdSubcommand, kChargeReadBytes, state_->bytes, wait));
+  }
+  scanEnd();
+}
+
+// After the blocks (and the charge read): Alarm Status is latched and 1s written to the bits read clear them
+// (SLUUBY2B / SLUUCJ0 "Alarm Status"), so ALERT releases and the next event asserts it again. A write does not
+// touch the scratch buffer.
+void Monitor::scanEnd() {
+  const uint8_t* alarm = link_.scratch() + facts().alarmOffset;
   if ((alarm[0] | alarm[1]) != 0) {
     state_->step = kScanClear;
     return next(link_.startWrite(kAlarmStatus, {alarm, 2}));
@@ -235,6 +267,14 @@ void Monitor::publish() {
   // The record is the time stamp followed by the registers (the front ends check the layout).
   Instant* record = state_->out.record;
   std::memcpy(record + 1, link_.scratch(), state_->bytes);
+  if (kCharge) {
+    // The charge read's echo (0x3E/0x3F) names the subcommand once its result is in 0x40.. (FF FF while it
+    // runs): only then are the bytes after it the result.
+    const uint8_t* d = link_.scratch() + state_->bytes;
+    ChargeCounter& c = *state_->charge;
+    c.valid = bytes::loadLe16(d) == facts().chargeCode;
+    if (c.valid) std::memcpy(c.raw, d + 2, kChargeBytes);
+  }
   *record = clock_.now();
   finish(Status::Ok);
 }

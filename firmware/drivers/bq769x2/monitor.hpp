@@ -34,6 +34,13 @@
 //                         event makes a new edge; the record is written after that write succeeded.
 //                         yieldScan() makes a running scan end with Aborted instead of starting its next
 //                         read (the record is not written): a FET command need not wait for a whole scan.
+//                         The accumulated charge (kCharge): the scan first writes the charge subcommand
+//                         (BQ769x2 DASTATUS6, BQ7690x PASSQ: S addr 3E lo hi P, no echo poll) and after its
+//                         blocks reads 0x3E..0x4B in one transaction (at least Variant::chargeWaitUs after
+//                         the write): the echo and the result's first 12 bytes. The echo naming the
+//                         subcommand validates them (ChargeCounter::valid; a device still busy reads FF FF
+//                         and the charge is left out of that scan, the rest stands). The BQ76952 scan is then
+//                         6 transactions (7 after an alarm).
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
 //                         both paths. BQ769x2: ALL_FETS_ON 0x0096 and ALL_FETS_OFF 0x0095; one path off is
 //                         FET_CONTROL 0x0097 with that path's OFF bits (0x03 discharge, 0x0C charge), because
@@ -132,6 +139,8 @@ struct Variant {
   uint8_t alarmOffset;        // Alarm Status in the scan record
   uint16_t alarmMaskAddress;  // data memory Default Alarm Mask
   uint16_t firstPollUs;       // LinkConfig::firstPoll at least this (BQ7690x: the echo is not documented)
+  uint16_t chargeCode;        // the accumulated-charge subcommand (DASTATUS6, PASSQ)
+  uint16_t chargeWaitUs;      // its result is read no earlier than this after the request
 };
 
 namespace variant_detail {
@@ -197,7 +206,9 @@ constexpr Variant bq7690x(uint8_t cells) {
           .sleepEnMask = map7690x::bits::BatteryStatus::sleep_en_mask,
           .alarmOffset = A0::record + A0::offsetAlarmStatus,
           .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
-          .firstPollUs = 2000};  // 2 ms, as TI's examples wait
+          .firstPollUs = 2000,  // 2 ms, as TI's examples wait
+          .chargeCode = regmap::code16(map7690x::sub::Passq),
+          .chargeWaitUs = 2000};  // as firstPollUs: no TI document gives PASSQ's time
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -222,7 +233,9 @@ inline constexpr Variant kBq76952{
     .sleepEnMask = map::bits::BatteryStatus::sleep_en_mask,
     .alarmOffset = variant_detail::T2::record + variant_detail::T2::offsetAlarmStatus,
     .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
-    .firstPollUs = 0};
+    .firstPollUs = 0,
+    .chargeCode = regmap::code16(map::sub::Dastatus6),
+    .chargeWaitUs = 0};  // the echo says when it is ready (FF FF while it runs)
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
 
@@ -293,8 +306,9 @@ class Monitor {
   }
 
  protected:
-  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers.
-  Status startScan(Instant* measurement, uint8_t bytes);
+  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where the
+  // accumulated charge goes.
+  Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge);
   static constexpr uint8_t scanBytes(const Variant& v) {
     uint8_t total = 0;
     for (const ScanBlock& b : v.blocks)
@@ -309,7 +323,7 @@ class Monitor {
       if (b.len > kMaxReadBytes || at + 2u * b.len > kScratchBytes) return false;
       at += b.len;
     }
-    return true;
+    return at + 2u * kChargeReadBytes <= kScratchBytes;
   }
 
  private:
@@ -329,6 +343,7 @@ class Monitor {
   inline void probeStep(Status r);
   inline void configStep(Status r);
   inline void scanStep(Status r);
+  void scanEnd();
   inline void fetStep(Status r);
   inline void fetEnableStep(Status r);
   inline void runtimeSetupStep(Status r);
@@ -366,6 +381,8 @@ class Monitor {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
     } out;
+    ChargeCounter* charge;  // startScan
+    Instant chargeAsked;    // when the scan asked for the charge
     uint32_t diff;
     uint32_t scanRetries;
   };
@@ -390,7 +407,7 @@ class Bq769x2 : public Monitor {
   Status startScan(Bq769x2Measurement& out) {
     static_assert(offsetof(Bq769x2Measurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76952) == map::blocks::kRecordSize && scanFits(kBq76952));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers), &out.charge);
   }
 };
 
@@ -405,7 +422,7 @@ class Bq7690x : public Monitor {
   Status startScan(Bq7690xMeasurement& out) {
     static_assert(offsetof(Bq7690xMeasurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76907) == map7690x::blocks::kRecordSize && scanFits(kBq76907));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters), &out.charge);
   }
 };
 
