@@ -442,6 +442,7 @@ TEST(FramePlan, ASummaryThatNeverWentOutLeavesACounterGap) {
   EXPECT_EQ(summary(311), 3);
   EXPECT_TRUE(p.plan.beginFast()) << "its cycle is dropped: the 310 ms summary never went out";
   EXPECT_EQ(summary(410), 4) << "the receiver sees 2, then 4";
+}
 
 // The Startup message (bms.yaml Startup): once after announceStartup(), at the end of the next cycle's fast
 // part, so PackSummary keeps its time.

@@ -75,13 +75,14 @@ struct ChargeStep {
   int64_t uahQ32 = 0;
   bool restarted = false;
 };
-constexpr ChargeStep chargeStep(CounterFamily f, int32_t lsbTenthMa, const ChargeCount& prev, const ChargeCount& now,
-                                Duration mcuElapsed) {
+constexpr ChargeStep chargeStep(CounterFamily f, int32_t lsbTenthMa, const ChargeCount& prev,
+                                const ChargeCount& now, Duration mcuElapsed) {
   const int32_t deviceMs = static_cast<int32_t>(now.timeMs - prev.timeMs);
   const uint32_t mcuMs = mcuElapsed.toMs();
   const bool restarted =
       deviceMs < 0 || static_cast<uint32_t>(deviceMs) + kRestartSlackMs + mcuMs / 16 < mcuMs;
-  const int64_t d = restarted ? countDelta(f, restartCount(f), now.count) : countDelta(f, prev.count, now.count);
+  const int64_t d =
+      restarted ? countDelta(f, restartCount(f), now.count) : countDelta(f, prev.count, now.count);
   return {d * uahQ32PerCount(f, lsbTenthMa), restarted};
 }
 

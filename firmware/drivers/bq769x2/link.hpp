@@ -87,11 +87,11 @@ inline constexpr uint8_t kMaxReadBytes =
 // The scan gathers its blocks and then the accumulated-charge read (the subcommand echo and 12 bytes) in the
 // scratch, each with a CRC after every byte in CRC mode (monitor.hpp scanFits).
 inline constexpr uint8_t kChargeReadBytes = 2 + 12;
-inline constexpr uint8_t kScratchBytes = static_cast<uint8_t>(
-    std::max<unsigned>(2u * kMaxReadBytes, std::max<unsigned>(regmap::bq769x2::blocks::kRecordSize,
-                                                              regmap::bq7690x::blocks::kRecordSize) +
-                                               2u * kChargeReadBytes));
-inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
+inline constexpr uint8_t kScratchBytes = static_cast<uint8_t>(std::max<unsigned>(
+    2u * kMaxReadBytes,
+    std::max<unsigned>(regmap::bq769x2::blocks::kRecordSize, regmap::bq7690x::blocks::kRecordSize) +
+        2u * kChargeReadBytes));
+inline constexpr uint8_t kMaxWriteData = 4;  // data bytes of one write (U4/F4 data memory)
 
 static_assert(kMaxReadBytes >= kWindowBytes,
               "a subcommand result (0x40..0x61) is fetched into the scratch too");

@@ -252,8 +252,8 @@ inline void Monitor::scanStep(Status r) {
 }
 
 // After the blocks (and the charge read): Alarm Status is latched and 1s written to the bits read clear them
-// (SLUUBY2B / SLUUCJ0 "Alarm Status"), so ALERT releases and the next event asserts it again. A write does not
-// touch the scratch buffer.
+// (SLUUBY2B / SLUUCJ0 "Alarm Status"), so ALERT releases and the next event asserts it again. A write does
+// not touch the scratch buffer.
 void Monitor::scanEnd() {
   const uint8_t* alarm = link_.scratch() + facts().alarmOffset;
   if ((alarm[0] | alarm[1]) != 0) {

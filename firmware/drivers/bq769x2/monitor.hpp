@@ -306,8 +306,8 @@ class Monitor {
   }
 
  protected:
-  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where the
-  // accumulated charge goes.
+  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
+  // the accumulated charge goes.
   Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge);
   static constexpr uint8_t scanBytes(const Variant& v) {
     uint8_t total = 0;

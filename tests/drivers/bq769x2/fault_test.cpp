@@ -66,7 +66,7 @@ TEST(Bq769x2Faults, ClockStretchPastTheBusLimitTimesOutAndRecovers) {
   r.emu.stretchNext(fw::ms(30));  // the bus gives up after 20 ms
   auto m = sentinel();
   const uint64_t t0 = r.harness.nowUs();
-  ASSERT_EQ(r.scan(m), Status::Ok);  // the retry goes through
+  ASSERT_EQ(r.scan(m), Status::Ok);           // the retry goes through
   EXPECT_LT(r.harness.nowUs() - t0, 26000u);  // the 20 ms bus limit, the retry delay and one scan
   EXPECT_EQ(r.driver.stats().errors[static_cast<int>(Status::Timeout)], 1u);
   EXPECT_NE(r.wireText().find("TIMEOUT RECOVERY"), std::string::npos);

@@ -56,9 +56,11 @@ int64_t Bq769xEmulator::chargeCount() {
   const __int128 tenthMaUsPerUserUnit =
       static_cast<__int128>(userAmpTenthMa()) * (bq7690x() ? 1000000 : static_cast<int64_t>(kUsPerHour));
   // BQ769x2: userAh x 2^32; BQ7690x: userA-s. mA x us x 10 = 0.1 mA x us.
-  const __int128 scaled = bq7690x() ? chargeMaUs_ * 10 / tenthMaUsPerUserUnit
-                                    : (chargeMaUs_ * 10 * (static_cast<__int128>(1) << 32)) / tenthMaUsPerUserUnit;
-  const uint64_t raw = static_cast<uint64_t>(chargeBase_) + static_cast<uint64_t>(static_cast<int64_t>(scaled));
+  const __int128 scaled = bq7690x()
+                              ? chargeMaUs_ * 10 / tenthMaUsPerUserUnit
+                              : (chargeMaUs_ * 10 * (static_cast<__int128>(1) << 32)) / tenthMaUsPerUserUnit;
+  const uint64_t raw =
+      static_cast<uint64_t>(chargeBase_) + static_cast<uint64_t>(static_cast<int64_t>(scaled));
   // The register's width: 64-bit fixed point (BQ769x2), 48 bits sign-extended (BQ7690x).
   return bq7690x() ? static_cast<int64_t>(raw << 16) >> 16 : static_cast<int64_t>(raw);
 }

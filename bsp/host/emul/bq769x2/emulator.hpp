@@ -198,8 +198,8 @@ class Bq769xEmulator final : public I2cTarget {
   // Measurement state
   std::array<int16_t, 16> cells_{};
   int32_t currentMa_ = 0;
-  // Accumulated charge (charge.cpp): mA x us since the counter was cleared, the count it was cleared to, when;
-  // and the true charge since construction.
+  // Accumulated charge (charge.cpp): mA x us since the counter was cleared, the count it was cleared to,
+  // when; and the true charge since construction.
   __int128 chargeMaUs_ = 0;
   int64_t chargeBase_ = 0;
   uint64_t chargeAtUs_ = 0;
