@@ -59,13 +59,14 @@ constexpr const char* kUsage =
     "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
     "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
 
-// A file's text, or standard input's for "-".
+// A file's text, or standard input's for "-"; false after printing why not ("regmapgen: error: cannot read
+// X: is a directory").
 bool readInput(const std::string& path, std::string& text) {
-  if (path != "-") return readFile(path, text);
-  std::ostringstream ss;
-  ss << std::cin.rdbuf();
-  text = ss.str();
-  return true;
+  std::string why;
+  if (path == "-" ? readStdin(text, &why) : readFile(path, text, &why)) return true;
+  std::cerr << "regmapgen: error: cannot read " << (path == "-" ? "standard input" : path) << ": " << why
+            << "\n";
+  return false;
 }
 
 // Loads, builds and (unless `checked` is false) checks the files; prints diagnostics. Returns false on any
@@ -73,10 +74,7 @@ bool readInput(const std::string& path, std::string& text) {
 bool load(const std::vector<std::string>& files, Sources& sources, Model& model, bool checked = true) {
   for (const std::string& f : files) {
     std::string text;
-    if (!readInput(f, text)) {
-      std::cerr << "regmapgen: error: cannot read " << f << "\n";
-      return false;
-    }
+    if (!readInput(f, text)) return false;
     sources.add(f, std::move(text));
   }
   Diagnostics diag(sources);
@@ -252,10 +250,7 @@ int cmdImport(const std::vector<std::string>& args) {
   }
   const int failed = against.empty() ? 1 : 2;  // with --against, 1 means "differs"
   std::string text;
-  if (!readInput(file, text)) {
-    std::cerr << "regmapgen: error: cannot read " << file << "\n";
-    return failed;
-  }
+  if (!readInput(file, text)) return failed;
   if (looksLikePdf(text)) {
     if (file == "-") {
       std::cerr << "regmapgen: error: a PDF must be given as a file, not on standard input\n";
@@ -267,6 +262,7 @@ int cmdImport(const std::vector<std::string>& args) {
       return failed;
     }
     text = std::move(pdf.text);
+    opts.firstPage = first > 0 ? first : 1;
   } else if (!pages.empty()) {
     std::cerr << "regmapgen: error: --pages applies to PDF input; " << file << " is text\n";
     return 2;
@@ -274,7 +270,8 @@ int cmdImport(const std::vector<std::string>& args) {
   if (against.empty()) return runImport(file, text, opts, std::cout, std::cerr);
 
   std::ostringstream yaml;
-  if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0) return 2;
+  if (const int rc = runImport(file, text, opts, yaml, std::cerr); rc != 0)
+    return rc == kImportFoundNoTable ? rc : 2;
   Sources oldSources, newSources;
   Model oldModel, newModel;
   if (!load(against, oldSources, oldModel, false)) return 2;
@@ -311,10 +308,7 @@ int cmdCan(const std::vector<std::string>& args) {
     return 2;
   }
   std::string text;
-  if (!readInput(file, text)) {
-    std::cerr << "regmapgen: error: cannot read " << file << "\n";
-    return 1;
-  }
+  if (!readInput(file, text)) return 1;
   Sources sources;
   const int id = sources.add(file, std::move(text));
   Diagnostics diag(sources);

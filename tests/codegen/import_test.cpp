@@ -105,7 +105,8 @@ TEST(Import, DataMemoryWithoutAddressIsTodo) {
   EXPECT_NE(r.yaml.find("    addr: TODO\n"), std::string::npos) << r.yaml;
   EXPECT_NE(r.yaml.find("    category: Settings\n    subcategory: Protection\n"), std::string::npos)
       << r.yaml;
-  EXPECT_NE(r.warnings.find("no address for 'Enabled Protections A' (pass --map"), std::string::npos)
+  EXPECT_NE(r.warnings.find("no address for 'Settings:Protection:Enabled Protections A' (pass --map"),
+            std::string::npos)
       << r.warnings;
   const auto c = test::checkText(r.yaml);
   EXPECT_NE(c.text.find("'addr' of datamem 'Enabled Protections A': 'TODO' is not an integer"),
@@ -126,8 +127,14 @@ TEST(Import, DataMemoryAddressFromTheMap) {
   EXPECT_EQ(test::checkText(r.yaml).errors, 0u);
 }
 
-TEST(Import, NoTableIsAnError) {
-  EXPECT_EQ(runOn("just prose\nmore prose\n").rc, 1);
+TEST(Import, NoTableHasItsOwnStatus) {
+  // Not an error of the input: the text has no register table (a data sheet, prose). Status 3, nothing on
+  // standard output, a line that says so.
+  const auto r = runOn("just prose\nmore prose\n");
+  EXPECT_EQ(r.rc, kImportFoundNoTable);
+  EXPECT_EQ(r.yaml, "");
+  EXPECT_NE(r.warnings.find("in.txt: no register table found; nothing imported"), std::string::npos)
+      << r.warnings;
 }
 
 }  // namespace

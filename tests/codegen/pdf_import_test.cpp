@@ -309,6 +309,63 @@ TEST(PdfImport, ATextTableMadeIntoAPdfImportsLikeTheText) {
   EXPECT_NE(same.err.find("0 added, 0 removed, 0 changed, 5 unchanged"), std::string::npos) << same.err;
 }
 
+TEST(PdfImport, PositionsArePagesAndTheParallelRunsGivePdftotextsText) {
+  // Issue 26: a PDF is converted by one pdftotext run per CPU over consecutive page ranges; the joined text
+  // must be what one run prints, and warnings name the page and the line on it (file:pPAGE:LINE:COL).
+  const fs::path dir = scratch("pages");
+  test::TiTable t{
+      "Table 13-1. Data Memory Table",
+      {"Class", "Subclass", "Address", "Name", "Type", "Min Value", "Max Value", "Default", "Units"},
+      {},
+      {},
+      "Data Memory"};
+  for (int i = 0; i < 1300; ++i) {
+    const std::string addr = "0x" + std::string(1, "0123456789ABCDEF"[(i >> 8) & 15]) +
+                             std::string(1, "0123456789ABCDEF"[(i >> 4) & 15]) +
+                             std::string(1, "0123456789ABCDEF"[i & 15]);
+    t.rows.push_back({"Settings", "Test", "0x9" + addr.substr(2), "Value " + std::to_string(i), "U1", "0",
+                      "255", "1", i == 1100 ? "furlongs" : "mV"});
+  }
+  test::TiPdf pdf;
+  const auto [first, last] = pdf.add(t);
+  ASSERT_GE(last - first + 1, 16) << "the table must span enough pages for several runs";
+  pdf.write((dir / "long.pdf").string());
+  ASSERT_EQ(std::system(("pdftotext -layout -enc UTF-8 '" + (dir / "long.pdf").string() + "' '" +
+                         (dir / "long.txt").string() + "'")
+                            .c_str()),
+            0);
+  const ToolRun fromPdf = regmapgen(dir, "import --family bq769x2 long.pdf");
+  const ToolRun fromText = regmapgen(dir, "import --family bq769x2 long.txt");
+  ASSERT_EQ(fromPdf.rc, 0) << fromPdf.err;
+  ASSERT_EQ(fromText.rc, 0) << fromText.err;
+  std::ofstream(dir / "pdf.yaml") << fromPdf.out;
+  std::ofstream(dir / "text.yaml") << fromText.out;
+  const ToolRun same = regmapgen(dir, "diff text.yaml pdf.yaml");
+  EXPECT_EQ(same.rc, 0) << same.out;
+  EXPECT_NE(same.err.find("0 added, 0 removed, 0 changed, 1300 unchanged"), std::string::npos) << same.err;
+  // The unknown unit of row 1100: the text names its line, the PDF its page and the line on that page.
+  const std::string textWarning = fromText.err.substr(0, fromText.err.find('\n'));
+  const std::string pdfWarning = fromPdf.err.substr(0, fromPdf.err.find('\n'));
+  EXPECT_EQ(textWarning.rfind("long.txt:", 0), 0u) << textWarning;
+  EXPECT_NE(textWarning.find("warning: unit 'furlongs' is not a known unit"), std::string::npos)
+      << textWarning;
+  ASSERT_EQ(pdfWarning.rfind("long.pdf:p", 0), 0u) << pdfWarning;
+  // The page: count the form feeds before that line of the text.
+  const int textLine = std::stoi(textWarning.substr(9));
+  std::ifstream in(dir / "long.txt");
+  std::string line;
+  int page = 1, lineOnPage = 0;
+  for (int n = 1; std::getline(in, line) && n <= textLine; ++n) {
+    ++lineOnPage;
+    for (char c : line) {
+      if (c == '\f') ++page, lineOnPage = 1;
+    }
+  }
+  const std::string where = "long.pdf:p" + std::to_string(page) + ":" + std::to_string(lineOnPage) + ":";
+  EXPECT_EQ(pdfWarning.rfind(where, 0), 0u) << pdfWarning << " (expected " << where << ")";
+  EXPECT_GE(page, 9);  // in the second run's pages
+}
+
 TEST(PdfImport, WithoutPdftotextSaysWhatToInstall) {
   const fs::path dir = scratch("no_pdftotext");
   test::TiPdf pdf;

@@ -149,6 +149,22 @@ TEST(Bq769x2, F4DefaultsAreIeeeBitPatterns) {
   EXPECT_FLOAT_EQ(std::bit_cast<float>(x2::dm::CcGain.defaultValue().raw()), 7.4768f);
 }
 
+TEST(Bq769x2, RangesAndDefaultsFromSluuby2b) {
+  // Issue 26: values SLUUBY2B Table 13-37 gives and the map did not. The firmware's set-up writes REG0 Config
+  // 0x01 through setting(), which refuses a value outside the map's range at compile time: that range is now
+  // the TRM's 0x00..0x03 (it was 0x00..0xFF).
+  static_assert(x2::dm::Reg0Config.spec.hasMax && x2::dm::Reg0Config.spec.max == 0x03);
+  static_assert(fw::regmap::inRange(x2::dm::Reg0Config, 0x01) &&
+                !fw::regmap::inRange(x2::dm::Reg0Config, 0x04));
+  static_assert(x2::dm::HwdDelay.spec.dflt == 60);      // Protections:HWD:Delay, 60 s (was 0)
+  static_assert(x2::dm::EnabledPfC.spec.dflt == 0x07);  // was 0x00
+  static_assert(x2::dm::CoulombCounterDeadband.spec.scale.num == 234 &&
+                x2::dm::CoulombCounterDeadband.spec.unit == fw::regmap::Unit::NanoVolt);  // 234 nV (was 294)
+  static_assert(x2::dm::Therm18kCoeffA1.spec.hasDefault && x2::dm::Therm18kCoeffA1.spec.dflt == -15524);
+  static_assert(x2::dm::CcGain.spec.unit == fw::regmap::Unit::None);  // a gain, 7.4768 / Rsense
+  EXPECT_EQ(x2::dm::HwdDelay.defaultValue(), 60);
+}
+
 // --- BQ7690x ---------------------------------------------------------------------------------------------
 
 TEST(Bq7690x, CoreEntries) {
@@ -288,7 +304,7 @@ TEST(Tables, EmulatorCanInitialiseDataMemoryFromDefaults) {
       memory[e.address + static_cast<std::uint32_t>(i)] = bytes[i];
     ++withDefault;
   }
-  EXPECT_GE(withDefault, 230);  // 272 parameters, 31 thermistor coefficients without a default in the facts
+  EXPECT_GE(withDefault, 270);  // 272 parameters; SLUUBY2B Table 13-37 gives a default for nearly all
   EXPECT_EQ(memory.at(0x9261), 0x88);
   EXPECT_EQ(memory.at(0x926D), 0x00);  // Default Alarm Mask 0xF800, little-endian
   EXPECT_EQ(memory.at(0x926E), 0xF8);
@@ -299,7 +315,7 @@ TEST(Tables, EveryFamilyTableMatchesItsKindCounts) {
     return std::count_if(t.begin(), t.end(), [k](const EntryInfo& e) { return e.kind == k; });
   };
   EXPECT_GE(count(x2::entries, Kind::Command), 55);
-  EXPECT_GE(count(x2::entries, Kind::Subcommand), 78);
+  EXPECT_GE(count(x2::entries, Kind::Subcommand), 77);  // SLUUBY2B Tables 12-22 and 12-23
   EXPECT_GE(count(x2::entries, Kind::DataMemory), 270);
   EXPECT_GE(count(x0::entries, Kind::Command), 30);
   EXPECT_GE(count(x0::entries, Kind::Subcommand), 19);
@@ -307,6 +323,7 @@ TEST(Tables, EveryFamilyTableMatchesItsKindCounts) {
   EXPECT_GE(count(b16::entries, Kind::Register), 300);
   EXPECT_GE(count(g::entries, Kind::Sbs), 55);
   EXPECT_GE(count(g::entries, Kind::Mac), 50);
+  EXPECT_EQ(count(g::entries, Kind::DataFlash), 538);  // SLUUAQ3A Table 14-1
 }
 
 }  // namespace

@@ -1,8 +1,13 @@
 #include "diag/diag.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
-#include <fstream>
-#include <sstream>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
 #include <tuple>
 
 namespace regmapgen {
@@ -44,13 +49,60 @@ int Sources::add(std::string path, std::string text) {
   return static_cast<int>(files_.size() - 1);
 }
 
-bool readFile(const std::string& path, std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  text = ss.str();
-  return true;
+namespace {
+
+std::string limitText() {
+  return "inputs are limited to " + std::to_string(kMaxInputBytes >> 20) + " MiB";
+}
+
+// Reads `fd` to its end, at most kMaxInputBytes.
+bool readAll(int fd, std::string& text, std::string* why) {
+  text.clear();
+  char buf[65536];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      if (why) *why = std::strerror(errno);
+      return false;
+    }
+    if (n == 0) return true;
+    if (text.size() + static_cast<std::size_t>(n) > kMaxInputBytes) {
+      if (why) *why = "holds more than " + std::to_string(kMaxInputBytes) + " bytes; " + limitText();
+      text.clear();
+      return false;
+    }
+    text.append(buf, static_cast<std::size_t>(n));
+  }
+}
+
+}  // namespace
+
+bool readFile(const std::string& path, std::string& text, std::string* why) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    if (why) *why = std::strerror(errno);
+    return false;
+  }
+  struct stat st {};
+  bool ok = false;
+  if (::fstat(fd, &st) != 0) {
+    if (why) *why = std::strerror(errno);
+  } else if (S_ISDIR(st.st_mode)) {
+    if (why) *why = "is a directory";
+  } else if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+    if (why) *why = "is a device, not a file";
+  } else if (S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) {
+    if (why) *why = "is " + std::to_string(st.st_size) + " bytes; " + limitText();
+  } else {
+    ok = readAll(fd, text, why);
+  }
+  ::close(fd);
+  return ok;
+}
+
+bool readStdin(std::string& text, std::string* why) {
+  return readAll(STDIN_FILENO, text, why);
 }
 
 std::string Sources::lineText(int file, int line) const {

@@ -43,9 +43,19 @@ class Sources {
   std::vector<File> files_;
 };
 
-// Reads the whole file at `path` (bytes as they are) into `text`; false if it cannot be opened. Callers word
-// the error.
-bool readFile(const std::string& path, std::string& text);
+// The most bytes regmapgen reads from one input (a YAML map, a table text, a PDF, standard input or the text
+// pdftotext makes of a PDF). The largest real input, a 209-page TRM, is under 4 MiB as PDF and as text.
+inline constexpr std::size_t kMaxInputBytes = std::size_t{64} << 20;
+
+// Reads the whole file at `path` (bytes as they are) into `text`. False, with `why` saying it in words ("is
+// a directory", "is a device, not a file", "is 104857600 bytes; inputs are limited to 64 MiB", "No such
+// file or directory"), when it cannot be opened or read, is not a regular file or a pipe, or holds more than
+// kMaxInputBytes: a file's size is checked before it is read, a pipe stops being read one byte past the
+// limit, so no input makes regmapgen read or wait without end (/dev/zero is a device and is refused).
+bool readFile(const std::string& path, std::string& text, std::string* why = nullptr);
+
+// Reads standard input the same way (at most kMaxInputBytes).
+bool readStdin(std::string& text, std::string* why = nullptr);
 
 enum class Severity { Error, Warning, Note };
 

@@ -53,6 +53,54 @@ bool sameUnit(const Entry& a, const Entry& b) {
   return a.unit == b.unit && a.scale.num * b.scale.den == b.scale.num * a.scale.den;
 }
 
+// A field's name for comparing: "SEC[1:0]" and "SEC1–SEC0" are both SEC; case, '_' and '-' ignored.
+std::string fieldKey(const std::string& name) {
+  return lookupKey(name.substr(0, name.find('[')));
+}
+
+// The fields of an entry's fieldset in both versions, when both have one: "fields: CUV 2 -> 3, + OCD3 7,
+// - RSVD 1" (matched by name, then by bits for a renamed field).
+std::string fieldChanges(const Family& fa, const Entry& a, const Family& fb, const Entry& b) {
+  const Fieldset* x = a.fieldset.present ? fa.findFieldset(a.fieldset.value) : nullptr;
+  const Fieldset* y = b.fieldset.present ? fb.findFieldset(b.fieldset.value) : nullptr;
+  if (!x || !y) return "";
+  std::map<std::string, const Field*> before, after;
+  for (const Field& f : x->fields)
+    before.emplace(fieldKey(f.name.value), &f);
+  for (const Field& f : y->fields)
+    after.emplace(fieldKey(f.name.value), &f);
+  std::vector<std::string> parts;
+  std::vector<const Field*> gone, added;
+  for (const auto& [key, f] : before) {
+    const auto it = after.find(key);
+    if (it == after.end()) {
+      gone.push_back(f);
+    } else if (f->msb != it->second->msb || f->lsb != it->second->lsb) {
+      parts.push_back(f->name.value + " " + f->bitsText() + " -> " + it->second->bitsText());
+    }
+  }
+  for (const auto& [key, f] : after) {
+    if (!before.count(key)) added.push_back(f);
+  }
+  for (const Field* g : gone) {
+    const auto same = std::find_if(added.begin(), added.end(),
+                                   [&](const Field* n) { return n->msb == g->msb && n->lsb == g->lsb; });
+    if (same != added.end()) {
+      parts.push_back(g->name.value + " -> " + (*same)->name.value + " (" + g->bitsText() + ")");
+      added.erase(same);
+    } else {
+      parts.push_back("- " + g->name.value + " " + g->bitsText());
+    }
+  }
+  for (const Field* n : added)
+    parts.push_back("+ " + n->name.value + " " + n->bitsText());
+  if (parts.empty()) return "";
+  std::string out = "fields:";
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    out += (i ? ", " : " ") + parts[i];
+  return out;
+}
+
 // What differs between two versions of one entry, as "what old -> new" parts.
 std::vector<std::string> changes(const Entry& a, const Entry& b) {
   std::vector<std::string> out;
@@ -144,7 +192,11 @@ MapDiff diffModels(const Model& before, const Model& after, bool onlyKindsOfAfte
       continue;
     }
     const Entry& n = *b[static_cast<std::size_t>(partner[i])].entry;
-    const std::vector<std::string> what = changes(e, n);
+    std::vector<std::string> what = changes(e, n);
+    if (std::string fields =
+            fieldChanges(*a[i].family, e, *b[static_cast<std::size_t>(partner[i])].family, n);
+        !fields.empty())
+      what.push_back(std::move(fields));
     if (what.empty()) {
       ++d.unchanged;
       continue;

@@ -3,7 +3,9 @@
 //
 // Entries are matched by family, kind, class/subclass and name (ignoring case, spaces, '_' and '-'); an
 // entry left unmatched on both sides at the same family, kind and address is a rename. Compared: address,
-// span, type, min, max, default (as numbers: 0x0A equals 10) and unit with scale. Descriptions, notes,
+// span, type, min, max, default (as numbers: 0x0A equals 10), unit with scale, and the fields of the
+// entry's fieldset when both versions have one (by name without its "[1:0]"; a field at the same bits under
+// another name is a rename). Descriptions, notes,
 // sources, access and identifiers are not compared: imports cannot know them. Lines, in kind and address
 // order:
 //   + datamem 'Foo' (Settings:Protection) 0x9400 U1

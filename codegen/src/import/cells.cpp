@@ -71,7 +71,7 @@ Unit unit(std::string_view cell) {
   const std::string key = lower(joined);
   static const std::vector<std::string> none = {"",       "-",        "\xE2\x80\x94", "\xE2\x80\x93",
                                                 "hex",    "十六进制", "ascii",        "n/a",
-                                                "string", "flags",    "binary"};
+                                                "string", "flags",    "binary",       "num"};
   for (const std::string& n : none) {
     if (key == n) return {};
   }
@@ -100,13 +100,15 @@ Unit unit(std::string_view cell) {
     }
   }
   static const std::map<std::string, std::string, std::less<>> spellings = {
-      {"°C", "degC"},      {"℃", "degC"},      {"degC", "degC"},     {"摄氏度", "degC"}, {"°K", "K"},
-      {"µV", "uV"},        {"μV", "uV"},       {"µs", "us"},         {"μs", "us"},       {"mΩ", "mOhm"},
-      {"m\u2126", "mOhm"}, {"mohm", "mOhm"},   {"milliohm", "mOhm"}, {"%", "percent"},   {"sec", "s"},
-      {"secs", "s"},       {"seconds", "s"},   {"秒", "s"},          {"毫秒", "ms"},     {"微秒", "us"},
-      {"minutes", "min"},  {"分钟", "min"},    {"hr", "h"},          {"hrs", "h"},       {"hour", "h"},
-      {"hours", "h"},      {"小时", "h"},      {"毫伏", "mV"},       {"毫安", "mA"},     {"count", "counts"},
-      {"byte", "bytes"},   {"cycle", "cycles"}};
+      {"°C", "degC"},       {"℃", "degC"},       {"degC", "degC"},    {"摄氏度", "degC"},
+      {"°K", "K"},          {"µV", "uV"},        {"μV", "uV"},        {"µs", "us"},
+      {"μs", "us"},         {"mΩ", "mOhm"},      {"m\u2126", "mOhm"}, {"mohm", "mOhm"},
+      {"milliohm", "mOhm"}, {"%", "percent"},    {"sec", "s"},        {"secs", "s"},
+      {"seconds", "s"},     {"秒", "s"},         {"毫秒", "ms"},      {"微秒", "us"},
+      {"minutes", "min"},   {"分钟", "min"},     {"hr", "h"},         {"hrs", "h"},
+      {"hour", "h"},        {"hours", "h"},      {"小时", "h"},       {"毫伏", "mV"},
+      {"毫安", "mA"},       {"count", "counts"}, {"byte", "bytes"},   {"cycle", "cycles"},
+      {"events", "counts"}, {"event", "counts"}, {"mah", "mAh"}};
   std::string u(t);
   if (auto it = spellings.find(u); it != spellings.end()) u = it->second;
   if (!findUnit(u)) {
@@ -161,8 +163,9 @@ std::optional<std::string> fieldsType(std::string_view cell, bool bigEndian) {
 
 std::optional<std::string> typeFromWords(std::string_view type, std::string_view format,
                                          std::string_view size) {
-  const std::string t = lower(name(type));
   const std::string f = lower(name(format));
+  // SLUUAQ3A prints the number format in its "Format" column ("Signed Int" with "Size in Bytes" 2).
+  const std::string t = scan::trimmed(type).empty() ? f : lower(name(type));
   const std::string sz(scan::trimmed(size));
   int n = 0;
   if (scan::all(sz, scan::isDigit) && sz.size() <= 2) n = std::stoi(sz);

@@ -1,6 +1,7 @@
 #include "import/furniture.hpp"
 
 #include <array>
+#include <string>
 
 #include "text/scan.hpp"
 
@@ -77,13 +78,46 @@ bool isPageFurniture(std::string_view line) {
 bool isTableCaption(std::string_view line) {
   const std::string_view t = scan::trimmed(line);
   if (!t.starts_with("Table ")) return false;
-  // "Table 13-1." / "Table 4-6" / "Table 12."
-  const std::string_view rest = t.substr(6);
-  return !rest.empty() && scan::isDigit(rest[0]);
+  // "Table 13-1." / "Table 12." (a hyphen, or the en dash some documents print)
+  std::size_t i = 6 + scan::run(t, 6, scan::isDigit);
+  if (i == 6) return false;
+  if (t.substr(i).starts_with("-")) {
+    i = i + 1 + scan::run(t, i + 1, scan::isDigit);
+  } else if (t.substr(i).starts_with("\xE2\x80\x93")) {
+    i = i + 3 + scan::run(t, i + 3, scan::isDigit);
+  }
+  return i < t.size() && t[i] == '.';
 }
 
 bool isContinuedCaption(std::string_view line) {
   return isTableCaption(line) && line.find("(continued)") != std::string_view::npos;
+}
+
+std::string_view captionText(std::string_view line) {
+  std::string_view t = scan::trimmed(line);
+  if (const std::size_t c = t.find("(continued)"); c != std::string_view::npos)
+    t = scan::trimmed(t.substr(0, c));
+  return t;
+}
+
+bool isSectionHeading(std::string_view line) {
+  if (line.empty() || !scan::isDigit(line[0]) || line.find("....") != std::string_view::npos) return false;
+  std::size_t i = 0;
+  int numbers = 0;
+  for (;;) {
+    const std::size_t digits = scan::run(line, i, scan::isDigit);
+    if (digits == 0 || digits > 3) return false;
+    i += digits;
+    ++numbers;
+    if (i < line.size() && line[i] == '.' && i + 1 < line.size() && scan::isDigit(line[i + 1])) {
+      ++i;
+      continue;
+    }
+    break;
+  }
+  if (numbers < 2 || i >= line.size() || line[i] != ' ') return false;
+  const std::string_view title = scan::trimmed(line.substr(i));
+  return !title.empty() && (scan::isUpper(title[0]) || scan::isDigit(title[0]));
 }
 
 }  // namespace regmapgen

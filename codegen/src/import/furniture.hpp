@@ -20,7 +20,16 @@ bool isPageFurniture(std::string_view line);
 // "Table 13-1. Data Memory Table (continued)": the caption TI repeats above a table continued on a new page.
 bool isContinuedCaption(std::string_view line);
 
-// "Table 13-1. Data Memory Table" (any table caption, continued or not).
+// "Table 13-1. Data Memory Table" (any table caption, continued or not): "Table", a number with an optional
+// "-n", then '.' ("Table 4-5 provides further details." is a sentence, not a caption).
 bool isTableCaption(std::string_view line);
+
+// A caption without its surrounding blanks and without " (continued)": "Table 13-1. Data Memory Table".
+std::string_view captionText(std::string_view line);
+
+// "13.2.1.1 Calibration:Voltage:Cell 1 Gain", "13.4 0x03 BatteryMode()", "3.4 Write VCell Mode": a numbered
+// section heading (at the margin, two or more numbers joined by '.', then the title; table-of-contents lines,
+// which end in dot leaders and a page number, are not).
+bool isSectionHeading(std::string_view line);
 
 }  // namespace regmapgen

@@ -2,6 +2,7 @@
 
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace regmapgen {
 
@@ -42,6 +43,8 @@ const std::vector<Heading>& headings() {
        "data (appended to the description)",
        {"数据", "data", "bit7", "bit6", "bit5", "bit4", "bit3", "bit2", "bit1", "bit0", "bit 7", "bit 6",
         "bit 5", "bit 4", "bit 3", "bit 2", "bit 1", "bit 0"}},
+      {Role::Bit, "bit (bit-field tables)", {"bit", "bits"}},
+      {Role::Field, "field (bit-field tables)", {"field", "field name"}},
       {Role::Access,
        "access",
        {"访问", "访问权限", "读写", "access", "r/w", "rw", "rw type", "mode", "se", "us", "fa", "sealed",
@@ -95,6 +98,37 @@ Role roleOf(std::string_view heading) {
   return it == bySpelling.end() ? Role::Unknown : it->second;
 }
 
+bool mayBeHeading(std::string_view line) {
+  // The first word of every spelling ("min" of "min value", "size" of "size in bytes").
+  static const std::unordered_set<std::string> firstWords = [] {
+    std::unordered_set<std::string> words;
+    for (const Heading& entry : headings()) {
+      for (const std::string& s : entry.spellings)
+        words.insert(s.substr(0, s.find(' ')));
+    }
+    return words;
+  }();
+  int found = 0;
+  std::string word;
+  for (std::size_t i = 0; i < line.size() && found < 2;) {
+    if (line[i] == ' ' || line[i] == '\t') {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t')
+      ++j;
+    if (j - i <= 16) {
+      word.assign(line.substr(i, j - i));
+      for (char& c : word)
+        c = (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+      found += firstWords.count(word) ? 1 : 0;
+    }
+    i = j;
+  }
+  return found >= 2;
+}
+
 std::string headingHelp() {
   std::ostringstream s;
   for (const Heading& h : headings()) {
@@ -138,14 +172,16 @@ std::vector<std::pair<std::size_t, std::size_t>> splitHeadings(std::string_view 
 
 bool isHeadingRow(const std::vector<Role>& roles) {
   int known = 0;
-  bool addr = false, name = false, cat = false;
+  bool addr = false, name = false, cat = false, bit = false, field = false;
   for (Role r : roles) {
     if (r != Role::Unknown) ++known;
     addr = addr || r == Role::Address;
     name = name || r == Role::Name || r == Role::EnglishName;
     cat = cat || r == Role::Category;
+    bit = bit || r == Role::Bit;
+    field = field || r == Role::Field;
   }
-  return (addr || cat) && name && known * 2 >= static_cast<int>(roles.size());
+  return (((addr || cat) && name) || (bit && field)) && known * 2 >= static_cast<int>(roles.size());
 }
 
 }  // namespace regmapgen

@@ -29,6 +29,8 @@ enum class Role {
   Default,
   Data,
   Access,
+  Bit,    // bit-field tables: "Bit" (7, 15–8)
+  Field,  // bit-field tables: "Field" (the field's name)
   Unknown
 };
 
@@ -42,8 +44,13 @@ std::string headingHelp();
 // byte offsets of its parts in `text`; empty when `text` is not made only of known headings (or is one).
 std::vector<std::pair<std::size_t, std::size_t>> splitHeadings(std::string_view text);
 
-// A row of heading cells starts a table: it names an address or a class column and a name column, and at
-// least half of its cells are known headings.
+// A cheap test run on every line before it is cut into columns: true when at least two of its words (runs
+// without spaces, lower-cased) begin a known heading ("Command  Name  Units" yes, prose almost never), so
+// the text of a 200-page TRM is not matched heading by heading.
+bool mayBeHeading(std::string_view line);
+
+// A row of heading cells starts a table: it names an address or a class column and a name column (or, for a
+// bit-field table, a bit and a field column), and at least half of its cells are known headings.
 bool isHeadingRow(const std::vector<Role>& roles);
 
 }  // namespace regmapgen

@@ -14,8 +14,14 @@ struct PdfText {
   std::string error;  // why not, with what to install when pdftotext is missing
 };
 
-// Runs `pdftotext -layout -enc UTF-8 [-f first -l last] path -` (first/last 0: every page). Reads its output
-// through a pipe; waits for it to exit. Does not use a shell.
+// The text `pdftotext -layout -enc UTF-8 [-f first -l last] path -` prints (first/last 0: every page), made
+// by several pdftotext runs over consecutive page ranges at once (one per CPU, pdfWorkers(); the page count
+// from pdfinfo), read through pipes and joined in page order: the same text, in about 1/CPUs of the time.
+// Waits for every run to exit; does not use a shell. pdftotext's warnings are dropped; a run that fails
+// makes the whole conversion fail with its exit status.
 PdfText pdfToText(const std::string& path, int firstPage = 0, int lastPage = 0);
+
+// How many pdftotext runs go at once: the CPUs online (1..16).
+int pdfWorkers();
 
 }  // namespace regmapgen

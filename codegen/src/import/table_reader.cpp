@@ -98,6 +98,17 @@ bool identifierPart(std::string_view s) {
   return scan::all(s, [](char c) { return scan::isUpper(c) || scan::isDigit(c) || c == '_'; });
 }
 
+// "PermanentFailureData" over "Reset", "OutputShortedCCand" over "ADCforCalibration": a function name of
+// the BQ4050 TRM (one CamelCase word) broken where its cell ends.
+bool camelJoin(std::string_view above, std::string_view more) {
+  if (above.empty() || more.empty() || above.find(' ') != std::string_view::npos ||
+      more.find(' ') != std::string_view::npos || !scan::isUpper(more[0]) || !scan::isAlpha(above.back()))
+    return false;
+  const auto uppers = std::count_if(above.begin(), above.end(), [](char c) { return scan::isUpper(c); });
+  const bool lower = std::any_of(above.begin(), above.end(), [](char c) { return scan::isLower(c); });
+  return uppers >= 2 && lower;
+}
+
 bool isNameRole(Role r) {
   return r == Role::Name || r == Role::EnglishName;
 }
@@ -119,6 +130,7 @@ std::vector<Role> rolesOf(const std::vector<Column>& cols) {
 // The heading cells of a layout line; a chunk of several known headings becomes one column each.
 std::vector<Column> headingColumns(const Glyphs& g, int line) {
   std::vector<Column> cols;
+  if (!mayBeHeading(g.slice(0, g.size()))) return cols;
   for (const Span c : chunks(g)) {
     const std::string_view t = g.slice(c.from, c.to);
     const Role r = roleOf(t);
@@ -263,6 +275,10 @@ struct SourceLine {
   bool pageBreak = false;
 };
 
+// A row may have this many lines above its key line in a centred table (TI's longest: a description of four
+// lines beside "Sealed: R/W" over the command), and this many blank lines between them.
+constexpr int kMaxLinesBeforeKey = 6;
+
 class Reader {
  public:
   explicit Reader(const std::string& text) : text_(text) {}
@@ -279,6 +295,7 @@ class Reader {
   // Splits the text into lines; false (with an error) if one is too long to be a table row.
   bool split() {
     int number = 0;
+    result_.pageStarts.push_back(1);
     for (std::size_t start = 0; start <= text_.size();) {
       ++number;
       std::size_t end = text_.find('\n', start);
@@ -293,7 +310,11 @@ class Reader {
       }
       if (l.ends_with('\r')) l.remove_suffix(1);
       const bool brk = l.starts_with('\f');
-      if (brk) l.remove_prefix(1);
+      // pdftotext ends every page with a form feed, so an empty page is one more.
+      while (l.starts_with('\f')) {
+        l.remove_prefix(1);
+        result_.pageStarts.push_back(number);
+      }
       if (last && l.empty() && !brk && number > 1) break;  // the newline ending the last line starts no line
       lines_.push_back({number, l, brk});
       if (last) break;
@@ -308,6 +329,21 @@ class Reader {
     e.line = l.number;
     e.text = std::string(l.text);
     result_.events.push_back(std::move(e));
+    if (isSectionHeading(l.text)) {
+      section_ = {std::string(scan::trimmed(l.text)), l.number};
+      proseSinceSection_ = 0;
+      caption_ = {};                 // a caption belongs to a table of its own section
+      pendingContinuation_ = false;  // and the next table is a new one
+    } else if (isTableCaption(l.text)) {
+      caption_ = {std::string(captionText(l.text)), l.number};
+      proseSinceCaption_ = 0;
+      if (!isContinuedCaption(l.text)) pendingContinuation_ = false;
+    } else if (!scan::trimmed(l.text).empty()) {
+      ++proseSinceSection_;
+      // A caption stands right above its table; after a few lines of text it was a figure's or a table this
+      // reader does not see.
+      if (++proseSinceCaption_ > 3) caption_ = {};
+    }
   }
 
   // Handles line i (and any line it consumes); returns the index of the last line consumed.
@@ -325,14 +361,17 @@ class Reader {
     }
     separated_ = false;  // a line without separators ends a separated table
     if (layout_) {
-      if (layoutLine(l)) return i;
+      if (layoutLine(i)) return i;
       endTable();
     }
     return startOrProse(i);
   }
 
   void pageBreak() {
-    if (layout_) layout_->blankRun = 0;
+    if (layout_) {
+      layout_->blankRun = 0;
+      layout_->afterBreak = true;  // but a row does not go on across a page break on its own
+    }
     pendingContinuation_ = true;
   }
 
@@ -354,6 +393,7 @@ class Reader {
       e.line = l.number;
       e.cells = std::move(cells);
       e.roles = std::move(roles);
+      setContext(e);
       result_.events.push_back(std::move(e));
       separated_ = true;
       return;
@@ -370,19 +410,39 @@ class Reader {
     result_.events.push_back(std::move(e));
   }
 
+  // A heading's caption and section; the caption is used once, except by the table's continuations.
+  void setContext(TableEvent& e) {
+    e.caption = caption_.text;
+    e.captionLine = caption_.line;
+    e.section = section_.text;
+    e.sectionLine = section_.line;
+    e.proseSinceSection = proseSinceSection_;
+    caption_ = {};
+  }
+
   // ---- pdftotext -layout tables ----
+
+  struct BodyLine {
+    int number = 0;
+    Glyphs g;
+    bool afterBlank = false;
+  };
 
   struct Layout {
     std::vector<Column> cols;
     std::size_t key = 0;  // the column whose cell starts a row
     Role keyRole = Role::Unknown;
+    int offsetColumn = -1;             // a payload-offset column: its cells start the fields of one row
     bool hexKeys = false;              // an "Addr Hex" key column: addresses without "0x"
     std::vector<std::size_t> anchors;  // preliminary bounds: each column's heading start
-    std::vector<std::pair<int, Glyphs>> body;
+    std::vector<BodyLine> body;
     int blankRun = 0;
+    bool afterBreak = false;
+    bool keySeen = false;
     bool continued = false;    // repeats the previous table's headings: one table
     bool mayContinue = false;  // a page break or "(continued)" caption came before the heading
     int headingLine = 0;
+    TableEvent context;  // caption and section
   };
 
   // The table a heading row starts; nothing if the row is not a heading. `extended`: columns were added from
@@ -394,11 +454,18 @@ class Reader {
     t.cols = std::move(cols);
     t.headingLine = line;
     const auto find = [&](Role r) { return std::find(roles.begin(), roles.end(), r); };
+    // The column whose cell makes a line a row's key line: the address; in a table of settings by class
+    // (no address), the type, which is never wrapped ("System" over "Data" is one class name); the class; the
+    // bit of a bit-field table.
     auto key = find(Role::Address);
+    if (key == roles.end() && find(Role::Category) != roles.end()) key = find(Role::Type);
     if (key == roles.end()) key = find(Role::Category);
+    if (key == roles.end()) key = find(Role::Bit);
     if (key == roles.end()) key = roles.begin();
     t.key = static_cast<std::size_t>(key - roles.begin());
     t.keyRole = *key;
+    if (const auto offset = find(Role::Offset); offset != roles.end())
+      t.offsetColumn = static_cast<int>(offset - roles.begin());
     t.hexKeys = t.keyRole == Role::Address && saysHex(t.cols[t.key].text);
     for (std::size_t k = 1; k < t.cols.size(); ++k)
       t.anchors.push_back(t.cols[k].span.from);
@@ -408,7 +475,7 @@ class Reader {
   // Starts a layout table at line i (a heading, possibly over two lines), or reports the line as prose.
   std::size_t startOrProse(std::size_t i) {
     const SourceLine& l = lines_[i];
-    if (isTableCaption(l.text)) {
+    if (isTableCaption(l.text) || isSectionHeading(l.text) || !mayBeHeading(l.text)) {
       prose(l);
       return i;
     }
@@ -431,6 +498,23 @@ class Reader {
           return i + 1;
         }
       }
+      // A heading over three lines, this one in the middle: "SBS" / "Name ... Type Min Max" / "Cmd", "Proto-"
+      // / "col" (SLUUAQ3A's SBS command tables). The line above was taken as prose; it is taken back.
+      if (i > 0 && !l.pageBreak && !result_.events.empty() &&
+          result_.events.back().kind == TableEvent::Kind::Prose &&
+          result_.events.back().line == lines_[i - 1].number && !scan::trimmed(lines_[i - 1].text).empty() &&
+          !isPageFurniture(lines_[i - 1].text) && !next.pageBreak && !isPageFurniture(next.text) &&
+          !scan::trimmed(next.text).empty()) {
+        const Glyphs above(lines_[i - 1].text), below(next.text);
+        std::vector<Column> three = headingColumns(above, lines_[i - 1].number);
+        if (mergeHeadingLine(three, g, l.number, true) && mergeHeadingLine(three, below, next.number, true)) {
+          if (auto t = layoutFor(three, lines_[i - 1].number)) {
+            result_.events.pop_back();
+            begin(std::move(*t));
+            return i + 1;
+          }
+        }
+      }
     }
     prose(l);
     return i;
@@ -440,6 +524,12 @@ class Reader {
     // The same headings again after a page break: the table goes on.
     t.mayContinue = pendingContinuation_;
     t.continued = t.mayContinue && lastRoles_ == rolesOf(t.cols);
+    if (t.continued) {
+      t.context = lastContext_;
+    } else {
+      setContext(t.context);
+    }
+    caption_ = {};
     layout_ = std::move(t);
     pendingContinuation_ = false;
   }
@@ -451,7 +541,21 @@ class Reader {
       const std::string_view first = key.substr(0, key.find_first_not_of("0123456789abcdefABCDEFxX"));
       return scan::isHexLiteral(first) || (layout_->hexKeys && isBareHex(first));
     }
-    if (layout_->keyRole == Role::Category) return !scan::isDigit(key[0]);
+    if (layout_->keyRole == Role::Category) return !scan::isDigit(key[0]) && !key.ends_with(':');
+    if (layout_->keyRole == Role::Type) {
+      // "U2", "H1", "F4", "S20+1", "I2" as TI prints it; not a word of a sentence. A number of the next
+      // column may start left of its heading and share the cell ("F4        1.00E–02").
+      key = key.substr(0, key.find(' '));
+      return key.size() <= 8 && scan::isAlpha(key[0]) && key.find(' ') == std::string_view::npos &&
+             !key.ends_with(':') && !key.ends_with('.') && !key.ends_with(',');
+    }
+    if (layout_->keyRole == Role::Bit) {
+      // "7", "15–8", "5-4", "31:16"
+      const std::size_t digits = scan::run(key, 0, scan::isDigit);
+      return digits > 0 && digits <= 2 &&
+             (digits == key.size() || key[digits] == ' ' || key[digits] == '-' || key[digits] == ':' ||
+              key.substr(digits).starts_with("\xE2\x80\x93"));
+    }
     return true;
   }
 
@@ -466,8 +570,61 @@ class Reader {
     return false;
   }
 
-  // Takes line l into the current layout table; false if it ends the table.
-  bool layoutLine(const SourceLine& l) {
+  // The key cell of a line, cut at the preliminary bounds.
+  std::string_view keyOf(const Glyphs& g) const {
+    const std::vector<Span> cells = slice(g, layout_->anchors);
+    return g.slice(cells[layout_->key].from, cells[layout_->key].to);
+  }
+
+  bool hasOffset(const Glyphs& g) const {
+    if (layout_->offsetColumn < 0) return false;
+    const std::vector<Span> cells = slice(g, layout_->anchors);
+    const Span s = cells[static_cast<std::size_t>(layout_->offsetColumn)];
+    const std::string_view t = g.slice(s.from, s.to);
+    return !t.empty() && scan::isDigit(t[0]);
+  }
+
+  // From line i (a line without a key), whether a key line follows within a few lines, before a blank line,
+  // a page break or a line of prose: the lines of a centred row above its key line.
+  bool keyAhead(std::size_t i) const {
+    int seen = 0;
+    for (std::size_t j = i; j < lines_.size() && seen <= kMaxLinesBeforeKey; ++j) {
+      const SourceLine& l = lines_[j];
+      if (j > i && l.pageBreak) return false;
+      if (isPageFurniture(l.text)) continue;
+      if (scan::trimmed(l.text).empty() || hasSeparators(l.text) || isTableCaption(l.text) ||
+          isSectionHeading(l.text))
+        return false;
+      const Glyphs g(l.text);
+      if (const std::vector<Column> cols = headingColumns(g, l.number);
+          cols.size() >= 3 && isHeadingRow(rolesOf(cols)))
+        return false;
+      if (validKey(keyOf(g))) return true;
+      if (proseLike(g)) return false;
+      ++seen;
+    }
+    return false;
+  }
+
+  // Whether a line that is not a key and not under a known heading can be the heading's second line ("Value"
+  // under "Min", "SE US FA" under "Access", "Hex" under "Addr"): no chunk turns a known heading into text
+  // that is none ("Access" over "Sealed: R" is a cell of the first row).
+  static bool headingContinuation(const std::vector<Column>& cols, const Glyphs& g) {
+    for (const Span c : chunks(g)) {
+      const std::string_view t = g.slice(c.from, c.to);
+      for (const Column& col : cols) {
+        if (!(c.from <= col.span.to && col.span.from <= c.to) || col.role == Role::Unknown) continue;
+        std::string merged = col.text;
+        appendWrapped(merged, t);
+        if (roleOf(merged) == Role::Unknown && roleOf(t) == Role::Unknown) return false;
+      }
+    }
+    return true;
+  }
+
+  // Takes line i into the current layout table; false if it ends the table.
+  bool layoutLine(std::size_t i) {
+    const SourceLine& l = lines_[i];
     Layout& t = *layout_;
     if (scan::trimmed(l.text).empty()) {
       ++t.blankRun;
@@ -478,7 +635,7 @@ class Reader {
       pendingContinuation_ = true;
       return true;
     }
-    if (isTableCaption(l.text)) return false;
+    if (isTableCaption(l.text) || isSectionHeading(l.text)) return false;
     const Glyphs g(l.text);
     // A heading row again (a page break, or the next table right after this one).
     std::vector<Column> cols = headingColumns(g, l.number);
@@ -489,61 +646,136 @@ class Reader {
       begin(*layoutFor(std::move(cols), l.number));
       return true;
     }
-    const std::vector<Span> cells = slice(g, t.anchors);
-    const std::string_view key = g.slice(cells[t.key].from, cells[t.key].to);
-    // A row's cells may fill their columns ("2.98262E+03 4.193046E+08 2230042.463"); only lines without a key
-    // are judged as prose by their width.
-    const bool prose = key.empty() && proseLike(g);
-    if (t.body.empty() && t.blankRun == 0 && !prose && !validKey(key)) {
+    const std::string_view key = keyOf(g);
+    // A row's cells may fill their columns ("2.98262E+03 4.193046E+08 2230042.463"): a line with an address
+    // is a row whatever its width, one whose class cell holds a word is prose when it runs across columns.
+    const bool wide = proseLike(g);
+    const bool isKey = validKey(key) && !(wide && t.keyRole != Role::Address);
+    const bool prose = !isKey && wide;
+    if (t.body.empty() && t.blankRun == 0 && !prose && !isKey && headingContinuation(t.cols, g)) {
       // Before the first row, a line without a key is the heading's second line ("SE US FA" under "Access",
       // "Value" under "Min", "Hex" under "Addr").
       std::vector<Column> merged = t.cols;
-      if (!mergeHeadingLine(merged, g, l.number, true)) return false;
-      std::optional<Layout> joined = layoutFor(std::move(merged), t.headingLine, true);
-      if (!joined) return false;
-      joined->mayContinue = t.mayContinue;
-      joined->continued = t.continued || (t.mayContinue && lastRoles_ == rolesOf(joined->cols));
-      layout_ = std::move(joined);
-      return true;
+      if (mergeHeadingLine(merged, g, l.number, true)) {
+        if (std::optional<Layout> joined = layoutFor(std::move(merged), t.headingLine, true)) {
+          joined->mayContinue = t.mayContinue;
+          joined->continued = t.continued || (t.mayContinue && lastRoles_ == rolesOf(joined->cols));
+          joined->context = t.context;
+          layout_ = std::move(joined);
+          return true;
+        }
+      }
     }
-    if (!key.empty()) {
-      if (!validKey(key) || t.blankRun > 3) return false;
-    } else if (t.blankRun > 0 || prose || t.body.empty()) {
+    if (isKey) {
+      if (t.blankRun > 3) return false;
+      t.keySeen = true;
+    } else if (!key.empty() || prose) {
+      return false;  // something else in the key column, or a sentence
+    } else if ((t.blankRun > 0 || t.afterBreak || !t.keySeen) && !hasOffset(g) && !keyAhead(i)) {
+      // After a blank line (or before any row), a line continues the table only as the first line of a
+      // payload field or of a centred row whose key line follows.
       return false;
     }
+    t.body.push_back({l.number, g, t.blankRun > 0 || t.afterBreak});
     t.blankRun = 0;
-    t.body.emplace_back(l.number, g);
+    t.afterBreak = false;
     return true;
   }
 
   // The bound between column k and k + 1: the rightmost position of the gap between their headings that is
-  // blank on every line of the table, else the start of heading k + 1.
+  // blank on every line of the table; else the rightmost one that cuts no line inside a word (cells that run
+  // into each other with one space, "PREV_MACWRITE Sealed: R", where the next column starts further left on
+  // some lines than on others); else the start of heading k + 1.
   std::vector<std::size_t> bounds() const {
     const Layout& t = *layout_;
     std::vector<std::size_t> out;
     for (std::size_t k = 0; k + 1 < t.cols.size(); ++k) {
       const std::size_t lo = t.cols[k].span.to, hi = t.cols[k + 1].span.from;
       std::size_t b = hi;
-      for (std::size_t p = hi; p-- > lo;) {
-        const bool blankEverywhere =
-            std::all_of(t.body.begin(), t.body.end(), [&](const auto& row) { return row.second.blank(p); });
-        if (blankEverywhere) {
-          b = p;
-          break;
-        }
+      bool found = false;
+      for (std::size_t p = hi; !found && p-- > lo;) {
+        found =
+            std::all_of(t.body.begin(), t.body.end(), [&](const BodyLine& row) { return row.g.blank(p); });
+        if (found) b = p;
+      }
+      for (std::size_t p = hi + 1; !found && p-- > lo + 1;) {
+        found = std::all_of(t.body.begin(), t.body.end(),
+                            [&](const BodyLine& row) { return row.g.blank(p - 1) || row.g.blank(p); });
+        if (found) b = p;
       }
       out.push_back(std::max(b, out.empty() ? std::size_t{0} : out.back()));
     }
     return out;
   }
 
-  // Emits the current layout table: its heading, then one row per line with a key cell, continuation lines
-  // joined to the row above.
+  // Which row (index of its key line in the body) each body line belongs to; -1 for lines before any row.
+  std::vector<int> owners(const std::vector<std::vector<Span>>& cells, const std::vector<bool>& isKey,
+                          bool centred) const {
+    const Layout& t = *layout_;
+    const int n = static_cast<int>(t.body.size());
+    std::vector<int> owner(static_cast<std::size_t>(n), -1);
+    // The key line before and after each line, and where each run of lines without a blank starts.
+    std::vector<int> prevKey(static_cast<std::size_t>(n), -1), nextKey(static_cast<std::size_t>(n), -1);
+    std::vector<int> run(static_cast<std::size_t>(n), 0);
+    for (int i = 0, last = -1, r = 0; i < n; ++i) {
+      if (t.body[static_cast<std::size_t>(i)].afterBlank) ++r;
+      run[static_cast<std::size_t>(i)] = r;
+      if (isKey[static_cast<std::size_t>(i)]) last = i;
+      prevKey[static_cast<std::size_t>(i)] = last;
+    }
+    for (int i = n - 1, next = -1; i >= 0; --i) {
+      if (isKey[static_cast<std::size_t>(i)]) next = i;
+      nextKey[static_cast<std::size_t>(i)] = next;
+    }
+    const auto lineOf = [&](int i) { return t.body[static_cast<std::size_t>(i)].number; };
+    const auto emptyAt = [&](int keyLine, std::size_t k) {
+      return cells[static_cast<std::size_t>(keyLine)][k].empty();
+    };
+    for (int i = 0; i < n; ++i) {
+      const std::size_t u = static_cast<std::size_t>(i);
+      if (isKey[u]) {
+        owner[u] = i;
+        continue;
+      }
+      const int p = prevKey[u], q = nextKey[u];
+      if (!centred || q < 0) {
+        owner[u] = p >= 0 ? p : q;
+        continue;
+      }
+      if (p < 0) {
+        owner[u] = q;
+        continue;
+      }
+      const bool pSame = run[static_cast<std::size_t>(p)] == run[u],
+                 qSame = run[static_cast<std::size_t>(q)] == run[u];
+      if (pSame != qSame) {
+        owner[u] = pSame ? p : q;  // a blank line separates the rows
+        continue;
+      }
+      const int dp = lineOf(i) - lineOf(p), dq = lineOf(q) - lineOf(i);
+      if (dp != dq) {
+        owner[u] = dp < dq ? p : q;
+        continue;
+      }
+      // Halfway: the cell is centred on the key line that leaves its column empty.
+      int votes = 0;
+      for (std::size_t k = 0; k < cells[u].size(); ++k) {
+        if (cells[u][k].empty()) continue;
+        votes += (emptyAt(q, k) ? 1 : 0) - (emptyAt(p, k) ? 1 : 0);
+      }
+      owner[u] = votes > 0 ? q : p;
+    }
+    return owner;
+  }
+
+  // Emits the current layout table: its heading, then one row per key line with the lines it owns joined
+  // cell by cell.
   void endTable() {
     if (!layout_) return;
     const Layout& t = *layout_;
     lastRoles_ = rolesOf(t.cols);
-    TableEvent heading;
+    lastContext_ = t.context;
+    TableEvent heading = t.context;
     heading.kind = TableEvent::Kind::Heading;
     heading.line = t.headingLine;
     heading.roles = lastRoles_;
@@ -554,39 +786,59 @@ class Reader {
     if (!t.continued) carried_.clear();
 
     const std::vector<std::size_t> b = bounds();
-    TableEvent row;
-    bool open = false;
-    for (const auto& [number, g] : t.body) {
-      const std::vector<Span> cells = slice(g, b);
+    std::vector<std::vector<Span>> cells;
+    std::vector<bool> isKey;
+    std::string previousKey;
+    for (const BodyLine& line : t.body) {
+      cells.push_back(slice(line.g, b));
+      const std::string_view key = line.g.slice(cells.back()[t.key].from, cells.back()[t.key].to);
       // "0x4000–" over "0x5FFF": a range of codes wrapped in its cell continues the row.
-      const bool rangeGoesOn = open && endsWithDash(row.cells[t.key].text);
-      if ((!cells[t.key].empty() && !rangeGoesOn) || !open) {
-        if (open) {
-          prefixHexKey(row);
-          emitRow(std::move(row));
-        }
-        row = TableEvent{};
-        row.kind = TableEvent::Kind::Row;
-        row.line = number;
-        row.cells.assign(t.cols.size(), TableCell{});
-        open = true;
-      }
-      for (std::size_t k = 0; k < cells.size(); ++k) {
-        if (cells[k].empty()) continue;
-        TableCell& c = row.cells[k];
-        if (c.text.empty()) {
-          c.line = number;
-          c.col = static_cast<int>(cells[k].from) + 1;
-        }
-        const std::string_view more = g.slice(cells[k].from, cells[k].to);
-        if (identifierPart(c.text) && identifierPart(more) && isNameRole(t.cols[k].role)) {
-          c.text += more;  // "MANUFACTURINGSTAT" over "US": TI breaks a long identifier where the cell ends
-        } else {
-          appendWrapped(c.text, more);
-        }
-      }
+      const bool rangeGoesOn = endsWithDash(previousKey) && isKey.size() > 0 && isKey.back();
+      const bool k = validKey(key) && !rangeGoesOn;
+      isKey.push_back(k);
+      previousKey = k ? std::string(key) : std::string();
     }
-    if (open) {
+    // Centred when a line that is not a key comes first, or when a key line leaves a column empty that the
+    // line right below it fills (a cell centred on the key line: top-aligned cells start on their key line);
+    // a part of a continued table without either sign keeps the alignment of the part before.
+    bool centred = !t.body.empty() && !isKey.front();
+    for (std::size_t i = 0; !centred && i + 1 < t.body.size(); ++i) {
+      if (!isKey[i] || isKey[i + 1] || t.body[i + 1].afterBlank) continue;
+      for (std::size_t k = 0; k < cells[i].size() && !centred; ++k)
+        centred = cells[i][k].empty() && !cells[i + 1][k].empty();
+    }
+    if (!centred && t.continued) centred = lastCentred_;
+    lastCentred_ = centred;
+    const std::vector<int> owner = owners(cells, isKey, centred);
+    // Rows in key order; each row's lines in line order.
+    std::vector<std::vector<std::size_t>> rows(t.body.size());
+    for (std::size_t i = 0; i < t.body.size(); ++i) {
+      if (owner[i] >= 0) rows[static_cast<std::size_t>(owner[i])].push_back(i);
+    }
+    for (std::size_t r = 0; r < t.body.size(); ++r) {
+      if (!isKey[r]) continue;
+      TableEvent row;
+      row.kind = TableEvent::Kind::Row;
+      row.line = t.body[r].number;
+      row.cells.assign(t.cols.size(), TableCell{});
+      for (const std::size_t i : rows[r]) {
+        const BodyLine& line = t.body[i];
+        for (std::size_t k = 0; k < cells[i].size(); ++k) {
+          if (cells[i][k].empty()) continue;
+          TableCell& c = row.cells[k];
+          if (c.text.empty()) {
+            c.line = line.number;
+            c.col = static_cast<int>(cells[i][k].from) + 1;
+          }
+          const std::string_view more = line.g.slice(cells[i][k].from, cells[i][k].to);
+          if (isNameRole(t.cols[k].role) &&
+              ((identifierPart(c.text) && identifierPart(more)) || camelJoin(c.text, more))) {
+            c.text += more;  // "MANUFACTURINGSTAT" over "US": TI breaks a long identifier where the cell ends
+          } else {
+            appendWrapped(c.text, more);
+          }
+        }
+      }
       prefixHexKey(row);
       emitRow(std::move(row));
     }
@@ -614,6 +866,11 @@ class Reader {
     result_.events.push_back(std::move(row));
   }
 
+  struct Context {
+    std::string text;
+    int line = 0;
+  };
+
   const std::string& text_;
   std::vector<SourceLine> lines_;
   TableText result_;
@@ -621,7 +878,11 @@ class Reader {
   int hexColumn_ = -1;      // its "Addr Hex" column
   std::optional<Layout> layout_;
   std::vector<Role> lastRoles_;       // headings of the last layout table
+  TableEvent lastContext_;            // its caption and section
+  bool lastCentred_ = false;          // its alignment
   bool pendingContinuation_ = false;  // a page break, a "(continued)" caption or a repeated heading since
+  Context caption_, section_;         // the caption waiting for its table; the section we are in
+  int proseSinceCaption_ = 0, proseSinceSection_ = 0;
   struct Carried {
     std::string& operator[](Role r) { return r == Role::Category ? category : subcategory; }
     void clear() { category.clear(), subcategory.clear(); }
@@ -633,6 +894,11 @@ class Reader {
 
 TableText readTables(const std::string& text) {
   return Reader(text).run();
+}
+
+int pageOf(const TableText& t, int line) {
+  const auto it = std::upper_bound(t.pageStarts.begin(), t.pageStarts.end(), line);
+  return std::max(0, static_cast<int>(it - t.pageStarts.begin()) - 1);
 }
 
 }  // namespace regmapgen
