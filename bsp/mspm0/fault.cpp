@@ -38,7 +38,7 @@ void unexpectedInterrupt() {
   recordAndReset(fw::Module::Bsp, static_cast<uint16_t>(0xF000 | (ipsr & 0x3F)));
 }
 
-StartupReport takeStartupReport() {
+StartupReport takeStartupReport(uint8_t resetCause) {
   FaultRecord record;
   const uint32_t moduleLine = gRecord.moduleLine;
   if ((moduleLine ^ kRecordCheck) == gRecord.check) {
@@ -47,7 +47,7 @@ StartupReport takeStartupReport() {
     record.line = static_cast<uint16_t>(moduleLine);
   }
   gRecord.check = ~(moduleLine ^ kRecordCheck);  // taken: the next run starts without it
-  return startupReport(takeResetCause(), record);
+  return startupReport(resetCause, record);
 }
 
 }  // namespace bsp::mspm0

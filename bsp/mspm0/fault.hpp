@@ -15,9 +15,11 @@
 // flash (a later issue).
 //
 // Contract
-// - takeStartupReport(): call once, at start-up (thread mode, before anything else reads RSTCAUSE, which a
-//   read clears). Returns RSTCAUSE.ID and the record of the previous run if one is valid and the reset kept
-//   SRAM; the record is cleared either way.
+// - takeResetCause(): RSTCAUSE.ID; a read clears it, so the board reads it once, first of all (system.hpp
+//   Mspm0System::capture()).
+// - takeStartupReport(resetCause): call once, at start-up (thread mode), with the cause the board took.
+//   Returns it and the record of the previous run if one is valid and the reset kept SRAM; the record is
+//   cleared either way.
 #pragma once
 
 #include <cstdint>
@@ -65,8 +67,8 @@ constexpr StartupReport startupReport(uint8_t resetCause, FaultRecord stored) {
   return report;
 }
 
-// Target only (fault.cpp): takeResetCause(), then the .noinit record, which it clears.
-StartupReport takeStartupReport();
+// Target only (fault.cpp): the .noinit record, which it clears, judged by `resetCause`.
+StartupReport takeStartupReport(uint8_t resetCause);
 
 // Body of Default_Handler (vectors_<chip>.cpp): records (Bsp, 0xF000 | exception number) and resets.
 [[noreturn]] void unexpectedInterrupt();

@@ -15,7 +15,8 @@ using fw::hal::CanFrame;
 
 namespace {
 
-constexpr uint32_t kIrqs = (kMcanRx ? mcan::kIrRf0n : 0) | mcan::kIrTc | mcan::kIrEp | mcan::kIrBo;
+constexpr uint32_t kRxIrqs = kMcanRx ? mcan::kIrRf0n | mcan::kIrRf0l : 0;
+constexpr uint32_t kIrqs = kRxIrqs | mcan::kIrTc | mcan::kIrEp | mcan::kIrBo;
 // Bounded waits for hardware handshakes at start-up: about 1 ms each at 32 MHz.
 constexpr uint32_t kPollLimit = 1000;
 constexpr uint32_t kPollSpins = 8;
@@ -53,8 +54,18 @@ Status McanBus::init() {
   core.cccr.write(mcan::kCccrInit | mcan::kCccrCce);
   core.nbtp.write(config_.nbtp);
   mcan::Queues& q = mcan::queues(base);
-  q.gfc.write(kMcanRx ? mcan::kGfcAcceptAllRejectRemote : mcan::kGfcRejectAll);
-  q.sidfc.write(0);
+  // Only the identifiers of the filter list are received (written while CCE and INIT are set, as TI's
+  // example adds its filters during software initialisation); every other frame is rejected by the hardware.
+  q.gfc.write(mcan::kGfcRejectAll);
+  const uint32_t ids = kMcanRx ? static_cast<uint32_t>(config_.accept.size()) : 0;
+  const uint32_t elements = (ids + 1) / 2;
+  if (elements > kFilterElements) return Status::InvalidArgument;
+  for (uint32_t k = 0; k < elements; ++k) {
+    const uint32_t first = config_.accept[2 * k];
+    mcan::ram(base, kFilterStart + 4 * k)
+        ->write(mcan::stdFilterDual(first, 2 * k + 1 < ids ? config_.accept[2 * k + 1] : first));
+  }
+  q.sidfc.write(mcan::sidfc(kFilterStart, elements));
   q.xidfc.write(0);
   q.rxesc.write(0);  // 8-byte data fields
   q.txesc.write(0);
@@ -141,7 +152,9 @@ void McanBus::onInterrupt() {
     txFrames_ = n;
   }
   if ((ir & mcan::kIrBo) && (core.psr.read() & mcan::kPsrBusOff)) busOffEvents_ = busOffEvents_ + 1;
-  if (ir != 0) notify_();
+  if (ir & mcan::kIrRf0l) rxLost_ = rxLost_ + 1;
+  if (ir & mcan::kIrRf0n) rxNotify_();
+  if (ir & ~kRxIrqs) notify_();
 }
 
 fw::hal::CanState McanBus::doState() const {
@@ -159,7 +172,7 @@ Status McanBus::doRecover() {
 }
 
 fw::hal::CanCounters McanBus::doCounters() const {
-  return fw::hal::CanCounters{txFrames_, rxFrames_, txOverflows_, busOffEvents_};
+  return fw::hal::CanCounters{txFrames_, rxFrames_, txOverflows_, busOffEvents_, rxLost_};
 }
 
 }  // namespace bsp::mspm0

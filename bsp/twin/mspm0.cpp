@@ -70,6 +70,9 @@ Mspm0::Mspm0(Part part) : part_(part) {
   m.map().add(Sysctl::kBase, Sysctl::kSize, *sysctl_);
   cpuss_ = std::make_unique<Cpuss>(m);
   m.map().add(Cpuss::kBase, Cpuss::kSize, *cpuss_);
+  factory_ = g ? std::make_unique<FactoryRegion>(0x35070001, 0xBB88)
+               : std::make_unique<FactoryRegion>(0x13060001, 0xBB82);
+  m.map().add(FactoryRegion::kBase, FactoryRegion::kSize, *factory_);
   if (g) {
     pins_ = std::make_unique<Pins>(m, std::span<const PinId>(kG3507Pins));
   } else {

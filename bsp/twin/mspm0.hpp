@@ -17,6 +17,7 @@
 #include "machine.hpp"
 #include "periph/cpuss.hpp"
 #include "periph/dma.hpp"
+#include "periph/factory.hpp"
 #include "periph/gpio.hpp"
 #include "periph/i2c.hpp"
 #include "periph/mcan.hpp"
@@ -50,6 +51,7 @@ class Mspm0 {
   I2c& i2c0() { return *i2c0_; }
   Uart& uart(int n) { return *uart_[n]; }  // 0..3 on the G3507, 0..1 on the L1306
   Mcan* mcan() { return mcan_.get(); }     // G3507 only
+  FactoryRegion& factory() { return *factory_; }
   const Mcan* mcan() const { return mcan_.get(); }
   const Pins& pins() const { return *pins_; }
   // The ROM bootloader and the boot code that starts it (bsl/).
@@ -67,6 +69,7 @@ class Mspm0 {
   std::unique_ptr<Machine> machine_;
   std::unique_ptr<Sysctl> sysctl_;
   std::unique_ptr<Cpuss> cpuss_;
+  std::unique_ptr<FactoryRegion> factory_;
   std::unique_ptr<Pins> pins_;
   std::unique_ptr<Dma> dma_;
   std::unique_ptr<Gpio> gpioA_, gpioB_;

@@ -49,8 +49,10 @@ constexpr const char* kUsage =
     "folders;\n"
     "                                  exit 0 if nothing differs, 1 if something does, 2 on errors\n"
     "  regmapgen can --out DIR [--dbc-dir DIR] FILE\n"
-    "                                  CAN catalogue: DIR/can/<name>.hpp packers and <name>_<layout>.dbc\n"
-    "                                  (in --dbc-dir, default DIR/can); every error as file:line:col\n"
+    "                                  CAN catalogue: DIR/can/<name>.hpp packers and unpackers,\n"
+    "                                  DIR/can/<name>_table.hpp (host tools), <name>_<layout>.dbc and\n"
+    "                                  REFERENCE.md (in --dbc-dir, default DIR/can); every error as\n"
+    "                                  file:line:col\n"
     "  regmapgen pack --regmaps DIR [--out DIR] [--select DIR] FILE\n"
     "                                  a pack file (firmware/app/packs/*.yaml) checked against its device's\n"
     "                                  register map (DIR/<family>/*.yaml); with --out writes\n"
@@ -320,12 +322,16 @@ int cmdCan(const std::vector<std::string>& args) {
   }
   const std::string source = fs::path(file).filename().string();
   bool ok = true;
-  if (!out.empty())
+  if (!out.empty()) {
     ok = writeIfChanged(fs::path(out) / "can" / (cat.name + ".hpp"), can::emitCpp(cat, source));
+    ok = writeIfChanged(fs::path(out) / "can" / (cat.name + "_table.hpp"), can::emitCppTable(cat, source)) &&
+         ok;
+  }
   const fs::path dbc = dbcDir.empty() ? fs::path(out) / "can" : fs::path(dbcDir);
   for (const std::string& layout : cat.layouts()) {
     ok = writeIfChanged(dbc / (cat.name + "_" + layout + ".dbc"), can::emitDbc(cat, layout, source)) && ok;
   }
+  ok = writeIfChanged(dbc / "REFERENCE.md", can::emitMarkdown(cat, source)) && ok;
   return ok ? 0 : 1;
 }
 

@@ -29,11 +29,25 @@ static_assert(
 #endif
 static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
               "FW_PROTECTION_LOG_SIZE: the log's count is one byte");
-// ProtectionTask::kClearLatched: a user action (button, CAN command) clears latched faults whose condition
-// is gone. Only an image that wires such an action needs it; 0 ignores the event and a latched fault stays
-// until reset. Default 1 (host, bms-sim).
+// ProtectionTask::kClearLatched: a user action (the ClearFaults command) clears latched faults whose
+// condition is gone. Default 1 (every image: the command task posts it); 0 ignores the event and a latched
+// fault stays until reset.
 #ifndef FW_PROTECTION_CLEAR_LATCHED
 #define FW_PROTECTION_CLEAR_LATCHED 1
+#endif
+
+// --- Commands (app/command) ---
+// This BMS's node number: the Target a command must carry (or 255, every BMS) and the Node of its answers
+// (firmware/app/can/bms.yaml). 1..254.
+#ifndef FW_COMMAND_NODE
+#define FW_COMMAND_NODE 1
+#endif
+static_assert(FW_COMMAND_NODE >= 1 && FW_COMMAND_NODE <= 254,
+              "FW_COMMAND_NODE: 1..254 (255 means every BMS)");
+// What Identify reports as the image (bms.yaml IdentifyVersion.Image): each image's options.cmake sets its
+// number, 1..5; 0 is a host build.
+#ifndef FW_IMAGE_ID
+#define FW_IMAGE_ID 0
 #endif
 
 // --- Publishing (app/publish/publish_status.hpp, app/publish/frame_plan.hpp) ---

@@ -52,5 +52,10 @@ constexpr bool isDue(Instant deadline, Instant now) {
 constexpr Duration elapsed(Instant from, Instant to) {
   return {to.us - from.us};
 }
+// Time from `now` to the next multiple of `period` since the clock started (a whole period when `now` is
+// one; the clock's 2^32 us wrap is not a multiple, so the grid shifts once every 71.6 minutes).
+constexpr Duration untilGrid(Instant now, Duration period) {
+  return {period.us - now.us % period.us};
+}
 
 }  // namespace fw

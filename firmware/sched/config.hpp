@@ -2,8 +2,8 @@
 // sets its values in bsp/mspm0/images/<preset>/options.cmake; the host build uses these defaults.
 #pragma once
 
-// Task slots (1..8: the ready set is one byte). The images run three tasks (protection, monitor, publisher)
-// and build 3, which saves RAM and the table search; the host tests use up to 8.
+// Task slots (1..8: the ready set is one byte). The images run four tasks (protection, monitor, publisher,
+// commands) and build 4, which saves RAM and the table search; the host tests use up to 8.
 #ifndef FW_SCHED_MAX_TASKS
 #define FW_SCHED_MAX_TASKS 8
 #endif

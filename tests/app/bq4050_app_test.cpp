@@ -32,6 +32,9 @@ uint64_t bound(const Board& b, uint64_t bootUs) {
 
 // The monitor tests the gauge's events as a constant (Bq4050Device::driverEvents()): they must be what the
 // gauge itself reports.
+// The BQ4050 image's one fault output opens both paths: its current faults must recover on time.
+static_assert(&fw::app::Bq4050App::kLimits == &fw::app::kSingleOutputLimits);
+
 TEST(Bq4050App, TheMonitorsDriverEventsAreTheGauges) {
   Board b;
   namespace ev = fw::app::monitor_event;
@@ -42,6 +45,30 @@ TEST(Bq4050Recovery, OutageSweep) {
   test::outageSweep<Board>(
       "app.bq4050.outage_recovery_worst_ms", [] { return std::make_unique<Board>(); },
       {{50, 250, 350, 500, 1000, 2500, 10000}, {0, 5, 30, 60, 90}, {kVanish, kVanishAndReset}}, bound);
+}
+
+}  // namespace
+
+namespace {
+
+// The gauge's SafetyStatus maps bit by bit to the paths its FETs guard (issue 24 item 1; SLUUAQ3A chapter 2,
+// each protection's XCHG / XDSG): COV charge, CUV discharge, OTF both, a permanent failure both; no flag,
+// no path. The old code took any flag as "both".
+TEST(Bq4050App, TheGaugesFlagsMapToThePathsTheyGuard) {
+  using S = fw::regmap::bq4050::bits::SafetyStatus;
+  fw::drivers::bq4050::Measurement m{};
+  EXPECT_EQ(fw::app::blockedPaths(m), 0);
+  m.safetyStatus = S::fromRaw(S::cov_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 1) << "charge";
+  m.safetyStatus = S::fromRaw(S::cuv_mask | S::ascd_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 2) << "discharge";
+  m.safetyStatus = S::fromRaw(S::occ1_mask | S::otd_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 3);
+  m.safetyStatus = S::fromRaw(S::otf_mask);
+  EXPECT_EQ(fw::app::blockedPaths(m), 3) << "FET overtemperature: both";
+  m.safetyStatus = S::fromRaw(0);
+  m.pfStatus = 1;
+  EXPECT_EQ(fw::app::blockedPaths(m), 3) << "permanent failure: both";
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // The BQ79616 application as the lp-mspm0g3507-bq79616 image composes it (chain on a 1 Mbaud UART, nFAULT,
 // CAN out, fault output), on the host BSP against the chain emulator: the nFAULT fast path against its
-// budget (ARCHITECTURE.md: fault visible in the device -> action complete <= 2 ms on nFAULT) and the fault
+// budget (README "Figures": fault visible in the device -> action complete <= 2 ms on nFAULT) and the fault
 // output's start-up state.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// The CAN bus budget (ARCHITECTURE.md: "CAN bus load at 500 kbit/s, worst configuration (64 boards): every
-// message at its stated or documented period").
+// The CAN bus budget (README "CAN and SLCAN output": "CAN bus load at 500 kbit/s, worst configuration (64
+// boards): every message at its stated or documented period").
 //
 // Worst case on paper: every configuration the firmware supports (1..64 boards of a BQ79616 chain, both
 // layouts, and the single-board images), every frame with its worst-case stuff bits, every message at its
@@ -14,6 +14,7 @@
 #include <map>
 #include <vector>
 
+#include "app/balancing/balancing_status.hpp"
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "app/publish/slcan.hpp"
@@ -46,6 +47,7 @@ struct Config {
   int boards;
   uint8_t cells;
   uint8_t temps;
+  bool balances;  // BalancingStatus, one frame per board a second (every image but the BQ4050's)
 };
 
 // Frames per second each message needs at its stated period (cycle_ms; the TI set and ProtectionEvent,
@@ -60,11 +62,12 @@ Load nativeLoad(const Config& c) {
   const double fast = 1000.0 / bms::PackSummary::kCycleMs;  // per second
   static_assert(bms::PackSummary::kCycleMs == 100 && bms::CellExtremes::kCycleMs == 100);
   static_assert(bms::CellVoltages::kCycleMs == 1000 && bms::Temperatures::kCycleMs == 1000 &&
-                bms::TemperatureExtremes::kCycleMs == 1000);
+                bms::TemperatureExtremes::kCycleMs == 1000 && bms::BalancingStatus::kCycleMs == 1000);
   const double perFast = 3;  // PackSummary, CellExtremes, ProtectionEvent
-  const double perSlow = c.boards * (framesPerBoard(c.cells, bms::CellVoltages::kCellPerFrame) +
-                                     framesPerBoard(c.temps, bms::Temperatures::kTempPerFrame)) +
-                         1.0;
+  const double perSlow =
+      c.boards * (framesPerBoard(c.cells, bms::CellVoltages::kCellPerFrame) +
+                  framesPerBoard(c.temps, bms::Temperatures::kTempPerFrame) + (c.balances ? 1 : 0)) +
+      1.0;
   Load l;
   l.framesPerSecond = fast * perFast + perSlow;
   l.busShare = l.framesPerSecond * worstBits(8) / kBitrate;
@@ -84,9 +87,10 @@ Load tiLoad(const Config& c) {
 }
 
 TEST(CanBudget, EveryConfigurationFitsItsStatedPeriodsInTheWorstCase) {
-  std::vector<Config> configs = {{"bq76952", 1, 16, 3}, {"bq76907", 1, 7, 1}, {"bq4050", 1, 4, 1}};
+  std::vector<Config> configs = {
+      {"bq76952", 1, 16, 3, true}, {"bq76907", 1, 7, 1, true}, {"bq4050", 1, 4, 1, false}};
   for (int n = 1; n <= fw::app::kMaxBoards; ++n)
-    configs.push_back({"bq79616", n, 16, 2});
+    configs.push_back({"bq79616", n, 16, 2, true});
   double worstNative = 0, worstTi = 0;
   for (const auto& c : configs) {
     const Load native = nativeLoad(c);
@@ -106,7 +110,7 @@ TEST(CanBudget, EveryConfigurationFitsItsStatedPeriodsInTheWorstCase) {
   std::printf("REPORT can.bus_load_worst_ti_pct=%.1f (64 boards, a set after every 100 ms scan)\n",
               worstTi * 100);
   // The L1306 images' SLCAN text on the 115 200 Bd back-channel: one line per frame, 10 bits per character.
-  const Load slcan = nativeLoad({"bq76952", 1, 16, 3});
+  const Load slcan = nativeLoad({"bq76952", 1, 16, 3, true});
   const double lineMs = fw::app::slcan::kStandardLength * 10 * 1000.0 / 115200;
   const double slcanShare = slcan.framesPerSecond * lineMs / 1000;
   std::printf("REPORT can.slcan_load_pct=%.1f (BQ76952 board, 115200 Bd, %.2f ms per line)\n",
@@ -148,6 +152,7 @@ struct Rig {
   std::vector<int16_t> raw;
   app::PackView view;
   app::PublishStatus status;
+  app::BalancingStatus balancing{};
   app::FramePlan plan{view, status, fw::ms(300)};
   app::CanPublisher publisher;
   FakeMonitor monitor{h.sched, view, boards};
@@ -158,6 +163,7 @@ struct Rig {
     view.cellsPerBoard = 16;
     view.tempsPerBoard = 2;
     view.rawCells = raw.data();
+    view.balancing = &balancing;
     for (auto& b : boards) {
       b.valid = true;
       b.last = fw::Status::Ok;
@@ -174,7 +180,8 @@ std::map<std::tuple<uint32_t, int, int>, std::vector<double>> instances(const bs
   std::map<std::tuple<uint32_t, int, int>, std::vector<double>> out;
   for (const auto& s : can.sent()) {
     const auto& f = s.frame;
-    const bool perBoard = f.id == bms::CellVoltages::kId || f.id == bms::Temperatures::kId;
+    const bool perBoard =
+        f.id == bms::CellVoltages::kId || f.id == bms::Temperatures::kId || f.id == bms::BalancingStatus::kId;
     out[{f.id, perBoard ? f.data[0] : 0, perBoard ? (f.data[1] & 0xF) : 0}].push_back(s.timeUs / 1000.0);
   }
   return out;
@@ -190,9 +197,11 @@ TEST(CanBudget, EveryNativeMessageGoesOutAtItsStatedPeriodUpTo64Boards) {
         {bms::CellExtremes::kId, bms::CellExtremes::kCycleMs},
         {bms::TemperatureExtremes::kId, bms::TemperatureExtremes::kCycleMs},
         {bms::CellVoltages::kId, bms::CellVoltages::kCycleMs},
-        {bms::Temperatures::kId, bms::Temperatures::kCycleMs}};
-    // Every instance: each board's six cell frames and its temperature frame, the extremes.
-    EXPECT_EQ(got.size(), 3u + n * 7u) << n << " boards";
+        {bms::Temperatures::kId, bms::Temperatures::kCycleMs},
+        {bms::BalancingStatus::kId, bms::BalancingStatus::kCycleMs}};
+    // Every instance: each board's six cell frames, its temperature frame and its balancing frame, the
+    // extremes.
+    EXPECT_EQ(got.size(), 3u + n * 8u) << n << " boards";
     for (const auto& [key, times] : got) {
       const auto [id, board, frame] = key;
       const double p = period.at(id);

@@ -60,11 +60,14 @@ TEST(CanCatalogue, PackSummaryBitFieldsAndSignedCurrent) {
   m.counter = 0xF;
   m.activeFaults = 0x0101;
   const auto f = m.pack();
-  EXPECT_EQ(f.data, (Bytes{0xCC, 0x12, 0x2E, 0xFB, 0xFF, 0xFD, 0x01, 0x01}));
+  // Byte 5: ChargeFet 1 (bits 40-41), DischargeFet 0 (42-43), Counter 15 (44-47); bytes 6-7: ActiveFaults
+  // 0x0101 (48-61), FaultOutput (62), DataValid (63).
+  EXPECT_EQ(f.data, (Bytes{0xCC, 0x12, 0x2E, 0xFB, 0xFF, 0xF1, 0x01, 0xC1}));
   const auto back = PackSummary::unpack(f);
   EXPECT_EQ(back.packCurrent, -1234);
   EXPECT_EQ(back.counter, 0xF);
   EXPECT_EQ(back.activeFaults, 0x0101);
+  EXPECT_EQ(PackSummary::kChargeFetNotAvailable, 3) << "a path nothing confirmed goes out as 3";
 }
 
 TEST(CanCatalogue, RoundTripsAtFieldLimits) {

@@ -67,6 +67,15 @@ struct ZeroedPack {
     view->currentMa = -1234;
     view->hasStateOfCharge = true;
     view->stateOfCharge = 57;
+    status->pathsKnown = true;  // protection confirmed the paths (FET read-back, or the fault pin)
+    status->chargeOn = status->dischargeOn = true;
+    // The previous run left a fault record that survived the reset (a software SYSRST keeps SRAM).
+    fw::app::StartupInfo startup;
+    startup.resetCause = 27;  // sys_software
+    startup.faultValid = true;
+    startup.faultModule = 21;
+    startup.faultLine = 300;
+    plan.announceStartup(startup);
   }
   void scanned(uint32_t tMs) { fw::app::summarize(*view, at(tMs)); }
   std::vector<fw::hal::CanFrame> slowCycle(uint32_t tMs) {
@@ -130,6 +139,12 @@ void noTemperature(ZeroedPack& p) {
   }
 }
 
+void noFaultRecord(ZeroedPack& p) {
+  fw::app::StartupInfo startup;
+  startup.resetCause = 14;  // boot_wwdt0: a BOOTRST clears SRAM and the record with it
+  p.plan.announceStartup(startup);
+}
+
 // By "Message.Signal": the state in which that signal has no reading, and where to look for it.
 const std::map<std::string, Case>& cases() {
   static const std::map<std::string, Case> table = {
@@ -140,6 +155,12 @@ const std::map<std::string, Case>& cases() {
       {"PackSummary.StateOfCharge",
        {"no gas gauge (every image but the BQ4050's)",
         [](ZeroedPack& p) { p.view->hasStateOfCharge = false; }, any}},
+      {"PackSummary.ChargeFet",
+       {"nothing confirms the paths (a failed scan, stale data, comm loss)",
+        [](ZeroedPack& p) { p.status->pathsKnown = false; }, any}},
+      {"PackSummary.DischargeFet",
+       {"nothing confirms the paths (a failed scan, stale data, comm loss)",
+        [](ZeroedPack& p) { p.status->pathsKnown = false; }, any}},
       {"CellExtremes.MaxCellVoltage", {"no board validated", everyBoardSilent, any}},
       {"CellExtremes.MaxCellIndex", {"no board validated", everyBoardSilent, any}},
       {"CellExtremes.MinCellVoltage", {"no board validated", everyBoardSilent, any}},
@@ -149,6 +170,12 @@ const std::map<std::string, Case>& cases() {
       {"TemperatureExtremes.MinTemperature", {"no sensor read", noTemperature, any}},
       {"TemperatureExtremes.MinTemperatureIndex", {"no sensor read", noTemperature, any}},
       {"CellVoltages.Cell", {"the board's last scan failed", boardOneSilent, itemsOfBoard(1, 16)}},
+      {"Startup.FaultModule",
+       {"no fault record survived the reset (SRAM cleared, or the run ended without a fault)", noFaultRecord,
+        any}},
+      {"Startup.FaultLine",
+       {"no fault record survived the reset (SRAM cleared, or the run ended without a fault)", noFaultRecord,
+        any}},
       {"Temperatures.Temp",
        {"the sensors of a scan that validated had no reading", noTemperature, itemsOfBoard(0, 2)}},
   };

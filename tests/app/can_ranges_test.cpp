@@ -40,48 +40,95 @@ constexpr double kTempHi = 32767 * 0.1 - 273.15;
 constexpr double kCurrentA = 32.768;
 constexpr double kFaultBits = (1 << fw::app::kFaultCount) - 1;
 
+// Commands and their answers: a setting's value is at most the discharge over-current bound (-40 000 mA), in
+// mV, mA or 0.1 K; node numbers 1..254 (255 = all); identifiers 11 bits; the chip's TraceId 32 bits.
+constexpr double kSettingLo = -40000, kSettingHi = 20000, kSettings = 11;
+
+std::map<std::string, Need> commandNeeds() {
+  std::map<std::string, Need> t;
+  for (const char* m : {"ClearFaults", "PathRequest", "BalancingMode", "Identify", "SettingRead",
+                        "SettingWrite", "EnterBootloader"}) {
+    t[std::string(m) + ".Crc"] = {0, 255, false};
+    t[std::string(m) + ".Counter"] = {0, 15, false};
+    t[std::string(m) + ".Target"] = {1, 255, false};
+  }
+  for (const char* m : {"CommandAck", "IdentifyVersion", "IdentifyChip", "SettingValue", "SettingRange"})
+    t[std::string(m) + ".Node"] = {1, 254, false};
+  t["PathRequest.ChargeOff"] = t["PathRequest.DischargeOff"] = {0, 1, false};
+  t["BalancingMode.Mode"] = {0, 2, false};
+  t["BalancingMode.Board"] = {0, kBoards - 1, false};
+  t["BalancingMode.CellMask"] = {0, (1 << kCells) - 1, false};
+  t["SettingRead.Setting"] = t["SettingWrite.Setting"] = t["SettingValue.Setting"] = {0, kSettings, false};
+  t["SettingRange.Setting"] = {0, kSettings, false};
+  t["SettingWrite.Value"] = t["SettingValue.Value"] = {kSettingLo, kSettingHi, false};
+  t["SettingRange.Min"] = t["SettingRange.Max"] = {kSettingLo, kSettingHi, false};
+  t["SettingValue.Unit"] = {0, 2, false};
+  t["EnterBootloader.TraceId"] = t["IdentifyChip.TraceId"] = {0, 4294967295.0, false};
+  t["EnterBootloader.Key"] = {0, 255, false};
+  t["CommandAck.Command"] = {0, 0x7FF, false};
+  t["CommandAck.Counter"] = {0, 15, false};
+  t["CommandAck.Result"] = {0, 9, false};
+  t["CommandAck.Rejected"] = {0, 65535, false};
+  t["IdentifyVersion.VersionMajor"] = t["IdentifyVersion.VersionMinor"] = {0, 255, false};
+  t["IdentifyVersion.VersionPatch"] = {0, 255, false};
+  t["IdentifyVersion.BuildId"] = {0, 0xFFFFFF, false};
+  t["IdentifyVersion.Image"] = {0, 5, false};
+  t["IdentifyChip.ResetCause"] = {0, 31, false};  // SYSCTL RSTCAUSE ID, 5 bits
+  t["IdentifyChip.PartNumber"] = {0, 65535, false};
+  return t;
+}
+
 const std::map<std::string, Need>& needs() {
-  static const std::map<std::string, Need> table = {
-      {"PackSummary.PackVoltage", {0, kBoards * kCells * kCellInputV, true}},
-      {"PackSummary.PackCurrent", {-kCurrentA, kCurrentA - 0.001, true}},
-      {"PackSummary.StateOfCharge", {0, 100, true}},
-      {"PackSummary.ChargeFet", {0, 1, false}},
-      {"PackSummary.DischargeFet", {0, 1, false}},
-      {"PackSummary.FaultOutput", {0, 1, false}},
-      {"PackSummary.DataValid", {0, 1, false}},
-      {"PackSummary.Counter", {0, 15, false}},
-      {"PackSummary.ActiveFaults", {0, kFaultBits, false}},
-      {"CellExtremes.MaxCellVoltage", {0, kCellMaxMv, true}},
-      {"CellExtremes.MinCellVoltage", {0, kCellMaxMv, true}},
-      {"CellExtremes.MaxCellIndex", {0, kBoards * kCells - 1, true}},
-      {"CellExtremes.MinCellIndex", {0, kBoards * kCells - 1, true}},
-      {"TemperatureExtremes.MaxTemperature", {kTempLo, kTempHi, true}},
-      {"TemperatureExtremes.MinTemperature", {kTempLo, kTempHi, true}},
-      {"TemperatureExtremes.MaxTemperatureIndex", {0, kBoards * kTemps - 1, true}},
-      {"TemperatureExtremes.MinTemperatureIndex", {0, kBoards * kTemps - 1, true}},
-      {"ProtectionEvent.ActiveFaults", {0, kFaultBits, false}},
-      {"ProtectionEvent.NewlyTripped", {0, kFaultBits, false}},
-      {"ProtectionEvent.NewlyCleared", {0, kFaultBits, false}},
-      {"ProtectionEvent.CommErrors", {0, 65535, false}},
-      {"CellVoltages.Board", {0, kBoards - 1, false}},
-      {"CellVoltages.FrameIndex", {0, (kCells + 2) / 3 - 1, false}},
-      {"CellVoltages.Status", {0, 4, false}},
-      {"CellVoltages.Cell", {0, kCellMaxMv, true}},
-      {"Temperatures.Board", {0, kBoards - 1, false}},
-      {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
-      {"Temperatures.Status", {0, 3, false}},
-      {"Temperatures.Temp", {kTempLo, kTempHi, true}},
-      // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
-      {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
-      // Startup: RSTCAUSE.ID is 5 bits; a version part is a byte; fw::Module goes up to 99 (Test); a fault
-      // line or code up to 0xFFFE (HardFault, bsp/mspm0/fault.hpp), so 0xFFFF can mean "no record".
-      {"Startup.ResetCause", {0, 31, false}},
-      {"Startup.FirmwareMajor", {0, 255, false}},
-      {"Startup.FirmwareMinor", {0, 255, false}},
-      {"Startup.FirmwarePatch", {0, 255, false}},
-      {"Startup.FaultModule", {0, 99, true}},
-      {"Startup.FaultLine", {0, 0xFFFE, true}},
-  };
+  static const std::map<std::string, Need> table = [] {
+    std::map<std::string, Need> t = commandNeeds();
+    t.merge(std::map<std::string, Need>{
+        {"PackSummary.PackVoltage", {0, kBoards * kCells * kCellInputV, true}},
+        {"PackSummary.PackCurrent", {-kCurrentA, kCurrentA - 0.001, true}},
+        {"PackSummary.StateOfCharge", {0, 100, true}},
+        {"PackSummary.ChargeFet", {0, 1, true}},
+        {"PackSummary.DischargeFet", {0, 1, true}},
+        {"PackSummary.FaultOutput", {0, 1, false}},
+        {"PackSummary.DataValid", {0, 1, false}},
+        {"PackSummary.Counter", {0, 15, false}},
+        {"PackSummary.ActiveFaults", {0, kFaultBits, false}},
+        {"CellExtremes.MaxCellVoltage", {0, kCellMaxMv, true}},
+        {"CellExtremes.MinCellVoltage", {0, kCellMaxMv, true}},
+        {"CellExtremes.MaxCellIndex", {0, kBoards * kCells - 1, true}},
+        {"CellExtremes.MinCellIndex", {0, kBoards * kCells - 1, true}},
+        {"TemperatureExtremes.MaxTemperature", {kTempLo, kTempHi, true}},
+        {"TemperatureExtremes.MinTemperature", {kTempLo, kTempHi, true}},
+        {"TemperatureExtremes.MaxTemperatureIndex", {0, kBoards * kTemps - 1, true}},
+        {"TemperatureExtremes.MinTemperatureIndex", {0, kBoards * kTemps - 1, true}},
+        {"ProtectionEvent.ActiveFaults", {0, kFaultBits, false}},
+        {"ProtectionEvent.NewlyTripped", {0, kFaultBits, false}},
+        {"ProtectionEvent.NewlyCleared", {0, kFaultBits, false}},
+        {"ProtectionEvent.CommErrors", {0, 65535, false}},
+        {"CellVoltages.Board", {0, kBoards - 1, false}},
+        {"CellVoltages.FrameIndex", {0, (kCells + 2) / 3 - 1, false}},
+        {"CellVoltages.Status", {0, 4, false}},
+        {"CellVoltages.Cell", {0, kCellMaxMv, true}},
+        {"Temperatures.Board", {0, kBoards - 1, false}},
+        {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
+        {"Temperatures.Status", {0, 3, false}},
+        {"Temperatures.Temp", {kTempLo, kTempHi, true}},
+        {"BalancingStatus.Board", {0, kBoards - 1, false}},
+        {"BalancingStatus.Mode", {0, 2, false}},   // fw::app::BalancingMode
+        {"BalancingStatus.State", {0, 8, false}},  // fw::app::BalancingState
+        {"BalancingStatus.Cells", {0, (1 << kCells) - 1, false}},
+        {"BalancingStatus.Time", {0, 194 * 86400, false}},  // 194 days of seconds
+        // Raw BQ79616 codes, any int16 (seed 001's layout has no room for a not-available value).
+        {"TiCellVoltages.VCell", {-32768 * 0.00019073, 32767 * 0.00019073, false}},
+        // Startup: RSTCAUSE.ID is 5 bits; a version part is a byte; fw::Module goes up to 99 (Test); a fault
+        // line or code up to 0xFFFE (HardFault, bsp/mspm0/fault.hpp), so 0xFFFF can mean "no record".
+        {"Startup.ResetCause", {0, 31, false}},
+        {"Startup.FirmwareMajor", {0, 255, false}},
+        {"Startup.FirmwareMinor", {0, 255, false}},
+        {"Startup.FirmwarePatch", {0, 255, false}},
+        {"Startup.FaultModule", {0, 99, true}},
+        {"Startup.FaultLine", {0, 0xFFFE, true}},
+    });
+    return t;
+  }();
   return table;
 }
 

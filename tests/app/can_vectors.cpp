@@ -45,6 +45,13 @@ int main() {
   print("native", s.pack(),
         "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=1 DischargeFet=0 FaultOutput=1 DataValid=0 "
         "Counter=9 ActiveFaults=512");
+  s.chargeFet = 3;  // nothing confirms the paths (comm loss)
+  s.dischargeFet = 3;
+  s.activeFaults = 0x0900;  // utc, comm_loss
+  print(
+      "native", s.pack(),
+      "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=na DischargeFet=na FaultOutput=1 DataValid=0 "
+      "Counter=9 ActiveFaults=2304");
 
   CellExtremes e;
   e.maxCellVoltage = 4201;

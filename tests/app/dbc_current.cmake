@@ -1,15 +1,16 @@
-# Regenerates the DBC files into SCRATCH and fails if any differs from its committed copy in COMMITTED.
+# Regenerates the DBC files and REFERENCE.md into SCRATCH and fails if any differs from its committed copy in
+# COMMITTED.
 file(REMOVE_RECURSE ${SCRATCH})
 execute_process(COMMAND ${TOOL} can --dbc-dir ${SCRATCH} ${YAML} RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "regmapgen can failed")
 endif()
-file(GLOB fresh ${SCRATCH}/*.dbc)
+file(GLOB fresh ${SCRATCH}/*.dbc ${SCRATCH}/REFERENCE.md)
 foreach(f IN LISTS fresh)
   get_filename_component(name ${f} NAME)
   execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${f} ${COMMITTED}/${name} RESULT_VARIABLE diff)
   if(NOT diff EQUAL 0)
-    message(FATAL_ERROR "${COMMITTED}/${name} is stale: regenerate it with regmapgen can --dbc-dir")
+    message(FATAL_ERROR "${COMMITTED}/${name} is stale: regenerate it with regmapgen can --dbc-dir firmware/app/can")
   endif()
   message("${name} is current")
 endforeach()

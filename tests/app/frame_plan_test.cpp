@@ -271,17 +271,31 @@ TEST(FramePlan, AnOpenSenseWireMarksTheTwoCellsBesideIt) {
   EXPECT_EQ(bms::PackSummary::unpack(frames[0]).packVoltage, kNa);
 }
 
-TEST(FramePlan, OpenWirePatternNeedsBothAHighAndALowReading) {
+// An open wire shows as two neighbours too far apart, or one reading below the plausibility floor (500 mV):
+// the bottom and top taps have no neighbour beyond them, and a 0 mV reading is never a cell voltage.
+TEST(FramePlan, OpenWireIsAPairTooFarApartOrAReadingBelowTheFloor) {
   const int16_t normal[4] = {3700, 4300, 3700, 3700};
   EXPECT_EQ(fw::app::openWireCells(normal, 4), 0);
-  const int16_t empty[4] = {3700, 0, 3700, 3700};  // a flat cell is a cell_uv matter
-  EXPECT_EQ(fw::app::openWireCells(empty, 4), 0);
+  const int16_t flat[4] = {3700, 501, 3700, 3700};  // a deeply discharged cell is a cell_uv matter
+  EXPECT_EQ(fw::app::openWireCells(flat, 4), 0);
+  const int16_t empty[4] = {3700, 0, 3700, 3700};  // below the floor: not a cell voltage
+  EXPECT_EQ(fw::app::openWireCells(empty, 4), 0b0010);
+  const int16_t bottom[4] = {0, 3700, 3700, 3700};  // VC0 open (SLUSF21: its current source pulls it up)
+  EXPECT_EQ(fw::app::openWireCells(bottom, 4), 0b0001);
+  const int16_t top[4] = {3700, 3700, 3700, 499};  // the top tap open: its node drained
+  EXPECT_EQ(fw::app::openWireCells(top, 4), 0b1000);
+  const int16_t negative[4] = {3700, 3700, -40, 3700};
+  EXPECT_EQ(fw::app::openWireCells(negative, 4), 0b0100);
   const int16_t below[4] = {3700, 7400, 0, 3700};  // bms-sim's model: the cell below the open tap reads both
   EXPECT_EQ(fw::app::openWireCells(below, 4), 0b0110);
   const int16_t above[4] = {0, 6250, 3700, 3700};  // or the other way round; BQ79616 full scale 6 250 mV
   EXPECT_EQ(fw::app::openWireCells(above, 4), 0b0011);
   const int16_t last[4] = {3700, 3700, 3700, 7400};  // beyond the board's cells: not looked at
   EXPECT_EQ(fw::app::openWireCells(last, 3), 0);
+  const int16_t beyond[4] = {3700, 3700, 3700, 0};
+  EXPECT_EQ(fw::app::openWireCells(beyond, 3), 0);
+  const int16_t one[1] = {0};
+  EXPECT_EQ(fw::app::openWireCells(one, 1), 0b1);
 }
 
 TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {

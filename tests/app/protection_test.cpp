@@ -1,9 +1,10 @@
-// Firmware protection limits: debounce count, delay, hysteresis, latching, stale data, comm loss and an open
-// sense wire.
+// Firmware protection limits: debounce count, delay, hysteresis, recovery, latching, the action per fault,
+// the device's own flags bit by bit, stale data, comm loss and an open sense wire.
 #include <gtest/gtest.h>
 
 #include <vector>
 
+#include "app/protection/default_limits.hpp"
 #include "app/protection/protection.hpp"
 
 namespace {
@@ -21,9 +22,10 @@ constexpr uint8_t idx(FaultId id) {
 }
 
 fw::app::Rule rule(int32_t trip, int32_t clear, uint8_t debounce, fw::Duration delay, Action action,
-                   bool latch = false) {
+                   bool latch = false, uint8_t recover = 1) {
   fw::app::Rule r;
   r.trip = trip, r.clear = clear, r.debounce = debounce, r.delay = delay, r.action = action, r.latch = latch;
+  r.recover = recover;
   r.enabled = true;
   return r;
 }
@@ -34,14 +36,18 @@ ProtectionConfig baseConfig() {
   c.rules[idx(FaultId::CellUndervoltage)] = rule(2700, 2900, 3, ms(200), Action::DischargeOff);
   c.rules[idx(FaultId::ChargeOvercurrent)] = rule(20000, 18000, 2, ms(0), Action::ChargeOff);
   c.rules[idx(FaultId::DischargeOvercurrent)] = rule(-40000, -35000, 2, ms(0), Action::DischargeOff, true);
-  c.rules[idx(FaultId::Overtemperature)] = rule(3332, 3282, 2, ms(0), Action::AllOff);      // 60.0/55.0 C
-  c.rules[idx(FaultId::Undertemperature)] = rule(2532, 2582, 2, ms(0), Action::ChargeOff);  // -20/-15 C
+  c.rules[idx(FaultId::OvertempDischarge)] = rule(3332, 3282, 2, ms(0), Action::DischargeOff);  // 60.0/55.0 C
+  c.rules[idx(FaultId::UndertempDischarge)] = rule(2532, 2582, 2, ms(0), Action::DischargeOff);  // -20/-15 C
+  c.rules[idx(FaultId::OvertempCharge)] = rule(3182, 3132, 2, ms(0), Action::ChargeOff);   // 45.0/40.0 C
+  c.rules[idx(FaultId::UndertempCharge)] = rule(2732, 2782, 2, ms(0), Action::ChargeOff);  // 0/5 C
   c.rules[idx(FaultId::DeviceSafety)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::StaleData)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::CommLoss)] = rule(1, 1, 1, ms(0), Action::AllOff);
   c.rules[idx(FaultId::OpenWire)] = rule(1, 1, 1, ms(0), Action::AllOff);
+  c.rules[idx(FaultId::CommErrorRate)] = rule(4, 1, 1, ms(0), Action::AllOff);
   c.staleAfter = ms(500);
   c.commLossScans = 3;
+  c.rateWindow = 10;
   return c;
 }
 
@@ -50,7 +56,7 @@ struct Sampler {
   std::vector<int16_t> cells = std::vector<int16_t>(4, 3700);
   std::vector<int16_t> temps = std::vector<int16_t>(2, 2982);
   int32_t current = 0;
-  bool deviceFault = false;
+  uint8_t deviceBlocks = 0;  // the paths the device's flags concern (1 charge, 2 discharge)
   fw::app::BoardSample board{};
   fw::app::PackView view;
 
@@ -60,7 +66,7 @@ struct Sampler {
     view.tempsPerBoard = static_cast<uint8_t>(temps.size());
     view.hasCurrent = true;
     view.currentMa = current;
-    view.deviceFault = deviceFault;
+    view.deviceBlocks = deviceBlocks;
     return &view;
   }
   // A scan that validated at tMs.
@@ -214,29 +220,200 @@ TEST(Protection, CommLossAfterConsecutiveFailedScans) {
   p.evaluate(s.fresh(0), at(0));
   EXPECT_EQ(p.evaluate(s.failed(), at(100)).active, 0);
   EXPECT_EQ(p.evaluate(s.failed(), at(200)).active, 0);
-  p.evaluate(s.fresh(300), at(300));  // one success resets the run
-  EXPECT_EQ(p.evaluate(s.failed(), at(400)).active, 0);
-  EXPECT_EQ(p.evaluate(s.failed(), at(450)).active, 0);
-  EXPECT_EQ(p.evaluate(s.failed(), at(480)).active, bit(FaultId::CommLoss));
-  EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active, 0);
+  p.evaluate(s.fresh(300), at(300));              // one success resets the run
+  constexpr auto kLoss = bit(FaultId::CommLoss);  // (the failure rate trips too: four of the last five)
+  EXPECT_EQ(p.evaluate(s.failed(), at(400)).active & kLoss, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(450)).active & kLoss, 0);
+  EXPECT_EQ(p.evaluate(s.failed(), at(480)).active & kLoss, kLoss);
+  EXPECT_EQ(p.evaluate(s.fresh(490), at(490)).active & kLoss, 0);
+}
+
+// An intermittent link: two failures, one success, over and over, never three failures in a row. comm_loss
+// never trips; comm_rate does at the fourth failure within the last ten attempts, and clears only once ten
+// attempts in a row validated.
+TEST(Protection, CommErrorRateCountsFailuresWithinTheWindowNotInARow) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  uint32_t t = 0;
+  int failures = 0;
+  for (int cycle = 0; cycle < 4; ++cycle) {
+    for (int k = 0; k < 2; ++k) {
+      t += 100;
+      ++failures;
+      const auto st = p.evaluate(s.failed(), at(t));
+      EXPECT_EQ(st.active & bit(FaultId::CommLoss), 0) << t;
+      EXPECT_EQ((st.active & bit(FaultId::CommErrorRate)) != 0, failures >= 4) << t;
+    }
+    t += 100;
+    EXPECT_EQ((p.evaluate(s.fresh(t), at(t)).active & bit(FaultId::CommErrorRate)) != 0, failures >= 4) << t;
+  }
+  // Healed (one success already): still tripped while a failure is among the last ten attempts.
+  for (int k = 2; k < 10; ++k) {
+    t += 100;
+    EXPECT_NE(p.evaluate(s.fresh(t), at(t)).active & bit(FaultId::CommErrorRate), 0) << t;
+  }
+  t += 100;
+  const auto st = p.evaluate(s.fresh(t), at(t));
+  EXPECT_EQ(st.active, 0);
+  EXPECT_EQ(st.newlyCleared, bit(FaultId::CommErrorRate));
+}
+
+// A scan that validated some boards and failed on others (kNewData and kScanFailed together) counts as a
+// failed attempt for the rate, not for comm_loss (the link answered).
+TEST(Protection, APartlyFailedScanCountsTowardTheRateOnly) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  for (uint32_t t = 0; t < 400; t += 100) {
+    auto in = s.fresh(t);
+    in.scanFailed = true;
+    const auto st = p.evaluate(in, at(t));
+    EXPECT_EQ(st.active & bit(FaultId::CommLoss), 0);
+    EXPECT_EQ((st.active & bit(FaultId::CommErrorRate)) != 0, t == 300) << t;
+  }
+}
+
+// While the monitor's first bring-up runs within its bound (PackView::startupGrace), a pack never measured is
+// neither stale nor lost; once the grace ends it is stale at once (counted from power-up).
+TEST(Protection, StartupGraceHoldsStaleDataAndCommLossUntilItEnds) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.view.startupGrace = true;
+  s.view.firstDataDue = at(5000);
+  s.board.valid = false;
+  for (uint32_t t = 100; t <= 900; t += 100) {
+    auto in = s.tick();
+    in.scanFailed = true;  // a failed period, should one be reported
+    EXPECT_EQ(p.evaluate(in, at(t)).active, 0) << t;
+  }
+  s.view.startupGrace = false;
+  EXPECT_EQ(p.evaluate(s.tick(), at(1000)).active, bit(FaultId::StaleData));
 }
 
 TEST(Protection, ActionsAreTheUnionOfActiveFaults) {
   const auto cfg = baseConfig();
   Protection p(cfg);
   Sampler s;
-  s.temps[1] = 2500;  // -23.2 C: undertemperature -> charge off
+  s.temps[1] = 2700;  // -3.2 C: too cold to charge, warm enough to discharge
   p.evaluate(s.fresh(0), at(0));
   auto st = p.evaluate(s.fresh(10), at(10));
-  EXPECT_EQ(st.active, bit(FaultId::Undertemperature));
+  EXPECT_EQ(st.active, bit(FaultId::UndertempCharge));
   EXPECT_TRUE(st.chargeOff);
   EXPECT_FALSE(st.dischargeOff);
-  s.temps[0] = 3400;  // 66.9 C: overtemperature -> all off
-  p.evaluate(s.fresh(20), at(20));
-  st = p.evaluate(s.fresh(30), at(30));
-  EXPECT_EQ(st.active, bit(FaultId::Undertemperature) | bit(FaultId::Overtemperature));
+  s.cells[2] = 2600;  // under-voltage (3 sightings over 200 ms): discharge off too
+  p.evaluate(s.fresh(100), at(100));
+  p.evaluate(s.fresh(200), at(200));
+  st = p.evaluate(s.fresh(300), at(300));
+  EXPECT_EQ(st.active, bit(FaultId::UndertempCharge) | bit(FaultId::CellUndervoltage));
   EXPECT_TRUE(st.chargeOff && st.dischargeOff);
   EXPECT_TRUE(st.faultOutput());
+}
+
+// Issue 24: each fault opens the path it endangers, and only that one.
+TEST(Protection, EachFaultOpensThePathItEndangers) {
+  struct Case {
+    const char* what;
+    void (*set)(Sampler&);
+    FaultId fault;
+    bool chargeOff, dischargeOff;
+  };
+  const Case cases[] = {
+      {"cell over-voltage", [](Sampler& s) { s.cells[0] = 4300; }, FaultId::CellOvervoltage, true, false},
+      {"cell under-voltage", [](Sampler& s) { s.cells[0] = 2600; }, FaultId::CellUndervoltage, false, true},
+      {"charge over-current", [](Sampler& s) { s.current = 25000; }, FaultId::ChargeOvercurrent, true, false},
+      {"discharge over-current", [](Sampler& s) { s.current = -45000; }, FaultId::DischargeOvercurrent, false,
+       true},
+      {"too warm to charge", [](Sampler& s) { s.temps[0] = 3232; }, FaultId::OvertempCharge, true, false},
+      {"too cold to charge", [](Sampler& s) { s.temps[0] = 2700; }, FaultId::UndertempCharge, true, false},
+  };
+  for (const Case& c : cases) {
+    const auto cfg = baseConfig();
+    Protection p(cfg);
+    Sampler s;
+    c.set(s);
+    fw::app::ProtectionState st;
+    for (uint32_t t = 0; t <= 600; t += 100)
+      st = p.evaluate(s.fresh(t), at(t));
+    EXPECT_EQ(st.active, bit(c.fault)) << c.what;
+    EXPECT_EQ(st.chargeOff, c.chargeOff) << c.what;
+    EXPECT_EQ(st.dischargeOff, c.dischargeOff) << c.what;
+  }
+  // The discharge temperature limits lie outside the charge ones: both trip, both paths open.
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  s.temps[0] = 3400;  // 66.9 C
+  fw::app::ProtectionState st;
+  for (uint32_t t = 0; t <= 200; t += 100)
+    st = p.evaluate(s.fresh(t), at(t));
+  EXPECT_EQ(st.active, bit(FaultId::OvertempCharge) | bit(FaultId::OvertempDischarge));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+}
+
+// A current limit clears only while current flows the way that relieves it (TI's OCC/OCD recovery): with
+// the charge path open and the charger still there the current reads 0, which must not switch the charger
+// back on to trip again; a discharge of more than the clear threshold, for `recover` scans, does.
+TEST(Protection, ACurrentFaultRecoversOnlyWithCurrentTheOtherWay) {
+  auto cfg = baseConfig();
+  cfg.rules[idx(FaultId::ChargeOvercurrent)] = rule(20000, -200, 2, ms(0), Action::ChargeOff, false, 30);
+  Protection p(cfg);
+  Sampler s;
+  s.current = 25000;
+  p.evaluate(s.fresh(0), at(0));
+  ASSERT_EQ(p.evaluate(s.fresh(100), at(100)).active, bit(FaultId::ChargeOvercurrent));
+  s.current = 0;  // the charge path is open: nothing flows
+  for (uint32_t t = 200; t < 10000; t += 100)
+    ASSERT_EQ(p.evaluate(s.fresh(t), at(t)).active, bit(FaultId::ChargeOvercurrent)) << t;
+  s.current = -1500;  // a load draws from the pack: discharge current
+  uint32_t cleared = 0;
+  for (uint32_t t = 10000; t < 14000 && cleared == 0; t += 100)
+    if (p.evaluate(s.fresh(t), at(t)).newlyCleared == bit(FaultId::ChargeOvercurrent)) cleared = t;
+  EXPECT_EQ(cleared, 12900u) << "the 30th scan of discharge current";
+}
+
+// Behind one fault output (the BQ4050 and BQ79616 images) no current can flow the other way while a current
+// fault holds the output: with kDefaultLimits the fault would never clear. kSingleOutputLimits recovers it
+// after 3 s without current in the tripped direction (the output is then released and retried).
+TEST(Protection, BehindOneFaultOutputACurrentFaultRecoversOnTime) {
+  for (const bool single : {false, true}) {
+    Protection p(single ? fw::app::kSingleOutputLimits : fw::app::kDefaultLimits);
+    Sampler s;
+    s.current = -31000;  // past the -30 A discharge limit
+    p.evaluate(s.fresh(0), at(0));
+    ASSERT_EQ(p.evaluate(s.fresh(100), at(100)).active, bit(FaultId::DischargeOvercurrent)) << single;
+    s.current = 0;  // the one output opened both paths: nothing flows
+    uint32_t cleared = 0;
+    for (uint32_t t = 200; t < 10000 && cleared == 0; t += 100)
+      if (p.evaluate(s.fresh(t), at(t)).newlyCleared == bit(FaultId::DischargeOvercurrent)) cleared = t;
+    EXPECT_EQ(cleared, single ? 3100u : 0u) << (single ? "the 30th scan without current" : "never");
+  }
+}
+
+// The device's own flags open the paths they concern (PackView::deviceBlocks), not both: a device COV keeps
+// discharge available. The fault line (no flag known yet) opens both until the scan that names the flag.
+TEST(Protection, DeviceFlagsOpenOnlyThePathsTheyConcern) {
+  const auto cfg = baseConfig();
+  Protection p(cfg);
+  Sampler s;
+  p.evaluate(s.fresh(0), at(0));
+  ProtectionInputs line = s.tick();
+  line.faultLine = true;
+  auto st = p.evaluate(line, at(5));
+  EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
+  EXPECT_TRUE(st.chargeOff && st.dischargeOff) << "the line says nothing about which flag";
+  s.deviceBlocks = 1;  // the scan after it: a charge-side flag (COV)
+  st = p.evaluate(s.fresh(8), at(8));
+  EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
+  EXPECT_TRUE(st.chargeOff);
+  EXPECT_FALSE(st.dischargeOff);
+  s.deviceBlocks = 2;  // CUV
+  st = p.evaluate(s.fresh(100), at(100));
+  EXPECT_FALSE(st.chargeOff);
+  EXPECT_TRUE(st.dischargeOff);
+  EXPECT_EQ(st.newlyTripped | st.newlyCleared, 0) << "one fault all along: no flapping";
 }
 
 TEST(Protection, ChargeOvercurrentUsesPositiveCurrent) {
@@ -256,7 +433,7 @@ TEST(Protection, DeviceSafetyTripsAtOnce) {
   const auto cfg = baseConfig();
   Protection p(cfg);
   Sampler s;
-  s.deviceFault = true;
+  s.deviceBlocks = 3;
   const auto st = p.evaluate(s.fresh(0), at(0));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
   EXPECT_TRUE(st.chargeOff && st.dischargeOff);
@@ -345,7 +522,7 @@ TEST(Protection, DisabledRulesNeverTrip) {
   Protection p(cfg);
   Sampler s;
   s.cells[0] = 5000;
-  s.deviceFault = true;
+  s.deviceBlocks = 3;
   for (uint32_t t = 0; t < 5000; t += 100)
     EXPECT_EQ(p.evaluate(s.fresh(t), at(t)).active, 0);
   EXPECT_EQ(p.evaluate(s.tick(), at(100000)).active, 0);

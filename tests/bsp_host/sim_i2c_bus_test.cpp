@@ -60,7 +60,7 @@ TEST(SimI2cBus, WriteReadWithRepeatedStartInContractFormat) {
   std::vector<fw::hal::I2cTransaction> list{{0x08, {&cmd, 1}, rx}};
   EXPECT_EQ(f.run(list), Status::Ok);
   ASSERT_EQ(f.bus.wireLog().size(), 1u);
-  EXPECT_EQ(f.bus.wireLog()[0].text, "S 10 14 Sr 11 [68 33 0B 31] P");  // ARCHITECTURE.md's example
+  EXPECT_EQ(f.bus.wireLog()[0].text, "S 10 14 Sr 11 [68 33 0B 31] P");  // README "Host tools" example
   EXPECT_EQ(list[0].readCount, 4);
   EXPECT_EQ(rx[3], 0x31);
 }

@@ -1,8 +1,10 @@
 // Register-level tests of the MCAN driver (bsp/mspm0/mcan.*) against the register model and its MCAN
 // subsystem rules (mcan_model.hpp: clock before divider, INIT read-back, line held until EOI). Addresses:
 // CANFD0_BASE 0x40508000 + the MCAN.* offsets of mspm0g3507.tsv (message RAM at the base), MCANSS_EOI at
-// 0x7220 (TI MSPM0 SDK hw_mcan.h); bit timing from bq79616-protocol.md section 8; element layout from the tsv
-// "MCAN TX element" rows.
+// 0x7220 (TI MSPM0 SDK hw_mcan.h); bit timing from TI's bq79616_uart_to_can configuration (MSPM0 SDK 2.09);
+// element layout from the tsv "MCAN TX element" rows; the standard filter element and SIDFC from TI's
+// dl_mcan.c (MCANSS_STD_ID_FILTER_* shifts: SFT 30, SFEC 27, SFID1 16, SFID2 0) and hw_mcan.h (SIDFC FLSSA at
+// bit 2, LSS at 16; IR RF0N bit 0, RF0L bit 3; GFC ANFS at bit 4).
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -21,6 +23,7 @@ constexpr uintptr_t kIr = kBase + 0x7050;
 constexpr uintptr_t kIe = kBase + 0x7054;
 constexpr uintptr_t kIle = kBase + 0x705C;
 constexpr uintptr_t kGfc = kBase + 0x7080;
+constexpr uintptr_t kSidfc = kBase + 0x7084;
 constexpr uintptr_t kRxf0c = kBase + 0x70A0;
 constexpr uintptr_t kRxf0s = kBase + 0x70A4;
 constexpr uintptr_t kRxf0a = kBase + 0x70A8;
@@ -37,6 +40,7 @@ constexpr uint32_t kEoiLine0 = 0x01;  // hw_mcan.h MCAN_EOI: 0x01 clears the MCA
 
 // MCAN_IR_* bits.
 constexpr uint32_t kRf0n = 1U << 0;
+constexpr uint32_t kRf0l = 1U << 3;
 constexpr uint32_t kTc = 1U << 9;
 constexpr uint32_t kBo = 1U << 25;
 
@@ -78,8 +82,10 @@ TEST_F(McanTest, InitProgramsClassic500kAt87_5PercentInConfigurationMode) {
   EXPECT_TRUE(mcan.initReadBack());
   EXPECT_EQ(regs().lastWrite(kTxbc), 8U << 24);             // TFQS 8, TFQM 0 (FIFO), TBSA 0
   EXPECT_EQ(regs().lastWrite(kRxf0c), 0x80U | (8U << 16));  // F0SA 0x80, F0S 8
-  EXPECT_EQ(regs().lastWrite(kGfc), 0x3U);                  // accept all data frames in FIFO 0, reject remote
-  EXPECT_EQ(regs().lastWrite(kIe), kRf0n | kTc | (1U << 23) | kBo);
+  // ANFS = ANFE = 2 (reject what no filter element stores), RRFS = RRFE = 1 (reject remote frames).
+  EXPECT_EQ(regs().lastWrite(kGfc), 0x2BU);
+  EXPECT_EQ(regs().lastWrite(kSidfc), 0x100U);  // FLSSA 0x100, no element: nothing is received
+  EXPECT_EQ(regs().lastWrite(kIe), kRf0n | kRf0l | kTc | (1U << 23) | kBo);
   EXPECT_EQ(regs().lastWrite(kIle), 0x1U);
   EXPECT_EQ(regs().lastWrite(kWrapImask), 0x1U);
   EXPECT_EQ(regs().lastWrite(0xE000E100), 1U << 6);  // CANFD0 is IRQ 6 (tsv irq rows)
@@ -223,6 +229,65 @@ TEST_F(McanTest, ReceivePopsFifoZeroInOrderAndAcknowledges) {
   regs().set(kRxf0s, 0);
   EXPECT_FALSE(can.receive(frame));
   EXPECT_EQ(can.counters().rxFrames, 1U);
+}
+
+// The filter element TI's mcan_message_rx example adds (SFT 1 dual ID, SFEC 1 FIFO 0, SFID1 3, SFID2 4).
+static_assert(reg::mcan::stdFilterDual(3, 4) == 0x48030004U);
+
+TEST_F(McanTest, FiltersAcceptExactlyTheConfiguredIdentifiersIntoFifoZero) {
+  RegisterTest::SetUp();
+  mcan.attach();
+  static constexpr uint32_t kIds[] = {0x600, 0x601, 0x602, 0x603, 0x604, 0x605, 0x606};
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k, kIds});
+  ASSERT_EQ(fresh.init(), fw::Status::Ok);
+  // Four dual-ID elements at 0x100 (the last repeats 0x606), storing to RX FIFO 0; SIDFC FLSSA 0x100, LSS 4.
+  EXPECT_EQ(regs().lastWrite(kBase + 0x100), 0x4E000601U);
+  EXPECT_EQ(regs().lastWrite(kBase + 0x104), 0x4E020603U);
+  EXPECT_EQ(regs().lastWrite(kBase + 0x108), 0x4E040605U);
+  EXPECT_EQ(regs().lastWrite(kBase + 0x10C), 0x4E060606U);
+  EXPECT_EQ(regs().lastWrite(kSidfc), 0x100U | (4U << 16));
+  EXPECT_EQ(regs().lastWrite(kGfc), 0x2BU);  // everything else rejected by the hardware
+  // Filters and global filter are set while the controller is in INIT with CCE (protected registers).
+  EXPECT_TRUE(regs().wroteInOrder({{kCccr, 0x3},
+                                   {kGfc, 0x2B},
+                                   {kBase + 0x10C, 0x4E060606U},
+                                   {kSidfc, 0x100U | (4U << 16)},
+                                   {kCccr, 0x0}}));
+}
+
+TEST_F(McanTest, MoreIdentifiersThanFilterElementsIsRefused) {
+  RegisterTest::SetUp();
+  mcan.attach();
+  static constexpr uint32_t kIds[17] = {};
+  McanBus fresh(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k, kIds});
+  EXPECT_EQ(fresh.init(), fw::Status::InvalidArgument);
+}
+
+TEST_F(McanTest, ANewMessageWakesTheReceiverAloneAndIsAcknowledged) {
+  int received = 0;
+  can.onEvent(counter(events));
+  can.onReceive(counter(received));
+  interrupt(kRf0n);
+  EXPECT_EQ(received, 1);
+  EXPECT_EQ(events, 0);  // the transmit side is not woken by a reception
+  // The wrapper's line flag, IR (exactly RF0N, write 1 to clear), then EOI line 0: TI's
+  // DL_MCAN_clearIntrStatus order.
+  EXPECT_TRUE(regs().wroteInOrder({{kWrapIclr, 0x1}, {kIr, kRf0n}, {kSsEoi, kEoiLine0}}));
+  EXPECT_FALSE(mcan.interruptPending());
+  interrupt(kTc);
+  EXPECT_EQ(received, 1);
+  EXPECT_EQ(events, 1);
+}
+
+TEST_F(McanTest, AFrameLostToAFullFifoIsCounted) {
+  int received = 0;
+  can.onReceive(counter(received));
+  interrupt(kRf0l);
+  EXPECT_EQ(can.counters().rxLost, 1U);
+  EXPECT_EQ(received, 0);
+  EXPECT_EQ(regs().lastWrite(kIr), kRf0l);
 }
 
 }  // namespace

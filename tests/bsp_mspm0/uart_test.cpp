@@ -1,4 +1,4 @@
-// Register-level tests of the UART drivers (bsp/mspm0/uart_link.*, uart_serial_tx.*) against the register
+// Register-level tests of the UART drivers (bsp/mspm0/uart_link.*, uart_serial.*) against the register
 // model and its UART TX DMA rules (uart_dma_model.hpp: the TX DMA trigger needs TXIFLSEL = 7). Addresses:
 // UART0_BASE 0x40108000 + UART.* offsets, DMA_BASE 0x4042A000 (channel n at +0x1200 + 0x10n, DMATCTL n at
 // +0x1110 + 4n, tsv note "DMA"), TIMG6_BASE 0x40868000 + GPTIMER.* offsets, all from mspm0g3507.tsv; DMA
@@ -14,7 +14,7 @@
 #include "regs/uart.hpp"
 #include "uart_dma_model.hpp"
 #include "uart_link.hpp"
-#include "uart_serial_tx.hpp"
+#include "uart_serial.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -286,8 +286,8 @@ class SerialTxTest : public RegisterTest {
  protected:
   // L1306 back-channel: UART0 (same base on both parts) on its back-channel TX pin, DMA channel 0, trigger 11
   // (mspm0l1306.tsv dmatrig DMA_UART0_TX_TRIG).
-  UartSerialTx serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
-                       chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}}};
+  UartSerial serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
+                     chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}}};
   int done = 0;
 };
 
@@ -341,6 +341,87 @@ TEST_F(SerialTxTest, WriteFeedsTheFifoByDmaAndCompletesAtEndOfTransmission) {
   EXPECT_EQ(done, 1);
   EXPECT_EQ(serial.write({}, {}), fw::Status::InvalidArgument);
   EXPECT_EQ(serial.write(line, {}), fw::Status::Ok);
+}
+
+// The same UART receiving too: PA9 (PINCM10, PF 2, mspm0l130x.h IOMUX_PINCM10_PF_UART0_RX), by interrupt.
+class SerialRxTest : public RegisterTest {
+ protected:
+  static constexpr uint32_t kRx = 1U << 10;   // CPU_INT RXINT (hw_uart.h UART_CPU_INT_IMASK_RXINT, bit 10)
+  static constexpr uint32_t kRxfe = 1U << 2;  // STAT.RXFE
+  static constexpr uint32_t kRxFrmErr = 1U << 8;  // RXDATA.FRMERR (hw_uart.h UART_RXDATA_FRMERR)
+  UartSerial::RxBuffer ring;
+  UartSerial serial{{kUart, 15, static_cast<uint16_t>(reg::uart::baudDivisor64(32000000, 115200)),
+                     chip::Mspm0l1306::kUart0TxPa8, DmaChannel{kDma, 0, 11}, chip::Mspm0l1306::kUart0RxPa9},
+                    &ring};
+  // Bytes waiting in the RX FIFO: STAT reads RXFE clear once per byte, then set; RXDATA gives them in order.
+  void arrive(std::initializer_list<uint32_t> data) {
+    regs().queueRead(kMis, kRx);
+    for (uint32_t d : data) {
+      regs().queueRead(kStat, 0);
+      regs().queueRead(kRxdata, d);
+    }
+    regs().queueRead(kStat, kRxfe);
+  }
+  int received = 0;
+  int done = 0;
+};
+
+TEST_F(SerialRxTest, InitEnablesTheReceiverOnPa9WithItsInterruptAndNoDma) {
+  serial.init();
+  // PINCM10: PC (bit 7), PF 2, INENA (bit 18) and the pull-up PIPU (bit 17): an open line idles high.
+  EXPECT_EQ(regs().lastWrite(0x40428028), 0x80U | 2U | (1U << 18) | (1U << 17));
+  EXPECT_EQ(regs().lastWrite(kCtl0).value_or(0) & 0x8U, 0x8U);  // CTL0.RXE
+  EXPECT_EQ(regs().lastWrite(kImask), kRx | kOvrErr);
+  EXPECT_FALSE(regs().lastWrite(kDmaRxImask).has_value());  // no RX DMA trigger: the CPU takes the bytes
+}
+
+TEST_F(SerialRxTest, BytesAreTakenAfterTheFlagIsClearedAndErroredOnesAreDropped) {
+  serial.init();
+  serial.onReceive(counter(received));
+  regs().clearLog();
+  arrive({'O', 0x100 | 'x', '\r'});  // the middle byte came with a framing error
+  serial.onInterrupt();
+  EXPECT_EQ(received, 1);
+  // ICLR of RXINT before the first RXDATA read: a byte arriving after the clear interrupts again.
+  EXPECT_EQ(regs().lastWrite(kIclr), kRx);
+  uint8_t b = 0;
+  ASSERT_TRUE(serial.read(b));
+  EXPECT_EQ(b, 'O');
+  ASSERT_TRUE(serial.read(b));
+  EXPECT_EQ(b, '\r');
+  EXPECT_FALSE(serial.read(b));
+  EXPECT_EQ(serial.lost(), 1U);
+  static_assert(kRxFrmErr == 0x100);
+}
+
+TEST_F(SerialRxTest, AFullRingDropsAndCountsAndAnOverrunCountsToo) {
+  serial.init();
+  for (int i = 0; i < 70; ++i)
+    arrive({static_cast<uint32_t>('a' + i % 26)}), serial.onInterrupt();
+  EXPECT_EQ(serial.lost(), 70U - UartSerial::kRxBuffer);
+  regs().queueRead(kMis, kOvrErr);
+  regs().queueRead(kStat, kRxfe);
+  serial.onInterrupt();
+  EXPECT_EQ(serial.lost(), 70U - UartSerial::kRxBuffer + 1);
+}
+
+TEST_F(SerialRxTest, TransmittingKeepsTheReceiveInterruptsEnabled) {
+  serial.init();
+  serial.onReceive(counter(received));
+  const std::array<uint8_t, 2> line{'z', '\r'};
+  ASSERT_EQ(serial.write(line, counter(done)), fw::Status::Ok);
+  EXPECT_EQ(regs().lastWrite(kImask), kRx | kOvrErr | kDmaDoneTx);
+  // A byte and the end of the DMA in one interrupt: each side clears only its own flags.
+  regs().queueRead(kMis, kRx | kDmaDoneTx);
+  regs().queueRead(kStat, 0);
+  regs().queueRead(kRxdata, 'C');
+  regs().queueRead(kStat, kRxfe);
+  regs().set(kStat, 0);  // the line is idle: done at once
+  serial.onInterrupt();
+  EXPECT_EQ(received, 1);
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(regs().lastWrite(kImask), kRx | kOvrErr);
+  EXPECT_TRUE(regs().wroteInOrder({{kIclr, kRx}, {kIclr, kDmaDoneTx}}));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // CRC vectors from TI's documents, not from this implementation:
 // - SLUAA11B (seed 002, section 4) and SLUAAM4 (seed 004, section 4): BQ769x2/BQ7690x I2C CRC bytes.
-// - bq79616-protocol.md section 3: BQ79616 frames as TI prints them (SLUUC56B / SLUAA17A).
+// - BQ79616 frames as TI prints them (SLUUC56B / SLUAA17A).
 // - Catalogue check values of CRC-8/SMBUS and CRC-16/MODBUS over "123456789".
 #include <gtest/gtest.h>
 
@@ -74,7 +74,7 @@ TEST_P(Crc16Frames, TrailingCrcMatchesAndResidueIsZero) {
   EXPECT_EQ(fw::crc::crc16(f.data(), f.size()), 0);
 }
 
-// bq79616-protocol.md section 3.
+// TI's BQ79600-Q1 documents SLUUC56B / SLUAA17A.
 INSTANTIATE_TEST_SUITE_P(
     Bq79616Section3, Crc16Frames,
     ::testing::Values(

@@ -369,12 +369,13 @@ class CallGraph:
         return self.address_taken - self.virtual, name
 
     def worst(self, root):
-        """Worst-case stack from `root` down, and its path. Calls into a function already on the path through
-        an indirect edge are ignored (the over-approximated candidate sets create such false cycles; the
-        firmware has no recursion); a direct cycle is an error."""
+        """Worst-case stack from `root` down, and its path. A cycle that goes through an indirect edge is
+        ignored (the over-approximated candidate sets create such false cycles: a function reached through a
+        pointer may call directly into one already on the path; the firmware has no recursion); a cycle of
+        direct calls only is an error. `direct` is the part of the path since its last indirect edge."""
         memo = {}
 
-        def visit(name, path):
+        def visit(name, path, direct):
             if name in memo:
                 return memo[name]
             frame = self.frame.get(name)
@@ -386,11 +387,15 @@ class CallGraph:
                 self.errors.append(f"{name}: dynamic stack frame")
             best, best_path, clean = 0, [], True
             on_path = path | {name}
+            on_direct = direct | {name}
             for callee in sorted(self.edges.get(name, ())):  # sorted: the same path on every run
-                if callee in on_path:
+                if callee in on_direct:
                     self.errors.append(f"recursion: {name} -> {callee}")
                     continue
-                depth, sub, c = visit(callee, on_path)
+                if callee in on_path:  # the cycle goes through an indirect edge: a false one
+                    clean = False
+                    continue
+                depth, sub, c = visit(callee, on_path, on_direct)
                 clean &= c
                 if depth > best:
                     best, best_path = depth, sub
@@ -400,7 +405,7 @@ class CallGraph:
                     if callee in on_path:
                         clean = False
                         continue
-                    depth, sub, c = visit(callee, on_path)
+                    depth, sub, c = visit(callee, on_path, frozenset())
                     clean &= c
                     if depth > best:
                         best, best_path = depth, [f"[{ident or 'fn ptr'}]"] + sub
@@ -409,7 +414,7 @@ class CallGraph:
                 memo[name] = result
             return result
 
-        depth, path, _ = visit(root, frozenset())
+        depth, path, _ = visit(root, frozenset(), frozenset())
         return depth, path
 
     def deepest(self, roots):

@@ -186,6 +186,17 @@ class StackAnalysisTest(unittest.TestCase):
         s = self.analyse({"Reset": 0xC0, "f": 0xC8, "g": 0xD0}, ("Reset", []))
         self.assertTrue(any("recursion" in e for e in s["errors"]), s["errors"])
 
+    def test_a_cycle_through_a_pointer_call_is_not_recursion(self):
+        # s calls a pointer (any address-taken function may be its target, a among them), and a calls s
+        # directly: the over-approximated pointer edge closes the cycle, not the firmware (the merged
+        # applications' startTimer -> Clock::now -> [fn ptr] -> appInit -> startTimer looked like this).
+        self.write_ci("a.ci", self.node("Reset", "Reset", 8) + self.node("s", "s", 16) + self.node("a", "a", 24)
+                      + self.edge("Reset", "s") + self.edge("a", "s")
+                      + self.edge("s", "__indirect_call", f"{self.src}:2:5"))
+        s = self.analyse({"Reset": 0xC0, "s": 0xC8, "a": 0xD0}, ("Reset", []), taken=["a"])
+        self.assertEqual(s["errors"], [])
+        self.assertEqual(s["thread"], 8 + 16 + 24)
+
     def test_dynamic_frame_is_an_error(self):
         self.write_ci("a.ci", f'node: {{ title: "Reset" label: "void Reset()\\nx.cpp:1:1\\n16 bytes (dynamic)" }}\n')
         s = self.analyse({"Reset": 0xC0}, ("Reset", []))

@@ -11,7 +11,7 @@
 // instant the scan reads the cell), the jump is bisected down to 10 us, so the worst onset is found to within
 // 10 us. Then the cell returns to 3.7 V and the next trial waits until the fault has cleared.
 //
-// Budget (ARCHITECTURE.md): worst case <= scan period + the image's scan time + 2 ms, where the scan time is
+// Budget (README "Figures"): worst case <= scan period + the image's scan time + 2 ms, where the scan time is
 // measured here: the longest time from a scan's start (its period tick) to the evaluation of its data (the
 // protection log's `detected` of the trips). The scan's bus time (bms-sim's scan_bus_us) is printed beside
 // it: a scan also waits between its transactions.

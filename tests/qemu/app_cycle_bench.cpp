@@ -50,7 +50,8 @@ class VirtualClock final : public fw::hal::Clock {
   }
 };
 
-class SerialStandIn final : public fw::hal::SerialTx {
+// The back-channel both ways; nothing arrives from the PC in the benchmark (no commands).
+class SerialStandIn final : public fw::hal::SerialPort {
  public:
   explicit SerialStandIn(const VirtualClock& clock) : clock_(clock) {}
   bool pending = false;
@@ -68,7 +69,15 @@ class SerialStandIn final : public fw::hal::SerialTx {
     pending = true;
     return fw::Status::Ok;
   }
+  bool doRead(uint8_t&) override { return false; }
+  void doOnReceive(const fw::hal::Notify&) override {}
+  uint32_t doLost() const override { return 0; }
   const VirtualClock& clock_;
+};
+
+class SystemStandIn final : public fw::hal::SystemControl {
+  fw::hal::ChipIdentity doIdentity() const override { return {0x13060001, 0xBB82, 0}; }
+  void doEnterBootloader() override {}
 };
 
 class AlertStandIn final : public fw::hal::EdgeInput {
@@ -90,7 +99,8 @@ VirtualClock gClock;
 qbench::Bq76952Responder gI2c(gClock);
 SerialStandIn gSerial(gClock);
 AlertStandIn gAlert;
-image::Board gBoard{gClock, gWatchdog, gI2c, gAlert, gSerial};
+SystemStandIn gSystem;
+image::Board gBoard{gClock, gWatchdog, gI2c, gAlert, gSerial, gSystem};
 
 // The measurement, advanced at each cycle boundary the virtual time reaches.
 struct Meter {
@@ -144,7 +154,7 @@ void bringUp() {
     bsp::scs::nvicEnable(irq);
   gMeter.counter.start();
 }
-fw::app::StartupInfo startupInfo() {
+fw::app::StartupInfo startupInfo(uint8_t) {
   return {};  // the stand-in board has no reset cause to report
 }
 }  // namespace image

@@ -119,7 +119,7 @@ def check_expect(sim, scratch):
     print(f"REPORT sim.scenario.expect_comm_loss_latency_ms={e['latency_ms']:.3f}")
     # Expects that never happen: a limit the pack never reaches, a fault that never comes, a step after the end.
     path = scenario_file(scratch, "missed",
-                         "1000 expect ot 3332\n1000 expect comm_loss\n500 expect cell_ov\n9000 expect ut\n"
+                         "1000 expect otd 3332\n1000 expect comm_loss\n500 expect cell_ov\n9000 expect utd\n"
                          "500 all-cells 4300\n")
     for json_out in (True, False):
         r = run(sim, "--scenario", path, "--duration", "3000", *(["--json"] if json_out else []))
@@ -128,10 +128,10 @@ def check_expect(sim, scratch):
         if json_out:
             summary = json.loads(r.stdout)
             got = {e["fault"]: (e["met"], e["missed"]) for e in summary["expects"]}
-            want = {"ot": (False, "the pack never reached 3332 0.1 K"),
+            want = {"otd": (False, "the pack never reached 3332 0.1 K"),
                     "comm_loss": (False, "no comm_loss event at or after the onset"),
                     "cell_ov": (True, None),
-                    "ut": (False, "the run ended (3000 ms) before the step at 9000 ms")}
+                    "utd": (False, "the run ended (3000 ms) before the step at 9000 ms")}
             if got != want or summary["expects_missed"] != 3:
                 fail(f"missed expects in --json: {summary['expects']} ({summary['expects_missed']} missed)")
         else:

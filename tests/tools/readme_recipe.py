@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bms_sim_acceptance import read_candump  # noqa: E402
 
 NAMES = {0x100: "PackSummary", 0x101: "CellExtremes", 0x102: "TemperatureExtremes", 0x103: "ProtectionEvent",
-         0x200: "CellVoltages", 0x201: "Temperatures"}  # bms.yaml
+         0x200: "CellVoltages", 0x201: "Temperatures", 0x202: "BalancingStatus"}  # bms.yaml
 
 
 def fail(message):
@@ -88,7 +88,8 @@ def main():
     ahead = max((f[0] - frames[0][0]) / 1000.0 - (t - lines[0][0]) for (t, _), f in zip(lines, frames))
     if ahead > 0.25:
         fail(f"a line arrived {ahead:.2f} s ahead of the board's timing: a burst")
-    summary = next(l for _, l in lines if l.startswith("PackSummary"))
+    # The first summary with data (the BQ76952's start-up, 130 ms, may outlast the first publish cycle).
+    summary = next((l for _, l in lines if l.startswith("PackSummary") and "DataValid=1" in l), "none valid")
     if "StateOfCharge=not_available" not in summary or "PackVoltage=59.2" not in summary:
         fail(f"PackSummary decodes as {summary!r}")
     print(f"REPORT readme.slcan_recipe: {len(lines)} frames printed, at most {max(ahead, 0) * 1000:.0f} ms ahead "

@@ -4,6 +4,7 @@
 // a protection event's latency is never negative.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "app/protection/protection.hpp"
@@ -60,7 +61,7 @@ TEST(ScenarioParser, RejectsValuesOutsideTheirPhysicalRange) {
             "s.txt:1:12: error: a cell drift in mV/s must be in -5000..5000, got '99999999999999999999999'");
   EXPECT_EQ(errorOf("0 cell 64 1 3700"), "s.txt:1:8: error: a board number must be in 0..63, got '64'");
   EXPECT_EQ(errorOf("0 cell 0 0 3700"), "s.txt:1:10: error: a cell number must be in 1..16, got '0'");
-  EXPECT_EQ(errorOf("0 open-wire 0 17"), "s.txt:1:15: error: a cell number must be in 1..16, got '17'");
+  EXPECT_EQ(errorOf("0 open-wire 0 18"), "s.txt:1:15: error: a sense wire number must be in 1..17, got '18'");
   EXPECT_EQ(errorOf("0 temp 0 4 3000"), "s.txt:1:10: error: a sensor number must be in 1..3, got '4'");
 }
 
@@ -142,13 +143,14 @@ TEST(ScenarioParser, ExpectIsWhatTheHeaderDocuments) {
   EXPECT_NE(errorOf("0 onset").find("unknown action 'onset'"), std::string::npos);
   EXPECT_NE(errorOf("0 expect fire").find("s.txt:1:10: error: unknown fault 'fire' (known: cell_ov,"),
             std::string::npos);
-  EXPECT_EQ(errorOf("0 expect ot 3332\n5 expect ot"),
-            "s.txt:2:10: error: 'ot' is already expected on line 1 (one expect per fault)");
-  EXPECT_EQ(
-      errorOf("0 expect any 5"),
-      "s.txt:1:14: error: 'any' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
-  EXPECT_EQ(errorOf("0 expect ut 100"),
-            "s.txt:1:13: error: a temperature in 0.1 K must be in 2182..4232, got '100'");
+  EXPECT_EQ(errorOf("0 expect otd 3332\n5 expect otd"),
+            "s.txt:2:10: error: 'otd' is already expected on line 1 (one expect per fault)");
+  EXPECT_EQ(errorOf("0 expect any 5"),
+            "s.txt:1:14: error: 'any' takes no limit (only cell_ov, cell_uv, occ, ocd, otc, otd, utc and utd "
+            "watch a "
+            "value)");
+  EXPECT_EQ(errorOf("0 expect utd 100"),
+            "s.txt:1:14: error: a temperature in 0.1 K must be in 2182..4232, got '100'");
 }
 
 TEST(ScenarioParser, ExpectableFaultsAreTheFirmwaresFaultNames) {
@@ -179,8 +181,13 @@ TEST(ScenarioCheck, ImageDependentIndicesGiveFileLineAndColumn) {
   EXPECT_FALSE(checkScenario(s, {2, 16, 2, false}, 1000, diag));
   EXPECT_EQ(diag.error, "s.txt:2:10: error: board 2 does not exist: this image has boards 0..1");
   diag = {};
-  EXPECT_FALSE(checkScenario(parsed("0 open-wire 0 5"), {1, 4, 1, true}, 1000, diag));
-  EXPECT_EQ(diag.error, "s.txt:1:15: error: cell 5 does not exist: this image has cells 1..4 per board");
+  // The sense wires of a 4-cell board: 1..4 below each cell, 5 above the top cell (its top tap).
+  EXPECT_TRUE(checkScenario(parsed("0 open-wire 0 5"), {1, 4, 1, true}, 1000, diag)) << diag.error;
+  EXPECT_FALSE(checkScenario(parsed("0 open-wire 0 6"), {1, 4, 1, true}, 1000, diag));
+  EXPECT_EQ(
+      diag.error,
+      "s.txt:1:15: error: sense wire 6 does not exist: this image has sense wires 1..5 per board (n below "
+      "cell n, 5 above the top cell)");
   diag = {};
   EXPECT_FALSE(checkScenario(parsed("0 ramp-temp 0 2 10"), {1, 4, 1, true}, 1000, diag));
   EXPECT_EQ(diag.error, "s.txt:1:15: error: sensor 2 does not exist: this image has sensors 1..1 per board");
@@ -218,10 +225,12 @@ class RecordingSim final : public ImageSim {
   SimFigures figures() override { return {}; }
   std::vector<fw::app::ProtectionRecord> protectionLog() const override { return {}; }
   std::vector<SentFrame> frames() const override { return {}; }
+  void setCellCapacityMah(int mah) override { capacityMah = mah; }
+  int cellSpreadMv() override { return 0; }  // the player never reads it (the report does)
 
   int cell(int b, int c) const { return cell_[b][c]; }
   int temp(int b, int s) const { return temp_[b][s]; }
-  int currentMa = 0, cellPushes = 0;
+  int currentMa = 0, cellPushes = 0, capacityMah = 0;
   bool commLost = false;
   Paths open;  // the emulated device's paths (both closed unless a test opens one)
 
@@ -250,6 +259,36 @@ TEST(ScenarioPlayer, OnsetIsTheFirstMillisecondTheImageHasTheLimit) {
   ASSERT_EQ(p.onsets().count("cell_ov"), 1U);
   EXPECT_EQ(p.onsets().at("cell_ov"), 2250U);
   EXPECT_EQ(sim.currentMa, 5000);
+}
+
+// The imbalance built-in (issue 28): the capacity reaches the emulated cells, cell 1 of each board is at the
+// base and the others 1..4 quarters of the spread above it (a 20..80 mV spread on every board), a drift
+// started before is stopped, and the charge ends at 30 s.
+TEST(ScenarioPlayer, ImbalanceSpreadsEveryBoardsCells) {
+  RecordingSim sim;
+  const Scenario s = *builtinScenario("imbalance");
+  ScenarioPlayer p(sim, s);
+  p.advance(0);
+  EXPECT_EQ(sim.capacityMah, 4);
+  EXPECT_EQ(sim.currentMa, 2000);
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_EQ(sim.cell(b, 1), 3900) << b;
+    int lo = 5000, hi = 0;
+    for (int c = 2; c <= 4; ++c) {
+      lo = std::min(lo, sim.cell(b, c));
+      hi = std::max(hi, sim.cell(b, c));
+    }
+    EXPECT_GE(lo, 3920) << b;
+    EXPECT_EQ(hi, 3980) << b;
+  }
+  playTo(p, 1, 30000);
+  EXPECT_EQ(sim.currentMa, 0);
+  EXPECT_EQ(sim.cell(0, 1), 3900);  // nothing moves the cells but the image's balancing
+
+  EXPECT_EQ(errorOf("0 spread-cells 3900 501\n"),
+            "s.txt:1:21: error: a spread in mV must be in 0..500, got '501'");
+  EXPECT_EQ(errorOf("0 cell-capacity 0\n"),
+            "s.txt:1:17: error: a cell capacity in mAh must be in 1..100000, got '0'");
 }
 
 // A value set on a drifting cell used to be overwritten by the drift the next millisecond.
@@ -362,7 +401,7 @@ TEST(ExpectVerdicts, MetOnlyByAnEventOfItsFaultAtOrAfterTheOnset) {
   using fw::app::FaultId;
   const Scenario s = parsed(
       "1000 expect cell_ov 4250\n1000 expect comm_loss\n1000 expect ocd -30000\n2000 expect any\n"
-      "9000 expect ot\n");
+      "9000 expect otd\n");
   const Onsets onsets{{"cell_ov", 2250}, {"comm_loss", 1000}, {"any", 2000}};
   const std::vector<fw::app::ProtectionRecord> log = {
       event(FaultId::CommLoss, 900000, true, 900000),

@@ -60,8 +60,9 @@ std::unique_ptr<ElfFile> loadElf(const std::string& preset) {
   if (!elf) GTEST_SKIP() << elfPath(preset) << " is not built (./ci/test builds it)"; \
   static_assert(true)
 
-// The start (us) of the first scan at or after `fromUs`: its first access on the monitor's bus.
-uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
+// The start (us) of the first scan at or after `fromUs`: its first access on the monitor's bus (I2C images:
+// the write of the first scan block's command, `firstRead`).
+uint64_t nextScanUs(Rig& r, uint64_t fromUs, const std::string& firstRead) {
   for (uint64_t t = fromUs; t < fromUs + 200000; t += 100) {
     r.board.runUntilUs(t);
     if (r.board.chain() != nullptr) {
@@ -70,7 +71,7 @@ uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
       }
     } else {
       for (const auto& tr : r.board.i2cLog()) {
-        if (tr.text.rfind("S 10 0A ", 0) == 0 && tr.startCycle / 32 >= fromUs) return tr.startCycle / 32;
+        if (tr.text.rfind(firstRead, 0) == 0 && tr.startCycle / 32 >= fromUs) return tr.startCycle / 32;
       }
     }
   }
@@ -78,11 +79,21 @@ uint64_t nextScanUs(Rig& r, uint64_t fromUs) {
 }
 
 // Cycles from the monitor's signal falling to the action: the FETs leaving "both on", or the fault output
-// rising. Swept on a 50 us grid over the first 3 ms of a scan (where the bus is busy; after it the time is
-// flat) and the last millisecond before the next one (where a scan may start under the action).
+// rising; on the BQ769x images also to the FET-off command complete (BQ76952: the end of the read that found
+// ALL_FETS_OFF echoed in 0x3E/0x3F; BQ76907: the FET Control write; what the protection log records as
+// `acted`). Swept on a 50 us grid over the first 3 ms of a scan (where the bus is busy; after it the time is
+// flat, and 0 is the scan's first access, as when the signal lands on the scan tick) and the last
+// millisecond before the next one (where a scan may start under the action).
 void sweepFastPath(const std::string& preset, const char* what) {
   LOAD_OR_SKIP(elf, preset);
-  uint64_t worst = 0, worstAt = 0;
+  uint64_t worst = 0, worstAt = 0, worstDone = 0, worstDoneAt = 0;
+  // The scan's first read: BQ769x2 0x0A (PF Status and the voltages), BQ7690x 0x12 (Battery Status and the
+  // voltages): drivers/bq769x2 Variant::blocks.
+  // The FET-off command complete: BQ769x2 the read that finds ALL_FETS_OFF echoed in 0x3E/0x3F; BQ7690x the
+  // write of FET Control (0x68) with CHG_OFF and DSG_OFF (SLUUCJ0), a direct command with no echo.
+  const bool bq7690x = preset.find("bq7690") != std::string::npos;
+  const std::string firstRead = bq7690x ? "S 10 12 " : "S 10 0A ";
+  const std::string fetsOffDone = bq7690x ? "S 10 68 0C" : "S 10 3E Sr 11 [95 00]";
   std::vector<uint64_t> offsets;
   for (uint64_t us = 0; us < 3000; us += 50)
     offsets.push_back(us);
@@ -91,21 +102,23 @@ void sweepFastPath(const std::string& preset, const char* what) {
   for (uint64_t offset : offsets) {
     Rig r(preset, *elf);
     ASSERT_TRUE(r.loaded) << r.board.error();
-    const uint64_t scan = nextScanUs(r, 1000000);
+    const uint64_t scan = nextScanUs(r, 1000000, firstRead);
     ASSERT_NE(scan, 0U) << "no scan after 1 s";
     r.board.runUntilUs(scan + offset);
     const uint64_t t0 = r.board.machine().now();
     r.board.driveMonitorSignal(false);
-    uint64_t acted = 0;
-    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && acted == 0; t += 50) {
+    const bool fets = r.board.bq769x() != nullptr;
+    uint64_t acted = 0, done = 0;
+    for (uint64_t t = r.nowUs(); t < scan + offset + 20000 && (acted == 0 || (fets && done == 0)); t += 50) {
       r.board.runUntilUs(t);
-      const auto& edges = r.board.bq769x() != nullptr ? r.board.fetsOn() : r.board.faultOutput();
+      const auto& edges = fets ? r.board.fetsOn() : r.board.faultOutput();
       for (const auto& e : edges) {
-        const bool off = r.board.bq769x() != nullptr ? !e.level : e.level;
-        if (off && e.cycle >= t0) {
-          acted = e.cycle;
-          break;
-        }
+        const bool off = fets ? !e.level : e.level;
+        if (acted == 0 && off && e.cycle >= t0) acted = e.cycle;
+      }
+      if (!fets) continue;
+      for (const auto& tr : r.board.i2cLog()) {
+        if (done == 0 && tr.startCycle >= t0 && tr.text.rfind(fetsOffDone, 0) == 0) done = tr.endCycle;
       }
     }
     ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
@@ -114,11 +127,22 @@ void sweepFastPath(const std::string& preset, const char* what) {
     EXPECT_LE(took, 2000U) << what << " took " << took << " us with the signal " << offset
                            << " us into the scan";
     if (took > worst) worst = took, worstAt = offset;
+    if (!fets) continue;
+    ASSERT_NE(done, 0U) << "no FET-off command completed, signal at " << offset << " us into the scan";
+    const uint64_t complete = (done - t0) / 32;
+    EXPECT_LE(complete, 2000U) << "the FET-off command completed " << complete << " us after the signal, "
+                               << offset << " us into the scan";
+    if (complete > worstDone) worstDone = complete, worstDoneAt = offset;
   }
   std::printf(
       "REPORT twin.%s.%s_worst_us=%llu (signal %llu us into the scan, 50 us grid; budget 2000; CPU-counted "
       "time)\n",
       preset.c_str(), what, static_cast<unsigned long long>(worst), static_cast<unsigned long long>(worstAt));
+  if (worstDone != 0)
+    std::printf(
+        "REPORT twin.%s.%s_command_complete_worst_us=%llu (signal %llu us into the scan; budget 2000)\n",
+        preset.c_str(), what, static_cast<unsigned long long>(worstDone),
+        static_cast<unsigned long long>(worstDoneAt));
 }
 
 TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
@@ -127,6 +151,10 @@ TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
 
 TEST(FastPath, Bq76952AlertToFetsOffOnTheL1306) {
   sweepFastPath("lp-mspm0l1306-bq76952", "alert_to_fets_off");
+}
+
+TEST(FastPath, Bq76907AlertToFetsOffOnTheL1306) {
+  sweepFastPath("lp-mspm0l1306-bq76907", "alert_to_fets_off");
 }
 
 TEST(FastPath, Bq79616NfaultToFaultOutput) {

@@ -287,6 +287,62 @@ TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
   EXPECT_EQ(rd(kCan + 0x7830) & 1U, 1U);         // TC still pending: the line asserts again
 }
 
+// MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter
+// rules periph/mcan.hpp cites): the first matching element decides; a frame no element matches follows
+// GFC.ANFS; a rejected frame leaves no trace; a full FIFO in blocking mode loses the new frame.
+TEST_F(Chip, McanReceivesThroughItsFilterListIntoFifoZero) {
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);
+  wr(kCan + 0x701C, 0x12004409);
+  wr(kCan + 0x7080, (2U << 4) | (2U << 2) | 3U);  // GFC: reject non-matching and remote frames
+  wr(kCan + 0x7084, 0x200U | (3U << 16));         // SIDFC: three elements at 0x200
+  wr(kCan + 0x200, (0U << 30) | (1U << 27) | (0x100U << 16) | 0x10FU);  // range 0x100..0x10F: FIFO 0
+  wr(kCan + 0x204, (2U << 30) | (3U << 27) | (0x200U << 16) | 0x7FCU);  // classic 0x200 mask 0x7FC: reject
+  wr(kCan + 0x208, (1U << 30) | (1U << 27) | (0x205U << 16) | 0x202U);  // dual 0x205 / 0x202: FIFO 0
+  wr(kCan + 0x70A0, 0x080U | (2U << 16));                               // RXF0C: 2 elements at 0x080
+  wr(kCan + 0x7054, 0xF);                                               // IE: RF0N..RF0L
+  runUs(1);
+  wr(kCan + 0x7018, 0);
+  wr(0x40428000 + 4 * 34, 0x80 | 5);
+  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+  runUs(100);
+  twin::Mcan& mcan = *chip_.mcan();
+  auto arrive = [&](uint32_t id) {
+    mcan.peerSend({id, false, 3, {0xAA, 0xBB, static_cast<uint8_t>(id)}});
+    runUs(300);
+  };
+  arrive(0x205);  // the classic element does not match it (0x205 & 0x7FC = 0x204), the dual one after it does
+  EXPECT_EQ(rd(kCan + 0x7050) & 0xF, 1U);  // RF0N
+  arrive(0x202);  // matches the reject element (0x202 & 0x7FC = 0x200), before the dual one: no trace
+  arrive(0x400);  // matches nothing: ANFS rejects it
+  EXPECT_EQ(mcan.framesRejected(), 2U);
+  EXPECT_EQ(rd(kCan + 0x70A4) & 0x7F, 1U);
+  wr(kCan + 0x7050, 0xF);
+  arrive(0x10F);                           // the range's end: stored, and the FIFO is full
+  EXPECT_EQ(rd(kCan + 0x7050) & 0xF, 5U);  // RF0N and RF0F
+  arrive(0x100);                           // lost: blocking mode
+  EXPECT_EQ(rd(kCan + 0x7050) & 0xF, 0xDU);
+  const uint32_t status = rd(kCan + 0x70A4);
+  EXPECT_EQ(status & 0x7F, 2U);               // fill level
+  EXPECT_EQ((status >> 8) & 0x3F, 0U);        // get index
+  EXPECT_NE(status & (1U << 24), 0U);         // full
+  EXPECT_NE(status & (1U << 25), 0U);         // message lost
+  EXPECT_EQ(rd(kCan + 0x080), 0x205U << 18);  // R0: the identifier in 28:18
+  EXPECT_EQ(rd(kCan + 0x084), 3U << 16);      // R1: DLC
+  EXPECT_EQ(rd(kCan + 0x088), 0x05BBAAU);
+  EXPECT_EQ(rd(kCan + 0x090), 0x10FU << 18);  // the second element
+  wr(kCan + 0x70A8, 0);                       // RXF0A: element 0 read
+  EXPECT_EQ(rd(kCan + 0x70A4) & 0x7F, 1U);
+  EXPECT_EQ((rd(kCan + 0x70A4) >> 8) & 0x3F, 1U);
+  ASSERT_FALSE(stopped()) << why();
+}
+
 // --- WWDT
 // ------------------------------------------------------------------------------------------------------
 

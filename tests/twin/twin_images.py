@@ -13,7 +13,14 @@ checks:
   agreement   the host build and the image on the twin, same scenario (ov-cell), from the first cycle each
               publishes valid data: the same frames of the messages the image sends, in the same order, each
               within one scan period of its twin, and the same published states and protection trips within
-              one scan period
+              one scan period; and a step on the scan grid detected by the scan of that tick on both
+  open-wire-taps
+              the bottom and the top sense wire opened: open_wire detected by the scan of that tick, on the host
+              and on the twin, and no path reported on
+  agreement-intermittent
+              an intermittent link (most transactions failing for 3 s), its onset shifted 0, 1, 2, 3 and 50 ms
+              against the scan grid: on the host and on the twin comm_rate is published within 1 s of the
+              onset and held with the fault output until the link heals, then cleared within 2.5 s
   slcan       (L1306 images) --slcan FILE on the twin holds exactly the text the image's UART0 sent on PA8: one
               't' line per CR, the same frames in the same order as --candump's decoded lines
   load        the emulated load and charger stop when the image opens their path (FETs or fault output)
@@ -37,7 +44,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check_gauge_soc,  # noqa: E402
                                 check_load_paths, check_options, read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
-FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "ot", "ut", "device_safety", "stale_data", "comm_loss", "open_wire"]
+FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
+          "otc", "utc", "comm_rate"]
 PACK_SUMMARY, PROTECTION_EVENT, STARTUP = 0x100, 0x103, 0x1F0
 PERIOD_TOLERANCE_MS = 1.0  # PackSummary period against the configured scan period (check_ov_cell says why)
 
@@ -69,7 +77,7 @@ def check_published(image, frames, scenario):
     without one sent 0 % from their zero-filled state), and a PackSummary.Counter gap for each summary that
     never went out, and none otherwise."""
     for t, ident, d in frames:
-        if ident == PACK_SUMMARY and d[5] & 0x08 and (d[4] == 255) == (image == GAUGE_IMAGE):
+        if ident == PACK_SUMMARY and d[7] & 0x80 and (d[4] == 255) == (image == GAUGE_IMAGE):  # DataValid
             fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {d[4]} on {image}")
     if image.startswith("lp-mspm0g3507-"):
         check_counter(frames, scenario)
@@ -105,12 +113,14 @@ def decode_all(dbc_dir, frames):
 
 
 def pack_summaries(frames):
-    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml)."""
+    """(time, ChargeFet, DischargeFet, FaultOutput, DataValid, ActiveFaults) of each PackSummary (bms.yaml:
+    ChargeFet bits 40-41 and DischargeFet 42-43, 3 = not available; ActiveFaults 48-61, FaultOutput 62,
+    DataValid 63)."""
     out = []
     for t, ident, d in frames:
         if ident == PACK_SUMMARY and len(d) == 8:
-            out.append((t, d[5] & 1, (d[5] >> 1) & 1, (d[5] >> 2) & 1, (d[5] >> 3) & 1,
-                        int.from_bytes(d[6:8], "little")))
+            tail = int.from_bytes(d[6:8], "little")
+            out.append((t, d[5] & 3, (d[5] >> 2) & 3, (tail >> 14) & 1, (tail >> 15) & 1, tail & 0x3FFF))
     return out
 
 
@@ -214,13 +224,14 @@ def first_valid(frames):
     return next((s[0] for s in pack_summaries(frames) if s[4]), None)
 
 
-def check_agreement(sim, elf, image, scratch):
+def agree(sim, elf, image, scratch, scenario, duration, name):
+    """Runs `scenario` on the host build and on the twin and checks that they agree; returns the twin's
+    published trips."""
     period = 100.0  # every image's scan period (ms)
-    # 4 s: past the cell_ov trip (about 2.3 s) and the monitor's own over-voltage protection (3.5 s), which
-    # both builds configure at start-up (CONFIG_UPDATE).
-    _, host, _ = simulate(sim, scratch, f"host-{image}", "ov-cell", 4000, ["--image", image])
+    _, host, _ = simulate(sim, scratch, f"host-{image}-{name}", scenario, duration, ["--image", image])
     # --image with --elf: bms-sim runs the twin itself, not the image's host simulator (bms-sim-<preset>).
-    summary, twin, _ = simulate(sim, scratch, f"twin-{image}", "ov-cell", 4000, ["--elf", elf, "--image", image])
+    summary, twin, _ = simulate(sim, scratch, f"twin-{image}-{name}", scenario, duration,
+                                ["--elf", elf, "--image", image])
     check_healthy(summary)
     # The host simulator is built with the image's options (bms-sim-<preset>), so both send the same messages;
     # compare the messages the image sends all the same. Both start with the first cycle that publishes valid
@@ -229,22 +240,22 @@ def check_agreement(sim, elf, image, scratch):
     ids = {i for _, i, _ in twin} - {STARTUP}
     host_start, twin_start = first_valid(host), first_valid(twin)
     if twin_start is None:
-        fail("the twin never publishes valid data")
+        fail(f"{name}: the twin never publishes valid data")
     if host_start is None:
-        fail("the host never publishes valid data")
+        fail(f"{name}: the host never publishes valid data")
     start = max(host_start, twin_start) - period / 2
     host = [f for f in host if f[1] in ids and f[0] >= start]
     twin = [f for f in twin if f[1] in ids and f[0] >= start]
     n = min(len(host), len(twin))
     if n < 20 or abs(len(host) - len(twin)) > len(ids):
-        fail(f"host {len(host)} frames, twin {len(twin)} frames of the same messages after the start")
+        fail(f"{name}: host {len(host)} frames, twin {len(twin)} frames of the same messages after the start")
     worst = 0.0
     for (th, ih, _), (tt, it, _) in zip(host[:n], twin[:n]):
         if ih != it:
-            fail(f"frame {ih:03X} at {th:.3f} ms on the host is {it:03X} at {tt:.3f} ms on the twin")
+            fail(f"{name}: frame {ih:03X} at {th:.3f} ms on the host is {it:03X} at {tt:.3f} ms on the twin")
         worst = max(worst, abs(th - tt))
         if abs(th - tt) > period:
-            fail(f"frame {ih:03X} at {th:.3f} ms on the host comes at {tt:.3f} ms on the twin")
+            fail(f"{name}: frame {ih:03X} at {th:.3f} ms on the host comes at {tt:.3f} ms on the twin")
     # What the board says about its state: the FET/fault flags and the active faults, change by change.
     def states(frames):
         changes, last = [], None
@@ -254,17 +265,127 @@ def check_agreement(sim, elf, image, scratch):
                 last = (chg, dsg, out, faults)
         return changes
     # The same changes in the same order, each within one scan period of the host's.
-    for what, h, t, name in (("state", states(host), states(twin), str),
-                             ("trip", trips(host), trips(twin), lambda f: FAULTS[f])):
+    for what, h, t, label in (("state", states(host), states(twin), str),
+                              ("trip", trips(host), trips(twin), lambda f: FAULTS[f])):
         if [s for _, s in h] != [s for _, s in t]:
-            fail(f"the published {what}s differ: host {h}, twin {t}")
+            fail(f"{name}: the published {what}s differ: host {h}, twin {t}")
         for (a, s), (b, _) in zip(h, t):
             if abs(a - b) > period:
-                fail(f"the {what} {name(s)} published at {a:.3f} ms on the host comes at {b:.3f} ms on the twin")
+                fail(f"{name}: the {what} {label(s)} published at {a:.3f} ms on the host comes at {b:.3f} ms "
+                     "on the twin")
     tt = trips(twin)
-    print(f"REPORT twin.{image}.agreement: {n} frames ({len(ids)} messages) and {len(tt)} trips as on the host, "
-          f"worst frame time difference {worst:.3f} ms; first valid data at {host_start:.1f} ms (host) and "
-          f"{twin_start:.1f} ms (twin, from reset)")
+    print(f"REPORT twin.{image}.agreement.{name}: {n} frames ({len(ids)} messages) and {len(tt)} trips as on the "
+          f"host, worst frame time difference {worst:.3f} ms; first valid data at {host_start:.1f} ms (host) "
+          f"and {twin_start:.1f} ms (twin, from reset)")
+    return tt
+
+
+def check_agreement(sim, elf, image, scratch):
+    # 4 s: past the cell_ov trip (about 2.3 s) and the monitor's own over-voltage protection (3.5 s), which
+    # both builds configure at start-up (CONFIG_UPDATE).
+    agree(sim, elf, image, scratch, "ov-cell", 4000, "ov-cell")
+    check_step_same_scan(sim, elf, image, scratch)
+
+
+def check_step_same_scan(sim, elf, image, scratch):
+    """A step on the scan grid (cell 2 to 4.30 V at 2 s) is detected by the scan at that tick on the host and
+    on the twin alike (both scan on the clock's 100 ms grid; on the host a step at t comes before the
+    firmware's tick at t, as on the twin): cell_ov within the scan period that starts with the step, on both.
+    Before, the host saw it one scan later than the twin."""
+    path = os.path.join(scratch, "step-on-grid.txt")
+    with open(path, "w") as f:
+        f.write("2000 cell 0 2 4300\n2000 expect cell_ov\n")
+    detected = {}
+    for side, source in (("host", ["--image", image]), ("twin", ["--elf", elf, "--image", image])):
+        summary, _, _ = simulate(sim, scratch, f"{side}-{image}-step", path, 3000, source)
+        events = [e for e in summary["protection_events"] if e["fault"] == "cell_ov"]
+        if not events:
+            fail(f"step on the grid: no cell_ov on the {side}")
+        detected[side] = events[0]["detected_ms"]
+        if not 2000.0 <= detected[side] < 2100.0:
+            fail(f"step on the grid at 2000 ms: cell_ov detected at {detected[side]:.3f} ms on the {side}, not "
+                 "by the scan of that tick")
+    print(f"REPORT twin.{image}.agreement.step_on_grid: cell_ov detected {detected['host'] - 2000:.3f} ms (host) / "
+          f"{detected['twin'] - 2000:.3f} ms (twin) after a step on the scan tick")
+
+
+# Onset shifts of the intermittent link against the scan grid: on the grid, the first milliseconds after it
+# (where a link window's edge falls inside a scan), and mid-period.
+INTERMITTENT_SHIFTS_MS = [0, 1, 2, 3, 50]
+
+
+def rate_episode(frames, onset, healed):
+    """When comm_rate was first published after `onset` and first published cleared after `healed` (ms), and
+    the PackSummaries between onset + 1 s and `healed` that do not carry it with the fault output asserted."""
+    bit = 1 << FAULTS.index("comm_rate")
+    ps = pack_summaries(frames)
+    tripped = next((t for t, *_, faults in ps if t > onset and faults & bit), None)
+    cleared = next((t for t, *_, faults in ps if t > healed and not faults & bit), None)
+    gaps = [(t, faults) for t, _, _, out, _, faults in ps if onset + 1000 <= t <= healed and (not faults & bit or not out)]
+    return tripped, cleared, gaps
+
+
+def check_agreement_intermittent(sim, elf, image, scratch):
+    """An intermittent link (most transactions failing for 3 s), its onset shifted against the scan grid: for
+    every shift, on the host and on the twin alike, comm_rate is published within one second of the onset and
+    held (with the fault output) until the link heals, and cleared within 2.5 s after it. When within that
+    second it trips, and how often comm_loss and stale_data trip and clear meanwhile, may differ between the
+    two (README: which scan attempts fail depends on where each transaction falls against the link's edges, to
+    the microsecond), so the frames are not compared one by one as for ov-cell; the times are reported."""
+    for shift in INTERMITTENT_SHIFTS_MS:
+        onset, healed = 2000 + shift, 5000 + shift
+        path = os.path.join(scratch, f"intermittent-{shift}.txt")
+        with open(path, "w") as f:
+            f.write(f"{onset} intermittent on\n{healed} intermittent off\n")
+        results = {}
+        for side, source in (("host", ["--image", image]), ("twin", ["--elf", elf, "--image", image])):
+            summary, frames, _ = simulate(sim, scratch, f"{side}-{image}-intermittent", path, 7500, source)
+            if side == "twin":
+                check_healthy(summary)
+            tripped, cleared, gaps = rate_episode(frames, onset, healed)
+            if tripped is None or tripped > onset + 1000:
+                fail(f"{side}, onset {onset} ms: comm_rate first published at {tripped} ms, not within 1 s")
+            if gaps:
+                fail(f"{side}, onset {onset} ms: PackSummary without comm_rate and the fault output at {gaps[:3]}")
+            # Cleared once the monitor is back (a BQ769x set-up step that failed waits its 1 s retry interval)
+            # and rateWindow (10) scans in a row validated: within 2.5 s of the healing.
+            if cleared is None or cleared > healed + 2500:
+                fail(f"{side}, onset {onset} ms: comm_rate cleared at {cleared} ms, the link healed at {healed} ms")
+            results[side] = (tripped, cleared)
+        (ht, hc), (tt, tc) = results["host"], results["twin"]
+        print(f"REPORT twin.{image}.agreement.intermittent+{shift}ms: comm_rate published {ht - onset:.1f} ms "
+              f"(host) / {tt - onset:.1f} ms (twin) after the onset, cleared {hc - healed:.1f} / {tc - healed:.1f} ms "
+              "after the healing")
+
+
+# Cells per board of each image (the top tap is the wire above the last one: open-wire <board> <cells + 1>).
+CELLS = {"bq76952": 16, "bq76907": 7, "bq79616": 16, "bq4050": 4}
+
+
+def check_open_wire_taps(sim, elf, image, scratch):
+    """The sense wire at the bottom tap (below cell 1) and at the top tap (above the last cell) opens at 2 s: on
+    the twin as on the host, open_wire is detected by the scan of that tick (its expect met, so bms-sim exits
+    0), stays active, and no path is reported on (the readings beside an end tap are not cell voltages; before
+    issue 24 a bottom tap went out as a valid 0 mV cell, with no fault)."""
+    cells = CELLS[image.rsplit("-", 1)[1]]
+    for tap in (1, cells + 1):
+        path = os.path.join(scratch, f"open-wire-tap{tap}.txt")
+        with open(path, "w") as f:
+            f.write(f"2000 open-wire 0 {tap}\n2000 expect open_wire\n")
+        detected = {}
+        for side, source in (("host", ["--image", image]), ("twin", ["--elf", elf, "--image", image])):
+            summary, _, _ = simulate(sim, scratch, f"{side}-{image}-tap{tap}", path, 3000, source)
+            if "open_wire" not in summary["active_faults"]:
+                fail(f"tap {tap} on the {side}: active faults {summary['active_faults']}, no open_wire")
+            if summary["charge_on"] or summary["discharge_on"]:
+                fail(f"tap {tap} on the {side}: a path is still reported on")
+            events = [e for e in summary["protection_events"] if e["fault"] == "open_wire"]
+            detected[side] = events[0]["detected_ms"]
+            if not 2000.0 <= detected[side] < 2100.0:
+                fail(f"tap {tap} on the {side}: open_wire detected at {detected[side]:.3f} ms, not by the scan at "
+                     "2000 ms")
+        print(f"REPORT twin.{image}.open_wire.tap{tap}: detected {detected['host'] - 2000:.3f} ms (host) / "
+              f"{detected['twin'] - 2000:.3f} ms (twin) after the wire opened")
 
 
 def check_slcan(sim, elf, image, scratch):
@@ -298,6 +419,10 @@ def main():
         check_bus_off(sim, dbc_dir, elf, image, scratch)
     elif check == "agreement":
         check_agreement(sim, elf, image, scratch)
+    elif check == "open-wire-taps":
+        check_open_wire_taps(sim, elf, image, scratch)
+    elif check == "agreement-intermittent":
+        check_agreement_intermittent(sim, elf, image, scratch)
     elif check == "slcan":
         check_slcan(sim, elf, image, scratch)
     elif check == "load":

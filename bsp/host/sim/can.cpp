@@ -71,12 +71,14 @@ uint32_t canFrameBits(const CanFrame& frame) {
   return static_cast<uint32_t>(bits.size()) + stuffed + 1 + 2 + 7 + 3;
 }
 
-SimCan::SimCan(SimClock& clock, SimIrq& irq, uint32_t bitRate, size_t txDepth)
+SimCan::SimCan(SimClock& clock, SimIrq& irq, uint32_t bitRate, size_t txDepth, size_t rxDepth)
     : clock_(clock),
       irq_(irq),
       bitRate_(bitRate),
       txDepth_(txDepth),
-      line_(irq.attach("can", [this] { notify_(); })) {}
+      rxDepth_(rxDepth),
+      line_(irq.attach("can", [this] { notify_(); })),
+      rxLine_(irq.attach("can-rx", [this] { rxNotify_(); })) {}
 
 void SimCan::signal() {
   irq_.raise(line_);
@@ -96,22 +98,79 @@ Status SimCan::doSend(const CanFrame& frame) {
   return Status::Ok;
 }
 
+void SimCan::peerSend(const CanFrame& frame) {
+  peerQueue_.push_back(frame);
+  if (!transmitting_) startNext();
+}
+
+void SimCan::setPeerSource(std::function<std::optional<CanFrame>()> source) {
+  peerSource_ = std::move(source);
+  if (!transmitting_) startNext();
+}
+
+void SimCan::setFilter(std::vector<uint32_t> standardIds) {
+  filter_ = std::move(standardIds);
+}
+
+// Arbitration at bus idle: the lowest identifier among our queue's head and the peers' waiting frame wins
+// (an extended identifier's base part decides first; equal ones are not sent by two nodes here).
 void SimCan::startNext() {
-  if (txQueue_.empty() || state_ == CanState::BusOff) {
+  if (peerQueue_.empty() && peerSource_) {
+    if (auto f = peerSource_()) peerQueue_.push_back(*f);
+  }
+  const bool ours = !txQueue_.empty() && state_ != CanState::BusOff;
+  const bool peers = !peerQueue_.empty();
+  if (!ours && !peers) {
     transmitting_ = false;
     return;
   }
+  auto priority = [](const CanFrame& f) { return f.extended ? (f.id >> 18) * 2 + 1 : f.id * 2; };
+  peerOnWire_ = peers && (!ours || priority(peerQueue_.front()) < priority(txQueue_.front()));
+  onWire_ = peerOnWire_ ? peerQueue_.front() : txQueue_.front();
   transmitting_ = true;
-  const uint64_t durationUs = (static_cast<uint64_t>(canFrameBits(txQueue_.front())) * 1000000ULL) / bitRate_;
-  busTimeUs_ += durationUs;
+  const uint64_t durationUs = (static_cast<uint64_t>(canFrameBits(onWire_)) * 1000000ULL) / bitRate_;
+  if (!peerOnWire_) busTimeUs_ += durationUs;
   txEvent_ = clock_.scheduleIn(fw::us(static_cast<uint32_t>(durationUs)), [this] {
     txEvent_ = 0;
+    finished();
+  });
+}
+
+bool SimCan::accepts(const CanFrame& f) const {
+  if (!filter_) return true;
+  if (f.extended) return false;
+  for (uint32_t id : *filter_) {
+    if (id == f.id) return true;
+  }
+  return false;
+}
+
+void SimCan::finished() {
+  if (!peerOnWire_) {
     sent_.push_back(SentCanFrame{clock_.nowUs(), txQueue_.front()});
     txQueue_.pop_front();
     ++counters_.txFrames;
     startNext();
     signal();
-  });
+    return;
+  }
+  const CanFrame f = peerQueue_.front();
+  peerQueue_.pop_front();
+  ++peerFrames_;
+  startNext();
+  if (state_ == CanState::BusOff) return;  // INIT is set: the controller takes no part in the bus
+  if (!accepts(f)) {
+    ++filteredOut_;
+    return;
+  }
+  if (rxQueue_.size() >= rxDepth_) {
+    ++counters_.rxLost;
+    return;
+  }
+  rxQueue_.push_back(f);
+  ++counters_.rxFrames;
+  ++rxInterrupts_;
+  irq_.raise(rxLine_);
 }
 
 bool SimCan::doReceive(CanFrame& frame) {
@@ -121,20 +180,17 @@ bool SimCan::doReceive(CanFrame& frame) {
   return true;
 }
 
-void SimCan::injectRx(const CanFrame& frame) {
-  rxQueue_.push_back(frame);
-  ++counters_.rxFrames;
-  signal();
-}
-
 void SimCan::injectBusOff() {
-  if (txEvent_ != 0) clock_.cancel(txEvent_);
-  txEvent_ = 0;
+  if (txEvent_ != 0 && !peerOnWire_) {
+    clock_.cancel(txEvent_);
+    txEvent_ = 0;
+    transmitting_ = false;
+  }
   txQueue_.clear();
-  transmitting_ = false;
   if (state_ != CanState::BusOff) busOffLog_.push_back({clock_.nowUs(), 0});
   state_ = CanState::BusOff;
   ++counters_.busOffEvents;
+  if (!transmitting_) startNext();
   signal();
 }
 
@@ -148,6 +204,7 @@ Status SimCan::doRecover() {
     recovering_ = false;
     state_ = CanState::ErrorActive;
     busOffLog_.back().recoveredUs = clock_.nowUs();
+    if (!transmitting_) startNext();
     signal();
   });
   return Status::Ok;

@@ -53,4 +53,16 @@ void Harness::runFor(fw::Duration d) {
   runUntil(nullptr, d);
 }
 
+void Harness::runBefore(fw::Duration d) {
+  const uint64_t end = clock.nowUs() + d.us;
+  for (;;) {
+    runUntilIdle(1000000, end);
+    uint64_t next = 0;
+    if (!clock.nextEvent(next) || next >= end) break;
+    clock.advanceTo(next);
+  }
+  clock.advanceBefore(end);
+  runUntilIdle(1000000, end);
+}
+
 }  // namespace bsp::host

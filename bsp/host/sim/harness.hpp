@@ -30,6 +30,11 @@ class Harness {
   size_t runUntilIdle(size_t maxRuns = 1000000, uint64_t stopAtUs = UINT64_MAX);
   void runFor(fw::Duration d);
   bool runUntil(const std::function<bool()>& done, fw::Duration limit);
+  // runFor(d), except that what is due exactly at the end (a timer's deadline, a device event) is left for
+  // the next run: a tool that changes the world between runs (bms-sim's scenario steps) then has its change
+  // at instant t come before what the firmware does at t, as on the MSPM0 twin, where the firmware's tick
+  // at t is a CPU wake-up after the step.
+  void runBefore(fw::Duration d);
   uint64_t nowUs() const { return clock.nowUs(); }
 
   SimIrq& irq;

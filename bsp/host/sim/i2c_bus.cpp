@@ -189,7 +189,8 @@ uint64_t SimI2cBus::execute(fw::hal::I2cTransaction& txn, std::string& text) {
         pec = fw::crc::crc8Update(pec, byte);
         if (i == 0 && txn.blockRead) {
           // SMBus block read: the count byte decides how many bytes follow. One that does not fit the
-          // buffer is refused (NACK, STOP) rather than trusted (LANDSCAPE: PX4 copied it unbounded).
+          // buffer is refused (NACK, STOP) rather than trusted (PX4's SMBus driver once copied it unbounded:
+          // PX4 PR #16872).
           if (byte == 0 || byte > txn.read.size() - 1) {
             text += "] NACK P";
             ns += bitNs;

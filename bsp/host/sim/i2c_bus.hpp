@@ -7,7 +7,7 @@
 // A stretch longer than config.stretchLimit ends the transaction with Timeout after stretchLimit, followed by
 // the 9-clock recovery and STOP.
 //
-// Every transaction is logged in the contract format of `bmsctl trace` (ARCHITECTURE.md):
+// Every transaction is logged in the format of `bmsctl trace` (README "Host tools"):
 //   S 10 14 Sr 11 [68 33 0B 31] P
 // address bytes in their 8-bit form, target-driven bytes in [ ], and, where a transaction failed, the token
 // NACK (after the refused byte) or TIMEOUT. With pec set the PEC byte appears on the wire like any other.

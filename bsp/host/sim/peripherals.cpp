@@ -7,19 +7,59 @@
 
 namespace bsp::host {
 
-SimSerialTx::SimSerialTx(SimClock& clock, SimIrq& irq, uint32_t baud)
-    : clock_(clock), irq_(irq), baud_(baud), line_(irq.attach("serial", [this] {
-        busy_ = false;
-        fw::hal::Notify done = done_;
-        done_ = {};
-        done();
-      })) {}
+SimSerial::SimSerial(SimClock& clock, SimIrq& irq, uint32_t baud, size_t rxDepth)
+    : clock_(clock),
+      irq_(irq),
+      baud_(baud),
+      rxDepth_(rxDepth),
+      line_(irq.attach("serial",
+                       [this] {
+                         busy_ = false;
+                         fw::hal::Notify done = done_;
+                         done_ = {};
+                         done();
+                       })),
+      rxLine_(irq.attach("serial-rx", [this] { rxNotify_(); })) {}
 
-fw::Status SimSerialTx::doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) {
+void SimSerial::peerSend(std::string_view bytes) {
+  onLine_.insert(onLine_.end(), bytes.begin(), bytes.end());
+  if (!arriving_ && !onLine_.empty()) {
+    arriving_ = true;
+    clock_.scheduleIn(fw::us(static_cast<uint32_t>(byteTimeUs())), [this] { arrive(); });
+  }
+}
+
+// One byte's stop bit has arrived.
+void SimSerial::arrive() {
+  const uint8_t byte = onLine_.front();
+  onLine_.pop_front();
+  ++received_;
+  if (rx_.size() < rxDepth_) {
+    rx_.push_back(byte);
+  } else {
+    ++lost_;
+  }
+  irq_.raise(rxLine_);
+  if (onLine_.empty()) {
+    arriving_ = false;
+  } else {
+    clock_.scheduleIn(fw::us(static_cast<uint32_t>(byteTimeUs())), [this] { arrive(); });
+  }
+}
+
+bool SimSerial::doRead(uint8_t& byte) {
+  if (rx_.empty()) return false;
+  byte = rx_.front();
+  rx_.pop_front();
+  return true;
+}
+
+fw::Status SimSerial::doWrite(std::span<const uint8_t> bytes, const fw::hal::Notify& done) {
   if (busy_) return fw::Status::Busy;
   if (bytes.empty()) return fw::Status::InvalidArgument;
   busy_ = true;
   done_ = done;
+  writeStarts_.push_back(text_.size());
   text_.append(bytes.begin(), bytes.end());
   const uint64_t us = (bytes.size() * 10ULL * 1000000ULL + baud_ - 1) / baud_;
   writeTimes_.push_back(clock_.nowUs() + us);
@@ -46,6 +86,10 @@ void SimEdgeInput::drive(bool level) {
 void SimDigitalOut::doSet(bool high) {
   if (high != level_ || history_.empty()) history_.emplace_back(clock_.nowUs(), high);
   level_ = high;
+}
+
+void SimSystem::doEnterBootloader() {
+  entries_.push_back(clock_.nowUs());
 }
 
 void SimWatchdog::doFeed() {

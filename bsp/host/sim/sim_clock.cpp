@@ -55,6 +55,12 @@ void SimClock::advanceTo(uint64_t timeUs) {
   advancing_ = false;
 }
 
+void SimClock::advanceBefore(uint64_t timeUs) {
+  if (timeUs <= now_) return;
+  advanceTo(timeUs - 1);
+  now_ = timeUs;
+}
+
 uint64_t SimClock::expand(fw::Instant instant) const {
   const int32_t delta = static_cast<int32_t>(instant.us - static_cast<uint32_t>(now_));
   const int64_t at = static_cast<int64_t>(now_) + delta;

@@ -35,6 +35,8 @@ class SimClock final : public fw::hal::Clock {
   void cancel(EventId id);
 
   void advanceTo(uint64_t timeUs);
+  // The same, except that events due exactly at `timeUs` stay pending (they run on the next advance).
+  void advanceBefore(uint64_t timeUs);
   void advance(fw::Duration d) { advanceTo(now_ + d.us); }
   // Runs only the earliest pending event (if any is due by `limitUs`), moving time to it. False if none.
   bool step(uint64_t limitUs);

@@ -28,8 +28,9 @@ struct Mspm0l1306 {
   static constexpr PinFunction kI2c0SdaPa0{{0, 0, 1}, 3};
   static constexpr PinFunction kI2c0SclPa1{{0, 1, 2}, 3};
   // The XDS110 back-channel UART (tsv note "LP-MSPM0L1306 backchannel UART"): UART0 TX on PA8 = PINCM9, PF 2
-  // (mspm0l130x.h IOMUX_PINCM9_PF_UART0_TX); its RX is PA9 = PINCM10, PF 2, unused (SLCAN output only).
+  // (mspm0l130x.h IOMUX_PINCM9_PF_UART0_TX), RX on PA9 = PINCM10, PF 2 (IOMUX_PINCM10_PF_UART0_RX).
   static constexpr PinFunction kUart0TxPa8{{0, 8, 9}, 2};
+  static constexpr PinFunction kUart0RxPa9{{0, 9, 10}, 2};
   static constexpr Pin kPa14{0, 14, 15};  // LaunchPad button S2
   static constexpr Pin kPa26{0, 26, 27};  // LaunchPad LED (TI's bq769x2 example)
   // The battery monitor's ALERT input: PA15 = PINCM16, GPIO PF 1 (mspm0l130x.h IOMUX_PINCM16_PF_GPIOA_DIO15;

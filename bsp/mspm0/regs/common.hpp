@@ -27,8 +27,7 @@ inline constexpr uint32_t kPwrenKeyEnable = 0x26000001;
 inline constexpr uint32_t kRstctlKeyAssert = 0xB1000003;
 
 // CPU_INT and DMA_TRIGx blocks. IIDX is never read by the drivers: reading it clears the flag it reports
-// (i2c_v1 IIDX description), so they read MIS and clear with ICLR exactly the bits they handled
-// (STYLE.md item 4).
+// (i2c_v1 IIDX description), so they read MIS and clear with ICLR exactly the bits they handled.
 struct EventBlock {
   Reg iidx;  // +0x00
   Reg reserved0_;

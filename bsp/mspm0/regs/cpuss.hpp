@@ -15,6 +15,14 @@ namespace bsp::mspm0::reg::cpuss {
 inline EventBlock& group(uintptr_t cpussBase, uint32_t n) {
   return mmio::block<EventBlock>(cpussBase + 0x1100 + 0x30 * n);
 }
+// CTL (CPUSS_BASE + 0x1300): PREFETCH bit 0, ICACHE bit 1, LITEN bit 2 (hw_cpuss.h CPUSS_CTL). TI reads the
+// factory region with the instruction cache off (dl_factoryregion.h: "disable the cache before TRIM access",
+// DL_CORE_PREFETCH_ENABLED | DL_CORE_CACHE_DISABLED | DL_CORE_LITERAL_CACHE_ENABLED), then restores CTL.
+inline Reg& ctl(uintptr_t cpussBase) {
+  return mmio::block<Reg>(cpussBase + 0x1300);
+}
+inline constexpr uint32_t kCtlPrefetch = 1U << 0;
+inline constexpr uint32_t kCtlLiteralCache = 1U << 2;
 inline constexpr uint32_t kGroup1Gpioa = 1;
 inline constexpr uint32_t kGroup1Gpiob = 2;
 

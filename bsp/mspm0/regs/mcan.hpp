@@ -123,6 +123,7 @@ inline constexpr uint32_t kPsrErrorPassive = 1U << 5;
 
 // IR / IE bits.
 inline constexpr uint32_t kIrRf0n = 1U << 0;  // RX FIFO 0 new message
+inline constexpr uint32_t kIrRf0l = 1U << 3;  // RX FIFO 0 message lost (a frame arrived with the FIFO full)
 inline constexpr uint32_t kIrTc = 1U << 9;    // transmission completed
 inline constexpr uint32_t kIrEp = 1U << 23;   // error passive changed
 inline constexpr uint32_t kIrBo = 1U << 25;   // bus-off status changed
@@ -131,8 +132,20 @@ inline constexpr uint32_t kIrBo = 1U << 25;   // bus-off status changed
 // and RRFE bit 0 reject remote frames.
 inline constexpr uint32_t kIleLine0 = 1U << 0;
 inline constexpr uint32_t kGfcAcceptAllRejectRemote = (1U << 1) | (1U << 0);
-// ANFS = ANFE = 2: reject non-matching frames too (no filter matches, so nothing is received).
+// ANFS = ANFE = 2: reject non-matching frames too: only frames a filter element stores are received.
 inline constexpr uint32_t kGfcRejectAll = (2U << 4) | (2U << 2) | kGfcAcceptAllRejectRemote;
+
+// SIDFC: FLSSA 15:2 (the standard filter list's start, a word address in bits 15:2, so the byte address),
+// LSS 23:16 (elements) (hw_mcan.h MCAN_SIDFC; M_CAN user manual SIDFC).
+constexpr uint32_t sidfc(uint32_t startByte, uint32_t elements) {
+  return startByte | (elements << 16);
+}
+// Standard ID filter element (one word): SFT 31:30, SFEC 29:27, SFID1 26:16, SFID2 10:0 (hw_mcan.h /
+// dl_mcan.h DL_MCAN_StdMsgIDFilterElement; M_CAN user manual 2.4.5). SFT 1 = dual ID (SFID1 or SFID2), SFEC 1
+// = store in RX FIFO 0, as TI's mcan_message_rx example sets its two filters.
+constexpr uint32_t stdFilterDual(uint32_t id1, uint32_t id2) {
+  return (1U << 30) | (1U << 27) | ((id1 & 0x7FF) << 16) | (id2 & 0x7FF);
+}
 
 // TXBC: TBSA 15:2 (byte address), NDTB 21:16, TFQS 29:24, TFQM bit 30 (0 = FIFO).
 constexpr uint32_t txbc(uint32_t startByte, uint32_t fifoElements) {

@@ -8,7 +8,8 @@ namespace {
 
 // PINCM indices of the board's signals (tsv pin rows, mspm0g350x.h / mspm0l130x.h IOMUX_PINCMn).
 constexpr int kPa0 = 1, kPa1 = 2, kPf2 = 2;
-constexpr int kL1306Pa8 = 9, kL1306Pa15 = 16;
+constexpr int kL1306Pa8 = 9, kL1306Pa9 = 10, kL1306Pa15 = 16;
+constexpr uint64_t kSlcanBaud = 115200;
 constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb26 = 57;
 constexpr uint8_t kBq769xAddress = 0x08;
 
@@ -92,11 +93,14 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
         return;
       }
       slcanPending_ += static_cast<char>(byte);
-      if (byte == '\r') {
+      if (byte == '\r' || byte == 0x07) {  // CR, or BEL (the answer to a refused line)
         slcanLines_.push_back({chip_.machine().now(), slcanPending_});
         slcanPending_.clear();
       }
     });
+    // A reset cuts the line it interrupts: a reader drops that fragment at the next line, so it is not
+    // glued to the restarted image's first line.
+    chip_.machine().onReset([this](ResetKind) { slcanPending_.clear(); });
   }
   if (signalPincm_ != 0) {
     chip_.pins().onChange(signalPincm_, [this](bool level) {
@@ -176,7 +180,7 @@ void Board::wireChain(int devices) {
   });
 }
 
-// Command frames (bq79616-protocol.md): INIT (bit 7 set, request type 6:4, data length - 1 in 2:0), the
+// Command frames (SLUSE81E §9.3.6.1.1): INIT (bit 7 set, request type 6:4, data length - 1 in 2:0), the
 // device address for single-device requests (types 0 and 1), the register (2 bytes), data (1 byte for reads),
 // CRC.
 void Board::noteChainByte(uint8_t byte) {
@@ -258,6 +262,45 @@ bool Board::injectBusOff() {
   if (chip_.mcan() == nullptr) return false;
   chip_.mcan()->injectBusOff();
   return true;
+}
+
+bool Board::sendCan(const fw::hal::CanFrame& frame) {
+  if (chip_.mcan() == nullptr) return false;
+  chip_.mcan()->peerSend(frame);
+  return true;
+}
+
+bool Board::setCanFlood(std::function<std::optional<fw::hal::CanFrame>()> source) {
+  if (chip_.mcan() == nullptr) return false;
+  chip_.mcan()->setPeerSource(std::move(source));
+  return true;
+}
+
+// The PC's bytes, back to back at 115 200 Bd 8N1: byte k of a run ends (10 k + 10) bit times after the run
+// began. A byte reaches UART0 only if PA9 is muxed to it (PF 2), as on the LaunchPad.
+bool Board::sendSerial(std::string_view bytes) {
+  if (image_.part != Part::L1306) return false;
+  serialOut_.insert(serialOut_.end(), bytes.begin(), bytes.end());
+  if (!serialArriving_ && !serialOut_.empty()) {
+    serialArriving_ = true;
+    serialStartUs_ = world_.nowUs();
+    serialBytes_ = 0;
+    world_.schedule(serialStartUs_ + 10 * 1000000 / kSlcanBaud, [this] { serialArrive(); });
+  }
+  return true;
+}
+
+void Board::serialArrive() {
+  const uint8_t byte = serialOut_.front();
+  serialOut_.pop_front();
+  ++serialBytes_;
+  if (chip_.pins().routed(kL1306Pa9, kPf2)) chip_.uart(0).receive(byte, false);
+  if (serialOut_.empty()) {
+    serialArriving_ = false;
+    return;
+  }
+  world_.schedule(serialStartUs_ + (serialBytes_ + 1) * 10 * 1000000 / kSlcanBaud,
+                  [this] { serialArrive(); });
 }
 
 }  // namespace twin

@@ -1,13 +1,14 @@
 // Board: one of the five LaunchPad set-ups around a twin MSPM0, wired to the device emulators the host tools
 // use (bsp/host/emul), on the emulators' SimClock. The wiring is the README's "Connections" table
-// (bsp/mspm0/README.md) and the ARCHITECTURE.md image table, not the firmware's choices: if an image muxes a
+// (bsp/mspm0/README.md) and the README's image table, not the firmware's choices: if an image muxes a
 // signal to another pin, nothing arrives where the board expects it.
 //
 //   L1306 + BQ76952 / BQ76907 EVM: I2C0 PA0 SDA / PA1 SCL (pull-ups on the board), the monitor's ALERT
 //       to PA15 (open drain, low when asserted), the XDS110 back-channel's receive line on PA8 (UART0 TX,
-//       PF 2): SLCAN.
+//       PF 2): SLCAN, and its transmit line on PA9 (UART0 RX, PF 2): what the PC sends, at 115 200 Bd.
 //   G3507 + BQ76952 or BQ4050: I2C0 PA0 / PA1 (pull-ups), BQ76952 ALERT to PB0; CAN on PA12 TX / PA13 RX to
-//       a bus with one listener that acknowledges every frame (the candump log); the fault output PB26.
+//       a bus with one listener that acknowledges every frame (the candump log) and sends what sendCan() and
+//       setCanFlood() give it; the fault output PB26.
 //   G3507 + BQ79616 chain (seed 001): UART0 PA10 TX / PA11 RX at the chain's base device, nFAULT to PB0, CAN
 //       and PB26 as above. A ping is the TX line held low (the firmware muxes it to GPIO): its length goes to
 //       the chain as the emulator's onPing().
@@ -16,10 +17,12 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bq4050/gauge_emulator.hpp"
@@ -51,7 +54,7 @@ struct PinEdge {
   bool level;
 };
 
-// A command frame the MCU sent the BQ79616 chain (INIT byte and register; bq79616-protocol.md frame layout).
+// A command frame the MCU sent the BQ79616 chain (INIT byte and register; SLUSE81E §9.3.6.1.1 frame layout).
 struct ChainCommand {
   uint64_t cycle;
   uint8_t init;
@@ -96,6 +99,13 @@ class Board {
   void driveMonitorSignal(bool level);
   // The CAN controller goes bus-off; false on a board without CAN.
   bool injectBusOff();
+  // The other node on CAN sends `frame`, or (a source) always has one waiting; false on a board without CAN.
+  bool sendCan(const fw::hal::CanFrame& frame);
+  bool setCanFlood(std::function<std::optional<fw::hal::CanFrame>()> source);
+  // The PC sends `bytes` on the L1306's back-channel (they arrive on PA9 one after another, after what it
+  // sent before); false on a board without it. serialBacklog(): bytes sent and not arrived yet.
+  bool sendSerial(std::string_view bytes);
+  size_t serialBacklog() const { return serialOut_.size(); }
 
   // What the board did.
   const std::vector<CanWireFrame>& canFrames() const { return canFrames_; }
@@ -119,6 +129,7 @@ class Board {
   void wireChain(int devices);
   void wireCan();
   void samplePins();
+  void serialArrive();
   void noteChainByte(uint8_t byte);
 
   ImageId image_;
@@ -145,6 +156,9 @@ class Board {
   uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
   uint64_t pingStart_ = 0;
   bool fets_ = false;
+  std::deque<uint8_t> serialOut_;                 // the PC's bytes not arrived yet
+  uint64_t serialStartUs_ = 0, serialBytes_ = 0;  // timing of the bytes in flight (115 200 Bd, 10 bits each)
+  bool serialArriving_ = false;
 };
 
 }  // namespace twin

@@ -9,6 +9,8 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include "bsl/raw_pty.hpp"
+
 namespace twin {
 
 namespace {
@@ -64,23 +66,8 @@ BslPty::~BslPty() {
 }
 
 bool BslPty::open(std::string& error) {
-  master_ = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (master_ < 0 || grantpt(master_) != 0 || unlockpt(master_) != 0 || ptsname(master_) == nullptr) {
-    error = std::string("cannot create a pseudo-terminal: ") + std::strerror(errno);
-    return false;
-  }
-  path_ = ptsname(master_);
-  slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  termios tio{};
-  if (slave_ < 0 || tcgetattr(slave_, &tio) != 0) {
-    error = path_ + ": " + std::strerror(errno);
-    return false;
-  }
-  cfmakeraw(&tio);
-  cfsetispeed(&tio, B9600);
-  cfsetospeed(&tio, B9600);
-  tcsetattr(slave_, TCSANOW, &tio);
-  return true;
+  // The ROM bootloader starts at 9600 Bd (SLAU887).
+  return openRawPty(B9600, master_, slave_, path_, error);
 }
 
 uint32_t BslPty::hostBaud() const {

@@ -31,6 +31,7 @@ class BslPty {
 
   bool open(std::string& error);
   const std::string& path() const { return path_; }
+  int fd() const { return master_; }  // for poll()
   // Takes what the host wrote (without waiting) onto the line, and hands the host what the BSL sent.
   void service();
   // Waits up to `ms` milliseconds of wall time for the host to write.

@@ -1,9 +1,9 @@
 // twin-bsl: one of the five LaunchPad set-ups on the twin (board/board.hpp) with its ROM bootloader on a
 // pseudo-terminal, for `bmsctl flash` without a board.
 //
-//   twin-bsl --board <preset> [--elf IMAGE] [--s1] [--password HEX64] [--run MS] [--frames FILE]
-//            [--timeout S] [--log] [--power-loss-after N] [--corrupt-answer N] [--drop-host-byte N]
-//            [--flip-bit ADDR]
+//   twin-bsl --board <preset> [--elf IMAGE] [--s1] [--command-pty] [--password HEX64] [--run MS]
+//            [--frames FILE] [--timeout S] [--log] [--power-loss-after N] [--corrupt-answer N]
+//            [--drop-host-byte N] [--flip-bit ADDR]
 //
 // The chip starts blank (MAIN flash erased: the boot code starts the BSL), or with --elf loaded (the image
 // runs, unless --s1 holds the invoke pin PA18 high through the power-on). The first line on stdout is
@@ -15,6 +15,13 @@
 // what happened and exits 0. Exit 1: the twin stopped (an access no model covers, a NONMAIN write, a Factory
 // Reset); 2: bad arguments; 3: no application ran within --timeout s of wall time (default 60). --log prints
 // every command the BSL answered, with its answer.
+//
+// --command-pty (with --elf): the image's command link on a second pseudo-terminal (bsl/command_pty.hpp: the
+// L1306's back-channel UART, or an SLCAN adapter on the G3507's CAN bus), announced on the second line as
+// "twin-bsl: command link on /dev/pts/M", for `bmsctl flash --invoke app --invoke-port`. The loaded image
+// then runs at wall-clock pace until it restarts into the BSL (its EnterBootloader command); --run and
+// --frames count the application started after that. The line "before the BSL: ..." gives the state of the
+// paths the image controls when the BSL started (FETs, fault output).
 //
 // Faults for tests: --power-loss-after N cuts the power right after the N-th Program Data the BSL has
 // acknowledged and restores it 500 ms later (as unplugging a LaunchPad's USB cable does); --corrupt-answer N
@@ -28,8 +35,11 @@
 #include <optional>
 #include <string>
 
+#include <poll.h>
+
 #include "board/board.hpp"
 #include "bsl/bsl_pty.hpp"
+#include "bsl/command_pty.hpp"
 #include "sim/harness.hpp"
 
 namespace {
@@ -73,7 +83,7 @@ bool decodeSlcan(const std::string& line, uint32_t& id, std::vector<uint8_t>& da
 
 int main(int argc, char** argv) {
   std::string preset, elfPath, framesPath, passwordHex;
-  bool s1 = false, log = false;
+  bool s1 = false, log = false, commandPty = false;
   uint64_t runMs = 2000, timeoutS = 60, powerLossAfter = 0, corruptAnswer = 0, dropHostByte = 0;
   std::optional<uint64_t> flipBit;
   for (int i = 1; i < argc; ++i) {
@@ -89,6 +99,8 @@ int main(int argc, char** argv) {
       (a == "--board" ? preset : a == "--elf" ? elfPath : a == "--frames" ? framesPath : passwordHex) = v;
     } else if (a == "--s1") {
       s1 = true;
+    } else if (a == "--command-pty") {
+      commandPty = true;
     } else if (a == "--log") {
       log = true;
     } else if (a == "--run") {
@@ -111,6 +123,7 @@ int main(int argc, char** argv) {
   }
   const auto id = twin::imageByPreset(preset);
   if (!id) return usage("--board must name one of the five images' boards (e.g. lp-mspm0g3507-bq79616)");
+  if (commandPty && elfPath.empty()) return usage("--command-pty needs --elf (an image to take the command)");
 
   bsp::host::Harness h;
   twin::Board board(*id, h.clock, 2);
@@ -137,7 +150,32 @@ int main(int argc, char** argv) {
 
   std::optional<uint64_t> appStart;
   uint64_t sessionStart = 0, sessionEnd = 0, programs = 0;
-  bool cut = false, flip = false;
+  bool cut = false, flip = false, bslSeen = false;
+  auto seconds = [&](uint64_t cycle) { return static_cast<double>(cycle) / m.clockHz(); };
+  // When the BSL starts after the image ran: the paths' state, from the pins the image drove before the reset
+  // (the reset itself releases the fault output pin at the BSL's first cycle).
+  auto reportPaths = [&](uint64_t bslCycle) {
+    std::string text;
+    char buf[96];
+    auto before = [&](const std::vector<twin::PinEdge>& edges) -> const twin::PinEdge* {
+      const twin::PinEdge* last = nullptr;
+      for (const auto& e : edges) {
+        if (e.cycle < bslCycle) last = &e;
+      }
+      return last;
+    };
+    if (const auto* e = before(board.fetsOn())) {
+      std::snprintf(buf, sizeof buf, "FETs %s since %.6f s", e->level ? "on" : "off", seconds(e->cycle));
+      text += buf;
+    }
+    if (const auto* e = before(board.faultOutput())) {
+      std::snprintf(buf, sizeof buf, "%sfault output %s since %.6f s", text.empty() ? "" : ", ",
+                    e->level ? "high" : "low", seconds(e->cycle));
+      text += buf;
+    }
+    std::printf("twin-bsl: %.6f s: before the BSL: %s\n", seconds(m.now()),
+                text.empty() ? "-" : text.c_str());
+  };
   m.onReset([&](twin::ResetKind) {
     if (m.coreHeld()) {
       appStart.reset();
@@ -150,6 +188,8 @@ int main(int argc, char** argv) {
     if (r.text.rfind("started: ", 0) == 0 || log) {
       std::printf("twin-bsl: %.6f s: BSL %s\n", static_cast<double>(r.cycle) / m.clockHz(), r.text.c_str());
     }
+    if (r.text.rfind("started: ", 0) == 0 && commandPty && !bslSeen) reportPaths(r.cycle);
+    if (r.text.rfind("started: ", 0) == 0) bslSeen = true;
     if (r.command == 0x12 && r.result == -1 && sessionStart == 0) sessionStart = r.cycle;
     if (r.command == 0x40) sessionEnd = r.cycle;
     if (r.command == 0x20 && r.result == 0) {
@@ -167,6 +207,14 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (dropHostByte != 0) pty.dropHostByte(dropHostByte);
+  std::optional<twin::CommandPty> command;
+  if (commandPty) {
+    command.emplace(board);
+    if (!command->open(error)) {
+      std::fprintf(stderr, "twin-bsl: error: %s\n", error.c_str());
+      return 1;
+    }
+  }
   twin::ElfFile elf;
   const int invokePin = board.chip().pincm(0, 18);
   if (s1) board.chip().pins().setExternal(invokePin, twin::Drive::High);
@@ -184,6 +232,10 @@ int main(int argc, char** argv) {
   }
   board.chip().pins().setExternal(invokePin, twin::Drive::None);  // S1 released; the board pulls PA18 down
   std::printf("twin-bsl: BSL UART on %s (%s board)\n", pty.path().c_str(), preset.c_str());
+  if (command) {
+    std::printf("twin-bsl: command link on %s (%s)\n", command->path().c_str(),
+                id->part == twin::Part::L1306 ? "UART0 PA9/PA8, 115200 Bd" : "SLCAN adapter on the CAN bus");
+  }
   std::fflush(stdout);
 
   const auto wallStart = Wall::now();
@@ -192,12 +244,16 @@ int main(int argc, char** argv) {
   auto nowUs = [&] { return m.now() / m.cyclesPerUs(); };
   for (;;) {
     pty.service();
+    if (command) command->service();
     std::fflush(stdout);
     if (m.stopped()) {
       std::printf("twin-bsl: the twin stopped: %s\n", m.stopReason().c_str());
       return 1;
     }
-    if (appStart && m.now() >= *appStart + runMs * 1000 * m.cyclesPerUs()) break;
+    // With a command link, the loaded image waits for its command: the run counts from the application the
+    // BSL started.
+    const bool awaitingInvoke = command && !bslSeen;
+    if (appStart && !awaitingInvoke && m.now() >= *appStart + runMs * 1000 * m.cyclesPerUs()) break;
     if (Wall::now() - wallStart > std::chrono::seconds(timeoutS)) {
       std::printf("twin-bsl: no application ran within %llu s\n", static_cast<unsigned long long>(timeoutS));
       return 3;
@@ -220,11 +276,17 @@ int main(int argc, char** argv) {
       powerBackAt.reset();
       m.reset(twin::ResetKind::Por, "power restored");
     }
-    if (!m.coreHeld() || pty.inFlight() || bsl.busy() || powerBackAt) {
+    const bool appRuns = !m.coreHeld() && !awaitingInvoke;
+    if (appRuns || pty.inFlight() || bsl.busy() || powerBackAt || (command && command->inFlight())) {
       board.runUntilUs(nowUs() + 1000);  // work in hand: as fast as it goes
       wallPrev = Wall::now();
-    } else {  // waiting for the host: simulated time follows the wall clock
-      pty.waitForHost(5);
+    } else {          // waiting for the host: simulated time follows the wall clock
+      if (command) {  // either terminal
+        pollfd p[2] = {{pty.fd(), POLLIN, 0}, {command->fd(), POLLIN, 0}};
+        poll(p, 2, 5);
+      } else {
+        pty.waitForHost(5);
+      }
       const auto now = Wall::now();
       const auto us = std::chrono::duration_cast<std::chrono::microseconds>(now - wallPrev).count();
       wallPrev = now;

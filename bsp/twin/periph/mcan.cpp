@@ -25,7 +25,9 @@ constexpr uint32_t kSsPid = 0x7200, kSsCtrl = 0x7204, kSsStat = 0x7208, kSsEoi =
 constexpr uint32_t kClken = 0x7900, kClkdiv = 0x7904;
 
 constexpr uint32_t kInit = 1U << 0, kCce = 1U << 1, kDar = 1U << 6;
+constexpr uint32_t kIrRf0n = 1U << 0, kIrRf0f = 1U << 2, kIrRf0l = 1U << 3;
 constexpr uint32_t kIrTc = 1U << 9, kIrEp = 1U << 23, kIrBo = 1U << 25;
+constexpr uint32_t kBusBitRate = 500000;  // the bus the LaunchPad's transceiver sits on (seed 001)
 constexpr uint32_t kMemInitDone = 1U << 1;
 constexpr uint32_t kElemXtd = 1U << 30, kElemFdf = 1U << 21;
 constexpr uint32_t kElementBytes = 16;  // TXESC = 0: 8-byte data field
@@ -53,6 +55,7 @@ Mcan::Mcan(Machine& machine, Pins& pins, Sysctl& sysctl)
                    integrating_ = false;
                    tryTransmit();
                  }),
+      peerDone_(machine.timeline(), [this] { peerDone(); }),
       ram_(kRamBytes / 4, 0) {}
 
 void Mcan::resetRegisters() {
@@ -66,6 +69,8 @@ void Mcan::resetRegisters() {
   tec_ = 0;
   busOff_ = errorPassive_ = integrating_ = transmitting_ = false;
   get_ = queued_ = 0;
+  rxGet_ = rxFill_ = 0;
+  rxLost_ = false;
   clken_ = clkdiv_ = 0;
   clockRequestedAt_ = UINT64_MAX;
   lineHeld_ = {};
@@ -117,34 +122,140 @@ uint64_t Mcan::awaitingEoiCycles(int line) const {
   return lineHeld_[n] ? machine_.now() - heldSince_[n] : 0;
 }
 
+// At bus idle: the waiting frame with the lowest identifier takes the wire, the TX FIFO's head or a peer's.
 void Mcan::tryTransmit() {
-  if (transmitting_ || queued_ == 0 || !powered() || !memReady() || initReadBack() || busOff_ || integrating_)
-    return;
-  if ((txesc_ & 7U) != 0) {
-    stop("TXESC selects data fields longer than 8 bytes (CAN FD), not modelled");
+  if (!busIdle()) return;
+  if (peerQueue_.empty() && peerSource_) {
+    if (auto f = peerSource_()) peerQueue_.push_back(*f);
+  }
+  const bool ours = queued_ != 0 && powered() && memReady() && !initReadBack() && !busOff_ && !integrating_;
+  if (ours) {
+    if ((txesc_ & 7U) != 0) {
+      stop("TXESC selects data fields longer than 8 bytes (CAN FD), not modelled");
+      return;
+    }
+    const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
+    const uint32_t element = ndtb + get_ % tfqs;
+    const uint32_t at = ((txbc_ & 0xFFFC) + element * kElementBytes) / 4;
+    if (at + 4 > ram_.size()) {
+      stop("TX FIFO element outside the message RAM");
+      return;
+    }
+    const uint32_t t0 = ram_[at], t1 = ram_[at + 1];
+    if (t1 & kElemFdf) {
+      stop("a TX element with FDF set (CAN FD), not modelled");
+      return;
+    }
+    current_ = {};
+    current_.extended = (t0 & kElemXtd) != 0;
+    current_.id = current_.extended ? (t0 & 0x1FFFFFFF) : ((t0 >> 18) & 0x7FF);
+    current_.dlc = static_cast<uint8_t>(std::min<uint32_t>((t1 >> 16) & 0xF, 8));
+    for (int i = 0; i < 8; ++i)
+      current_.data[static_cast<size_t>(i)] =
+          static_cast<uint8_t>(ram_[at + 2 + static_cast<uint32_t>(i) / 4] >> (8 * (i % 4)));
+  }
+  // Arbitration on the base identifier (standard frames: the identifier; extended: its 11 high bits), a
+  // standard frame winning against an extended one with the same base (its RTR/IDE bit is dominant).
+  auto priority = [](const fw::hal::CanFrame& f) { return f.extended ? (f.id >> 18) * 2 + 1 : f.id * 2; };
+  if (!peerQueue_.empty() && (!ours || priority(peerQueue_.front()) < priority(current_))) {
+    peerOnWire_ = true;
+    peerFrame_ = peerQueue_.front();
+    peerQueue_.pop_front();
+    peerDone_.after(bsp::host::canFrameBits(peerFrame_) * machine_.clockHz() / kBusBitRate);
     return;
   }
-  const uint32_t ndtb = (txbc_ >> 16) & 0x3F, tfqs = (txbc_ >> 24) & 0x3F;
-  const uint32_t element = ndtb + get_ % tfqs;
-  const uint32_t at = ((txbc_ & 0xFFFC) + element * kElementBytes) / 4;
-  if (at + 4 > ram_.size()) {
-    stop("TX FIFO element outside the message RAM");
-    return;
-  }
-  const uint32_t t0 = ram_[at], t1 = ram_[at + 1];
-  if (t1 & kElemFdf) {
-    stop("a TX element with FDF set (CAN FD), not modelled");
-    return;
-  }
-  current_ = {};
-  current_.extended = (t0 & kElemXtd) != 0;
-  current_.id = current_.extended ? (t0 & 0x1FFFFFFF) : ((t0 >> 18) & 0x7FF);
-  current_.dlc = static_cast<uint8_t>(std::min<uint32_t>((t1 >> 16) & 0xF, 8));
-  for (int i = 0; i < 8; ++i)
-    current_.data[static_cast<size_t>(i)] =
-        static_cast<uint8_t>(ram_[at + 2 + static_cast<uint32_t>(i) / 4] >> (8 * (i % 4)));
+  if (!ours) return;
   transmitting_ = true;
   txDone_.after(bsp::host::canFrameBits(current_) * bitCycles());
+}
+
+void Mcan::peerSend(const fw::hal::CanFrame& frame) {
+  peerQueue_.push_back(frame);
+  tryTransmit();
+}
+
+void Mcan::setPeerSource(std::function<std::optional<fw::hal::CanFrame>()> source) {
+  peerSource_ = std::move(source);
+  tryTransmit();
+}
+
+// A peer frame has left the wire: the controller receives it if it takes part in the bus.
+void Mcan::peerDone() {
+  peerOnWire_ = false;
+  ++peerFrames_;
+  if (powered() && memReady() && !initReadBack() && !busOff_ && pins_.routed(rxPincm_, rxPf_))
+    receive(peerFrame_);
+  tryTransmit();
+}
+
+// Acceptance filtering, then RX FIFO 0 (see mcan.hpp).
+void Mcan::receive(const fw::hal::CanFrame& f) {
+  enum class To { Fifo0, Reject };
+  std::optional<To> to;
+  if (!f.extended) {
+    const uint32_t lss = (sidfc_ >> 16) & 0xFF, first = (sidfc_ & 0xFFFC) / 4;
+    for (uint32_t k = 0; k < lss && !to; ++k) {
+      if (first + k >= ram_.size()) {
+        stop("standard filter element outside the message RAM");
+        return;
+      }
+      const uint32_t e = ram_[first + k];
+      const uint32_t sft = e >> 30, sfec = (e >> 27) & 7U, id1 = (e >> 16) & 0x7FF, id2 = e & 0x7FF;
+      if (sfec == 0 || sft == 3) continue;  // disabled element
+      const bool match = sft == 0   ? (id1 <= f.id && f.id <= id2)
+                         : sft == 1 ? (f.id == id1 || f.id == id2)
+                                    : ((f.id & id2) == (id1 & id2));
+      if (!match) continue;
+      if (sfec != 1 && sfec != 3) {
+        stop("a standard filter element storing to RX FIFO 1, a priority or an RX buffer: not modelled");
+        return;
+      }
+      to = sfec == 1 ? To::Fifo0 : To::Reject;
+    }
+  } else if (((xidfc_ >> 16) & 0x7F) != 0) {
+    stop("an extended ID filter list (XIDFC.LSE > 0): not modelled");
+    return;
+  }
+  if (!to) {
+    const uint32_t anf = f.extended ? (gfc_ >> 2) & 3U : (gfc_ >> 4) & 3U;
+    if (anf == 1) {
+      stop("GFC puts non-matching frames in RX FIFO 1: not modelled");
+      return;
+    }
+    to = anf == 0 ? To::Fifo0 : To::Reject;
+  }
+  if (*to == To::Reject) {
+    ++rejected_;
+    return;
+  }
+  const uint32_t size = (rxf0c_ >> 16) & 0x7F;
+  if ((rxesc_ & 7U) != 0 || (rxf0c_ >> 31) != 0) {
+    stop("RX FIFO 0 with data fields above 8 bytes or in overwrite mode: not modelled");
+    return;
+  }
+  if (size == 0) return;  // no FIFO configured: nowhere to store it
+  if (rxFill_ >= size) {  // blocking mode: the new frame is lost
+    rxLost_ = true;
+    setIr(kIrRf0l);
+    return;
+  }
+  const uint32_t at = ((rxf0c_ & 0xFFFC) + ((rxGet_ + rxFill_) % size) * kElementBytes) / 4;
+  if (at + 4 > ram_.size()) {
+    stop("RX FIFO 0 element outside the message RAM");
+    return;
+  }
+  ram_[at] = f.extended ? (kElemXtd | f.id) : (f.id << 18);
+  ram_[at + 1] = static_cast<uint32_t>(f.dlc) << 16;
+  for (uint32_t w = 0; w < 2; ++w) {
+    uint32_t v = 0;
+    for (uint32_t b = 0; b < 4; ++b)
+      v |= static_cast<uint32_t>(f.data[4 * w + b]) << (8 * b);
+    ram_[at + 2 + w] = v;
+  }
+  ++rxFill_;
+  ++received_;
+  ++rf0nEvents_;
+  setIr(kIrRf0n | (rxFill_ == size ? kIrRf0f : 0));
 }
 
 void Mcan::transmitDone() {
@@ -235,7 +346,12 @@ bool Mcan::readRegister(uint32_t offset, uint32_t& value) {
     case kHpms:
     case kNdat1:
     case kNdat2:
-    case kRxf0s:
+    case kRxf0s: {
+      const uint32_t size = (rxf0c_ >> 16) & 0x7F;
+      value = rxFill_ | (rxGet_ << 8) | ((size ? (rxGet_ + rxFill_) % size : 0) << 16) |
+              (size != 0 && rxFill_ >= size ? 1U << 24 : 0) | ((ir_ & kIrRf0l) ? 1U << 25 : 0);
+      return true;
+    }
     case kRxf1s:
     case kTxefs:
     case kTxbcf:
@@ -476,7 +592,19 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
     case kTxbcr:
       if (value != 0) stop("TXBCR (transmission cancellation) is not modelled");
       return true;
-    case kRxf0a:
+    case kRxf0a: {
+      // The index of the last element read: the get index moves past it (hw_mcan.h MCAN_RXF0A F0AI).
+      const uint32_t size = (rxf0c_ >> 16) & 0x7F, n = value & 0x3F;
+      if (size == 0 || rxFill_ == 0 || n >= size) return true;
+      const uint32_t count = (n + size - rxGet_) % size + 1;
+      if (count > rxFill_) {
+        stop("RXF0A acknowledges an element of RX FIFO 0 that holds no frame");
+        return true;
+      }
+      rxGet_ = (n + 1) % size;
+      rxFill_ -= count;
+      return true;
+    }
     case kRxf1a:
     case kTxefa:
     case kRwd:

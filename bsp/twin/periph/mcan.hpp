@@ -33,13 +33,34 @@
 //   The wrapper's RIS.INTLn is set when line n asserts; a line asserted and not yet acknowledged by EOI
 //   gives no further interrupt, however many IR events follow. An EOI with IR events still pending on the
 //   line asserts it again (TI's ISRs: DL_MCAN_clearIntrStatus writes IR, then EOI).
-// Reception, FD, dedicated TX buffers, the TX event FIFO, filters and test modes are not modelled: an
-// enabled reception path is harmless (nothing is ever received), anything else that would act stops the run.
+// - The bus: other nodes' frames (peerSend, or a peer source that always has one waiting: a flood) compete
+// with
+//   the TX FIFO at every bus idle; the lowest identifier wins arbitration (ISO 11898-1: a dominant 0 bit
+//   wins; a standard identifier against an extended one is compared on its 11 base bits, the standard frame
+//   winning a tie), and the frame takes the wire for its real length.
+// - Reception (hw_mcan.h GFC, SIDFC, RXF0C/RXF0S/RXF0A; the acceptance filtering of the M_CAN user manual
+//   3.4.1, as SLAU846 chapter "MCAN" describes it): a peer frame that has left the wire while the controller
+//   takes part in the bus (INIT clear, not bus-off, its RX pin routed) goes through the standard filter list
+//   (LSS elements from FLSSA, element 0 first, the first match decides: SFT 0 range SFID1..SFID2, 1 dual ID,
+//   2 classic SFID1 with mask SFID2, 3 disabled; SFEC 0 disabled, 1 store in RX FIFO 0, 3 reject; FIFO 1,
+//   priority and RX buffer storage stop the run). A frame no element matches is handled as GFC.ANFS (ANFE for
+//   extended frames, whose filter list is not modelled: XIDFC.LSE must be 0) says: 0 RX FIFO 0, 2/3 reject,
+//   1 (FIFO 1) stops the run. A rejected frame leaves no trace: no IR bit, no interrupt.
+//   RX FIFO 0 (F0SA, F0S elements, RXESC.F0DS = 0: 16-byte elements, R0 identifier and XTD as T0, R1 DLC
+//   19:16): a stored frame advances the put index and the fill level and sets IR.RF0N, and IR.RF0F when the
+//   FIFO is then full; a frame that finds it full is lost in blocking mode (F0OM 0: RXF0S.RF0L, IR.RF0L;
+//   overwrite mode stops the run). RXF0S reads fill level 6:0, get index 13:8, put index 21:16, full bit 24,
+//   RF0L bit 25; writing RXF0A = n (the last element read) sets the get index to n + 1 and lowers the fill
+//   level by the elements acknowledged.
+// FD, dedicated TX buffers, the TX event FIFO, RX FIFO 1, RX buffers and test modes are not modelled:
+// anything that would act on them stops the run.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +90,14 @@ class Mcan final : public Peripheral {
   }
   void onFrame(std::function<void(const CanWireFrame&)> sink) { sink_ = std::move(sink); }
   void injectBusOff();
+  // Another node sends `frame` (it competes for the bus from now); while a source is set, another node always
+  // has a frame waiting: the source gives the next one each time the last has left (nullopt: none this time).
+  void peerSend(const fw::hal::CanFrame& frame);
+  void setPeerSource(std::function<std::optional<fw::hal::CanFrame>()> source);
+  uint64_t peerFrames() const { return peerFrames_; }        // peer frames that went over the wire
+  uint64_t framesReceived() const { return received_; }      // stored in RX FIFO 0
+  uint64_t framesRejected() const { return rejected_; }      // filtered out: no trace, no interrupt
+  uint64_t newMessageEvents() const { return rf0nEvents_; }  // IR.RF0N raised (one per stored frame)
   const std::vector<std::string>& notes() const { return notes_; }
   // How long line n has been waiting for its EOI (0 if it is not asserted): an ISR that never writes
   // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
@@ -93,12 +122,15 @@ class Mcan final : public Peripheral {
   void updateLines();
   void tryTransmit();
   void transmitDone();
+  void peerDone();
+  void receive(const fw::hal::CanFrame& frame);
+  bool busIdle() const { return !transmitting_ && !peerOnWire_; }
   void enterBusOff();
   void note(const std::string& text);
 
   Pins& pins_;
   Sysctl& sysctl_;
-  TimedEvent txDone_, integrated_, recovered_;
+  TimedEvent txDone_, integrated_, recovered_, peerDone_;
   std::function<void(const CanWireFrame&)> sink_;
   int txPincm_ = 0, rxPincm_ = 0;
   uint32_t txPf_ = 0, rxPf_ = 0;
@@ -118,6 +150,14 @@ class Mcan final : public Peripheral {
   bool busOff_ = false, errorPassive_ = false, integrating_ = false;
   // TX FIFO
   uint32_t get_ = 0, queued_ = 0;
+  // The other nodes and RX FIFO 0
+  std::deque<fw::hal::CanFrame> peerQueue_;
+  std::function<std::optional<fw::hal::CanFrame>()> peerSource_;
+  bool peerOnWire_ = false;
+  fw::hal::CanFrame peerFrame_{};
+  uint32_t rxGet_ = 0, rxFill_ = 0;
+  bool rxLost_ = false;
+  uint64_t peerFrames_ = 0, received_ = 0, rejected_ = 0, rf0nEvents_ = 0;
   bool transmitting_ = false;
   fw::hal::CanFrame current_{};
   // Wrapper

@@ -49,13 +49,13 @@ uint32_t dbcId(const Message& m) {
 
 // The physical range in a DBC is that of the readings: a not-available value at either end is left out.
 void dbcSignal(std::ostringstream& out, const Signal& s, const std::string& name, const std::string& muxTag,
-               uint32_t start) {
+               uint32_t start, const std::string& receiver) {
   double lo = static_cast<double>(s.readingMin()) * s.factorValue + s.offsetValue;
   double hi = static_cast<double>(s.readingMax()) * s.factorValue + s.offsetValue;
   if (lo > hi) std::swap(lo, hi);
   out << " SG_ " << name << (muxTag.empty() ? "" : " " + muxTag) << " : " << start << "|" << s.length << "@"
       << (s.bigEndian ? "0" : "1") << (s.isSigned ? "-" : "+") << " (" << s.factor << "," << s.offset << ") ["
-      << number(lo) << "|" << number(hi) << "] \"" << escape(s.unit) << "\" Vector__XXX\n";
+      << number(lo) << "|" << number(hi) << "] \"" << escape(s.unit) << "\" " << receiver << "\n";
 }
 
 }  // namespace
@@ -69,7 +69,8 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
                         "tools). k<Signal>Field is the signal's place in kFields, for code that fills the "
                         "raw values itself. A multiplexed group's array holds the slots of one frame: item i "
                         "of the group travels in frame i / kXPerFrame, slot i % kXPerFrame.");
-  out << "#pragma once\n\n#include <cstdint>\n\n#include \"app/publish/can_bits.hpp\"\n#include "
+  out << "#pragma once\n\n#include <array>\n#include <cstdint>\n\n#include "
+         "\"app/publish/can_bits.hpp\"\n#include "
          "\"hal/can_bus.hpp\"\n\n"
       << "namespace fw::can::" << cat.name << " {\n\n"
       << "inline constexpr uint32_t kBitrate = " << cat.bitrate << ";\n\n";
@@ -77,10 +78,14 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
     if (!m.description.empty()) writeComment(out, m.description);
     out << "// " << m.layout << " layout, id " << hexAddress(m.id) << (m.extended ? " (extended)" : "")
         << ", " << m.dlc << " bytes, "
-        << (m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms" : "on event") << "\n";
+        << (m.received  ? "received"
+            : m.cycleMs ? "every " + std::to_string(m.cycleMs) + " ms"
+                        : "on event")
+        << "\n";
     out << "struct " << m.name << " {\n"
         << "  static constexpr uint32_t kId = " << hexAddress(m.id) << ";\n"
         << "  static constexpr bool kExtended = " << (m.extended ? "true" : "false") << ";\n"
+        << "  static constexpr bool kReceived = " << (m.received ? "true" : "false") << ";\n"
         << "  static constexpr uint8_t kDlc = " << m.dlc << ";\n"
         << "  static constexpr uint32_t kCycleMs = " << m.cycleMs << ";\n"
         << "  static constexpr uint16_t kFrames = " << m.framesPerCycle() << ";\n";
@@ -160,6 +165,17 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
     }
     out << "    return m;\n  }\n};\n\n";
   }
+  // The identifiers the node receives, in catalogue order: what a receive filter accepts.
+  std::string ids;
+  size_t received = 0;
+  for (const Message& m : cat.messages) {
+    if (!m.received) continue;
+    ids += std::string(received++ == 0 ? "" : ", ") + hexAddress(m.id);
+  }
+  writeComment(out,
+               "The identifiers of the messages the node receives (direction rx), in catalogue order: "
+               "what its receive filter accepts.");
+  out << "inline constexpr std::array<uint32_t, " << received << "> kReceivedIds = {{" << ids << "}};\n\n";
   out << "}  // namespace fw::can::" << cat.name << "\n";
   return out.str();
 }
@@ -172,7 +188,10 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
   for (const Message& m : cat.messages) {
     if (!m.inLayout(layout)) continue;
     const uint32_t id = dbcId(m);
-    out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << cat.node << "\n";
+    // A message the node receives is sent by an unnamed node (Vector__XXX) and received by the node.
+    out << "BO_ " << id << " " << m.name << ": " << m.dlc << " " << (m.received ? "Vector__XXX" : cat.node)
+        << "\n";
+    const std::string receiver = m.received ? cat.node : "Vector__XXX";
     const Signal* mux = m.multiplexer();
     for (const Signal& s : m.signals) {
       // Each DBC signal of `s` (one per item of a group) gets its comment and value table; the not-available
@@ -193,20 +212,21 @@ std::string emitDbc(const Catalogue& cat, const std::string& layout, const std::
         values << " ;\n";
       };
       if (s.multiplexer) {
-        dbcSignal(out, s, s.name, "M", s.start);
+        dbcSignal(out, s, s.name, "M", s.start, receiver);
         describe(s.name);
       } else if (s.total > 0 && mux != nullptr) {
         for (uint32_t i = 0; i < s.total; ++i) {
-          dbcSignal(out, s, itemName(s, i), "m" + std::to_string(i / s.count), s.slotStart(i % s.count));
+          dbcSignal(out, s, itemName(s, i), "m" + std::to_string(i / s.count), s.slotStart(i % s.count),
+                    receiver);
           describe(itemName(s, i));
         }
       } else if (s.count > 1) {
         for (uint32_t k = 0; k < s.count; ++k) {
-          dbcSignal(out, s, itemName(s, k), "", s.slotStart(k));
+          dbcSignal(out, s, itemName(s, k), "", s.slotStart(k), receiver);
           describe(itemName(s, k));
         }
       } else {
-        dbcSignal(out, s, s.name, "", s.start);
+        dbcSignal(out, s, s.name, "", s.start, receiver);
         describe(s.name);
       }
     }

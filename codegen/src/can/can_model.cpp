@@ -264,7 +264,8 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
     m.loc = node.loc;
     m.name = text(node.find("name"));
     const std::string where = "message '" + m.name + "'";
-    checkKeys(node, {"name", "id", "extended", "layout", "dlc", "cycle_ms", "description", "signals"},
+    checkKeys(node,
+              {"name", "id", "extended", "layout", "direction", "dlc", "cycle_ms", "description", "signals"},
               {"name", "id", "signals"}, m.name.empty() ? "a message" : where, diag);
     if (!m.name.empty() && !isCanIdentifier(m.name))
       diag.error(node.find("name")->loc, where + ": not an identifier");
@@ -280,6 +281,13 @@ Catalogue buildCatalogue(const Sources& sources, int file, Diagnostics& diag) {
       m.id = static_cast<uint32_t>(std::clamp<int64_t>(*v, 0, limit));
     }
     if (const Node* l = node.find("layout")) m.layout = l->text;
+    if (const Node* d = node.find("direction")) {
+      if (d->text == "rx") {
+        m.received = true;
+      } else if (d->text != "tx") {
+        diag.error(d->loc, where + ": direction must be tx or rx");
+      }
+    }
     if (!isCanIdentifier(m.layout)) diag.error(node.loc, where + ": layout must be an identifier");
     if (auto v = integer(node.find("dlc"), where + " dlc", diag)) {
       if (*v < 0 || *v > 8) diag.error(node.find("dlc")->loc, where + ": dlc must be 0..8 (classic CAN)");

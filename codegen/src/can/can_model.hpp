@@ -11,6 +11,9 @@
 //       id: 0x200                  11-bit, or 29-bit with `extended: true`
 //       layout: native | ti | all  which DBC the message belongs to (ti = seed 001's frame layout; all =
 //                                  every layout's DBC, for a message every image sends whatever its layout)
+//       direction: tx | rx         tx (default): the node sends it; rx: the node receives it (a command).
+//                                  C++ kReceived and kReceivedIds (the identifiers a receive filter
+//                                  accepts); DBC: sent by Vector__XXX, received by the node
 //       dlc: 8
 //       cycle_ms: 1000             0 = event-driven only
 //       description: ...
@@ -86,6 +89,7 @@ struct Message {
   uint32_t id = 0;
   bool extended = false;
   std::string layout = "native";
+  bool received = false;  // direction: rx
   uint32_t dlc = 8;
   uint32_t cycleMs = 0;
   std::string description;

@@ -1,18 +1,21 @@
 // The application of the lp-mspm0g3507-bq4050 image: a BQ4050 gas gauge on SMBus, CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
-//   1 monitor      MonitorTask<Bq4050Device> (monitor_task.hpp): probe (device type, PEC detection), then a
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan and every scan period; fault output pin (PB26)
+//   2 monitor      MonitorTask<Bq4050Device> (monitor_task.hpp): probe (device type, PEC detection), then a
 //                  scan every scan period; after three failed scans in a row it probes again at once (the
 //                  gauge may have reset: PEC and device type are checked anew), and while probes fail, again
 //                  every retry interval
-//   0 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary)
+//   1 publisher    CAN frames (native layout; the gauge's relative state of charge goes in PackSummary) and
+//                  the command answers
+//   0 command      commands from CAN (app/command)
 // The gauge protects the pack with its own FETs (SafetyStatus); the firmware layer adds its limits and acts
 // through the fault output, as on the BQ79616 image.
 #pragma once
 
 #include <cstdint>
 
+#include "app/command/commands.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -24,6 +27,7 @@
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
@@ -33,6 +37,13 @@ struct Bq4050AppConfig {
   Duration scanPeriod = ms(100);
   Duration retryInterval = ms(100);  // between failed probes (a probe of an absent gauge is a few NACKs)
 };
+
+// The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each
+// protection's table names the FET it turns off, OperationStatus()[XCHG] or [XDSG]): charge for COV, OCC1/2,
+// ASCC/ASCCL, OTC, UTC, PTO, CTO, OC, CHGC, CHGV, PCHGC; discharge for CUV, CUVC, OCD1/2, AOLD/AOLDL,
+// ASCD/ASCDL, OTD, UTD; both for OTF and a permanent failure (PFStatus). Bit for bit, so a gauge that stops
+// charging does not read as a pack that cannot discharge (bq4050_app.cpp).
+uint8_t blockedPaths(const drivers::bq4050::Measurement& m);
 
 struct Bq4050Stats {
   uint32_t scans = 0;
@@ -66,6 +77,9 @@ class Bq4050Device : public MonitorBase {
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // The probe and the first scan, from power-up (about 20 ms: the probe's few words and a 12.2 ms scan at
+  // 100 kHz): one scan period.
+  Duration firstDataBound() const { return config_.scanPeriod; }
   // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   static constexpr bool kFaultLineToo = false;
@@ -110,12 +124,16 @@ class Bq4050Device : public MonitorBase {
       view_.currentMa = m.currentMa;
       view_.stateOfCharge = m.rsocPercent;
       view_.hasStateOfCharge = true;
-      view_.deviceFault = m.deviceFault();
+      view_.deviceBlocks = blockedPaths(m);
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};
   }
-  // The readings cannot show the open wire: the gauge's words were refused (summarize() would clear it).
-  void afterSummarize() { view_.totals.openWire = sample_.last == Status::Implausible; }
+  // A refused word: the readings cannot show the open wire (summarize() found none in them), so say it here.
+  // An open line at the bottom or the top leaves one cell reading about 0 V, which the gauge accepts and
+  // summarize() itself flags (kCellFloorMv): that flag stays.
+  void afterSummarize() {
+    if (sample_.last == Status::Implausible) view_.totals.openWire = true;
+  }
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
   [[gnu::always_inline]] void recover() {
     setRunning(view_, false);
@@ -147,16 +165,23 @@ class Bq4050App {
     hal::I2cBus& bus;
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
+    hal::SystemControl& system;
   };
   static constexpr sched::TaskId kProtectionId = kProtectionTask;
   static constexpr sched::TaskId kPublisherId = kPublisherTask;
+  // One fault output opens both paths (FaultPinActuator): the current faults recover on time.
+  static constexpr const ProtectionConfig& kLimits = kSingleOutputLimits;
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
-      : plan_(*view_, *status_, kDefaultLimits.staleAfter),
+      : plan_(*view_, *status_, kLimits.staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, actuator_, config.scanPeriod),
+        settings_(kLimits),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
+                    config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
         monitor_(scheduler, io.bus, config, *sample_, *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.gauge.cells;
@@ -164,9 +189,11 @@ class Bq4050App {
     view_->boards = {&*sample_, 1};
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
@@ -176,6 +203,7 @@ class Bq4050App {
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }
+  const command::CommandTask<command::CanLink>& commands() const { return command_; }
 
  private:
   Zeroed<BoardSample> sample_;
@@ -183,8 +211,10 @@ class Bq4050App {
   Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   CanPublisher publisher_;
+  command::CommandTask<command::CanLink> command_;
   Bq4050Monitor monitor_;  // last: its gauge driver's buffers would push the rest far away
 };
 

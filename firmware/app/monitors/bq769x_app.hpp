@@ -1,10 +1,10 @@
 // The application of the BQ769x2-family images (lp-mspm0l1306-bq76952, lp-mspm0l1306-bq76907 and
 // lp-mspm0g3507-bq76952): one monitor device on I2C, FET control through it, SLCAN or CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan, on ALERT at once (the pin's interrupt posts to it), and
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan, on ALERT at once (the pin's interrupt posts to it), and
 //                  every scan period; FETs through the FetMailbox (fet_mailbox.hpp), which the monitor reads
-//   1 monitor      MonitorTask<Bq769xDevice> (monitor_task.hpp): probe, configuration (one CONFIG_UPDATE,
+//   2 monitor      MonitorTask<Bq769xDevice> (monitor_task.hpp): probe, configuration (one CONFIG_UPDATE,
 //                  only if the device differs), FET enable, the
 //                  run-time set-up (SLEEP disabled as TI's examples do: in SLEEP the device measures only
 //                  every few seconds; Alarm Enable from the table's Default Alarm Mask), a scan every scan
@@ -13,7 +13,15 @@
 // reloads SLEEP_EN from Power Config and loses the RAM configuration: settings, FET_EN, SLEEP_DISABLE): the
 // monitor goes through the set-up again at once, and then sends protection's last FET request again (a reset
 // device has forgotten it).
-//   0 publisher    SLCAN lines (L1306) or CAN frames (G3507)
+//   1 publisher    SLCAN lines (L1306) or CAN frames (G3507), and the command answers
+//   0 command      commands from the same line or bus (app/command): clear latched faults, hold paths off,
+//                  identify, read and write the limits, enter the bootloader
+// Balancing (app/balancing, built with FW_BQ769X_BALANCE): after each scan the monitor posts itself kBalance,
+// so the policy runs once protection has evaluated that scan; its mask goes to CB_ACTIVE_CELLS as a device
+// command behind any FET command and after the scan (startBalance: write and read request, three short
+// transactions), again every Variant::cbRefreshS, and is read back after the next scan (startBalanceCheck);
+// only a read-back that matches counts as balancing (BalancingStatus). A FET request that opens a path stops
+// balancing right after the FET command, without waiting for the policy.
 // ALERT is configured (the settings table: Default Alarm Mask, and on the BQ769x2 ALERT Pin Config:
 // active-low, open drain) to assert on the device's safety alerts, safety status and permanent-fail flags
 // only, so the line itself is a fault signal: its falling edge makes protection open the FETs without waiting
@@ -30,7 +38,12 @@
 #include <cstdint>
 #include <span>
 
+#include "app/balancing/balancing_config.hpp"
+#include "app/balancing/balancing_policy.hpp"
+#include "app/balancing/balancing_status.hpp"
+#include "app/command/commands.hpp"
 #include "app/config.hpp"
+#include "app/monitors/bq769x_settings.hpp"
 #include "app/monitors/fet_mailbox.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
@@ -46,6 +59,7 @@
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
 #include "hal/serial.hpp"
+#include "hal/system.hpp"
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
@@ -67,6 +81,12 @@ struct Bq769xAppConfig {
   // Driven high while protection holds a path off, low while both are on (the G3507 image's fault output,
   // PB26); nullptr: none. The FETs stay the device's to switch: this pin only tells the outside.
   hal::DigitalOut* faultIndicator = nullptr;
+  // The BQ769x2's CFETOFF / DFETOFF inputs where the board wires them to MCU pins (bsp/mspm0/README.md
+  // "Connections"; the settings table configures them active-high, that FET only): driven high while
+  // protection holds the charge / discharge path off, so a path opens without I2C, at once, also when the
+  // link has failed. nullptr: not wired (the BQ7690x has no such pins).
+  hal::DigitalOut* chargeOffPin = nullptr;
+  hal::DigitalOut* dischargeOffPin = nullptr;
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -78,11 +98,22 @@ struct Bq769xStats {
   uint8_t configWrites = 0;    // settings the last configuration actually wrote (0: the device matched)
 };
 
+// The balancing rules of a BQ769x2-family device (BalancingPolicy): at most kBq769x2BalanceCells /
+// kBq7690xBalanceCells at once (bq769x_settings.hpp says why), neighbours only on the BQ7690x (SLUAAP7
+// section 3; BQ769x2: E2E 1505209). Slot 0 of the view is the internal (die) temperature on both.
+constexpr BalancingRules balancingRules(const drivers::bq769x2::Variant& v) {
+  return {v.cbAdjacent ? kBq7690xBalanceCells : kBq769x2BalanceCells, v.cbAdjacent, 0x01};
+}
+
 // Fills `sample` and the pack-level fields of `view` from a validated measurement (bq769x_app.cpp).
 void toSample(const drivers::bq769x2::Bq769x2Measurement& m, uint8_t cells, BoardSample& sample,
               PackView& view);
 void toSample(const drivers::bq769x2::Bq7690xMeasurement& m, uint8_t cells, BoardSample& sample,
               PackView& view);
+// The paths the device's own protection holds off or is about to (its safety alert, status and permanent-fail
+// flags, bit by bit; bq769x_app.cpp): PackView::deviceBlocks.
+uint8_t deviceBlocks(const drivers::bq769x2::Bq769x2Measurement& m);
+uint8_t deviceBlocks(const drivers::bq769x2::Bq7690xMeasurement& m);
 // Temperature sensors each family reports: BQ769x2 internal, TS1, TS3; BQ7690x internal.
 constexpr uint8_t tempsOf(const drivers::bq769x2::Bq769x2Measurement*) {
   return 3;
@@ -102,53 +133,80 @@ class Bq769xDevice : public MonitorBase {
   template <class... DriverArgs>
   Bq769xDevice(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert,
                const Bq769xAppConfig& config, BoardSample& sample, PackView& view, FetMailbox& fet,
-               DriverArgs&&... driverArgs)
+               const PublishStatus& status, DriverArgs&&... driverArgs)
       : scheduler_(scheduler),
         alert_(alert),
         config_(config),
         sample_(sample),
         view_(view),
         fet_(fet),
+        status_(status),
+        policy_(kDefaultBalancing, balancingRules(variantOf(driverArgs...))),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
 
   const Driver& driver() const { return driver_; }
   const Bq769xStats& stats() const { return records_->stats; }
+  // The driver's variant from its constructor arguments: the BQ7690x front end takes one, the BQ769x2's is
+  // fixed.
+  static constexpr const drivers::bq769x2::Variant& variantOf() { return drivers::bq769x2::kBq76952; }
+  static constexpr const drivers::bq769x2::Variant& variantOf(const drivers::bq769x2::Variant& v) {
+    return v;
+  }
+  // Balancing: the command interface's entry (BalancingPolicy::setMode) and what is published.
+  BalancingPolicy& balancing() { return policy_; }
+  const BalancingStatus& balancingStatus() const { return records_->balance; }
 
  protected:
   static constexpr bool kCommands = true;
+  static constexpr bool kBalancing = drivers::bq769x2::kBalance;
   static constexpr sched::EventMask kPublisherScanDone = kPublisherScanDone_;
   enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // Probe, CONFIG_UPDATE, FET enable, run-time set-up and the first scan, from power-up: two scan periods
+  // (measured with every setting written: 130.5 ms on the BQ76952, 41 settings; 90.3 ms on the BQ76907, 12;
+  // tests/latency/startup_grace_test.cpp holds each image to it).
+  Duration firstDataBound() const { return config_.scanPeriod * 2; }
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   // ALERT goes to protection alone, which opens the FETs without waiting for a scan (the scan after the
   // command says which fault it was; the protection log holds the trip and when it was detected).
   static constexpr bool kFaultLineToo = false;
   void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
-  void scanTick() { flags_->fetBackoff = false; }  // a failed FET command is tried again once per scan period
+  // A failed FET or balancing command is tried again once per scan period.
+  void scanTick() { flags_->fetBackoff = flags_->balanceBackoff = false; }
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
-  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (ARCHITECTURE.md budgets) needs the
-  // command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task takes
-  // it (it runs right after protection, before the command goes out).
+  // was, and replaces one that gave way): ALERT to FET-off within 2 ms (README "Figures", the budget) needs
+  // the command not to wait for a whole scan (~2 ms). The fault indicator follows the request as this task
+  // takes it (it runs right after protection, before the command goes out).
   void commandPosted() {
     flags_->fetWanted = true;
     flags_->fetRequested = true;
     flags_->fet = fet_.command;
     if (kFaultIndicator && config_.faultIndicator != nullptr)
       config_.faultIndicator->set(flags_->fet != drivers::bq769x2::FetCommand::AllOn);
-    if (loop_->op == MonitorOp::Scan) driver_.yieldScan();
+    // A balancing command gives way as a scan does (at its next transaction).
+    if (loop_->op == MonitorOp::Scan || (kBalancing && flags_->balancing)) driver_.yieldScan();
     loop_->scanDue = true;
+    // A path opened: protection acts on a fault, so balancing stops right after the FET command.
+    if (kBalancing && flags_->fet != drivers::bq769x2::FetCommand::AllOn) stopBalancing();
   }
-  bool commandWaiting() const { return flags_->fetWanted && !flags_->fetBackoff; }
+  // The FET command first; balancing only once the scan due has run (it never delays one).
+  bool commandWaiting() const {
+    return (flags_->fetWanted && !flags_->fetBackoff) ||
+           (kBalancing && !loop_->scanDue && !flags_->balanceBackoff &&
+            (flags_->balanceWanted || flags_->checkWanted));
+  }
   Status startCommand() {
+    if (kBalancing && !(flags_->fetWanted && !flags_->fetBackoff)) return startBalancing();
     flags_->fetWanted = false;
     return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
+    if (kBalancing && flags_->balancing) return balancingFinished(result);
     if (result == Status::Ok) {
       if (kStats) ++records_->stats.fetCommands;
       scheduler_.post(kProtectionTask, ProtectionTask::kActuated);  // protection runs next (fet_mailbox.hpp)
@@ -179,6 +237,7 @@ class Bq769xDevice : public MonitorBase {
       records_->stats.configWrites = driver_.written();
     if (flags_->step == Step::RuntimeSetup) {
       flags_->step = Step::Probe;  // where the next set-up starts
+      forgetBalancing();           // set up again: a reset stopped whatever balanced
       setRunning(view_, true);
       loop_->scanDue = true;
       flags_->fetWanted =
@@ -189,7 +248,12 @@ class Bq769xDevice : public MonitorBase {
     flags_->step = static_cast<Step>(static_cast<uint8_t>(flags_->step) +
                                      (!kConfigUpdate && flags_->step == Step::Probe ? 2 : 1));
   }
-  Status startScan() { return driver_.startScan(records_->measurement); }
+  // A balancing read-back waits in the device's subcommand window: the scan leaves the accumulated charge out
+  // then (the device's counter runs on; the next scan's charge includes it).
+  Status startScan() {
+    const bool readBackWaits = kBalancing && (flags_->checkPending || flags_->checkWanted);
+    return driver_.startScan(records_->measurement, !readBackWaits);
+  }
   ScanVerdict scanFinished(Status result, Instant) {
     if (result == Status::Aborted)
       return {.measured = false};  // gave way to a FET command: not a measurement
@@ -204,15 +268,108 @@ class Bq769xDevice : public MonitorBase {
     }
     return {.newData = result == Status::Ok, .failed = result != Status::Ok};
   }
-  void afterSummarize() {}
+  // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
+  void afterSummarize() {
+    if constexpr (kBalancing) scheduler_.post(kMonitorTask, monitor_event::kBalance);
+  }
   // The device stopped answering or keeps failing: go through probe and configuration again, starting with a
   // probe at the next scan period.
   void recover() { retryLater(config_.scanPeriod); }
+
+  // Balancing (kBalancing). Once per scan: the time of what stands confirmed, the policy, and what the device
+  // needs: the mask when it differs from the one written or its refresh is due, the read-back of a write.
+  void balanceCheck() {
+    auto& r = *records_;
+    const Instant now = scheduler_.now();
+    // A write's read-back waits for the scan after it: the result is long ready (BQ7690x: 2 ms) and the read
+    // costs no wait.
+    flags_->checkWanted = flags_->checkWanted || flags_->checkPending;
+    flags_->checkPending = false;
+    r.balance.account(1, elapsed(r.lastCheck, now));
+    r.lastCheck = now;
+    policy_.decide(view_, status_.active, now, {&r.want, 1});
+    r.balance.setMode(policy_.mode());
+    r.balance.state = policy_.state();
+    if (r.want != r.written || (r.written != 0 && isDue(r.refreshAt, now))) flags_->balanceWanted = true;
+  }
+  // A write (with its read request) when one is wanted, else the read-back of the last one.
+  Status startBalancing() {
+    auto& r = *records_;
+    flags_->balancing = true;
+    flags_->checking = !flags_->balanceWanted;
+    Status started;
+    if (flags_->checking) {
+      flags_->checkWanted = false;
+      started = driver_.startBalanceCheck();
+    } else {
+      // A new write: the read-back of an earlier one is moot (and this one's waits for the next scan, its
+      // result not being ready before: an immediate read finds no echo and wrote again).
+      flags_->balanceWanted = flags_->checkWanted = false;
+      r.sending = r.want;
+      started = driver_.startBalance(r.sending);
+    }
+    if (started != Status::Ok) {  // not started (the rules already hold the mask): again next scan period
+      flags_->balancing = false;
+      flags_->balanceWanted = flags_->balanceBackoff = true;
+    }
+    return started;
+  }
+  void balancingFinished(Status result) {
+    auto& r = *records_;
+    flags_->balancing = false;
+    const Instant now = scheduler_.now();
+    const bool check = flags_->checking;
+    flags_->checking = false;
+    if (!check) {
+      if (result == Status::Ok) {
+        // Written: balancing runs (or stopped) from now; its read-back follows the next scan.
+        r.written = r.sending;
+        r.refreshAt = now + s(driver_.variant().cbRefreshS);
+        flags_->checkPending = true;
+      } else {
+        // Gave way to a FET command (Aborted), or the bus failed: write again (the next period for a
+        // failure).
+        flags_->balanceWanted = true;
+        flags_->balanceBackoff = result != Status::Aborted;
+        if (result != Status::Aborted) r.balance.cells[0] = 0;  // not known any more
+      }
+      return;
+    }
+    if (result == Status::Ok || result == Status::VerifyFailed) {
+      r.balance.cells[0] = driver_.balanced();
+      if (result == Status::VerifyFailed) {
+        // The device did not take it (a rule, its temperature limits, CB_NO_CMD): nothing asked for a while.
+        // The policy asks for nothing during its back-off: only what the device kept is stopped (writing
+        // the refused mask again at once doubled every refused write).
+        policy_.refused(now);
+        r.want = 0;
+        r.written = driver_.balanced();
+        flags_->balanceWanted = r.written != 0;
+      }
+      return;
+    }
+    // Another subcommand ran since the write (a FET command): write again; the bus failed: next period.
+    r.balance.cells[0] = 0;
+    flags_->balanceWanted = true;
+    flags_->balanceBackoff = result != Status::EchoMismatch;
+  }
+  // A path opened: nothing balances from the next command on.
+  void stopBalancing() {
+    records_->want = 0;
+    if (records_->written != 0) flags_->balanceWanted = true;
+  }
+  void forgetBalancing() {
+    if constexpr (!kBalancing) return;
+    records_->written = 0;
+    records_->balance.cells[0] = 0;
+    flags_->balanceWanted = flags_->checkWanted = flags_->checkPending = flags_->checking = false;
+  }
 
   // Starts over from the probe after `wait` (the device may have reset or be absent; a reset loses its RAM
   // configuration).
   void retryLater(Duration wait) {
     setRunning(view_, false);
+    forgetBalancing();
     flags_->step = Step::Probe;
     loop_->retryDue = false;
     scheduler_.startTimer(records_->retryTimer, kMonitorTask, monitor_event::kRetry, wait);
@@ -227,12 +384,24 @@ class Bq769xDevice : public MonitorBase {
     bool fetRequested;  // protection has made a request (fet is its latest)
     bool fetBackoff;
     drivers::bq769x2::FetCommand fet;  // meaningful while fetWanted
+    bool balancing;                    // the command in flight is a balancing one
+    bool checking;                     // ... the read-back (set when a write ends, until its read-back ends)
+    bool balanceWanted;                // the mask must be written (changed, refresh due, or written again)
+    bool checkPending;                 // a write ended: its read-back is due after the next scan
+    bool checkWanted;                  // the last write's read-back is due
+    bool balanceBackoff;               // a balancing command failed on the bus: again next scan period
   };
   struct Records {
     Bq769xStats stats;
     sched::Timer scanTimer;
     sched::Timer retryTimer;
     drivers::bq769x2::Identity identity;
+    uint16_t want;     // the policy's mask
+    uint16_t sending;  // the mask of the write in flight
+    uint16_t written;  // the last mask the device took a write of (its read-back decides what is published)
+    Instant refreshAt;
+    Instant lastCheck;
+    BalancingStatus balance;
     Measurement measurement;
   };
   Zeroed<Flags> flags_;
@@ -242,6 +411,8 @@ class Bq769xDevice : public MonitorBase {
   BoardSample& sample_;
   PackView& view_;
   FetMailbox& fet_;
+  const PublishStatus& status_;
+  BalancingPolicy policy_;
   Zeroed<Records> records_;
   Driver driver_;
 };
@@ -257,8 +428,8 @@ inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::Ca
   return CanPublisher(s, id, out, plan, CanLayout::Native, ms(100), 10);
 }
 
-// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold) and the
-// publisher.
+// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold), the
+// publisher and the command task. `output` is a CanBus (G3507) or a SerialPort (L1306: SLCAN out and in).
 template <class Driver, class Measurement, class Publisher>
 class Bq769xApp {
  public:
@@ -267,23 +438,31 @@ class Bq769xApp {
 
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
-            const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
+            hal::SystemControl& system, const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
       : plan_(*view_, *addressOf(status_), kDefaultLimits.staleAfter),  // status_ is built after plan_
-        fet_(scheduler),
-        protection_(scheduler, kProtectionId, kDefaultLimits, *view_, *status_, fet_, config.scanPeriod),
+        fet_(scheduler, config.chargeOffPin, config.dischargeOffPin),
+        settings_(kDefaultLimits),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, fet_, config.scanPeriod),
         publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_,
+        command_({scheduler, protection_, settings_, system, command::kNode}, output, publisher_.outbox(),
+                 system),
+        monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_, *status_,
                  static_cast<DriverArgs&&>(driverArgs)...) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.cells;
     view_->tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
+    view_->hasFetStatus = true;  // every scan reads the FETs' state back
     view_->boards = {&*sample_, 1};
+    if constexpr (drivers::bq769x2::kBalance) view_->balancing = &monitor_.balancingStatus();
   }
 
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    if constexpr (drivers::bq769x2::kBalance) command_.setBalancing(monitor_.balancing(), *view_);
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
@@ -291,9 +470,14 @@ class Bq769xApp {
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
   const ProtectionTask& protection() const { return protection_; }
+  const command::LimitSettings& settings() const { return settings_; }
+  using Commands = command::CommandTask<command::LinkFor<Publisher>>;
+  const Commands& commands() const { return command_; }
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }
   const Publisher& publisher() const { return publisher_; }
+  // The command interface's balancing entry (BalancingPolicy::setMode).
+  BalancingPolicy& balancing() { return monitor_.balancing(); }
 
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
@@ -302,8 +486,10 @@ class Bq769xApp {
   FramePlan plan_;
   Zeroed<PublishStatus> status_;
   FetMailbox fet_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   Publisher publisher_;
+  Commands command_;
   Monitor monitor_;
   Zeroed<BoardSample> sample_;
 };

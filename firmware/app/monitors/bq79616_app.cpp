@@ -1,6 +1,7 @@
 #include "app/monitors/bq79616_app.hpp"
 
 #include "app/protection/default_limits.hpp"
+#include "regmap/bq79616.hpp"
 
 namespace fw::app {
 
@@ -13,6 +14,7 @@ inline void Bq79616Device::setupFinished(Status result) {
   const bool wasRecovery = flags_->broughtUp;
   if (result == Status::Ok || (result == Status::CommFault && driver_.devices() > 0)) {
     setRunning(view_, true);
+    forgetBalancing();
     flags_->broughtUp = true;
     loop_->scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
@@ -58,12 +60,149 @@ inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
     s->takenAt = r->takenAt;
     s->valid = anyValid = true;
   }
-  view_.deviceFault = deviceFault;
+  // A BQ79616 fault has no direction (its image has no FETs): both paths, which the fault output stands for.
+  view_.deviceBlocks = deviceFault ? static_cast<uint8_t>(Action::AllOff) : 0;
   // Every device in use validated (all of them, or all a degraded chain still has): whatever failed before is
   // over, and the next recovery may start at the lightest rung again.
   if (driver_.devices() != 0 && records_->summary.validDevices == driver_.devices())
     flags_->from = b616::RecoveryLevel{};
   return {.newData = anyValid, .failed = result != Status::Ok};
+}
+
+// --- balancing ------------------------------------------------------------------------------------------
+
+// After a bring-up or recovery: a WAKE reset every balancing register, a lighter rung did not; whatever was
+// written is forgotten, and if anything was, one broadcast stop makes sure nothing balances that the policy
+// does not want.
+void Bq79616Device::forgetBalancing() {
+  auto& f = *flags_;
+  bool any = false;
+  for (uint8_t d = 0; d < config_.chain.devices; ++d) {
+    any = any || store_.balanceWritten[d] != 0;
+    store_.balanceWritten[d] = 0;
+    store_.balancing.cells[d] = 0;
+  }
+  f.stopWanted = any;
+  f.dirty = 0;
+}
+
+// Once per scan, after protection saw it: the time of what stands confirmed, the policy's masks, and the work
+// for the chain.
+inline void Bq79616Device::balanceCheck() {
+  auto& f = *flags_;
+  auto& r = *records_;
+  BalancingStatus& st = store_.balancing;
+  const Instant now = scheduler_.now();
+  const uint8_t devices = config_.chain.devices;
+  st.account(devices, elapsed(r.lastCheck, now));
+  r.lastCheck = now;
+  policy_.decide(view_, status_.active, now, {store_.balanceWant, devices});
+  st.setMode(policy_.mode());
+  st.state = policy_.state();
+  f.budget = kBalanceAppliesPerScan;
+  const bool refresh = isDue(r.refreshAt, now);
+  if (refresh) r.refreshAt = now + s(10);  // a third of the 30 s the timers run (Balancer::kTimerCode)
+  bool wanted = false;
+  bool standing = false;  // written or confirmed somewhere
+  for (uint8_t d = 0; d < devices; ++d) {
+    const uint16_t want = store_.balanceWant[d];
+    const uint16_t written = store_.balanceWritten[d];
+    wanted = wanted || want != 0;
+    standing = standing || written != 0 || st.cells[d] != 0;
+    if (want != written || (refresh && written != 0)) f.dirty |= uint64_t{1} << d;
+  }
+  if (!wanted && standing) {
+    // Nothing balances from now on: one broadcast stop instead of a write per device.
+    f.stopWanted = true;
+    f.dirty = 0;
+  }
+  if (standing && isDue(r.statusAt, now)) {
+    f.statusWanted = true;
+    r.statusAt = now + s(1);
+  }
+}
+
+inline Status Bq79616Device::startCommand() {
+  auto& f = *flags_;
+  Status started;
+  if (f.stopWanted) {
+    f.op = BalanceOp::Stop;
+    started = balancer_.startStopAll();
+  } else if (f.dirty != 0 && f.budget != 0) {
+    uint8_t d = 0;
+    while (((f.dirty >> d) & 1U) == 0)
+      ++d;
+    f.op = BalanceOp::Apply;
+    f.device = d;
+    f.sending = store_.balanceWant[d];
+    --f.budget;
+    started = balancer_.startApply(d, f.sending);
+    if (started == Status::InvalidArgument) f.dirty &= ~(uint64_t{1} << d);  // the policy keeps the rules
+  } else {
+    f.op = BalanceOp::Status;
+    f.statusWanted = false;
+    started = balancer_.startStatus(store_.balStat);
+  }
+  if (started != Status::Ok) {
+    f.op = BalanceOp::None;
+    f.budget = 0;  // the chain refused: again next scan period
+  }
+  return started;
+}
+
+// A frame of the balancing operation ended: the next one goes out, or the operation's result is taken.
+inline void Bq79616Device::commandFinished(Status result) {
+  if (balancer_.step(result)) {
+    loop_->op = MonitorOp::Command;  // the next frame is on the bus: its completion comes back here
+    return;
+  }
+  auto& f = *flags_;
+  const BalanceOp op = f.op;
+  f.op = BalanceOp::None;
+  result = balancer_.result();
+  if (result != Status::Ok) {
+    // The chain failed (it recovers on its own): what the devices do is not known; again next period.
+    f.budget = 0;
+    if (op == BalanceOp::Status) {
+      for (uint8_t d = 0; d < config_.chain.devices; ++d)
+        store_.balancing.cells[d] = 0;
+    }
+    return;
+  }
+  switch (op) {
+    case BalanceOp::Stop:
+      f.stopWanted = false;
+      for (uint8_t d = 0; d < config_.chain.devices; ++d)
+        store_.balanceWritten[d] = 0;
+      f.statusWanted = true;  // confirm it
+      break;
+    case BalanceOp::Apply:
+      store_.balanceWritten[f.device] = f.sending;
+      f.dirty &= ~(uint64_t{1} << f.device);
+      if (f.dirty == 0) f.statusWanted = true;  // confirm what started
+      break;
+    case BalanceOp::Status:
+      balanceStatusRead();
+      break;
+    case BalanceOp::None:
+      break;
+  }
+}
+
+// BAL_STAT of every device: a device balances its written cells while it reports CB_RUN and no pause; a
+// device that stopped (timers out, ABORTFLT) has nothing written any more; INVALID_CBCONF or ABORTFLT make
+// the policy back off (SLUSE81E BAL_STAT).
+void Bq79616Device::balanceStatusRead() {
+  using Stat = ::fw::regmap::bq79616::bits::BalStat;
+  bool refused = false;
+  for (uint8_t d = 0; d < config_.chain.devices; ++d) {
+    const auto st = Stat::fromRaw(store_.balStat[d]);
+    const bool running = st.cb_run() && !st.cb_inpause();
+    store_.balancing.cells[d] = running ? store_.balanceWritten[d] : 0;
+    if (!st.cb_run()) store_.balanceWritten[d] = 0;
+    refused = refused || st.invalid_cbconf() || st.abortflt();
+  }
+  if (refused) policy_.refused(scheduler_.now());
 }
 
 // The image's monitor task: its code (the loop with the chain's part folded in) is compiled here once.

@@ -1,8 +1,8 @@
 // The application of the lp-mspm0g3507-bq79616 image: a BQ79616 daisy chain on a UART, CAN out.
 //
-// Tasks (priority = TaskId, higher first):
-//   2 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
-//   1 monitor      MonitorTask<Bq79616Device> (monitor_task.hpp), the chain: bring-up, a scan every
+// Tasks (priority = TaskId, higher first; app/tasks.hpp):
+//   3 protection   firmware limits on every new scan, on nFAULT at once, and every scan period; fault output
+//   2 monitor      MonitorTask<Bq79616Device> (monitor_task.hpp), the chain: bring-up, a scan every
 //   scanPeriod (at once on an nFAULT edge), recovery after
 //                  three failed scans in a row: at once if a scan validated since the last recovery,
 //                  otherwise recoveryInterval later. Recovery climbs the driver's ladder (chain.hpp) from
@@ -13,7 +13,16 @@
 //                  bring-up. A bring-up or recovery that found no chain at all is tried again
 //                  retryAfterFailure after it ended (the link is down, the bus idle): a healed link is then
 //                  up again within about one failed attempt plus one bring-up.
-//   0 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan
+//   1 publisher    CAN frames: native cycles every 100 ms / 1 s, or seed 001's layout after each scan; the
+//                  command answers
+//   0 command      commands from CAN (app/command)
+// Balancing (app/balancing; the device rules: drivers/bq79616/balancer.hpp): after each scan, once protection
+// has seen it (kBalance), the policy gives one mask per device. Devices whose mask changed, and every 10 s
+// the ones balancing (their timers run 30 s), get their timers and BAL_GO, at most kBalanceAppliesPerScan
+// devices a scan period and only after the scan (balancing never delays one); when nothing is wanted any more
+// one broadcast stops the whole chain (three frames). BAL_STAT of every device is read once a second while
+// anything balances: a device counts as balancing (BalancingStatus) only while it reports CB_RUN, not paused;
+// INVALID_CBCONF or ABORTFLT make the policy back off.
 // The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
 // The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
 // which the caller provides as a zero-initialised static object: no start-up code fills them.
@@ -21,6 +30,10 @@
 
 #include <cstdint>
 
+#include "app/balancing/balancing_config.hpp"
+#include "app/balancing/balancing_policy.hpp"
+#include "app/balancing/balancing_status.hpp"
+#include "app/command/commands.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -28,9 +41,11 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "core/zeroed.hpp"
+#include "drivers/bq79616/balancer.hpp"
 #include "drivers/bq79616/chain.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
+#include "hal/system.hpp"
 #include "hal/uart.hpp"
 #include "sched/scheduler.hpp"
 
@@ -39,7 +54,7 @@ namespace fw::app {
 struct Bq79616AppConfig {
   drivers::bq79616::ChainConfig chain{};
   Duration scanPeriod = ms(100);
-  const ProtectionConfig* limits = nullptr;  // null: kDefaultLimits (default_limits.hpp)
+  const ProtectionConfig* limits = nullptr;  // null: kSingleOutputLimits (default_limits.hpp)
   CanLayout layout = CanLayout::Native;
   Duration recoveryInterval = s(1);      // wait before another recovery while scans keep failing
   Duration retryAfterFailure = ms(100);  // after a bring-up or recovery that brought no chain back
@@ -49,7 +64,19 @@ struct Bq79616Storage {
   BoardSample samples[drivers::bq79616::kMaxDevices];
   int16_t raw[drivers::bq79616::kMaxDevices][drivers::bq79616::kCellsPerDevice];
   drivers::bq79616::DeviceRecord records[drivers::bq79616::kMaxDevices];
+  // Balancing, per device: the policy's mask, the mask last written (timers and BAL_GO), BAL_STAT as read.
+  uint16_t balanceWant[drivers::bq79616::kMaxDevices];
+  uint16_t balanceWritten[drivers::bq79616::kMaxDevices];
+  uint8_t balStat[drivers::bq79616::kMaxDevices];
+  BalancingStatus balancing;
 };
+
+// The BQ79616's balancing rules (BalancingPolicy): manual control turns on at most 8 channels and, with
+// DEV_CONF[NO_ADJ_CB] (its default), no neighbours (SLUSF21 8.3.3.1.2, SLUSDT5B); both view temperature slots
+// are die temperatures (DIETEMP1/2).
+inline constexpr BalancingRules kBq79616BalancingRules{drivers::bq79616::Balancer::kMaxChannels, false, 0x03};
+// Devices whose timers one scan period writes (3 frames each, about 0.4 ms at 1 Mbaud).
+inline constexpr uint8_t kBalanceAppliesPerScan = 8;
 
 struct MonitorStats {
   uint32_t scans = 0;         // scans completed
@@ -67,24 +94,39 @@ class Bq79616Device : public MonitorBase {
  public:
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616Device(sched::Scheduler& scheduler, hal::Uart& uart, hal::EdgeInput& nfault,
-                const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view)
+                const Bq79616AppConfig& config, Bq79616Storage& storage, PackView& view,
+                const PublishStatus& status)
       : scheduler_(scheduler),
         config_(config),
         nfault_(nfault),
         store_(storage),
         view_(view),
+        status_(status),
+        policy_(kDefaultBalancing, kBq79616BalancingRules),
         driver_(uart, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
-                config.chain) {}
+                config.chain),
+        balancer_(driver_) {}
 
   const drivers::bq79616::Chain& chain() const { return driver_; }
   const MonitorStats& stats() const { return records_->stats; }
+  BalancingPolicy& balancing() { return policy_; }  // the command interface's entry
 
  protected:
-  static constexpr bool kCommands = false;
+  // Commands are the balancing frames (the chain has no FET path: protection drives the fault output itself).
+  static constexpr bool kCommands = true;
+  static constexpr bool kBalancing = true;
   static constexpr sched::EventMask kPublisherScanDone = CanPublisher::kScanDone;
 
   Duration scanPeriod() const { return config_.scanPeriod; }
+  // The first bring-up and its first scan, from power-up: 120 ms + 15 ms per device. The chain driver waits
+  // 69 ms whatever the length (two WAKE pings with tSU(WAKE_SHUT), the 38 ms LPF settling, 4.4 ms after
+  // addressing) and 11.6 ms per address slot, one more than the devices (WAKE tone and ACTIVE entry,
+  // SLUUC56B), plus its frames (about 1.8 ms per device at 1 Mbaud) and the first scan: computed 81 ms +
+  // 13.4 ms per device before the scan. First valid data in bms-sim at 105 / 120 / 320 / 393 / 1023 ms for
+  // 1 / 2 / 16 / 21 / 64 devices, within 135 / 150 / 360 / 435 / 1080 ms. Longer than staleAfter from 13
+  // devices on: without this grace a chain of 21 or more tripped stale_data at every power-up.
+  Duration firstDataBound() const { return ms(120) + ms(15) * config_.chain.devices; }
   // The events this task gave the chain (its DriverContext, and attachFaultLine()): driver_.events(), as
   // constants.
   static constexpr sched::EventMask driverEvents() {
@@ -109,8 +151,15 @@ class Bq79616Device : public MonitorBase {
   void scanTick() {
     if (loop_->op == MonitorOp::Scan) ++records_->stats.scanOverruns;
   }
-  bool commandWaiting() const { return false; }
-  Status startCommand() { return Status::Busy; }
+  void commandPosted() {}  // nothing posts kCommand to this task
+  // Balancing work (bq79616_app.cpp), only after the scan due has run.
+  bool commandWaiting() const {
+    const auto& f = *flags_;
+    return !loop_->scanDue && (f.stopWanted || (f.dirty != 0 && f.budget != 0) || f.statusWanted);
+  }
+  [[gnu::always_inline]] inline Status startCommand();                // bq79616_app.cpp
+  [[gnu::always_inline]] inline void commandFinished(Status result);  // bq79616_app.cpp
+  [[gnu::always_inline]] inline void balanceCheck();                  // bq79616_app.cpp
 
   // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
   [[gnu::always_inline]] Status startSetup() {
@@ -128,7 +177,8 @@ class Bq79616Device : public MonitorBase {
     return s;
   }
   [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
-  void afterSummarize() {}
+  // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
+  void afterSummarize() { scheduler_.post(kMonitorTask, monitor_event::kBalance); }
   // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
   // otherwise at most once per recoveryInterval.
   [[gnu::always_inline]] void recover() {
@@ -141,17 +191,30 @@ class Bq79616Device : public MonitorBase {
  private:
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first, the records after the references, the chain driver with its state last.
-  struct alignas(4) Flags {  // one word: zeroed with one store, not a memset call
-    bool broughtUp;          // the first bring-up succeeded: set-up is the recovery ladder from now on
-    bool early;              // the next scan is started by the fault line
+  enum class BalanceOp : uint8_t { None, Stop, Apply, Status };
+  struct Flags {
+    bool broughtUp;  // the first bring-up succeeded: set-up is the recovery ladder from now on
+    bool early;      // the next scan is started by the fault line
     drivers::bq79616::RecoveryLevel from;  // the rung the next recovery starts at
+    BalanceOp op;                          // the balancing operation in flight
+    bool stopWanted;                       // one broadcast stop of the whole chain
+    bool statusWanted;                     // BAL_STAT of every device
+    uint8_t budget;                        // device writes left this scan period
+    uint8_t device;                        // the device of the write in flight
+    uint16_t sending;                      // ... and its mask
+    uint64_t dirty;                        // devices whose timers are to be written (bit d = device d)
   };
   struct Records {
     MonitorStats stats;
     drivers::bq79616::ScanSummary summary;
     sched::Timer scanTimer;
     sched::Timer retryTimer;
+    Instant lastCheck;
+    Instant refreshAt;
+    Instant statusAt;
   };
+  void forgetBalancing();
+  void balanceStatusRead();
   Zeroed<Flags> flags_;
 
  protected:
@@ -160,8 +223,11 @@ class Bq79616Device : public MonitorBase {
   hal::EdgeInput& nfault_;
   Bq79616Storage& store_;
   PackView& view_;
+  const PublishStatus& status_;
+  BalancingPolicy policy_;
   Zeroed<Records> records_;
   drivers::bq79616::Chain driver_;
+  drivers::bq79616::Balancer balancer_;  // after the chain it drives
 };
 using Bq79616Monitor = MonitorTask<Bq79616Device>;
 extern template class MonitorTask<Bq79616Device>;  // bq79616_app.cpp
@@ -173,6 +239,7 @@ class Bq79616App {
     hal::EdgeInput& nfault;
     hal::CanBus& can;
     hal::DigitalOut& faultOut;
+    hal::SystemControl& system;
   };
   static constexpr sched::TaskId kProtectionId = kProtectionTask;
   static constexpr sched::TaskId kPublisherId = kPublisherTask;
@@ -183,41 +250,52 @@ class Bq79616App {
              Bq79616Storage& storage)
       : plan_(*view_, *status_, limitsOf(config).staleAfter),
         actuator_(io.faultOut, true),
-        protection_(scheduler, kProtectionId, limitsOf(config), *view_, *status_, actuator_,
+        settings_(limitsOf(config)),
+        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
         publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
-        monitor_(scheduler, io.uart, io.nfault, config, storage, *view_) {
+        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
+                 io.system),
+        monitor_(scheduler, io.uart, io.nfault, config, storage, *view_, *status_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.chain.activeCells;
     view_->tempsPerBoard = 2;
     view_->boards = {storage.samples, config.chain.devices};
     view_->rawCells = &storage.raw[0][0];
+    view_->balancing = &storage.balancing;
   }
   [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+    protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();
     publisher_.start();
+    command_.setBalancing(monitor_.balancing(), *view_);
+    command_.start();
   }
 
   const PackView& pack() const { return *view_; }
   const ProtectionTask& protection() const { return protection_; }
   const CanPublisher& publisher() const { return publisher_; }
+  const command::CommandTask<command::CanLink>& commands() const { return command_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
   const PublishStatus& status() const { return *status_; }
+  BalancingPolicy& balancing() { return monitor_.balancing(); }  // the command interface's entry
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
-    return config.limits != nullptr ? *config.limits : kDefaultLimits;
+    return config.limits != nullptr ? *config.limits : kSingleOutputLimits;  // one fault output
   }
 
   Zeroed<PackView> view_;
   Zeroed<PublishStatus> status_;
   FramePlan plan_;
   FaultPinActuator actuator_;
+  command::LimitSettings settings_;
   ProtectionTask protection_;
   CanPublisher publisher_;
+  command::CommandTask<command::CanLink> command_;
   Bq79616Monitor monitor_;  // last: its chain driver's buffers would push everything after it far away
 };
 

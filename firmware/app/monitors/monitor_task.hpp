@@ -11,8 +11,9 @@
 //                waiting device command first, else a scan when one is due.
 //   finished()   set-up and command results go to the device; a scan's result becomes samples and view
 //                fields (the device), then the statistics, the failure count (kFailuresBeforeRecovery failed
-//                scans in a row: the device's recovery), summarize(), kNewData or kScanFailed to protection
-//                and the device's scan-done event to the publisher.
+//                scans in a row: the device's recovery), summarize(), kNewData and/or kScanFailed to
+//                protection (both when some boards validated and others failed) and the device's scan-done
+//                event to the publisher.
 // The fault line (ALERT/nFAULT) is wired to the protection task itself; the monitor gets it too only where it
 // needs it (BQ79616: Scheduler::notifier(a, ea, b, eb)). Protection and the monitor hold no reference to each
 // other: the monitor writes the PackView (PackView::monitorRunning, the loop's own running flag, also gates
@@ -26,7 +27,8 @@
 //                                      the publisher's scan-done event (0: none)
 //   kFaultLineToo                      the monitor gets the fault line as well (then faultLine())
 //   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), attachFaultLine(),
-//   scanTick()
+//   scanTick(), firstDataBound() (from power-up: the documented bound of the first bring-up and its first
+//   scan; PackView::inStartupGrace() until then or the first scan's result)
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
@@ -40,6 +42,7 @@
 
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
+#include "app/tasks.hpp"
 #include "core/stats.hpp"
 #include "core/zeroed.hpp"
 #include "drivers/operation.hpp"
@@ -47,16 +50,14 @@
 
 namespace fw::app {
 
-// The tasks of every image, by priority (TaskId, higher runs first).
-inline constexpr sched::TaskId kPublisherTask = 0;
-inline constexpr sched::TaskId kMonitorTask = 1;
-inline constexpr sched::TaskId kProtectionTask = 2;
-
 // The monitor task's events: the driver's two first (the DriverContext the device gives its driver).
 namespace monitor_event {
 inline constexpr sched::EventMask kBus = 0x1, kTimer = 0x2, kFaultLine = 0x4, kScanTick = 0x8, kRetry = 0x10,
                                   kCommand = 0x20;
-}
+// Balancing: the device posts it to itself after each scan, so the balancing policy runs once protection (the
+// higher priority) has evaluated that scan (Device::balanceCheck()).
+inline constexpr sched::EventMask kBalance = 0x40;
+}  // namespace monitor_event
 
 // Scans that fail in a row before the device's recovery (every device: three).
 inline constexpr uint8_t kFailuresBeforeRecovery = 3;
@@ -99,11 +100,24 @@ class MonitorTask final : public Device, public sched::Task {
 
   bool running() const { return this->view_.monitorRunning; }
 
+  // Whether the device balances cells (its kBalancing, and then balanceCheck()); one without it does not.
+  static constexpr bool balances() {
+    if constexpr (requires { Device::kBalancing; }) {
+      return Device::kBalancing;
+    } else {
+      return false;
+    }
+  }
+
   [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
+    this->view_.startupGrace = true;     // until the first scan's result, or firstDataBound()
+    this->view_.firstDataDue = Instant{this->firstDataBound().us};
     this->scheduler_.addTask(kId, *this, {}, true);
     this->attachFaultLine();
-    this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick, this->scanPeriod(),
-                                this->scanPeriod());
+    // Scans start on the clock's scan-period grid, whatever start-up took: the host build and the image on
+    // the twin (which boots for 0.5 ms first) then scan at the same instants and see a scenario the same way.
+    this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick,
+                                untilGrid(this->scheduler_.now(), this->scanPeriod()), this->scanPeriod());
     this->scheduler_.post(kId, monitor_event::kRetry);
   }
 
@@ -122,6 +136,9 @@ class MonitorTask final : public Device, public sched::Task {
         this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
       }
       if ((events & kRetry) != 0) this->loop_->retryDue = true;
+      if constexpr (balances()) {
+        if ((events & kBalance) != 0) this->balanceCheck();
+      }
     }
     if ((events & driverEvents) != 0 && this->driver_.onEvent(events) == drivers::Progress::Done) finished();
     if constexpr (Device::kFaultLineToo) {  // after finished(): a set-up that just ended counts as running
@@ -137,9 +154,11 @@ class MonitorTask final : public Device, public sched::Task {
     MonitorOp op = MonitorOp::Setup;
     if (!this->view_.monitorRunning) {
       if (loop.scanDue) {
-        loop.scanDue =
-            false;  // nothing measured until set-up is done: protection counts the period as failed
-        this->scheduler_.post(kProtectionTask, ProtectionTask::kScanFailed);
+        // Nothing measured until set-up is done: protection counts the period as failed, except while the
+        // first bring-up runs within its bound.
+        loop.scanDue = false;
+        if (!this->view_.inStartupGrace(this->scheduler_.now()))
+          this->scheduler_.post(kProtectionTask, ProtectionTask::kScanFailed);
       }
       if (!loop.retryDue) return;
       s = this->startSetup();
@@ -180,8 +199,12 @@ class MonitorTask final : public Device, public sched::Task {
     }
     summarize(this->view_, now);
     this->afterSummarize();
+    this->view_.startupGrace = false;  // the first result is in: protection judges the data from now on
+    // A scan that validated some boards and failed on others is both: new data, and a failed attempt
+    // (protection's failure rate counts it).
     this->scheduler_.post(kProtectionTask,
-                          v.newData ? ProtectionTask::kNewData : ProtectionTask::kScanFailed);
+                          (v.newData ? ProtectionTask::kNewData : 0) |
+                              (!v.newData || (v.failed && v.counts) ? ProtectionTask::kScanFailed : 0));
     if constexpr (Device::kPublisherScanDone != 0)
       this->scheduler_.post(kPublisherTask, Device::kPublisherScanDone);
   }

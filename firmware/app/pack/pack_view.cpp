@@ -27,7 +27,9 @@ namespace {
 
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
   uint32_t open = 0;
-  for (uint32_t pair = 3; cells-- > 1; pair <<= 1, ++cellMv) {
+  for (uint32_t pair = 3; cells-- != 0; pair <<= 1, ++cellMv) {
+    if (cellMv[0] < kCellFloorMv) open |= pair & (pair >> 1);  // this cell alone (bit 0 of the pair)
+    if (cells == 0) break;                                     // the last cell has no neighbour above
     const int32_t step = cellMv[1] - cellMv[0];
     if (step > kOpenWireStepMv || step < -kOpenWireStepMv) open |= pair;
   }

@@ -34,19 +34,26 @@ enum class BoardStatus : uint8_t { Valid = 0, Stale = 1, CommFault = 2, NotPrese
 // A temperature slot of a Valid board that holds no reading (the sensor's part of the scan failed).
 inline constexpr int16_t kNoReading = INT16_MIN;
 
-// Open sense wire, seen in the readings alone (the same rule for every monitor): when the tap between two
-// cells is disconnected, its node discharges and the two differential measurements beside it go one over,
-// one under (SLUUCG7 / SLUUBY2B, Settings:Cell Open-Wire:Check Time: "an over-voltage or under-voltage event
-// will be triggered on that cell or an adjacent cell"; SLUSCM3K 8.3.2.3: OV and UV usually come before the
-// open-wire fault). In bms-sim one reads about nothing and the other both cells, or its input's full scale
-// (BQ769x2: 7 400 and 0 mV for two 3.7 V cells; BQ79616: 6 250 and 0 mV). Two working cells never differ by
-// more than kOpenWireStepMv: a cell reads at least 0 V and at most 4.5 V, above every Li-ion charge limit
-// (the firmware's cell_ov trips at 4.25 V). So two neighbours further apart are an open wire between them,
-// and neither reading is a cell voltage. A tap at either end of the stack, a node that still holds its
-// charge, or a wire whose neighbours do not give this pattern, is not caught here (the cell limits still act
-// on such readings; regmaps/README.md lists what is open).
+// Open sense wire, seen in the readings alone (the same rules for every monitor, at every tap). When the tap
+// between two cells is disconnected, the device's open-wire current drains its node and the two differential
+// measurements beside it go one over, one under (SLUUBY2B / SLUUCG7, Settings:Cell Open-Wire:Check Time: "an
+// over-voltage or under-voltage event will be triggered on that cell or an adjacent cell"; SLUSF21, VC open
+// wire detection: a current sink on every VC pin, a current source on VC0, so "the cell voltage measurement
+// will drop"). At the bottom tap (VC0, pulled up) and the top tap (pulled down) there is no cell beyond it:
+// only the one cell beside it reads low. So:
+// - two neighbours more than kOpenWireStepMv apart are an open wire between them: a cell reads at least 0 V
+//   and at most 4.5 V, above every Li-ion charge limit (the firmware's cell_ov trips at 4.25 V); in bms-sim
+//   one reads about nothing and the other both cells or its input's full scale (BQ769x2: 7 400 and 0 mV for
+//   two 3.7 V cells; BQ79616: 6 250 and 0 mV), and neither reading is a cell voltage;
+// - a reading below kCellFloorMv is not a cell voltage either: no cell the firmware protects rests that low
+//   (cell_uv trips at 2.7 V; a Li-ion or LiFePO4 cell discharged below 0.5 V is damaged and must not be
+//   charged), so it is the drained node of an open tap, at any position, never a valid 0 mV.
+// A node that still holds its charge (the device's check has not drained it yet) reads normal and is not
+// caught (regmaps/README.md lists what is open).
 inline constexpr int16_t kOpenWireStepMv = 4500;
-// The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire between them.
+inline constexpr int16_t kCellFloorMv = 500;
+// The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire beside them: a pair
+// of neighbours too far apart, or one reading below the floor.
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);
 
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
@@ -79,16 +86,31 @@ struct PackTotals {
   bool openWire;  // a validated board's readings show an open sense wire (or the monitor says so)
 };
 
+struct BalancingStatus;  // app/balancing/balancing_status.hpp
+
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
 struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
   uint8_t tempsPerBoard = 0;  // temperature sensors per board
   bool hasCurrent = false;    // pack-level values, valid with board 0's measurement
-  bool deviceFault = false;   // a monitor reports a tripped protection of its own
+  // The paths a monitor's own protection holds off or is about to (its safety flags, alert or trip, mapped
+  // bit by bit in the monitor: 1 charge, 2 discharge, as Action's bits; 0 none). Written with each scan.
+  uint8_t deviceBlocks = 0;
+  // The paths that are on as the device itself reports them (BQ769x2 FET Status, BQ7690x Battery Status
+  // CHG/DSG; 1 charge, 2 discharge), written with each validated scan, meaningful only on a monitor that
+  // reports them (hasFetStatus). Publishers say "unknown" whenever the scan behind it is not fresh.
+  uint8_t devicePaths = 0;
+  bool hasFetStatus = false;
   // The monitor is set up and scanning (written by the monitor task only). Protection takes the fault line
   // (ALERT/nFAULT) as a fault only while it is: during bring-up and recovery the line is expected to be
   // asserted (BQ79616 devices leave reset with faults latched; a BQ769x2 asserts ALERT until configured).
   bool monitorRunning = false;
+  // The monitor's first bring-up is under way (written by the monitor task only: true from its start until
+  // the first scan's result). Until then, and while the clock is before firstDataDue (MonitorTask:
+  // Device::firstDataBound() from power-up), nothing has been measured on purpose, not lost: protection
+  // leaves stale_data and comm_loss alone and the monitor reports no failed scan periods (inStartupGrace()).
+  // Past the bound a pack never measured is stale, counted from power-up.
+  bool startupGrace = false;
   // A gas gauge's state of charge stands behind stateOfCharge (set with it by the gauge's monitor). Zero, the
   // state the images start from (Zeroed<PackView>), means none: StateOfCharge then goes out not available.
   bool hasStateOfCharge = false;
@@ -98,13 +120,18 @@ struct PackView {
   // not publish it (FW_PUBLISH_LEVEL 0).
   uint16_t commErrors = 0;
   int32_t currentMa = 0;
+  Instant firstDataDue{};  // see startupGrace
   std::span<const BoardSample> boards{};
   // Optional: the monitor's raw cell codes, kMaxCellsPerBoard per board in board order (BQ79616: 190.73 uV
   // LSB), for the TI-compatible CAN layout, which carries raw codes. Null when the monitor has none.
   const int16_t* rawCells = nullptr;
+  // Optional: the pack's balancing (app/balancing/balancing_status.hpp), published as BalancingStatus. Null
+  // on an image that does not balance (the BQ4050's gauge balances on its own).
+  const BalancingStatus* balancing = nullptr;
   PackTotals totals{};
 
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
+  bool inStartupGrace(Instant now) const { return startupGrace && isBefore(now, firstDataDue); }
 };
 
 // Recomputes view.totals from the boards whose last attempt validated (without the slots that hold no

@@ -1,11 +1,33 @@
-// The firmware protection limits every image starts from (Li-ion cells), above the monitors' own limits.
+// The firmware protection limits every image starts from (Li-ion cells), inside the monitors' own limits.
+//
+// One table, kLimits below, one row per fault: what a pack file will replace (issue 29). Each device's own
+// protection is written outside these limits at start-up (monitors/bq769x_settings.hpp; the test
+// tests/app/backstop_test.cpp checks the ordering for every image), so the firmware acts first and the
+// device is the backstop.
+//
+// Actions: the path the fault endangers. Over-voltage, charge over-current and the charge temperature limits
+// open the charge path (discharging relieves them and stays allowed); under-voltage, discharge over-current
+// and the discharge temperature limits open the discharge path (charging stays allowed); stale data, lost
+// communication and an open sense wire (the cells are not measured) open both. Li-ion cells may be charged
+// only between 0 and 45 degC and discharged between -20 and 60 degC (the usual cell data-sheet window), so
+// the charge limits lie inside the discharge ones.
+//
+// Recovery: a cell or temperature limit clears once the value is back past its clear threshold (the
+// hysteresis: 100 mV, 200 mV, 5 degC), on the next scan that shows it. A current limit clears only while
+// current flows the other way, for 3 s (30 scans): TI's OCC and OCD recovery (SLUUBY2B 5.2, Protections:OCC
+// and OCD Recovery Threshold -200 / +200 mA, Protections:Recovery:Time 3 s): an over-current in charge ends
+// with a discharge of more than 200 mA, one in discharge with a charge of more than 200 mA, so a charger or a
+// load that is still there is not switched back on to trip again.
 //
 // Cell voltages and temperatures act on the first scan that shows them: the monitors already filter their
 // readings (BQ769x2 per-cell averaging, BQ79616 26 Hz low-pass, BQ4050 gauge filtering), and a second sample
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
-// Current waits for two samples (load steps are real but brief); a discharge over-current latches until
-// cleared. Stale data, lost communication and an open sense wire (the cells beside it are unmonitored)
-// open both paths.
+// Current waits for two samples (load steps are real but brief).
+//
+// The discharge over-current limit, -30 A, lies inside what every monitor reports: a BQ769x2 or BQ7690x CC2
+// reading in the default 1 mA user unit and the BQ4050's Current() are 16-bit, down to -32 768 mA (a limit
+// beyond that could never trip). The devices' over-current protections sit beyond it (BQ76952 OCD1 40 mV
+// across the EVM's 1 mOhm shunt, 40 A).
 //
 // One constant table (in flash, referenced, never copied) for the 100 ms scan period every image uses.
 #pragma once
@@ -16,32 +38,85 @@ namespace fw::app {
 
 inline constexpr Duration kScanPeriod = ms(100);
 
-constexpr Rule limit(int32_t trip, int32_t clear, uint8_t debounce, Action action, bool latch = false) {
-  Rule r;
-  r.trip = trip, r.clear = clear, r.debounce = debounce, r.action = action, r.latch = latch, r.enabled = true;
-  return r;
+// One row of the limit table: the fault, its thresholds (mV, mA, 0.1 K; 0/1 for the flag rules), the trip and
+// recovery counts (evaluations, one per scan), the action and whether it latches.
+struct LimitRow {
+  FaultId fault;
+  int32_t trip;
+  int32_t clear;
+  uint8_t debounce;
+  uint8_t recover;
+  Action action;
+  bool latch;
+};
+
+inline constexpr int32_t kDeciKelvinAtZeroCelsius = 2732;
+constexpr int32_t degC(int32_t c) {
+  return kDeciKelvinAtZeroCelsius + 10 * c;
 }
+
+// Recovery of the current limits: 3 s of current the other way (TI's Protections:Recovery:Time default).
+inline constexpr uint8_t kCurrentRecoveryScans = 30;
+
+inline constexpr LimitRow kLimits[kFaultCount] = {
+    {FaultId::CellOvervoltage, 4250, 4150, 1, 1, Action::ChargeOff, false},
+    {FaultId::CellUndervoltage, 2700, 2900, 1, 1, Action::DischargeOff, false},
+    {FaultId::ChargeOvercurrent, 20000, -200, 2, kCurrentRecoveryScans, Action::ChargeOff, false},
+    {FaultId::DischargeOvercurrent, -30000, 200, 2, kCurrentRecoveryScans, Action::DischargeOff, false},
+    {FaultId::OvertempDischarge, degC(60), degC(55), 1, 1, Action::DischargeOff, false},
+    {FaultId::UndertempDischarge, degC(-20), degC(-15), 1, 1, Action::DischargeOff, false},
+    {FaultId::DeviceSafety, 1, 1, 1, 1, Action::AllOff, false},  // narrowed to the device flags' paths
+    {FaultId::StaleData, 1, 1, 1, 1, Action::AllOff, false},
+    {FaultId::CommLoss, 1, 1, 1, 1, Action::AllOff, false},
+    {FaultId::OpenWire, 1, 1, 1, 1, Action::AllOff, false},
+    {FaultId::OvertempCharge, degC(45), degC(40), 1, 1, Action::ChargeOff, false},
+    {FaultId::UndertempCharge, degC(0), degC(5), 1, 1, Action::ChargeOff, false},
+    // An intermittent link: 4 of the last rateWindow (10) scan attempts failed (a link that fails 40 % of its
+    // scans gives no data to trust); clears once none of the last 10 failed.
+    {FaultId::CommErrorRate, 4, 1, 1, 1, Action::AllOff, false},
+};
+
+constexpr bool everyFaultOnceInOrder() {
+  for (uint8_t i = 0; i < kFaultCount; ++i)
+    if (static_cast<uint8_t>(kLimits[i].fault) != i) return false;
+  return true;
+}
+static_assert(everyFaultOnceInOrder(), "kLimits: one row per fault, in FaultId order");
 
 constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   ProtectionConfig c{};
-  c.rules[static_cast<uint8_t>(FaultId::CellOvervoltage)] = limit(4250, 4150, 1, Action::AllOff);
-  c.rules[static_cast<uint8_t>(FaultId::CellUndervoltage)] = limit(2700, 2900, 1, Action::DischargeOff);
-  c.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)] = limit(20000, 18000, 2, Action::ChargeOff);
-  c.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)] =
-      limit(-40000, -35000, 2, Action::DischargeOff, true);
-  c.rules[static_cast<uint8_t>(FaultId::Overtemperature)] =
-      limit(3332, 3282, 1, Action::AllOff);  // 60 / 55 degC
-  c.rules[static_cast<uint8_t>(FaultId::Undertemperature)] =
-      limit(2532, 2582, 1, Action::ChargeOff);  // -20 / -15
-  c.rules[static_cast<uint8_t>(FaultId::DeviceSafety)] = limit(1, 1, 1, Action::AllOff);
-  c.rules[static_cast<uint8_t>(FaultId::StaleData)] = limit(1, 1, 1, Action::AllOff);
-  c.rules[static_cast<uint8_t>(FaultId::CommLoss)] = limit(1, 1, 1, Action::AllOff);
-  c.rules[static_cast<uint8_t>(FaultId::OpenWire)] = limit(1, 1, 1, Action::AllOff);
+  for (const LimitRow& row : kLimits) {
+    Rule& r = c.rules[static_cast<uint8_t>(row.fault)];
+    r.trip = row.trip, r.clear = row.clear, r.debounce = row.debounce, r.recover = row.recover;
+    r.action = row.action, r.latch = row.latch, r.enabled = true;
+  }
+  c.rateWindow = 10;
   c.staleAfter = scanPeriod * 3;
   c.commLossScans = 3;
   return c;
 }
 
 inline constexpr ProtectionConfig kDefaultLimits = makeDefaultLimits(kScanPeriod);
+
+// The limits of an image whose one fault output opens both paths at once (G3507-BQ4050: the MCU's fault
+// output; G3507-BQ79616 too, though it measures no current). Such an image cannot keep the path that relieves
+// a current fault open, so the current of the other direction that kDefaultLimits waits for can never flow:
+// an over-current would hold the pack off until a reset. Here a current fault recovers on time instead: once
+// no more than 200 mA flows in the tripped direction (none flows while the output is asserted) for the same
+// 3 s, the output is released, and a load or charger that is still there trips it again two scans later, a
+// retry every 3.2 s as TI's timed recoveries do (SLUUBY2B 5.2, SCD Recovery Time). The gauge's own
+// per-direction protections (BQ4050 OCC/OCD on its CHG/DSG FETs, SLUUAQ3A) stay in force underneath.
+constexpr ProtectionConfig makeSingleOutputLimits(Duration scanPeriod) {
+  ProtectionConfig c = makeDefaultLimits(scanPeriod);
+  Rule& occ = c.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)];
+  Rule& ocd = c.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)];
+  occ.clear = -occ.clear;  // absent while the charge current is below +200 mA
+  ocd.clear = -ocd.clear;  // absent while the discharge current is below 200 mA (current above -200 mA)
+  return c;
+}
+inline constexpr ProtectionConfig kSingleOutputLimits = makeSingleOutputLimits(kScanPeriod);
+static_assert(kSingleOutputLimits.rules[static_cast<uint8_t>(FaultId::DischargeOvercurrent)].clear == -200 &&
+                  kSingleOutputLimits.rules[static_cast<uint8_t>(FaultId::ChargeOvercurrent)].clear == 200,
+              "a current fault of a single-output image recovers at zero current");
 
 }  // namespace fw::app

@@ -3,13 +3,15 @@
 namespace fw::app {
 // The six value limits come first in FaultId order, alternating upper and lower limits; cells and
 // temperatures line up with PackTotals::extreme (cells at 0, 1, temperatures at 2, 3), so one loop handles
-// them all.
+// them all. The charge-side temperature limits (10, 11) read the same extremes as 4 and 5.
 static_assert(static_cast<uint8_t>(FaultId::CellOvervoltage) == 0 &&
               static_cast<uint8_t>(FaultId::CellUndervoltage) == 1 &&
               static_cast<uint8_t>(FaultId::ChargeOvercurrent) == 2 &&
               static_cast<uint8_t>(FaultId::DischargeOvercurrent) == 3 &&
-              static_cast<uint8_t>(FaultId::Overtemperature) == 4 &&
-              static_cast<uint8_t>(FaultId::Undertemperature) == 5);
+              static_cast<uint8_t>(FaultId::OvertempDischarge) == 4 &&
+              static_cast<uint8_t>(FaultId::UndertempDischarge) == 5 &&
+              static_cast<uint8_t>(FaultId::OvertempCharge) == 10 &&
+              static_cast<uint8_t>(FaultId::UndertempCharge) == 11);
 static_assert(kMaxCell == 0 && kMinCell == 1 && kMaxTemp == 4 - 2 && kMinTemp == 5 - 2);
 
 ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
@@ -20,17 +22,23 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   } else if (in.scanFailed && state_->failedScans < 0xFF) {
     ++state_->failedScans;
   }
+  if (in.fresh || in.scanFailed)
+    state_->attempts = static_cast<uint16_t>((state_->attempts << 1) | in.scanFailed);
 
-  // Every rule compares one value with its thresholds; build the nine values, and the set of rules that have
-  // one to look at now, then one loop does the rest. Value limits are only looked at with fresh data:
-  // missing data neither trips nor clears them. The device rule's value is 1 while the monitor reports a
-  // fault (its line at once, its status with each fresh scan); the freshness rules' values are 1 while the
-  // data is stale or the link is lost; the open-wire rule's is 1 while the last scan shows an open sense
-  // wire. A board that never answered counts as stale from start-up.
+  // Every rule compares one value with its thresholds; build the thirteen values, and the set of rules that
+  // have one to look at now, then one loop does the rest. Value limits are only looked at with fresh data:
+  // missing data neither trips nor clears them. The device rule's value is the paths the monitor's own
+  // protection holds (or is about to hold) off: both at once on the fault line, which says nothing about
+  // which flag rose, and what the flags say with each fresh scan (the scan after the line names it). The
+  // freshness rules' values are 1 while the data is stale or the link is lost; the open-wire rule's is 1
+  // while the last scan shows an open sense wire. A board that never answered counts as stale from start-up.
   const PackView* pack = in.pack;
   const PackTotals* t = &pack->totals;
   int32_t value[kFaultCount];  // each read only where `evaluated` has its bit, and those are all written
-  FaultMask evaluated = bit(FaultId::StaleData);
+  // While the monitor's first bring-up runs within its bound (PackView::startupGrace) nothing is stale or
+  // lost yet: a 64-device BQ79616 chain takes about 1 s to bring up, three times the default stale limit.
+  const bool grace = pack->inStartupGrace(now);
+  FaultMask evaluated = grace ? 0 : bit(FaultId::StaleData);
   if (in.fresh) {
     if (t->cells) {
       value[0] = t->extreme[kMaxCell];
@@ -42,26 +50,37 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
       }
     }
     if (t->temps) {
-      value[4] = t->extreme[kMaxTemp];
-      value[5] = t->extreme[kMinTemp];
-      evaluated |= bit(FaultId::Overtemperature) | bit(FaultId::Undertemperature);
+      value[4] = value[10] = t->extreme[kMaxTemp];
+      value[5] = value[11] = t->extreme[kMinTemp];
+      evaluated |= bit(FaultId::OvertempDischarge) | bit(FaultId::UndertempDischarge) |
+                   bit(FaultId::OvertempCharge) | bit(FaultId::UndertempCharge);
     }
     value[9] = t->openWire;
     evaluated |= bit(FaultId::OpenWire);
+    state_->deviceBlocks = pack->deviceBlocks;
   }
-  value[6] = in.faultLine || (in.fresh && pack->deviceFault);
+  if (in.faultLine) state_->deviceBlocks = static_cast<uint8_t>(Action::AllOff);
+  value[6] = state_->deviceBlocks;
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
   value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
   value[8] = state_->failedScans >= config_.commLossScans;
-  if (in.fresh || in.scanFailed) evaluated |= bit(FaultId::CommLoss);
+  if ((in.fresh || in.scanFailed) && !grace)
+    evaluated |= bit(FaultId::CommLoss) | bit(FaultId::CommErrorRate);
+  // The failures among the last rateWindow attempts: over a window, not in a row, so how the failures of an
+  // intermittent link fall on the scan grid (which shifts with its onset) does not decide whether it trips.
+  value[12] = __builtin_popcount(state_->attempts & ((1U << config_.rateWindow) - 1U));
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
-  // of the actions (ChargeOff and DischargeOff are bits) of every active fault.
+  // of the actions (ChargeOff and DischargeOff are bits) of every active fault; the device rule's are
+  // narrowed to the paths its flags concern.
   uint8_t actions = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const Rule& rule = config_.rules[i];
     if (rule.enabled && (evaluated & (1U << i)) != 0) track(i, value[i], now, out);
-    if ((state_->active & (1U << i)) != 0) actions |= static_cast<uint8_t>(rule.action);
+    if ((state_->active & (1U << i)) == 0) continue;
+    uint8_t action = static_cast<uint8_t>(rule.action);
+    if (i == static_cast<uint8_t>(FaultId::DeviceSafety)) action &= state_->deviceBlocks;
+    actions |= action;
   }
   out.active = state_->active;
   out.chargeOff = (actions & static_cast<uint8_t>(Action::ChargeOff)) != 0;
@@ -70,8 +89,8 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
 }
 
 void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) {
-  constexpr FaultMask kLowerLimits =
-      bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) | bit(FaultId::Undertemperature);
+  constexpr FaultMask kLowerLimits = bit(FaultId::CellUndervoltage) | bit(FaultId::DischargeOvercurrent) |
+                                     bit(FaultId::UndertempDischarge) | bit(FaultId::UndertempCharge);
   const Rule& rule = config_.rules[i];
   const FaultMask b = static_cast<FaultMask>(1U << i);
   // A lower limit is an upper limit of the complemented values (~x = -1 - x reverses the order and, unlike
@@ -96,7 +115,7 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   if (count == 0) state_->since[i] = now;
 #endif
   if (count < 0xFF) ++count;
-  if (count < rule.debounce) return;
+  if (count < (tripped ? rule.recover : rule.debounce)) return;
 #if FW_PROTECTION_DELAYS
   if (elapsed(state_->since[i], now) < rule.delay) return;
 #endif
@@ -130,10 +149,10 @@ const char* faultName(FaultId id) {
       return "occ";
     case FaultId::DischargeOvercurrent:
       return "ocd";
-    case FaultId::Overtemperature:
-      return "ot";
-    case FaultId::Undertemperature:
-      return "ut";
+    case FaultId::OvertempDischarge:
+      return "otd";
+    case FaultId::UndertempDischarge:
+      return "utd";
     case FaultId::DeviceSafety:
       return "device_safety";
     case FaultId::StaleData:
@@ -142,6 +161,12 @@ const char* faultName(FaultId id) {
       return "comm_loss";
     case FaultId::OpenWire:
       return "open_wire";
+    case FaultId::OvertempCharge:
+      return "otc";
+    case FaultId::UndertempCharge:
+      return "utc";
+    case FaultId::CommErrorRate:
+      return "comm_rate";
   }
   return "?";
 }

@@ -19,6 +19,7 @@ void ProtectionTask::run(sched::EventMask events) {
     in.pack = &pack_;
     in.fresh = (events & kNewData) != 0;
     in.scanFailed = (events & kScanFailed) != 0;
+    if (in.fresh && update_ != nullptr) update_->apply();  // limit changes: at a scan boundary, all at once
     // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
     // bring-up and recovery it is expected to be asserted.
     in.faultLine = ((events & kFaultLine) != 0) & pack_.monitorRunning;  // no branch: a byte load and an and
@@ -31,6 +32,7 @@ void ProtectionTask::run(sched::EventMask events) {
     // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
     if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
+    if (pack_.hasFetStatus) readBack(in, now);
   }
   scheduler_.checkIn(id_);
 }
@@ -44,9 +46,11 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   status_.faultOutput = st.faultOutput();
   if constexpr (kLogSize != 0) record(st, now);
 
-  const bool chargeOn = !st.chargeOff;
-  const bool dischargeOn = !st.dischargeOff;
-  if (!state_->requested && !fresh && st.active == 0) return;  // nothing measured and nothing wrong yet
+  const uint8_t hostOff = state_->hostOff;
+  const bool chargeOn = !st.chargeOff && (hostOff & static_cast<uint8_t>(Action::ChargeOff)) == 0;
+  const bool dischargeOn = !st.dischargeOff && (hostOff & static_cast<uint8_t>(Action::DischargeOff)) == 0;
+  if (!state_->requested && !fresh && st.active == 0 && hostOff == 0)
+    return;  // nothing measured, nothing wrong and nothing asked yet
   if (state_->requested && chargeOn == state_->chargeOn && dischargeOn == state_->dischargeOn &&
       st.newlyTripped == 0)
     return;
@@ -55,6 +59,30 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   state_->dischargeOn = dischargeOn;
   state_->pendingAction = true;
   if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
+}
+
+// FET images: the paths as the device reports them with each fresh scan; unknown from a failed scan or stale
+// data until the next fresh one. A record whose paths the scan shows off is confirmed (its `confirmed` is the
+// evaluation of that scan, right after it ended).
+inline void ProtectionTask::readBack(const ProtectionInputs& in, Instant now) {
+  if (in.fresh) {
+    const uint8_t on = pack_.devicePaths;
+    status_.chargeOn = (on & static_cast<uint8_t>(Action::ChargeOff)) != 0;
+    status_.dischargeOn = (on & static_cast<uint8_t>(Action::DischargeOff)) != 0;
+    status_.pathsKnown = true;
+    if constexpr (kLogSize != 0) confirm(static_cast<uint8_t>(~on & 3U), now);
+  } else if (in.scanFailed || (status_.active & bit(FaultId::StaleData)) != 0) {
+    status_.pathsKnown = false;
+  }
+}
+
+void ProtectionTask::confirm(uint8_t offNow, Instant at) {
+  for (uint8_t k = 0; k < state_->logCount; ++k) {
+    ProtectionRecord& r = state_->log[k];
+    if (r.confirmedOff || !r.actionDone || (r.offPaths & ~offNow) != 0) continue;
+    r.confirmedOff = true;
+    r.confirmed = at;
+  }
 }
 
 // A fault that cleared closes its newest open record; one that tripped opens a record.
@@ -73,14 +101,23 @@ inline void ProtectionTask::record(const ProtectionState& st, Instant now) {
     ProtectionRecord& r = state_->log[state_->logCount++];
     r.fault = static_cast<FaultId>(i);
     r.detected = now;
+    // The paths this fault opens (the device rule: those its flags concern now).
+    r.offPaths = static_cast<uint8_t>(protection_.config().rules[i].action);
+    if (i == static_cast<uint8_t>(FaultId::DeviceSafety)) r.offPaths &= protection_.deviceBlocks();
   }
 }
 
 void ProtectionTask::actuated(Instant at) {
   if (!state_->pendingAction) return;
   state_->pendingAction = false;
-  status_.chargeOn = state_->chargeOn;
-  status_.dischargeOn = state_->dischargeOn;
+  // A pin is what it was driven to: confirmed now, and one signal for both paths (released only while both
+  // may be on). FET images wait for the device's read-back (readBack()).
+  const bool pin = !pack_.hasFetStatus;
+  const bool released = state_->chargeOn && state_->dischargeOn;
+  if (pin) {
+    status_.chargeOn = status_.dischargeOn = released;
+    status_.pathsKnown = true;
+  }
   if constexpr (kLogSize == 0) return;
   for (uint8_t k = 0; k < state_->logCount; ++k) {
     if (!state_->log[k].actionDone) {
@@ -88,6 +125,7 @@ void ProtectionTask::actuated(Instant at) {
       state_->log[k].actionDone = true;
     }
   }
+  if (pin) confirm(static_cast<uint8_t>((state_->chargeOn ? 0 : 1) | (state_->dischargeOn ? 0 : 2)), at);
 }
 
 }  // namespace fw::app

@@ -4,8 +4,12 @@
 // Acting goes through an Actuator, because images differ: on BQ769x2/BQ7690x images it is a FET command on
 // the monitor's bus (a mailbox the monitor task reads, monitors/fet_mailbox.hpp: it completes later, and the
 // monitor posts kActuated as it handles the completion); on BQ79616 and BQ4050 images it is the fault
-// output pin (done at once). Every fault that trips is logged with when it was detected and when the action
-// took effect, so the detection-to-FET-off latency is measurable (bms-sim prints it as protection_events).
+// output pin (done at once). Every fault that trips is logged with when it was detected, when the action
+// took effect and when the paths were confirmed off, so the detection-to-FET-off latency is measurable
+// (bms-sim prints it as protection_events). What the publishers say about the paths (PublishStatus::chargeOn,
+// dischargeOn, pathsKnown) is only ever what was confirmed: on FET images the device's own FET read-back
+// with each fresh scan (unknown from a failed scan or stale data until the next fresh one), on fault-output
+// images the pin's state.
 // Protection and the monitor hold no reference to each other: they share the PackView (the monitor writes,
 // protection reads), the actuator, and events posted by task id.
 //
@@ -16,9 +20,13 @@
 // while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
 // periodic check would. Thread mode only.
 //
-// kClearLatched needs a user action that posts it (a button, a CAN command). The images have none yet, so
-// they build without it (FW_PROTECTION_CLEAR_LATCHED=0: the event is ignored and a latched fault stays until
-// reset); an image that wires such an action builds with 1, the default (host, bms-sim).
+// kClearLatched needs a user action that posts it: the images' command task (app/command) does, on
+// ClearFaults, so they build with FW_PROTECTION_CLEAR_LATCHED=1 (the default); 0 ignores the event and a
+// latched fault stays until reset.
+// Host requests (app/command, PathRequest and bootloader entry): requestOff() holds paths off on top of
+// whatever the faults ask (a request only ever opens a path), then post kHostRequest. A LimitUpdate, if set,
+// is applied just before each evaluation of a new scan (kNewData), so the limits change only at a scan
+// boundary.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +41,16 @@
 #include "sched/scheduler.hpp"
 
 namespace fw::app {
+
+// A source of limit changes (app/command/settings.hpp), applied by the protection task just before it
+// evaluates a new scan.
+class LimitUpdate {
+ public:
+  virtual void apply() = 0;
+
+ protected:
+  ~LimitUpdate() = default;
+};
 
 class Actuator {
  public:
@@ -60,10 +78,16 @@ class FaultPinActuator final : public Actuator {
 
 struct ProtectionRecord {  // all-zero until written: the log needs no constructor
   FaultId fault;
-  bool actionDone;  // `acted` holds when the FET-off / fault output took effect
+  bool actionDone;  // `acted` holds when the request took effect: the FET command completed, the pin driven
   bool cleared;
+  // `confirmed` holds when the paths this fault opens (offPaths, Action bits) were seen off: on FET images
+  // the first scan whose FET read-back (PackView::devicePaths) shows them off, on fault-output images the
+  // instant the pin was driven (`acted`). Never set on what was only asked for.
+  bool confirmedOff;
+  uint8_t offPaths;
   Instant detected;
   Instant acted;
+  Instant confirmed;
 };
 
 class ProtectionTask final : public sched::Task {
@@ -73,6 +97,7 @@ class ProtectionTask final : public sched::Task {
   static constexpr sched::EventMask kFaultLine = 0x4;
   static constexpr sched::EventMask kClearLatched = 0x8;
   static constexpr sched::EventMask kActuated = 0x20;
+  static constexpr sched::EventMask kHostRequest = 0x40;
   // Trips logged since start-up (the log does not wrap: later trips are not logged once it is full). Images
   // may shorten it (FW_PROTECTION_LOG_SIZE), or leave it out with 0 (the L1306 images: nothing in them
   // reads it; log() is then empty); the host keeps 16 for bms-sim.
@@ -94,9 +119,18 @@ class ProtectionTask final : public sched::Task {
   // until then the outputs stay as reset left them (a fault pin asserted, the monitor's FETs its own).
   void start() {
     scheduler_.addTask(id_, *this, {}, true);
-    scheduler_.startTimer(state_->timer, id_, kTick, checkPeriod_, checkPeriod_);
+    scheduler_.startTimer(state_->timer, id_, kTick, untilGrid(scheduler_.now(), checkPeriod_), checkPeriod_);
   }
   void run(sched::EventMask events) override;
+
+  // The paths the host wants held off (Action bits: ChargeOff, DischargeOff), in effect from the next run
+  // (post kHostRequest). They add to what the faults ask; nothing here can turn a path on.
+  void requestOff(uint8_t actions) { state_->hostOff = actions; }
+  void setLimitUpdate(LimitUpdate& update) { update_ = &update; }
+  // Both paths off, and the actuator has confirmed it (FETs commanded off / fault output asserted).
+  bool pathsOffConfirmed() const {
+    return state_->requested && !state_->pendingAction && !state_->chargeOn && !state_->dischargeOn;
+  }
 
   sched::TaskId id() const { return id_; }
   const Protection& protection() const { return protection_; }
@@ -108,6 +142,9 @@ class ProtectionTask final : public sched::Task {
   inline void apply(const ProtectionState& st, bool fresh, Instant now);  // inline (.cpp): one caller
   inline void record(const ProtectionState& st, Instant now);             // the log's part of apply()
   void actuated(Instant at);  // the last request took effect at `at`
+  // What the publishers report about the paths, from this evaluation's inputs (FET images only).
+  inline void readBack(const ProtectionInputs& in, Instant now);
+  void confirm(uint8_t offNow, Instant at);  // records whose paths are all in `offNow` are confirmed at `at`
 
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
@@ -118,6 +155,7 @@ class ProtectionTask final : public sched::Task {
     bool pendingAction;
     bool resultSinceTick;  // run() evaluated for something else than the periodic tick alone since the last
                            // tick
+    uint8_t hostOff;       // Action bits the host holds off (requestOff)
     uint8_t logCount;
     uint32_t evaluations;
     sched::Timer timer;
@@ -130,6 +168,7 @@ class ProtectionTask final : public sched::Task {
   const PackView& pack_;
   PublishStatus& status_;
   Actuator& actuator_;
+  LimitUpdate* update_ = nullptr;
   Zeroed<State> state_;
   Duration checkPeriod_;
   Protection protection_;

@@ -35,6 +35,7 @@ void CanPublisher::run(sched::EventMask events) {
 }
 
 inline void CanPublisher::pump(Instant now) {
+  if (!sendAnswers()) return;
   hal::CanFrame frame;
   while (plan_.build(now, frame)) {
     const Status s = can_.send(frame);
@@ -51,6 +52,26 @@ inline void CanPublisher::pump(Instant now) {
     }
     return;
   }
+}
+
+// The waiting answers into the controller's queue; when the last has gone the outbox is the command task's
+// again. An answer the controller cannot take for good (bus-off) is dropped with the rest of its set.
+inline bool CanPublisher::sendAnswers() {
+  CanOutbox& box = state_->outbox;
+  while (box.count != 0) {
+    const Status s = can_.send(box.frames[box.next]);
+    if (s == Status::Overflow) {
+      ++state_->stats.refused;
+      return false;
+    }
+    if (s == Status::Ok) ++state_->stats.answers;
+    ++box.next;
+    if (--box.count == 0 && box.waiting) {
+      box.waiting = false;
+      scheduler_.post(kCommandTask, command_event::kOutboxFree);
+    }
+  }
+  return true;
 }
 
 }  // namespace fw::app

@@ -5,15 +5,17 @@
 // new scan (post kScanDone), as TI's demo sends after each read, and only whole sets.
 // The task fills the controller's TX queue until it refuses (Overflow) and continues when a frame has left
 // (kCan), so it never waits. Frames still unsent when the next cycle drops them (frame_plan.hpp) count as an
-// abandoned cycle: the bus is saturated, and newer data is worth more than older frames. On bus-off it
-// abandons the cycle (and drops each cycle due while the bus is off, so PackSummary.Counter shows every
-// summary that never went out), starts the controller's recovery (at most once per fast period) and resumes
-// with fresh frames when the bus is back. Thread mode only.
+// abandoned cycle: the bus is saturated, and newer data is worth more than older frames. The command task's
+// answers (outbox(), app/publish/outbox.hpp; post kReply) are queued ahead of the plan's next frames, one
+// answer set at a time. On bus-off it abandons the cycle (and drops each cycle due while the bus is off, so
+// PackSummary.Counter shows every summary that never went out), starts the controller's recovery (at most
+// once per fast period) and resumes with fresh frames when the bus is back. Thread mode only.
 #pragma once
 
 #include <cstdint>
 
 #include "app/publish/frame_plan.hpp"
+#include "app/publish/outbox.hpp"
 #include "core/zeroed.hpp"
 #include "hal/can_bus.hpp"
 #include "sched/scheduler.hpp"
@@ -26,12 +28,14 @@ struct PublishStats {
   uint32_t abandoned = 0;  // cycles dropped unfinished (saturated bus or bus-off)
   uint32_t busOff = 0;     // bus-off events seen (each starts a recovery)
   uint32_t refused = 0;    // send attempts refused (queue full)
+  uint32_t answers = 0;    // command answers sent (frames on CAN, writes on SLCAN)
 };
 
 class CanPublisher final : public sched::Task {
  public:
   static constexpr sched::EventMask kScanDone = 0x1;
   static constexpr sched::EventMask kCan = 0x2;
+  static constexpr sched::EventMask kReply = 0x8;
 
   // Inline: an image constructs it once, and the constructor is then stores only.
   CanPublisher(sched::Scheduler& scheduler, sched::TaskId id, hal::CanBus& can, FramePlan& plan,
@@ -53,10 +57,12 @@ class CanPublisher final : public sched::Task {
   }
   void run(sched::EventMask events) override;
   const PublishStats& stats() const { return state_->stats; }
+  CanOutbox& outbox() { return state_->outbox; }
 
  private:
   static constexpr sched::EventMask kTick = 0x4;
   inline void pump(Instant now);  // inline (.cpp): one caller, folded into it
+  inline bool sendAnswers();      // false: the controller refused one (queue full)
 
   // What changes, zero at construction (one block, no per-member start-up code), after the byte fields
   // (Cortex-M0+ byte loads reach only 31 bytes past the object's address) and the references.
@@ -65,6 +71,7 @@ class CanPublisher final : public sched::Task {
     bool recovering;
     sched::Timer timer;
     PublishStats stats;
+    CanOutbox outbox;
   };
   sched::TaskId id_;
   CanLayout layout_;

@@ -2,6 +2,7 @@
 
 #include <type_traits>
 
+#include "app/balancing/balancing_status.hpp"
 #include "app/version.hpp"  // generated: the CMake project version
 #include "can/bms.hpp"
 
@@ -109,7 +110,7 @@ constexpr size_t fieldCount() {
     return 0;
   }
 }
-// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 16 bits each (so a
+// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 24 bits each (so a
 // 32-bit accumulator with under 8 bits pending never overflows), big-endian ones 16 bits on a byte boundary.
 template <class M>
 constexpr bool streamable() {
@@ -119,7 +120,7 @@ constexpr bool streamable() {
     uint16_t next = 0;
     for (const can::Field& f : M::kFields) {
       const uint16_t lsb = f.bigEndian ? static_cast<uint16_t>(f.start / 8 * 8) : f.start;  // its first bit
-      if (f.length > 16 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
+      if (f.length > 24 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
       next = static_cast<uint16_t>(next + f.length);
     }
     return next <= 64;
@@ -154,7 +155,7 @@ using Sent = std::conditional_t<kSent, M, Left<M>>;
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
       bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
-      Sent<bms::TemperatureExtremes, kAllMessages>
+      Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::BalancingStatus, kAllMessages>
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
@@ -193,6 +194,7 @@ static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::TemperatureExtremes::kFieldCount <= kMaxFields &&
               bms::ProtectionEvent::kFieldCount <= kMaxFields &&
               bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
+              bms::BalancingStatus::kFieldCount <= kMaxFields &&
               bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields);
 static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
                   bms::Startup::kFaultLineNotAvailable == 0xFFFF,
@@ -202,7 +204,8 @@ static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
 
 // A cycle walks steps in order, each with framesIn() frames:
 //   fast part: summary, extremes, [event], [startup]; then the slow part if one is waiting (resume_)
-//   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes
+//   slow part: cells (boards x frames per board), temperatures (likewise), temperature extremes, balancing
+//              (one per board, where the pack balances)
 //   ti:        boards x 4 frames, top of stack first
 inline uint16_t FramePlan::framesIn(Step step) const {
   const uint16_t boards = pack_.boardCount();
@@ -221,6 +224,8 @@ inline uint16_t FramePlan::framesIn(Step step) const {
           boards * framesPerBoard(step == kCells ? pack_.cellsPerBoard : pack_.tempsPerBoard));
     case kTempExtremes:
       return pack_.tempsPerBoard != 0;
+    case kBalancing:
+      return pack_.balancing != nullptr ? boards : 0;
     case kTiCells:
       return kTiLayout && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
     default:
@@ -249,7 +254,7 @@ void FramePlan::settle() {
         resume_ = kDone;
       }
     } else {
-      step_ = step_ == kTempExtremes ? kDone : static_cast<Step>(step_ + 1);
+      step_ = step_ == kBalancing ? kDone : static_cast<Step>(step_ + 1);
     }
   }
 }
@@ -314,8 +319,11 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
         if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
-        v[S::kChargeFetField] = status_.chargeOn;
-        v[S::kDischargeFetField] = status_.dischargeOn;
+        // The paths only as confirmed (publish_status.hpp); not available otherwise.
+        if (status_.pathsKnown) {
+          v[S::kChargeFetField] = status_.chargeOn;
+          v[S::kDischargeFetField] = status_.dischargeOn;
+        }
         v[S::kFaultOutputField] = status_.faultOutput;
         v[S::kDataValidField] = cells;
         v[S::kCounterField] = counter_;
@@ -375,6 +383,18 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
           v[C::kCellField + j] = reading(values[i]);
       }
+      break;
+    }
+    case kBalancing: {
+      if (!sent(kBalancing)) return 0;
+      // One frame per board: what its device confirmed and for how long, and the pack's mode and state.
+      using B = bms::BalancingStatus;
+      const BalancingStatus& b = *pack_.balancing;
+      v[B::kBoardField] = index_;
+      v[B::kModeField] = static_cast<uint8_t>(b.mode());
+      v[B::kStateField] = static_cast<uint8_t>(b.state);
+      v[B::kCellsField] = b.cells[index_];
+      v[B::kTimeField] = b.seconds[index_] < 0xFFFFFFU ? b.seconds[index_] : 0xFFFFFFU;
       break;
     }
     case kTiCells: {

@@ -14,7 +14,8 @@
 //                         cause, firmware version, surviving fault record
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
-//                         TemperatureExtremes. The slow part may take longer than 100 ms (64 boards: 449
+//                         TemperatureExtremes, and BalancingStatus of every board where the pack balances
+//                         (PackView::balancing). The slow part may take longer than 100 ms (64 boards: 449
 //                         frames, about 120 ms at 500 kbit/s): a fast cycle that begins while it is still
 //                         going sends its own frames first and then lets the slow part continue where it
 //                         stopped. Only a slow cycle drops what is left of the previous one.
@@ -92,7 +93,7 @@ class FramePlan {
 
  private:
   // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
-  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kTempExtremes;
+  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kBalancing;
   // TI: kTiCells (after kStartup once).
   enum Step : uint8_t {
     kSummary,
@@ -102,6 +103,7 @@ class FramePlan {
     kCells,
     kTemps,
     kTempExtremes,
+    kBalancing,
     kTiCells,
     kDone
   };
@@ -111,7 +113,7 @@ class FramePlan {
   // the stores.
   bool startFast() {
     const bool dropped = step_ <= kEvent;
-    if (kCoreMessages && step_ >= kCells && step_ <= kTempExtremes) resume_ = step_, resumeIndex_ = index_;
+    if (kCoreMessages && step_ >= kCells && step_ <= kBalancing) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
     tiStartup_ = false;
     step_ = kSummary;
@@ -124,7 +126,8 @@ class FramePlan {
   inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
   // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
   [[gnu::always_inline]] static constexpr bool sent(Step step) {
-    if (step == kExtremes || step == kTemps || step == kTempExtremes) return kAllMessages;
+    if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kBalancing)
+      return kAllMessages;
     if (step == kEvent || step == kCells) return kCoreMessages;
     return true;
   }
@@ -136,7 +139,7 @@ class FramePlan {
   bool event_ = false;  // this cycle carries a ProtectionEvent (a fault tripped or cleared before it began)
   bool startupPending_ = false;  // announceStartup() was called and its frame has not gone out yet
   StartupInfo startup_{};
-  uint8_t counter_ = 0xFF;  // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
+  uint8_t counter_ = 0xFF;    // PackSummary.Counter of the current cycle (4 bits): the first cycle's is 0
   uint16_t index_ = 0;        // frame within the current step
   uint16_t resumeIndex_ = 0;  // ... and within resume_
   const PackView& pack_;

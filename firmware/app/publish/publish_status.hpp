@@ -17,8 +17,12 @@ struct PublishStatus {
   FaultMask active = 0;
   FaultMask pendingTripped = 0;  // tripped since the last ProtectionEvent frame
   FaultMask pendingCleared = 0;  // cleared since the last ProtectionEvent frame
-  bool chargeOn = false;         // the charge path is enabled (FET on / fault output released)
+  // The paths as confirmed (protection_task.hpp): on FET images the device's FET read-back of the last fresh
+  // scan, on fault-output images the pin. Meaningful only while pathsKnown; CAN sends them not available
+  // otherwise.
+  bool chargeOn = false;  // the charge path is enabled (FET on / fault output released)
   bool dischargeOn = false;
+  bool pathsKnown = false;
   bool faultOutput = false;
 };
 

@@ -34,7 +34,7 @@ size_t encode(const hal::CanFrame& frame, std::span<uint8_t> out) {
   return length;
 }
 
-void encodeStandard(uint16_t id, const std::array<uint8_t, 8>& data, uint8_t (&out)[kStandardLength]) {
+void encodeStandard(uint16_t id, const std::array<uint8_t, 8>& data, uint8_t* out) {
   // Front to back: 't', the identifier and the DLC digit as four digits of (id << 4 | 8), then each data
   // byte's two digits.
   uint8_t* p = out;

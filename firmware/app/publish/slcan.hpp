@@ -9,7 +9,7 @@
 // Contract: encode() writes at most kMaxEncodedLength bytes and returns the number written, or 0 when the
 // frame is invalid (DLC > 8, identifier out of range) or `out` is too small. encodeStandard() writes the line
 // of a classic 8-byte frame with a standard identifier (below 0x800: the caller guarantees it), always
-// kStandardLength bytes. Pure functions, ISR-safe.
+// kStandardLength bytes at `out`. Pure functions, ISR-safe.
 #pragma once
 
 #include <array>
@@ -26,6 +26,6 @@ inline constexpr size_t kMaxEncodedLength = 1 + 8 + 1 + 16 + 1;  // 'T' + id + d
 inline constexpr size_t kStandardLength = 1 + 3 + 1 + 16 + 1;  // 't' + id + '8' + data + '\r'
 
 size_t encode(const hal::CanFrame& frame, std::span<uint8_t> out);
-void encodeStandard(uint16_t id, const std::array<uint8_t, 8>& data, uint8_t (&out)[kStandardLength]);
+void encodeStandard(uint16_t id, const std::array<uint8_t, 8>& data, uint8_t* out);
 
 }  // namespace fw::app::slcan

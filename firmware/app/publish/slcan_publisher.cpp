@@ -7,7 +7,18 @@ namespace fw::app {
 void SlcanPublisher::run(sched::EventMask events) {
   if ((events & kSent) != 0) {
     state_->busy = false;
-    if (kStats) ++state_->stats.frames;
+    SlcanOutbox& box = state_->outbox;
+    if (box.inFlight) {  // the answers have left: the outbox is the command task's again
+      box.inFlight = false;
+      box.length = 0;
+      if (box.waiting) {
+        box.waiting = false;
+        scheduler_.post(kCommandTask, command_event::kOutboxFree);
+      }
+      if (kStats) ++state_->stats.answers;
+    } else if (kStats) {
+      ++state_->stats.frames;
+    }
   }
   if ((events & kTick) != 0) {
     const bool dropped = plan_.beginNative(state_->tick, slowEvery_);
@@ -19,9 +30,13 @@ void SlcanPublisher::run(sched::EventMask events) {
 
 void SlcanPublisher::pump(Instant now) {
   if (state_->busy) return;
+  if (!state_->answered && sendAnswer()) return;
   std::array<uint8_t, 8> data;
   const uint16_t id = plan_.fill(now, data);
-  if (id == 0) return;
+  if (id == 0) {
+    sendAnswer();
+    return;
+  }
   slcan::encodeStandard(id, data, state_->line);
   if (serial_.write(state_->line, scheduler_.notifier(id_, kSent)) != Status::Ok) {
     if (kStats) ++state_->stats.refused;
@@ -32,6 +47,21 @@ void SlcanPublisher::pump(Instant now) {
   // so a tick while it is on the wire begins the next cycle from the right place.
   plan_.advance();
   state_->busy = true;
+  state_->answered = false;
+}
+
+// The outbox's text in one write, if any waits; true if it went.
+bool SlcanPublisher::sendAnswer() {
+  SlcanOutbox& box = state_->outbox;
+  if (box.length == 0) return false;
+  if (serial_.write({box.text, box.length}, scheduler_.notifier(id_, kSent)) != Status::Ok) {
+    if (kStats) ++state_->stats.refused;
+    return false;
+  }
+  box.inFlight = true;
+  state_->busy = true;
+  state_->answered = true;
+  return true;
 }
 
 }  // namespace fw::app

@@ -294,9 +294,9 @@ void Gauge::sendMac(uint16_t subcommand) {
   access(3, readLen, flags, subcommand);
 }
 
-// Starts the next transaction once the bus has been idle for `gap` (LANDSCAPE.md: polling a BQ40zxy gauge
-// back to back can reset it). Always goes through onEvent(), so a start*() call never completes an
-// operation inside itself.
+// Starts the next transaction once the bus has been idle for `gap` (polling a TI gauge too fast
+// can reset it: Zephyr issue #116889 on the bq274xx). Always goes through onEvent(), so a start*() call never
+// completes an operation inside itself.
 void Gauge::schedule(Duration gap) {
   state_->wait = Wait::Timer;
   const Instant now = clock_.now();

@@ -35,9 +35,10 @@
 // startFetControl() reads the state back instead.
 //
 // Pace: two transactions are never closer than config.pace (from the end of one to the start of the next,
-// across operations too): the BQ40zxy family is known to reset when polled back to back (LANDSCAPE.md). The
-// wait is a scheduler timer, never a busy loop. Every bus transaction is also guarded by config.busGuard: a
-// completion that never comes ends the operation with Timeout and the driver stays Busy until it arrives.
+// across operations too): TI gauges are reported to reset when polled too fast (Zephyr issue #116889,
+// bq274xx). The wait is a scheduler timer, never a busy loop. Every bus transaction is also guarded by
+// config.busGuard: a completion that never comes ends the operation with Timeout and the driver stays Busy
+// until it arrives.
 //
 // Bus stretch limit (a board setting, SimI2cConfig::stretchLimit / MSPM0 TIMEOUT_CTL): 25 ms. The BQ4050
 // may hold SCL low for up to tLOW:SEXT = 25 ms per message (SLUSC67A 6.33), and its own tTIMEOUT is 25..35

@@ -99,7 +99,7 @@ static_assert(kMaxReadBytes >= kWindowBytes,
 inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
 inline constexpr bool kBalance =
-    FW_BQ769X_BALANCE != 0;  // the CRC mode is built (drivers/bq769x2/config.hpp)
+    FW_BQ769X_BALANCE != 0;  // host-controlled balancing is built (drivers/bq769x2/config.hpp)
 inline constexpr bool kCharge = FW_BQ769X_CHARGE != 0;
 
 struct LinkConfig {

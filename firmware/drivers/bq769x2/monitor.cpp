@@ -61,10 +61,11 @@ Status Monitor::startProbe(Identity& out) {
 }
 
 Status Monitor::startConfigure(std::span<const Setting> settings) {
-  if (!kConfigPaths || settings.empty() || settings.size() > 32) return Status::InvalidArgument;
+  if (!kConfigPaths || settings.empty() || settings.size() > kMaxSettings) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->settings = settings;
-  state_->diff = 0;
+  for (uint8_t& d : state_->diff)
+    d = 0;
   state_->index = 0;
   state_->written = 0;
   state_->error = Status::Ok;
@@ -77,23 +78,26 @@ constexpr uint8_t kScanCharge = kScanBlocks;
 constexpr uint8_t kScanClear = kScanBlocks + 1;
 constexpr uint8_t kScanRequest = kScanBlocks + 2;
 
-Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge) {
+Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge) {
   if (busy()) return Status::Busy;
   // A build for one family checks the record size at compile time (the front ends).
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
   state_->out.record = measurement;
   state_->charge = charge;
+  state_->askCharge = kCharge && askCharge;
   state_->bytes = 0;
+  state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
+  state_->index = 0;
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
-  if (kCharge) {
+  if (state_->askCharge) {
     const Status s = begin(Op::Scan, link_.startSubcommand(facts().chargeCode, false));
     state_->step = kScanRequest;
     state_->chargeAsked = clock_.now();
     return s;
   }
-  return begin(Op::Scan, link_.startRead(facts().blocks[0].cmd, facts().blocks[0].len));
+  return begin(Op::Scan, startScanRead());
 }
 
 Status Monitor::startFet(FetCommand command) {
@@ -114,14 +118,23 @@ Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
 }
 
 Status Monitor::startBalance(uint16_t cells) {
-  if (!kBalance || (cells >> variant_.cells) != 0 || (!allowAdjacent_ && (cells & (cells >> 1)) != 0))
+  const bool adjacent = facts().cbAdjacent || allowAdjacent_;
+  if (!kBalance || (cells >> variant_.cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
-  state_->tmp = static_cast<uint16_t>(cells << facts().cbShift);
+  state_->yield = false;
+  state_->cbWritten = static_cast<uint16_t>(cells << facts().cbShift);
   uint8_t mask[2];
-  bytes::storeLe16(mask, state_->tmp);
+  bytes::storeLe16(mask, state_->cbWritten);
   return begin(Op::Balance,
                link_.startSubcommandWrite(regmap::code16(sub::CbActiveCells), {mask, facts().cbBytes}));
+}
+
+Status Monitor::startBalanceCheck() {
+  if (!kBalance) return Status::InvalidArgument;
+  if (busy()) return Status::Busy;
+  // 0x3E..0x61: the echo, the 32-byte buffer, the checksum and the length, in one read.
+  return begin(Op::BalanceCheck, link_.startRead(kCmdSubcommand, 2 + kWindowBytes));
 }
 
 Progress Monitor::onEvent(sched::EventMask events) {
@@ -183,6 +196,9 @@ void Monitor::step(Status r) {
     case Op::Balance:
       if constexpr (kBalance) balanceStep(r);
       return;
+    case Op::BalanceCheck:
+      if constexpr (kBalance) balanceCheckStep(r);
+      return;
   }
 }
 
@@ -209,6 +225,22 @@ inline void Monitor::probeStep(Status r) {
   finish(Status::Ok);
 }
 
+// The part of the scan's current block (state_->step) that the next read takes, from state_->index bytes
+// into it: at most kScanReadBytes (kScanReadBytesCrc with CRC, whose wire carries two bytes per byte).
+// Bounding each read bounds how long a FET command waits for the read in progress (yieldScan()): the
+// BQ76952's 50-byte cell block in one read is 1.2 ms of wire at 400 kHz, which with the command and its echo
+// poll (0.84 ms) overran the 2 ms ALERT-to-FETs-off budget when ALERT came as that read started. A block is
+// the device's consecutive direct commands (auto-increment, E2E 1560065), so its parts are reads at
+// cmd + offset; offsets stay even, so no 16-bit value is split between two reads.
+Status Monitor::startScanRead() {
+  const ScanBlock& b = facts().blocks[state_->step];
+  const uint8_t limit = link_.crc() ? kScanReadBytesCrc : kScanReadBytes;
+  const uint8_t rest = static_cast<uint8_t>(b.len - state_->index);
+  state_->tmp = rest < limit ? rest : limit;  // this read's length
+  return link_.startRead(static_cast<uint8_t>(b.cmd + state_->index), static_cast<uint8_t>(state_->tmp),
+                         state_->bytes);
+}
+
 inline void Monitor::scanStep(Status r) {
   if (r != Status::Ok) return finish(r);
   if (state_->step == kScanClear) return publish();
@@ -216,32 +248,36 @@ inline void Monitor::scanStep(Status r) {
   const Variant& v = facts();
   if (state_->step == kScanRequest) {
     state_->step = 0;
-    return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
+    state_->index = 0;
+    return next(startScanRead());
   }
   if (state_->step == kScanCharge) return scanEnd();
-  state_->bytes = static_cast<uint8_t>(state_->bytes + v.blocks[state_->step].len);
-  if (++state_->step < sizeof v.blocks / sizeof v.blocks[0]) {
-    const ScanBlock& b = v.blocks[state_->step];
-    return next(link_.startRead(b.cmd, b.len, state_->bytes));
+  state_->bytes = static_cast<uint8_t>(state_->bytes + state_->tmp);
+  state_->index = static_cast<uint8_t>(state_->index + state_->tmp);
+  if (state_->index == v.blocks[state_->step].len) {
+    state_->index = 0;
+    ++state_->step;
   }
+  if (state_->step < sizeof v.blocks / sizeof v.blocks[0]) return next(startScanRead());
   if (link_.stats().retries != state_->scanRetries && !state_->restarted) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
     // reads, so the snapshot is taken again from its first read (once), the charge asked for again.
     state_->restarted = true;
     state_->bytes = 0;
-    if (kCharge) {
+    if (state_->askCharge) {
       state_->step = kScanRequest;
       state_->chargeAsked = clock_.now();
       return next(link_.startSubcommand(v.chargeCode, false));
     }
     state_->step = 0;
-    return next(link_.startRead(v.blocks[0].cmd, v.blocks[0].len));
+    state_->index = 0;
+    return next(startScanRead());
   }
   const uint8_t* raw = link_.scratch();
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  if (kCharge) {
+  if (state_->askCharge) {
     // The charge the request at the scan's start asked for, no earlier than the variant's wait after it.
     state_->step = kScanCharge;
     const Duration since = elapsed(state_->chargeAsked, clock_.now());
@@ -272,7 +308,7 @@ void Monitor::publish() {
     // runs): only then are the bytes after it the result.
     const uint8_t* d = link_.scratch() + state_->bytes;
     ChargeCounter& c = *state_->charge;
-    c.valid = bytes::loadLe16(d) == facts().chargeCode;
+    c.valid = state_->askCharge && bytes::loadLe16(d) == facts().chargeCode;
     if (c.valid) std::memcpy(c.raw, d + 2, kChargeBytes);
   }
   *record = clock_.now();
@@ -321,13 +357,27 @@ inline void Monitor::runtimeSetupStep(Status r) {
 }
 
 inline void Monitor::balanceStep(Status r) {
+  if (r != Status::Ok || state_->step++ != 0) return finish(r);
+  // Written (with checksum and length). The read-back request: CB_ACTIVE_CELLS as a command-only subcommand,
+  // whose result startBalanceCheck() fetches later; a FET command waiting goes first instead.
+  if (state_->yield) return finish(Status::Aborted);
+  next(link_.startSubcommand(regmap::code16(sub::CbActiveCells), false));
+}
+
+// The window as a subcommand read fetches it (link.cpp): echo, then length 4..36 covering the mask, then the
+// checksum over the code and every reported buffer byte.
+inline void Monitor::balanceCheckStep(Status r) {
   if (r != Status::Ok) return finish(r);
-  const uint8_t cbBytes = facts().cbBytes;
-  if (state_->step++ == 0)
-    return next(link_.startSubcommandRead(regmap::code16(sub::CbActiveCells), cbBytes));
   const uint8_t* d = link_.data();
-  finish(static_cast<uint16_t>(d[0] | (cbBytes > 1 ? d[1] << 8 : 0)) == state_->tmp ? Status::Ok
-                                                                                    : Status::VerifyFailed);
+  const uint16_t code = regmap::code16(sub::CbActiveCells);
+  if (bytes::loadLe16(d) != code) return finish(Status::EchoMismatch);
+  const uint8_t cbBytes = facts().cbBytes;
+  const uint8_t length = d[2 + kBufferBytes + 1];
+  if (length < 4 + cbBytes || length > kBufferBytes + 4) return finish(Status::Length);
+  if (transferChecksum(code, d + 2, length - 4U) != d[2 + kBufferBytes]) return finish(Status::Checksum);
+  const auto read = static_cast<uint16_t>(d[2] | (cbBytes > 1 ? d[3] << 8 : 0));
+  state_->cbRead = static_cast<uint16_t>(read >> facts().cbShift);
+  finish(read == state_->cbWritten ? Status::Ok : Status::VerifyFailed);
 }
 
 // Steps of the CONFIG_UPDATE transaction.
@@ -363,9 +413,9 @@ inline void Monitor::configStep(Status r) {
   const bool flag = (link_.data()[0] & facts().cfgUpdateMask) != 0;
   switch (state_->step) {
     case kCompare:
-      if (!matches()) state_->diff |= 1UL << state_->index;
+      if (!matches()) state_->diff[state_->index >> 3] |= static_cast<uint8_t>(1U << (state_->index & 7));
       if (++state_->index < state_->settings.size()) return next(nextSetting(false));
-      if (state_->diff == 0) return finish(Status::Ok);
+      if (!differs()) return finish(Status::Ok);
       state_->step = kEnter;
       return next(link_.startSubcommand(regmap::code16(sub::SetCfgupdate)));
     case kEnter:
@@ -403,8 +453,16 @@ void Monitor::pollStatus() {
   finish(state_->error);
 }
 
+bool Monitor::differs() const {
+  uint8_t any = 0;
+  for (uint8_t d : state_->diff)
+    any |= d;
+  return any != 0;
+}
+
 void Monitor::writeNext() {
-  while (state_->index < state_->settings.size() && (state_->diff & (1UL << state_->index)) == 0)
+  while (state_->index < state_->settings.size() &&
+         (state_->diff[state_->index >> 3] & (1U << (state_->index & 7))) == 0)
     ++state_->index;
   if (state_->index == state_->settings.size()) return exitUpdate();
   state_->step = kWrite;

@@ -22,7 +22,7 @@
 //                         CFGUPDATE is set (Timeout), write each setting that differed and read it back
 //                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
 //                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
-//                         the first failure. At most 32 settings; written() counts the writes.
+//                         the first failure. At most kMaxSettings (64) settings; written() counts the writes.
 //   startScan(m)          (typed front ends) the measurement set in 4 block reads: the `blocks:` of
 //                         regmaps/bq769x2 (bq7690x) commands.yaml in their order (<family>::blocks).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
@@ -40,7 +40,12 @@
 //                         the write): the echo and the result's first 12 bytes. The echo naming the
 //                         subcommand validates them (ChargeCounter::valid; a device still busy reads FF FF
 //                         and the charge is left out of that scan, the rest stands). The BQ76952 scan is then
-//                         6 transactions (7 after an alarm).
+//                         7 transactions (8 after an alarm). startScan(m, false) leaves the charge out
+//                         (m.charge.valid false): the subcommand window then keeps what a command left in it
+//                         (a balancing read-back waiting for startBalanceCheck()); the device's counter runs
+//                         on, so the next scan's charge includes that scan's.
+//                         Each read takes at most kScanReadBytes of a block (kScanReadBytesCrc in CRC
+//                         mode), so the command waits at most one such read (0.7 ms at 400 kHz).
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
 //                         both paths. BQ769x2: ALL_FETS_ON 0x0096 and ALL_FETS_OFF 0x0095; one path off is
 //                         FET_CONTROL 0x0097 with that path's OFF bits (0x03 discharge, 0x0C charge), because
@@ -67,11 +72,25 @@
 //                         Status[SLEEP_EN] in a scan tells the application that the device lost its RAM
 //                         configuration.
 //   startBalance(cells)   CB_ACTIVE_CELLS (0x0083) = bit mask of cells (bit 0 = cell 1; the BQ7690x puts
-//                         cell 1 at bit 1 on the wire, SLUAAM4 2.4 / E2E 1572792), read back (VerifyFailed).
-//                         Cells beyond the variant's count are InvalidArgument, and so are adjacent cells
-//                         unless MonitorConfig::allowAdjacentBalancing: the device itself never balances
-//                         neighbours autonomously and two adjacent cells double the current through the
-//                         shared input resistor (E2E 1505209). 0 stops balancing.
+//                         cell 1 at bit 1 on the wire and keeps bit 0 reserved, SLUAAM4 2.4 / SLUUCJ0
+//                         CB_ACTIVE_CELLS), with the 0x60 checksum and 0x61 length the write needs (SLUAA81A,
+//                         SLUAAM4 2.4), then CB_ACTIVE_CELLS sent again as a read request (S addr 3E 83 00
+//                         P): three short transactions and no wait, so a FET command never waits behind a
+//                         poll. yieldScan() ends it with Aborted after the write (the read request is
+//                         skipped). Cells beyond the variant's count are InvalidArgument, and so are adjacent
+//                         cells on the BQ769x2 unless MonitorConfig::allowAdjacentBalancing: the device
+//                         itself never balances neighbours autonomously and two adjacent cells double the
+//                         current through the shared input resistor (E2E 1505209). The BQ7690x balances
+//                         neighbours (SLUAAP7 section 3: "Adjacent, as well as non-adjacent cells can be
+//                         balanced"). 0 stops balancing. The device stops by itself when no write came for a
+//                         while (BQ7690x 20 s, SLUAAP7 section 3; BQ769x2 "a few seconds", E2E 958310): the
+//                         caller writes again every Variant::cbRefreshS.
+//   startBalanceCheck()   the read-back of the last startBalance, at least a scan period later (so the result
+//                         is ready: the BQ7690x's 2 ms, LinkConfig::firstPoll, without a wait): one read of
+//                         0x3E..0x61. EchoMismatch when 0x3E/0x3F do not echo CB_ACTIVE_CELLS (another
+//                         subcommand ran since: send startBalance again), Length / Checksum as a subcommand
+//                         read; VerifyFailed when it differs from what was written; balanced() is what it
+//                         read.
 // A build without the link's configuration paths (FW_BQ769X_CONFIG_PATHS=0, config.hpp) has neither
 // startConfigure() nor startBalance(): both return InvalidArgument; a build without balancing
 // (FW_BQ769X_BALANCE=0) has no startBalance().
@@ -141,6 +160,8 @@ struct Variant {
   uint16_t firstPollUs;       // LinkConfig::firstPoll at least this (BQ7690x: the echo is not documented)
   uint16_t chargeCode;        // the accumulated-charge subcommand (DASTATUS6, PASSQ)
   uint16_t chargeWaitUs;      // its result is read no earlier than this after the request
+  bool cbAdjacent;            // the device balances neighbouring cells (BQ7690x, SLUAAP7 section 3)
+  uint8_t cbRefreshS;         // CB_ACTIVE_CELLS is written again at least this often (see startBalance)
 };
 
 namespace variant_detail {
@@ -208,7 +229,9 @@ constexpr Variant bq7690x(uint8_t cells) {
           .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
           .firstPollUs = 2000,  // 2 ms, as TI's examples wait
           .chargeCode = regmap::code16(map7690x::sub::Passq),
-          .chargeWaitUs = 2000};  // as firstPollUs: no TI document gives PASSQ's time
+          .chargeWaitUs = 2000,  // as firstPollUs: no TI document gives PASSQ's time
+          .cbAdjacent = true,
+          .cbRefreshS = 10};  // half the 20 s the device balances after a write (SLUAAP7 section 3)
 }
 static_assert(map7690x::bits::BatteryStatus::sleep_en_mask < 0x100 &&
               map::bits::BatteryStatus::sleep_en_mask < 0x100);
@@ -235,13 +258,25 @@ inline constexpr Variant kBq76952{
     .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
     .firstPollUs = 0,
     .chargeCode = regmap::code16(map::sub::Dastatus6),
-    .chargeWaitUs = 0};  // the echo says when it is ready (FF FF while it runs)
+    .chargeWaitUs = 0,  // the echo says when it is ready (FF FF while it runs)
+    .cbAdjacent = false,
+    .cbRefreshS =
+        1};  // host balancing "only runs a few seconds by default" (E2E 958310; no TRM figure found)
 inline constexpr Variant kBq76907 = variant_detail::bq7690x(7);
 inline constexpr Variant kBq76905 = variant_detail::bq7690x(5);
+
+// The longest read of a scan, in data bytes, without and with CRC (whose wire carries a CRC byte after each
+// data byte): 26 bytes are 30 bytes on the wire with the address and command bytes, 0.68 ms at 400 kHz.
+// Even, so a block's parts never split a 16-bit value. The BQ7690x's blocks fit in one read each.
+inline constexpr uint8_t kScanReadBytes = 26;
+inline constexpr uint8_t kScanReadBytesCrc = 12;
 
 // The family this build's Monitor serves and the CRC-mode probe: drivers/bq769x2/config.hpp.
 inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
 inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
+
+// The most settings a CONFIG_UPDATE table may hold.
+inline constexpr uint8_t kMaxSettings = 64;
 
 struct MonitorConfig {
   LinkConfig link{};
@@ -287,6 +322,7 @@ class Monitor {
   Status startFetEnable();
   Status startRuntimeSetup(std::span<const Setting> settings);
   Status startBalance(uint16_t cells);
+  Status startBalanceCheck();
 
   sched::EventMask events() const { return link_.events(); }
   Progress onEvent(sched::EventMask events);
@@ -296,7 +332,8 @@ class Monitor {
   void yieldScan() { state_->yield = true; }
   Status result() const { return state_->result; }
   FetIntent fetIntent() const { return state_->intent; }
-  uint8_t written() const { return state_->written; }  // settings the last startConfigure wrote
+  uint8_t written() const { return state_->written; }   // settings the last startConfigure wrote
+  uint16_t balanced() const { return state_->cbRead; }  // CB_ACTIVE_CELLS as startBalanceCheck read it
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
   const Variant& variant() const { return variant_; }
@@ -307,8 +344,8 @@ class Monitor {
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
-  // the accumulated charge goes.
-  Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge);
+  // the accumulated charge goes, asked for when `askCharge`.
+  Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge);
   static constexpr uint8_t scanBytes(const Variant& v) {
     uint8_t total = 0;
     for (const ScanBlock& b : v.blocks)
@@ -329,7 +366,17 @@ class Monitor {
  private:
   // Each operation is a step function that runs on every link completion until it calls finish(). The
   // configure and balance operations exist only where the link has the writes they need (kConfigPaths).
-  enum class Op : uint8_t { Idle, Probe, Configure, Scan, Fet, FetEnable, RuntimeSetup, Balance };
+  enum class Op : uint8_t {
+    Idle,
+    Probe,
+    Configure,
+    Scan,
+    Fet,
+    FetEnable,
+    RuntimeSetup,
+    Balance,
+    BalanceCheck
+  };
   // The variant's facts: constants when the build serves one family (kFamily).
   const Variant& facts() const {
     if constexpr (kFamily == 1) return kBq76952;
@@ -348,7 +395,9 @@ class Monitor {
   inline void fetEnableStep(Status r);
   inline void runtimeSetupStep(Status r);
   inline void balanceStep(Status r);
+  inline void balanceCheckStep(Status r);
   bool matches() const;
+  bool differs() const;
   Status nextSetting(bool write);
   void writeNext();
   void exitUpdate();
@@ -356,6 +405,7 @@ class Monitor {
   Status readStatus();
   Status readFetEn();
   Status sendFet();
+  Status startScanRead();
   void publish();
   FetIntent nextIntent() const;
   void finish(Status s);
@@ -367,24 +417,28 @@ class Monitor {
     Status result;
     Status error;  // a configure failure kept while CONFIG_UPDATE is being left
     uint8_t step;
-    uint8_t index;
+    uint8_t index;  // configure: the setting; scan: bytes of the current block read so far
     uint8_t polls;
     uint8_t bytes;
     uint8_t written;
     FetCommand command;
     FetIntent intent;
     bool restarted;
-    bool yield;    // the scan ends at its next read boundary
-    uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; the balancing mask while it is verified
+    bool yield;      // the scan ends at its next read boundary
+    bool askCharge;  // the scan reads the accumulated charge
+    uint16_t tmp;    // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
+                     // of the scan's read in progress
     std::span<const Setting> settings;
     union {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
     } out;
-    ChargeCounter* charge;  // startScan
-    Instant chargeAsked;    // when the scan asked for the charge
-    uint32_t diff;
+    ChargeCounter* charge;           // startScan
+    Instant chargeAsked;             // when the scan asked for the charge
+    uint8_t diff[kMaxSettings / 8];  // bit i: setting i differs from the table
     uint32_t scanRetries;
+    uint16_t cbRead;     // CB_ACTIVE_CELLS read back by startBalanceCheck (bit 0 = cell 1)
+    uint16_t cbWritten;  // CB_ACTIVE_CELLS as the last startBalance wrote it (the wire's layout)
   };
 
   uint8_t cfgPolls_;
@@ -404,10 +458,10 @@ class Bq769x2 : public Monitor {
       Bq769x2(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context,
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, kBq76952, config) {}
-  Status startScan(Bq769x2Measurement& out) {
+  Status startScan(Bq769x2Measurement& out, bool askCharge = true) {
     static_assert(offsetof(Bq769x2Measurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76952) == map::blocks::kRecordSize && scanFits(kBq76952));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers), &out.charge);
+    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers), &out.charge, askCharge);
   }
 };
 
@@ -419,10 +473,10 @@ class Bq7690x : public Monitor {
       Bq7690x(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, variant, config) {}
-  Status startScan(Bq7690xMeasurement& out) {
+  Status startScan(Bq7690xMeasurement& out, bool askCharge = true) {
     static_assert(offsetof(Bq7690xMeasurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76907) == map7690x::blocks::kRecordSize && scanFits(kBq76907));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters), &out.charge);
+    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters), &out.charge, askCharge);
   }
 };
 

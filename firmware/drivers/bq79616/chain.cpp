@@ -9,7 +9,7 @@
 //
 // Sources: SLUSE81E (BQ79616-Q1 datasheet) §6.6 timing, §9.3.6 communication and auto-addressing
 // (table 9-19), §9.4 power modes and pings, §9.5.4 register map; SLUUC56B (TI bring-up procedure, wake
-// timing); TI's MSPM0 SDK example as summarised in bq79616-protocol.md (§5, §6).
+// timing); TI's MSPM0 SDK 2.09 bq79616_uart_to_can example (main.c start-up, AutoAddress()).
 #include "drivers/bq79616/chain.hpp"
 
 #include <cstddef>
@@ -133,7 +133,8 @@ constexpr Step kBringUp[] = {
     // that discovery finds a device beyond the configured count awake and reports it.
     delay(kPerDeviceAndOneMore, 12000),
     kPhase,
-    // Auto-address (SLUSE81E table 9-19; protocol.md §6), then discovery and read-back.
+    // Auto-address (SLUSE81E table 9-19; TI's bq79616_uart_to_can AutoAddress()), then discovery and
+    // read-back.
     frame(kWDllSync, regs::kOtpEccDatain1, 0x00),
     frame(kWBcast, regs::kControl1, regs::kControl1AddrWr),
     frame(kWAddress, regs::kDir0Addr),
@@ -189,8 +190,9 @@ constexpr Step kClearFaults[] = {
     kEnd,
 };
 
-// The recovery ladder (LANDSCAPE.md, BQ79616 problem 3): drain before COMM CLEAR, because a COMM CLEAR
-// while stack responses are still arriving makes the host receive stray frames (SLUSE81E §9.3.6.1.2.1.2).
+// The recovery ladder (BQ79600 data sheet, COMM CLEAR; TI E2E thread 1400830): drain before COMM CLEAR,
+// because a COMM CLEAR while stack responses are still arriving makes the host receive stray frames (SLUSE81E
+// §9.3.6.1.2.1.2).
 constexpr Step kRecovery[] = {
     {code(Op::Drain)},
     ping(kCommClearPing),

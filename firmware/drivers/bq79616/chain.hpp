@@ -108,7 +108,7 @@ struct ChainConfig {
 
 enum class RecoveryLevel : uint8_t { CommClear = 0, SleepToActive = 1, Rewake = 2, HardwareReset = 3 };
 
-// Ping low times and waits (SLUSE81E §6.6, protocol.md §4; each chosen inside its window with margin).
+// Ping low times and waits (SLUSE81E §6.6; each chosen inside its window with margin).
 inline constexpr Duration kWakePing = us(2250);          // tHLD_WAKE 2.0..2.5 ms
 inline constexpr Duration kSleepToActivePing = us(275);  // tUART(StA) 250..300 us
 inline constexpr Duration kHwResetPing = ms(40);         // tHLD_HWRST >= 36 ms

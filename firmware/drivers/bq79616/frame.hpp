@@ -1,6 +1,6 @@
 // BQ79616 UART frame codec: command frames from the host to the base device, response frames back.
 //
-// Command frame (SLUSE81E §9.3.6.1.1, bq79616-protocol.md §2), bytes in wire order:
+// Command frame (SLUSE81E §9.3.6.1.1), bytes in wire order:
 //   INIT [DEV_ID] REG_HI REG_LO DATA... CRC_LO CRC_HI
 //   INIT    bit 7 = 1 (command), bits 6:4 = RequestType, bit 3 = 0, bits 2:0 = data length − 1 for every
 //           write type (the reverse-direction broadcast write included), 0 for reads

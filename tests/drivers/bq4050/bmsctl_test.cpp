@@ -1,5 +1,5 @@
 // `bmsctl trace bq4050` as a user runs it: the built binary, its stdout, stderr and exit status
-// (ARCHITECTURE.md "Host tools" contract). PECs are checked with the test's own bitwise CRC-8.
+// (README "Host tools"). PECs are checked with the test's own bitwise CRC-8.
 #include <gtest/gtest.h>
 
 #include <cstdio>

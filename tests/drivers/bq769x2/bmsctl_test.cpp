@@ -1,4 +1,4 @@
-// Runs the built bmsctl binary and checks its output against the contract (ARCHITECTURE.md "Host tools") and
+// Runs the built bmsctl binary and checks its output against the contract (README "Host tools") and
 // the seeds' wire bytes.
 #include <gtest/gtest.h>
 
@@ -135,25 +135,46 @@ void expectInOrder(const ToolRun& o, const std::vector<std::string>& prefixes) {
 
 // app-start prints what the application sends from reset to its first complete scan (issue 12): on the
 // BQ76952 the ALERT Pin Config write (0x92FC <- 0x82) inside CONFIG_UPDATE, then FET_ENABLE, SLEEP_DISABLE
-// and Alarm Enable, then the scan's four reads.
+// and Alarm Enable, then the scan's four reads. Balancing (issue 28): Balancing Configuration (0x9335)
+// compared, Cell Balance Max Cells (0x933A) written with 4 and its checksum and length.
 TEST(Bq769x2Bmsctl, AppStartShowsTheStartUpSequence) {
   const ToolRun o = bmsctl("trace bq76952 app-start");
   ASSERT_EQ(o.status, 0) << printed(o);
-  expectInOrder(
-      o, {"S 10 3E 01 00 P", "S 10 3E 90 00 P", "S 10 3E FC 92 82 P", "S 10 60 EF 05 P", "S 10 3E 92 00 P",
-          "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F8 P", "S 10 0A Sr 11 [", "S 10 62 Sr 11 [",
-          "S 10 02 Sr 11 [", "S 10 7F Sr 11 [", "# first complete scan at "});
+  expectInOrder(o, {"S 10 3E 01 00 P", "S 10 3E 35 93 P", "S 10 3E 90 00 P", "S 10 3E FC 92 82 P",
+                    "S 10 60 EF 05 P", "S 10 3E 3A 93 04 P", "S 10 60 2E 05 P", "S 10 3E 92 00 P",
+                    "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F8 P", "S 10 0A Sr 11 [",
+                    "S 10 62 Sr 11 [", "S 10 02 Sr 11 [", "S 10 7F Sr 11 [", "# first complete scan at "});
   EXPECT_EQ(o.out.back().rfind("# first complete scan at ", 0), 0u);
 }
 
-// On the BQ76907: the data-memory write of FET Options 0x901E with HOST_FETOFF_EN (bit 6) set, the alarm
-// mask, FET_ENABLE and SLEEP_DISABLE.
+// Issue 23: the start-up writes every enabled protection's threshold and delay that the device does not
+// already hold, inside CONFIG_UPDATE (each a data-memory write followed by its checksum/length and a
+// read-back): BQ76952 SCD 100 mV (0x9286 <- 5), SCD Delay 30 us (0x9287 <- 3), SCDL Latch Limit 1, OCC 24 mV,
+// OCD1 40 mV and its delay, Enabled Protections C (SCDL, HWDF), HWD Delay 2 s, UTC -5 / UTD -25 / UTINT
+// -25 degC, OTD 65 degC, the FET-off pins; BQ76907 COV 4301 mV, CUV 2600 mV, SCD, the host watchdog.
+TEST(Bq769x2Bmsctl, AppStartWritesTheProtectionThresholdsAndDelays) {
+  const ToolRun o = bmsctl("trace bq76952 app-start");
+  ASSERT_EQ(o.status, 0) << printed(o);
+  expectInOrder(o, {"S 10 3E 90 00 P", "S 10 3E FA 92 02 P", "S 10 3E FB 92 02 P", "S 10 3E 63 92 42 P",
+                    "S 10 3E 5F 92 02 04 P", "S 10 3E 80 92 0C P", "S 10 3E 82 92 14 P", "S 10 3E 83 92 04 P",
+                    "S 10 3E 86 92 05 P", "S 10 3E 87 92 03 P", "S 10 3E 95 92 01 P", "S 10 3E 9D 92 41 P",
+                    "S 10 3E A6 92 FB P", "S 10 3E A9 92 E7 P", "S 10 3E AC 92 E7 P", "S 10 3E B2 92 02 00 P",
+                    "S 10 3E 92 00 P", "# first complete scan at "});
+  const ToolRun seven = bmsctl("trace bq76907 app-start");
+  ASSERT_EQ(seven.status, 0) << printed(seven);
+  expectInOrder(seven,
+                {"S 10 3E 90 00 P", "S 10 3E 25 90 01 P", "S 10 3E 2D 90 01 P", "S 10 3E 32 90 CD 10 P",
+                 "S 10 3E 2E 90 28 0A P", "S 10 3E 3C 90 05 P", "S 10 3E 3D 90 03 P", "S 10 3E 92 00 P"});
+}
+
+// On the BQ76907: Balancing Configuration (0x9020) compared, the data-memory write of FET Options 0x901E with
+// HOST_FETOFF_EN (bit 6) set, the alarm mask, FET_ENABLE and SLEEP_DISABLE.
 TEST(Bq7690xBmsctl, AppStartWritesFetOptionsAndDisablesSleep) {
   const ToolRun o = bmsctl("trace bq76907 app-start");
   ASSERT_EQ(o.status, 0) << printed(o);
-  expectInOrder(o, {"S 10 3E 90 00 P", "S 10 3E 1E 90 58 P", "S 10 3E 1C 90 00 F0 P", "S 10 3E 92 00 P",
-                    "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F0 P", "S 10 62 Sr 11 [",
-                    "S 10 3A Sr 11 [", "# first complete scan at "});
+  expectInOrder(o, {"S 10 3E 20 90 P", "S 10 3E 90 00 P", "S 10 3E 1E 90 58 P", "S 10 3E 1C 90 00 F0 P",
+                    "S 10 3E 92 00 P", "S 10 3E 22 00 P", "S 10 3E 9A 00 P", "S 10 66 00 F0 P",
+                    "S 10 62 Sr 11 [", "S 10 3A Sr 11 [", "# first complete scan at "});
   const ToolRun five = bmsctl("trace bq76905 app-start");
   ASSERT_EQ(five.status, 0) << printed(five);
   EXPECT_TRUE(five.has("S 10 3E 1B 90 05 P")) << "Vcell Mode: 5 cells\n" << printed(five);

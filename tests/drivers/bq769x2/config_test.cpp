@@ -15,10 +15,10 @@ namespace map = fw::regmap::bq769x2;
 namespace dm = map::dm;
 namespace bits = map::bits;
 
-// SLAAEB3 / LANDSCAPE Part A section 1: TI's 21 writes. Four of TI's values are outside the TRM's ranges (its
-// example targets the EVM's 0.75 V simulation "cells"): CUV 0x0D, COV 0x10, OCC 0x01 and OCD1 0xFF. A table
-// cannot hold them (setting() refuses a value outside min..max), so this one uses in-range thresholds for a
-// Li-ion pack: CUV 2.78 V, COV 4.20 V, OCC 20 mV, OCD1 100 mV.
+// SLAAEB3 and TI's bq769x2_control_i2c example (MSPM0 SDK 2.09): TI's 21 writes. Four of TI's values are
+// outside the TRM's ranges (its example targets the EVM's 0.75 V simulation "cells"): CUV 0x0D, COV 0x10, OCC
+// 0x01 and OCD1 0xFF. A table cannot hold them (setting() refuses a value outside min..max), so this one uses
+// in-range thresholds for a Li-ion pack: CUV 2.78 V, COV 4.20 V, OCC 20 mV, OCD1 100 mV.
 static_assert(!fw::regmap::inRange(dm::CuvThreshold, 0x0D) && !fw::regmap::inRange(dm::CovThreshold, 0x10));
 static_assert(!fw::regmap::inRange(dm::OccThreshold, 0x01) && !fw::regmap::inRange(dm::Ocd1Threshold, 0xFF));
 
@@ -30,7 +30,8 @@ constexpr drv::Setting kPackConfig[] = {
     drv::setting(dm::Ts3Config, 0x0F), drv::setting(dm::HdqPinConfig, 0x00),  // = the default
     drv::setting(dm::VCellMode, 0xFFFF), drv::setting(dm::EnabledProtectionsA, bits::SafetyA::fromRaw(0xBC)),
     drv::setting(dm::EnabledProtectionsB, bits::SafetyB::fromRaw(0xF7)),
-    drv::setting(dm::DefaultAlarmMask, 0xF882), drv::setting(dm::BalancingConfiguration, 0x03),
+    drv::setting(dm::DefaultAlarmMask, 0xF882),
+    drv::setting(dm::BalancingConfiguration, bits::BalancingConfiguration::fromRaw(0x03)),
     drv::setting(dm::CellBalanceMinCellVCharge, 700), drv::setting(dm::CellBalanceMinCellVRelax, 700),
     drv::setting(dm::CuvThreshold, 55),   // 55 x 50.6 mV = 2783 mV
     drv::setting(dm::CovThreshold, 83),   // 83 x 50.6 mV = 4200 mV

@@ -91,17 +91,17 @@ TEST(Bq769x2Emulator, CovTripsAfterItsDelayAndAssertsAlert) {
   ASSERT_EQ(r.write({0x3E, 0x22, 0x00}), Status::Ok);  // FET_ENABLE: leave FET test mode
   r.h.runFor(fw::ms(1));
   ASSERT_TRUE(r.emu.chgFet());
-  // COV Threshold default 86 x 50.6 mV = 4351.6 mV, COV Delay 74 x 3.3 ms = 244.2 ms.
+  // COV Threshold default 86 x 50.6 mV = 4351.6 mV, COV Delay 3.3 ms x (2 + 74) = 250.8 ms.
   EXPECT_TRUE(alert.level());
   r.emu.setCellMv(5, 4360);
   EXPECT_TRUE(r.emu.safetyAlertA() & map::bits::SafetyA::cov_mask);
   EXPECT_FALSE(r.emu.safetyStatusA() & map::bits::SafetyA::cov_mask);
   EXPECT_FALSE(alert.level()) << "ALERT asserts with the safety alert";
   EXPECT_EQ(r.emu.alarmStatus(), map::bits::Alarm::msk_sfalert_mask);
-  r.h.runFor(fw::ms(240));
+  r.h.runFor(fw::ms(250));
   EXPECT_FALSE(r.emu.safetyStatusA() & map::bits::SafetyA::cov_mask);
   EXPECT_TRUE(r.emu.chgFet());
-  r.h.runFor(fw::ms(10));
+  r.h.runFor(fw::ms(1));
   EXPECT_TRUE(r.emu.safetyStatusA() & map::bits::SafetyA::cov_mask);
   EXPECT_EQ(r.emu.alarmStatus(), map::bits::Alarm::msk_sfalert_mask | map::bits::Alarm::ssa_mask);
   EXPECT_TRUE(r.emu.alertAsserted());

@@ -168,6 +168,17 @@ TEST(Bq769x2Faults, EchoThatNeverComesIsTimeoutWithinTheBudget) {
   EXPECT_LT(took, 20000u);
 }
 
+// A poll whose two bytes straddle the end of the command reads 0x3E busy (FF) and 0x3F already echoed: the
+// command ran, so the link polls once more instead of restarting the operation (which would send the command
+// again: ALL_FETS_OFF twice, 2.5 ms instead of 1.6 ms on the L1306 twin's fast path).
+TEST(Bq769x2Faults, APollThatStraddlesTheEndOfTheCommandPollsAgain) {
+  Rig r(noRetries());
+  r.emu.straddleNextEcho();
+  EXPECT_EQ(r.runLink(r.driver.link().startSubcommand(map::sub::AllFetsOff.address)), Status::Ok);
+  EXPECT_EQ(r.wire(), (std::vector<std::string>{"S 10 3E 95 00 P", "S 10 3E Sr 11 [FF 00] P",
+                                                "S 10 3E Sr 11 [95 00] P"}));
+}
+
 TEST(Bq769x2Faults, EchoOfAnotherCommandIsEchoMismatch) {
   Emu::Timing t;
   t.boot = {};
@@ -181,11 +192,13 @@ TEST(Bq769x2Faults, EchoOfAnotherCommandIsEchoMismatch) {
 }
 
 TEST(Bq769x2Faults, DeviceResetMidReadRestartsTheSnapshot) {
-  Rig r;
+  Emu::Timing t;
+  t.boot = fw::ms(1);  // within the link's two retries, 500 us apart, after the rest of the read
+  Rig r({}, t);
   auto m = sentinel();
-  // Inside the first, 50-byte block read: the rest of it reads 0xFF, the next read is NACKed while the
-  // device boots (2 ms) and succeeds on a retry; the retry makes the scan start over, so the record is one
-  // consistent snapshot taken after the reset.
+  // Inside the first read (26 bytes of the cell block): the rest of it reads 0xFF, the next read is NACKed
+  // while the device boots and succeeds on a retry; the retry makes the scan start over, so the record is
+  // one consistent snapshot taken after the reset.
   r.emu.resetAfterBytes(12);
   ASSERT_EQ(r.scan(m), Status::Ok);
   EXPECT_EQ(r.count("S 10 0A Sr 11 ["), 2u) << r.wireText();
@@ -213,9 +226,10 @@ TEST(Bq769x2Faults, DeviceResetInTheLastReadOfAScanIsImplausible) {
   t.boot = {};  // no NACK window: only the data tell
   Rig r(drv::MonitorConfig{}, t);
   auto m = sentinel();
-  // Bytes: the DASTATUS6 request 4, 0x0A read = 3 + 50, 0x62 read = 3 + 20, 0x02 read = 3 + 6, then the
-  // 0x7F read's 3 address and command bytes and its data byte, which the device no longer drives.
-  r.emu.resetAfterBytes(4 + 53 + 23 + 9 + 4);
+  // Bytes: the DASTATUS6 request 4, 0x0A read = 3 + 26, 0x24 read = 3 + 24, 0x62 read = 3 + 20, 0x02 read =
+  // 3 + 6, then the 0x7F read's 3 address and command bytes and its data byte, which the device no longer
+  // drives.
+  r.emu.resetAfterBytes(4 + 29 + 27 + 23 + 9 + 4);
   EXPECT_EQ(r.scan(m), Status::Implausible);  // FET Status read as 0xFF: reserved bit 7 set
   EXPECT_TRUE(untouched(m));
   EXPECT_EQ(r.scan(m), Status::Ok);
@@ -225,15 +239,15 @@ TEST(Bq769x2Faults, ReadThatNeededARetryRestartsTheWholeScan) {
   Rig r;
   auto m = sentinel();
   r.harness.runFor(fw::us(10));
-  // Fail the second block read once: the scan starts over from its charge request (the request, the four
-  // blocks with one retried, then the request, the four blocks and the charge read: 12 transactions).
+  // Fail the second read once: the scan starts over from its charge request (the request, the five reads with
+  // one retried, then the request, the five reads and the charge read: 14 transactions).
   ASSERT_EQ(r.driver.startScan(m), Status::Ok);
   ASSERT_TRUE(r.harness.runUntil([&] { return r.bus.transactions() == 2; }, fw::ms(10)));
   r.emu.nackNext(1);
   ASSERT_EQ(r.finish(Status::Ok), Status::Ok);
   EXPECT_EQ(r.count("S 10 0A Sr 11 ["), 2u) << r.wireText();
   EXPECT_EQ(r.count("S 10 3E 76 00 P"), 2u) << r.wireText();
-  EXPECT_EQ(r.bus.transactions(), 12u);
+  EXPECT_EQ(r.bus.transactions(), 14u);
 }
 
 TEST(Bq769x2Faults, BusStuckLowIsBusStuckThenRecovers) {

@@ -1,5 +1,5 @@
-// `bmsctl trace bq79616` as a user runs it: the built binary, its stdout and exit status (ARCHITECTURE.md
-// "Host tools" contract). Every frame of bq79616-protocol.md section 3 must come out byte for byte.
+// `bmsctl trace bq79616` as a user runs it: the built binary, its stdout and exit status (README "Host tools"
+// "Host tools" contract). Every frame TI prints in SLUUC56B / SLUAA17A must come out byte for byte.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -139,7 +139,7 @@ TEST(Bq79616Bmsctl, AppStartTracesTheApplicationFromResetToItsFirstScan) {
   EXPECT_EQ(wire[0], "PING WAKE 2250us");
   EXPECT_EQ(wire[1], "PING WAKE 2250us");
   EXPECT_EQ(wire[2], "TX 90 00 03 09 20 13 95");
-  // TI's frames (bq79616-protocol.md section 3), in the order the application must send them.
+  // TI's frames (SLUUC56B / SLUAA17A), in the order the application must send them.
   const std::vector<std::string> order = {
       "TX D0 03 09 01 0F 74",     // CONTROL1 = ADDR_WR
       "TX D0 03 08 02 4E E5",     // COMM_CTRL = stack

@@ -97,7 +97,7 @@ TEST(Bq79616BringUpSequence, AutoAddressSendsTiSequenceForTwoDevices) {
     ADD_FAILURE() << "no vector " << what;
     return std::string();
   };
-  // SLUSE81E table 9-19 / protocol.md §6, with TI's own bytes where section 3 has them.
+  // SLUSE81E table 9-19 / TI's AutoAddress(), with TI's own bytes where SLUUC56B / SLUAA17A print them.
   ASSERT_GE(tx.size(), 24u);
   EXPECT_EQ(tx[0], vec("broadcast W OTP_ECC_DATAIN1=0x00"));
   EXPECT_EQ(tx[7].substr(0, 14), "TX D0 03 4A 00");  // ... through OTP_ECC_DATAIN8

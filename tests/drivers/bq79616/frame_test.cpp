@@ -1,4 +1,4 @@
-// BQ79616 frame codec against TI's published frames (bq79616-protocol.md section 3) and against a CRC
+// BQ79616 frame codec against TI's published frames (SLUUC56B / SLUAA17A) and against a CRC
 // computed here bit by bit (not with fw::crc), so a wrong table or byte order in the firmware cannot agree
 // with itself.
 #include <gtest/gtest.h>
@@ -17,7 +17,8 @@ namespace bq = fw::drivers::bq79616;
 using bq::RequestType;
 using fw::Status;
 
-// CRC-16/MODBUS, one bit at a time: reflected polynomial 0xA001, init 0xFFFF (bq79616-protocol.md §3).
+// CRC-16/MODBUS, one bit at a time: reflected polynomial 0xA001, init 0xFFFF (CRC-16/MODBUS, as TI's
+// example's table).
 uint16_t crcBitwise(const std::vector<uint8_t>& bytes) {
   uint16_t crc = 0xFFFF;
   for (uint8_t b : bytes) {
@@ -177,7 +178,8 @@ TEST(Bq79616Frame, SplitsABroadcastResponseTopOfStackFirst) {
 }
 
 TEST(Bq79616Frame, Section7CellFrameLayout) {
-  // protocol.md §7: per-board response [0]=0x1F, [1]=dev, [2..3]=05 68, [4..35] cells 16..1, [36..37] CRC.
+  // SLUSE81E response frame, TI's example's reading: per-board response [0]=0x1F, [1]=dev, [2..3]=05 68,
+  // [4..35] cells 16..1, [36..37] CRC.
   std::vector<uint8_t> cells(32);
   cells[0] = 0x16;
   cells[1] = 0xC0;  // VCELL16 = 0x16C0 = 5824 LSB = 1110.8 mV (app note figure 4-5)

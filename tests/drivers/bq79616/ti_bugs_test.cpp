@@ -1,5 +1,5 @@
-// The defects of TI's bq79616_uart_to_can example (bq79616-protocol.md §4, §9; LANDSCAPE.md part A §2), each
-// turned into a test this driver must pass.
+// The defects of TI's bq79616_uart_to_can example (TI mspm0-sdk 2.09, examples/.../bq79616_uart_to_can, read
+// against SLUSE81E), each turned into a test this driver must pass.
 #include <gtest/gtest.h>
 
 #include "chain_rig.hpp"

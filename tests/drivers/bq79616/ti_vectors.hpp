@@ -1,4 +1,4 @@
-// The command frames of bq79616-protocol.md section 3, byte for byte as TI prints them (SLUUC56B, SLUAA17A;
+// The BQ79616 command frames byte for byte as TI prints them (SLUUC56B, SLUAA17A;
 // CRCs computed there with an independent CRC-16/MODBUS implementation). Used by the codec tests and by the
 // bmsctl test, which feeds `args` to the built tool and compares its TX line with `bytes`.
 #pragma once

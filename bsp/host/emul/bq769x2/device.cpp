@@ -49,6 +49,11 @@ void Bq769xEmulator::setRegoutFault(bool on) {
   regoutFault_ = on;
   update();
 }
+void Bq769xEmulator::setFetOffPins(bool cfetoff, bool dfetoff) {
+  cfetoffPin_ = cfetoff;
+  dfetoffPin_ = dfetoff;
+  update();
+}
 
 void Bq769xEmulator::completeScan() {
   const uint16_t scan =
@@ -62,10 +67,15 @@ void Bq769xEmulator::completeScan() {
 // --- measurements and SLEEP --------------------------------------------------------------------------------
 
 void Bq769xEmulator::measure() {
-  measured_.cells = cells_;
+  // The cells as they are now, balancing's losses included (balancing.cpp). The device pauses balancing to
+  // measure (BQ7690x Balancing Configuration[CBDLY], SLUUCI8), so no balancing current shows in a reading.
+  settleBleed();
+  for (uint8_t c = 0; c < cells_.size(); ++c)
+    measured_.cells[c] = cellNowMv(static_cast<uint8_t>(c + 1));
   measured_.currentMa = currentMa_;
   measured_.intTemp = intTemp_;
   measured_.ts = ts_;
+  checkBalanceTemperatures();
 }
 
 // SLEEP (SLUUBY2B 7.3, SLUUBY1B the same; SLUSE96/SLUSE97 for the BQ7690x): allowed after a reset (Power
@@ -77,7 +87,7 @@ void Bq769xEmulator::measure() {
 void Bq769xEmulator::updateSleep() {
   const int32_t sleepCurrent = static_cast<int16_t>(bq7690x() ? dataMemory(m7::dm::SleepCurrent.address, 2)
                                                               : dataMemory(m2::dm::SleepCurrent.address, 2));
-  const bool fault = safetyStatusA_ != 0 || safetyStatusB_ != 0;
+  const bool fault = safetyStatusA_ != 0 || safetyStatusB_ != 0 || safetyStatusC_ != 0;
   const bool relax = sleepAllowed_ && !cfgUpdate_ && !fault && std::abs(currentMa_) < sleepCurrent;
   if (!relax) {
     relaxSince_ = UINT64_MAX;
@@ -136,10 +146,13 @@ uint8_t Bq769xEmulator::cellsInUse() const {
   return n == 0 || n > cellCount() ? cellCount() : n;
 }
 
-// The device's own COV and CUV protection (SLUUBY2B section 5.2/5.3; SLUUCJ0 for the BQ7690x): the alert flag
-// follows the condition at once, the status flag trips when it has lasted the configured delay and clears
-// once every cell is back past threshold -+ hysteresis. Protections pause in CONFIG_UPDATE. They use the
-// measured cells (in SLEEP only every Voltage Time).
+// The device's own COV and CUV protection (SLUUBY2B 5.2 "Cell Overvoltage" / "Cell Undervoltage" Protection;
+// SLUUCJ0 6.3 / 6.4 for the BQ7690x): the alert flag follows the condition at once, the status flag trips
+// when it has lasted the configured delay and clears once every cell is back past threshold -+ hysteresis.
+// Protections pause in CONFIG_UPDATE. They use the measured cells (in SLEEP only every Voltage Time). Delays:
+// BQ769x2 3.3 ms x (2 + setting), the rule SLUUBY2B gives for the OCC/OCD delays ("units of 3.3 ms with a
+// 6.6 ms offset") taken for COV/CUV's 3.3 ms units too (the safe side: the later trip); BQ7690x a count of
+// ADSCAN intervals (SLUUCI8 Cell Undervoltage Protection Delay; the interval is Timing::adscan7690x).
 void Bq769xEmulator::evaluateProtections() {
   if (cfgUpdate_) return;
   const uint8_t n = cellsInUse();
@@ -156,7 +169,7 @@ void Bq769xEmulator::evaluateProtections() {
   uint64_t covDelayUs, cuvDelayUs;
   uint8_t enabled;
   if (bq7690x()) {
-    // BQ7690x limits are plain mV (I2); delays are taken as milliseconds (the map gives no unit).
+    // BQ7690x limits are plain mV (I2; SLUUCY8's twin core: 0..5500 mV).
     covBit = m7::bits::SafetyStatusA::cov_mask;
     cuvBit = m7::bits::SafetyStatusA::cuv_mask;
     enabled = static_cast<uint8_t>(dataMemory(m7::dm::EnabledProtectionsA.address, 1));
@@ -164,8 +177,8 @@ void Bq769xEmulator::evaluateProtections() {
     cuvMv = static_cast<int16_t>(dataMemory(m7::dm::CellUndervoltageProtectionThreshold.address, 2));
     covHyst = static_cast<int>(dataMemory(m7::dm::CellOvervoltageProtectionRecoveryHysteresis.address, 1));
     cuvHyst = static_cast<int>(dataMemory(m7::dm::CellUndervoltageProtectionRecoveryHysteresis.address, 1));
-    covDelayUs = dataMemory(m7::dm::CellOvervoltageProtectionDelay.address, 1) * 1000ULL;
-    cuvDelayUs = dataMemory(m7::dm::CellUndervoltageProtectionDelay.address, 1) * 1000ULL;
+    covDelayUs = dataMemory(m7::dm::CellOvervoltageProtectionDelay.address, 1) * timing_.adscan7690x.us;
+    cuvDelayUs = dataMemory(m7::dm::CellUndervoltageProtectionDelay.address, 1) * timing_.adscan7690x.us;
     // REGOUT (SLUUCJ0 Safety Status A bit 0; enabled by default, SLUAAM4 3.1): a fault while the LDO is out.
     const bool regout = regoutFault_ && (enabled & m7::bits::EnabledProtectionsA::regout_mask) != 0;
     safetyStatusA_ = static_cast<uint8_t>((safetyStatusA_ & ~m7::bits::SafetyStatusA::regout_mask) |
@@ -180,8 +193,8 @@ void Bq769xEmulator::evaluateProtections() {
     cuvMv = static_cast<int>(dataMemory(m2::dm::CuvThreshold.address, 1) * 253 / 5);
     covHyst = static_cast<int>(dataMemory(m2::dm::CovRecoveryHysteresis.address, 1) * 253 / 5);
     cuvHyst = static_cast<int>(dataMemory(m2::dm::CuvRecoveryHysteresis.address, 1) * 253 / 5);
-    covDelayUs = dataMemory(m2::dm::CovDelay.address, 2) * 3300ULL;
-    cuvDelayUs = dataMemory(m2::dm::CuvDelay.address, 2) * 3300ULL;
+    covDelayUs = (dataMemory(m2::dm::CovDelay.address, 2) + 2) * 3300ULL;
+    cuvDelayUs = (dataMemory(m2::dm::CuvDelay.address, 2) + 2) * 3300ULL;
   }
   const uint64_t now = clock_.nowUs();
   uint64_t next = UINT64_MAX;
@@ -212,7 +225,197 @@ void Bq769xEmulator::evaluateProtections() {
         covDelayUs);
   track((enabled & cuvBit) != 0 && cuvMv > 0, minMv <= cuvMv, minMv > cuvMv + cuvHyst, cuvBit, cuvSince_,
         cuvDelayUs);
+  evaluateCurrentProtections(now, next);
+  evaluateHostWatchdog(now, next);
   if (next != UINT64_MAX) scheduleProtection(next);
+}
+
+namespace {
+
+// A comparator protection's trip: the alert while the condition lasts, the status once it has lasted `delay`
+// (SLUUBY2B 5.2 Table "Overcurrent in Charge": Alert when the sense voltage exceeds the threshold, Trip when
+// it does for the delay: alert cleared, status set). Returns true on the trip. A tripped one waits for its
+// own recovery (recoverAfter()).
+bool tripAfter(uint64_t now, bool on, bool condition, uint8_t bit, uint64_t& since, uint64_t delayUs,
+               uint8_t& alert, uint8_t& status, uint64_t& next) {
+  if (!on) {
+    alert &= static_cast<uint8_t>(~bit);
+    status &= static_cast<uint8_t>(~bit);
+    since = UINT64_MAX;
+    return false;
+  }
+  if ((status & bit) != 0) return false;
+  if (!condition) {
+    alert &= static_cast<uint8_t>(~bit);
+    since = UINT64_MAX;
+    return false;
+  }
+  alert |= bit;
+  if (since == UINT64_MAX) since = now;
+  if (now < since + delayUs) {
+    next = std::min(next, since + delayUs);
+    return false;
+  }
+  alert &= static_cast<uint8_t>(~bit);
+  status |= bit;
+  since = UINT64_MAX;
+  return true;
+}
+
+// A tripped protection clears once `criterion` has held for `timeUs`.
+void recoverAfter(uint64_t now, uint8_t bit, bool criterion, uint64_t& since, uint64_t timeUs,
+                  uint8_t& status, uint64_t& next) {
+  if ((status & bit) == 0 || !criterion) {
+    since = UINT64_MAX;
+    return;
+  }
+  if (since == UINT64_MAX) since = now;
+  if (now >= since + timeUs) {
+    status &= static_cast<uint8_t>(~bit);
+    since = UINT64_MAX;
+  } else {
+    next = std::min(next, since + timeUs);
+  }
+}
+
+// The SCD threshold settings, in mV across the sense resistor (SLUUBY2B Protections:SCD:Threshold, SLUUCJ0
+// Table 6-9: the same sixteen steps).
+constexpr uint16_t kScdMv[16] = {10, 20, 40, 60, 80, 100, 125, 150, 175, 200, 250, 300, 350, 400, 450, 500};
+// BQ7690x SCD delay settings 0..10 in us (SLUUCJ0 Short Circuit in Discharge Protection Delay; Table 6-10
+// gives ranges, the upper ends of which these are).
+constexpr uint16_t kScdDelay7690xUs[11] = {0, 15, 31, 61, 122, 244, 488, 977, 1953, 3906, 7797};
+
+}  // namespace
+
+// The comparator-based current protections on the sense voltage (current x Timing::shuntMicroOhm), which the
+// analog comparators see at once (in SLEEP too, unlike the ADC readings):
+//   OCC (SLUUBY2B 5.2 "Overcurrent in Charge Protection", SLUUCJ0 6.6): trips when the charge voltage
+//     reaches 2 mV x threshold for 3.3 ms x (2 + delay); recovers when a current <= OCC Recovery Threshold
+//     (a discharge, default -200 mA) lasts Protections:Recovery:Time (default 3 s). The alternative PACK-TOS
+//     recovery is not modelled (PACK follows the stack here).
+//   OCD1, OCD2 (SLUUBY2B 5.2 "Overcurrent in Discharge", SLUUCW9 the same): the discharge voltage, the same
+//     units; recover when a current >= OCD Recovery Threshold (default 200 mA) lasts Recovery:Time.
+//   SCD (SLUUBY2B 5.2 "Short Circuit in Discharge", SLUUCG7 the same; SLUUCJ0 6.5): the discharge voltage
+//     reaches the threshold setting's mV (kScdMv) for (setting - 1) x 15 us (1: at once; BQ7690x:
+//     kScdDelay7690xUs); recovers Protections:SCD:Recovery Time after the trip (default 5 s; BQ7690x Recovery
+//     Time). Each trip counts towards the SCD latch: with Enabled Protections C[SCDL] the latch trips once
+//     the count reaches SCDL Latch Limit (Safety Status C[SCDL]) and recovers, with Protection
+//     Configuration[SCDL_CURR_RECOV], when a current >= SCDL Recovery Threshold (default 200 mA) lasts SCDL
+//     Recovery Time (default 15 s) (SLUUCG7 Protection Configuration; load detection and the counter's
+//     decrement are not modelled).
+// BQ7690x: OCD1/OCD2/OCC are not enabled by the images and not modelled there.
+void Bq769xEmulator::evaluateCurrentProtections(uint64_t now, uint64_t& next) {
+  // Sense voltage in uV, charge positive.
+  const int64_t senseUv = static_cast<int64_t>(currentMa_) * timing_.shuntMicroOhm / 1000;
+  if (bq7690x()) {
+    using A = m7::bits::SafetyStatusA;
+    const uint8_t enabled = static_cast<uint8_t>(dataMemory(m7::dm::EnabledProtectionsA.address, 1));
+    const uint8_t setting = static_cast<uint8_t>(
+        dataMemory(m7::dm::ShortCircuitInDischargeProtectionThreshold.address, 1) & 0x0F);
+    const uint8_t delay =
+        static_cast<uint8_t>(dataMemory(m7::dm::ShortCircuitInDischargeProtectionDelay.address, 1));
+    const uint64_t delayUs = kScdDelay7690xUs[std::min<uint8_t>(delay, 10)];
+    const uint64_t recoverUs = std::max<uint64_t>(1, dataMemory(m7::dm::RecoveryTime.address, 1) != 0
+                                                         ? dataMemory(m7::dm::RecoveryTime.address, 1)
+                                                         : timing_.currentRecovery7690xS) *
+                               1000000ULL;
+    uint64_t since = scdTrippedAt_;
+    recoverAfter(now, A::scd_mask, true, since, recoverUs, safetyStatusA_, next);
+    if (tripAfter(now, (enabled & m7::bits::EnabledProtectionsA::scd_mask) != 0,
+                  -senseUv >= kScdMv[setting] * 1000LL, A::scd_mask, scdSince_, delayUs, safetyAlertA_,
+                  safetyStatusA_, next)) {
+      scdTrippedAt_ = now;
+    }
+    return;
+  }
+  using A = m2::bits::SafetyA;
+  using C = m2::bits::SafetyC;
+  const auto enabledA =
+      m2::bits::SafetyA::fromRaw(static_cast<uint8_t>(dataMemory(m2::dm::EnabledProtectionsA.address, 1)));
+  const auto enabledC =
+      m2::bits::SafetyC::fromRaw(static_cast<uint8_t>(dataMemory(m2::dm::EnabledProtectionsC.address, 1)));
+  auto comparatorUs = [&](uint16_t delayAddress) { return (dataMemory(delayAddress, 1) + 2) * 3300ULL; };
+  const int64_t occUv = dataMemory(m2::dm::OccThreshold.address, 1) * 2000LL;
+  const int64_t ocd1Uv = dataMemory(m2::dm::Ocd1Threshold.address, 1) * 2000LL;
+  const int64_t ocd2Uv = dataMemory(m2::dm::Ocd2Threshold.address, 1) * 2000LL;
+  const uint8_t scdSetting = static_cast<uint8_t>(dataMemory(m2::dm::ScdThreshold.address, 1) & 0x0F);
+  const uint32_t scdDelay = dataMemory(m2::dm::ScdDelay.address, 1);
+  // Recovery first (Protections:Recovery:Time for OCC/OCD; SCD Recovery Time after the trip), so a condition
+  // still present trips again in the same evaluation.
+  const uint64_t recoveryUs = dataMemory(m2::dm::Time.address, 1) * 1000000ULL;
+  const int32_t occRecoveryMa = static_cast<int16_t>(dataMemory(m2::dm::OccRecoveryThreshold.address, 2));
+  const int32_t ocdRecoveryMa = static_cast<int16_t>(dataMemory(m2::dm::OcdRecoveryThreshold.address, 2));
+  recoverAfter(now, A::occ_mask, currentMa_ <= occRecoveryMa, occRecoverSince_, recoveryUs, safetyStatusA_,
+               next);
+  const uint8_t ocdBits = A::ocd1_mask | A::ocd2_mask;
+  if ((safetyStatusA_ & ocdBits) != 0) {
+    uint8_t both = safetyStatusA_ & ocdBits;
+    recoverAfter(now, both, currentMa_ >= ocdRecoveryMa, ocdRecoverSince_, recoveryUs, both, next);
+    safetyStatusA_ = static_cast<uint8_t>((safetyStatusA_ & ~ocdBits) | both);
+  } else {
+    ocdRecoverSince_ = UINT64_MAX;
+  }
+  uint64_t scdSince = scdTrippedAt_;
+  recoverAfter(now, A::scd_mask, true, scdSince, dataMemory(m2::dm::ScdRecoveryTime.address, 1) * 1000000ULL,
+               safetyStatusA_, next);
+  tripAfter(now, enabledA.occ(), senseUv >= occUv, A::occ_mask, occSince_,
+            comparatorUs(m2::dm::OccDelay.address), safetyAlertA_, safetyStatusA_, next);
+  tripAfter(now, enabledA.ocd1(), -senseUv >= ocd1Uv, A::ocd1_mask, ocd1Since_,
+            comparatorUs(m2::dm::Ocd1Delay.address), safetyAlertA_, safetyStatusA_, next);
+  tripAfter(now, enabledA.ocd2(), -senseUv >= ocd2Uv, A::ocd2_mask, ocd2Since_,
+            comparatorUs(m2::dm::Ocd2Delay.address), safetyAlertA_, safetyStatusA_, next);
+  if (tripAfter(now, enabledA.scd(), -senseUv >= kScdMv[scdSetting] * 1000LL, A::scd_mask, scdSince_,
+                scdDelay > 1 ? (scdDelay - 1) * 15ULL : 0, safetyAlertA_, safetyStatusA_, next)) {
+    scdTrippedAt_ = now;
+    if (scdlCounter_ < 0xFF) ++scdlCounter_;
+  }
+  // The SCD latch.
+  const uint8_t latchLimit = static_cast<uint8_t>(dataMemory(m2::dm::ScdlLatchLimit.address, 1));
+  if (!enabledC.scdl()) {
+    safetyStatusC_ &= static_cast<uint8_t>(~C::scdl_mask);
+  } else if (latchLimit != 0 && scdlCounter_ >= latchLimit) {
+    safetyStatusC_ |= C::scdl_mask;
+  }
+  const bool currentRecovery = (dataMemory(m2::dm::ProtectionConfiguration.address, 2) & (1U << 10)) != 0;
+  const int32_t scdlRecoveryMa = static_cast<int16_t>(dataMemory(m2::dm::ScdlRecoveryThreshold.address, 2));
+  const bool wasLatched = (safetyStatusC_ & C::scdl_mask) != 0;
+  recoverAfter(now, C::scdl_mask, currentRecovery && currentMa_ >= scdlRecoveryMa, scdlRecoverSince_,
+               dataMemory(m2::dm::ScdlRecoveryTime.address, 1) * 1000000ULL, safetyStatusC_, next);
+  if (wasLatched && (safetyStatusC_ & C::scdl_mask) == 0) scdlCounter_ = 0;
+}
+
+// The host watchdog (SLUUBY2B 5.2 "Host Watchdog", SLUUCF2C the same; SLUUCJ0 6.15): enabled by Enabled
+// Protections C[HWDF] (BQ7690x: B[HWD]), it trips when no communication was received for Protections:HWD:
+// Delay seconds (BQ7690x Host Watchdog Timeout: codes 0..15 are 1..16 s, 16..255 are 20..976 s in 4 s steps;
+// Safety Alert B[HWD] at half of it) and recovers as soon as communication is received (onStart()). There is
+// no BQ769x2 alert for it.
+void Bq769xEmulator::evaluateHostWatchdog(uint64_t now, uint64_t& next) {
+  bool on;
+  uint64_t delayUs;
+  uint8_t* status;
+  uint8_t bit;
+  if (bq7690x()) {
+    on = (dataMemory(m7::dm::EnabledProtectionsB.address, 1) & m7::bits::EnabledProtectionsB::hwd_mask) != 0;
+    const uint32_t code = dataMemory(m7::dm::HostWatchdogTimeout.address, 1);
+    delayUs = (code < 16 ? code + 1 : 20 + (code - 16) * 4) * 1000000ULL;
+    status = &safetyStatusB_;
+    bit = m7::bits::SafetyB::hwd_mask;
+    const bool half = on && now >= lastCommUs_ + delayUs / 2;
+    safetyAlertB_ = static_cast<uint8_t>((safetyAlertB_ & ~bit) | (half && (*status & bit) == 0 ? bit : 0));
+  } else {
+    on = (dataMemory(m2::dm::EnabledProtectionsC.address, 1) & m2::bits::SafetyC::hwdf_mask) != 0;
+    delayUs = dataMemory(m2::dm::HwdDelay.address, 2) * 1000000ULL;
+    status = &safetyStatusC_;
+    bit = m2::bits::SafetyC::hwdf_mask;
+  }
+  if (!on || delayUs == 0 || now < lastCommUs_ + delayUs) {
+    *status &= static_cast<uint8_t>(~bit);
+    if (on && delayUs != 0)
+      next = std::min(next,
+                      lastCommUs_ + (bq7690x() && now < lastCommUs_ + delayUs / 2 ? delayUs / 2 : delayUs));
+    return;
+  }
+  *status |= bit;
 }
 
 // BQ7690x temperature protections on the TS reading (counts, which fall as the thermistor warms): OT trips
@@ -275,13 +478,21 @@ void Bq769xEmulator::update() {
   // configured to open it has tripped. In SLEEP the CHG FET is off unless FET Options[SLEEPCHG] (SLUUBY1B,
   // SLUUCI8 FET Options).
   uint8_t chgProt, dsgProt;
+  uint8_t chgProtB = 0, dsgProtB = 0, chgProtC = 0, dsgProtC = 0;
   bool ctrlEn = true;
   bool hostChgOff = hostChgOff_;
   bool hostDsgOff = hostDsgOff_;
   bool sleepChg;
   if (bq7690x()) {
-    chgProt = m7::bits::SafetyStatusA::cov_mask;
-    dsgProt = m7::bits::SafetyStatusA::cuv_mask;
+    // CHG / DSG FET Protections A (SLUUCJ0: DSG default 0xFF: CUV, SCD, OCD1, OCD2, HWD, OTD, UTD, OTINT; the
+    // CHG layout taken from SLUUCY8, the BQ77307 on the same core, default 0xEF: COV, SCD, OCC, OTC, UTC,
+    // OTINT). The register map has no default for them: the defaults are used.
+    using A = m7::bits::SafetyStatusA;
+    using B = m7::bits::SafetyB;
+    chgProt = A::cov_mask | A::scd_mask | A::occ_mask;
+    dsgProt = A::cuv_mask | A::scd_mask | A::ocd1_mask | A::ocd2_mask;
+    chgProtB = B::otc_mask | B::utc_mask | B::otint_mask;
+    dsgProtB = B::hwd_mask | B::otd_mask | B::utd_mask | B::otint_mask;
     // Both FET Protections B[REGOUT] (SLUUCJ0; default 0) opens both FETs on a REGOUT fault.
     if ((dataMemory(m7::dm::BothFetProtectionsB.address, 1) & m7::bits::BothFetProtectionsB::regout_mask) !=
         0) {
@@ -302,16 +513,33 @@ void Bq769xEmulator::update() {
     }
     sleepChg = options.sleepchg();
   } else {
+    // CHG / DSG FET Protections A, B, C (SLUUBY2B Settings:Protection): which status flags open which FET.
     chgProt = static_cast<uint8_t>(dataMemory(m2::dm::ChgFetProtectionsA.address, 1));
     dsgProt = static_cast<uint8_t>(dataMemory(m2::dm::DsgFetProtectionsA.address, 1));
+    chgProtB = static_cast<uint8_t>(dataMemory(m2::dm::ChgFetProtectionsB.address, 1));
+    dsgProtB = static_cast<uint8_t>(dataMemory(m2::dm::DsgFetProtectionsB.address, 1));
+    chgProtC = static_cast<uint8_t>(dataMemory(m2::dm::ChgFetProtectionsC.address, 1));
+    dsgProtC = static_cast<uint8_t>(dataMemory(m2::dm::DsgFetProtectionsC.address, 1));
+    // CFETOFF / DFETOFF asserted force their FET off (SLUAAQ5: "when that pin is asserted from an external
+    // source, the corresponding gate is then disabled"; DFETOFF with BOTHOFF both).
+    bool both = false;
+    if (fetOffPin(m2::dm::CfetoffPinConfig.address, cfetoffPin_, both)) hostChgOff = true;
+    if (fetOffPin(m2::dm::DfetoffPinConfig.address, dfetoffPin_, both)) {
+      hostDsgOff = true;
+      hostChgOff = hostChgOff || both;
+    }
     const auto options =
         m2::bits::FetOptions::fromRaw(static_cast<uint8_t>(dataMemory(m2::dm::FetOptions.address, 1)));
     ctrlEn = options.fet_ctrl_en() && fetEn_;
     sleepChg = options.sleepchg();
   }
   const bool drive = ctrlEn && (fetEn_ || bq7690x()) && !cfgUpdate_;
-  chgOn_ = drive && !hostChgOff && (safetyStatusA_ & chgProt) == 0 && (!sleeping_ || sleepChg);
-  dsgOn_ = drive && !hostDsgOff && (safetyStatusA_ & dsgProt) == 0;
+  const bool chgFault =
+      (safetyStatusA_ & chgProt) != 0 || (safetyStatusB_ & chgProtB) != 0 || (safetyStatusC_ & chgProtC) != 0;
+  const bool dsgFault =
+      (safetyStatusA_ & dsgProt) != 0 || (safetyStatusB_ & dsgProtB) != 0 || (safetyStatusC_ & dsgProtC) != 0;
+  chgOn_ = drive && !hostChgOff && !chgFault && (!sleeping_ || sleepChg);
+  dsgOn_ = drive && !hostDsgOff && !dsgFault;
 
   // Alarm Raw Status, and Alarm Status latching the enabled bits that rose (SLUUBY2B / SLUUCJ0 "Alarm
   // Status"): latched until the host writes a 1 to the bit (commit()).
@@ -328,7 +556,11 @@ void Bq769xEmulator::update() {
   } else {
     using A = m2::bits::Alarm;
     if (safetyStatusA_ != 0) raw |= A::ssa_mask;
-    if ((safetyAlertA_ & dataMemory(m2::dm::SfAlertMaskA.address, 1)) != 0) raw |= A::msk_sfalert_mask;
+    if ((safetyStatusB_ | safetyStatusC_) != 0) raw |= A::ssbc_mask;
+    if ((safetyAlertA_ & dataMemory(m2::dm::SfAlertMaskA.address, 1)) != 0 ||
+        (safetyAlertB_ & dataMemory(m2::dm::SfAlertMaskB.address, 1)) != 0 ||
+        (safetyAlertC_ & dataMemory(m2::dm::SfAlertMaskC.address, 1)) != 0)
+      raw |= A::msk_sfalert_mask;
     if (!chgOn_) raw |= A::xchg_mask;
     if (!dsgOn_) raw |= A::xdsg_mask;
     if (cbActive_ != 0) raw |= A::cb_mask;
@@ -337,6 +569,17 @@ void Bq769xEmulator::update() {
   alarmRaw_ = raw;
   setAlert(alarmStatus_ != 0);
   updateSleep();
+}
+
+// Whether a CFETOFF / DFETOFF pin at `level` is asserted as its Pin Config says (SLUAAQ5; TI's example
+// comments: 0x02 that FET only, 0x42 both): PIN_FXN 2 is the FET-off function, OPT5 selects active-low
+// (SLUAAQ5 "DFETOFF Pin Config[OPT5]"), OPT4 BOTHOFF (DFETOFF only). Any other function ignores the pin.
+bool Bq769xEmulator::fetOffPin(uint16_t configAddress, bool level, bool& both) const {
+  const uint8_t cfg = static_cast<uint8_t>(dataMemory(configAddress, 1));
+  if ((cfg & 0x03) != 2) return false;
+  const bool asserted = level != ((cfg & 0x80) != 0);
+  if (asserted && (cfg & 0x40) != 0) both = true;
+  return asserted;
 }
 
 void Bq769xEmulator::setAlert(bool asserted) {

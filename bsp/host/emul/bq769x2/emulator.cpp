@@ -129,14 +129,21 @@ void Bq769xEmulator::initRegisters() {
   writePending_ = false;
   cfgUpdate_ = false;
   por_ = true;
-  cbActive_ = 0;
+  stopBalancing();  // a reset ends balancing (what it took from the cells stays taken)
   alarmStatus_ = 0;
   alarmRaw_ = 0;
   safetyAlertA_ = 0;
   safetyStatusA_ = 0;
   safetyAlertB_ = 0;
   safetyStatusB_ = 0;
+  safetyAlertC_ = 0;
+  safetyStatusC_ = 0;
   covSince_ = cuvSince_ = UINT64_MAX;
+  occSince_ = ocd1Since_ = ocd2Since_ = scdSince_ = UINT64_MAX;
+  occRecoverSince_ = ocdRecoverSince_ = scdlRecoverSince_ = UINT64_MAX;
+  scdTrippedAt_ = 0;
+  scdlCounter_ = 0;
+  lastCommUs_ = clock_.nowUs();
   fetControl_ = 0;
   // SLEEP is allowed after a reset (Power Config[SLEEP], set by default: SLUUBY2B 7.3); the device wakes
   // into NORMAL mode.
@@ -213,6 +220,12 @@ I2cReply Bq769xEmulator::onStart(bool read) {
   }
   addressed_ = true;
   reading_ = read;
+  // Communication the host watchdog counts (SLUUBY2B 5.2 / SLUUCJ0 6.15: it recovers when communication is
+  // received): a transaction the device acknowledged.
+  lastCommUs_ = clock_.nowUs();
+  const bool hwd = bq7690x() ? (safetyStatusB_ & m7::bits::SafetyB::hwd_mask) != 0
+                             : (safetyStatusC_ & m2::bits::SafetyC::hwdf_mask) != 0;
+  if (hwd) update();
   if (read) {
     refresh();
     readIndex_ = 0;
@@ -267,6 +280,12 @@ uint8_t Bq769xEmulator::onRead(fw::Duration& stretch) {
   if (!dead_ && !resetIfDue()) {
     if (!crc_ || index % 2 == 0) {
       byte = readData_ = regs_[ptr_];
+      if (straddleEcho_ && ptr_ == kSub && commandEvent_ != 0) {
+        straddleEcho_ = false;
+        clock_.cancel(commandEvent_);
+        commandEvent_ = 0;
+        complete(running_);
+      }
       ptr_ = static_cast<uint8_t>((ptr_ + 1) & 0x7F);
     } else {
       byte = crc8(index == 1 ? crcAcc_ : 0, readData_);
@@ -371,9 +390,9 @@ void Bq769xEmulator::executeWrite() {
       if (dmValid(static_cast<uint16_t>(code + i))) dm_[code + i - dmBase_] = writeData_[i];
     }
   } else if (code == m2::sub::CbActiveCells.address) {
-    // BQ769x2: bit 0 = cell 1; BQ7690x: bit 1 = cell 1 (SLUAAM4 section 2.4, E2E 1572792).
-    const unsigned shift = bq7690x() ? 1 : 0;
-    cbActive_ = static_cast<uint16_t>(value & (((1U << cellCount()) - 1) << shift));
+    // BQ769x2: bit 0 = cell 1; BQ7690x: bit 1 = cell 1 (SLUAAM4 section 2.4, SLUUCJ0). The rules:
+    // balancing.cpp.
+    writeBalancing(static_cast<uint16_t>(value));
   } else if (!bq7690x() && code == m2::sub::FetControl.address &&
              (dataMemory(m2::dm::FetOptions.address, 1) & m2::bits::FetOptions::host_fet_en_mask) != 0) {
     // FET_CONTROL (SLUUCW9, E2E 1453973, regmaps/README.md deviation 1): sets every host-off state at once,
@@ -586,8 +605,12 @@ void Bq769xEmulator::refresh() {
     using B = m2::bits::BatteryStatus;
     regs_[0x02] = safetyAlertA_;
     regs_[0x03] = safetyStatusA_;
+    regs_[0x04] = safetyAlertB_;
+    regs_[0x05] = safetyStatusB_;
+    regs_[0x06] = safetyAlertC_;
+    regs_[0x07] = safetyStatusC_;
     uint16_t bs = static_cast<uint16_t>(1U << 8);  // SEC = FULLACCESS
-    if (safetyStatusA_ != 0) bs |= B::ss_mask;
+    if ((safetyStatusA_ | safetyStatusB_ | safetyStatusC_) != 0) bs |= B::ss_mask;
     if (por_) bs |= B::por_mask;
     if (sleepAllowed_) bs |= B::sleep_en_mask;
     if (sleeping_) bs |= B::sleep_mask;

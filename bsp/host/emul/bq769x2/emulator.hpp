@@ -1,5 +1,5 @@
 // Bq769xEmulator: a BQ76952 (BQ769x2 family) or BQ76905/BQ76907 (BQ7690x) battery monitor on the simulated
-// I2C bus, with two faces in the Zephyr manner (STYLE.md section 3-4):
+// I2C bus, with two faces in the manner of Zephyr's emulators:
 //   bus face      bsp::host::I2cTarget: attach it to a SimI2cBus at 0x08. It behaves like the chip on the
 //                 wire: the 128-byte direct-command space with auto-increment on reads and writes, the
 //                 subcommand window (0x3E/0x3F read FF FF while a command runs, then echo it; the result in
@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "cell_model.hpp"
 #include "core/time.hpp"
 #include "sim/i2c_target.hpp"
 #include "sim/sim_clock.hpp"
@@ -53,6 +54,19 @@ struct Bq769xTiming {
   fw::Duration sleepEntry = fw::s(1);
   int16_t sleepCurrent7690xMa = 20;
   uint8_t sleepVoltageTime7690xS = 5;
+  // Host-controlled balancing stops this long after the last CB_ACTIVE_CELLS write (balancing.cpp): the
+  // BQ7690x's 20 s is SLUAAP7 section 3; for the BQ769x2 TI says only that it "runs a few seconds by default"
+  // (E2E 958310), taken at its lower end.
+  fw::Duration hostBalanceTimeout769x2 = fw::s(2);
+  fw::Duration hostBalanceTimeout7690x = fw::s(20);
+  // The board, not the device: the sense resistor the current comparators (OCC, OCD1/2, SCD) see the current
+  // through, in micro-ohms (the BQ76952EVM's and BQ76907EVM's 1 mOhm).
+  uint32_t shuntMicroOhm = 1000;
+  // BQ7690x COV/CUV delays count ADSCAN intervals (SLUUCI8 Cell Undervoltage Protection Delay); how long one
+  // is depends on the measurement speed settings, which no TI text read gives in time: assumed.
+  fw::Duration adscan7690x = fw::ms(10);
+  // BQ7690x Recovery Time (Protections:Current, 0x903F) has no default in the register map: assumed.
+  uint8_t currentRecovery7690xS = 3;
 };
 
 class Bq769xEmulator final : public I2cTarget {
@@ -81,6 +95,9 @@ class Bq769xEmulator final : public I2cTarget {
   void setTs(uint8_t index, int16_t raw);  // TS1..TS3 (index 0..2) in 0.1 K; BQ7690x: index 0 = TS counts
   // BQ7690x: the REGOUT LDO out of regulation (Safety Status A[REGOUT] when that protection is enabled).
   void setRegoutFault(bool on);
+  // BQ769x2 CFETOFF / DFETOFF pins as the host drives them (high = true); they act as their Pin Config says
+  // (device.cpp).
+  void setFetOffPins(bool cfetoff, bool dfetoff);
   void setDeviceNumber(uint16_t number) { deviceNumber_ = number; }
   void setCrc(bool on) { crc_ = on; }  // the device's Comm Type CRC setting ("OTP": survives resets)
   bool crc() const { return crc_; }
@@ -107,10 +124,27 @@ class Bq769xEmulator final : public I2cTarget {
   bool dsgFet() const { return dsgOn_; }
   // Cells being balanced, bit 0 = cell 1 (whatever the family's CB_ACTIVE_CELLS layout).
   uint16_t balancing() const { return static_cast<uint16_t>(bq7690x() ? cbActive_ >> 1 : cbActive_); }
+  // --- backend: balancing (balancing.cpp) ------------------------------------------------------------------
+  // The cell's voltage now: what was set, less what balancing took out of it.
+  int16_t cellNowMv(uint8_t cell);
+  void setCellModel(const CellModel& model);
+  const CellModel& cellModel() const { return cellModel_; }
+  // Charge balancing took out of a cell (1..16), in mA x us.
+  int64_t bledChargeMaUs(uint8_t cell);
+  struct BalanceCounters {
+    uint32_t accepted = 0;   // CB_ACTIVE_CELLS writes taken
+    uint32_t refused = 0;    // writes the device refused (the rules in balancing.cpp): nothing balances
+    uint32_t adjacent = 0;   // BQ769x2 masks with two neighbouring cells (accepted: they overheat)
+    uint32_t ignored = 0;    // writes ignored because Balancing Configuration[CB_NO_CMD] is set
+    uint32_t timeouts = 0;   // balancing that stopped because no write came in time
+    uint32_t tempStops = 0;  // balancing the device stopped outside its temperature limits
+  };
+  const BalanceCounters& balanceCounters() const { return balanceCounters_; }
   uint16_t alarmStatus() const { return alarmStatus_; }
   uint8_t safetyStatusA() const { return safetyStatusA_; }
   uint8_t safetyAlertA() const { return safetyAlertA_; }
   uint8_t safetyStatusB() const { return safetyStatusB_; }  // BQ7690x
+  uint8_t safetyStatusC() const { return safetyStatusC_; }  // BQ769x2 (SCDL, HWDF)
   bool sleepAllowed() const { return sleepAllowed_; }       // Battery Status[SLEEP_EN]
   bool sleeping() const { return sleeping_; }               // Battery Status[SLEEP]
   // The alarm (Alarm Status non-zero), whatever the pin does with it.
@@ -142,6 +176,10 @@ class Bq769xEmulator final : public I2cTarget {
   // The next result's echo appears `lag` before its buffer, checksum and length are updated.
   void staleBufferNext(fw::Duration lag = fw::ms(2));
   void resetAfterBytes(int bytes);  // the device resets after that many more bytes on the bus
+  // The running subcommand completes right after the next read of 0x3E, before 0x3F is read: the poll
+  // reads FF and the code's high byte, as a poll straddling the command's end does on the wire (the MSPM0
+  // twin's byte-timed I2C shows it; the host bus serves a transaction's bytes at one instant).
+  void straddleNextEcho() { straddleEcho_ = true; }
   void setLatency(uint16_t code, fw::Duration d) { latencyOverride_ = {code, d}; }
 
  private:
@@ -170,6 +208,10 @@ class Bq769xEmulator final : public I2cTarget {
   void integrateCharge();
   void resetCharge();
   uint8_t fillCharge(uint8_t* data);
+  void writeBalancing(uint16_t mask);  // balancing.cpp
+  void settleBleed();
+  void stopBalancing();
+  void checkBalanceTemperatures();
   void refresh();
   void put16(uint8_t cmd, uint16_t v);
   void commit();
@@ -179,6 +221,9 @@ class Bq769xEmulator final : public I2cTarget {
   void executeWrite();
   void update();
   void evaluateProtections();
+  void evaluateCurrentProtections(uint64_t now, uint64_t& next);
+  void evaluateHostWatchdog(uint64_t now, uint64_t& next);
+  bool fetOffPin(uint16_t configAddress, bool level, bool& both) const;
   void scheduleProtection(uint64_t atUs);
   void setAlert(bool asserted);
   void loadDefaults();
@@ -224,6 +269,11 @@ class Bq769xEmulator final : public I2cTarget {
   bool chgOn_ = false;
   bool dsgOn_ = false;
   uint16_t cbActive_ = 0;
+  CellModel cellModel_;
+  std::array<int64_t, 16> bled_{};  // mA x us each cell lost to balancing
+  uint64_t bledUntilUs_ = 0;        // bled_ covers the time up to here
+  SimClock::EventId cbTimeoutEvent_ = 0;
+  BalanceCounters balanceCounters_;
   uint16_t alarmStatus_ = 0;
   uint16_t alarmRaw_ = 0;
   uint16_t alarmEnable_ = 0;
@@ -234,8 +284,18 @@ class Bq769xEmulator final : public I2cTarget {
   bool regoutFault_ = false;
   bool alertAsserted_ = false;
   bool alertLine_ = true;
+  uint8_t safetyAlertC_ = 0;  // BQ769x2
+  uint8_t safetyStatusC_ = 0;
   uint64_t covSince_ = UINT64_MAX;
   uint64_t cuvSince_ = UINT64_MAX;
+  // Current protections: when each condition (or, tripped, its recovery criterion) began; SCD's trip time.
+  uint64_t occSince_ = UINT64_MAX, ocd1Since_ = UINT64_MAX, ocd2Since_ = UINT64_MAX, scdSince_ = UINT64_MAX;
+  uint64_t occRecoverSince_ = UINT64_MAX, ocdRecoverSince_ = UINT64_MAX, scdlRecoverSince_ = UINT64_MAX;
+  uint64_t scdTrippedAt_ = 0;
+  uint8_t scdlCounter_ = 0;
+  uint64_t lastCommUs_ = 0;  // the last transaction the device acknowledged (host watchdog)
+  bool cfetoffPin_ = false;
+  bool dfetoffPin_ = false;
   SimClock::EventId protectionEvent_ = 0;
   std::function<void(bool)> alertHook_;
   Measured measured_;
@@ -279,6 +339,7 @@ class Bq769xEmulator final : public I2cTarget {
   bool corruptThis_ = false;
   int wrongLength_ = -1;
   bool wrongChecksum_ = false;
+  bool straddleEcho_ = false;
   fw::Duration staleLag_{};
   int resetAfter_ = -1;
   std::pair<uint16_t, fw::Duration> latencyOverride_{0, {}};

@@ -1,7 +1,9 @@
 // Bq79616Board: the lp-mspm0g3507-bq79616 board on the host BSP, as bms-sim, `bmsctl trace bq79616 app-start`
 // and the application tests run it: the image's application (firmware/app/monitors/bq79616_app.hpp) with the
 // chain on a 1 Mbaud UART, nFAULT, CAN at 500 kbit/s and the fault output (asserted from reset), against the
-// chain emulator with every cell at 3.700 V and every die at 25 degC. The application is started by the
+// chain emulator with every cell at 3.700 V and every die at 25 degC, the MCU's identity and bootloader entry
+// (SimSystem); the CAN controller's receive filter takes the command identifiers only, as the G3507 BSP sets
+// the MCAN's. The application is started by the
 // constructor; nothing happens until the harness runs. Header-only: users link fw_app_bq79616 and
 // emul_bq79616.
 #pragma once
@@ -23,6 +25,7 @@ struct Bq79616Board {
   // `config.chain.devices` devices in the application's configuration and on the emulated chain.
   explicit Bq79616Board(const fw::app::Bq79616AppConfig& appConfig)
       : emu(h.clock, uart, appConfig.chain.devices), config(appConfig) {
+    can.setFilter({fw::can::bms::kReceivedIds.begin(), fw::can::bms::kReceivedIds.end()});
     uart.attach(emu);
     emu.attachFaultPin(nfault);
     for (size_t d = 0; d < emu.size(); ++d) {
@@ -47,9 +50,11 @@ struct Bq79616Board {
   SimEdgeInput nfault{h.irq, "nfault", SimEdgeInput::Edge::Falling, true};
   SimCan can{h.clock, h.irq, 500000, 8};
   SimDigitalOut faultOut{h.clock, true};
+  SimSystem system{h.clock};
   fw::app::Bq79616AppConfig config;
   std::unique_ptr<fw::app::Bq79616Storage> storage = std::make_unique<fw::app::Bq79616Storage>();
-  fw::app::Bq79616App app{h.sched, fw::app::Bq79616App::Io{uart, nfault, can, faultOut}, config, *storage};
+  fw::app::Bq79616App app{h.sched, fw::app::Bq79616App::Io{uart, nfault, can, faultOut, system}, config,
+                          *storage};
 };
 
 }  // namespace bsp::host

@@ -47,6 +47,10 @@ constexpr uint16_t kVcell16Hi = at(r::Vcell16Hi);
 constexpr uint16_t kVcell1Lo = at(r::Vcell1Lo);
 constexpr uint16_t kGpio1Hi = at(r::Gpio1Hi);
 constexpr uint16_t kDietemp1Hi = at(r::Dietemp1Hi);
+constexpr uint16_t kBalCtrl2 = at(r::BalCtrl2);
+constexpr uint16_t kBalStat = at(r::BalStat);
+constexpr uint16_t kCbComplete1 = at(r::CbComplete1);
+constexpr uint16_t kCbComplete2 = at(r::CbComplete2);
 constexpr uint16_t kShadowEnd = at(r::CustCrcHi);  // NVM-shadow registers 0x000 .. CUST_CRC_HI - 1
 static_assert(kCustCrcLo == kCustCrcHi + 1, "CUST_CRC is one big-endian word");
 // A write to any NVM shadow register, CUST_CRC included, restarts the customer CRC pass in progress.
@@ -159,6 +163,13 @@ void Bq79616ChainEmulator::resetRegisters(Device& d) {
   std::array<uint8_t, 20> aux{};
   std::copy_n(d.regs.begin() + kGpio1Hi, 16, aux.begin());
   std::copy_n(d.regs.begin() + kDietemp1Hi, 4, aux.begin() + 16);
+  // Balancing stops with the reset; the charge it took from the cells stays taken (balancing.cpp).
+  const size_t k = static_cast<size_t>(&d - devices_.data());
+  if (k < devices_.size()) advanceBalance(k, clock_.nowUs());
+  const auto bled = d.bal.bled;
+  d.bal = {};
+  d.bal.bled = bled;
+  d.bal.untilUs = clock_.nowUs();
   d.regs = defaultRegisters();
   std::copy(cells.begin(), cells.end(), d.regs.begin() + kVcell16Hi);
   std::copy_n(aux.begin(), 16, d.regs.begin() + kGpio1Hi);
@@ -261,6 +272,7 @@ void Bq79616ChainEmulator::setReg(size_t device, uint16_t address, uint8_t value
 
 void Bq79616ChainEmulator::setCellRaw(size_t device, int cell, int16_t raw) {
   require(cell >= 1 && cell <= 16, "cells are numbered 1..16");
+  advanceBalance(device, clock_.nowUs());
   const uint16_t a = static_cast<uint16_t>(kVcell16Hi + 2 * (16 - cell));  // VCELL16 first
   fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
 }
@@ -279,12 +291,16 @@ int16_t Bq79616ChainEmulator::cellRaw(size_t device, int cell) const {
 
 void Bq79616ChainEmulator::setDieTempRaw(size_t device, int index, int16_t raw) {
   const uint16_t a = static_cast<uint16_t>(kDietemp1Hi + 2 * (index - 1));
+  advanceBalance(device, clock_.nowUs());
   fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
+  checkBalancePause(device, clock_.nowUs());  // CB TWARN
 }
 
 void Bq79616ChainEmulator::setGpioRaw(size_t device, int gpio, int16_t raw) {
   const uint16_t a = static_cast<uint16_t>(kGpio1Hi + 2 * (gpio - 1));
+  advanceBalance(device, clock_.nowUs());
   fw::bytes::storeBe16(&devices_.at(device).regs[a], static_cast<uint16_t>(raw));
+  checkBalancePause(device, clock_.nowUs());  // OTCB
 }
 
 void Bq79616ChainEmulator::attachFaultPin(SimEdgeInput& nfault) {
@@ -299,6 +315,18 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
     if (!d.adcRunning || d.adcFrozen || t < d.adcSince + timing_.adcSettleUs)
       return (address - kVcell16Hi) % 2 == 0 ? 0x80 : 0x00;
   }
+  if (address >= kVcell16Hi && address <= kVcell1Lo) {
+    // The cell as it is now: what was set, less what balancing took out of it (balancing.cpp).
+    const int cell = 16 - (address - kVcell16Hi) / 2;
+    const int64_t dropUv = bleedDropUv(d.bal.bled[static_cast<size_t>(cell - 1)], cellModel_);
+    const int64_t raw = fw::bytes::loadBeI16(&d.regs[static_cast<size_t>(kVcell16Hi + 2 * (16 - cell))]) -
+                        (dropUv * 100 + 19073 / 2) / 19073;
+    const auto code = static_cast<uint16_t>(std::clamp<int64_t>(raw, -32767, 32767));
+    return (address - kVcell16Hi) % 2 == 0 ? static_cast<uint8_t>(code >> 8) : static_cast<uint8_t>(code);
+  }
+  if (address == kBalStat) return balanceStatus(d);
+  if (address == kCbComplete1) return static_cast<uint8_t>(d.bal.complete >> 8);
+  if (address == kCbComplete2) return static_cast<uint8_t>(d.bal.complete);
   if (address == kCustCrcRsltHi) return static_cast<uint8_t>(custCrcResult(d, t) >> 8);
   if (address == kCustCrcRsltLo) return static_cast<uint8_t>(custCrcResult(d, t));
   if (address == kDevStat) {
@@ -529,6 +557,7 @@ void Bq79616ChainEmulator::respond(const std::vector<size_t>& order, uint16_t re
   std::vector<uint8_t> out;
   for (size_t k : order) {
     Device& d = devices_[k];
+    advanceBalance(k, reachedAt[k]);
     std::vector<uint8_t> f;
     f.push_back(static_cast<uint8_t>(count - 1));
     f.push_back(d.regs[kDir0Addr] & 0x3F);
@@ -617,6 +646,17 @@ void Bq79616ChainEmulator::writeReg(size_t k, uint16_t address, uint8_t value, u
     }
     return;
   }
+  if (address == kBalCtrl2) {
+    // BAL_GO self-clears and samples the balancing settings; CB_PAUSE acts at once (balancing.cpp).
+    advanceBalance(k, t);
+    d.regs[kBalCtrl2] = static_cast<uint8_t>(value & ~b::BalCtrl2::bal_go_mask);
+    if ((value & b::BalCtrl2::bal_go_mask) != 0) {
+      balanceGo(k, value, t);
+    } else {
+      checkBalancePause(k, t);
+    }
+    return;
+  }
   if (address == kAdcCtrl1) {
     d.regs[kAdcCtrl1] = value;
     const bool go = (value & b::AdcCtrl1::main_go_mask) != 0;
@@ -649,6 +689,8 @@ void Bq79616ChainEmulator::updateFaults() {
   // The base learns of a stack device's communication fault through the fault signal and latches FCOMM_DET;
   // the latch comes back as long as a stack device still reports its fault.
   if (stackComm && devices_[0].power == Power::Active) devices_[0].regs[kFaultComm3] |= kComm3Fcomm;
+  for (size_t k = 0; k < devices_.size(); ++k)
+    faultStopBalance(k, readReg(k, kFaultSummary, now) != 0, now);
   if (nfault_ == nullptr) return;
   bool fault = false;
   const Device& base = devices_[0];

@@ -50,8 +50,17 @@
 //   FAULT_SYS[DRST] (bit 4, SLUSF21 FAULT_SYS) set.
 //   A communication fault injected into a stack device latches there (FAULT_COMM2 bit 0) and, through the
 //   fault signal, in the base (FAULT_COMM3 bit 4, FCOMM_DET): the base's latch comes back while any stack
-//   device still holds its fault, so it clears only when base and stack are both cleared (LANDSCAPE.md
-//   problem 4). nFAULT (attachFaultPin) is low while any awake device has a non-zero FAULT_SUMMARY.
+//   device still holds its fault, so it clears only when base and stack are both cleared (SLUSE81E;
+//   TI E2E thread 1231370). nFAULT (attachFaultPin) is low while any awake device has a non-zero
+//   FAULT_SUMMARY.
+//
+// - Cell balancing (balancing.cpp, each rule with its SLUSE81E / SLUSF21 source): per-channel timers
+//   (CB_CELLn_CTRL) sampled by BAL_CTRL2[BAL_GO] with the rest of the balancing settings; manual control
+//   (AUTO_BAL = 0) refuses more than 8 channels and, with DEV_CONF[NO_ADJ_CB] (set by default), neighbours
+//   (BAL_STAT[INVALID_CBCONF], nothing starts); automatic control alternates odd and even channels every
+//   BAL_CTRL1 duty period; FLTSTOP_EN stops everything on an unmasked fault (ABORTFLT); CB_PAUSE, the die
+//   past CB TWARN and, with OTCB_EN, an NTC past OTCB_THR pause it with the timers held. Each balanced cell
+//   loses V / balanceOhms (cell_model.hpp) and its VCELL reading falls with the charge it lost.
 //
 // Injected faults: a shorter chain (construct with fewer devices than the driver expects), a broken link
 // above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),
@@ -69,6 +78,7 @@
 #include <string>
 #include <vector>
 
+#include "cell_model.hpp"
 #include "sim/peripherals.hpp"
 #include "sim/sim_clock.hpp"
 #include "sim/uart.hpp"
@@ -138,6 +148,24 @@ class Bq79616ChainEmulator final : public UartPeer {
   void setDisconnected(bool cut);   // the MCU-to-base link is cut both ways
   void freezeAdc(size_t device);    // VCELLn read 0x8000 until the device's next digital reset
 
+  // --- balancing (balancing.cpp) ---------------------------------------------------------------------------
+  void setCellModel(const CellModel& model) { cellModel_ = model; }
+  uint16_t balancingCells(size_t device);  // channels bleeding now (bit c = cell c + 1)
+  uint8_t balStat(size_t device);          // BAL_STAT as a read would return it now
+  int32_t cellNowMicrovolts(size_t device, int cell);
+  int64_t bledChargeMaUs(size_t device, int cell);
+  struct BalanceCounters {
+    uint32_t started = 0;  // BAL_GO that started balancing
+    uint32_t invalid = 0;  // BAL_GO refused with INVALID_CBCONF
+    uint32_t aborted = 0;  // balancing stopped by an unmasked fault (FLTSTOP_EN)
+    uint32_t expired = 0;  // channels whose timer ran out
+    uint32_t paused = 0;   // pauses begun (host, CB TWARN, OTCB)
+  };
+  const BalanceCounters& balanceCounters() const { return balanceCounters_; }
+  // CB TWARN, the die temperature that pauses balancing (balancing.cpp).
+  static constexpr int16_t kCbTwarnRaw = 4200;    // 105 degC at 0.025 degC per LSB
+  static constexpr int16_t kCbTwarnHysRaw = 400;  // 10 degC
+
   struct Counters {
     uint64_t commandFrames = 0;  // command frames with a good CRC the base accepted
     uint64_t badCommandCrc = 0;
@@ -171,6 +199,22 @@ class Bq79616ChainEmulator final : public UartPeer {
     uint16_t crcResult = 0;       // CUST_CRC_RSLT until a pass over the current contents ends
     bool crcDoneLatched = false;  // a pass ended before crcEpoch and DEV_STAT was not read since
     SimClock::EventId crcCheck = 0;
+    // Cell balancing (balancing.cpp).
+    struct Balance {
+      bool running = false;  // BAL_STAT[CB_RUN]
+      bool automatic = false;
+      bool faultStop = false;  // FLTSTOP_EN, as BAL_GO sampled it
+      bool otcb = false;       // OTCB_EN, as BAL_GO sampled it
+      bool otPause = false;    // OT_PAUSE_DET
+      bool odd = true;         // automatic control: the odd channels' turn
+      uint8_t status = 0;      // BAL_STAT's latched bits: INVALID_CBCONF, ABORTFLT, CB_DONE
+      uint64_t untilUs = 0;    // the state below covers the time up to here
+      uint64_t phaseLeftUs = 0;
+      uint64_t dutyUs = 0;
+      std::array<uint64_t, 16> leftUs{};  // each channel's timer
+      std::array<int64_t, 16> bled{};     // mA x us each cell lost
+      uint16_t complete = 0;              // CB_COMPLETE1/2
+    } bal;
   };
 
   bool activeAt(const Device& d, uint64_t t) const;
@@ -212,6 +256,16 @@ class Bq79616ChainEmulator final : public UartPeer {
   size_t truncateAt_ = SIZE_MAX;
   SimEdgeInput* nfault_ = nullptr;
   Counters counters_;
+  CellModel cellModel_;
+  BalanceCounters balanceCounters_;
+  // balancing.cpp
+  void balanceGo(size_t k, uint8_t ctrl2, uint64_t t);
+  void advanceBalance(size_t k, uint64_t t);
+  void checkBalancePause(size_t k, uint64_t t);
+  void faultStopBalance(size_t k, bool fault, uint64_t t);
+  uint16_t bleeding(const Device& d) const;
+  uint8_t balanceStatus(const Device& d) const;
+  int32_t setMicrovolts(const Device& d, int cell) const;
 };
 
 }  // namespace bsp::host

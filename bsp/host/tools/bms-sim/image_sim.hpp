@@ -6,18 +6,21 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/protection/protection_task.hpp"
+#include "hal/can_bus.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 #include "slcan_output.hpp"
 
 namespace bsp::host {
-class SimSerialTx;
+class SimSerial;
 }
 
 namespace bmssim {
@@ -41,11 +44,14 @@ struct SimFigures {
   uint32_t recoveries = 0;
   uint64_t outputFrames = 0;  // CAN frames sent, or SLCAN lines written
   std::string output;         // "can" or "slcan"
-  bool chargeOn = false, dischargeOn = false, faultOutput = false;
+  // The paths as the board confirmed them (PublishStatus::pathsKnown): unknown while nothing confirms them.
+  bool chargeOn = false, dischargeOn = false, pathsKnown = false, faultOutput = false;
   uint16_t activeFaults = 0;
   int minCellMv = 0, maxCellMv = 0;
   int boards = 0, validBoards = 0;
   int32_t currentMa = 0;
+  std::vector<uint16_t> balancingCells;  // ImageSim::balancingCells()
+  int cellSpreadMv = 0;                  // ImageSim::cellSpreadMv()
   std::vector<std::pair<std::string, std::string>>
       extra;  // more --json keys and values (the twin's CPU figures)
 };
@@ -85,6 +91,13 @@ class ImageSim {
   virtual void setCurrentMa(int ma) = 0;
   virtual Paths paths() const { return {}; }
   virtual void setTempDeciK(int board, int sensor, int deciK) = 0;
+  // Balancing (scenario cell-capacity; the emulators' cell_model.hpp): the capacity of every emulated cell,
+  // and what the emulated devices do: per board the cells they balance now (bit c = cell c + 1), and the
+  // spread (highest minus lowest) of the cells as they are now. An image without balancing ignores the first
+  // and reports no cells.
+  virtual void setCellCapacityMah(int) {}
+  virtual std::vector<uint16_t> balancingCells() { return {}; }
+  virtual int cellSpreadMv() = 0;
   // Faults.
   virtual void setCommLost(bool lost) = 0;         // the monitor stops answering
   virtual void openWire(int board, int cell) = 0;  // the sense line below `cell` is disconnected
@@ -95,6 +108,15 @@ class ImageSim {
   // --can-layout ti is honoured: the run sends seed 001's layout (only the BQ79616 image builds it).
   virtual bool sendsTiLayout() const { return false; }
 
+  // Commands in (scenario send and flood steps). A G3507 board's CAN takes the frame from another node; an
+  // L1306 board's UART takes it as an SLCAN line, the channel opened with "O" before the first one. A flood
+  // keeps the bus (CAN) or the line (SLCAN) full with frames from `source` until it is cleared ({}).
+  // False: the image takes no commands.
+  bool sendFrame(const fw::hal::CanFrame& frame);
+  bool setFlood(std::function<std::optional<fw::hal::CanFrame>()> source);
+  // Bytes from the PC on an L1306 board's SLCAN line (--slcan pty); false without one.
+  virtual bool serialSend(std::string_view) { return false; }
+
   virtual bsp::host::Harness& harness() = 0;
   virtual SimFigures figures() = 0;
   virtual std::vector<fw::app::ProtectionRecord> protectionLog() const = 0;
@@ -102,13 +124,29 @@ class ImageSim {
   // The UART that carries the SLCAN text (the L1306 images); null for CAN images.
   // The SLCAN text an L1306 board has sent, or nullopt when the image publishes on CAN.
   virtual std::optional<SentText> slcanText() const { return std::nullopt; }
-  virtual void afterStep() {}  // called after each simulation step (bookkeeping)
-  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU.
-  virtual void runFor(fw::Duration d) { harness().runFor(d); }
+  // Called after each simulation step (bookkeeping); a binding that overrides it calls pumpSerialFlood().
+  virtual void afterStep() { pumpSerialFlood(); }
+  // Runs the board for `d` of simulated time: the host images on the harness; the twin runs the MCU. What is
+  // due at the end is left for the next run (Harness::runBefore), so a scenario step at t comes before the
+  // firmware's tick at t on the host as on the twin: both see a step on the scan grid in the same scan.
+  virtual void runFor(fw::Duration d) { harness().runBefore(d); }
   // Why the run cannot go on (the twin stopped on an access no model covers), or empty.
   virtual std::string failure() const { return {}; }
   // The watchdog the board itself feeds (the twin's WWDT), or null: main() then supervises one.
   virtual const bsp::host::SimWatchdog* boardWatchdog() const { return nullptr; }
+
+ protected:
+  // The board's CAN: a frame from another node now, or one always waiting (a flood); false without CAN.
+  virtual bool canSend(const fw::hal::CanFrame&) { return false; }
+  virtual bool canFlood(std::function<std::optional<fw::hal::CanFrame>()>) { return false; }
+  // Bytes the PC has sent that have not arrived yet (for an SLCAN flood to keep the line full).
+  virtual size_t serialBacklog() const { return 0; }
+  // An SLCAN flood: tops the PC's line up with lines from the flood's source.
+  void pumpSerialFlood();
+
+ private:
+  bool slcanOpened_ = false;
+  std::function<std::optional<fw::hal::CanFrame>()> serialFlood_;
 };
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);

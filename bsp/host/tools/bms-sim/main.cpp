@@ -5,7 +5,7 @@
 //   bms-sim --elf <image.elf> [--image <preset>] ...   the image itself on the MSPM0 twin (sim_twin.hpp)
 // Every option is one row of kOptions: the parser accepts those rows only and --help prints them all.
 // Without --json it prints a live view every 500 ms of simulated time; with --json one summary object
-// (ARCHITECTURE.md lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
+// (README "Host tools" lists its keys) on stdout, and the live view on stderr when stderr is a terminal.
 // --candump writes the frames with absolute times (the run starts at 2025-01-01 00:00:00 UTC); --slcan the
 // L1306 board's SLCAN text (slcan_output.hpp). An option the image cannot honour (--can-layout ti on an image
 // without the TI layout, --devices on a one-device image) is refused before the run.
@@ -61,8 +61,8 @@ constexpr OptionSpec kOptions[] = {
     {"--slcan", "<file>|pty",
      "an L1306 image's SLCAN text: the exact bytes to a file, or live on a pseudo-terminal (its path goes to "
      "stderr; the run starts when a reader sends SLCAN's O, keeps wall-clock time, and waits for the reader "
-     "to "
-     "close the terminal) for python-can or slcand"},
+     "to close the terminal) for python-can or slcand, both ways: what they send reaches the board's UART "
+     "receiver"},
     {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
     {"--help", nullptr, "this text (also -h)"},
 };
@@ -257,6 +257,9 @@ int run(int argc, char** argv) {
   for (uint32_t t = 0;; ++t) {
     player.advance(t);
     if (t >= opt.durationMs) break;
+    if (slcanOut) {
+      if (const std::string in = slcanOut->takeInput(); !in.empty()) sim->serialSend(in);
+    }
     sim->runFor(fw::us(1000));
     if (const std::string why = sim->failure(); !why.empty()) {
       std::fprintf(stderr, "bms-sim: %s\n", why.c_str());

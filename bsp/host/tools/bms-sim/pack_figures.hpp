@@ -16,11 +16,21 @@ namespace bmssim {
 // The voltage a monitor measures across `cell` (numbered from 1) of a board whose true cell voltages are
 // `truth`, with the sense wire below `openCell` disconnected (-1: none): the open cell reads nothing and the
 // cell below it reads both. A change to cell c's truth therefore moves the readings of cells c and c - 1.
+// The ends have one cell beside them: the bottom tap (openCell 1, VC0, which the BQ79616's current source
+// pulls up, SLUSF21) leaves cell 1 reading nothing; the top tap (openCell = cells + 1, drained by the
+// devices' open-wire current, SLUUBY2B / SLUSF21) leaves the top cell reading nothing.
 inline int sensedMv(std::span<const int> truth, int cell, int openCell) {
   const auto i = static_cast<size_t>(cell - 1);
   if (cell == openCell) return 0;
-  if (cell == openCell - 1) return truth[i] + truth[i + 1];
+  if (cell == openCell - 1) return i + 1 < truth.size() ? truth[i] + truth[i + 1] : 0;
   return truth[i];
+}
+
+// Highest minus lowest of a set of cell voltages (0 for none).
+inline int spreadOf(const std::vector<int>& mv) {
+  if (mv.empty()) return 0;
+  const auto [lo, hi] = std::minmax_element(mv.begin(), mv.end());
+  return *hi - *lo;
 }
 
 // The bus cost of one scan. Only a scan that directly follows the previous one in the same link epoch is
@@ -103,6 +113,7 @@ inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const 
   f.currentMa = view.hasCurrent ? view.currentMa : 0;
   f.chargeOn = st.chargeOn;
   f.dischargeOn = st.dischargeOn;
+  f.pathsKnown = st.pathsKnown;
   f.faultOutput = st.faultOutput;
   f.activeFaults = st.active;
 }

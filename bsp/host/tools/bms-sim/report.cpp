@@ -150,13 +150,23 @@ void Report::tick(uint64_t nowUs) {
   if (live_ == nullptr || nowUs < nextView_) return;
   nextView_ = nowUs + 500000;
   const SimFigures f = sim_.figures();
+  int balancing = 0;  // cells the devices balance now
+  for (uint16_t m : f.balancingCells)
+    balancing += __builtin_popcount(m);
   std::fprintf(
       live_,
-      "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu\n",
+      "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu  "
+      "spread %3d mV, balancing %d cells\n",
       static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
-      f.currentMa / 1000.0, f.chargeOn ? "CHG:on " : "CHG:off", f.dischargeOn ? "DSG:on " : "DSG:off",
+      f.currentMa / 1000.0,
+      !f.pathsKnown ? "CHG:?  "
+      : f.chargeOn  ? "CHG:on "
+                    : "CHG:off",
+      !f.pathsKnown   ? "DSG:?  "
+      : f.dischargeOn ? "DSG:on "
+                      : "DSG:off",
       faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
-      static_cast<unsigned long long>(f.outputFrames));
+      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing);
   std::fflush(live_);
 }
 
@@ -182,10 +192,15 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
     if (log.empty()) std::printf("protection events: none\n");
     for (const auto& e : log) {
       const EventLatency l = latencyOf(e, onsets);
+      // "off at" only what was confirmed (the device's FET read-back, or the pin); a command the device took
+      // but no scan has shown in effect yet, or none at all, says so.
+      const bool pin = f.output == "can" && !sim_.hasCurrent();
+      std::string when = e.confirmedOff ? ms(e.confirmed.us) + " ms"
+                         : e.actionDone ? "(not confirmed; command done at " + ms(e.acted.us) + " ms)"
+                                        : std::string("(not confirmed)");
       std::printf("protection event %-13s onset %s, detected %s ms, %s %s: %s\n", fw::app::faultName(e.fault),
                   l.onsetUs ? (ms(*l.onsetUs) + " ms").c_str() : "-", ms(e.detected.us).c_str(),
-                  f.output == "can" && !sim_.hasCurrent() ? "fault output at" : "FETs off at",
-                  e.actionDone ? (ms(e.acted.us) + " ms").c_str() : "(pending)",
+                  pin ? "fault output at" : "paths off at", when.c_str(),
                   l.latencyUs ? (ms(*l.latencyUs) + " ms after the onset").c_str() : l.note);
     }
     for (const BusOffView& b : busOffs) {
@@ -264,8 +279,9 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   std::printf("  \"watchdog_feeds\": %zu,\n", watchdog.feeds().size());
   std::printf("  \"watchdog_longest_gap_ms\": %s,\n",
               num(static_cast<double>(watchdog.longestGapUs(0)) / 1000.0).c_str());
-  std::printf("  \"charge_on\": %s,\n", f.chargeOn ? "true" : "false");
-  std::printf("  \"discharge_on\": %s,\n", f.dischargeOn ? "true" : "false");
+  // The paths as confirmed; null while nothing confirms them (PackSummary says not available).
+  std::printf("  \"charge_on\": %s,\n", !f.pathsKnown ? "null" : f.chargeOn ? "true" : "false");
+  std::printf("  \"discharge_on\": %s,\n", !f.pathsKnown ? "null" : f.dischargeOn ? "true" : "false");
   std::printf("  \"fault_output\": %s,\n", f.faultOutput ? "true" : "false");
   std::printf("  \"active_faults\": [");
   bool first = true;
@@ -276,6 +292,20 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   }
   std::printf("],\n");
   std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  // Balancing as the emulated devices do it now: per board the cells (numbered from 1) they balance, and the
+  // spread of the emulated cells (ImageSim::balancingCells(), cellSpreadMv()).
+  std::printf("  \"balancing_cells\": [");
+  for (size_t b = 0; b < f.balancingCells.size(); ++b) {
+    std::printf("%s[", b == 0 ? "" : ", ");
+    bool firstCell = true;
+    for (int c = 0; c < 16; ++c) {
+      if (((f.balancingCells[b] >> c) & 1U) == 0) continue;
+      std::printf("%s%d", firstCell ? "" : ", ", c + 1);
+      firstCell = false;
+    }
+    std::printf("]");
+  }
+  std::printf("],\n  \"cell_spread_mv\": %d,\n", f.cellSpreadMv);
   for (const auto& [key, value] : f.extra)
     std::printf("  \"%s\": %s,\n", key.c_str(), value.c_str());
   std::printf("  \"protection_events\": [");
@@ -283,11 +313,11 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   for (const auto& e : log) {
     const EventLatency l = latencyOf(e, onsets);
     std::printf(
-        "%s\n    {\"fault\": \"%s\", \"onset_ms\": %s, \"detected_ms\": %s, \"fets_off_ms\": %s, "
-        "\"latency_ms\": %s, \"latency_note\": %s}",
+        "%s\n    {\"fault\": \"%s\", \"onset_ms\": %s, \"detected_ms\": %s, \"command_done_ms\": %s, "
+        "\"fets_off_ms\": %s, \"latency_ms\": %s, \"latency_note\": %s}",
         first ? "" : ",", fw::app::faultName(e.fault), l.onsetUs ? ms(*l.onsetUs).c_str() : "null",
         ms(e.detected.us).c_str(), e.actionDone ? ms(e.acted.us).c_str() : "null",
-        l.latencyUs ? ms(*l.latencyUs).c_str() : "null",
+        e.confirmedOff ? ms(e.confirmed.us).c_str() : "null", l.latencyUs ? ms(*l.latencyUs).c_str() : "null",
         l.note ? ("\"" + std::string(l.note) + "\"").c_str() : "null");
     first = false;
   }

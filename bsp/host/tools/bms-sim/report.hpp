@@ -14,8 +14,11 @@
 namespace bmssim {
 
 // A protection event's latency, from the onset of the condition it answers (its fault's expect, else the
-// `any` expect) to the FET-off / fault output. Never negative: without an onset, with the fault detected
-// before the onset, or with the action still pending there is no latency and `note` says which.
+// `any` expect) to the action taking effect: the FET command completed on the bus, or the fault output
+// driven (the JSON's command_done_ms). Its fets_off_ms is later and only ever what was confirmed: the scan
+// whose FET read-back showed the paths off (ProtectionRecord::confirmed), or the pin. Never negative: without
+// an onset, with the fault detected before the onset, or with the action still pending there is no latency
+// and `note` says which.
 struct EventLatency {
   std::optional<uint64_t> onsetUs;
   std::optional<uint64_t> latencyUs;

@@ -1,5 +1,7 @@
 #include "scenario.hpp"
 
+#include "scenario_command.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -32,7 +34,10 @@ enum class Arg : uint8_t {
   CellRate,
   TempRate,
   OnOff,
-  Fault
+  Fault,
+  Tap,
+  CapacityMah,
+  SpreadMv,
 };
 
 struct ArgSpec {
@@ -42,7 +47,7 @@ struct ArgSpec {
 };
 
 const ArgSpec& spec(Arg a) {
-  static const std::array<ArgSpec, 10> specs = {{
+  static const std::array<ArgSpec, 13> specs = {{
       {"<board>", "a board number", {0, 63}},
       {"<cell>", "a cell number", {1, 16}},
       {"<sensor>", "a sensor number", {1, 3}},
@@ -53,6 +58,9 @@ const ArgSpec& spec(Arg a) {
       {"<deciK_per_s>", "a temperature drift in 0.1 K/s", {-2050, 2050}},
       {"on|off", "on or off", {0, 1}},
       {"<fault>|any", "a fault name", {0, 0}},
+      {"<cell>", "a sense wire number", {1, 17}},  // the wire below that cell; cells + 1: above the top
+      {"<mAh>", "a cell capacity in mAh", {1, 100000}},
+      {"<spread_mV>", "a spread in mV", {0, 500}},
   }};
   return specs[static_cast<size_t>(a)];
 }
@@ -64,7 +72,7 @@ struct ActionSpec {
   uint8_t count;
 };
 
-constexpr std::array<ActionSpec, 12> kActions = {{
+constexpr std::array<ActionSpec, 16> kActions = {{
     {"current", Action::Current, {Arg::CurrentMa}, 1},
     {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
     {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
@@ -73,10 +81,14 @@ constexpr std::array<ActionSpec, 12> kActions = {{
     {"temp", Action::Temp, {Arg::Board, Arg::Sensor, Arg::TempDeciK}, 3},
     {"ramp-temp", Action::RampTemp, {Arg::Board, Arg::Sensor, Arg::TempRate}, 3},
     {"comm-loss", Action::CommLoss, {Arg::OnOff}, 1},
-    {"open-wire", Action::OpenWire, {Arg::Board, Arg::Cell}, 2},
+    {"open-wire", Action::OpenWire, {Arg::Board, Arg::Tap}, 2},
     {"intermittent", Action::Intermittent, {Arg::OnOff}, 1},
     {"bus-off", Action::BusOff, {}, 0},
     {"expect", Action::Expect, {Arg::Fault}, 1},  // and an optional limit
+    {"cell-capacity", Action::CellCapacity, {Arg::CapacityMah}, 1},
+    {"spread-cells", Action::SpreadCells, {Arg::CellMv, Arg::SpreadMv}, 2},
+    {"send", Action::Send, {}, 0},    // <Message> [<Signal>=<value> ...]
+    {"flood", Action::Flood, {}, 0},  // <ms> <Message> [<Signal>=<value> ...]
 }};
 
 // The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
@@ -85,17 +97,20 @@ struct FaultSpec {
   const char* name;
   Watch watch;
 };
-constexpr std::array<FaultSpec, 11> kFaults = {{
+constexpr std::array<FaultSpec, 14> kFaults = {{
     {"cell_ov", Watch::CellAbove},
     {"cell_uv", Watch::CellBelow},
     {"occ", Watch::CurrentAbove},
     {"ocd", Watch::CurrentBelow},
-    {"ot", Watch::TempAbove},
-    {"ut", Watch::TempBelow},
+    {"otd", Watch::TempAbove},
+    {"utd", Watch::TempBelow},
     {"device_safety", Watch::None},
     {"stale_data", Watch::None},
     {"comm_loss", Watch::None},
     {"open_wire", Watch::None},
+    {"otc", Watch::TempAbove},
+    {"utc", Watch::TempBelow},
+    {"comm_rate", Watch::None},
     {"any", Watch::None},
 }};
 
@@ -117,15 +132,16 @@ struct Builtin {
   const char* description;
   const char* text;
 };
-constexpr std::array<Builtin, 9> kBuiltins = {{
+constexpr std::array<Builtin, 10> kBuiltins = {{
     {"idle", "a resting pack at 3.70 V per cell, 25 degC", ""},
     {"charge", "charging at 10 A: cells rise 20 mV/s from 3.70 V", "0 current 10000\n0 ramp-all 20\n"},
     {"discharge", "discharging at 15 A: cells fall 20 mV/s from 3.70 V",
      "0 current -15000\n0 ramp-all -20\n"},
     {"ov-cell", "cell 2 of board 0 drifts up 40 mV/s from 4.20 V past the 4.25 V over-voltage limit",
      "0 current 5000\n0 cell 0 2 4200\n1000 ramp-cell 0 2 40\n1000 expect cell_ov 4250\n"},
-    {"ot", "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 60 degC limit",
-     "1000 ramp-temp 0 1 50\n1000 expect ot 3332\n"},
+    {"ot",
+     "sensor 1 of board 0 heats 5 degC/s from 25 degC past the 45 degC charge and 60 degC discharge limits",
+     "1000 ramp-temp 0 1 50\n1000 expect otc 3182\n1000 expect otd 3332\n"},
     {"open-wire", "the sense wire between cells 2 and 3 of board 0 opens at 2 s",
      "2000 open-wire 0 3\n2000 expect any\n"},
     {"comm-loss", "the battery monitor stops answering at 2 s", "2000 comm-loss on\n2000 expect any\n"},
@@ -133,6 +149,14 @@ constexpr std::array<Builtin, 9> kBuiltins = {{
     {"bus-off", "the CAN controller goes bus-off at 2 s and recovers", "2000 bus-off\n"},
     {"stale", "from 2 s to 6 s most monitor transactions are corrupted, then the link heals",
      "2000 intermittent on\n2000 expect any\n6000 intermittent off\n"},
+    // Balancing (firmware/app/balancing): 4 mAh cells, so the bleed of the balancing path moves a cell by
+    // millivolts a second and the run converges in a minute or two of simulated time (a real 2.5 Ah cell
+    // takes hours: README.md's figure). Charging at 2 A for 30 s, then at rest (balancing again after the
+    // policy's 60 s rest time).
+    {"imbalance",
+     "every board: cell 1 at 3.90 V, the others 20..80 mV above it; 4 mAh cells; charging at 2 A for 30 s, "
+     "then at rest",
+     "0 cell-capacity 4\n0 spread-cells 3900 80\n0 current 2000\n30000 current 0\n"},
 }};
 
 // A token as the message quotes it: printable ASCII, at most 40 characters.
@@ -263,6 +287,7 @@ class Parser {
                   "unknown action " + quoted(name.text) + " (known: " + namesOf(kActions) + ")");
     }
     st.action = action->action;
+    if (st.action == Action::Send || st.action == Action::Flood) return parseCommand(words, st);
     const size_t given = words.size() - 2;
     const bool optionalLimit = action->action == Action::Expect;
     if (given != action->count && !(optionalLimit && given == action->count + 1U)) {
@@ -281,6 +306,29 @@ class Parser {
     return true;
   }
 
+  // send <Message> [words], flood <ms> <Message> [words]: checked against the catalogue now
+  // (scenario_command).
+  bool parseCommand(const std::vector<Token>& words, Step& st) {
+    size_t at = 2;
+    if (st.action == Action::Flood) {
+      if (words.size() < 3)
+        return fail(st.line, words[1].column, "'flood' takes <ms> <Message> [<Signal>=<value> ...]");
+      if (!number(st, words[2], "a flood duration in ms", {1, 600000}, st.value)) return false;
+      at = 3;
+    }
+    if (words.size() <= at)
+      return fail(st.line, words[1].column,
+                  std::string("'") + (st.action == Action::Flood ? "flood" : "send") +
+                      "' needs a message of the CAN catalogue");
+    st.message = std::string(words[at].text);
+    for (size_t i = at + 1; i < words.size(); ++i)
+      st.words.emplace_back(words[i].text);
+    size_t bad = 0;
+    const std::string error = checkCommand(st.message, st.words, bad);
+    if (error.empty()) return true;
+    return fail(st.line, words[bad == 0 ? at : at + bad].column, error);
+  }
+
   bool parseArg(Arg arg, const Token& t, Step& st) {
     const ArgSpec& sp = spec(arg);
     switch (arg) {
@@ -295,9 +343,12 @@ class Parser {
         st.boardColumn = t.column;
         return number(st, t, sp.what, sp.range, st.board);
       case Arg::Cell:
+      case Arg::Tap:
       case Arg::Sensor:
         st.indexColumn = t.column;
         return number(st, t, sp.what, sp.range, st.index);
+      case Arg::SpreadMv:
+        return number(st, t, sp.what, sp.range, st.spread);
       default:
         return number(st, t, sp.what, sp.range, st.value);
     }
@@ -326,7 +377,8 @@ class Parser {
     if (st.watch == Watch::None) {
       return fail(
           st.line, t.column,
-          "'" + st.fault + "' takes no limit (only cell_ov, cell_uv, occ, ocd, ot and ut watch a value)");
+          "'" + st.fault +
+              "' takes no limit (only cell_ov, cell_uv, occ, ocd, otc, otd, utc and utd watch a value)");
     }
     const ArgSpec& sp = spec(limitArg(st.watch));
     st.hasLimit = true;
@@ -432,7 +484,16 @@ bool checkScenario(const Scenario& scenario, const PackShape& shape, uint32_t du
                    " does not exist: this image has boards 0.." + std::to_string(shape.boards - 1);
       return false;
     }
-    const int count = cellStep ? shape.cellsPerBoard : shape.tempsPerBoard;
+    // The sense wires: below each cell, and one above the top cell (open-wire <board> <cells + 1>).
+    const int count = st.action == Action::OpenWire ? shape.cellsPerBoard + 1
+                      : cellStep                    ? shape.cellsPerBoard
+                                                    : shape.tempsPerBoard;
+    if (st.action == Action::OpenWire && st.index > count) {
+      diag.error = where(st, st.indexColumn) + ": error: sense wire " + std::to_string(st.index) +
+                   " does not exist: this image has sense wires 1.." + std::to_string(count) +
+                   " per board (n below cell n, " + std::to_string(count) + " above the top cell)";
+      return false;
+    }
     if ((cellStep || tempStep) && st.index > count) {
       diag.error = where(st, st.indexColumn) + ": error: " + (cellStep ? "cell " : "sensor ") +
                    std::to_string(st.index) + " does not exist: this image has " +

@@ -1,8 +1,8 @@
 // Scenarios: what happens to the emulated pack over time.
 //
-// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale. Each built-in
-// is scenario text in the file format below, so a file can do whatever a built-in does. A file holds one step
-// per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
+// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale, imbalance. Each
+// built-in is scenario text in the file format below, so a file can do whatever a built-in does. A file holds
+// one step per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
 //   <time_ms> current <mA>                             the charger (positive) or load (negative): it
 //                                                      flows while the device's path for its direction is
 //                                                      closed (its FETs, or the fault output that stands
@@ -14,29 +14,49 @@
 //   <time_ms> temp <board> <sensor> <deciK>
 //   <time_ms> ramp-temp <board> <sensor> <deciK_per_s>
 //   <time_ms> comm-loss on|off                         the monitor stops answering
-//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens
+//   <time_ms> open-wire <board> <cell>                 the sense wire below <cell> opens (cell 1: the bottom
+//                                                      tap; the board's cell count + 1: the top tap)
 //   <time_ms> intermittent on|off                      most monitor transactions fail
 //   <time_ms> bus-off                                  the CAN controller goes bus-off
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
+//   <time_ms> cell-capacity <mAh>                      every emulated cell holds this much: balancing takes
+//                                                      V / R from a balanced cell and its voltage falls 700
+//                                                      mV over the capacity (bsp/host/emul/cell_model.hpp);
+//                                                      2500 mAh until a scenario says otherwise
+//   <time_ms> spread-cells <mV> <spread_mV>            every board: cell 1 at <mV>, each other cell a
+//                                                      quarter, a half, three quarters or all of <spread_mV>
+//                                                      above it
+//   <time_ms> send <Message> [<Signal>=<value> ...]    a command from the PC or another CAN node
+//   <time_ms> flood <ms> <Message> [<Signal>=<value> ...]  that command back to back for <ms>: the bus (CAN)
+//                                                      or the line (SLCAN) full
 //
 // Numbers are decimal integers (no fractions, exponents, nan or inf). Each must lie in its range, or the
 // parser stops with "file:line:col: error: ..." naming the range:
 //   time 0..3600000 ms (the longest --duration); cell 0..5000 mV; current -32768..32767 mA;
 //   temperature 2182..4232 (0.1 K, -55..+150 degC); ramps -5000..5000 mV/s and -2050..2050 0.1 K/s (at most
-//   the whole range in a second); board 0..63, cell 1..16, sensor 1..3. Before the run starts,
+//   the whole range in a second); board 0..63, cell 1..16, sensor 1..3; capacity 1..100000 mAh; spread
+//   0..500 mV. Before the run starts,
 //   checkScenario() checks boards, cells and sensors against the image (the same file:line:col errors) and
 //   warns about steps the run will not reach or that the image ignores.
 // A value set on a cell or sensor replaces its drift; a new drift replaces the old; a drift stops at the
 // range's ends. Steps run in time order, steps with the same time in file order: a file written out of order
 // is sorted so, with a warning naming each line that moved.
 //
-// expect names a protection fault (cell_ov, cell_uv, occ, ocd, ot, ut, device_safety, stale_data, comm_loss)
-// or `any` (every fault), once each. Without a limit the onset is the step's time. With one (cell_ov,
-// cell_uv: mV; occ, ocd: mA; ot, ut: 0.1 K) the onset is the first millisecond from the step's time at which
-// the emulated pack reaches it: any cell >= limit (cell_ov) or <= limit (cell_uv), the current that flows >=
-// (occ) or <= (ocd), any sensor >= (ot) or <= (ut). The summary gives each protection event's latency from
-// its fault's onset (or the `any` onset); an event detected before that onset is reported as "fault before
-// onset".
+// send and flood take any message of the CAN catalogue (firmware/app/can/bms.yaml) by name and its signals
+// by name, each value a decimal or 0x-hex integer or a name from the signal's value table (Setting=ocd_trip,
+// Target=all, Key=key). A command's Target (1), Counter (the next of its message) and Crc (the right one)
+// are filled in unless given, so a step can send a frame the firmware must refuse (Crc=0, Counter=3 twice).
+// On a G3507 image the frame goes on CAN; on an L1306 image it goes as an SLCAN line on the UART (the
+// channel opened with "O" before the first one). An unknown message or signal, or a value outside the
+// signal's raw range, is an error at its file:line:col. flood's <ms> is 1..600000.
+//
+// expect names a protection fault (cell_ov, cell_uv, occ, ocd, otd, utd, device_safety, stale_data,
+// comm_loss, open_wire, otc, utc, comm_rate) or `any` (every fault), once each. Without a limit the onset is
+// the step's time. With one (cell_ov, cell_uv: mV; occ, ocd: mA; otc, otd, utc, utd: 0.1 K) the onset is
+// the first millisecond from the step's time at which the emulated pack reaches it: any cell >= limit
+// (cell_ov) or <= limit (cell_uv), the current that flows >= (occ) or <= (ocd), any sensor >= (otc, otd) or
+// <= (utc, utd). The summary gives each protection event's latency from its fault's onset (or the `any`
+// onset); an event detected before that onset is reported as "fault before onset".
 // Scenario files are tests: an expect is met when an event of its fault (any fault for `any`) is detected at
 // or after its onset, and missed when the run ends before its step, the pack never reaches its limit, or no
 // such event follows the onset. The summary lists each expect as met or MISSED with the reason (--json:
@@ -82,6 +102,10 @@ enum class Action : uint8_t {
   Intermittent,
   BusOff,
   Expect,
+  CellCapacity,
+  SpreadCells,
+  Send,
+  Flood,
 };
 
 // The emulated quantity an expected fault's limit applies to, and which way it is crossed.
@@ -91,10 +115,13 @@ struct Step {
   uint32_t timeMs = 0;
   Action action = Action::BusOff;
   int32_t board = 0;
-  int32_t index = 0;  // cell or sensor, from 1
-  int32_t value = 0;  // mV, mA, 0.1 K, a drift per second, or expect's limit
-  bool on = false;    // comm-loss, intermittent
-  std::string fault;  // expect: a fault name or "any"
+  int32_t index = 0;               // cell or sensor, from 1
+  int32_t value = 0;               // mV, mA, 0.1 K, a drift per second, mAh, or expect's limit
+  int32_t spread = 0;              // spread-cells: the spread in mV
+  bool on = false;                 // comm-loss, intermittent
+  std::string fault;               // expect: a fault name or "any"
+  std::string message;             // send, flood: the catalogue message
+  std::vector<std::string> words;  // send, flood: its Signal=value words
   Watch watch = Watch::None;
   bool hasLimit = false;  // expect with a limit
   uint32_t line = 0;

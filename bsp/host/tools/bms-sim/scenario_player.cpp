@@ -14,6 +14,10 @@ ScenarioPlayer::ScenarioPlayer(ImageSim& sim, const Scenario& scenario)
       temps_(static_cast<size_t>(boards_ * tempsPerBoard_), kStartTempDeciK) {}
 
 void ScenarioPlayer::advance(uint32_t nowMs) {
+  if (floodUntilMs_ != 0 && nowMs >= floodUntilMs_) {
+    sim_.setFlood({});
+    floodUntilMs_ = 0;
+  }
   while (next_ < scenario_.steps.size() && scenario_.steps[next_].timeMs <= nowMs)
     apply(scenario_.steps[next_++], nowMs);
   for (const auto& [key, d] : drifts_) {
@@ -87,6 +91,33 @@ void ScenarioPlayer::apply(const Step& s, uint32_t nowMs) {
     case Action::BusOff:
       if (!sim_.busOff()) busOffUnsupported_ = true;
       break;
+    case Action::CellCapacity:
+      sim_.setCellCapacityMah(s.value);
+      break;
+    case Action::SpreadCells:
+      // Cell 1 of each board at the value, each other cell 1..4 quarters of the spread above it.
+      stopCellDrifts();
+      for (int b = 0; b < boards_; ++b) {
+        for (int c = 1; c <= cellsPerBoard_; ++c)
+          setCell(b, c, c == 1 ? s.value : s.value + s.spread * (1 + (c + b) % 4) / 4);
+      }
+      break;
+    case Action::Send: {
+      std::string error;  // the step was checked when parsed: a frame can be built
+      if (const auto f = commands_.build(s.message, s.words, error); f && sim_.sendFrame(*f)) ++commandsSent_;
+      break;
+    }
+    case Action::Flood: {
+      const Step* step = &s;
+      floodUntilMs_ = nowMs + static_cast<uint32_t>(s.value);
+      sim_.setFlood([this, step]() -> std::optional<fw::hal::CanFrame> {
+        std::string error;
+        auto f = commands_.build(step->message, step->words, error);
+        if (f) ++commandsSent_;
+        return f;
+      });
+      break;
+    }
     case Action::Expect:
       if (s.hasLimit) {
         watching_.push_back(&s);

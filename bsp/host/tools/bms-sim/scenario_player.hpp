@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "commands/command_frames.hpp"
 #include "image_sim.hpp"
 #include "scenario.hpp"
 
@@ -31,6 +32,7 @@ class ScenarioPlayer {
 
   const Onsets& onsets() const { return onsets_; }
   bool busOffUnsupported() const { return busOffUnsupported_; }
+  uint64_t commandsSent() const { return commandsSent_; }  // send steps and flood frames
   int32_t demandMa() const { return currentMa_; }   // what the load or charger draws or drives (`current`)
   int32_t flowingMa() const { return flowingMa_; }  // what flows through the pack's paths
   int32_t cellMv(int board, int cell) const { return cells_[slot(board, cell, cellsPerBoard_)]; }
@@ -65,6 +67,9 @@ class ScenarioPlayer {
   Onsets onsets_;
   size_t next_ = 0;
   bool busOffUnsupported_ = false;
+  bmstool::CommandBuilder commands_;  // the counters of every message the steps send
+  uint32_t floodUntilMs_ = 0;
+  uint64_t commandsSent_ = 0;
 };
 
 }  // namespace bmssim

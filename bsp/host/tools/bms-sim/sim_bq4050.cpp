@@ -29,6 +29,8 @@ class Bq4050Sim final : public ImageSim {
     push();
   }
   void setCurrentMa(int ma) override { board_.gauge.setCurrent(static_cast<int16_t>(ma)); }
+  // The gauge balances on its own (not modelled): the cells are what the scenario set.
+  int cellSpreadMv() override { return spreadOf(truth_); }
   // The gauge's own FETs, and the image's fault output, which stands for both paths.
   Paths paths() const override {
     const Paths out = pathsOfFaultOutput(board_.faultOut.level());
@@ -48,6 +50,14 @@ class Bq4050Sim final : public ImageSim {
   }
   bool busOff() override {
     board_.can.injectBusOff();
+    return true;
+  }
+  bool canSend(const fw::hal::CanFrame& f) override {
+    board_.can.peerSend(f);
+    return true;
+  }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    board_.can.setPeerSource(std::move(source));
     return true;
   }
   std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
@@ -72,6 +82,7 @@ class Bq4050Sim final : public ImageSim {
     f.output = "can";
     fillPackFigures(f, board_.app.pack(), board_.app.status(),
                     fw::Instant{static_cast<uint32_t>(board_.h.nowUs())}, fw::app::kDefaultLimits.staleAfter);
+    f.cellSpreadMv = cellSpreadMv();
     return f;
   }
 

@@ -40,6 +40,18 @@ class Bq769xSim final : public ImageSim {
     push(cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int ma) override { board_->emu.setCurrentMa(ma); }
+  void setCellCapacityMah(int mAh) override {
+    auto model = board_->emu.cellModel();
+    model.cellUvPerMah = bsp::host::CellModel::uvPerMah(static_cast<uint32_t>(mAh));
+    board_->emu.setCellModel(model);
+  }
+  std::vector<uint16_t> balancingCells() override { return {board_->emu.balancing()}; }
+  int cellSpreadMv() override {
+    std::vector<int> mv;
+    for (int c = 1; c <= cells_; ++c)
+      mv.push_back(board_->emu.cellNowMv(static_cast<uint8_t>(c)));
+    return spreadOf(mv);
+  }
   // The monitor's own FETs (series CHG and DSG: the CHG FET blocks charging, its body diode still passes a
   // discharge, and the DSG FET the reverse; SLUUBY2B / SLUUBY1B "body diode protection", SLUSE97 for the
   // BQ7690x's CHG and DSG drivers). The G3507 image's fault output only indicates.
@@ -77,7 +89,40 @@ class Bq769xSim final : public ImageSim {
     }
   }
 
+  bool canSend(const fw::hal::CanFrame& f) override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      board_->output.peerSend(f);
+      return true;
+    } else {
+      return false;
+    }
+  }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimCan>) {
+      board_->output.setPeerSource(std::move(source));
+      return true;
+    } else {
+      return false;
+    }
+  }
+  bool serialSend(std::string_view bytes) override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
+      board_->output.peerSend(bytes);
+      return true;
+    } else {
+      return false;
+    }
+  }
+  size_t serialBacklog() const override {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
+      return board_->output.backlog();
+    } else {
+      return 0;
+    }
+  }
+
   void afterStep() override {
+    pumpSerialFlood();
     // An intermittent link: the device drops off the bus for 250 ms of every 350 ms, so scans fail in runs
     // and the data ages past the stale limit between the good ones. (Silent bit flips are not used here:
     // without CRC they are undetectable by design; the CRC-mode tests cover them.)
@@ -109,6 +154,8 @@ class Bq769xSim final : public ImageSim {
     fillPackFigures(f, board_->app.pack(), board_->app.status(),
                     fw::Instant{static_cast<uint32_t>(board_->h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
+    f.balancingCells = balancingCells();
+    f.cellSpreadMv = cellSpreadMv();
     return f;
   }
 
@@ -124,7 +171,7 @@ class Bq769xSim final : public ImageSim {
     }
   }
   std::optional<SentText> slcanText() const override {
-    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
       return SentText{board_->output.text(), board_->output.writeTimes()};
     } else {
       return std::nullopt;
@@ -132,14 +179,19 @@ class Bq769xSim final : public ImageSim {
   }
 
  private:
-  // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r"); times are those of
-  // the line's completion on the wire. The text and its write times only grow (bms-sim never clears them),
+  // The SLCAN text the firmware wrote, decoded back into frames ("t<iii><l><dd..>\r", other lines skipped);
+  // each frame's time is
+  // when the write that carried it left the wire (the publisher writes one line at a time; an answer to a
+  // command is one write of several lines). The text and its writes only grow (bms-sim never clears them),
   // so each call parses only the lines completed since the last one.
   const std::vector<SentFrame>& slcanFrames() const {
-    if constexpr (std::is_same_v<Output, bsp::host::SimSerialTx>) {
+    if constexpr (std::is_same_v<Output, bsp::host::SimSerial>) {
       const std::string& text = board_->output.text();
+      const auto& starts = board_->output.writeStarts();
+      const auto& times = board_->output.writeTimes();
       size_t pos = slcanParsed_;
-      for (size_t end; (end = text.find('\r', pos)) != std::string::npos; pos = end + 1) {
+      // Lines end with CR, or with BEL (the answer to a line the board refused, which has no CR).
+      for (size_t end; (end = text.find_first_of("\r\a", pos)) != std::string::npos; pos = end + 1) {
         const std::string line = text.substr(pos, end - pos);
         if (line.size() < 5 || (line[0] != 't' && line[0] != 'T')) continue;
         const bool ext = line[0] == 'T';
@@ -149,12 +201,12 @@ class Bq769xSim final : public ImageSim {
         for (int i = 0; i < dlc; ++i) {
           f.data.push_back(static_cast<uint8_t>(std::stoul(line.substr(2 + idLen + 2 * i, 2), nullptr, 16)));
         }
+        while (slcanWrite_ + 1 < starts.size() && starts[slcanWrite_ + 1] <= pos)
+          ++slcanWrite_;
+        f.timeUs = times[slcanWrite_];
         slcan_.push_back(f);
       }
       slcanParsed_ = pos;
-      const auto& times = board_->output.writeTimes();  // the publisher writes one line per write()
-      for (; slcanTimed_ < slcan_.size() && slcanTimed_ < times.size(); ++slcanTimed_)
-        slcan_[slcanTimed_].timeUs = times[slcanTimed_];
     }
     return slcan_;
   }
@@ -172,16 +224,17 @@ class Bq769xSim final : public ImageSim {
   bool intermittent_ = false;
   uint64_t tick_ = 0;
   ScanMeter meter_;
-  // slcanFrames()' cache: the frames decoded so far, how much of the text they cover, how many have a time.
+  // slcanFrames()' cache: the frames decoded so far, how much of the text they cover, the write the last one
+  // came in.
   mutable std::vector<SentFrame> slcan_;
   mutable size_t slcanParsed_ = 0;
-  mutable size_t slcanTimed_ = 0;
+  mutable size_t slcanWrite_ = 0;
 };
 
 // A build for one device family (FW_BQ769X_FAMILY, an image's simulator) has only that family's front end.
 #if FW_BQ769X_FAMILY != 2
 using L1306Bq76952 =
-    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
 using G3507Bq76952 =
     Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
 
@@ -200,7 +253,7 @@ const ImageRegistrar kG3507Bq76952{
 
 #if FW_BQ769X_FAMILY != 1
 using L1306Bq76907 =
-    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerialTx>;
+    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
 
 std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
   return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,

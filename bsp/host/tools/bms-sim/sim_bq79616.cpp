@@ -35,6 +35,25 @@ class Bq79616Sim final : public ImageSim {
     push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
   void setCurrentMa(int) override {}  // no current sensor on the chain
+  void setCellCapacityMah(int mAh) override {
+    bsp::host::CellModel model;
+    model.cellUvPerMah = bsp::host::CellModel::uvPerMah(static_cast<uint32_t>(mAh));
+    board_.emu.setCellModel(model);
+  }
+  std::vector<uint16_t> balancingCells() override {
+    std::vector<uint16_t> out;
+    for (size_t d = 0; d < board_.emu.size(); ++d)
+      out.push_back(board_.emu.balancingCells(d));
+    return out;
+  }
+  int cellSpreadMv() override {
+    std::vector<int> mv;
+    for (size_t d = 0; d < board_.emu.size(); ++d) {
+      for (int c = 1; c <= 16; ++c)
+        mv.push_back(board_.emu.cellNowMicrovolts(d, c) / 1000);
+    }
+    return spreadOf(mv);
+  }
   Paths paths() const override { return pathsOfFaultOutput(board_.faultOut.level()); }
   void setTempDeciK(int board, int sensor, int deciK) override {
     // DIETEMP: 0.025 degC per LSB around 0 degC = 273.15 K (measurement.hpp).
@@ -52,6 +71,14 @@ class Bq79616Sim final : public ImageSim {
   void setIntermittent(bool on) override { intermittent_ = on; }
   bool busOff() override {
     board_.can.injectBusOff();
+    return true;
+  }
+  bool canSend(const fw::hal::CanFrame& f) override {
+    board_.can.peerSend(f);
+    return true;
+  }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    board_.can.setPeerSource(std::move(source));
     return true;
   }
   std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
@@ -82,6 +109,8 @@ class Bq79616Sim final : public ImageSim {
     f.output = "can";
     fillPackFigures(f, board_.app.pack(), status(), fw::Instant{static_cast<uint32_t>(board_.h.nowUs())},
                     fw::app::kDefaultLimits.staleAfter);
+    f.balancingCells = balancingCells();
+    f.cellSpreadMv = cellSpreadMv();
     return f;
   }
 

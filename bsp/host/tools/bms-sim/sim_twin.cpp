@@ -106,6 +106,33 @@ class TwinSim final : public ImageSim {
     push(board, cell);
     push(board, cell - 1);  // an open wire below `cell` makes the cell below read this cell too
   }
+  // Balancing as the host bindings model it: the emulators' cells (cell_model.hpp) and what they balance.
+  void setCellCapacityMah(int mAh) override {
+    bsp::host::CellModel model;
+    model.cellUvPerMah = bsp::host::CellModel::uvPerMah(static_cast<uint32_t>(mAh));
+    if (auto* e = board_.bq769x()) e->setCellModel(model);
+    if (auto* e = board_.chain()) e->setCellModel(model);
+  }
+  std::vector<uint16_t> balancingCells() override {
+    std::vector<uint16_t> out;
+    if (auto* e = board_.bq769x()) out.push_back(e->balancing());
+    if (auto* e = board_.chain()) {
+      for (size_t d = 0; d < e->size(); ++d)
+        out.push_back(e->balancingCells(d));
+    }
+    return out;
+  }
+  int cellSpreadMv() override {
+    std::vector<int> mv;
+    for (int b = 0; b < devices_; ++b) {
+      for (int c = 1; c <= cellsPerBoard(); ++c) {
+        if (auto* e = board_.bq769x()) mv.push_back(e->cellNowMv(static_cast<uint8_t>(c)));
+        if (auto* e = board_.chain()) mv.push_back(e->cellNowMicrovolts(static_cast<size_t>(b), c) / 1000);
+      }
+    }
+    if (board_.bq4050() != nullptr) return spreadOf(truth_);
+    return spreadOf(mv);
+  }
   void setCurrentMa(int ma) override {
     if (auto* e = board_.bq769x()) e->setCurrentMa(ma);
     if (gauge_ != nullptr) gauge_->setCurrent(static_cast<int16_t>(ma));
@@ -145,6 +172,12 @@ class TwinSim final : public ImageSim {
     if (!on) board_.setMonitorPresent(true);
   }
   bool busOff() override { return board_.injectBusOff(); }
+  bool canSend(const fw::hal::CanFrame& f) override { return board_.sendCan(f); }
+  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
+    return board_.setCanFlood(std::move(source));
+  }
+  bool serialSend(std::string_view bytes) override { return board_.sendSerial(bytes); }
+  size_t serialBacklog() const override { return board_.serialBacklog(); }
   std::vector<BusOffSpan> busOffLog() const override {
     std::vector<BusOffSpan> out;
     if (mcan_ == nullptr) return out;
@@ -162,6 +195,7 @@ class TwinSim final : public ImageSim {
   const bsp::host::SimWatchdog* boardWatchdog() const override { return &watchdog_; }
 
   void afterStep() override {
+    pumpSerialFlood();
     // The same intermittent link as the host bindings: the I2C monitor drops off the bus for 250 ms of every
     // 350 ms; the BQ79616 base corrupts every other millisecond's response.
     if (intermittent_) {
@@ -386,6 +420,9 @@ std::vector<fw::app::ProtectionRecord> TwinSim::protectionLog() const {
         r.actionDone = true;  // already off for an earlier fault
         r.acted = r.detected;
       }
+      // The twin sees the emulated device's own pins: what it took as acted is what happened.
+      r.confirmedOff = r.actionDone;
+      r.confirmed = r.acted;
       log.push_back(r);
     }
   }
@@ -409,8 +446,9 @@ SimFigures TwinSim::figures() {
     const fw::hal::CanFrame c = toCanFrame(s);
     if (s.id == bms::PackSummary::kId) {
       const auto p = bms::PackSummary::unpack(c);
-      f.chargeOn = p.chargeFet != 0;
-      f.dischargeOn = p.dischargeFet != 0;
+      f.pathsKnown = p.chargeFet != bms::PackSummary::kChargeFetNotAvailable;
+      f.chargeOn = p.chargeFet == 1;
+      f.dischargeOn = p.dischargeFet == 1;
       f.faultOutput = p.faultOutput != 0;
       f.activeFaults = p.activeFaults;
       f.validBoards = p.dataValid ? devices_ : 0;
@@ -422,6 +460,8 @@ SimFigures TwinSim::figures() {
       f.commErrors = bms::ProtectionEvent::unpack(c).commErrors;  // the board's own count
     }
   }
+  f.balancingCells = balancingCells();
+  f.cellSpreadMv = cellSpreadMv();
   // CPU figures: the twin's own measurements.
   twin::Machine& m = board_.machine();
   const double perUs = static_cast<double>(m.cyclesPerUs());

@@ -118,8 +118,9 @@ class PtyOutput final : public SlcanOutput {
     while (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0 && Clock::now() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     slave_ = ::open(path_.c_str(), O_RDWR | O_NOCTTY);
-    // Until the reader sends O (its port is set up and it listens), at most 3 s.
-    end = Clock::now() + std::chrono::seconds(3);
+    // Until the reader sends O (its port is set up and it listens), at most 10 s: on a loaded machine
+    // python-can took over 3 s to send it once, and the text sent before it was discarded with its set-up.
+    end = Clock::now() + std::chrono::seconds(10);
     while (!sawCommand('O') && Clock::now() < end)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -137,12 +138,14 @@ class PtyOutput final : public SlcanOutput {
     }
   }
 
-  // Reads what the reader sent; true once a line of it was the SLCAN command `command` alone ("O\r").
+  // Reads what the reader sent and keeps it for the board (takeInput()); true once a line of it was the
+  // SLCAN command `command` alone ("O\r").
   bool sawCommand(char command) {
     char in[256];
     ssize_t n;
     bool seen = false;
     while ((n = ::read(master_, in, sizeof in)) > 0) {
+      input_.append(in, static_cast<size_t>(n));
       for (ssize_t i = 0; i < n; ++i) {
         if (in[i] == '\r') {
           seen = seen || line_ == std::string(1, command);
@@ -172,9 +175,16 @@ class PtyOutput final : public SlcanOutput {
     }
   }
 
-  // Hands what it can to the terminal without blocking, and takes what the reader sent.
+  std::string takeInput() override {
+    pump();
+    std::string out;
+    out.swap(input_);
+    return out;
+  }
+
+  // Hands what it can to the terminal without blocking, and keeps what the reader sent (takeInput()).
   void pump() {
-    (void)sawCommand('O');  // read and ignored during the run
+    (void)sawCommand('O');
     while (!pending_.empty()) {
       const ssize_t n = ::write(master_, pending_.data(), pending_.size());
       if (n <= 0) break;
@@ -189,6 +199,7 @@ class PtyOutput final : public SlcanOutput {
   bool started_ = false;
   Clock::time_point start_{};
   std::string pending_;
+  std::string input_;  // what the reader sent, not taken yet
   size_t taken_ = 0, sizeSeen_ = 0, inFlightFrom_ = 0, writesSeen_ = 0, dropped_ = 0;
 };
 

@@ -26,7 +26,7 @@
 namespace bmssim {
 
 // What the board's SLCAN UART has sent so far: every byte in order, and when each write's last byte left the
-// line (one entry per write, in microseconds of simulated time). The host board's SimSerialTx and the twin's
+// line (one entry per write, in microseconds of simulated time). The host board's SimSerial and the twin's
 // UART model both give it.
 struct SentText {
   const std::string& text;
@@ -43,6 +43,8 @@ class SlcanOutput {
   virtual void step(const SentText& uart, uint64_t nowUs) = 0;
   // At the end of the run; false (and `error`) when the text could not be written.
   virtual bool finish(const SentText& uart, std::string& error) = 0;
+  // What the reader has sent since the last call (a file output: nothing).
+  virtual std::string takeInput() { return {}; }
 };
 
 }  // namespace bmssim

@@ -1,10 +1,11 @@
 // bmsctl: run one operation against a built-in device emulator through the real firmware driver and print
-// the exact wire traffic (see ARCHITECTURE.md, "Host tools").
+// the exact wire traffic (README "Host tools").
 #include <cstdio>
 #include <cstring>
 #include <string>
 
 #include "bmsctl/cli.hpp"
+#include "bmsctl/send.hpp"
 #include "flash/flash_command.hpp"
 
 namespace {
@@ -13,6 +14,7 @@ void printUsage(FILE* out) {
   std::fprintf(
       out,
       "usage: bmsctl trace <device> [--<option>[=value]...] <operation> [args...]\n"
+      "       bmsctl send --port DEV [--node N] [--timeout MS] <command> [Signal=value ...]\n"
       "       bmsctl flash IMAGE --port DEV [options]   (options: bmsctl flash --help)\n"
       "       bmsctl --help | -h\n"
       "\n"
@@ -44,9 +46,11 @@ int main(int argc, char** argv) {
     printUsage(stderr);
     return 2;
   }
+  if (std::strcmp(argv[1], "send") == 0) return bmsctl::runSend(argc - 2, argv + 2);
   if (std::strcmp(argv[1], "flash") == 0) return bmsctl::flash::runFlash(argc - 2, argv + 2);
   if (std::strcmp(argv[1], "trace") != 0) {
-    return bmsctl::usageError(std::string("unknown command '") + argv[1] + "' (expected 'trace' or 'flash')");
+    return bmsctl::usageError(std::string("unknown command '") + argv[1] +
+                              "' (expected 'trace', 'send' or 'flash')");
   }
   if (argc < 3) return bmsctl::usageError("trace needs a device; try 'bmsctl --help'");
 

@@ -1,5 +1,5 @@
 // bmsctl trace bq4050: one SMBus access through the real BQ4050 driver against the gauge emulator, with the
-// exact wire traffic (ARCHITECTURE.md "Host tools"):
+// exact wire traffic (README "Host tools"):
 //
 //   bmsctl trace bq4050 [--pec] word <cmd>      SMBus read word
 //   bmsctl trace bq4050 [--pec] block <cmd>     SMBus block read

@@ -20,7 +20,7 @@
 //                 checksum, length, stale, reset
 //
 // It runs the real driver (firmware/drivers/bq769x2) against the device emulator on virtual time and prints
-// every transaction as it completes (ARCHITECTURE.md contract), then `#` lines decoding the result with the
+// every transaction as it completes (README "Host tools"), then `#` lines decoding the result with the
 // runtime register table's names, units and scales. A failed operation prints `# error: <status>` and
 // exits 1; bad arguments exit 2 without touching the bus.
 #include <algorithm>

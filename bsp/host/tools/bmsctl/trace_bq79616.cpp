@@ -1,5 +1,5 @@
 // bmsctl trace bq79616: one operation through the real BQ79616 chain driver against the chain emulator, with
-// the exact UART traffic (ARCHITECTURE.md "Host tools"):
+// the exact UART traffic (README "Host tools"):
 //
 //   bmsctl trace bq79616 [--devices N] wake
 //   bmsctl trace bq79616 [--devices N] autoaddress

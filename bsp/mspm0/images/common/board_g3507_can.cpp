@@ -2,12 +2,14 @@
 // compile time (constinit) from the chip facts and the image's board_config.hpp. The monitor link (I2C0 or
 // the BQ79616 UART) is the only part that differs between the images.
 #include "board_g3507_can.hpp"
+#include "can/bms.hpp"
 #include "chip/mspm0g3507.hpp"
 #include "gpio.hpp"
 #include "mcan.hpp"
 #include "regs/cpuss.hpp"
 #include "regs/timg.hpp"
 #include "sysclock.hpp"
+#include "system.hpp"
 #include "timg_clock.hpp"
 #include "watchdog.hpp"
 #if BMS_BOARD_MONITOR_ON_UART
@@ -61,16 +63,18 @@ constinit GpioOut led(Chip::kPb22);
 #endif
 constinit GpioOut faultOut(Chip::kPb26);
 constinit McanBus can({Chip::kCanfd0, Chip::kIrqCanfd0, Chip::kCanTxPa12, Chip::kCanRxPa13,
-                       McanBus::kNbtp500k});
+                       McanBus::kNbtp500k, fw::can::bms::kReceivedIds});
+constinit Mspm0System system(Chip::kCpuss);
 
 constexpr uintptr_t kGpioPorts[] = {kGpioaBase, kGpioaBase + kGpioPortStride};
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal, &button};
-constinit Board instance{clock,  watchdog, monitorLink, monitorSignal, faultOut, can, fw::Status::NotReady,
-                         button, led};
+constinit Board instance{clock, watchdog, monitorLink,          monitorSignal, faultOut,
+                         can,   system,   fw::Status::NotReady, button,        led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&monitorSignal};
-constinit Board instance{clock, watchdog, monitorLink, monitorSignal, faultOut, can, fw::Status::NotReady};
+constinit Board instance{clock,    watchdog, monitorLink, monitorSignal,
+                         faultOut, can,      system,      fw::Status::NotReady};
 #endif
 constinit GpioInterrupts gpioInterrupts(Chip::kCpuss, kGpioPorts, kEdgeInputs);
 
@@ -81,6 +85,7 @@ Board& board() {
 }
 
 void bringUp() {
+  system.capture();  // RSTCAUSE clears when read: first of all
   // The LP-MSPM0G3507 fits R8, 100 kOhm 0.1 %, from ROSC (PA2) to ground (SLAU873D 2.7 and its schematic):
   // the SYSOSC runs in FCL mode on the external resistor (README "Clocks").
   initSysosc(true,

@@ -9,8 +9,9 @@
 #include "regs/timg.hpp"
 #include "regs/uart.hpp"
 #include "sysclock.hpp"
+#include "system.hpp"
 #include "timg_clock.hpp"
-#include "uart_serial_tx.hpp"
+#include "uart_serial.hpp"
 #include "watchdog.hpp"
 
 extern "C" uint32_t __stack_limit__[];
@@ -43,19 +44,24 @@ constexpr GpioEdgeInput kButton(Chip::kPa14, Edge::Falling, Pull::Up);
 constinit GpioEdgeInput button = kButton;
 constinit GpioOut led(Chip::kPa26);
 #endif
-constexpr UartSerialTx::Config kSerialConfig{
-    Chip::kUart0, Chip::kIrqUart0,
-    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)), Chip::kUart0TxPa8,
-    DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx}};
-constinit UartSerialTx serial(kSerialConfig);
+constexpr UartSerial::Config kSerialConfig{
+    Chip::kUart0,
+    Chip::kIrqUart0,
+    static_cast<uint16_t>(reg::uart::baudDivisor64(kBusClockHz, config::kSlcanBaud)),
+    Chip::kUart0TxPa8,
+    DmaChannel{Chip::kDma, 0, Chip::kDmaTrigUart0Tx},
+    Chip::kUart0RxPa9};
+constinit UartSerial::RxBuffer serialReceived;  // zero: in .bss
+constinit UartSerial serial(kSerialConfig, &serialReceived);
+constinit Mspm0System system(Chip::kCpuss);
 
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
-constinit Board instance{clock, watchdog, i2c, alert, serial, button, led};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
-constinit Board instance{clock, watchdog, i2c, alert, serial};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system};
 #endif
 
 }  // namespace
@@ -65,6 +71,7 @@ Board& board() {
 }
 
 void bringUp() {
+  system.capture();  // RSTCAUSE clears when read: first of all
   // The LaunchPad's ROSC resistor on PA2 lets the SYSOSC run in FCL mode (README "Clocks"; its fitting on the
   // LP-MSPM0L1306 is an open question there: pass 0 for a board without it).
   initSysosc(false, reg::sysctl::kFclKey | reg::sysctl::kFclSetUseFcl);
@@ -72,7 +79,7 @@ void bringUp() {
   TimgClock::start(kClockConfig);
   i2c.init();
   kAlert.init();
-  UartSerialTx::init(kSerialConfig);
+  UartSerial::init(kSerialConfig);
 #if BMS_BOARD_LED_BUTTON
   led.init(false);
   kButton.init();

@@ -5,14 +5,15 @@
 //   I2C0 SDA PA0, SCL PA1 (seed 000 table 2-1, TI's example), bit rate and stretch limit from the image's
 //        board_config.hpp; ALERT of the monitor on PA15 (falling edge, internal pull-up: the images set the
 //        BQ76952 ALERT active-low open-drain)
-//   UART0 TX PA8 -> XDS110 back-channel (SLCAN text; jumpers J16 1:2 and J101 9:10), DMA channel 0
+//   UART0 TX PA8 -> XDS110 back-channel (SLCAN text; jumpers J16 1:2 and J101 9:10), DMA channel 0;
+//   UART0 RX PA9 <- XDS110 back-channel (SLCAN commands; J17 1:2 and J101 7:8), by interrupt
 //   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1
 //   (mspm0/config.hpp) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15,
 //   INT_GROUP1 IRQ 1 (GPIOA)
 //
-// Contract: bringUp() runs once in thread mode, before interrupts are expected: it sets the clocks, powers
-// GPIOA, starts the scheduler clock, the bus, the serial output and the watchdog, and arms
-// nothing else.
+// Contract: bringUp() runs once in thread mode, before interrupts are expected: it captures the chip's
+// identity and reset cause (system), sets the clocks, powers GPIOA, starts the scheduler clock, the bus, the
+// serial port (both directions) and the watchdog, and arms nothing else.
 // board() may be called at any time (it returns the statically built board; drivers work after bringUp()).
 #pragma once
 
@@ -21,6 +22,7 @@
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
 #include "hal/serial.hpp"
+#include "hal/system.hpp"
 #include "hal/watchdog.hpp"
 #include "mspm0/config.hpp"
 
@@ -29,9 +31,10 @@ namespace image {
 struct Board {
   fw::hal::Clock& clock;
   fw::hal::Watchdog& watchdog;
-  fw::hal::I2cBus& i2c;       // the battery monitor's bus (I2C0)
-  fw::hal::EdgeInput& alert;  // the monitor's ALERT pin
-  fw::hal::SerialTx& serial;  // SLCAN text to the PC
+  fw::hal::I2cBus& i2c;            // the battery monitor's bus (I2C0)
+  fw::hal::EdgeInput& alert;       // the monitor's ALERT pin
+  fw::hal::SerialPort& serial;     // SLCAN text to the PC, SLCAN commands from it
+  fw::hal::SystemControl& system;  // chip identity, reset cause, bootloader entry
 #if BMS_BOARD_LED_BUTTON
   fw::hal::EdgeInput& button;  // LaunchPad S2
   fw::hal::DigitalOut& led;    // LaunchPad LED

@@ -14,7 +14,9 @@ const fw::app::Bq4050AppConfig kConfig{};
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq4050App;
-  App& app = image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut}, kConfig);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  App& app = image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut, board.system},
+                                       kConfig);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

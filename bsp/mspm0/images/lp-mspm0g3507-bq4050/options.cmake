@@ -4,11 +4,10 @@
 # firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
 # Options not listed keep their default.
 set(BMS_IMAGE_OPTIONS
-  FW_SCHED_MAX_TASKS=3            # protection, monitor and publisher: the only tasks
+  FW_IMAGE_ID=4                   # what Identify answers (bms.yaml IdentifyVersion.Image)
+  FW_SCHED_MAX_TASKS=4            # protection, monitor, publisher and commands: the only tasks
   FW_SCHED_BUDGETS=0              # saves two clock reads per dispatch: no task has a run-time budget and no output carries the figures
-  FW_PROTECTION_CLEAR_LATCHED=0   # no user action (button, command) posts kClearLatched on this board: a latched fault stays until reset
   FW_PACK_MAX_BOARDS=1            # one gauge: a pack of one board
   FW_CAN_TI_LAYOUT=0              # the TI layout (seed 001) is the BQ79616 image's
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
-  BSP_MCAN_RX=0                   # removes nothing used: the application only transmits on CAN
 )

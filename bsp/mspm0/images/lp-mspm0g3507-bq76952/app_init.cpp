@@ -1,11 +1,16 @@
 // Application of the lp-mspm0g3507-bq76952 image: the BQ76952 monitor (probe, one CONFIG_UPDATE, FET enable,
 // scans), the firmware protection (FETs through the BQ76952, the fault output PB26 high while it holds a
 // path off) and CAN publishing (firmware/app/monitors/bq769x_app.hpp).
+// The BQ76952's CFETOFF and DFETOFF inputs on PB2 and PB3 (bsp/mspm0/README.md "Connections"; PINCM15 and
+// PINCM16, mspm0g350x.h IOMUX_PINCM15_PF_GPIOB_DIO02 / PINCM16_PF_GPIOB_DIO03): protection drives them high
+// while it holds that path off, so a path opens without I2C (app/monitors/fet_mailbox.hpp). Asserted from
+// start-up until protection's first request.
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/startup_info.hpp"
+#include "gpio.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -13,13 +18,21 @@ namespace {
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::CanPublisher>;
 
+constinit bsp::mspm0::GpioOut chargeOff(bsp::mspm0::Pin{1, 2, 15});     // PB2 -> CFETOFF
+constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{1, 3, 16});  // PB3 -> DFETOFF
+
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
+  chargeOff.init(true);
+  dischargeOff.init(true);
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
   static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
   config.faultIndicator = &board.faultOut;
-  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, config);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  config.chargeOffPin = &chargeOff;
+  config.dischargeOffPin = &dischargeOff;
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

@@ -20,7 +20,9 @@ const fw::app::Bq79616AppConfig kConfig{.chain = {.devices = image::config::kBq7
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq79616App;
   App& app = image::constructOnce<App>(
-      scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut}, kConfig, storage);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+      scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut, board.system}, kConfig,
+      storage);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

@@ -6,7 +6,8 @@
 
 namespace image::config {
 
-// BQ79616 daisy-chain base link: 1 Mbaud 8N1 (bq79616-protocol.md section 1; IBRD 2, FBRD 0 from 32 MHz).
+// BQ79616 daisy-chain base link: 1 Mbaud 8N1 (TI's bq79616_uart_to_can example, MSPM0 SDK 2.09,
+// ti_msp_dl_config.c; IBRD 2, FBRD 0 from 32 MHz).
 inline constexpr uint32_t kBq79616Baud = 1000000;
 
 // Devices the chain is built with (CMake BMS_BQ79616_DEVICES, default 2 as in TI's example). Bring-up

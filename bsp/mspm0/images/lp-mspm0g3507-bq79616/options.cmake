@@ -4,10 +4,9 @@
 # firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp, bsp/mspm0/config.hpp.
 # Options not listed keep their default.
 set(BMS_IMAGE_OPTIONS
+  FW_IMAGE_ID=3                   # what Identify answers (bms.yaml IdentifyVersion.Image)
   BMS_BOARD_MONITOR_ON_UART=1     # the monitor is a BQ79616 chain on a UART, not a device on I2C0
-  FW_SCHED_MAX_TASKS=3            # protection, monitor and publisher: the only tasks
+  FW_SCHED_MAX_TASKS=4            # protection, monitor, publisher and commands: the only tasks
   FW_SCHED_BUDGETS=0              # saves two clock reads per dispatch: no task has a run-time budget and no output carries the figures
-  FW_PROTECTION_CLEAR_LATCHED=0   # no user action (button, command) posts kClearLatched on this board: a latched fault stays until reset
   BSP_I2C_LISTS=0                 # removes nothing used: the board's I2C is not built
-  BSP_MCAN_RX=0                   # removes nothing used: the application only transmits on CAN
 )

@@ -19,8 +19,9 @@ const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76907Settings, 7};
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig,
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
                                        fw::drivers::bq769x2::kBq76907);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

@@ -2,11 +2,16 @@
 // firmware protection (FETs through the BQ76952, ALERT fast path) and SLCAN publishing on the back-channel
 // UART (firmware/app/monitors/bq769x_app.hpp), with the start-up CONFIG_UPDATE of its settings table: the
 // whole application, as the G3507 images run it.
+// The BQ76952's CFETOFF and DFETOFF inputs on PA10 and PA11 (bsp/mspm0/README.md "Connections"; PINCM11 and
+// PINCM12, mspm0l130x.h IOMUX_PINCMn_PF_GPIOA_DIO(n-1)): protection drives them high while it holds that path
+// off, so a path opens without I2C (app/monitors/fet_mailbox.hpp). Asserted from start-up until protection's
+// first request.
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/startup_info.hpp"
+#include "gpio.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -14,12 +19,19 @@ namespace {
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::SlcanPublisher>;
 
-const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76952Settings, 16};
+constinit bsp::mspm0::GpioOut chargeOff(bsp::mspm0::Pin{0, 10, 11});     // PA10 -> CFETOFF
+constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{0, 11, 12});  // PA11 -> DFETOFF
 
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
-  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, kConfig);
-  app.announceStartup(image::startupInfo());  // Startup message: reset cause, version, fault record
+  chargeOff.init(true);
+  dischargeOff.init(true);
+  static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
+  config.chargeOffPin = &chargeOff;
+  config.dischargeOffPin = &dischargeOff;
+  App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, config);
+  // Startup message: the reset cause the board read, version, fault record
+  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
   app.start();
 }

@@ -1,0 +1,68 @@
+// CommandTask<Link>: the commands a BMS takes (firmware/app/can/bms.yaml, direction rx) from its bus or line
+// (Link: CanLink on the G3507 images, SlcanLink on the L1306 images), checked and acted on by the
+// CommandHandler (handler.hpp: the checks and the safety rules), answered through the publisher's outbox.
+//
+// The lowest-priority task (app/tasks.hpp): it runs only when protection, the monitor and the publisher have
+// nothing to do, and it handles one frame or line per run before giving way, so a flood of commands delays
+// nothing else by more than one short run. It takes input only while the outbox is empty (one answer set at
+// a time): a flood that produces answers faster than the publisher sends them waits in the controller's
+// receive FIFO or the UART's buffer, which drop (and count) what does not fit.
+// Bootloader entry: the handler's timer polls every CommandHandler::kPoll until the paths are confirmed off,
+// then until the answer has left the outbox and kDrainPolls more, then the MCU restarts (handler.hpp).
+// Events: command_event::kInput (the receive Notify), kOutboxFree (the publisher), kTimer. Thread mode.
+#pragma once
+
+#include <cstdint>
+
+#include "app/command/handler.hpp"
+#include "app/tasks.hpp"
+#include "core/zeroed.hpp"
+#include "sched/scheduler.hpp"
+
+namespace fw::app::command {
+
+template <class Link>
+class CommandTask final : public sched::Task {
+ public:
+  static constexpr uint8_t kDrainPolls = 2;  // polls between the answer leaving the outbox and the restart
+
+  template <class... LinkArgs>
+  explicit CommandTask(const CommandHandler::Context& context, LinkArgs&&... linkArgs)
+      : handler_(context), link_(static_cast<LinkArgs&&>(linkArgs)...) {}
+
+  [[gnu::always_inline]] void start() {  // one caller (the composition's start())
+    scheduler().addTask(kCommandTask, *this);
+    link_.attach(scheduler());
+  }
+
+  // One frame or line per run, then the task posts itself again: every other task that became ready in
+  // between runs first.
+  void run(sched::EventMask events) override {
+    if ((events & command_event::kTimer) != 0) bootStep();
+    if (!link_.outboxEmpty()) return link_.waitForOutbox();
+    if (link_.step(handler_, scheduler())) scheduler().post(kCommandTask, command_event::kInput);
+  }
+
+  const CommandHandler& handler() const { return handler_; }
+  void setBalancing(BalancingPolicy& policy, const PackView& pack) { handler_.setBalancing(policy, pack); }
+  const Link& link() const { return link_; }
+
+ private:
+  sched::Scheduler& scheduler() { return handler_.scheduler(); }
+  void bootStep() {
+    if (!link_.outboxEmpty()) return;  // the outbox is still busy: next poll
+    if (handler_.boot() == CommandHandler::Boot::WaitingForPaths) {
+      Replies r{};
+      handler_.poll(r);
+      link_.send(r, scheduler());
+    } else if (handler_.boot() == CommandHandler::Boot::Answered && ++drained_ >= kDrainPolls) {
+      handler_.answerSent();
+    }
+  }
+
+  CommandHandler handler_;
+  Link link_;
+  uint8_t drained_ = 0;
+};
+
+}  // namespace fw::app::command

@@ -1,0 +1,191 @@
+#include "app/command/handler.hpp"
+
+#include "app/command/identity.hpp"
+#include "core/stats.hpp"
+
+namespace fw::app::command {
+
+namespace bms = can::bms;
+
+namespace {
+
+constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,    bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
+                            bms::Identify::kDlc,       bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
+                            bms::EnterBootloader::kDlc};
+static_assert(sizeof kDlc == kCommandCount, "one DLC per received message of bms.yaml");
+static_assert(bms::kReceivedIds[0] == bms::ClearFaults::kId &&
+                  bms::kReceivedIds[6] == bms::EnterBootloader::kId,
+              "kReceivedIds in catalogue order: ClearFaults .. EnterBootloader");
+// Every command begins with the E2E header this handler reads: CRC in byte 0, counter in byte 1's low
+// nibble, target in byte 2.
+static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 &&
+              bms::ClearFaults::kFields[bms::ClearFaults::kCounterField].start == 8 &&
+              bms::ClearFaults::kFields[bms::ClearFaults::kTargetField].start == 16);
+
+constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
+
+// Every answer is a standard 8-byte frame (one SLCAN line each, slcan_link.cpp).
+static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && bms::IdentifyChip::kDlc == 8 &&
+              bms::SettingValue::kDlc == 8 && bms::SettingRange::kDlc == 8);
+
+// Answer frame `f` of message M from its raw values in the order of M's signals (the generated packer's
+// field table and packing loop).
+template <class M, class... Values>
+void packAnswer(hal::CanFrame& f, Values... values) {
+  static_assert(sizeof...(Values) == M::kFieldCount);
+  const uint32_t raw[] = {static_cast<uint32_t>(values)...};
+  f.id = M::kId;
+  f.extended = M::kExtended;
+  f.dlc = M::kDlc;
+  can::pack(f.data, M::kFields, raw, M::kFieldCount);  // every byte of the payload
+}
+
+}  // namespace
+
+// The acknowledgement, always the first answer (slot 0; a command's data follows it when accepted).
+void CommandHandler::ack(Replies& out, uint32_t id, uint8_t counter, Result result) {
+  State& st = *state_;
+  if (result != Result::Accepted) {
+    if (st.stats.rejected != 0xFFFF) ++st.stats.rejected;
+    if (kStats) ++st.stats.rejectedFor[static_cast<uint8_t>(result)];
+    out.count = 1;
+  } else if (kStats) {
+    ++st.stats.accepted;
+  }
+  packAnswer<bms::CommandAck>(out.frame[0], ctx_.node, id, counter, result, st.stats.rejected);
+}
+
+void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
+  State& st = *state_;
+  if (kStats) ++st.stats.frames;
+  uint8_t index = 0;
+  while (index < kCommandCount && (f.extended || bms::kReceivedIds[index] != f.id))
+    ++index;
+  if (index == kCommandCount) {
+    if (kStats) ++st.stats.filtered;
+    return;
+  }
+  const uint8_t counter = counterOf(f);
+  // The target is byte 2: a frame too short to carry it is answered (it may well be meant for this node).
+  if (f.dlc > 2 && f.data[2] != ctx_.node && f.data[2] != kBroadcast) {
+    if (kStats) ++st.stats.otherTarget;
+    return;
+  }
+  Result r = Result::Accepted;
+  out.count = 1;  // slot 0: the acknowledgement
+  if (f.dlc != kDlc[index]) {
+    r = Result::WrongLength;
+  } else if (!crcValid(f)) {
+    r = Result::BadCrc;
+  } else if (!st.counters.take(index, counter)) {
+    r = Result::RepeatedCounter;
+  } else if (st.boot != Boot::Idle) {
+    r = Result::Busy;
+  } else {
+    r = act(f, out);
+    if (r == Result::Accepted && st.boot != Boot::Idle) {  // answered once the paths are off
+      out.count = 0;
+      return;
+    }
+  }
+  ack(out, f.id, counter, r);
+}
+
+Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
+  State& st = *state_;
+  switch (f.id) {
+    case bms::ClearFaults::kId:
+      ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kClearLatched);
+      return Result::Accepted;
+    case bms::PathRequest::kId: {
+      const auto m = bms::PathRequest::unpack(f);
+      st.hostRequest =
+          static_cast<uint8_t>((m.chargeOff ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
+                               (m.dischargeOff ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+      applyHostOff();
+      return Result::Accepted;
+    }
+    case bms::BalancingMode::kId: {
+      const auto m = bms::BalancingMode::unpack(f);
+      if (m.mode > static_cast<uint8_t>(BalancingMode::Forced)) return Result::OutOfRange;
+      if (balancing_ == nullptr)
+        return Result::Unsupported;  // this image does not balance (the BQ4050's gauge does)
+      // A board the pack does not have or a mask the device does not allow: InvalidArgument, nothing changes.
+      const Status s = balancing_->setMode(static_cast<BalancingMode>(m.mode), m.board, m.cellMask,
+                                           static_cast<uint16_t>(pack_->boards.size()), pack_->cellsPerBoard);
+      return s == Status::Ok ? Result::Accepted : Result::OutOfRange;
+    }
+    case bms::Identify::kId: {
+      packAnswer<bms::IdentifyVersion>(out.frame[1], ctx_.node, kVersion.major, kVersion.minor,
+                                       kVersion.patch, kBuildId, kImage);
+      const hal::ChipIdentity chip = ctx_.system.identity();
+      packAnswer<bms::IdentifyChip>(out.frame[2], ctx_.node, chip.resetCause, chip.traceId, chip.partNumber);
+      out.count = 3;
+      return Result::Accepted;
+    }
+    case bms::SettingRead::kId: {
+      const uint8_t id = bms::SettingRead::unpack(f).setting;
+      if (id >= kSettingCount) return Result::OutOfRange;
+      const SettingSpec s = ctx_.settings.spec(id);
+      packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
+      packAnswer<bms::SettingRange>(out.frame[2], ctx_.node, id, s.min, s.max);
+      out.count = 3;
+      return Result::Accepted;
+    }
+    case bms::SettingWrite::kId: {
+      const auto m = bms::SettingWrite::unpack(f);
+      switch (ctx_.settings.write(m.setting, m.value)) {
+        case WriteResult::Ok:
+          return Result::Accepted;
+        case WriteResult::Inconsistent:
+          return Result::Inconsistent;
+        case WriteResult::Busy:
+          return Result::Busy;
+        default:
+          return Result::OutOfRange;
+      }
+    }
+    default: {  // EnterBootloader (the last of kReceivedIds)
+      const auto m = bms::EnterBootloader::unpack(f);
+      if (m.target != ctx_.node || m.key != kBootloaderKey || m.traceId != ctx_.system.identity().traceId)
+        return Result::WrongKey;
+      st.boot = Boot::WaitingForPaths;
+      st.bootCounter = counterOf(f);
+      st.bootDeadline = ctx_.scheduler.now() + kBootTimeout;
+      ctx_.scheduler.startTimer(st.bootTimer, kCommandTask, command_event::kTimer, kPoll, kPoll);
+      applyHostOff();
+      return Result::Accepted;
+    }
+  }
+}
+
+void CommandHandler::applyHostOff() {
+  const uint8_t off =
+      static_cast<uint8_t>(state_->hostRequest | (state_->boot != Boot::Idle ? kBothPaths : 0));
+  ctx_.protection.requestOff(off);
+  ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kHostRequest);
+}
+
+void CommandHandler::poll(Replies& out) {
+  State& st = *state_;
+  if (st.boot != Boot::WaitingForPaths) return;
+  Result r = Result::Accepted;
+  if (ctx_.protection.pathsOffConfirmed()) {
+    st.boot = Boot::Answered;
+  } else if (isDue(st.bootDeadline, ctx_.scheduler.now())) {
+    r = Result::PathsNotOff;  // the deadline has passed: release what entry held off
+    st.boot = Boot::Idle;
+    ctx_.scheduler.stopTimer(st.bootTimer);
+    applyHostOff();
+  } else {
+    return;
+  }
+  out.count = 1;
+  ack(out, bms::EnterBootloader::kId, st.bootCounter, r);
+}
+
+void CommandHandler::answerSent() {
+  if (state_->boot == Boot::Answered) ctx_.system.enterBootloader();
+}
+
+}  // namespace fw::app::command

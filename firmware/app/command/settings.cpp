@@ -1,0 +1,72 @@
+#include "app/command/settings.hpp"
+
+namespace fw::app::command {
+
+namespace {
+
+// Plausibility ends of the ranges, on the side that tightens protection (the other side is the default), by
+// rule (FaultId 0..5; the charge temperature limits 10 and 11 share the temperature rows): cells 3.0 V / 3.8
+// V, 0.1 A, 0 degC / 25 degC (0.1 K). A current limit clears only while current flows the other way (its
+// default clear value, app/protection/default_limits.hpp), up to 5 A of it.
+struct Bounds {
+  int32_t tripEnd, clearEnd;
+};
+constexpr Bounds kTightEnd[6] = {{3000, 2900}, {3800, 4000}, {100, -5000},
+                                 {-100, 5000}, {2732, 2732}, {2982, 3032}};
+
+constexpr bool isUpperLimit(uint8_t rule) {
+  return (rule & 1U) == 0;  // CellOvervoltage, ChargeOvercurrent, OvertempDischarge, OvertempCharge
+}
+
+// Settings 0..11: rules 0..5 (FaultId order); 12..15: OvertempCharge (10) and UndertempCharge (11).
+constexpr uint8_t ruleOf(uint8_t id) {
+  return id < 12 ? static_cast<uint8_t>(id >> 1) : static_cast<uint8_t>(10 + ((id - 12) >> 1));
+}
+
+}  // namespace
+
+SettingSpec settingSpec(uint8_t id, const ProtectionConfig& defaults) {
+  const uint8_t rule = ruleOf(id);
+  const bool clear = (id & 1U) != 0;
+  const int32_t hard = defaults.rules[rule].trip;  // the pack's bound: the default trip value
+  const Bounds& b = kTightEnd[rule < 6 ? rule : rule - 6];
+  const int32_t tight = clear ? b.clearEnd : b.tripEnd;
+  const Unit unit = rule < 2 ? Unit::Millivolt : rule < 4 ? Unit::Milliamp : Unit::DeciKelvin;
+  return isUpperLimit(rule) ? SettingSpec{rule, clear, unit, tight, hard}
+                            : SettingSpec{rule, clear, unit, hard, tight};
+}
+
+int32_t& LimitSettings::valueOf(ProtectionConfig& c, uint8_t id) {
+  Rule& r = c.rules[ruleOf(id)];
+  return (id & 1U) != 0 ? r.clear : r.trip;
+}
+
+int32_t LimitSettings::upcoming(uint8_t id) const {
+  int32_t v = read(id);
+  for (uint8_t k = 0; k < pending_->count; ++k) {
+    if (pending_->id[k] == id) v = pending_->value[k];
+  }
+  return v;
+}
+
+WriteResult LimitSettings::write(uint8_t id, int32_t value) {
+  if (id >= kSettingCount) return WriteResult::UnknownSetting;
+  const SettingSpec s = spec(id);
+  if (value < s.min || value > s.max) return WriteResult::OutOfRange;
+  // The pair as it will be: an upper limit clears below its trip value, a lower limit above it.
+  const int32_t trip = s.clear ? upcoming(static_cast<uint8_t>(id & ~1U)) : value;
+  const int32_t clear = s.clear ? value : upcoming(static_cast<uint8_t>(id | 1U));
+  if (isUpperLimit(s.rule) ? clear > trip : clear < trip) return WriteResult::Inconsistent;
+  if (pending_->count == kPending) return WriteResult::Busy;
+  pending_->id[pending_->count] = id;
+  pending_->value[pending_->count++] = value;
+  return WriteResult::Ok;
+}
+
+void LimitSettings::apply() {
+  for (uint8_t k = 0; k < pending_->count; ++k)
+    valueOf(limits_, pending_->id[k]) = pending_->value[k];
+  pending_->count = 0;
+}
+
+}  // namespace fw::app::command

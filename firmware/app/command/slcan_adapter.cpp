@@ -1,0 +1,127 @@
+#include "app/command/slcan_adapter.hpp"
+
+namespace fw::app::command {
+
+namespace {
+
+constexpr uint8_t kCr = '\r', kBel = 0x07;
+constexpr uint8_t kVersionAnswer[] = {'V',
+                                      '0',
+                                      '1',
+                                      static_cast<uint8_t>('0' + kVersion.major % 10),
+                                      static_cast<uint8_t>('0' + kVersion.minor % 10),
+                                      kCr};
+
+uint8_t hexDigit(uint32_t v) {
+  v &= 0xFU;
+  return static_cast<uint8_t>(v < 10 ? '0' + v : 'A' - 10 + v);
+}
+
+// The value of hex digit `c` (either case), or 16 if it is none.
+uint32_t hexValue(uint32_t c) {
+  const uint32_t lower = c | 0x20U;  // 'A'..'F' and 'a'..'f' alike
+  if (c >= '0' && c <= '9') return c - '0';
+  if (lower >= 'a' && lower <= 'f') return lower - 'a' + 10;
+  return 16;
+}
+
+// A t or T line: identifier, DLC digit, exactly DLC data bytes, every character after the letter a hex digit.
+bool parseFrame(const uint8_t* line, uint8_t length, hal::CanFrame& f) {
+  const bool extended = line[0] == 'T';
+  const uint8_t idDigits = extended ? 8 : 3;
+  uint8_t nibble[SlcanAdapter::kMaxLine];
+  for (uint8_t i = 1; i < length; ++i) {
+    const uint32_t v = hexValue(line[i]);
+    if (v > 15) return false;
+    nibble[i] = static_cast<uint8_t>(v);
+  }
+  if (length < 2 + idDigits) return false;
+  uint32_t id = 0;
+  for (uint8_t i = 1; i <= idDigits; ++i)
+    id = id << 4 | nibble[i];
+  const uint8_t dlc = nibble[1 + idDigits];
+  if (dlc > 8 || id > (extended ? 0x1FFFFFFFU : 0x7FFU) || length != 2 + idDigits + 2 * dlc) return false;
+  f.id = id;
+  f.extended = extended;
+  f.dlc = dlc;
+  for (uint8_t i = 0; i < 8; ++i) {
+    const uint8_t at = static_cast<uint8_t>(2 + idDigits + 2 * i);
+    f.data[i] = i < dlc ? static_cast<uint8_t>(nibble[at] << 4 | nibble[at + 1]) : 0;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool SlcanAdapter::take(uint8_t byte) {
+  if (byte == '\n') return false;
+  if (byte == kCr) return true;
+  if (state_.length < kMaxLine) {
+    state_.line[state_.length++] = byte;
+  } else {
+    state_.overlong = true;
+  }
+  return false;
+}
+
+void SlcanAdapter::answer(const Info& info, Line& out) {
+  out.answerLength = 1;
+  out.hasFrame = false;
+  if (state_.overlong || !execute(info, out)) {
+    out.answer[0] = kBel;
+    out.answerLength = 1;
+  }
+  state_.length = 0;
+  state_.overlong = false;
+}
+
+// False for a line to refuse (answer() answers BEL); otherwise out.answer holds the answer (CR unless set).
+bool SlcanAdapter::execute(const Info& info, Line& out) {
+  const uint8_t* line = state_.line;
+  const uint8_t n = state_.length;
+  uint8_t* a = out.answer;
+  a[0] = kCr;
+  if (n == 0) return true;
+  const uint8_t c = line[0];
+  if (c == 't' || c == 'T') {
+    if (!state_.open || !parseFrame(line, n, out.frame)) return false;
+    out.hasFrame = true;
+    a[0] = c == 't' ? 'z' : 'Z', a[1] = kCr;
+    out.answerLength = 2;
+    return true;
+  }
+  if (c == 'S') {
+    if (n != 2 || state_.open || line[1] < '0' || line[1] > '8') return false;
+    state_.bitrate = static_cast<uint8_t>(line[1] - '0');
+    return true;
+  }
+  if (n != 1) return false;
+  switch (c) {
+    case 'O':
+    case 'C':
+      if (state_.open != (c == 'C')) return false;  // O only while closed, C only while open
+      state_.open = c == 'O';
+      return true;
+    case 'V':
+      for (uint8_t i = 0; i < sizeof kVersionAnswer; ++i)
+        a[i] = kVersionAnswer[i];
+      out.answerLength = sizeof kVersionAnswer;
+      return true;
+    case 'N':
+      a[0] = 'N';
+      for (uint8_t i = 0; i < 4; ++i)
+        a[1 + i] = hexDigit(info.serial >> (12 - 4 * i));
+      a[5] = kCr;
+      out.answerLength = 6;
+      return true;
+    case 'F':
+      if (!state_.open) return false;
+      a[0] = 'F', a[1] = '0', a[2] = info.overrunSinceLast ? '8' : '0', a[3] = kCr;  // bit 3: data overrun
+      out.answerLength = 4;
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace fw::app::command

@@ -1,0 +1,81 @@
+// The limits a command may read and write (firmware/app/command/settings.hpp): the ranges stop at the
+// pack's hard bound, a limit's clear value stays on the safe side of its trip value, and writes wait for the
+// next scan boundary, where they take effect together.
+#include <gtest/gtest.h>
+
+#include "app/command/settings.hpp"
+#include "app/protection/default_limits.hpp"
+
+namespace {
+
+using namespace fw::app;
+using namespace fw::app::command;
+
+// Settings 0..11 are FaultId 0..5 (trip, clear); 12..15 the charge temperature limits (FaultId 10, 11).
+constexpr uint8_t id(FaultId f, bool clear) {
+  const auto rule = static_cast<uint8_t>(f);
+  return static_cast<uint8_t>((rule < 6 ? rule * 2 : 12 + (rule - 10) * 2) + (clear ? 1 : 0));
+}
+
+TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
+  LimitSettings s(kDefaultLimits);
+  // Upper limits: the default trip value is the highest allowed; lower limits: the lowest.
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4251), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::ChargeOvercurrent, false), 20001), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::OvertempDischarge, false), 3333), WriteResult::OutOfRange);  // 60 degC
+  EXPECT_EQ(s.write(id(FaultId::OvertempCharge, false), 3183), WriteResult::OutOfRange);     // 45 degC
+  EXPECT_EQ(s.write(id(FaultId::UndertempCharge, false), 2731), WriteResult::OutOfRange);    // 0 degC
+  EXPECT_EQ(s.write(id(FaultId::CellUndervoltage, false), 2699), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::DischargeOvercurrent, false), -30001), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::UndertempDischarge, false), 2531), WriteResult::OutOfRange);  // -20 degC
+  for (uint8_t k = 0; k < kSettingCount; ++k) {
+    const SettingSpec spec = s.spec(k);
+    const Rule& r = kDefaultLimits.rules[spec.rule];
+    const bool upper = (spec.rule & 1U) == 0;
+    EXPECT_EQ(upper ? spec.max : spec.min, r.trip)
+        << "setting " << int(k) << ": the bound is the default trip";
+    EXPECT_EQ(s.read(k), spec.clear ? r.clear : r.trip);
+    EXPECT_TRUE(s.read(k) >= spec.min && s.read(k) <= spec.max)
+        << "setting " << int(k) << ": the default is in range";
+    EXPECT_EQ(spec.unit, spec.rule < 2 ? Unit::Millivolt : spec.rule < 4 ? Unit::Milliamp : Unit::DeciKelvin);
+  }
+  // Every value limit of the protection has its two settings, once each.
+  for (uint8_t rule : {0, 1, 2, 3, 4, 5, 10, 11}) {
+    int seen = 0;
+    for (uint8_t k = 0; k < kSettingCount; ++k)
+      seen += s.spec(k).rule == rule ? 1 : 0;
+    EXPECT_EQ(seen, 2) << "rule " << int(rule);
+  }
+  EXPECT_EQ(s.write(kSettingCount, 0), WriteResult::UnknownSetting);
+  s.apply();
+  EXPECT_EQ(s.limits().rules[0].trip, 4250);  // nothing refused reached the limits
+}
+
+TEST(LimitSettings, AWriteWaitsForTheScanBoundaryAndThenTakesEffectWhole) {
+  LimitSettings s(kDefaultLimits);
+  const uint8_t ocdTrip = id(FaultId::DischargeOvercurrent, false),
+                ocdClear = id(FaultId::DischargeOvercurrent, true);
+  // Lower limit: the clear value must stay at or above the trip value. A clear value of -25 A (clearing while
+  // 25 A still flow) with the trip left at -20 A would lie below it.
+  EXPECT_EQ(s.write(ocdClear, -25000), WriteResult::Ok);
+  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Inconsistent);  // judged against the waiting clear value
+  EXPECT_EQ(s.write(ocdClear, -15000), WriteResult::Ok);
+  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Ok);
+  EXPECT_EQ(s.read(ocdTrip), -30000);  // nothing changed before the boundary
+  EXPECT_EQ(s.limits().rules[3].clear, 200);
+  s.apply();
+  EXPECT_EQ(s.limits().rules[3].trip, -20000);
+  EXPECT_EQ(s.limits().rules[3].clear, -15000);
+  // Upper limit: the clear value may not rise above the trip value.
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4251), WriteResult::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Inconsistent);  // clear 4150
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4000), WriteResult::Ok);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);
+  for (int k = 0; k < 2; ++k)
+    EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Busy);  // four waiting at most
+  s.apply();
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);  // room again
+}
+
+}  // namespace
