@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "app/balancing/balancing_config.hpp"
 #include "app/balancing/balancing_policy.hpp"
@@ -52,6 +53,7 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "app/publish/slcan_publisher.hpp"
+#include "app/soc/soc.hpp"
 #include "core/stats.hpp"
 #include "core/zeroed.hpp"
 #include "drivers/bq769x2/monitor.hpp"
@@ -87,6 +89,11 @@ struct Bq769xAppConfig {
   // link has failed. nullptr: not wired (the BQ7690x has no such pins).
   hal::DigitalOut* chargeOffPin = nullptr;
   hal::DigitalOut* dischargeOffPin = nullptr;
+  // State of charge (app/soc) from the device's accumulated charge: the pack's parameters (its pack file's
+  // state_of_charge) and the device's current LSB in 0.1 mA (its user-amps unit). nullptr: none computed,
+  // published as not available.
+  const SocConfig* soc = nullptr;
+  int32_t currentLsbTenthMa = 10;
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -142,6 +149,7 @@ class Bq769xDevice : public MonitorBase {
         fet_(fet),
         status_(status),
         policy_(kDefaultBalancing, balancingRules(variantOf(driverArgs...))),
+        soc_(config.soc != nullptr ? *config.soc : kNoSoc, kCounterFamily, config.currentLsbTenthMa),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
@@ -157,10 +165,17 @@ class Bq769xDevice : public MonitorBase {
   // Balancing: the command interface's entry (BalancingPolicy::setMode) and what is published.
   BalancingPolicy& balancing() { return policy_; }
   const BalancingStatus& balancingStatus() const { return records_->balance; }
+  // The state of charge (restore(): the record store's saved value).
+  StateOfCharge& stateOfCharge() { return soc_; }
+  const StateOfCharge& stateOfCharge() const { return soc_; }
 
  protected:
   static constexpr bool kCommands = true;
   static constexpr bool kBalancing = drivers::bq769x2::kBalance;
+  static constexpr CounterFamily kCounterFamily =
+      std::is_same_v<Measurement, drivers::bq769x2::Bq7690xMeasurement> ? CounterFamily::Bq7690x
+                                                                        : CounterFamily::Bq769x2;
+  static constexpr SocConfig kNoSoc{};
   static constexpr sched::EventMask kPublisherScanDone = kPublisherScanDone_;
   enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
@@ -260,6 +275,7 @@ class Bq769xDevice : public MonitorBase {
     sample_.last = result;
     if (result == Status::Ok) {
       toSample(records_->measurement, config_.cells, sample_, view_);
+      flags_->socDue = true;
       // The device reset since the set-up: set it up again now (the measurement itself is valid).
       if (records_->measurement.reg.batteryStatus.sleep_en()) {
         setRunning(view_, false);
@@ -270,7 +286,27 @@ class Bq769xDevice : public MonitorBase {
   }
   // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
   void afterSummarize() {
+    if (config_.soc != nullptr && flags_->socDue) updateSoc();
     if constexpr (kBalancing) scheduler_.post(kMonitorTask, monitor_event::kBalance);
+  }
+  // The scan's totals and the device's charge counter into the state of charge, published in the view
+  // (PackSummary.StateOfCharge) once known.
+  void updateSoc() {
+    flags_->socDue = false;
+    const PackTotals& t = view_.totals;
+    const drivers::bq769x2::ChargeCounter& c = records_->measurement.charge;
+    SocInputs in{.now = t.takenAt,
+                 .currentMa = view_.currentMa,
+                 .maxCellMv = t.extreme[kMaxCell],
+                 .minCellMv = t.extreme[kMinCell],
+                 .avgCellMv = static_cast<int16_t>(t.packMv / config_.cells),
+                 .cells = t.complete && !t.openWire,
+                 .counted = c.valid};
+    if (c.valid)
+      in.count = kCounterFamily == CounterFamily::Bq769x2 ? bq769x2Count(c.raw) : bq7690xCount(c.raw);
+    soc_.update(in);
+    view_.hasStateOfCharge = soc_.known();
+    view_.stateOfCharge = static_cast<uint8_t>((soc_.permille() + 5) / 10);
   }
   // The device stopped answering or keeps failing: go through probe and configuration again, starting with a
   // probe at the next scan period.
@@ -390,6 +426,7 @@ class Bq769xDevice : public MonitorBase {
     bool checkPending;                 // a write ended: its read-back is due after the next scan
     bool checkWanted;                  // the last write's read-back is due
     bool balanceBackoff;               // a balancing command failed on the bus: again next scan period
+    bool socDue;                       // a scan validated: the state of charge counts it after summarize
   };
   struct Records {
     Bq769xStats stats;
@@ -414,6 +451,7 @@ class Bq769xDevice : public MonitorBase {
   const PublishStatus& status_;
   BalancingPolicy policy_;
   Zeroed<Records> records_;
+  StateOfCharge soc_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -478,6 +516,7 @@ class Bq769xApp {
   const Publisher& publisher() const { return publisher_; }
   // The command interface's balancing entry (BalancingPolicy::setMode).
   BalancingPolicy& balancing() { return monitor_.balancing(); }
+  StateOfCharge& stateOfCharge() { return monitor_.stateOfCharge(); }
 
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a

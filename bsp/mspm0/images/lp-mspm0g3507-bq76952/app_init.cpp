@@ -34,7 +34,10 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   chargeOff.init(true);
   dischargeOff.init(true);
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
-  static constinit fw::app::Bq769xAppConfig config{kSettings, fw::pack::kCells};
+  static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
+                                                   .cells = fw::pack::kCells,
+                                                   .soc = &fw::pack::kSoc,
+                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
   config.faultIndicator = &board.faultOut;
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;

@@ -21,7 +21,10 @@ constexpr auto kSettings = fw::app::bq7690xSettings(fw::pack::kDeviceSettings);
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769x2::Bq7690xMeasurement,
                                fw::app::SlcanPublisher>;
 
-const fw::app::Bq769xAppConfig kConfig{kSettings, fw::pack::kCells};
+const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
+                                       .cells = fw::pack::kCells,
+                                       .soc = &fw::pack::kSoc,
+                                       .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
 
 }  // namespace
 

@@ -34,7 +34,10 @@ constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{0, 11, 12});  // PA11
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   chargeOff.init(true);
   dischargeOff.init(true);
-  static constinit fw::app::Bq769xAppConfig config{kSettings, fw::pack::kCells};
+  static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
+                                                   .cells = fw::pack::kCells,
+                                                   .soc = &fw::pack::kSoc,
+                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, config);
