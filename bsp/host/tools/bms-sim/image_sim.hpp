@@ -52,6 +52,7 @@ struct SimFigures {
   int32_t currentMa = 0;
   std::vector<uint16_t> balancingCells;  // ImageSim::balancingCells()
   int cellSpreadMv = 0;                  // ImageSim::cellSpreadMv()
+  int stateOfChargePercent = -1;  // PackSummary.StateOfCharge as the board publishes it; -1 not available
   std::vector<std::pair<std::string, std::string>>
       extra;  // more --json keys and values (the twin's CPU figures)
 };

@@ -116,6 +116,7 @@ inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const 
   f.pathsKnown = st.pathsKnown;
   f.faultOutput = st.faultOutput;
   f.activeFaults = st.active;
+  f.stateOfChargePercent = view.hasStateOfCharge ? view.stateOfCharge : -1;
 }
 
 }  // namespace bmssim

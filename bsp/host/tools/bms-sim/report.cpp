@@ -156,7 +156,7 @@ void Report::tick(uint64_t nowUs) {
   std::fprintf(
       live_,
       "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu  "
-      "spread %3d mV, balancing %d cells\n",
+      "spread %3d mV, balancing %d cells  SOC %s\n",
       static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
       f.currentMa / 1000.0,
       !f.pathsKnown ? "CHG:?  "
@@ -166,7 +166,8 @@ void Report::tick(uint64_t nowUs) {
       : f.dischargeOn ? "DSG:on "
                       : "DSG:off",
       faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
-      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing);
+      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing,
+      f.stateOfChargePercent < 0 ? "--" : (std::to_string(f.stateOfChargePercent) + " %").c_str());
   std::fflush(live_);
 }
 
@@ -292,6 +293,13 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   }
   std::printf("],\n");
   std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  // PackSummary.StateOfCharge as the board published it (null: not available, e.g. the BQ79616 image, or not
+  // known yet).
+  if (f.stateOfChargePercent < 0) {
+    std::printf("  \"state_of_charge_percent\": null,\n");
+  } else {
+    std::printf("  \"state_of_charge_percent\": %d,\n", f.stateOfChargePercent);
+  }
   // Balancing as the emulated devices do it now: per board the cells (numbered from 1) they balance, and the
   // spread of the emulated cells (ImageSim::balancingCells(), cellSpreadMv()).
   std::printf("  \"balancing_cells\": [");

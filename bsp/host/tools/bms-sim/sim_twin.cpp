@@ -453,6 +453,8 @@ SimFigures TwinSim::figures() {
       f.activeFaults = p.activeFaults;
       f.validBoards = p.dataValid ? devices_ : 0;
       f.currentMa = hasCurrent() ? p.packCurrent * 10 : 0;
+      f.stateOfChargePercent =
+          p.stateOfCharge != bms::PackSummary::kStateOfChargeNotAvailable ? p.stateOfCharge : -1;
     } else if (s.id == bms::CellExtremes::kId) {
       const auto e = bms::CellExtremes::unpack(c);
       f.maxCellMv = e.maxCellVoltage, f.minCellMv = e.minCellVoltage;
