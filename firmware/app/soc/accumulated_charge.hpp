@@ -63,8 +63,20 @@ constexpr int64_t countDelta(CounterFamily f, int64_t from, int64_t to) {
 // BQ7690x counts userA-seconds: (uA per userA) / 3600 uAh, x 2^32 (rounded: 1e-10 relative).
 constexpr int64_t uahQ32PerCount(CounterFamily f, int32_t lsbTenthMa) {
   const int64_t uaPerUserA = static_cast<int64_t>(lsbTenthMa) * 100;
-  return f == CounterFamily::Bq769x2 ? uaPerUserA : ((uaPerUserA << 32) + 1800) / 3600;
+  if (f == CounterFamily::Bq769x2) return uaPerUserA;
+  // ((uaPerUserA << 32) + 1800) / 3600 as three 32-bit long-division steps of 32, 16 and 16 bits: the same
+  // value without a 64-bit division (on the Cortex-M0+ that pulled __aeabi_ldivmod, about 1 KiB, into the
+  // images).
+  const auto x = static_cast<uint32_t>(uaPerUserA);
+  const uint32_t q1 = x / 3600, r1 = x % 3600;
+  const uint32_t q2 = (r1 << 16) / 3600, r2 = (r1 << 16) % 3600;
+  const uint32_t q3 = ((r2 << 16) + 1800) / 3600;
+  return static_cast<int64_t>((static_cast<uint64_t>(q1) << 32) + (static_cast<uint64_t>(q2) << 16) + q3);
 }
+static_assert(uahQ32PerCount(CounterFamily::Bq7690x, 10) == ((1000LL << 32) + 1800) / 3600 &&
+                  uahQ32PerCount(CounterFamily::Bq7690x, 1) == ((100LL << 32) + 1800) / 3600 &&
+                  uahQ32PerCount(CounterFamily::Bq7690x, 123457) == ((12345700LL << 32) + 1800) / 3600,
+              "the long division gives the 64-bit quotient");
 
 // A device time that lags the MCU's by more than this much plus 1/16 of the interval is a restart.
 inline constexpr uint32_t kRestartSlackMs = 2000;
