@@ -89,7 +89,7 @@ class I2cController final : public fw::hal::I2cBus {
   void fillTx();
   void drainRx();
   void complete(fw::Status status);
-  inline void finish();  // inline (.cpp): one caller, complete(), folds it in
+  inline void finish();
   // The transaction in progress (the list's only one in a build without lists).
   fw::hal::I2cTransaction& current() const { return list_[kI2cLists ? index_ : 0]; }
 

@@ -29,7 +29,6 @@ namespace bsp::mspm0 {
 
 inline constexpr uint32_t kBusClockHz = 32000000;
 
-// Inline: one caller per image, whose constant argument leaves one write.
 inline void initSysosc(bool hasUlpDivider, uint32_t fclCommand) {
   reg::sysctl::Clocks& s = reg::sysctl::clocks();
   mmio::clearBits(s.sysosccfg, reg::sysctl::kSysoscFreqMask);

@@ -57,8 +57,7 @@ class TimgClock final : public fw::hal::Clock {
   }
   void onInterrupt();
 
-  // Combines a half-period count and a raw counter value into microseconds (exposed for tests; inline: now()
-  // is its one caller in the firmware).
+  // Combines a half-period count and a raw counter value into microseconds (exposed for tests).
   static uint32_t widen(uint32_t halves, uint32_t counter) {
     // Bit 15 of the counter says which half the counter is in; the parity of `halves` says which half the
     // software has seen. When they disagree the event is either pending (counter just entered the next half,

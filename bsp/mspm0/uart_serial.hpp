@@ -54,7 +54,7 @@ class UartSerial final : public fw::hal::SerialPort {
   // pull-up (IOMUX PINCM INENA bit 18, PIPU bit 17), so a line left open (jumpers off) idles high instead of
   // floating into noise; the XDS110 drives it otherwise.
   void init() const { init(config_); }
-  [[gnu::always_inline]] static void init(const Config& config) {
+  static void init(const Config& config) {
     const bool receiver = config.rx.pin.pincm != 0;
     uartConfigure(config.base, config.divisor64, receiver, false);
     reg::iomux::pincm(config.tx.pin.pincm).write(reg::iomux::kPc | config.tx.pf);  // as muxPeripheral()

@@ -30,7 +30,7 @@ class WindowWatchdog final : public fw::hal::Watchdog {
   // `guard` points at the kStackGuardWords guard words (nullptr: no guard check).
   constexpr WindowWatchdog(uintptr_t base, const volatile uint32_t* guard) : base_(base), guard_(guard) {}
   void start();
-  // Inline: feed() is its one caller in the firmware (tests call it too).
+  // feed()'s check of the stack guard word (tests call it too).
   bool stackGuardIntact() const {
     if (guard_ == nullptr) return true;
     for (uint32_t i = 0; i < kStackGuardWords; ++i) {

@@ -104,8 +104,8 @@ class Scheduler {
   void fireDueTimers(Instant now);
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
-  inline void superviseOnce();                    // inline (.cpp): one caller, folded into it
-  inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS), one caller
+  inline void superviseOnce();
+  inline void noteRun(TaskId id, Duration took);  // the run-time figures (FW_SCHED_BUDGETS)
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
   // postThunk's argument: the task id in the top byte, a 24-bit event mask below it.

@@ -453,9 +453,12 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
     received = []
     # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
-    # close the terminal, and must not close it under the reader).
-    while (msg := bus.recv(timeout=2.0)) is not None:
+    # close the terminal, and must not close it under the reader). The first frame may take longer on a loaded
+    # machine (bms-sim starts the board only once this reader has sent O): up to 20 s.
+    timeout = 20.0
+    while (msg := bus.recv(timeout=timeout)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
+        timeout = 2.0
     bus.shutdown()
     out, err = proc.communicate(timeout=30)
     if proc.returncode != 0:

@@ -30,7 +30,7 @@ class CommandTask final : public sched::Task {
   explicit CommandTask(const CommandHandler::Context& context, LinkArgs&&... linkArgs)
       : handler_(context), link_(static_cast<LinkArgs&&>(linkArgs)...) {}
 
-  [[gnu::always_inline]] void start() {  // one caller (the composition's start())
+  void start() {
     scheduler().addTask(kCommandTask, *this);
     link_.attach(scheduler());
   }

@@ -88,7 +88,7 @@ class Bq4050Device : public MonitorBase {
   bool commandWaiting() const { return false; }
   Status startCommand() { return Status::Busy; }
 
-  [[gnu::always_inline]] Status startSetup() {
+  Status startSetup() {
     const Status s = driver_.startProbe(records_->info);
     if (s == Status::Ok) {
       loop_->retryDue = false;
@@ -96,7 +96,7 @@ class Bq4050Device : public MonitorBase {
     }
     return s;
   }
-  [[gnu::always_inline]] void setupFinished(Status result) {
+  void setupFinished(Status result) {
     setRunning(view_, result == Status::Ok);
     if (result == Status::Ok) {
       loop_->scanDue = true;
@@ -105,7 +105,7 @@ class Bq4050Device : public MonitorBase {
     }
   }
   Status startScan() { return driver_.startScan(records_->measurement); }
-  [[gnu::always_inline]] ScanVerdict scanFinished(Status result, Instant) {
+  ScanVerdict scanFinished(Status result, Instant) {
     sample_.last = result;
     // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
     // (drivers/bq4050/limits.hpp): a cell above 5 V, what the cell below an open sense wire reads, or a
@@ -135,7 +135,7 @@ class Bq4050Device : public MonitorBase {
     if (sample_.last == Status::Implausible) view_.totals.openWire = true;
   }
   // Three failed scans in a row: the gauge may have reset or gone; probe it again now, then every interval.
-  [[gnu::always_inline]] void recover() {
+  void recover() {
     setRunning(view_, false);
     loop_->retryDue = true;
   }
@@ -188,7 +188,7 @@ class Bq4050App {
     view_->tempsPerBoard = 1;
     view_->boards = {&*sample_, 1};
   }
-  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+  void start() {
     protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();

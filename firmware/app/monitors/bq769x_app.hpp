@@ -494,7 +494,7 @@ class Bq769xApp {
     if constexpr (drivers::bq769x2::kBalance) view_->balancing = &monitor_.balancingStatus();
   }
 
-  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+  void start() {
     protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();

@@ -157,31 +157,31 @@ class Bq79616Device : public MonitorBase {
     const auto& f = *flags_;
     return !loop_->scanDue && (f.stopWanted || (f.dirty != 0 && f.budget != 0) || f.statusWanted);
   }
-  [[gnu::always_inline]] inline Status startCommand();                // bq79616_app.cpp
-  [[gnu::always_inline]] inline void commandFinished(Status result);  // bq79616_app.cpp
-  [[gnu::always_inline]] inline void balanceCheck();                  // bq79616_app.cpp
+  inline Status startCommand();                // bq79616_app.cpp
+  inline void commandFinished(Status result);  // bq79616_app.cpp
+  inline void balanceCheck();                  // bq79616_app.cpp
 
   // Bring-up the first time; afterwards the recovery ladder (which ends in a full bring-up if it must).
-  [[gnu::always_inline]] Status startSetup() {
+  Status startSetup() {
     loop_->retryDue = false;
     ++records_->stats.recoveries;
     return flags_->broughtUp ? driver_.startRecovery(flags_->from) : driver_.startBringUp();
   }
   // Bring-up or recovery ended: run with the devices that answer, or try again retryAfterFailure later.
-  [[gnu::always_inline]] inline void setupFinished(Status result);  // bq79616_app.cpp
-  [[gnu::always_inline]] Status startScan() {
+  inline void setupFinished(Status result);  // bq79616_app.cpp
+  Status startScan() {
     const Status s = driver_.startScan(
         std::span<drivers::bq79616::DeviceRecord>(store_.records, config_.chain.devices), records_->summary);
     if (s == Status::Ok && flags_->early) ++records_->stats.earlyScans;
     flags_->early = false;
     return s;
   }
-  [[gnu::always_inline]] inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
+  inline ScanVerdict scanFinished(Status result, Instant now);  // bq79616_app.cpp
   // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
   void afterSummarize() { scheduler_.post(kMonitorTask, monitor_event::kBalance); }
   // Repeated failures: climb the recovery ladder; at once when scans validated since the last recovery,
   // otherwise at most once per recoveryInterval.
-  [[gnu::always_inline]] void recover() {
+  void recover() {
     setRunning(view_, false);
     scheduler_.startTimer(
         records_->retryTimer, kMonitorTask, monitor_event::kRetry,
@@ -264,7 +264,7 @@ class Bq79616App {
     view_->rawCells = &storage.raw[0][0];
     view_->balancing = &storage.balancing;
   }
-  [[gnu::always_inline]] void start() {  // one caller (the image's appInit): folded into it
+  void start() {
     protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor_.start();

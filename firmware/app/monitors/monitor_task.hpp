@@ -32,9 +32,7 @@
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
-// All of them inline, and [[gnu::always_inline]] where -Os would otherwise call a hook that has one caller:
-// each image has one Device, and the template costs no more than the hand-written task did (flash and
-// instructions per scan cycle, measured per image against the three tasks it replaced).
+// Each image has one Device; link-time optimisation folds the hooks into the task (no hand inlining).
 // Thread mode only (the task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
 #pragma once
 
@@ -109,8 +107,8 @@ class MonitorTask final : public Device, public sched::Task {
     }
   }
 
-  [[gnu::always_inline]] void start() {  // one caller (the composition's start()): folded into it
-    this->view_.startupGrace = true;     // until the first scan's result, or firstDataBound()
+  void start() {
+    this->view_.startupGrace = true;  // until the first scan's result, or firstDataBound()
     this->view_.firstDataDue = Instant{this->firstDataBound().us};
     this->scheduler_.addTask(kId, *this, {}, true);
     this->attachFaultLine();
@@ -148,7 +146,7 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
  private:
-  [[gnu::always_inline]] void startNext() {  // one caller (run()): folded into it
+  void startNext() {
     auto& loop = *this->loop_;
     Status s = Status::Busy;
     MonitorOp op = MonitorOp::Setup;
@@ -173,7 +171,7 @@ class MonitorTask final : public Device, public sched::Task {
     loop.op = s == Status::Ok ? op : MonitorOp::None;
   }
 
-  [[gnu::always_inline]] void finished() {  // one caller (run()): folded into it
+  void finished() {
     auto& loop = *this->loop_;
     const Instant now = this->scheduler_.now();
     const Status result = this->driver_.result();

@@ -139,9 +139,9 @@ class ProtectionTask final : public sched::Task {
 
  private:
   static constexpr sched::EventMask kTick = 0x10;
-  inline void apply(const ProtectionState& st, bool fresh, Instant now);  // inline (.cpp): one caller
-  inline void record(const ProtectionState& st, Instant now);             // the log's part of apply()
-  void actuated(Instant at);  // the last request took effect at `at`
+  inline void apply(const ProtectionState& st, bool fresh, Instant now);
+  inline void record(const ProtectionState& st, Instant now);  // the log's part of apply()
+  void actuated(Instant at);                                   // the last request took effect at `at`
   // What the publishers report about the paths, from this evaluation's inputs (FET images only).
   inline void readBack(const ProtectionInputs& in, Instant now);
   void confirm(uint8_t offNow, Instant at);  // records whose paths are all in `offNow` are confirmed at `at`

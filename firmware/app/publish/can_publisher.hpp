@@ -61,8 +61,8 @@ class CanPublisher final : public sched::Task {
 
  private:
   static constexpr sched::EventMask kTick = 0x4;
-  inline void pump(Instant now);  // inline (.cpp): one caller, folded into it
-  inline bool sendAnswers();      // false: the controller refused one (queue full)
+  inline void pump(Instant now);
+  inline bool sendAnswers();  // false: the controller refused one (queue full)
 
   // What changes, zero at construction (one block, no per-member start-up code), after the byte fields
   // (Cortex-M0+ byte loads reach only 31 bytes past the object's address) and the references.

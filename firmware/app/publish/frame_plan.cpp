@@ -52,7 +52,7 @@ uint16_t clampU16(int32_t v) {
   return static_cast<uint16_t>(v < 0 ? 0 : (v > 0xFFFE ? 0xFFFE : v));
 }
 // A 16-bit reading (mV, 0.1 K) never reaches the not-available value: only a negative one needs clamping.
-[[gnu::always_inline]] inline uint32_t reading(int32_t v) {
+inline uint32_t reading(int32_t v) {
   return static_cast<uint32_t>(v & ~(v >> 31));
 }
 int16_t clampI16(int32_t v) {

@@ -123,9 +123,9 @@ class FramePlan {
     ++counter_;
     return dropped;
   }
-  inline uint16_t framesIn(Step step) const;  // inline (.cpp): one caller, folded into it
+  inline uint16_t framesIn(Step step) const;
   // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
-  [[gnu::always_inline]] static constexpr bool sent(Step step) {
+  static constexpr bool sent(Step step) {
     if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kBalancing)
       return kAllMessages;
     if (step == kEvent || step == kCells) return kCoreMessages;

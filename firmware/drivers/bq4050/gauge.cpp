@@ -288,7 +288,7 @@ void Gauge::sendMac(uint16_t subcommand) {
 
 // ManufacturerAccess: the subcommand written to 0x00 (a read then reads state_->readCmd). Inlined into its
 // two callers, so sendMac (the path the images link) pays nothing for the read's parameters.
-[[gnu::always_inline]] inline void Gauge::macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags) {
+inline void Gauge::macAccess(uint16_t subcommand, uint8_t readLen, uint8_t flags) {
   buffers_->tx[0] = kManufacturerAccess;
   bytes::storeLe16(buffers_->tx + 1, subcommand);
   access(3, readLen, flags, subcommand);

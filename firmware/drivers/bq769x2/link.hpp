@@ -161,8 +161,7 @@ class Link {
 
   Status request(Op op, uint16_t code, std::span<const uint8_t> bytes, uint8_t len);
   void phase(Phase p);
-  inline void transfer(uint8_t cmd, const uint8_t* data, uint8_t count,
-                       uint8_t readLen);  // one caller: phase()
+  inline void transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen);
   void onBus();
   void fail(Status s);
   void finish(Status s);

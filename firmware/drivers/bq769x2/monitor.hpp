@@ -386,7 +386,7 @@ class Monitor {
   }
   Status begin(Op op, Status started);
   void step(Status r);
-  // inline (.cpp): each has one caller, step(), which folds them in
+  // The steps of step(), one per operation.
   inline void probeStep(Status r);
   inline void configStep(Status r);
   inline void scanStep(Status r);

@@ -407,7 +407,7 @@ void Chain::fail(Status status, uint8_t device) {
   unwind(status);
 }
 
-[[gnu::always_inline]] inline void Chain::unwind(Status status) {
+inline void Chain::unwind(Status status) {
   if (ret_ == nullptr) return finish(status);
   // A nested bring-up failed or left the chain degraded: the recovery ladder goes on with the rung after its
   // Call.
@@ -605,7 +605,7 @@ void Chain::issue(const Step& s) {
   send(encodeFrame(init, device, reg, bytes, len, tx_), rx_, rxLen);
 }
 
-[[gnu::always_inline]] inline void Chain::onBus() {
+inline void Chain::onBus() {
   const Step& s = *pc_;
   const Status st = exchange_.status;
   if (draining_) {
@@ -634,7 +634,7 @@ void Chain::issue(const Step& s) {
   }
 }
 
-[[gnu::always_inline]] inline void Chain::onRead(const Step& s) {
+inline void Chain::onRead(const Step& s) {
   Status r = Status::Ok;
   uint8_t dev = first_;
   const size_t size = responseSize(count_);
@@ -819,7 +819,7 @@ void Chain::markFailed(uint8_t device, Status status) {
   if (status == Status::NoResponse) broken_ = true;
 }
 
-[[gnu::always_inline]] inline void Chain::endScan() {
+inline void Chain::endScan() {
   ScanSummary& sum = *summary_;
   sum.devices = devices_;
   for (uint8_t d = 0; d < configured_; ++d) {
