@@ -29,9 +29,9 @@ static_assert(
 #endif
 static_assert(FW_PROTECTION_LOG_SIZE >= 0 && FW_PROTECTION_LOG_SIZE <= 255,
               "FW_PROTECTION_LOG_SIZE: the log's count is one byte");
-// ProtectionTask::kClearLatched: a user action (the ClearFaults command) clears latched faults whose
-// condition is gone. Default 1 (every image: the command task posts it); 0 ignores the event and a latched
-// fault stays until reset.
+// ProtectionTask::clearLatched(): a user action (the ClearFaults command) clears latched faults whose
+// condition is gone. Default 1 (every image: the command task calls it); 0 clears nothing and a latched fault
+// stays until reset.
 #ifndef FW_PROTECTION_CLEAR_LATCHED
 #define FW_PROTECTION_CLEAR_LATCHED 1
 #endif

@@ -7,7 +7,8 @@
 // in static storage (image::constructOnce in the image's appInit()), and static storage is
 // already zero: the reset handler clears .bss before main() (bsp/mspm0/startup.cpp). So there the block is
 // left as it is, and elsewhere (host tests and tools construct these objects on the stack and the heap) it
-// is cleared as before.
+// is cleared as before. Measured under link-time optimisation: 228 B of the L1306-BQ76952 image, 192 B of
+// the G3507-BQ79616 (built with FW_ZEROED_STORAGE=0 for comparison).
 //
 // Contract
 // - FW_ZEROED_STORAGE (core/config.hpp; the MSPM0 BSP sets it for its images, never an image option): 1 =

@@ -56,9 +56,9 @@ struct Rig {
 };
 
 constexpr uint8_t kAccepted = 0, kBadCrc = 1, kRepeated = 2, kWrongLength = 3, kOutOfRange = 4,
-                  kInconsistent = 5, kUnsupported = 6, kWrongKey = 7, kBusy = 9;
+                  kInconsistent = 5, kUnsupported = 6, kWrongKey = 7, kBusy = 9, kConditionPresent = 10;
 
-// Protection latches no fault by default (app/protection/default_limits.hpp): a discharge over-current stays
+// A single discharge over-current does not latch (the third within the window does, below): it stays
 // until its recovery, a charge for 3 s. ClearFaults is answered and never ends it earlier (a command never
 // overrides protection); the recovery then goes out in ProtectionEvent.NewlyCleared.
 TEST(Commands, ClearFaultsNeverEndsAnOverCurrentBeforeItsRecovery) {
@@ -98,6 +98,45 @@ TEST(Commands, ClearFaultsNeverEndsAnOverCurrentBeforeItsRecovery) {
           (bms::ProtectionEvent::unpack(f).newlyCleared & fw::app::bit(FaultId::DischargeOvercurrent)) != 0;
   }
   EXPECT_TRUE(published);
+}
+
+// The third discharge over-current within the window latches (app/protection/default_limits.hpp): the
+// discharge path stays off through 4 s of charge, the charge path on. ClearFaults while the current still
+// flows is answered condition_present and changes nothing, nor does a PathRequest releasing the discharge
+// path; once the current has gone ClearFaults is accepted, the fault clears and the DSG FET comes back on.
+TEST(Commands, ClearFaultsEndsALatchedOverCurrentOnlyOnceTheCurrentIsGone) {
+  Rig r;
+  EXPECT_EQ(r.ack("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}).result, kAccepted);
+  r.b.h.runFor(fw::ms(200));
+  for (int trip = 1; trip <= 3; ++trip) {
+    r.b.emu.setCurrentMa(-25000);
+    ASSERT_TRUE(r.b.h.runUntil([&] { return r.active(FaultId::DischargeOvercurrent); }, fw::ms(500))) << trip;
+    r.b.emu.setCurrentMa(1000);  // the recovery: a charge for 3 s (trips 1 and 2)
+    const bool recovered =
+        r.b.h.runUntil([&] { return !r.active(FaultId::DischargeOvercurrent); }, fw::ms(4000));
+    EXPECT_EQ(recovered, trip < 3) << trip;
+  }
+  ASSERT_TRUE(r.active(FaultId::DischargeOvercurrent));
+  EXPECT_FALSE(r.b.emu.dsgFet());
+  EXPECT_TRUE(r.b.emu.chgFet()) << "the charge path stays available";
+  EXPECT_TRUE(r.b.app.status().chargeOn);
+  r.b.emu.setCurrentMa(-25000);
+  r.b.h.runFor(fw::ms(300));
+  const auto refused = r.ack("ClearFaults");
+  EXPECT_EQ(refused.result, kConditionPresent);
+  EXPECT_EQ(refused.rejected, 1);
+  EXPECT_EQ(r.ack("PathRequest", {"DischargeOff=release"}).result, kAccepted);
+  r.b.h.runFor(fw::ms(500));
+  EXPECT_TRUE(r.active(FaultId::DischargeOvercurrent));
+  EXPECT_FALSE(r.b.emu.dsgFet()) << "no command turns on a path protection holds off";
+  r.b.emu.setCurrentMa(0);
+  r.b.h.runFor(fw::ms(300));
+  EXPECT_EQ(r.ack("ClearFaults").result, kAccepted);
+  ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(300)));
+  EXPECT_FALSE(r.active(FaultId::DischargeOvercurrent));
+  r.b.h.runFor(fw::ms(200));
+  EXPECT_TRUE(r.b.app.status().dischargeOn);
+  EXPECT_EQ(r.ack("ClearFaults").result, kAccepted) << "nothing latched: nothing to refuse";
 }
 
 // BalancingMode reaches the balancing policy (app/balancing): off, then auto again; a forced mask the device

@@ -94,8 +94,9 @@ TEST(L1306Commands, PythonCanOpensTheChannelAndTheAdapterAnswers) {
   EXPECT_EQ(answers, "\a\r\rV0101\rN1306\rF00\r");
 }
 
-// Protection latches no fault by default (app/protection/default_limits.hpp): ClearFaults is answered, and a
-// discharge over-current whose current has stopped stays until its recovery, a charge for 3 s.
+// A single discharge over-current does not latch (the third within the window does, below): ClearFaults is
+// answered, and a discharge over-current whose current has stopped stays until its recovery, a charge for 3
+// s.
 TEST(L1306Commands, ClearFaultsOverSlcanNeverEndsAnOverCurrentBeforeItsRecovery) {
   Rig r;
   r.exchange("O\r");
@@ -121,6 +122,39 @@ TEST(L1306Commands, ClearFaultsOverSlcanNeverEndsAnOverCurrentBeforeItsRecovery)
   r.b.emu.setCurrentMa(1000);  // a charge: the recovery
   ASSERT_TRUE(r.b.h.runUntil([&] { return !r.active(FaultId::DischargeOvercurrent); }, fw::ms(4000)));
   ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(300)));
+}
+
+// The latched discharge over-current over SLCAN (app/protection/default_limits.hpp: the third trip within
+// the window): ClearFaults while the current flows is answered condition_present, once it has gone accepted,
+// and the DSG FET comes back on.
+TEST(L1306Commands, ClearFaultsOverSlcanEndsALatchedOverCurrentOnceTheCurrentIsGone) {
+  Rig r;
+  r.exchange("O\r");
+  r.exchange(r.line("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}));
+  r.b.h.runFor(fw::ms(200));
+  for (int trip = 1; trip <= 3; ++trip) {
+    r.b.emu.setCurrentMa(-25000);
+    ASSERT_TRUE(r.b.h.runUntil([&] { return r.active(FaultId::DischargeOvercurrent); }, fw::ms(500))) << trip;
+    r.b.emu.setCurrentMa(1000);
+    const bool recovered =
+        r.b.h.runUntil([&] { return !r.active(FaultId::DischargeOvercurrent); }, fw::ms(4000));
+    EXPECT_EQ(recovered, trip < 3) << trip;
+  }
+  EXPECT_FALSE(r.b.emu.dsgFet());
+  EXPECT_TRUE(r.b.emu.chgFet());
+  r.b.emu.setCurrentMa(-25000);
+  r.b.h.runFor(fw::ms(300));
+  auto acks = Rig::acks(r.exchange(r.line("ClearFaults"), fw::ms(300)));
+  ASSERT_EQ(acks.size(), 1U);
+  EXPECT_EQ(acks[0].result, 10) << "condition_present";
+  EXPECT_TRUE(r.active(FaultId::DischargeOvercurrent));
+  r.b.emu.setCurrentMa(0);
+  r.b.h.runFor(fw::ms(300));
+  acks = Rig::acks(r.exchange(r.line("ClearFaults"), fw::ms(300)));
+  ASSERT_EQ(acks.size(), 1U);
+  EXPECT_EQ(acks[0].result, 0);
+  EXPECT_FALSE(r.active(FaultId::DischargeOvercurrent));
+  EXPECT_TRUE(r.b.h.runUntil([&] { return r.b.emu.dsgFet(); }, fw::ms(300)));
 }
 
 TEST(L1306Commands, AMalformedLineGetsBelAndABadFrameARefusal) {

@@ -12,6 +12,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
+#include "drivers/bq79616/open_wire.hpp"
 
 namespace {
 
@@ -88,16 +89,36 @@ Words words(const LimitRow& r) {
           std::to_string(fw::app::kDefaultLimits.commLossScans) + " scans in a row failed (" + kGrace + ")",
           "a scan succeeds"};
     case FaultId::OpenWire:
-      return {"a sense wire is open: two neighbouring cells more than " +
-                  std::to_string(fw::app::kOpenWireStepMv) + " mV apart, a cell below " +
-                  std::to_string(fw::app::kCellFloorMv) + " mV, or the monitor says so",
-              "the readings show none"};
+      return {
+          "a sense wire is open: two neighbouring cells more than " +
+              std::to_string(fw::app::kOpenWireStepMv) + " mV apart, a cell below " +
+              std::to_string(fw::app::kCellFloorMv) +
+              " mV, or the monitor says so (BQ79616: the devices' own VC open-wire check, every second and "
+              "after every bring-up, names a cell below " +
+              std::to_string(fw::drivers::bq79616::OpenWireCheck::kThresholdMv) +
+              " mV with its VC sinks on: that cell and the one above it; BQ4050: a refused cell word)",
+          "the readings show none (BQ79616: and the last check named no cell)"};
     case FaultId::CommErrorRate:
       return {t + " of the last " + std::to_string(fw::app::kDefaultLimits.rateWindow) +
                   " scan attempts failed (" + kGrace + ")",
               "none of the last " + std::to_string(fw::app::kDefaultLimits.rateWindow) + " failed"};
   }
   return {};
+}
+
+// Latching (Rule::latchTrips, tripDecayS): when it latches, and what ends it (ClearFaults, once the condition
+// is gone: for a current limit, no more than the clear threshold's magnitude flowing the tripped way).
+std::string latch(const LimitRow& r) {
+  const uint8_t trips = r.latch ? 1 : r.latchTrips;
+  if (trips == 0) return "no";
+  std::string when = trips == 1 ? "on its first trip" : "on trip " + std::to_string(trips);
+  if (trips > 1 && r.tripDecayS != 0)
+    when += ", each within " + std::to_string(r.tripDecayS) + " s of the one before";
+  std::string gone = "the condition is gone";
+  const int32_t magnitude = r.clear < 0 ? -r.clear : r.clear;
+  if (r.fault == FaultId::DischargeOvercurrent) gone = "current > " + std::to_string(-magnitude) + " mA";
+  if (r.fault == FaultId::ChargeOvercurrent) gone = "current < " + std::to_string(magnitude) + " mA";
+  return when + "; then until ClearFaults with " + gone;
 }
 
 std::string action(const LimitRow& r) {
@@ -168,7 +189,12 @@ std::string backstop(FaultId f) {
     case FaultId::DeviceSafety:
       return "(the device's own)";
     case FaultId::OpenWire:
-      return "none configured";
+      return "the BQ79616 checks itself (VC open-wire diagnostic, read by the firmware); the BQ76952 drains "
+             "a "
+             "detached input every " +
+             std::to_string(bq76952(m2::dm::CheckTime.address)) +
+             " s (Cell Open-Wire Check Time): its cell reads low (device CUV), the one above high (COV); VC0 "
+             "has no sink; the BQ7690x's check is not configured";
     case FaultId::CommErrorRate:
       return "BQ76952 the CFETOFF/DFETOFF pins (the scans that succeed feed the host watchdog); none on the "
              "BQ7690x";
@@ -183,9 +209,16 @@ std::string table() {
        "|---|---|---|---|---|---|---|---|\n";
   for (const LimitRow& r : fw::app::kLimits) {
     const Words w = words(r);
-    o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | "
-      << scans(r.debounce) << " | " << action(r) << " | " << (r.latch ? "yes" : "no") << " | "
-      << scans(r.recover) << " | " << backstop(r.fault) << " |\n";
+    std::string after = scans(r.debounce);
+    // The BQ79616's own check runs every openWireEvery scans (bq79616_app.hpp: 10, once a second).
+    // The BQ76952's check drains a detached node in about two Check Times (1650 mV each on an assumed
+    // 100 nF, bsp/host/emul/bq769x2/open_wire.cpp) before a cell reads under the 500 mV floor.
+    if (r.fault == FaultId::OpenWire)
+      after += " (BQ79616 device check: within 1 s + 1 scan; BQ76952 device check: about " +
+               std::to_string(2 * bq76952(m2::dm::CheckTime.address)) + " s + 1 scan)";
+    o << "| `" << fw::app::faultName(r.fault) << "` | " << w.trip << " | " << w.clear << " | " << after
+      << " | " << action(r) << " | " << latch(r) << " | " << scans(r.recover) << " | " << backstop(r.fault)
+      << " |\n";
   }
   return o.str();
 }

@@ -24,7 +24,8 @@ constexpr uint8_t idx(FaultId id) {
 fw::app::Rule rule(int32_t trip, int32_t clear, uint8_t debounce, fw::Duration delay, Action action,
                    bool latch = false, uint8_t recover = 1) {
   fw::app::Rule r;
-  r.trip = trip, r.clear = clear, r.debounce = debounce, r.delay = delay, r.action = action, r.latch = latch;
+  r.trip = trip, r.clear = clear, r.debounce = debounce, r.delay = delay, r.action = action;
+  r.latchTrips = latch ? 1 : 0;
   r.recover = recover;
   r.enabled = true;
   return r;
@@ -390,6 +391,136 @@ TEST(Protection, BehindOneFaultOutputACurrentFaultRecoversOnTime) {
       if (p.evaluate(s.fresh(t), at(t)).newlyCleared == bit(FaultId::DischargeOvercurrent)) cleared = t;
     EXPECT_EQ(cleared, single ? 3100u : 0u) << (single ? "the 30th scan without current" : "never");
   }
+}
+
+// The discharge over-current latch of the default limits (TI's OCDL, default_limits.hpp): three trips, each
+// within 10 s of the one before, latch the discharge path off; each trip here recovers by a charge first.
+struct OcdCycler {
+  Protection p{fw::app::kDefaultLimits};
+  Sampler s;
+  uint32_t t = 0;
+  fw::app::ProtectionState st{};
+
+  void scan() {
+    st = p.evaluate(s.fresh(t), at(t));
+    t += 100;
+  }
+  void scans(uint32_t n) {
+    for (uint32_t k = 0; k < n; ++k)
+      scan();
+  }
+  // A discharge of 35 A until the fault trips (two scans), then a charge of 1 A for the 3 s recovery.
+  void trip() {
+    s.current = -35000;
+    scans(2);
+    ASSERT_TRUE(st.active & bit(FaultId::DischargeOvercurrent)) << t;
+    s.current = 1000;
+    scans(30);
+  }
+  bool ocd() const { return (p.active() & bit(FaultId::DischargeOvercurrent)) != 0; }
+  bool latched() const { return (p.latched() & bit(FaultId::DischargeOvercurrent)) != 0; }
+};
+
+TEST(ProtectionLatch, TheThirdDischargeOvercurrentWithinTheWindowLatchesTheDischargePathOff) {
+  OcdCycler c;
+  c.scans(5);
+  c.trip();
+  c.trip();
+  EXPECT_FALSE(c.ocd()) << "the first two trips recover by the charge";
+  c.trip();
+  EXPECT_TRUE(c.ocd()) << "the third stays through its recovery";
+  EXPECT_TRUE(c.latched());
+  c.scans(300);  // 30 s more of charge
+  EXPECT_TRUE(c.ocd());
+  EXPECT_TRUE(c.st.dischargeOff);
+  EXPECT_FALSE(c.st.chargeOff) << "the charge path stays available";
+  EXPECT_EQ(c.st.newlyCleared, 0);
+}
+
+TEST(ProtectionLatch, TwoTripsDoNotLatch) {
+  OcdCycler c;
+  c.trip();
+  c.trip();
+  EXPECT_FALSE(c.ocd());
+  EXPECT_EQ(c.p.latched(), 0);
+  EXPECT_EQ(c.p.trips(FaultId::DischargeOvercurrent), 2);
+  EXPECT_FALSE(c.st.dischargeOff);
+}
+
+// One counted trip is forgiven every 10 s after the latest (TI's Counter Dec Delay): trips 10 s apart never
+// latch, 9.9 s apart latch on the third; two trips then 20 s without one start the count afresh.
+TEST(ProtectionLatch, TheCountDecaysOneTripEveryTenSeconds) {
+  for (const uint32_t gapScans : {100U, 99U}) {
+    OcdCycler c;
+    for (int k = 0; k < 6 && !c.latched(); ++k) {
+      c.trip();
+      c.scans(gapScans - 32);  // the trip and its recovery took 32 scans
+    }
+    EXPECT_EQ(c.latched(), gapScans == 99) << gapScans;
+    if (gapScans == 100) {
+      EXPECT_EQ(c.p.trips(FaultId::DischargeOvercurrent), 1);
+    }
+  }
+  OcdCycler c;
+  c.trip();
+  c.trip();
+  c.scans(175);  // 20.5 s after the second trip: both forgiven
+  EXPECT_EQ(c.p.trips(FaultId::DischargeOvercurrent), 0);
+  c.trip();
+  c.trip();
+  EXPECT_FALSE(c.latched()) << "two counted, not three";
+  c.trip();
+  EXPECT_TRUE(c.latched());
+}
+
+// ClearFaults (clearLatched) ends the latch only once the current is gone: not while 35 A or 500 mA of
+// discharge flows; with none (or a charge) it clears, the discharge path comes back at the next evaluation,
+// and the count survives: a trip before it is forgiven latches again at once.
+TEST(ProtectionLatch, ClearLatchedClearsOnlyOnceTheCurrentIsGone) {
+  OcdCycler c;
+  c.trip();
+  c.trip();
+  c.s.current = -35000;
+  c.scans(2);
+  ASSERT_TRUE(c.latched());
+  EXPECT_EQ(c.p.clearLatched(), 0) << "the over-current is still there";
+  c.s.current = -500;
+  c.scans(40);
+  EXPECT_EQ(c.p.clearLatched(), 0) << "500 mA of discharge is not gone";
+  EXPECT_TRUE(c.ocd());
+  c.s.current = 0;
+  c.scan();
+  EXPECT_EQ(c.p.clearLatched(), bit(FaultId::DischargeOvercurrent));
+  EXPECT_FALSE(c.latched());
+  c.scan();
+  EXPECT_FALSE(c.ocd());
+  EXPECT_FALSE(c.st.dischargeOff);
+  c.s.current = -35000;  // within 10 s: the count (3) is not forgiven yet
+  c.scans(2);
+  EXPECT_TRUE(c.latched()) << "a fault that came back latches on its first trip";
+  c.s.current = 1000;  // a charge is gone too
+  c.scan();
+  EXPECT_EQ(c.p.clearLatched(), bit(FaultId::DischargeOvercurrent));
+}
+
+// A latched fault behind one fault output (kSingleOutputLimits: the over-current recovers at zero current)
+// latches the same way and holds the output until the clear.
+TEST(ProtectionLatch, BehindOneFaultOutputTheLatchHoldsUntilCleared) {
+  Protection p(fw::app::kSingleOutputLimits);
+  Sampler s;
+  uint32_t t = 0;
+  for (int k = 0; k < 3; ++k) {
+    s.current = -35000;
+    for (int n = 0; n < 2; ++n, t += 100)
+      p.evaluate(s.fresh(t), at(t));
+    s.current = 0;
+    for (int n = 0; n < 31; ++n, t += 100)
+      p.evaluate(s.fresh(t), at(t));
+  }
+  EXPECT_EQ(p.latched(), bit(FaultId::DischargeOvercurrent));
+  EXPECT_TRUE(p.evaluate(s.fresh(t), at(t)).dischargeOff);
+  EXPECT_EQ(p.clearLatched(), bit(FaultId::DischargeOvercurrent));
+  EXPECT_EQ(p.evaluate(s.fresh(t + 100), at(t + 100)).active, 0);
 }
 
 // The device's own flags open the paths they concern (PackView::deviceBlocks), not both: a device COV keeps

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -334,10 +336,20 @@ TEST(PdfImport, PositionsArePagesAndTheParallelRunsGivePdftotextsText) {
                          (dir / "long.txt").string() + "'")
                             .c_str()),
             0);
+  const auto start = std::chrono::steady_clock::now();
   const ToolRun fromPdf = regmapgen(dir, "import --family bq769x2 long.pdf");
+  const auto pdfDone = std::chrono::steady_clock::now();
   const ToolRun fromText = regmapgen(dir, "import --family bq769x2 long.txt");
+  const auto textDone = std::chrono::steady_clock::now();
   ASSERT_EQ(fromPdf.rc, 0) << fromPdf.err;
   ASSERT_EQ(fromText.rc, 0) << fromText.err;
+  // Issue 26 item 4: the import's wall time, printed (not judged: the machine's load decides it). The PDF's
+  // figure includes pdfinfo and the parallel pdftotext runs; the text's is the importer alone. This build's
+  // regmapgen runs under ASan; README.md gives the release build's figures on TI's 207-page TRM.
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  std::printf(
+      "REPORT regmapgen.import_pdf_ms=%.0f import_text_ms=%.0f pages=%d rows=1300 (wall, this build)\n",
+      ms(pdfDone - start), ms(textDone - pdfDone), last - first + 1);
   std::ofstream(dir / "pdf.yaml") << fromPdf.out;
   std::ofstream(dir / "text.yaml") << fromText.out;
   const ToolRun same = regmapgen(dir, "diff text.yaml pdf.yaml");

@@ -215,6 +215,7 @@ class CallGraph:
     def __init__(self, elf, elf_path, ci_root, objdump, cxxfilt):
         self.elf = elf
         self.elf_path = elf_path
+        self.ci_root = os.path.abspath(ci_root)
         self.errors = []
         self.funcs = elf.functions()
         self.addr_to_name = {}
@@ -349,12 +350,31 @@ class CallGraph:
                     entries.add(self.thumb[w])
         return entries
 
+    def _source_path(self, path):
+        """The file a .ci label names. A compiler cache may have recorded a path relative to the build that
+        first compiled it (ccache's base_dir): then the longest tail of it found under the source tree (the
+        build folder's parents) is the file."""
+        if os.path.exists(path):
+            return path
+        parts = [p for p in os.path.normpath(path).split(os.sep) if p not in ("", "..", ".")]
+        roots = [self.ci_root, os.path.dirname(self.ci_root), os.path.dirname(os.path.dirname(self.ci_root))]
+        for k in range(len(parts)):
+            for root in roots:
+                candidate = os.path.join(root, *parts[k:])
+                if os.path.exists(candidate):
+                    return candidate
+        return None
+
     def indirect_targets(self, label):
         """Candidates for an indirect call at `label` (path:line:col, the column of the call's '(')."""
         name = None
         m = re.match(r"^(.*):(\d+):(\d+)$", label)
-        if m and os.path.exists(m.group(1)):
-            with open(m.group(1), encoding="utf-8", errors="replace") as f:
+        source = self._source_path(m.group(1)) if m else None
+        if source is None:
+            # The call's source cannot be read: it may call anything address-taken, virtual members included.
+            return set(self.address_taken), None
+        if m:
+            with open(source, encoding="utf-8", errors="replace") as f:
                 lines = f.read().splitlines()
             line_no, col = int(m.group(2)), int(m.group(3))
             if 0 < line_no <= len(lines):

@@ -180,6 +180,23 @@ class StackAnalysisTest(unittest.TestCase):
                          taken=["tvfn", "thunk"], vtable=["tvfn"])
         self.assertEqual(s["thread"], 32)
 
+    def test_a_call_whose_source_is_unreadable_may_reach_virtual_members_too(self):
+        # A compiler cache can record a label relative to another build: unreadable, the call is not known to
+        # be a plain pointer call, so virtual members count too (they were left out: 448 B instead of 816 B).
+        self.write_ci("a.ci", self.node("Reset", "Reset", 8)
+                      + self.edge("Reset", "__indirect_call", "../../elsewhere/nowhere.cpp:2:5")
+                      + self.node("thunk", "thunk", 24) + self.node("vfn", "V::run", 400, virtual=True))
+        s = self.analyse({"Reset": 0xC0, "thunk": 0xC8, "vfn": 0xD0}, ("Reset", []), taken=["thunk", "vfn"])
+        self.assertEqual(s["thread"], 408)
+
+    def test_a_label_relative_to_another_build_is_found_under_this_source_tree(self):
+        rel = os.path.join("..", "..", "other", "build", "img", "..", "..", os.path.basename(self.src))
+        self.write_ci("a.ci", self.node("Reset", "Reset", 8)
+                      + self.edge("Reset", "__indirect_call", f"{rel}:2:5")
+                      + self.node("thunk", "thunk", 24) + self.node("vfn", "V::run", 400, virtual=True))
+        s = self.analyse({"Reset": 0xC0, "thunk": 0xC8, "vfn": 0xD0}, ("Reset", []), taken=["thunk", "vfn"])
+        self.assertEqual(s["thread"], 32)  # line 2 is the pointer call `fn(`: virtual members left out
+
     def test_direct_recursion_is_an_error(self):
         self.write_ci("a.ci", self.node("Reset", "Reset", 8) + self.node("f", "f", 8) + self.node("g", "g", 8)
                       + self.edge("Reset", "f") + self.edge("f", "g") + self.edge("g", "f"))

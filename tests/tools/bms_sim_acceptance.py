@@ -436,26 +436,21 @@ def check_open_wire(sim, image, scratch):
 
 
 def check_slcan_pty(sim, dbc_dir, image, scratch):
-    import can  # python3-can (Debian); imported here so the other checks do not need it
+    import slcan_pty  # python3-can (Debian) through it; imported here so the other checks do not need it
 
     text_path = os.path.join(scratch, f"{image}-slcan.txt")
     log = os.path.join(scratch, f"{image}-slcan.log")
     duration = "2500"
     # The exact text first (--slcan FILE), then the same run live through a pseudo-terminal.
     run(sim, "--image", image, "--duration", duration, "--slcan", text_path)
-    proc = subprocess.Popen([sim, "--image", image, "--duration", duration, "--slcan", "pty", "--json",
-                             "--candump", log], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    if " on /dev/" not in first:
-        proc.kill()
-        fail(f"--slcan pty did not print its terminal: {first!r}")
-    path = first.split(" on ")[1].split()[0]
-    bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", duration, "--slcan", "pty", "--json",
+                                 "--candump", log)
+    bus = slcan_pty.open_bus(path)
     received = []
     # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
     # close the terminal, and must not close it under the reader). The first frame may take longer on a loaded
-    # machine (bms-sim starts the board only once this reader has sent O): up to 20 s.
-    timeout = 20.0
+    # machine (bms-sim starts the board only once this reader has sent O): up to slcan_pty.FIRST_FRAME_S.
+    timeout = slcan_pty.FIRST_FRAME_S
     while (msg := bus.recv(timeout=timeout)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
         timeout = 2.0
@@ -494,6 +489,11 @@ def check_open_wire_update(sim, image, scratch):
         f.write("0 cell 0 2 2000\n500 open-wire 0 3\n1000 cell 0 3 3000\n")
     summary = json.loads(run(sim, "--image", image, "--scenario", path, "--duration", "2000", "--json"))
     expected = 2000 + 3000
+    if image == "lp-mspm0g3507-bq79616":
+        # The devices' own open-wire check (drivers/bq79616/open_wire.hpp, once a second) names cell 2 within
+        # a second, and the application then publishes no reading for cells 2 and 3: what is left is the
+        # healthy cells' 3700 mV. (The world model is the same code for every image; the others check it.)
+        expected = 3700
     print(f"REPORT sim.{image}.open_wire_update.max_cell_mv={summary['max_cell_mv']} (expected {expected})")
     if abs(summary["max_cell_mv"] - expected) > 2:
         fail(f"cell 2 reads {summary['max_cell_mv']} mV, not cells 2 and 3 together ({expected} mV)")

@@ -6,12 +6,15 @@ the CRC-8 SAE J1850 computed here, independently of the firmware and of bms-sim'
 usage: bms_sim_commands.py <check> <bms-sim> <dbc-dir> <image-or-elf> <scratch-dir> [--elf]
 checks:
   python-can  (L1306 images) python-can's slcan interface on --slcan pty: opens the channel, reads the
-              published frames, tightens the discharge over-current limit, sees the over-current the
-              scenario's current causes, sends ClearFaults once the current is gone and sees the
-              acknowledgement; the fault, which protection does not latch, stays until its recovery (a charge
-              for 3 s, default_limits.hpp): a command never overrides protection
+              published frames, tightens the discharge over-current limit, and drives the over-current the
+              scenario's load causes three times (each recovered by a charge): a ClearFaults after the first
+              (the load gone, not latched) is acknowledged and ends nothing before the recovery; the third
+              latches the discharge path off through 4 s of charge (the charge path on); once the load has
+              gone ClearFaults is acknowledged and the fault clears, the discharge path back on
   send        the same through scenario send steps (any image, host or --elf on the twin): the answers and
-              the fault's trip and clear in the published frames
+              the fault's trips, latch and clear in the published frames (the BQ4050 image: one output,
+              so a load that stays retries every 3.2 s and the third trip latches; the BQ79616 image
+              measures no current: a path request instead)
   refusals    bad CRC, repeated counter, wrong node, wrong length, out-of-range setting, an identifier that is
               not a command (CAN: rejected by the filter, no answer), a malformed SLCAN line (L1306)
   bmsctl      (L1306 images; the bmsctl path as sixth argument) bmsctl send against --slcan pty: identify,
@@ -31,11 +34,19 @@ import canmatrix.formats
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bms_sim_acceptance import fail, read_candump  # noqa: E402
+import slcan_pty  # noqa: E402
 
 ACK, PACK_SUMMARY, PROTECTION_EVENT = 0x580, 0x100, 0x103
 OCD_BIT, OV_BIT = 1 << 3, 1 << 0
 RESULTS = {0: "accepted", 1: "bad_crc", 2: "repeated_counter", 3: "wrong_length", 4: "out_of_range",
-           5: "inconsistent", 6: "unsupported", 7: "wrong_key", 8: "paths_not_off", 9: "busy"}
+           5: "inconsistent", 6: "unsupported", 7: "wrong_key", 8: "paths_not_off", 9: "busy",
+           10: "condition_present"}
+# The discharge over-current latch (app/protection/default_limits.hpp): the third trip, each within 10 s of
+# the one before, latches the discharge path off until ClearFaults finds the current gone. On the FET images
+# each trip here is recovered by a charge of 1 A (3 s); the load of 25 A flows only while the DSG FET is on.
+LATCH_SCENARIO = ("1000 current -25000\n2000 current 1000\n5500 current -25000\n6000 current 1000\n"
+                  "9500 current -25000\n10000 current 1000\n14000 current 0\n")
+LATCHED_FROM, LOAD_GONE = 10000, 14000
 # The setup every check uses: the discharge over-current limit tightened from -30 A to -20 A (its clear value
 # stays +200 mA: the fault recovers only while a charge flows, app/protection/default_limits.hpp).
 SETTINGS = ["SettingWrite Setting=ocd_trip Value=-20000"]
@@ -115,23 +126,55 @@ def run_scenario(sim, target, elf, scratch, name, text, duration, extra=()):
     return json.loads(result.stdout), read_candump(log), time.monotonic() - started
 
 
-def check_held_then_recovered(frames, clear_ms, charge_ms):
-    """OCD tripped before the clear, held after it (not latched: a command never ends protection's recovery
-    wait), and recovered by the charge from charge_ms (30 scans); the clear acknowledged as accepted."""
-    faults = active_faults(frames)
-    if not any(f & OCD_BIT for t, f in faults if t < clear_ms):
-        fail(f"the discharge over-current never tripped before {clear_ms} ms: {faults[:40]}")
-    held = [f & OCD_BIT for t, f in faults if clear_ms - 200 < t < charge_ms]
+def ocd_trips(frames):
+    """The ms of each PackSummary in which the discharge over-current is newly active."""
+    trips, before = [], 0
+    for t, f in active_faults(frames):
+        if f & OCD_BIT and not before:
+            trips.append(t)
+        before = f & OCD_BIT
+    return trips
+
+
+def check_latched_then_cleared(frames, first_clear_ms, latched_from, clear_ms):
+    """Three trips, the first ClearFaults (not latched yet) ends nothing before the charge recovers it, the
+    third trip held through the charge from latched_from (the charge path on, the discharge path off), and
+    the ClearFaults at clear_ms, with the load gone, acknowledged and the fault cleared with the discharge path
+    back on."""
+    faults, fets = active_faults(frames), paths(frames)
+    trips = ocd_trips(frames)
+    if len(trips) != 3 or not trips[0] < first_clear_ms < trips[1] < latched_from:
+        fail(f"expected three over-current trips, the first before {first_clear_ms} ms: {trips}")
+    held = [f & OCD_BIT for t, f in faults if first_clear_ms < t < first_clear_ms + 500]
     if not held or not all(held):
-        fail("the over-current did not stay until its recovery (the clear or the stopped current ended it)")
-    after = [f for t, f in faults if t > charge_ms + 3500]
-    if not after or any(f & OCD_BIT for f in after):
-        fail(f"the over-current is still active after 3 s of charge: {after[:5]}")
+        fail("the ClearFaults before the latch ended the over-current (a command overrode protection)")
+    latched = [(f & OCD_BIT, c, d) for (t, f), (_, c, d) in zip(faults, fets) if latched_from + 500 < t < clear_ms]
+    if not latched or any(l != (OCD_BIT, 1, 0) for l in latched):
+        fail(f"the third over-current did not hold the discharge path alone off through the charge: {latched[:5]}")
+    after = [(f & OCD_BIT, d) for (t, f), (_, c, d) in zip(faults, fets) if t > clear_ms + 300]
+    if not after or any(a != (0, 1) for a in after):
+        fail(f"after ClearFaults with the current gone the over-current is active or the DSG FET off: {after[:5]}")
     answers = [a for t, a in acks(frames)]
-    clears = [a for a in answers if a["command"] == 0x600]
-    if not clears or clears[-1]["result"] != "accepted":
-        fail(f"ClearFaults was not acknowledged as accepted: {answers}")
+    clears = [a["result"] for a in answers if a["command"] == 0x600]
+    if clears != ["accepted", "accepted"]:
+        fail(f"ClearFaults was answered {clears}")
     return answers
+
+
+def check_latch_one_output(frames, latched_from, clear_ms):
+    """One fault output (BQ4050): a load that stays trips every 3.2 s; the third trip latches (no trip after
+    it while the load stays), and ClearFaults once the load has gone releases the output."""
+    trips = ocd_trips(frames)
+    if len(trips) != 3 or trips[-1] > latched_from:
+        fail(f"expected three over-current trips before {latched_from} ms: {trips}")
+    faults, fets = active_faults(frames), paths(frames)
+    held = [(f & OCD_BIT, c, d) for (t, f), (_, c, d) in zip(faults, fets) if latched_from < t < clear_ms]
+    if not held or any(h != (OCD_BIT, 0, 0) for h in held):
+        fail(f"the latched over-current did not hold the output: {held[:5]}")
+    after = [(f & OCD_BIT, c, d) for (t, f), (_, c, d) in zip(faults, fets) if t > clear_ms + 300]
+    if not after or any(a != (0, 1, 1) for a in after):
+        fail(f"after ClearFaults the over-current is active or the output asserted: {after[:5]}")
+    return [a for t, a in acks(frames)]
 
 
 def paths(frames):
@@ -140,8 +183,7 @@ def paths(frames):
 
 
 def check_send_without_current(sim, target, scratch, elf):
-    """The fault-output images (BQ79616: no current measured; BQ4050: one output for both paths, so an
-    over-current's recovery by a charge cannot flow): a held-off path and its release instead."""
+    """The BQ79616 image measures no current (no over-current to latch): a held-off path and its release."""
     text = "1000 send PathRequest DischargeOff=hold_off\n2000 send PathRequest DischargeOff=release\n"
     text += "2500 send ClearFaults\n"
     summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 3500)
@@ -157,18 +199,24 @@ def check_send_without_current(sim, target, scratch, elf):
 
 
 def check_send(sim, dbc_dir, target, scratch, elf):
-    if "bq79616" in target or "bq4050" in target:
+    if "bq79616" in target:
         return check_send_without_current(sim, target, scratch, elf)
     text = "".join(f"{500 + 100 * k} send {s}\n" for k, s in enumerate(SETTINGS))
-    text += "1000 current -25000\n2000 current 0\n3000 send ClearFaults\n3500 current 1000\n"
-    summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 7500)
-    answers = check_held_then_recovered(frames, 3000, 3500)
-    if [a["result"] for a in answers] != ["accepted"] * 2:
+    if "bq4050" in target:  # one output: the load stays, retried every 3.2 s, then gone once latched
+        text += "1000 current -25000\n13000 current 0\n13500 send ClearFaults\n"
+        summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, 15000)
+        answers = check_latch_one_output(frames, 8000, 13500)
+    else:
+        text += LATCH_SCENARIO + f"1500 send ClearFaults\n{LOAD_GONE + 500} send ClearFaults\n"
+        summary, frames, seconds = run_scenario(sim, target, elf, scratch, "send", text, LOAD_GONE + 2000)
+        answers = check_latched_then_cleared(frames, 1500, LATCHED_FROM, LOAD_GONE + 500)
+    if [a["result"] for a in answers] != ["accepted"] * len(answers) or len(answers) != len(SETTINGS) + \
+            (1 if "bq4050" in target else 2):
         fail(f"answers {answers}")
     if summary["active_faults"] or not summary["discharge_on"]:
         fail(f"the run ends with {summary['active_faults']}, discharge_on {summary['discharge_on']}")
-    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: ocd held through ClearFaults, "
-          f"recovered by the charge, {len(answers)} answers accepted ({seconds:.1f} s)")
+    print(f"REPORT commands.{summary['image']}{'.twin' if elf else ''}.send: ocd tripped 3 times and latched, "
+          f"ClearFaults with the load gone cleared it, {len(answers)} answers accepted ({seconds:.1f} s)")
 
 
 def check_refusals(sim, dbc_dir, target, scratch, elf):
@@ -234,23 +282,23 @@ def check_python_can(sim, dbc_dir, image, scratch):
     os.makedirs(scratch, exist_ok=True)
     scenario = os.path.join(scratch, "python-can.scn")
     with open(scenario, "w") as f:
-        f.write("2000 current -25000\n4000 current 0\n6000 current 1000\n")
+        f.write(LATCH_SCENARIO)
     log = os.path.join(scratch, "python-can.log")
-    proc = subprocess.Popen([sim, "--image", image, "--duration", "11000", "--slcan", "pty", "--json",
-                             "--scenario", scenario, "--candump", log],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    if " on /dev/" not in first:
-        proc.kill()
-        fail(f"--slcan pty did not print its terminal: {first!r}")
-    path = first.split(" on ")[1].split()[0]
-    # python-can 4.1: C, S6, O on opening (the board answers BEL, CR, CR).
-    bus = can.Bus(interface="slcan", channel=path, bitrate=500000, sleep_after_open=0)
-    received, cleared_at, stage = [], None, "settings"
-    answers = []
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--slcan", "pty",
+                                 "--json",
+                                 "--scenario", scenario, "--candump", log)
+    bus = slcan_pty.open_bus(path)
+    received, answers, marks, trips, stage = [], [], {}, 0, "settings"
+    ocd_before, charged_while_latched = False, 0
+
+    def send_clear(name):
+        ident, data = cmd.frame("ClearFaults")
+        bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
+        marks[name] = len(received)
+
     start = time.monotonic()
     try:
-        while proc.poll() is None and time.monotonic() - start < 30:
+        while proc.poll() is None and time.monotonic() - start < 60:
             try:
                 msg = bus.recv(timeout=0.2)
             except can.CanError:
@@ -260,21 +308,30 @@ def check_python_can(sim, dbc_dir, image, scratch):
             received.append((msg.arbitration_id, bytes(msg.data)))
             if msg.arbitration_id == ACK:
                 answers.append(decode_ack(msg.data))
-            if stage == "settings" and msg.arbitration_id == PACK_SUMMARY:
+            if msg.arbitration_id != PACK_SUMMARY:
+                continue
+            current = int.from_bytes(msg.data[2:4], "little", signed=True)
+            ocd = bool((msg.data[6] | msg.data[7] << 8) & OCD_BIT)
+            trips += ocd and not ocd_before
+            ocd_before = ocd
+            if stage == "settings":
                 for s in SETTINGS:
                     name, *words = s.split()
                     fields = {k: int(v) if v.lstrip("-").isdigit() else v for k, v in (w.split("=") for w in words)}
                     fields["Setting"] = {"ocd_trip": 6}[fields["Setting"]]
                     ident, data = cmd.frame(name, **fields)
                     bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
-                stage = "waiting for the over-current"
-            elif stage == "waiting for the over-current" and msg.arbitration_id == PACK_SUMMARY:
-                current = int.from_bytes(msg.data[2:4], "little", signed=True)
-                if (msg.data[6] | msg.data[7] << 8) & OCD_BIT and current == 0:
-                    ident, data = cmd.frame("ClearFaults")  # the current is gone, its recovery not yet
-                    bus.send(can.Message(arbitration_id=ident, data=data, is_extended_id=False))
-                    stage = "cleared"
-                    cleared_at = len(received)
+                stage = "first trip"
+            elif stage == "first trip" and ocd and current == 0:
+                send_clear("first")  # the load no longer flows (DSG off); not latched: its recovery stands
+                stage = "latching"
+            elif stage == "latching" and trips == 3:
+                stage = "latched"
+            elif stage == "latched" and ocd and current > 0:
+                charged_while_latched += 1
+            elif stage == "latched" and ocd and current == 0 and charged_while_latched:
+                send_clear("latched")  # the charger and the load gone: the current is gone
+                stage = "cleared"
     finally:
         try:
             bus.shutdown()
@@ -283,31 +340,39 @@ def check_python_can(sim, dbc_dir, image, scratch):
     out, err = proc.communicate(timeout=30)
     if proc.returncode != 0:
         fail(f"bms-sim --slcan pty exited {proc.returncode}: {err}")
-    if cleared_at is None:
-        fail(f"the over-current with the current gone was never seen (stage: {stage})")
-    if [a["result"] for a in answers] != ["accepted"] * 2 or answers[-1]["command"] != 0x600:
+    if stage != "cleared":
+        fail(f"the scenario never reached the latched over-current with the current gone (stage: {stage}, "
+             f"{trips} trips)")
+    if trips != 3:
+        fail(f"{trips} over-current trips, expected 3")
+    if [a["result"] for a in answers] != ["accepted"] * 3 or [a["command"] for a in answers[1:]] != [0x600] * 2:
         fail(f"python-can read the answers {answers}")
-    after = [d for i, d in received[cleared_at:] if i == PACK_SUMMARY]
-    idle = [d for d in after if int.from_bytes(d[2:4], "little", signed=True) == 0]
+    summaries = [(k, d) for k, (i, d) in enumerate(received) if i == PACK_SUMMARY]
+    # The first clear: the over-current stays while the current is gone, until the charge recovers it.
+    later = [d for k, d in summaries if k > marks["first"]]
+    idle = later[:next((n for n, d in enumerate(later) if int.from_bytes(d[2:4], "little", signed=True) > 0), 0)]
     if not idle or not all((d[6] | d[7] << 8) & OCD_BIT for d in idle):
-        fail("ClearFaults ended the over-current before its recovery (a command overrode protection)")
+        fail("ClearFaults ended the unlatched over-current before its recovery (a command overrode protection)")
+    # Latched: held through 3 s of charge or more, the charge path on and the discharge path off.
+    if charged_while_latched < 30:
+        fail(f"the latched over-current was seen through only {charged_while_latched} summaries of charge")
+    held = [((d[6] | d[7] << 8) & OCD_BIT, d[5] & 3, (d[5] >> 2) & 3) for k, d in summaries
+            if int.from_bytes(d[2:4], "little", signed=True) > 0 and k < marks["latched"]][-30:]
+    if any(h != (OCD_BIT, 1, 0) for h in held):
+        fail(f"while latched the paths were not charge on, discharge off: {held}")
+    after = [d for k, d in summaries if k > marks["latched"]]
     if not after or (after[-1][6] | after[-1][7] << 8) & OCD_BIT or (after[-1][5] >> 2) & 3 != 1:
-        fail("after 3 s of charge the over-current is still active or the discharge path off")
+        fail("after ClearFaults with the current gone the over-current is still active or the discharge path off")
     summary = json.loads(out)
     if summary["active_faults"]:
         fail(f"the run ends with {summary['active_faults']}")
-    print(f"REPORT commands.{image}.python_can: {len(received)} frames read, 2 commands sent and acknowledged, "
-          f"the over-current held through ClearFaults and recovered by the charge (python-can slcan over --slcan pty)")
+    print(f"REPORT commands.{image}.python_can: {len(received)} frames read, 3 commands sent and acknowledged; "
+          f"ocd tripped 3 times, the third latched through {charged_while_latched} summaries of charge, and "
+          f"ClearFaults with the current gone cleared it (python-can slcan over --slcan pty)")
 
 
 def check_bmsctl(sim, image, scratch, bmsctl):
-    proc = subprocess.Popen([sim, "--image", image, "--duration", "6000", "--slcan", "pty", "--json"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    if " on /dev/" not in first:
-        proc.kill()
-        fail(f"--slcan pty did not print its terminal: {first!r}")
-    path = first.split(" on ")[1].split()[0]
+    proc, path = slcan_pty.start(sim, "--image", image, "--duration", "6000", "--slcan", "pty", "--json")
 
     def send(*args, timeout=2000):
         r = subprocess.run([bmsctl, "send", "--port", path, "--timeout", str(timeout), *args], capture_output=True,

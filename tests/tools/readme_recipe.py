@@ -18,6 +18,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bms_sim_acceptance import read_candump  # noqa: E402
+import slcan_pty  # noqa: E402
 
 NAMES = {0x100: "PackSummary", 0x101: "CellExtremes", 0x102: "TemperatureExtremes", 0x103: "ProtectionEvent",
          0x200: "CellVoltages", 0x201: "Temperatures", 0x202: "BalancingStatus"}  # bms.yaml
@@ -49,14 +50,8 @@ def main():
     script, args = recipe(os.path.join(repo, "README.md"))
     args[args.index("--duration") + 1] = "3000"
     log = os.path.join(scratch, "readme-recipe.log")
-    proc = subprocess.Popen([sim, *args, "--candump", log], cwd=repo, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
-    first = proc.stderr.readline()
-    m = re.match(r"bms-sim: SLCAN on (/dev/pts/\d+)", first)
-    if not m:
-        proc.kill()
-        fail(f"bms-sim did not name its terminal: {first!r}")
-    reader = subprocess.Popen(["/usr/bin/python3", "-", m.group(1)], cwd=repo, stdin=subprocess.PIPE,
+    proc, path = slcan_pty.start(sim, *args, "--candump", log, stdout=subprocess.DEVNULL, cwd=repo)
+    reader = subprocess.Popen(["/usr/bin/python3", "-", path], cwd=repo, stdin=subprocess.PIPE,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     reader.stdin.write(script)
     reader.stdin.close()

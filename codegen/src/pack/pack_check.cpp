@@ -337,6 +337,15 @@ class Checker {
       if (g["clear_ma"].present && (charge ? r.clear >= r.trip : r.clear <= r.trip))
         diag_.error(g["clear_ma"].loc,
                     g.key + " clear_ma must lie on the other side of trip_ma from the limit");
+      // The over-current latch (TI's OCDL): both keys or neither.
+      if (integer(g["latch_trips"], 1, 255, g.key + " latch_trips", v)) r.latchTrips = static_cast<int>(v);
+      if (integer(g["trip_decay_s"], 1, 255, g.key + " trip_decay_s", v)) r.tripDecayS = static_cast<int>(v);
+      if (g["latch_trips"].present != g["trip_decay_s"].present) {
+        const Quantity& given = g["latch_trips"].present ? g["latch_trips"] : g["trip_decay_s"];
+        diag_.error(given.loc, g.key +
+                                   ": latch_trips and trip_decay_s go together (the trips that latch and "
+                                   "the seconds that forgive one)");
+      }
       reportable(g["trip_ma"], g.key + " trip_ma");
       reportable(g["clear_ma"], g.key + " clear_ma");
     };

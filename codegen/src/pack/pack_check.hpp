@@ -36,6 +36,8 @@ struct LimitRow {
   int recover = 1;
   std::string action;  // Action enumerator
   std::string comment;
+  int latchTrips = 0;  // 0: no latch (Rule::latchTrips)
+  int tripDecayS = 0;
 };
 
 // One start-up setting: the data-memory entry and its value as C++ (a code of the entry's type).

@@ -63,11 +63,15 @@ std::string emitPackHeader(const Resolved& p, const std::string& source) {
   writeComment(
       o,
       "The firmware's limits (app/protection), one row per FaultId in its order: trip, clear (mV, mA, "
-      "0.1 K; 0/1 for the flag rules), scans to trip, scans to clear, action, latch.");
+      "0.1 K; 0/1 for the flag rules), scans to trip, scans to clear, action, latch on the first trip, and "
+      "the "
+      "trips that latch with the seconds that forgive one.");
   o << "inline constexpr app::LimitRow kLimitRows[] = {\n";
   for (const LimitRow& r : p.limits) {
     o << "    {app::FaultId::" << r.fault << ", " << r.trip << ", " << r.clear << ", " << r.debounce << ", "
-      << r.recover << ", app::Action::" << r.action << ", false},\n";
+      << r.recover << ", app::Action::" << r.action << ", false";
+    if (r.latchTrips != 0) o << ", " << r.latchTrips << ", " << r.tripDecayS;
+    o << "},\n";
   }
   o << "};\n";
   o << "inline constexpr uint8_t kStaleScans = " << p.staleScans << ";\n";

@@ -19,8 +19,9 @@ struct GroupSpec {
 const GroupSpec kCellOv{"cell_overvoltage", {"trip_mv", "clear_mv"}, {}};
 const GroupSpec kCellUv{"cell_undervoltage", {"trip_mv", "clear_mv"}, {}};
 const GroupSpec kChargeOc{"charge_overcurrent", {"trip_ma", "clear_ma"}, {"debounce_scans", "recover_scans"}};
-const GroupSpec kDischargeOc{
-    "discharge_overcurrent", {"trip_ma", "clear_ma"}, {"debounce_scans", "recover_scans"}};
+const GroupSpec kDischargeOc{"discharge_overcurrent",
+                             {"trip_ma", "clear_ma"},
+                             {"debounce_scans", "recover_scans", "latch_trips", "trip_decay_s"}};
 const GroupSpec kChargeTemp{"charge_temperature", {"min_c", "max_c", "hysteresis_c"}, {}};
 const GroupSpec kDischargeTemp{"discharge_temperature", {"min_c", "max_c", "hysteresis_c"}, {}};
 const GroupSpec kSoc{"state_of_charge",

@@ -16,7 +16,9 @@
 //     cell_overvoltage:      {trip_mv, clear_mv}
 //     cell_undervoltage:     {trip_mv, clear_mv}
 //     charge_overcurrent:    {trip_ma, clear_ma, debounce_scans, recover_scans}
-//     discharge_overcurrent: {trip_ma (negative), clear_ma, debounce_scans, recover_scans}
+//     discharge_overcurrent: {trip_ma (negative), clear_ma, debounce_scans, recover_scans, latch_trips,
+//                             trip_decay_s}: latch_trips trips, each within trip_decay_s of the one before,
+//                             latch the discharge path off until ClearFaults (both or neither)
 //     charge_temperature:    {min_c, max_c, hysteresis_c}
 //     discharge_temperature: {min_c, max_c, hysteresis_c}
 //     stale_scans: 3                  data older than this many scan periods is stale

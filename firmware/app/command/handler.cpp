@@ -94,9 +94,8 @@ void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
 Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
   State& st = *state_;
   switch (f.id) {
-    case bms::ClearFaults::kId:
-      ctx_.scheduler.post(ctx_.protection.id(), ProtectionTask::kClearLatched);
-      return Result::Accepted;
+    case bms::ClearFaults::kId:  // what is gone clears now; what is still there stays, and the answer says so
+      return ctx_.protection.clearLatched() ? Result::Accepted : Result::ConditionPresent;
     case bms::PathRequest::kId: {
       const auto m = bms::PathRequest::unpack(f);
       st.hostRequest =

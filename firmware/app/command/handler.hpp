@@ -8,14 +8,17 @@
 //      (repeated_counter; the counter is taken once the frame passed 3 and 4);
 //   6. the values: a setting id or mode out of range, a write outside its range (out_of_range) or crossing
 //      its trip/clear partner (inconsistent); bootloader entry without the key, this node's number and the
-//      chip's TraceId (wrong_key).
+//      chip's TraceId (wrong_key); ClearFaults while a latched fault's condition is still there
+//      (condition_present: nothing of that fault changes).
 // A refused frame changes nothing but the counters and the counter window.
 //
 // Safety rules (README.md in this folder; tests/app/command_*_test.cpp):
 // - No command turns a path on: PathRequest and bootloader entry only add paths to hold off
 //   (ProtectionTask::requestOff); what protection holds off stays off.
 // - No limit passes its hard bound (LimitSettings), and a write takes effect at a scan boundary, whole.
-// - ClearFaults asks protection to clear the latched faults whose condition is gone; it clears nothing else.
+// - ClearFaults clears the latched faults whose condition is gone (ProtectionTask::clearLatched); it clears
+//   nothing else, and while a latched fault's condition is still there it is answered condition_present
+//   (that fault stays latched).
 // - Bootloader entry: protection first holds both paths off; once the actuator has confirmed them off
 //   (within kBootTimeout) the answer is accepted and, once it has left, the MCU restarts into its ROM
 //   bootloader. If they are not confirmed off in time the request is answered paths_not_off and the paths
@@ -51,8 +54,9 @@ enum class Result : uint8_t {
   WrongKey,
   PathsNotOff,
   Busy,
+  ConditionPresent,
 };
-inline constexpr uint8_t kResultCount = 10;
+inline constexpr uint8_t kResultCount = 11;
 
 inline constexpr uint8_t kCommandCount = static_cast<uint8_t>(can::bms::kReceivedIds.size());
 inline constexpr uint8_t kBroadcast = 255;

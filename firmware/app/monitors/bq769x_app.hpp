@@ -413,7 +413,8 @@ class Bq769xDevice : public MonitorBase {
 
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first (Cortex-M0+ byte loads reach only 31 bytes past the object's address), the records after the
-  // references, the driver with its buffers last.
+  // references, the driver with its buffers last. Still pays under link-time optimisation: the flags after
+  // the references are +20..+32 B on the BQ769x-family images (measured).
   struct Flags {
     Step step;  // the next set-up step (Probe while running)
     bool fetWanted;
@@ -521,6 +522,8 @@ class Bq769xApp {
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
   // base register, farther ones cost an address computation each): the wiring first, the zero blocks last.
+  // Still pays under link-time optimisation: the plain order (the three blocks first) is +48 B on each
+  // BQ769x-family image (measured).
   Zeroed<PackView> view_;
   FramePlan plan_;
   Zeroed<PublishStatus> status_;

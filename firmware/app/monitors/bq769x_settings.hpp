@@ -76,6 +76,15 @@ namespace fw::app {
 inline constexpr uint8_t kBq769x2BalanceCells = 4;
 inline constexpr uint8_t kBq7690xBalanceCells = 3;
 
+// BQ76952 cell open-wire check (SLUUBY2B "Cell Open Wire" and Settings:Cell Open-Wire:Check Time, 0x9314, U1
+// seconds, 0 = off, default 5): every Check Time the device sinks about 55 uA (typical) from each cell input
+// VC1..VC16 to VSS for one ADC measurement (3 ms). A detached input's node then drains, so its cell reads low
+// (device CUV, the firmware's cell_uv, then open_wire below 500 mV) and the cell above it reads high (COV).
+// 1 s, the shortest: detection takes a number of checks that depends on the board's node capacitance (about
+// 1.65 V per check on 100 nF), so it scales with this interval; the average sink is about 165 nA per input
+// (SLUUBY2B's figure for 1 s). Written explicitly so a device that shipped with 0 (off) still checks.
+inline constexpr uint8_t kBq76952OpenWireCheckS = 1;
+
 namespace settings_detail {
 namespace m2 = ::fw::regmap::bq769x2;
 namespace m7 = ::fw::regmap::bq7690x;
@@ -95,7 +104,7 @@ static_assert(kBq7690xFetOptions.raw() == 0x58);
 inline constexpr uint8_t kFetOffPinActiveHigh = 0x02;
 
 // The board's settings before the pack's: the pin and regulator configuration TI's example writes, the
-// CFETOFF/DFETOFF pins, ALERT, the thermistor inputs and the alarm mask.
+// CFETOFF/DFETOFF pins, ALERT, the thermistor inputs, the alarm mask and the cell open-wire check.
 inline constexpr drivers::bq769x2::Setting kBq76952Board[] = {
     setting(m2::dm::PowerConfig, 0x2D80),
     setting(m2::dm::Reg0Config, 0x01),
@@ -107,6 +116,7 @@ inline constexpr drivers::bq769x2::Setting kBq76952Board[] = {
     setting(m2::dm::Ts3Config, 0x0F),
     setting(m2::dm::HdqPinConfig, 0x00),
     setting(m2::dm::DefaultAlarmMask, 0xF800),
+    setting(m2::dm::CheckTime, kBq76952OpenWireCheckS),
 };
 // After the pack's: balancing with host commands, at most kBq769x2BalanceCells, the device's own limits.
 inline constexpr drivers::bq769x2::Setting kBq76952Balancing[] = {

@@ -16,6 +16,9 @@ inline void Bq79616Device::setupFinished(Status result) {
     setRunning(view_, true);
     forgetBalancing();
     flags_->broughtUp = true;
+    // The devices' own open-wire check after the first scan: a WAKE reset the diagnostic, and a wire may
+    // have opened while the chain was down. The last verdict stands until it has run.
+    flags_->openWireDue = config_.openWireEvery != 0;
     loop_->scanDue = true;  // (failedInRow is 0: the loop cleared it before recover())
     // If the scans fail again before one validates, this rung was not enough: the next recovery starts one
     // higher (a chain that answers but whose ADC was never restarted needs the full bring-up).
@@ -41,15 +44,20 @@ inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
   const b616::DeviceRecord* r = store_.records;
   BoardSample* s = store_.samples;
   int16_t* raw = store_.raw[0];
+  const uint16_t* failing = store_.openWire;
   const uint8_t cells = config_.chain.activeCells;
-  for (uint16_t d = view_.boardCount(); d != 0; --d, ++r, ++s, raw += b616::kCellsPerDevice) {
+  for (uint16_t d = view_.boardCount(); d != 0; --d, ++r, ++s, raw += b616::kCellsPerDevice, ++failing) {
     s->last = r->status != Status::Ok ? r->status
                                       : ((r->valid & b616::kValidCells) ? Status::Ok : Status::NotReady);
     if (s->last != Status::Ok) continue;
+    // The device's own open-wire verdict: a cell below the threshold and the cell above it sit beside the pin
+    // that may be open (VCn's sink pulls cell n down and cell n + 1 up; VC0's source pulls cell 1 down), so
+    // neither reading is a cell voltage, however plausible it looks: both get the no-reading 0 mV.
+    const uint32_t suspect = static_cast<uint32_t>(*failing) | static_cast<uint32_t>(*failing) << 1;
     for (uint8_t c = 0; c < cells; ++c) {
       // 190.73 uV per code = 12 500 / 65 536 mV within 0.003 %: a multiply and a shift instead of a division
       // per cell, exact to the millivolt over the whole range (+-1 mV rounding).
-      const int16_t code = r->cellRaw[c];
+      const int16_t code = ((suspect >> c) & 1U) != 0 ? int16_t{0} : r->cellRaw[c];
       s->cellMv[c] = static_cast<int16_t>((code * 12500 + 32768) >> 16);
       raw[c] = code;
     }
@@ -100,6 +108,8 @@ inline void Bq79616Device::balanceCheck() {
   st.setMode(policy_.mode());
   st.state = policy_.state();
   f.budget = kBalanceAppliesPerScan;
+  // The next open-wire check, every openWireEvery scans (counted from the start of the last one).
+  if (!f.openWireDue && config_.openWireEvery != 0 && --f.openWireIn == 0) f.openWireDue = true;
   const bool refresh = isDue(r.refreshAt, now);
   if (refresh) r.refreshAt = now + s(10);  // a third of the 30 s the timers run (Balancer::kTimerCode)
   bool wanted = false;
@@ -125,7 +135,14 @@ inline void Bq79616Device::balanceCheck() {
 inline Status Bq79616Device::startCommand() {
   auto& f = *flags_;
   Status started;
-  if (f.stopWanted) {
+  if (f.openWireDue) {
+    // The check pauses balancing itself (BAL_CTRL2[CB_PAUSE], timers held) and resumes it (open_wire.hpp).
+    f.op = BalanceOp::OpenWire;
+    f.openWireDue = false;
+    f.openWireIn = config_.openWireEvery;
+    records_->openWireStarted = scheduler_.now();
+    started = openWire_.start({store_.openWire, config_.chain.devices});
+  } else if (f.stopWanted) {
     f.op = BalanceOp::Stop;
     started = balancer_.startStopAll();
   } else if (f.dirty != 0 && f.budget != 0) {
@@ -152,6 +169,14 @@ inline Status Bq79616Device::startCommand() {
 
 // A frame of the balancing operation ended: the next one goes out, or the operation's result is taken.
 inline void Bq79616Device::commandFinished(Status result) {
+  if (flags_->op == BalanceOp::OpenWire) {
+    if (openWire_.step(result)) {
+      loop_->op = MonitorOp::Command;
+      return;
+    }
+    flags_->op = BalanceOp::None;
+    return openWireFinished();
+  }
   if (balancer_.step(result)) {
     loop_->op = MonitorOp::Command;  // the next frame is on the bus: its completion comes back here
     return;
@@ -185,8 +210,22 @@ inline void Bq79616Device::commandFinished(Status result) {
       balanceStatusRead();
       break;
     case BalanceOp::None:
+    case BalanceOp::OpenWire:
       break;
   }
+}
+
+// The open-wire check ended: its verdict (already in store_.openWire) applies from the next scan on. Without
+// one (the chain failed, the comparison never ended) the last verdict stands: an open wire found stays
+// open_wire until a check says otherwise.
+void Bq79616Device::openWireFinished() {
+  auto& st = records_->stats;
+  if (openWire_.verdict()) {
+    ++st.openWireChecks;
+  } else {
+    ++st.openWireFailed;
+  }
+  st.lastOpenWireCheck = elapsed(records_->openWireStarted, scheduler_.now());
 }
 
 // BAL_STAT of every device: a device balances its written cells while it reports CB_RUN and no pause; a

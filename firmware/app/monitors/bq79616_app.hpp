@@ -23,6 +23,14 @@
 // one broadcast stops the whole chain (three frames). BAL_STAT of every device is read once a second while
 // anything balances: a device counts as balancing (BalancingStatus) only while it reports CB_RUN, not paused;
 // INVALID_CBCONF or ABORTFLT make the policy back off.
+// Open wire (drivers/bq79616/open_wire.hpp): the devices' own VC open-wire check over the whole chain after
+// the first scan of every bring-up or recovery and then every openWireEvery scans (10: once a second), in the
+// balancing slot after a scan, never in place of one (about 6 ms for 2 devices, OpenWireCheck::worstCase()
+// at most). Balancing pauses for it (CB_PAUSE, timers held) and resumes after. A cell
+// the device reports below the threshold, and the cell above it (both beside the pin that may be open), are
+// published as open_wire from every scan until a check says otherwise: their readings are replaced by the
+// no-reading 0 mV, which the pack's open-wire rule (pack_view.hpp) turns into open_wire and keeps out of
+// every total, exactly as an open wire it sees in the readings itself.
 // The same objects run on the LaunchPad and in bms-sim (host BSP, chain emulator); only Io differs.
 // The large buffers (per-device records and samples, about 7 KB for 64 devices) live in Bq79616Storage,
 // which the caller provides as a zero-initialised static object: no start-up code fills them.
@@ -43,6 +51,7 @@
 #include "core/zeroed.hpp"
 #include "drivers/bq79616/balancer.hpp"
 #include "drivers/bq79616/chain.hpp"
+#include "drivers/bq79616/open_wire.hpp"
 #include "hal/can_bus.hpp"
 #include "hal/gpio.hpp"
 #include "hal/system.hpp"
@@ -58,6 +67,7 @@ struct Bq79616AppConfig {
   CanLayout layout = CanLayout::Native;
   Duration recoveryInterval = s(1);      // wait before another recovery while scans keep failing
   Duration retryAfterFailure = ms(100);  // after a bring-up or recovery that brought no chain back
+  uint8_t openWireEvery = 10;            // scans between the devices' own open-wire checks (0: never)
 };
 
 struct Bq79616Storage {
@@ -68,6 +78,8 @@ struct Bq79616Storage {
   uint16_t balanceWant[drivers::bq79616::kMaxDevices];
   uint16_t balanceWritten[drivers::bq79616::kMaxDevices];
   uint8_t balStat[drivers::bq79616::kMaxDevices];
+  // The devices' own open-wire verdict, per device (bit c = cell c + 1 below the threshold), as last read.
+  uint16_t openWire[drivers::bq79616::kMaxDevices];
   BalancingStatus balancing;
 };
 
@@ -79,12 +91,15 @@ inline constexpr BalancingRules kBq79616BalancingRules{drivers::bq79616::Balance
 inline constexpr uint8_t kBalanceAppliesPerScan = 8;
 
 struct MonitorStats {
-  uint32_t scans = 0;         // scans completed
-  uint32_t scanFailures = 0;  // scans that did not validate every device
-  uint32_t earlyScans = 0;    // scans started by the fault line
-  uint32_t scanOverruns = 0;  // scan periods that came while the previous scan was still running
-  uint32_t recoveries = 0;    // bring-up and recovery operations run
-  Duration lastScan{};        // duration of the last scan (its start: ScanSummary::started)
+  uint32_t scans = 0;            // scans completed
+  uint32_t scanFailures = 0;     // scans that did not validate every device
+  uint32_t earlyScans = 0;       // scans started by the fault line
+  uint32_t scanOverruns = 0;     // scan periods that came while the previous scan was still running
+  uint32_t recoveries = 0;       // bring-up and recovery operations run
+  Duration lastScan{};           // duration of the last scan (its start: ScanSummary::started)
+  uint32_t openWireChecks = 0;   // the devices' open-wire checks that gave a verdict
+  uint32_t openWireFailed = 0;   // ... that ended without one (the last verdict stands)
+  Duration lastOpenWireCheck{};  // duration of the last check
 };
 
 // The BQ79616 chain's part of the monitor task (monitor_task.hpp): set-up is the bring-up, and after it the
@@ -106,7 +121,8 @@ class Bq79616Device : public MonitorBase {
         driver_(uart, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 config.chain),
-        balancer_(driver_) {}
+        balancer_(driver_),
+        openWire_(driver_) {}
 
   const drivers::bq79616::Chain& chain() const { return driver_; }
   const MonitorStats& stats() const { return records_->stats; }
@@ -155,7 +171,8 @@ class Bq79616Device : public MonitorBase {
   // Balancing work (bq79616_app.cpp), only after the scan due has run.
   bool commandWaiting() const {
     const auto& f = *flags_;
-    return !loop_->scanDue && (f.stopWanted || (f.dirty != 0 && f.budget != 0) || f.statusWanted);
+    return !loop_->scanDue &&
+           (f.stopWanted || f.openWireDue || (f.dirty != 0 && f.budget != 0) || f.statusWanted);
   }
   inline Status startCommand();                // bq79616_app.cpp
   inline void commandFinished(Status result);  // bq79616_app.cpp
@@ -191,7 +208,7 @@ class Bq79616Device : public MonitorBase {
  private:
   // What changes, zero at construction (one block each, no per-member start-up code): the small fields
   // first, the records after the references, the chain driver with its state last.
-  enum class BalanceOp : uint8_t { None, Stop, Apply, Status };
+  enum class BalanceOp : uint8_t { None, Stop, Apply, Status, OpenWire };
   struct Flags {
     bool broughtUp;  // the first bring-up succeeded: set-up is the recovery ladder from now on
     bool early;      // the next scan is started by the fault line
@@ -203,6 +220,8 @@ class Bq79616Device : public MonitorBase {
     uint8_t device;                        // the device of the write in flight
     uint16_t sending;                      // ... and its mask
     uint64_t dirty;                        // devices whose timers are to be written (bit d = device d)
+    bool openWireDue;                      // the devices' open-wire check runs next
+    uint8_t openWireIn;                    // scans until the next check
   };
   struct Records {
     MonitorStats stats;
@@ -212,9 +231,11 @@ class Bq79616Device : public MonitorBase {
     Instant lastCheck;
     Instant refreshAt;
     Instant statusAt;
+    Instant openWireStarted;
   };
   void forgetBalancing();
   void balanceStatusRead();
+  void openWireFinished();
   Zeroed<Flags> flags_;
 
  protected:
@@ -228,6 +249,7 @@ class Bq79616Device : public MonitorBase {
   Zeroed<Records> records_;
   drivers::bq79616::Chain driver_;
   drivers::bq79616::Balancer balancer_;  // after the chain it drives
+  drivers::bq79616::OpenWireCheck openWire_;
 };
 using Bq79616Monitor = MonitorTask<Bq79616Device>;
 extern template class MonitorTask<Bq79616Device>;  // bq79616_app.cpp

@@ -75,7 +75,8 @@ struct ScanVerdict {
 // and from sched::Task second. The ABI still places Task (the only base with a vtable) at offset 0, but
 // constructs it after the device: its vtable pointer store is then followed at once by MonitorTask's and
 // dropped, where a Task constructed before the device's out-of-line driver constructor would keep a
-// vtable of its own (12 B) alive.
+// vtable of its own (12 B) alive. Under link-time optimisation this still pays on the G3507-BQ79616 image
+// (24 B, measured); the other images come out the same either way.
 class MonitorBase {
  protected:
   // Set-up done (scanning from now) or lost. The flag lives in the PackView only (protection reads it too).

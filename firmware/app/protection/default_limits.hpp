@@ -22,6 +22,27 @@
 // with a discharge of more than 200 mA, one in discharge with a charge of more than 200 mA, so a charger or a
 // load that is still there is not switched back on to trip again.
 //
+// Latch: repeated discharge over-currents latch the discharge path off (TI's OCDL, SLUUBY2B 5.2,
+// Protections:OCDL): each trip counts one, one is forgiven every 10 s after the latest (TI's Counter Dec
+// Delay default), and the third trip so counted latches (TI ships OCDL Latch Limit 0, off; 3 is the trip
+// after the BQ7690x's smallest latch setting of two retries, SLUUCJ0 Protections:Current:Latch Limit). A
+// latched over-current stays through its recovery until ClearFaults finds the current gone (no more than 200
+// mA of discharge); the charge path stays available throughout (on a single-output image, below, the one
+// output holds both off). Three trips each within 10 s of the one before latch (with the 3 s recovery between
+// them, the third comes 6.4 s after the first at the soonest); a load that trips once every 10 s or more
+// never latches.
+//
+// Latch: repeated discharge over-currents latch the discharge path off (TI's OCDL, SLUUBY2B 5.2,
+// Protections:OCDL): each trip counts one, one is forgiven every 10 s after the latest (TI's Counter Dec
+// Delay default), and the third trip so counted latches (TI ships OCDL Latch Limit 0, off; 3 is the trip
+// after the BQ7690x's smallest latch setting of two retries, SLUUCJ0 Protections:Current:Latch Limit). A
+// latched over-current stays through its recovery until ClearFaults finds the current gone (no more than 200
+// mA of discharge); the charge path stays available throughout (on a single-output image, below, the one
+// output holds both off). Three trips each within 10 s of the one before latch (with the 3 s recovery between
+// them, the third comes 6.4 s after the first at the soonest); a load that trips once every 10 s or more
+// never latches. The pack file sets both (discharge_overcurrent latch_trips, trip_decay_s; the EVM packs
+// 3 and 10 s).
+//
 // Cell voltages and temperatures act on the first scan that shows them: the monitors already filter their
 // readings (BQ769x2 per-cell averaging, BQ79616 26 Hz low-pass, BQ4050 gauge filtering), and a second sample
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
@@ -73,7 +94,8 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
   for (const LimitRow& row : kLimits) {
     Rule& r = c.rules[static_cast<uint8_t>(row.fault)];
     r.trip = row.trip, r.clear = row.clear, r.debounce = row.debounce, r.recover = row.recover;
-    r.action = row.action, r.latch = row.latch, r.enabled = true;
+    r.action = row.action, r.enabled = true;
+    r.latchTrips = row.latch ? 1 : row.latchTrips, r.tripDecayS = row.tripDecayS;
   }
   c.rateWindow = 10;
   c.staleAfter = scanPeriod * pack::kStaleScans;

@@ -9,7 +9,8 @@
 namespace fw::app {
 
 // The fault, its thresholds (mV, mA, 0.1 K; 0/1 for the flag rules), the trip and recovery counts
-// (evaluations, one per scan), the action and whether it latches.
+// (evaluations, one per scan), the action, whether it latches on its first trip, and the trip count that
+// latches it with the decay (s) that forgives one (Rule::latchTrips, tripDecayS).
 struct LimitRow {
   FaultId fault;
   int32_t trip;
@@ -18,6 +19,8 @@ struct LimitRow {
   uint8_t recover;
   Action action;
   bool latch;
+  uint8_t latchTrips = 0;
+  uint8_t tripDecayS = 0;
 };
 
 inline constexpr int32_t kDeciKelvinAtZeroCelsius = 2732;

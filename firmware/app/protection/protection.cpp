@@ -68,7 +68,11 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
     evaluated |= bit(FaultId::CommLoss) | bit(FaultId::CommErrorRate);
   // The failures among the last rateWindow attempts: over a window, not in a row, so how the failures of an
   // intermittent link fall on the scan grid (which shifts with its onset) does not decide whether it trips.
-  value[12] = __builtin_popcount(state_->attempts & ((1U << config_.rateWindow) - 1U));
+  uint8_t failures = 0;
+  for (uint32_t window = state_->attempts & ((1U << config_.rateWindow) - 1U); window != 0;
+       window &= window - 1)
+    ++failures;  // one failed attempt per set bit (ARMv6-M has no population-count instruction)
+  value[12] = failures;
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
   // of the actions (ChargeOff and DischargeOff are bits) of every active fault; the device rule's are
@@ -99,8 +103,17 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   const int32_t x = v ^ flip;
   const bool present = x >= (rule.trip ^ flip);
   const bool absent = x < (rule.clear ^ flip);
-  if (present) state_->conditionNow |= b;
-  if (absent) state_->conditionNow = static_cast<FaultMask>(state_->conditionNow & ~b);
+  // What clearLatched() asks of a latched fault: the value past the clear threshold; for a current limit,
+  // whose clear threshold lies on the relieving side of zero, no more than its magnitude flowing the tripped
+  // way: the over-current is gone, and the path it holds off carries none of the relieving current.
+  constexpr FaultMask kCurrentLimits = bit(FaultId::ChargeOvercurrent) | bit(FaultId::DischargeOvercurrent);
+  int32_t release = rule.clear;
+  if ((kCurrentLimits & b) != 0) {
+    const int32_t magnitude = release < 0 ? -release : release;
+    release = flip != 0 ? -magnitude : magnitude;
+  }
+  state_->goneNow = static_cast<FaultMask>(x < (release ^ flip) ? state_->goneNow | b : state_->goneNow & ~b);
+  if (state_->trips[i] != 0) forgive(i, now);
 
   // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
   // sighting of the other kind restarts the count.
@@ -121,18 +134,40 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
 #endif
 
   count = 0;
-  if (tripped && rule.latch) return;  // stays until clearLatched()
+  if ((state_->latched & b) != 0) return;  // stays until clearLatched()
   state_->active ^= b;
-  if (!tripped) state_->tripped[i] = now;
   (tripped ? out.newlyCleared : out.newlyTripped) |= b;
+  if (tripped) return;
+  state_->tripped[i] = now;
+  if (rule.latchTrips == 0) return;
+  // Count the trip; the decay towards forgiving one restarts with it (TI does not say whether it does: the
+  // restart forgives later, the safe side; README "Open questions").
+  uint8_t& trips = state_->trips[i];
+  if (trips < 0xFF) ++trips;
+  state_->tripsSince[i] = now;
+  if (trips >= rule.latchTrips) state_->latched |= b;
+}
+
+// Called with every fresh value while trips are counted, so tripsSince stays within one decay of now (an
+// Instant compares correctly only within half the clock's 71-minute wrap).
+void Protection::forgive(uint8_t i, Instant now) {
+  const Duration decay = s(config_.rules[i].tripDecayS);
+  if (decay.us == 0) return;  // never forgiven
+  uint8_t& trips = state_->trips[i];
+  Instant& since = state_->tripsSince[i];
+  while (trips != 0 && elapsed(since, now) >= decay) {
+    --trips;
+    since = since + decay;
+  }
 }
 
 FaultMask Protection::clearLatched() {
   FaultMask cleared = 0;
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const FaultMask b = static_cast<FaultMask>(1U << i);
-    if ((state_->active & b) == 0 || !config_.rules[i].latch || (state_->conditionNow & b) != 0) continue;
+    if ((state_->latched & b) == 0 || (state_->goneNow & b) == 0) continue;
     state_->active = static_cast<FaultMask>(state_->active & ~b);
+    state_->latched = static_cast<FaultMask>(state_->latched & ~b);
     state_->count[i] = 0;
     cleared |= b;
   }

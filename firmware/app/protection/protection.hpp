@@ -12,8 +12,14 @@
 //     (and for the delay) before the fault clears. A current fault's clear threshold lies on the other side
 //     of zero, so it clears only while current flows the way that relieves it (TI's OCC/OCD recovery,
 //     SLUUBY2B 5.2: a discharge current ends an over-current in charge, a charge current one in discharge);
-//   - latching: a latched fault stays tripped until clearLatched() (a user action), even when the value
-//     recovers;
+//   - latching: a rule with latchTrips latches on the trip that brings its trip count to latchTrips (1: its
+//     first trip). Each trip counts one; while the count is nonzero one trip is forgiven every tripDecayS
+//     seconds, counted from the latest trip (TI's OCDL counter and its Counter Dec Delay, SLUUBY2B
+//     Protections:OCDL). A latched fault stays tripped, whatever its recovery, until clearLatched() (a user
+//     action: ClearFaults) finds its condition gone: the last fresh value past the clear threshold, for a
+//     current limit no more than the clear threshold's magnitude flowing the tripped way (the current is
+//     gone; the relieving current of the other way is not needed). The trip count survives the clear, so a
+//     fault that comes back before it has been forgiven latches again on its next trip;
 //   - an action: which path it opens, the one the fault endangers: over-voltage, charge over-current and
 //     charge temperature limits the charge path; under-voltage, discharge over-current and discharge
 //     temperature limits the discharge path; what leaves the measurement in doubt (stale data, lost
@@ -80,7 +86,7 @@ enum class Action : uint8_t {
   AllOff = 3,
 };
 
-// 20 bytes (16 without delays), largest members first (the limit table is twelve of these in flash).
+// 20 bytes (16 without delays), largest members first (the limit table is thirteen of these in flash).
 struct Rule {
   int32_t trip = 0;   // condition present when value >= trip (upper limits) or <= trip (lower limits)
   int32_t clear = 0;  // condition gone when value < clear (upper) or > clear (lower)
@@ -90,7 +96,8 @@ struct Rule {
   uint8_t debounce = 1;            // evaluations in a row with the condition present before it trips
   uint8_t recover = 1;             // evaluations in a row with the condition gone before it clears
   Action action = Action::AllOff;  // DeviceSafety: the most it may open (the device's flags say which)
-  bool latch = false;
+  uint8_t latchTrips = 0;          // the trip that brings the count to this latches it; 0: never latches
+  uint8_t tripDecayS = 0;          // s: one counted trip forgiven per this long after the latest; 0: never
   bool enabled = false;
 };
 
@@ -127,10 +134,14 @@ class Protection {
 
   ProtectionState evaluate(const ProtectionInputs& in, Instant now);
   // Clears latched faults whose condition is gone (a user action: button or CAN command). Returns the faults
-  // that cleared; a latched fault whose condition is still present stays.
+  // that cleared; a latched fault whose condition is still present stays (latched() still has it).
   FaultMask clearLatched();
 
   FaultMask active() const { return state_->active; }
+  FaultMask latched() const { return state_->latched; }  // active and held until clearLatched()
+  uint8_t trips(FaultId id) const {
+    return state_->trips[static_cast<uint8_t>(id)];
+  }  // counted, not forgiven
   const ProtectionConfig& config() const { return config_; }
   Instant trippedAt(FaultId id) const { return state_->tripped[static_cast<uint8_t>(id)]; }
   // The paths DeviceSafety opens now (Action bits): the last scan's device flags, both after the fault line.
@@ -139,11 +150,14 @@ class Protection {
  private:
   // Moves rule `i`'s debounce with its value `v` (out of line: the loop around it stays in registers).
   void track(uint8_t i, int32_t v, Instant now, ProtectionState& out);
+  // Forgives rule `i`'s counted trips whose decay has passed by `now`.
+  void forgive(uint8_t i, Instant now);
 
   // Everything that changes, zero at construction (one block: no per-member start-up code).
   struct State {
     FaultMask active;
-    FaultMask conditionNow;  // last evaluation's raw conditions (for clearLatched)
+    FaultMask latched;  // active faults that stay until clearLatched()
+    FaultMask goneNow;  // the last fresh value was past the rule's release threshold (for clearLatched)
     uint8_t failedScans;
     uint8_t deviceBlocks;  // DeviceSafety's paths (Action bits): the last scan's flags, or both on the line
     uint16_t attempts;     // the latest scan attempts, newest in bit 0: 1 = it failed (CommErrorRate)
@@ -154,6 +168,10 @@ class Protection {
     Instant since[kFaultCount];
 #endif
     Instant tripped[kFaultCount];
+    // Per latching rule: trips counted and not yet forgiven, and when the decay towards the next is counted
+    // from.
+    uint8_t trips[kFaultCount];
+    Instant tripsSince[kFaultCount];
   };
   const ProtectionConfig& config_;
   Zeroed<State> state_;

@@ -23,8 +23,6 @@ void ProtectionTask::run(sched::EventMask events) {
     // The fault line is a fault signal only while the monitor runs (PackView::monitorRunning): during
     // bring-up and recovery it is expected to be asserted.
     in.faultLine = ((events & kFaultLine) != 0) & pack_.monitorRunning;  // no branch: a byte load and an and
-    if (FW_PROTECTION_CLEAR_LATCHED && (events & kClearLatched) != 0)
-      status_.pendingCleared |= protection_.clearLatched();
     const ProtectionState st = protection_.evaluate(in, now);
     if (kStats) ++state_->evaluations;
     // A deferred FET command completed. Its owner posts kActuated from the run() that handled the completion,
@@ -35,6 +33,14 @@ void ProtectionTask::run(sched::EventMask events) {
     if (pack_.hasFetStatus) readBack(in, now);
   }
   scheduler_.checkIn(id_);
+}
+
+bool ProtectionTask::clearLatched() {
+  if (FW_PROTECTION_CLEAR_LATCHED) {
+    status_.pendingCleared |= protection_.clearLatched();
+    scheduler_.post(id_, kClearLatched);
+  }
+  return protection_.latched() == 0;
 }
 
 inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant now) {

@@ -16,17 +16,17 @@
 // Events (post them to this task): kNewData (a scan validated), kScanFailed, kFaultLine (the ALERT/nFAULT
 // edge, posted by the pin's interrupt itself), kActuated (a deferred request took effect: post it from the
 // run() that saw it complete; this task, the highest priority, runs next, takes that instant and evaluates),
-// kClearLatched (a user request). The periodic check is internal. The fault line counts as a fault only
-// while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits as a
-// periodic check would. Thread mode only.
+// kClearLatched (clearLatched() posts it). The periodic check is internal. The fault line counts as a fault
+// only while PackView::monitorRunning says the monitor is set up: before, the edge only evaluates the limits
+// as a periodic check would. Thread mode only.
 //
-// kClearLatched needs a user action that posts it: the images' command task (app/command) does, on
-// ClearFaults, so they build with FW_PROTECTION_CLEAR_LATCHED=1 (the default); 0 ignores the event and a
-// latched fault stays until reset.
-// Host requests (app/command, PathRequest and bootloader entry): requestOff() holds paths off on top of
-// whatever the faults ask (a request only ever opens a path), then post kHostRequest. A LimitUpdate, if set,
-// is applied just before each evaluation of a new scan (kNewData), so the limits change only at a scan
-// boundary.
+// Latched faults clear only on a user action: clearLatched(), which the images' command task (app/command)
+// calls on ClearFaults, so they build with FW_PROTECTION_CLEAR_LATCHED=1 (the default); with 0 it clears
+// nothing and a latched fault stays until reset. kClearLatched (posted by clearLatched()) evaluates at once,
+// so the paths follow. Host requests (app/command, PathRequest and bootloader entry): requestOff() holds
+// paths off on top of whatever the faults ask (a request only ever opens a path), then post kHostRequest. A
+// LimitUpdate, if set, is applied just before each evaluation of a new scan (kNewData), so the limits change
+// only at a scan boundary.
 #pragma once
 
 #include <cstdint>
@@ -126,6 +126,10 @@ class ProtectionTask final : public sched::Task {
   // The paths the host wants held off (Action bits: ChargeOff, DischargeOff), in effect from the next run
   // (post kHostRequest). They add to what the faults ask; nothing here can turn a path on.
   void requestOff(uint8_t actions) { state_->hostOff = actions; }
+  // Clears the latched faults whose condition is gone now (Protection::clearLatched) and posts kClearLatched
+  // so the paths follow at once. Returns false if a latched fault stays because its condition is still
+  // there (true: every latched fault cleared, or none was latched). Thread mode (the command task).
+  bool clearLatched();
   void setLimitUpdate(LimitUpdate& update) { update_ = &update; }
   // Both paths off, and the actuator has confirmed it (FETs commanded off / fault output asserted).
   bool pathsOffConfirmed() const {
@@ -163,6 +167,7 @@ class ProtectionTask final : public sched::Task {
   };
   // The references every run() uses before the state: with the log inside, the state would push them past
   // the 124 bytes a Thumb load reaches from the object's address; its byte fields stay within 31 bytes.
+  // Still pays under link-time optimisation: the state first is +28..+36 B per image (measured).
   sched::TaskId id_;
   sched::Scheduler& scheduler_;
   const PackView& pack_;

@@ -20,9 +20,14 @@ void CanPublisher::run(sched::EventMask events) {
       plan_.abandon();
       ++state_->stats.abandoned;
     }
-    if (!state_->recovering) {
+    // A bus-off the controller counted since recovery was last asked for is a new one, even when this task
+    // never saw the bus on in between (it can come microseconds after a recovery, before this task ran):
+    // recover at once, not a publish period later.
+    const uint32_t busOffs = can_.counters().busOffEvents;
+    if (!state_->recovering || busOffs != state_->busOffsSeen) {
       ++state_->stats.busOff;
       state_->recovering = true;
+      state_->busOffsSeen = busOffs;
       // Busy (a recovery is under way) or NotReady are answered by the retry below: ignoring them is safe.
       (void)can_.recover();
     } else if ((events & kTick) != 0) {

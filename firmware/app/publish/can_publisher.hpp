@@ -69,6 +69,7 @@ class CanPublisher final : public sched::Task {
   struct State {
     uint8_t tick;
     bool recovering;
+    uint32_t busOffsSeen;  // the controller's bus-off count when recovery was last asked for
     sched::Timer timer;
     PublishStats stats;
     CanOutbox outbox;

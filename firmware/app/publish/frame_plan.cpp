@@ -66,7 +66,7 @@ constexpr uint16_t framesPerBoard(uint8_t items) {
 static_assert(kMaxCellsPerBoard + 2 < 128 && kMaxTempsPerBoard <= kMaxCellsPerBoard);
 // x / 10, truncated toward zero as C division is, without a division: the quotient of |x| by shifts and
 // adds (Hacker's Delight 10-17), corrected by the remainder.
-[[gnu::noinline]] constexpr int32_t divideBy10(int32_t x) {
+constexpr int32_t divideBy10(int32_t x) {
   const uint32_t n = x < 0 ? 0U - static_cast<uint32_t>(x) : static_cast<uint32_t>(x);
   uint32_t q = (n >> 1) + (n >> 2);
   q += q >> 4;
@@ -171,7 +171,7 @@ static_assert(
     "standard identifiers above 0");
 
 // Writes the values of `count` fields (codes as above) as the frame's bit stream: all 8 bytes, the bits no
-// field covers 0.
+// field covers 0. Kept out of line by hand: inlined into fill() it costs 12..16 B per image (measured, LTO).
 [[gnu::noinline]] void packStream(uint8_t* data, const uint8_t* fields, const uint32_t* values,
                                   uint32_t count) {
   uint8_t* const end = data + 8;

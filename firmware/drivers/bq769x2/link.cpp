@@ -11,7 +11,7 @@ FW_MODULE(Module::DriverBq769x2);
 namespace {
 
 // One CRC-8 step, kept out of line so the three users share one copy of the bit loop.
-[[gnu::noinline]] uint8_t crcStep(uint8_t crc, uint8_t byte) {
+uint8_t crcStep(uint8_t crc, uint8_t byte) {
   return crc::crc8Update(crc, byte);
 }
 

@@ -56,8 +56,9 @@ constexpr Op opOf(const Step& s) {
   return static_cast<Op>(s.code >> 4);
 }
 
-// kPerDevice and kAdcSettle scale with the configured device count, kPerDeviceAndOneMore with one more.
-enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle, kPerDeviceAndOneMore };
+// kPerDevice and kAdcSettle scale with the configured device count, kPerDeviceAndOneMore with one more;
+// kPause is startPause()'s wait.
+enum DelayKind : uint8_t { kOnce, kPerDevice, kAdcSettle, kPerDeviceAndOneMore, kPause };
 
 // Frame steps: writes first, then reads (kRDllSync and above).
 enum Kind : uint8_t {
@@ -221,6 +222,7 @@ constexpr Step kRecovered[] = {
 };
 
 constexpr Step kRaw[] = {{code(Op::Raw)}, kEnd};
+constexpr Step kPauseScript[] = {{code(Op::Delay, kPause)}, kEnd};
 
 constexpr Duration kGapTimeout = us(200);  // 20 byte times of silence inside a response
 
@@ -352,6 +354,13 @@ Status Chain::startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t 
   return begin(kRaw, false);
 }
 
+Status Chain::startPause(Duration d) {
+  if (active_) return Status::Busy;
+  if (d.us == 0 || d.us > 1000000) return Status::InvalidArgument;
+  pause_ = d;
+  return begin(kPauseScript, false);
+}
+
 // --- the interpreter
 // ----------------------------------------------------------------------------------------
 
@@ -417,7 +426,7 @@ inline void Chain::unwind(Status status) {
   advance();
 }
 
-[[gnu::noinline]] void Chain::count(Status status) {
+void Chain::count(Status status) {
   ++stats_.errors[static_cast<uint8_t>(status)];
 }
 
@@ -468,6 +477,10 @@ void Chain::run() {
         send(txLen_, userRx_.data(), userRx_.size());
         break;
       case Op::Delay: {
+        if (s.code == code(Op::Delay, kPause)) {
+          wait(Wait::Timer, pause_);
+          break;
+        }
         uint32_t t = static_cast<uint32_t>(s.arg) << s.value;
         if (s.code >= code(Op::Delay, kPerDevice))
           t *= configured_ + (s.code == code(Op::Delay, kPerDeviceAndOneMore) ? 1U : 0U);

@@ -72,6 +72,9 @@
 //                       for a single read, devices()−1 for a stack read and devices() for a broadcast read;
 //                       result() is the UART's status and received() the bytes stored in `rx`. The caller
 //                       parses the frames with frame.hpp.
+//   startPause(d)       a wait of `d` (at most 1 s) with the bus idle, for a diagnostic's settling time
+//   between
+//                       raw frames (open_wire.hpp); always Ok at its end.
 //
 // nFAULT: attachFaultLine() enables the pin's falling-edge notification as `event` to the owning task; the
 // task forwards it with the others (events() includes it). An edge only counts in stats() and makes the next
@@ -159,6 +162,7 @@ struct ChainState {
   ScanSummary* summary_;
   uint32_t crcDone_[2];  // devices that reported CUST_CRC_DONE in the CRC wait, one bit each
   std::span<uint8_t> userRx_;
+  Duration pause_;  // startPause()'s wait
   hal::EdgeInput* nfault_;
   sched::EventMask faultEvent_;
   hal::UartExchange exchange_;
@@ -189,6 +193,10 @@ class Chain : private detail::ChainState {
   Status startRecovery(RecoveryLevel from = RecoveryLevel::CommClear);
   Status startWrite(RequestType type, uint8_t device, uint16_t reg, std::span<const uint8_t> data);
   Status startRead(RequestType type, uint8_t device, uint16_t reg, uint8_t count, std::span<uint8_t> rx);
+  Status startPause(Duration d);
+  // The chain's own receive buffer (kRxBufferBytes), lent to a caller's startRead() while no scan or
+  // bring-up runs: the next scan overwrites it, so the caller reads its answer as soon as the read ends.
+  std::span<uint8_t> receiveBuffer() { return rx_; }
 
   sched::EventMask events() const { return ctx_.events() | faultEvent_; }
   Progress onEvent(sched::EventMask events);

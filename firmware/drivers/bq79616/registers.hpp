@@ -34,6 +34,12 @@ inline constexpr uint16_t kFaultMsk2 = code16(r::FaultMsk2);
 inline constexpr uint16_t kFaultRst1 = code16(r::FaultRst1);
 inline constexpr uint16_t kFaultRst2 = code16(r::FaultRst2);
 inline constexpr uint16_t kFaultSummary = code16(r::FaultSummary);
+// The VC open-wire diagnostic (open_wire.hpp).
+inline constexpr uint16_t kDiagCompCtrl2 = code16(r::DiagCompCtrl2);
+inline constexpr uint16_t kDiagCompCtrl3 = code16(r::DiagCompCtrl3);
+inline constexpr uint16_t kAdcStat2 = code16(r::AdcStat2);
+inline constexpr uint16_t kBalCtrl2 = code16(r::BalCtrl2);
+inline constexpr uint16_t kFaultCompVcow1 = code16(r::FaultCompVcow1);
 // Measurements.
 inline constexpr uint16_t kVcell16Hi = code16(r::Vcell16Hi);
 inline constexpr uint16_t kGpio1Hi = code16(r::Gpio1Hi);
@@ -46,6 +52,7 @@ static_assert(code16(r::CustCrcRsltLo) == kCustCrcRsltHi + 1, "CUST_CRC_RSLT_HI/
 static_assert(kFaultRst2 == kFaultRst1 + 1, "FAULT_RST1/2 are one 2-byte write");
 static_assert(code16(r::Vcell1Lo) == kVcell16Hi + 31, "VCELL16_HI..VCELL1_LO are one 32-byte read");
 static_assert(code16(r::Gpio8Lo) == kGpio1Hi + 15, "GPIO1_HI..GPIO8_LO are one 16-byte read");
+static_assert(code16(r::FaultCompVcow2) == kFaultCompVcow1 + 1, "FAULT_COMP_VCOW1/2 are one 2-byte read");
 static_assert(code16(r::Dietemp2Lo) == kDietemp1Hi + 3, "DIETEMP1_HI..DIETEMP2_LO are one 4-byte read");
 
 namespace b = ::fw::regmap::bq79616::bits;
@@ -87,6 +94,26 @@ inline constexpr uint8_t kDevStatMainRun = b::DevStat::main_run_mask;
 // ACTIVE_CELL NUM_CELL: 0x0 = 6 cells ... 0xA = 16 cells.
 inline constexpr uint8_t kActiveCellMin = 6;
 static_assert(static_cast<uint8_t>(e::ActiveCells::Cells16) == 16 - kActiveCellMin);
+
+// DIAG_COMP_CTRL3 (SLUSF21; the layout as TI's BQ79616 register header gives it, no fieldset in the map yet):
+// COMP_ADC_GO bit 0 (starts the comparison COMP_ADC_SEL names), COMP_ADC_SEL bits 3:1 (010 = VC open wire),
+// OW_SNK bits 5:4 (01 = the VC pins' sinks and VC0's source on). Both drivers that quote TI's procedure write
+// 0x10 (sinks on), then 0x15 (sinks on, VC open wire, go), then 0x00.
+inline constexpr uint8_t kDiagOwSinksVc = 0x01 << 4;
+inline constexpr uint8_t kDiagSelVcOw = 0x02 << 1;
+inline constexpr uint8_t kDiagCompGo = 0x01;
+static_assert(kDiagOwSinksVc == 0x10 && (kDiagOwSinksVc | kDiagSelVcOw | kDiagCompGo) == 0x15);
+// ADC_STAT2[DRDY_VCOW] bit 3: the VC open-wire comparison has ended (0x08 in both drivers;
+// regmaps/README.md).
+inline constexpr uint8_t kAdcStat2DrdyVcow = 0x08;
+// BAL_CTRL2 around the check: CB_PAUSE with FLTSTOP_EN (what the Balancer's BAL_GO wrote), then FLTSTOP_EN
+// alone; without BAL_GO only CB_PAUSE acts (SLUSE81E BAL_CTRL2).
+inline constexpr uint8_t kBalCtrl2Resume = b::BalCtrl2{}.with_fltstop_en(true).raw();
+inline constexpr uint8_t kBalCtrl2Pause = b::BalCtrl2{}.with_fltstop_en(true).with_cb_pause(true).raw();
+static_assert(kBalCtrl2Pause == 0x60 && kBalCtrl2Resume == 0x20);
+// FAULT_RST1[RST_COMP]: clears every FAULT_COMP_* register.
+inline constexpr uint8_t kFaultRst1Comp = b::FaultRst1{}.with_rst_comp(true).raw();
+static_assert(kFaultRst1Comp == 0x04);
 
 // Values the device returns for a measurement that is not available (not converted yet, channel off).
 inline constexpr int16_t kNotReady = static_cast<int16_t>(-32768);  // 0x8000

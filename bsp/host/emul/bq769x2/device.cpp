@@ -72,6 +72,7 @@ void Bq769xEmulator::measure() {
   settleBleed();
   for (uint8_t c = 0; c < cells_.size(); ++c)
     measured_.cells[c] = cellNowMv(static_cast<uint8_t>(c + 1));
+  applyOpenWire(measured_.cells);
   measured_.currentMa = currentMa_;
   measured_.intTemp = intTemp_;
   measured_.ts = ts_;

@@ -18,7 +18,8 @@
 // and release below threshold minus hysteresis, in SLEEP the measurements are taken only every Power:Sleep:
 // Voltage Time, and the emulator stretches SCL where Timing says so. Wire time itself is SimI2cBus's
 // business. The files: emulator.cpp the bus face, registers and subcommands; device.cpp the device's own
-// behaviour (measurements and SLEEP, protections, FETs, Alarm Status and the ALERT pin).
+// behaviour (measurements and SLEEP, protections, FETs, Alarm Status and the ALERT pin); balancing.cpp host
+// balancing; open_wire.cpp a detached sense wire and the BQ769x2's cell open-wire check.
 //
 // Register facts come from the generated register maps (regmap/bq769x2*.hpp, regmap/bq7690x*.hpp); data
 // memory starts at the maps' defaults. Where the maps have no default that the protections need (BQ7690x
@@ -67,6 +68,11 @@ struct Bq769xTiming {
   fw::Duration adscan7690x = fw::ms(10);
   // BQ7690x Recovery Time (Protections:Current, 0x903F) has no default in the register map: assumed.
   uint8_t currentRecovery7690xS = 3;
+  // BQ769x2 cell open-wire check (open_wire.cpp): how far one check pulls a detached input's node down, in
+  // mV. SLUUBY2B "Cell Open Wire" gives the sink (55 uA typical; the BQ76922 data sheet, same family,
+  // I(OW) 22..95 uA) and its duration (one ADC measurement, 3 ms); the node's capacitance is the board's,
+  // not given: assumed 100 nF (55 uA x 3 ms / 100 nF = 1650 mV).
+  int32_t openWireDrainMv = 1650;
 };
 
 class Bq769xEmulator final : public I2cTarget {
@@ -98,6 +104,10 @@ class Bq769xEmulator final : public I2cTarget {
   // BQ769x2 CFETOFF / DFETOFF pins as the host drives them (high = true); they act as their Pin Config says
   // (device.cpp).
   void setFetOffPins(bool cfetoff, bool dfetoff);
+  // The sense wire of cell input VC`pin` (0 = VC0 below cell 1 .. cell count = the top) detached from the
+  // board, or connected again (open_wire.cpp: the node holds its voltage; only the BQ769x2's open-wire check
+  // moves it). One open wire at a time; BQ76952 only.
+  void setOpenWire(int pin, bool open);
   void setDeviceNumber(uint16_t number) { deviceNumber_ = number; }
   void setCrc(bool on) { crc_ = on; }  // the device's Comm Type CRC setting ("OTP": survives resets)
   bool crc() const { return crc_; }
@@ -200,6 +210,9 @@ class Bq769xEmulator final : public I2cTarget {
   uint8_t cellCount() const;
   uint8_t cellsInUse() const;
   void measure();
+  void applyOpenWire(std::array<int16_t, 16>& cells);  // open_wire.cpp
+  void scheduleOpenWireCheck();
+  void openWireCheck();
   void updateSleep();
   void sleepTick();
   void evaluateTemperatures();
@@ -303,6 +316,9 @@ class Bq769xEmulator final : public I2cTarget {
   bool sleeping_ = false;
   uint64_t relaxSince_ = UINT64_MAX;
   SimClock::EventId sleepEvent_ = 0;
+  int openPin_ = -1;        // the detached VC input (open_wire.cpp), -1: none
+  int32_t openNodeMv_ = 0;  // its node's voltage above VSS
+  SimClock::EventId openWireEvent_ = 0;
 
   // Subcommand window state
   uint16_t running_ = 0;  // the command being executed (its result is not in the buffer yet)

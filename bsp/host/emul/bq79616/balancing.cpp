@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "bq79616/chain_emulator.hpp"
+#include "bq79616/register_address.hpp"
 #include "regmap/bq79616.hpp"
 
 namespace bsp::host {
@@ -16,10 +17,7 @@ namespace {
 namespace r = fw::regmap::bq79616::reg;
 namespace b = fw::regmap::bq79616::bits;
 
-template <class D>
-constexpr uint16_t at(D) {
-  return static_cast<uint16_t>(D::address);
-}
+using bq79616_emul::at;
 constexpr uint16_t kCbCell16Ctrl = at(r::CbCell16Ctrl);
 constexpr uint16_t kBalCtrl1 = at(r::BalCtrl1);
 constexpr uint16_t kBalCtrl2 = at(r::BalCtrl2);

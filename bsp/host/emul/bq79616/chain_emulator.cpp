@@ -1,5 +1,6 @@
 // BQ79616 daisy-chain emulator (see chain_emulator.hpp for what is modelled and where each fact comes from).
 #include "bq79616/chain_emulator.hpp"
+#include "bq79616/register_address.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,10 +19,7 @@ namespace {
 namespace r = fw::regmap::bq79616::reg;
 namespace b = fw::regmap::bq79616::bits;
 
-template <class D>
-constexpr uint16_t at(D) {
-  return static_cast<uint16_t>(D::address);
-}
+using bq79616_emul::at;
 
 constexpr uint16_t kDir0Addr = at(r::Dir0Addr);
 constexpr uint16_t kCommCtrl = at(r::CommCtrl);
@@ -185,6 +183,9 @@ void Bq79616ChainEmulator::resetRegisters(Device& d) {
   d.crcEpoch = d.crcLastRead = clock_.nowUs();
   d.crcResult = shadowCrc(d.regs);
   d.crcDoneLatched = false;
+  // A comparison in progress ends with the reset (its registers are back to defaults: sinks off).
+  d.owDoneAt = 0;
+  ++d.owGeneration;
 }
 
 // --- the customer CRC state machine ----------------------------------------------------------------------
@@ -325,6 +326,7 @@ uint8_t Bq79616ChainEmulator::readReg(size_t k, uint16_t address, uint64_t t) co
     return (address - kVcell16Hi) % 2 == 0 ? static_cast<uint8_t>(code >> 8) : static_cast<uint8_t>(code);
   }
   if (address == kBalStat) return balanceStatus(d);
+  if (address == at(r::AdcStat2)) return adcStat2(d, t);
   if (address == kCbComplete1) return static_cast<uint8_t>(d.bal.complete >> 8);
   if (address == kCbComplete2) return static_cast<uint8_t>(d.bal.complete);
   if (address == kCustCrcRsltHi) return static_cast<uint8_t>(custCrcResult(d, t) >> 8);
@@ -657,6 +659,7 @@ void Bq79616ChainEmulator::writeReg(size_t k, uint16_t address, uint8_t value, u
     }
     return;
   }
+  if (address == at(r::DiagCompCtrl3)) return diagCompCtrl3(k, value, t);  // open_wire.cpp
   if (address == kAdcCtrl1) {
     d.regs[kAdcCtrl1] = value;
     const bool go = (value & b::AdcCtrl1::main_go_mask) != 0;

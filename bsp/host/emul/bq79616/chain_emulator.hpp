@@ -61,6 +61,10 @@
 //   BAL_CTRL1 duty period; FLTSTOP_EN stops everything on an unmasked fault (ABORTFLT); CB_PAUSE, the die
 //   past CB TWARN and, with OTCB_EN, an NTC past OTCB_THR pause it with the timers held. Each balanced cell
 //   loses V / balanceOhms (cell_model.hpp) and its VCELL reading falls with the charge it lost.
+// - VC open-wire diagnostic (open_wire.cpp, each rule with its source): the world's open sense wires
+//   (setOpenWire), DIAG_COMP_CTRL3's VC current sinks (VC0's source) and the VC open-wire comparison against
+//   DIAG_COMP_CTRL2[OW_THR], its time, ADC_STAT2[DRDY_VCOW], FAULT_COMP_VCOW1/2 (in FAULT_SUMMARY and nFAULT
+//   with the other FAULT_COMP_* registers), and a balancing channel's cell comparing low.
 //
 // Injected faults: a shorter chain (construct with fewer devices than the driver expects), a broken link
 // above device k, a mute device (forwards but never answers, so the devices below it wait and stay silent),
@@ -97,7 +101,9 @@ class Bq79616ChainEmulator final : public UartPeer {
     uint32_t sleepToActiveToneUs = 270;
     uint32_t hwResetUs = 75000;
     uint32_t adcSettleUs = 38000;
-    uint32_t custCrcUs = 2000;  // one pass of the customer CRC state machine (estimate, see above)
+    uint32_t custCrcUs = 2000;    // one pass of the customer CRC state machine (estimate, see above)
+    uint32_t owDepleteUs = 2000;  // sinks on this long deplete an open pin (estimate, open_wire.cpp)
+    uint32_t owCompareUs = 1500;  // one VC open-wire comparison (estimate, open_wire.cpp)
     uint32_t pingTolerancePercent = 5;
   };
 
@@ -147,6 +153,14 @@ class Bq79616ChainEmulator final : public UartPeer {
   void hangDevice(size_t device);   // ignores frames, tones and pings until a HW_RESET
   void setDisconnected(bool cut);   // the MCU-to-base link is cut both ways
   void freezeAdc(size_t device);    // VCELLn read 0x8000 until the device's next digital reset
+
+  // --- open wire (open_wire.cpp) ------------------------------------------------------------------------
+  // The sense wire of pin VC`pin` (0 = the bottom tap, 16 = the top of a 16-cell device) opens or closes. The
+  // readings stay what the test sets (the pin's filter capacitor holds the node between checks); only the
+  // device's own diagnostic sees it.
+  void setOpenWire(size_t device, int pin, bool open);
+  bool owSinksOn(size_t device) const;                       // DIAG_COMP_CTRL3[OW_SNK] = VC sinks, now
+  uint32_t owComparisons() const { return owComparisons_; }  // VC open-wire comparisons completed
 
   // --- balancing (balancing.cpp) ---------------------------------------------------------------------------
   void setCellModel(const CellModel& model) { cellModel_ = model; }
@@ -199,6 +213,12 @@ class Bq79616ChainEmulator final : public UartPeer {
     uint16_t crcResult = 0;       // CUST_CRC_RSLT until a pass over the current contents ends
     bool crcDoneLatched = false;  // a pass ended before crcEpoch and DEV_STAT was not read since
     SimClock::EventId crcCheck = 0;
+    // The VC open-wire diagnostic (open_wire.cpp).
+    uint32_t openPins = 0;      // the world: bit p = the wire of VCp is open
+    uint64_t sinksSince = 0;    // when DIAG_COMP_CTRL3 last turned the VC sinks on
+    uint64_t owDoneAt = 0;      // the running comparison ends (0: none since the last GO)
+    uint32_t owGeneration = 0;  // a reset or a new GO makes a pending completion void
+    bool owDepleted = false;    // the sinks had been on long enough when the comparison started
     // Cell balancing (balancing.cpp).
     struct Balance {
       bool running = false;  // BAL_STAT[CB_RUN]
@@ -258,6 +278,11 @@ class Bq79616ChainEmulator final : public UartPeer {
   Counters counters_;
   CellModel cellModel_;
   BalanceCounters balanceCounters_;
+  // open_wire.cpp
+  void diagCompCtrl3(size_t k, uint8_t value, uint64_t t);
+  void owComplete(size_t k, uint32_t generation);
+  uint8_t adcStat2(const Device& d, uint64_t t) const;
+  uint32_t owComparisons_ = 0;
   // balancing.cpp
   void balanceGo(size_t k, uint8_t ctrl2, uint64_t t);
   void advanceBalance(size_t k, uint64_t t);

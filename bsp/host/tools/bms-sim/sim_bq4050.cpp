@@ -5,13 +5,14 @@
 #include "app/monitors/bq4050_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq4050/board.hpp"
+#include "can_board_sim.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
 
 namespace bmssim {
 namespace {
 
-class Bq4050Sim final : public ImageSim {
+class Bq4050Sim final : public CanBoardSim<bsp::host::Bq4050Board> {
  public:
   Bq4050Sim() {
     for (int c = 1; c <= 4; ++c)
@@ -48,27 +49,12 @@ class Bq4050Sim final : public ImageSim {
     intermittent_ = on;
     if (!on) board_.attachGauge(true);
   }
-  bool busOff() override {
-    board_.can.injectBusOff();
-    return true;
-  }
-  bool canSend(const fw::hal::CanFrame& f) override {
-    board_.can.peerSend(f);
-    return true;
-  }
-  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
-    board_.can.setPeerSource(std::move(source));
-    return true;
-  }
-  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
 
   void afterStep() override {
     // An intermittent link: the gauge drops off the bus for 250 ms of every 350 ms.
     if (intermittent_) board_.attachGauge((tick_++ % 350) >= 250);
     meter_.observe(board_.app.monitor().stats().scans, 0, board_.bus.busTimeUs(), board_.bus.transactions());
   }
-
-  bsp::host::Harness& harness() override { return board_.h; }
 
   SimFigures figures() override {
     SimFigures f;
@@ -86,11 +72,6 @@ class Bq4050Sim final : public ImageSim {
     return f;
   }
 
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    return protectionLogOf(board_.app);
-  }
-  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
-
  private:
   // The gauge measures each cell across its sense lines: an open line reads 0 below and the sum above.
   void push() {
@@ -102,7 +83,6 @@ class Bq4050Sim final : public ImageSim {
     board_.gauge.setVoltage(static_cast<uint16_t>(pack));
   }
 
-  bsp::host::Bq4050Board board_;
   std::vector<int> truth_ = std::vector<int>(4, 3700);
   int openCell_ = -1;
   bool intermittent_ = false;

@@ -5,6 +5,7 @@
 #include "app/monitors/bq79616_app.hpp"
 #include "app/protection/default_limits.hpp"
 #include "bq79616/board.hpp"
+#include "can_board_sim.hpp"
 #include "drivers/bq79616/measurement.hpp"
 #include "image_sim.hpp"
 #include "pack_figures.hpp"
@@ -12,9 +13,9 @@
 namespace bmssim {
 namespace {
 
-class Bq79616Sim final : public ImageSim {
+class Bq79616Sim final : public CanBoardSim<bsp::host::Bq79616Board> {
  public:
-  Bq79616Sim(const SimOptions& o) : board_(configFor(o)) {
+  explicit Bq79616Sim(const SimOptions& o) : CanBoardSim(configFor(o)) {
     truth_.assign(static_cast<size_t>(o.devices) * 16, 3700);
     for (int b = 0; b < o.devices; ++b) {
       for (int c = 1; c <= 16; ++c)
@@ -67,21 +68,10 @@ class Bq79616Sim final : public ImageSim {
     openBoard_ = board, openCell_ = cell;
     push(board, cell);
     push(board, cell - 1);
+    // The wire below `cell` is VC(cell - 1): the devices' own open-wire check sees it too.
+    board_.emu.setOpenWire(static_cast<size_t>(board), cell - 1, true);
   }
   void setIntermittent(bool on) override { intermittent_ = on; }
-  bool busOff() override {
-    board_.can.injectBusOff();
-    return true;
-  }
-  bool canSend(const fw::hal::CanFrame& f) override {
-    board_.can.peerSend(f);
-    return true;
-  }
-  bool canFlood(std::function<std::optional<fw::hal::CanFrame>()> source) override {
-    board_.can.setPeerSource(std::move(source));
-    return true;
-  }
-  std::vector<BusOffSpan> busOffLog() const override { return busOffSpans(board_.can); }
   bool sendsTiLayout() const override {
     return fw::app::kTiLayout && board_.config.layout == fw::app::CanLayout::Ti;
   }
@@ -94,8 +84,6 @@ class Bq79616Sim final : public ImageSim {
                    (board_.uart.txBytes() + board_.uart.rxBytes()) * board_.uart.byteTimeUs(),
                    board_.app.monitor().chain().stats().commandFrames);
   }
-
-  bsp::host::Harness& harness() override { return board_.h; }
 
   SimFigures figures() override {
     SimFigures f;
@@ -113,11 +101,6 @@ class Bq79616Sim final : public ImageSim {
     f.cellSpreadMv = cellSpreadMv();
     return f;
   }
-
-  std::vector<fw::app::ProtectionRecord> protectionLog() const override {
-    return protectionLogOf(board_.app);
-  }
-  std::vector<SentFrame> frames() const override { return canFrames(board_.can); }
 
  private:
   const fw::app::PublishStatus& status() const { return board_.app.status(); }
@@ -137,7 +120,6 @@ class Bq79616Sim final : public ImageSim {
     return c;
   }
 
-  bsp::host::Bq79616Board board_;
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;
   bool intermittent_ = false;

@@ -166,6 +166,8 @@ class TwinSim final : public ImageSim {
     openBoard_ = board, openCell_ = cell;
     push(board, cell);
     push(board, cell - 1);
+    // As the host binding: the BQ79616's own open-wire check sees the wire below `cell` (VC(cell - 1)).
+    if (auto* e = board_.chain()) e->setOpenWire(static_cast<size_t>(board), cell - 1, true);
   }
   void setIntermittent(bool on) override {
     intermittent_ = on;
