@@ -72,7 +72,8 @@ Status Monitor::startConfigure(std::span<const Setting> settings) {
   return begin(Op::Configure, nextSetting(false));
 }
 
-// Scan steps: the charge request, the variant's blocks (0..3), the charge read, the Alarm Status clear.
+// Scan steps: the charge request (every other scan), the variant's blocks (0..3), the charge read (the scans
+// between), the Alarm Status clear.
 constexpr uint8_t kScanBlocks = sizeof(Variant::blocks) / sizeof(ScanBlock);
 constexpr uint8_t kScanCharge = kScanBlocks;
 constexpr uint8_t kScanClear = kScanBlocks + 1;
@@ -84,14 +85,18 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* ch
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
   state_->out.record = measurement;
   state_->charge = charge;
-  state_->askCharge = kCharge && askCharge;
+  // The charge alternates between scans: one writes the request, the next reads its result (the request is
+  // long done by then), so no scan carries both (the BQ76952 scan's budget of 6 transactions).
+  state_->readCharge = kCharge && askCharge && state_->chargeRequested;
+  state_->requestCharge = kCharge && askCharge && !state_->chargeRequested;
+  state_->chargeRequested = false;
   state_->bytes = 0;
   state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
   state_->index = 0;
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
-  if (state_->askCharge) {
+  if (state_->requestCharge) {
     const Status s = begin(Op::Scan, link_.startSubcommand(facts().chargeCode, false));
     state_->step = kScanRequest;
     state_->chargeAsked = clock_.now();
@@ -247,6 +252,7 @@ inline void Monitor::scanStep(Status r) {
   if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
   if (state_->step == kScanRequest) {
+    state_->chargeRequested = true;  // the next scan reads it
     state_->step = 0;
     state_->index = 0;
     return next(startScanRead());
@@ -264,7 +270,7 @@ inline void Monitor::scanStep(Status r) {
     // reads, so the snapshot is taken again from its first read (once), the charge asked for again.
     state_->restarted = true;
     state_->bytes = 0;
-    if (state_->askCharge) {
+    if (state_->requestCharge) {
       state_->step = kScanRequest;
       state_->chargeAsked = clock_.now();
       return next(link_.startSubcommand(v.chargeCode, false));
@@ -277,8 +283,8 @@ inline void Monitor::scanStep(Status r) {
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  if (state_->askCharge) {
-    // The charge the request at the scan's start asked for, no earlier than the variant's wait after it.
+  if (state_->readCharge) {
+    // The charge the previous scan asked for, no earlier than the variant's wait after the request.
     state_->step = kScanCharge;
     const Duration since = elapsed(state_->chargeAsked, clock_.now());
     const Duration wait = us(v.chargeWaitUs) > since ? us(v.chargeWaitUs) - since : Duration{};
@@ -308,7 +314,7 @@ void Monitor::publish() {
     // runs): only then are the bytes after it the result.
     const uint8_t* d = link_.scratch() + state_->bytes;
     ChargeCounter& c = *state_->charge;
-    c.valid = state_->askCharge && bytes::loadLe16(d) == facts().chargeCode;
+    c.valid = state_->readCharge && bytes::loadLe16(d) == facts().chargeCode;
     if (c.valid) std::memcpy(c.raw, d + 2, kChargeBytes);
   }
   *record = clock_.now();

@@ -34,16 +34,19 @@
 //                         event makes a new edge; the record is written after that write succeeded.
 //                         yieldScan() makes a running scan end with Aborted instead of starting its next
 //                         read (the record is not written): a FET command need not wait for a whole scan.
-//                         The accumulated charge (kCharge): the scan first writes the charge subcommand
-//                         (BQ769x2 DASTATUS6, BQ7690x PASSQ: S addr 3E lo hi P, no echo poll) and after its
-//                         blocks reads 0x3E..0x4B in one transaction (at least Variant::chargeWaitUs after
-//                         the write): the echo and the result's first 12 bytes. The echo naming the
-//                         subcommand validates them (ChargeCounter::valid; a device still busy reads FF FF
-//                         and the charge is left out of that scan, the rest stands). The BQ76952 scan is then
-//                         7 transactions (8 after an alarm). startScan(m, false) leaves the charge out
-//                         (m.charge.valid false): the subcommand window then keeps what a command left in it
-//                         (a balancing read-back waiting for startBalanceCheck()); the device's counter runs
-//                         on, so the next scan's charge includes that scan's.
+//                         The accumulated charge (kCharge), every other scan: one scan first writes the
+//                         charge subcommand (BQ769x2 DASTATUS6, BQ7690x PASSQ: S addr 3E lo hi P, no echo
+//                         poll), the next reads 0x3E..0x4B after its blocks in one transaction (at least
+//                         Variant::chargeWaitUs after the write): the echo and the result's first 12 bytes.
+//                         The echo naming the subcommand validates them (ChargeCounter::valid; a device still
+//                         busy reads FF FF, and a command written in between, e.g. a FET subcommand, names
+//                         itself: the charge is left out of that scan, the rest stands). So the BQ76952 scan
+//                         is 6 transactions either way (7 after an alarm), within its budget of 6 and 3 ms;
+//                         the request scans carry no charge (m.charge.valid false). The device's counter
+//                         runs on, so a reading includes all charge since the one before. startScan(m,
+//                         false) leaves the charge out (and drops a request made): the subcommand window
+//                         then keeps what a command left in it (a balancing read-back waiting for
+//                         startBalanceCheck()).
 //                         Each read takes at most kScanReadBytes of a block (kScanReadBytesCrc in CRC
 //                         mode), so the command waits at most one such read (0.7 ms at 400 kHz).
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
@@ -344,7 +347,7 @@ class Monitor {
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
-  // the accumulated charge goes, asked for when `askCharge`.
+  // the accumulated charge goes, asked for or read (every other scan) when `askCharge`.
   Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge);
   static constexpr uint8_t scanBytes(const Variant& v) {
     uint8_t total = 0;
@@ -424,17 +427,19 @@ class Monitor {
     FetCommand command;
     FetIntent intent;
     bool restarted;
-    bool yield;      // the scan ends at its next read boundary
-    bool askCharge;  // the scan reads the accumulated charge
-    uint16_t tmp;    // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
-                     // of the scan's read in progress
+    bool yield;            // the scan ends at its next read boundary
+    bool requestCharge;    // this scan asks for the accumulated charge ...
+    bool readCharge;       // ... or reads what the previous one asked for
+    bool chargeRequested;  // the last scan asked for it (kept between scans)
+    uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
+                   // of the scan's read in progress
     std::span<const Setting> settings;
     union {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
     } out;
     ChargeCounter* charge;           // startScan
-    Instant chargeAsked;             // when the scan asked for the charge
+    Instant chargeAsked;             // when a scan asked for the charge
     uint8_t diff[kMaxSettings / 8];  // bit i: setting i differs from the table
     uint32_t scanRetries;
     uint16_t cbRead;     // CB_ACTIVE_CELLS read back by startBalanceCheck (bit 0 = cell 1)
