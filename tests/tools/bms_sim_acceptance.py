@@ -42,7 +42,10 @@ EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
 STALE_AFTER_MS = 300  # firmware/app/protection/default_limits.hpp: three scan periods
 EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
 NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
-GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the one image with a state of charge
+GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the gauge's state of charge, always there
+# The images that count a state of charge (not available until known); the L1306 images build it out
+# (FW_SOC=0 in their options.cmake), the BQ79616 image has no current input.
+SOC_IMAGES = ("lp-mspm0g3507-bq76952",)
 PERIOD_MS = 100.0  # PackSummary's cycle (bms.yaml)
 
 
@@ -244,9 +247,14 @@ def check_native_dbc(sim, dbc_dir, image, scratch):
         if name == "PackSummary" and t > 200:
             if values["DataValid"] != 1:
                 fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
-            # Only the gas gauge has a state of charge; the others once sent 0 % (a zero-filled default).
+            # The gauge always has a state of charge, SOC_IMAGES once known, the others never (they once sent
+            # 0 %, a zero-filled default).
             soc = values["StateOfCharge"]
-            if (soc is not None) != (image == GAUGE_IMAGE) or (soc is not None and not 0 <= soc <= 100):
+            if image == GAUGE_IMAGE:
+                bad = soc is None
+            else:
+                bad = soc is not None and image not in SOC_IMAGES
+            if bad or (soc is not None and not 0 <= soc <= 100):
                 fail(f"PackSummary at {t} ms: StateOfCharge {soc} on {image}")
             if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * summary_cells(summary)) > 0.1:
                 fail(f"PackSummary at {t} ms: pack voltage {values['PackVoltage']} V")

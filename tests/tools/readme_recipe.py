@@ -85,8 +85,8 @@ def main():
         fail(f"a line arrived {ahead:.2f} s ahead of the board's timing: a burst")
     # The first summary with data (the BQ76952's start-up, 130 ms, may outlast the first publish cycle).
     summary = next((l for _, l in lines if l.startswith("PackSummary") and "DataValid=1" in l), "none valid")
-    # 3.70 V per cell at rest: 43 % from the EVM pack's open-circuit table (40 % at 3.68 V, 50 % at 3.74 V).
-    if "StateOfCharge=43" not in summary or "PackVoltage=59.2" not in summary:
+    # The L1306 images build the state of charge out (FW_SOC=0, README "Open questions").
+    if "StateOfCharge=not_available" not in summary or "PackVoltage=59.2" not in summary:
         fail(f"PackSummary decodes as {summary!r}")
     print(f"REPORT readme.slcan_recipe: {len(lines)} frames printed, at most {max(ahead, 0) * 1000:.0f} ms ahead "
           f"of the board's timing, bms-sim ended {sim_end - reader_end:.2f} s after the recipe")

@@ -70,6 +70,17 @@ inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
+inline constexpr bool kSoc = FW_SOC != 0;
+static_assert(!kSoc || drivers::bq769x2::kCharge,
+              "the state of charge counts the device's accumulated charge (FW_BQ769X_CHARGE)");
+// FW_SOC=0: no state of charge is kept (nor its RAM); the view's StateOfCharge stays not available.
+struct NoStateOfCharge {
+  constexpr NoStateOfCharge(const SocConfig&, CounterFamily, int32_t) {}
+  void update(const SocInputs&) {}
+  bool known() const { return false; }
+  uint16_t permille() const { return 0; }
+};
+using SocState = std::conditional_t<kSoc, StateOfCharge, NoStateOfCharge>;
 
 struct Bq769xAppConfig {
   std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
@@ -89,9 +100,9 @@ struct Bq769xAppConfig {
   // link has failed. nullptr: not wired (the BQ7690x has no such pins).
   hal::DigitalOut* chargeOffPin = nullptr;
   hal::DigitalOut* dischargeOffPin = nullptr;
-  // State of charge (app/soc) from the device's accumulated charge: the pack's parameters (its pack file's
-  // state_of_charge) and the device's current LSB in 0.1 mA (its user-amps unit). nullptr: none computed,
-  // published as not available.
+  // State of charge (app/soc, built with FW_SOC) from the device's accumulated charge: the pack's
+  // parameters (its pack file's state_of_charge) and the device's current LSB in 0.1 mA (its user-amps unit).
+  // nullptr (or FW_SOC=0): none computed, published as not available.
   const SocConfig* soc = nullptr;
   int32_t currentLsbTenthMa = 10;
 };
@@ -166,8 +177,8 @@ class Bq769xDevice : public MonitorBase {
   BalancingPolicy& balancing() { return policy_; }
   const BalancingStatus& balancingStatus() const { return records_->balance; }
   // The state of charge (restore(): the record store's saved value).
-  StateOfCharge& stateOfCharge() { return soc_; }
-  const StateOfCharge& stateOfCharge() const { return soc_; }
+  SocState& stateOfCharge() { return soc_; }
+  const SocState& stateOfCharge() const { return soc_; }
 
  protected:
   static constexpr bool kCommands = true;
@@ -286,7 +297,8 @@ class Bq769xDevice : public MonitorBase {
   }
   // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
   void afterSummarize() {
-    if (config_.soc != nullptr && flags_->socDue) updateSoc();
+    if constexpr (kSoc)
+      if (config_.soc != nullptr && flags_->socDue) updateSoc();
     if constexpr (kBalancing) scheduler_.post(kMonitorTask, monitor_event::kBalance);
   }
   // The scan's totals and the device's charge counter into the state of charge, published in the view
@@ -452,7 +464,7 @@ class Bq769xDevice : public MonitorBase {
   const PublishStatus& status_;
   BalancingPolicy policy_;
   Zeroed<Records> records_;
-  StateOfCharge soc_;
+  SocState soc_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -517,7 +529,7 @@ class Bq769xApp {
   const Publisher& publisher() const { return publisher_; }
   // The command interface's balancing entry (BalancingPolicy::setMode).
   BalancingPolicy& balancing() { return monitor_.balancing(); }
-  StateOfCharge& stateOfCharge() { return monitor_.stateOfCharge(); }
+  SocState& stateOfCharge() { return monitor_.stateOfCharge(); }
 
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a

@@ -23,7 +23,7 @@ using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769
 
 const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
                                        .cells = fw::pack::kCells,
-                                       .soc = &fw::pack::kSoc,
+                                       .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
                                        .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
 
 }  // namespace

@@ -36,7 +36,7 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   dischargeOff.init(true);
   static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
                                                    .cells = fw::pack::kCells,
-                                                   .soc = &fw::pack::kSoc,
+                                                   .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
                                                    .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
