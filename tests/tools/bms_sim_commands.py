@@ -285,8 +285,7 @@ def check_python_can(sim, dbc_dir, image, scratch):
         f.write(LATCH_SCENARIO)
     log = os.path.join(scratch, "python-can.log")
     proc, path = slcan_pty.start(sim, "--image", image, "--duration", str(LOAD_GONE + 2000), "--slcan", "pty",
-                                 "--json",
-                                 "--scenario", scenario, "--candump", log)
+                                 "--json", "--scenario", scenario, "--candump", log)
     bus = slcan_pty.open_bus(path)
     received, answers, marks, trips, stage = [], [], {}, 0, "settings"
     ocd_before, charged_while_latched = False, 0

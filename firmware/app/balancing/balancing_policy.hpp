@@ -25,6 +25,7 @@
 #include "app/balancing/balancing_config.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection.hpp"
+#include "core/bits.hpp"
 #include "core/status.hpp"
 #include "core/time.hpp"
 #include "core/zeroed.hpp"
@@ -58,10 +59,7 @@ struct BalancingRules {
 constexpr bool maskAllowed(uint16_t mask, uint8_t cells, const BalancingRules& rules) {
   if (cells < 16 && (mask >> cells) != 0) return false;
   if (!rules.adjacentAllowed && (mask & (mask >> 1)) != 0) return false;
-  uint8_t n = 0;
-  for (uint16_t m = mask; m != 0; m &= static_cast<uint16_t>(m - 1))
-    ++n;
-  return n <= rules.maxCells;
+  return countBits(mask) <= rules.maxCells;
 }
 
 class BalancingPolicy {

@@ -7,8 +7,8 @@ namespace fw::app {
 namespace {
 
 // Folds `n` values into an extremes pair (ext[0] max, ext[1] min) and their places (at[]), numbering them
-// from `first`, and returns their sum. kNoReading values are left out. Out of line: one copy serves cells
-// and temperatures.
+// from `first`, and returns their sum. kNoReading values are left out. One function for cells and
+// temperatures.
 int32_t fold(int16_t* ext, uint16_t* at, bool& seen, const int16_t* values, uint8_t n, uint16_t first) {
   int32_t sum = 0;
   for (uint8_t k = 0; k < n; ++k, ++first) {

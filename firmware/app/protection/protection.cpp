@@ -1,5 +1,7 @@
 #include "app/protection/protection.hpp"
 
+#include "core/bits.hpp"
+
 namespace fw::app {
 // The six value limits come first in FaultId order, alternating upper and lower limits; cells and
 // temperatures line up with PackTotals::extreme (cells at 0, 1, temperatures at 2, 3), so one loop handles
@@ -68,11 +70,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
     evaluated |= bit(FaultId::CommLoss) | bit(FaultId::CommErrorRate);
   // The failures among the last rateWindow attempts: over a window, not in a row, so how the failures of an
   // intermittent link fall on the scan grid (which shifts with its onset) does not decide whether it trips.
-  uint8_t failures = 0;
-  for (uint32_t window = state_->attempts & ((1U << config_.rateWindow) - 1U); window != 0;
-       window &= window - 1)
-    ++failures;  // one failed attempt per set bit (ARMv6-M has no population-count instruction)
-  value[12] = failures;
+  value[12] = countBits(state_->attempts & ((1U << config_.rateWindow) - 1U));
 
   // Then each enabled rule with something to look at moves its debounce, and the paths to open are the union
   // of the actions (ChargeOff and DischargeOff are bits) of every active fault; the device rule's are

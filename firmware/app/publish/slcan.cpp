@@ -5,8 +5,8 @@ namespace fw::app::slcan {
 namespace {
 
 // A line is one run of hex digits, written from its last digit back: each value is shifted out four bits
-// at a time. Writes the `n` digits of `value` that end just before `end` and returns where they start. Out
-// of line: both encoders share it.
+// at a time. Writes the `n` digits of `value` that end just before `end` and returns where they start. Both
+// encoders share it.
 uint8_t* digits(uint8_t* end, uint32_t value, size_t n) {
   for (; n != 0; --n, value >>= 4) {
     const auto d = static_cast<uint8_t>(value & 0xFU);

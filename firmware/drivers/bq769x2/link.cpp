@@ -8,15 +8,6 @@ namespace fw::drivers::bq769x2 {
 
 FW_MODULE(Module::DriverBq769x2);
 
-namespace {
-
-// One CRC-8 step, kept out of line so the three users share one copy of the bit loop.
-uint8_t crcStep(uint8_t crc, uint8_t byte) {
-  return crc::crc8Update(crc, byte);
-}
-
-}  // namespace
-
 Status Link::startRead(uint8_t cmd, uint8_t len, uint8_t at, Duration delay) {
   if (busy()) return Status::Busy;
   if (len == 0 || at + len * (crc() ? 2 : 1) > kScratchBytes || (!kConfigPaths && delay.us != 0))
@@ -120,13 +111,13 @@ void Link::phase(Phase p) {
 inline void Link::transfer(uint8_t cmd, const uint8_t* data, uint8_t count, uint8_t readLen) {
   const bool withCrc = crc();
   uint8_t sum = 0;
-  if (withCrc) sum = crcStep(crcStep(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
+  if (withCrc) sum = crc::crc8Update(crc::crc8Update(0, static_cast<uint8_t>(cfg_.address << 1)), cmd);
   uint8_t k = 0;
   buffers_->tx[k++] = cmd;
   for (uint8_t i = 0; i < count; ++i) {
     buffers_->tx[k++] = data[i];
     if (withCrc) {
-      buffers_->tx[k++] = crcStep(sum, data[i]);
+      buffers_->tx[k++] = crc::crc8Update(sum, data[i]);
       sum = 0;
     }
   }
@@ -163,11 +154,12 @@ void Link::onBus() {
     // The first CRC of a read covers addr+W, the command, addr+R and the first data byte; then each byte
     // alone. The data are compacted in place over their CRCs.
     const uint8_t addressW = static_cast<uint8_t>(cfg_.address << 1);
-    uint8_t sum = crcStep(crcStep(crcStep(0, addressW), buffers_->tx[0]), addressW | 1);
+    uint8_t sum =
+        crc::crc8Update(crc::crc8Update(crc::crc8Update(0, addressW), buffers_->tx[0]), addressW | 1);
     uint8_t* w = buffers_->txn.read.data();
     for (size_t i = 0; i < readLen / 2; ++i) {
       const uint8_t d = w[2 * i];
-      if (crcStep(sum, d) != w[2 * i + 1]) return fail(Status::Crc);
+      if (crc::crc8Update(sum, d) != w[2 * i + 1]) return fail(Status::Crc);
       sum = 0;
       w[i] = d;
     }

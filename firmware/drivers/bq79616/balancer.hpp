@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <span>
 
+#include "core/bits.hpp"
 #include "core/status.hpp"
 #include "drivers/bq79616/chain.hpp"
 
@@ -50,10 +51,8 @@ class Balancer {
 
   // The masks the device takes in manual control with DEV_CONF[NO_ADJ_CB] (bit c = cell c + 1).
   static constexpr bool allowed(uint16_t mask, uint8_t cells) {
-    uint8_t n = 0;
-    for (uint16_t m = mask; m != 0; m &= static_cast<uint16_t>(m - 1))
-      ++n;
-    return n <= kMaxChannels && (mask & (mask >> 1)) == 0 && (cells >= 16 || (mask >> cells) == 0);
+    return countBits(mask) <= kMaxChannels && (mask & (mask >> 1)) == 0 &&
+           (cells >= 16 || (mask >> cells) == 0);
   }
 
   Status startApply(uint8_t device, uint16_t mask);

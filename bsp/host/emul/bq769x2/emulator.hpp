@@ -211,6 +211,7 @@ class Bq769xEmulator final : public I2cTarget {
   uint8_t cellsInUse() const;
   void measure();
   void applyOpenWire(std::array<int16_t, 16>& cells);  // open_wire.cpp
+  int32_t inputMv(int pin);                            // open_wire.cpp
   void scheduleOpenWireCheck();
   void openWireCheck();
   void updateSleep();

@@ -28,17 +28,21 @@ namespace {
 namespace m2 = fw::regmap::bq769x2;
 }  // namespace
 
+// Cell input VC`pin`'s voltage above VSS as the cells hold it: the sum of the cells below it.
+int32_t Bq769xEmulator::inputMv(int pin) {
+  int32_t mv = 0;
+  for (int c = 1; c <= pin; ++c)
+    mv += cellNowMv(static_cast<uint8_t>(c));
+  return mv;
+}
+
 void Bq769xEmulator::setOpenWire(int pin, bool open) {
   if (bq7690x() || pin < 0 || pin > cellCount()) return;
   if (!open) {
     if (pin == openPin_) openPin_ = -1;
   } else {
-    // The node keeps the voltage it had: the cells below it, from VSS.
-    int32_t node = 0;
-    for (int c = 1; c <= pin; ++c)
-      node += cellNowMv(static_cast<uint8_t>(c));
     openPin_ = pin;
-    openNodeMv_ = node;
+    openNodeMv_ = inputMv(pin);  // the node keeps the voltage it had
     scheduleOpenWireCheck();
   }
   update();
@@ -49,9 +53,7 @@ void Bq769xEmulator::setOpenWire(int pin, bool open) {
 void Bq769xEmulator::applyOpenWire(std::array<int16_t, 16>& cells) {
   if (openPin_ < 0) return;
   const size_t n = cellCount();
-  int32_t below = 0;
-  for (int c = 1; c < openPin_; ++c)
-    below += cellNowMv(static_cast<uint8_t>(c));
+  const int32_t below = inputMv(openPin_ - 1);
   const auto p = static_cast<size_t>(openPin_);
   if (p >= 1) {
     const int32_t above = below + cellNowMv(static_cast<uint8_t>(p));  // the input as the cell holds it
@@ -77,10 +79,7 @@ void Bq769xEmulator::openWireCheck() {
   if (openPin_ < 0) return;
   // VC1 and up have the sink (SLUUBY2B); the node drains until it reaches the input below (see above).
   if (openPin_ >= 1 && dataMemory(m2::dm::CheckTime.address, 1) != 0 && !cfgUpdate_) {
-    int32_t below = 0;
-    for (int c = 1; c < openPin_; ++c)
-      below += cellNowMv(static_cast<uint8_t>(c));
-    openNodeMv_ = std::max(below, openNodeMv_ - timing_.openWireDrainMv);
+    openNodeMv_ = std::max(inputMv(openPin_ - 1), openNodeMv_ - timing_.openWireDrainMv);
   }
   scheduleOpenWireCheck();
   update();
