@@ -54,7 +54,8 @@ void oneCDischarge(const char* image) {
   ASSERT_TRUE(soc.known());
   EXPECT_EQ(soc.basis(), SocBasis::Ocv);
   EXPECT_EQ(soc.permille(), 1000);
-  EXPECT_EQ(b.app.pack().stateOfCharge, 100);
+  EXPECT_EQ(b.app.pack().soc.permille, 1000);
+  EXPECT_EQ(b.app.pack().soc.fullChargeMah, kCapacityMah) << "the pack file's capacity";
   const int64_t start = b.emu.trueChargeMaUs();
   b.cells(3700);
   b.emu.setCurrentMa(-2500);
@@ -65,7 +66,13 @@ void oneCDischarge(const char* image) {
               image, static_cast<long long>(truth), static_cast<long long>(got), soc.remainingMah());
   EXPECT_NEAR(truth, 1000 - 59 * 1000 / 60, 2);  // the emulator counted 1C for 59 minutes
   EXPECT_LE(std::llabs(got - truth), 20) << "within 2 %";
-  EXPECT_EQ(b.app.pack().stateOfCharge, (got + 5) / 10) << "published in the view (PackSummary)";
+  // Published in the view (CAN PackSummary.StateOfCharge and the StateOfCharge message).
+  EXPECT_EQ(b.app.pack().soc.permille, got);
+  EXPECT_EQ(b.app.pack().soc.remainingMah, soc.remainingMah());
+  EXPECT_EQ(b.app.pack().soc.basis, SocBasis::Ocv);
+  const int64_t trueRemainingMah = truth * kCapacityMah / 1000;
+  EXPECT_LE(std::llabs(static_cast<int64_t>(soc.remainingMah()) - trueRemainingMah), kCapacityMah * 2 / 100)
+      << "remaining charge within 2 % of the capacity";
 }
 
 TEST(SocApp, OneCDischargeEndsWithinTwoPercentOnTheBq76952) {
@@ -81,7 +88,7 @@ TEST(SocApp, NotAvailableUntilKnown) {
   b.emu.setCurrentMa(-2500);  // under load: the open-circuit table is not used
   b.h.runFor(fw::s(2));
   EXPECT_FALSE(b.app.stateOfCharge().known());
-  EXPECT_FALSE(b.app.pack().hasStateOfCharge);
+  EXPECT_FALSE(b.app.pack().soc.known());
 }
 
 // A start value 20 % off (the pack is at 60 %, the value says 80 %), 6 minutes at 1C (true 50 %, the count

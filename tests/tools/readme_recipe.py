@@ -21,7 +21,7 @@ from bms_sim_acceptance import read_candump  # noqa: E402
 import slcan_pty  # noqa: E402
 
 NAMES = {0x100: "PackSummary", 0x101: "CellExtremes", 0x102: "TemperatureExtremes", 0x103: "ProtectionEvent",
-         0x200: "CellVoltages", 0x201: "Temperatures", 0x202: "BalancingStatus"}  # bms.yaml
+         0x104: "StateOfCharge", 0x200: "CellVoltages", 0x201: "Temperatures", 0x202: "BalancingStatus"}  # bms.yaml
 
 
 def fail(message):

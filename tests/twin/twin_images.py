@@ -26,9 +26,10 @@ checks:
   load        the emulated load and charger stop when the image opens their path (FETs or fault output)
   options     options the image cannot honour (--devices on a one-device image, --can-layout ti) exit 2
   gauge-soc   (BQ4050) StateOfCharge follows the current the emulated gauge counts
-Every check also finds StateOfCharge in each PackSummary as the image can know it: always from the BQ4050's gauge,
-never on the BQ79616 image (no current input; it was 0 %) nor on the L1306 images (built out, FW_SOC=0), 0..100
-or not available (until known) on G3507-BQ76952, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
+  soc-count   (G3507-BQ76952) the soc-discharge scenario: StateOfCharge within 2 % of the emulator's true value
+Every check also finds StateOfCharge in each PackSummary and the StateOfCharge message as the image can know it:
+always from the BQ4050's gauge, never on the BQ79616 image (no current input; it was 0 %) nor on the L1306 images
+(built out, FW_SOC=0), 0..100 % or not available (until known) on G3507-BQ76952, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
 Prints REPORT lines (CPU load, interrupt latency, longest ISR, the twin's speed).
 Exit 77 (skipped) when the ELF has not been built (./ci/test builds every image before it tests)."""
 import json
@@ -43,7 +44,8 @@ import canmatrix.formats
 # The host runs' checks (tests/tools): the same contract keys and the same candump reader (absolute times).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check_gauge_soc,  # noqa: E402
-                                check_load_paths, check_options, read_candump, read_slcan_text)
+                                check_load_paths, check_options, check_soc_count, check_soc_published,
+                                read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
           "otc", "utc", "comm_rate"]
@@ -90,6 +92,7 @@ def check_published(image, frames, scenario):
             bad = soc != 255 and soc > 100
         if bad:
             fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {soc} on {image}")
+    check_soc_published(image, frames, scenario)
     if image.startswith("lp-mspm0g3507-"):
         check_counter(frames, scenario)
 
@@ -442,6 +445,8 @@ def main():
         check_options(sim, image, scratch, ("--elf", elf))
     elif check == "gauge-soc":
         check_gauge_soc(sim, scratch, ("--elf", elf))
+    elif check == "soc-count":
+        check_soc_count(sim, image, scratch, ("--elf", elf))
     else:
         print(__doc__)
         return 2

@@ -70,7 +70,6 @@ inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
-inline constexpr bool kSoc = FW_SOC != 0;
 static_assert(!kSoc || drivers::bq769x2::kCharge,
               "the state of charge counts the device's accumulated charge (FW_BQ769X_CHARGE)");
 // FW_SOC=0: no state of charge is kept (nor its RAM); the view's StateOfCharge stays not available.
@@ -79,6 +78,9 @@ struct NoStateOfCharge {
   void update(const SocInputs&) {}
   bool known() const { return false; }
   uint16_t permille() const { return 0; }
+  uint32_t remainingMah() const { return 0; }
+  uint32_t capacityMah() const { return 0; }
+  SocBasis basis() const { return SocBasis::Unknown; }
 };
 using SocState = std::conditional_t<kSoc, StateOfCharge, NoStateOfCharge>;
 
@@ -302,7 +304,7 @@ class Bq769xDevice : public MonitorBase {
     if constexpr (kBalancing) scheduler_.post(kMonitorTask, monitor_event::kBalance);
   }
   // The scan's totals and the device's charge counter into the state of charge, published in the view
-  // (PackSummary.StateOfCharge) once known.
+  // (PackSummary.StateOfCharge, the StateOfCharge message) once known.
   void updateSoc() {
     flags_->socDue = false;
     const PackTotals& t = view_.totals;
@@ -317,8 +319,7 @@ class Bq769xDevice : public MonitorBase {
     if (c.valid)
       in.count = kCounterFamily == CounterFamily::Bq769x2 ? bq769x2Count(c.raw) : bq7690xCount(c.raw);
     soc_.update(in);
-    view_.hasStateOfCharge = soc_.known();
-    view_.stateOfCharge = static_cast<uint8_t>((soc_.permille() + 5) / 10);
+    view_.soc.set(soc_.permille(), soc_.remainingMah(), soc_.capacityMah(), soc_.basis());
   }
   // The device stopped answering or keeps failing: go through probe and configuration again, starting with a
   // probe at the next scan period.

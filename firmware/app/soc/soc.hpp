@@ -22,13 +22,11 @@
 
 #include "app/soc/accumulated_charge.hpp"
 #include "app/soc/soc_config.hpp"
+#include "app/soc/soc_view.hpp"
 #include "core/time.hpp"
 #include "core/zeroed.hpp"
 
 namespace fw::app {
-
-// How the value was last set (CAN StateOfCharge.Basis): zero is "nothing known yet".
-enum class SocBasis : uint8_t { Unknown = 0, Ocv = 1, Full = 2, Empty = 3, Restored = 4, Gauge = 5 };
 
 // One scan's view of the pack, as update() needs it.
 struct SocInputs {
