@@ -19,6 +19,7 @@
 #include "import/pdf.hpp"
 #include "model/model.hpp"
 #include "model/schema.hpp"
+#include "pack/pack_emit.hpp"
 
 namespace fs = std::filesystem;
 using namespace regmapgen;
@@ -52,6 +53,11 @@ constexpr const char* kUsage =
     "                                  DIR/can/<name>_table.hpp (host tools), <name>_<layout>.dbc and\n"
     "                                  REFERENCE.md (in --dbc-dir, default DIR/can); every error as\n"
     "                                  file:line:col\n"
+    "  regmapgen pack --regmaps DIR [--out DIR] [--select DIR] FILE\n"
+    "                                  a pack file (firmware/app/packs/*.yaml) checked against its device's\n"
+    "                                  register map (DIR/<family>/*.yaml); with --out writes\n"
+    "                                  DIR/packs/<name>.hpp, with --select SEL/packs/selected.hpp naming it\n"
+    "                                  fw::pack; every error as file:line:col, exit 1 on any error\n"
     "  regmapgen schema                the YAML schema as Markdown (embedded in regmaps/README.md)\n"
     "  regmapgen glossary              the import glossary (Chinese TI terms -> English) as Markdown\n";
 
@@ -329,6 +335,76 @@ int cmdCan(const std::vector<std::string>& args) {
   return ok ? 0 : 1;
 }
 
+int cmdPack(const std::vector<std::string>& args) {
+  std::string regmaps, out, select, file;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if ((args[i] == "--regmaps" || args[i] == "--out" || args[i] == "--select") && i + 1 < args.size()) {
+      (args[i] == "--regmaps" ? regmaps : args[i] == "--out" ? out : select) = args[i + 1];
+      ++i;
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      std::cerr << "regmapgen: error: pack: unknown option " << args[i] << "\n" << kUsage;
+      return 2;
+    } else if (file.empty()) {
+      file = args[i];
+    } else {
+      std::cerr << "regmapgen: error: pack takes one pack FILE\n";
+      return 2;
+    }
+  }
+  if (file.empty() || regmaps.empty()) {
+    std::cerr << "regmapgen: error: pack needs --regmaps DIR and a FILE\n" << kUsage;
+    return 2;
+  }
+  std::string text;
+  if (!readInput(file, text)) {
+    std::cerr << "regmapgen: error: cannot read " << file << "\n";
+    return 1;
+  }
+  Sources sources;
+  const int id = sources.add(file, std::move(text));
+  Diagnostics diag(sources);
+  const pack::PackFile p = pack::readPack(sources, id, diag);
+  if (!p.name.empty() && fs::path(file).stem().string() != p.name)
+    diag.error(p.nameLoc, "pack '" + p.name + "' is in " + fs::path(file).filename().string() +
+                              ": the file is named after the pack (" + p.name + ".yaml)");
+  // The device's register map: every YAML file of its family, built and checked as `regmapgen check` does.
+  Sources mapSources;
+  Model model;
+  const Family* family = nullptr;
+  if (const pack::DeviceSpec* dev = pack::findDevice(p.device); dev != nullptr && dev->settings) {
+    std::vector<std::string> maps = yamlFiles((fs::path(regmaps) / dev->family).string());
+    if (maps.size() == 1 && maps[0] == (fs::path(regmaps) / dev->family).string()) maps.clear();
+    if (maps.empty()) {
+      std::cerr << "regmapgen: error: no register map in " << (fs::path(regmaps) / dev->family).string()
+                << "\n";
+      return 1;
+    }
+    if (!load(maps, mapSources, model)) return 1;
+    for (const Family& f : model.families) {
+      if (f.name == dev->family) family = &f;
+    }
+  }
+  pack::Resolved resolved;
+  const bool ok = pack::resolvePack(p, family, resolved, diag) && diag.errorCount() == 0;
+  diag.render(std::cerr);
+  if (!ok) {
+    std::cerr << "regmapgen: " << diag.errorCount() << " error(s)\n";
+    return 1;
+  }
+  bool written = true;
+  const std::string source = fs::path(file).filename().string();
+  if (!out.empty()) {
+    written = writeIfChanged(fs::path(out) / "packs" / (resolved.name + ".hpp"),
+                             pack::emitPackHeader(resolved, source));
+  }
+  if (!select.empty()) {
+    written =
+        writeIfChanged(fs::path(select) / "packs" / "selected.hpp", pack::emitSelectedHeader(resolved)) &&
+        written;
+  }
+  return written ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -350,6 +426,7 @@ int main(int argc, char** argv) {
   if (cmd == "import") return cmdImport(args);
   if (cmd == "diff") return cmdDiff(args);
   if (cmd == "can") return cmdCan(args);
+  if (cmd == "pack") return cmdPack(args);
   if (cmd == "schema") {
     std::cout << schemaMarkdown();
     return 0;

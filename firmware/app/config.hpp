@@ -77,3 +77,12 @@ static_assert(FW_PUBLISH_LEVEL >= 0 && FW_PUBLISH_LEVEL <= 2, "FW_PUBLISH_LEVEL:
 #ifndef FW_BQ769X_FAULT_INDICATOR
 #define FW_BQ769X_FAULT_INDICATOR 1
 #endif
+// The state of charge (app/soc, Bq769xAppConfig::soc) from the device's accumulated charge, which the driver
+// reads every other scan (FW_BQ769X_CHARGE, drivers/bq769x2/config.hpp: needed, checked in
+// app/monitors/bq769x_app.hpp). 0: no state of charge in the view (app/soc/soc_view.hpp), so
+// PackSummary.StateOfCharge and the StateOfCharge message stay not available: the L1306 images, whose 16 KiB
+// it does not fit (README "Open questions"; they set FW_BQ769X_CHARGE=0 too), and the BQ79616 image, which
+// has no current input.
+#ifndef FW_SOC
+#define FW_SOC 1
+#endif

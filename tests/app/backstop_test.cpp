@@ -1,7 +1,7 @@
 // Each device protection an image enables is configured explicitly, with a legal TRM value, outside the
 // firmware limit it backs up (issue 23 item 1): the firmware acts first on every normal limit, the device is
 // the backstop. The settings tables (app/monitors/bq769x_settings.hpp) are read back as the device would hold
-// them, converted with the TRM's units and the board's shunt (kShuntMicroOhm), and compared with the
+// them, converted with the TRM's units and the EVM pack's shunt (kShuntMicroOhm), and compared with the
 // firmware's limit table (app/protection/default_limits.hpp). Images whose device protections the start-up
 // does not write: lp-mspm0g3507-bq79616 (the image enables no OV/UV/OT/UT comparator: its limits are the
 // firmware's, acting on the fault output) and lp-mspm0g3507-bq4050 (the gauge's data flash is left as
@@ -31,7 +31,7 @@ int32_t limitDegC(FaultId id) {
 }
 // Sense voltage in mV to pack current in mA on the image's shunt.
 int32_t milliamps(int32_t mv) {
-  return static_cast<int32_t>(static_cast<int64_t>(mv) * 1000000 / fw::app::kShuntMicroOhm);
+  return static_cast<int32_t>(static_cast<int64_t>(mv) * 1000000 / fw::packs::bq76952_evm::kShuntMicroOhm);
 }
 
 // The value a table writes at `address`, as the device would hold it (sign-extended for a signed entry).

@@ -62,12 +62,13 @@ Load nativeLoad(const Config& c) {
   const double fast = 1000.0 / bms::PackSummary::kCycleMs;  // per second
   static_assert(bms::PackSummary::kCycleMs == 100 && bms::CellExtremes::kCycleMs == 100);
   static_assert(bms::CellVoltages::kCycleMs == 1000 && bms::Temperatures::kCycleMs == 1000 &&
-                bms::TemperatureExtremes::kCycleMs == 1000 && bms::BalancingStatus::kCycleMs == 1000);
+                bms::TemperatureExtremes::kCycleMs == 1000 && bms::StateOfCharge::kCycleMs == 1000 &&
+                bms::BalancingStatus::kCycleMs == 1000);
   const double perFast = 3;  // PackSummary, CellExtremes, ProtectionEvent
   const double perSlow =
       c.boards * (framesPerBoard(c.cells, bms::CellVoltages::kCellPerFrame) +
                   framesPerBoard(c.temps, bms::Temperatures::kTempPerFrame) + (c.balances ? 1 : 0)) +
-      1.0;
+      2.0;  // TemperatureExtremes, StateOfCharge
   Load l;
   l.framesPerSecond = fast * perFast + perSlow;
   l.busShare = l.framesPerSecond * worstBits(8) / kBitrate;
@@ -196,12 +197,13 @@ TEST(CanBudget, EveryNativeMessageGoesOutAtItsStatedPeriodUpTo64Boards) {
         {bms::PackSummary::kId, bms::PackSummary::kCycleMs},
         {bms::CellExtremes::kId, bms::CellExtremes::kCycleMs},
         {bms::TemperatureExtremes::kId, bms::TemperatureExtremes::kCycleMs},
+        {bms::StateOfCharge::kId, bms::StateOfCharge::kCycleMs},
         {bms::CellVoltages::kId, bms::CellVoltages::kCycleMs},
         {bms::Temperatures::kId, bms::Temperatures::kCycleMs},
         {bms::BalancingStatus::kId, bms::BalancingStatus::kCycleMs}};
     // Every instance: each board's six cell frames, its temperature frame and its balancing frame, the
-    // extremes.
-    EXPECT_EQ(got.size(), 3u + n * 8u) << n << " boards";
+    // extremes and the state of charge.
+    EXPECT_EQ(got.size(), 4u + n * 8u) << n << " boards";
     for (const auto& [key, times] : got) {
       const auto [id, board, frame] = key;
       const double p = period.at(id);

@@ -70,6 +70,24 @@ TEST(CanCatalogue, PackSummaryBitFieldsAndSignedCurrent) {
   EXPECT_EQ(PackSummary::kChargeFetNotAvailable, 3) << "a path nothing confirmed goes out as 3";
 }
 
+TEST(CanCatalogue, StateOfChargeBitFields) {
+  StateOfCharge m;
+  m.soc = 437;                     // 43.7 %, bits 0-15
+  m.remainingCapacity = 0x12345;   // 74 565 mAh, bits 16-35
+  m.fullChargeCapacity = 0xFFFFE;  // 1 048 574 mAh, the largest a pack file takes, bits 36-55
+  m.basis = 1;                     // ocv, bits 56-59
+  const auto f = m.pack();
+  EXPECT_EQ(f.id, 0x104u);
+  EXPECT_EQ(f.data, (Bytes{0xB5, 0x01, 0x45, 0x23, 0xE1, 0xFF, 0xFF, 0x01}));
+  const auto back = StateOfCharge::unpack(f);
+  EXPECT_EQ(back.soc, 437);
+  EXPECT_EQ(back.remainingCapacity, 0x12345u);
+  EXPECT_EQ(back.fullChargeCapacity, 0xFFFFEu);
+  EXPECT_EQ(back.basis, 1);
+  static_assert(StateOfCharge::kCycleMs == 1000 && StateOfCharge::kSocNotAvailable == 0xFFFF &&
+                StateOfCharge::kRemainingCapacityNotAvailable == 0xFFFFF);
+}
+
 TEST(CanCatalogue, RoundTripsAtFieldLimits) {
   TiCellVoltages ti;
   ti.vCell[0] = INT16_MIN;

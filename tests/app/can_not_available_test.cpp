@@ -2,7 +2,7 @@
 // its reading is missing, starting from the state the images start from: the application's view and publish
 // status in zero-filled storage (Zeroed<T>, as on the MSPM0 images, where .bss is their only initialisation).
 // A default written into a struct (StateOfCharge's 255 once was) does not survive that, so StateOfCharge went
-// out as 0 % on the four images without a gauge.
+// out as 0 % on the images without a gauge.
 //
 // The signals come from bms.yaml as regmapgen reads it, and the values from the frames FramePlan builds,
 // decoded here from the YAML's start and length (not from the generated packers). A signal with a
@@ -65,8 +65,7 @@ struct ZeroedPack {
       measure(b, tMs);
     view->hasCurrent = true;
     view->currentMa = -1234;
-    view->hasStateOfCharge = true;
-    view->stateOfCharge = 57;
+    view->soc.set(573, 1433, 2500, fw::app::SocBasis::Ocv);
     status->pathsKnown = true;  // protection confirmed the paths (FET read-back, or the fault pin)
     status->chargeOn = status->dischargeOn = true;
     // The previous run left a fault record that survived the reset (a software SYSRST keeps SRAM).
@@ -139,6 +138,10 @@ void noTemperature(ZeroedPack& p) {
   }
 }
 
+void noSoc(ZeroedPack& p) {
+  p.view->soc = {};  // basis Unknown, as a monitor leaves it until the first value
+}
+
 void noFaultRecord(ZeroedPack& p) {
   fw::app::StartupInfo startup;
   startup.resetCause = 14;  // boot_wwdt0: a BOOTRST clears SRAM and the record with it
@@ -152,9 +155,11 @@ const std::map<std::string, Case>& cases() {
        {"a board's last scan failed: the sum is not the pack", boardOneSilent, any}},
       {"PackSummary.PackCurrent",
        {"no current sensor (the BQ79616 images)", [](ZeroedPack& p) { p.view->hasCurrent = false; }, any}},
-      {"PackSummary.StateOfCharge",
-       {"no gas gauge (every image but the BQ4050's)",
-        [](ZeroedPack& p) { p.view->hasStateOfCharge = false; }, any}},
+      {"PackSummary.StateOfCharge", {"no state of charge known yet (or ever: BQ79616, L1306)", noSoc, any}},
+      {"StateOfCharge.Soc", {"no state of charge known yet (or ever: BQ79616, L1306)", noSoc, any}},
+      {"StateOfCharge.RemainingCapacity", {"no state of charge known yet", noSoc, any}},
+      {"StateOfCharge.FullChargeCapacity", {"no state of charge known yet", noSoc, any}},
+      {"StateOfCharge.Basis", {"no state of charge known yet", noSoc, any}},
       {"PackSummary.ChargeFet",
        {"nothing confirms the paths (a failed scan, stale data, comm loss)",
         [](ZeroedPack& p) { p.status->pathsKnown = false; }, any}},

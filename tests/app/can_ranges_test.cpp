@@ -85,6 +85,11 @@ const std::map<std::string, Need>& needs() {
         {"PackSummary.PackVoltage", {0, kBoards * kCells * kCellInputV, true}},
         {"PackSummary.PackCurrent", {-kCurrentA, kCurrentA - 0.001, true}},
         {"PackSummary.StateOfCharge", {0, 100, true}},
+        // A pack file's capacity is at most 1 048 574 mAh (regmapgen pack); the gauge's words are 16 bits.
+        {"StateOfCharge.Soc", {0, 100, true}},
+        {"StateOfCharge.RemainingCapacity", {0, 1048574, true}},
+        {"StateOfCharge.FullChargeCapacity", {0, 1048574, true}},
+        {"StateOfCharge.Basis", {1, 5, true}},  // fw::app::SocBasis, Unknown sent as not available
         {"PackSummary.ChargeFet", {0, 1, true}},
         {"PackSummary.DischargeFet", {0, 1, true}},
         {"PackSummary.FaultOutput", {0, 1, false}},

@@ -53,6 +53,17 @@ int main() {
       "PackVoltage=na PackCurrent=na StateOfCharge=na ChargeFet=na DischargeFet=na FaultOutput=1 DataValid=0 "
       "Counter=9 ActiveFaults=2304");
 
+  StateOfCharge q;
+  q.soc = 437;
+  q.remainingCapacity = 1092;
+  q.fullChargeCapacity = 1048574;  // the largest capacity a pack file takes
+  q.basis = 1;                     // ocv
+  print("native", q.pack(), "Soc=43.7 RemainingCapacity=1092 FullChargeCapacity=1048574 Basis=1");
+  q.soc = 0xFFFF;
+  q.remainingCapacity = q.fullChargeCapacity = 0xFFFFF;
+  q.basis = 15;
+  print("native", q.pack(), "Soc=na RemainingCapacity=na FullChargeCapacity=na Basis=na");
+
   CellExtremes e;
   e.maxCellVoltage = 4201;
   e.maxCellIndex = 17;

@@ -4,6 +4,8 @@
 
 #include <map>
 #include <set>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "app/publish/frame_plan.hpp"
@@ -92,8 +94,10 @@ TEST(FramePlan, SlowCycleCarriesEveryBoardsCellsAndTemperatures) {
   Pack p;
   p.plan.beginSlow();
   const auto frames = p.drain(10);
-  // summary, extremes, 2 boards x 6 cell frames, 2 boards x 1 temperature frame, temperature extremes.
-  ASSERT_EQ(frames.size(), 2u + 12u + 2u + 1u);
+  // summary, extremes, 2 boards x 6 cell frames, 2 boards x 1 temperature frame, temperature extremes,
+  // state of charge.
+  ASSERT_EQ(frames.size(), 2u + 12u + 2u + 1u + 1u);
+  EXPECT_EQ(frames[17].id, bms::StateOfCharge::kId);
   for (int b = 0; b < 2; ++b) {
     for (int k = 0; k < 6; ++k) {
       const auto m = bms::CellVoltages::unpack(frames[2 + b * 6 + k]);
@@ -129,7 +133,7 @@ TEST(FramePlan, CellsAndSensorsABoardDoesNotHaveAreNotAvailable) {
   Pack p(1, 7, 1);
   p.plan.beginSlow();
   const auto frames = p.drain(10);
-  ASSERT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x200, 0x200, 0x200, 0x201, 0x102}));
+  ASSERT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x200, 0x200, 0x200, 0x201, 0x102, 0x104}));
   const auto c2 = bms::CellVoltages::unpack(frames[4]);  // cells 7..9
   EXPECT_EQ(c2.cell[0], 3006);
   EXPECT_EQ(c2.cell[1], kNa) << "cell 8 was sent as 0 mV";
@@ -141,6 +145,42 @@ TEST(FramePlan, CellsAndSensorsABoardDoesNotHaveAreNotAvailable) {
   const auto s = bms::PackSummary::unpack(frames[0]);
   EXPECT_EQ(s.packCurrent, bms::PackSummary::kPackCurrentNotAvailable) << "no sensor: not 0 A";
   EXPECT_EQ(s.stateOfCharge, 255);
+}
+
+// StateOfCharge (once a second) and PackSummary.StateOfCharge carry the view's value once known, while the
+// scan behind it is fresh; not available before and after.
+TEST(FramePlan, StateOfChargeGoesOutOnceKnownAndWhileFresh) {
+  Pack p;
+  auto slow = [&](uint32_t tMs) {
+    p.plan.beginSlow();
+    const auto frames = p.drain(tMs);
+    return std::pair{bms::PackSummary::unpack(frames.front()), bms::StateOfCharge::unpack(frames.back())};
+  };
+  auto [s, q] = slow(10);
+  EXPECT_EQ(s.stateOfCharge, 255) << "nothing known yet";
+  EXPECT_EQ(q.soc, bms::StateOfCharge::kSocNotAvailable);
+  EXPECT_EQ(q.remainingCapacity, bms::StateOfCharge::kRemainingCapacityNotAvailable);
+  EXPECT_EQ(q.fullChargeCapacity, bms::StateOfCharge::kFullChargeCapacityNotAvailable);
+  EXPECT_EQ(q.basis, bms::StateOfCharge::kBasisNotAvailable);
+
+  p.view.soc.set(437, 1092, 2500, fw::app::SocBasis::Ocv);
+  std::tie(s, q) = slow(20);
+  EXPECT_EQ(s.stateOfCharge, 44) << "43.7 % rounded";
+  EXPECT_EQ(q.soc, 437);
+  EXPECT_EQ(q.remainingCapacity, 1092u);
+  EXPECT_EQ(q.fullChargeCapacity, 2500u);
+  EXPECT_EQ(q.basis, static_cast<uint8_t>(fw::app::SocBasis::Ocv));
+
+  p.view.soc.set(1000, 4000, 4000, fw::app::SocBasis::Gauge);
+  std::tie(s, q) = slow(30);
+  EXPECT_EQ(s.stateOfCharge, 100);
+  EXPECT_EQ(q.soc, 1000);
+  EXPECT_EQ(q.basis, 5);
+
+  std::tie(s, q) = slow(301);  // scanned at 0 ms, stale after 300 ms
+  EXPECT_EQ(s.stateOfCharge, 255);
+  EXPECT_EQ(q.soc, bms::StateOfCharge::kSocNotAvailable) << "an old value is not sent as current";
+  EXPECT_EQ(q.remainingCapacity, bms::StateOfCharge::kRemainingCapacityNotAvailable);
 }
 
 TEST(FramePlan, ATemperatureWithNoReadingIsNotAvailableAndLeftOutOfTheExtremes) {
@@ -310,7 +350,8 @@ TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {
 }
 
 TEST(FramePlan, ASlowPartLongerThanAFastPeriodContinuesAfterTheNextFastFrames) {
-  // 64 boards: 384 cell frames, 64 temperature frames and the temperature extremes; at 500 kbit/s more
+  // 64 boards: 384 cell frames, 64 temperature frames, the temperature extremes and the state of charge; at
+  // 500 kbit/s more
   // than one 100 ms period. Each fast cycle's frames go first, then the slow part picks up where it was.
   Pack p(64);
   EXPECT_FALSE(p.plan.beginSlow());
@@ -319,7 +360,7 @@ TEST(FramePlan, ASlowPartLongerThanAFastPeriodContinuesAfterTheNextFastFrames) {
   auto count = [&](const std::vector<fw::hal::CanFrame>& fs) {
     for (const auto& f : fs) {
       if (f.id == 0x200 || f.id == 0x201) ++seen[{f.id, f.data[0] * 16 + (f.data[1] & 0xF)}];
-      if (f.id == 0x102) ++seen[{f.id, 0}];
+      if (f.id == 0x102 || f.id == 0x104) ++seen[{f.id, 0}];
     }
   };
   count(frames);
@@ -332,7 +373,7 @@ TEST(FramePlan, ASlowPartLongerThanAFastPeriodContinuesAfterTheNextFastFrames) {
     count(frames);
   }
   EXPECT_FALSE(p.plan.active());
-  EXPECT_EQ(seen.size(), 64u * 6 + 64 + 1);
+  EXPECT_EQ(seen.size(), 64u * 6 + 64 + 2);
   for (const auto& [key, n] : seen)
     EXPECT_EQ(n, 1) << "message " << key.first << " slot " << key.second;
 }

@@ -143,7 +143,7 @@ std::string backstop(FaultId f) {
     constexpr int kMv[16] = {10, 20, 40, 60, 80, 100, 125, 150, 175, 200, 250, 300, 350, 400, 450, 500};
     return kMv[s & 15];
   };
-  const double shuntMohm = fw::app::kShuntMicroOhm / 1000.0;
+  const double shuntMohm = fw::packs::bq76952_evm::kShuntMicroOhm / 1000.0;
   switch (f) {
     case FaultId::CellOvervoltage:
       return "BQ76952 COV " + fmt("%.0f mV", bq76952(m2::dm::CovThreshold.address) * 50.6) + " / " +

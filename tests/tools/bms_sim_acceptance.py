@@ -27,6 +27,9 @@ checks:
   options      options the image cannot honour are refused with a message and exit 2, never ignored
                (--can-layout ti on an image without the TI layout, --devices on a one-device image)
   gauge-soc    (lp-mspm0g3507-bq4050) StateOfCharge follows the current the gauge counts
+  soc-count    (lp-mspm0g3507-bq76952) the soc-discharge scenario: the StateOfCharge message and --json stay
+               within 2 % of the emulator's true state of charge (the charge it let flow, in the pack file's
+               capacity), not available until the first value
 Prints REPORT lines with the figures it measured."""
 import json
 import os
@@ -42,8 +45,48 @@ EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
 STALE_AFTER_MS = 300  # firmware/app/protection/default_limits.hpp: three scan periods
 EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
 NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
-GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the one image with a state of charge
+GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the gauge's state of charge, always there
+# The images that count a state of charge (not available until known); the L1306 images build it out
+# (FW_SOC=0 in their options.cmake), the BQ79616 image has no current input.
+SOC_IMAGES = ("lp-mspm0g3507-bq76952",)
 PERIOD_MS = 100.0  # PackSummary's cycle (bms.yaml)
+STATE_OF_CHARGE = 0x104  # bms.yaml StateOfCharge: Soc 0.1 % (bits 0-15), RemainingCapacity, FullChargeCapacity
+SOC_NA = 0xFFFF          # (20 bits each, mAh), Basis (4 bits)
+EVM_CAPACITY_MAH = 2500  # firmware/app/packs/bq76952-evm.yaml state_of_charge capacity_mah
+
+
+def soc_fields(d):
+    """StateOfCharge's raw fields from its payload: (soc, remaining, full, basis)."""
+    bits = int.from_bytes(d, "little")
+    return bits & 0xFFFF, (bits >> 16) & 0xFFFFF, (bits >> 36) & 0xFFFFF, (bits >> 56) & 0xF
+
+
+def check_soc_published(image, frames, where):
+    """The StateOfCharge message as each image can know it: never on the BQ79616 image (no current input) nor
+    the L1306 images (built out, FW_SOC=0); 0..1000 with capacities and a basis or wholly not available on
+    the others; and whenever known, PackSummary.StateOfCharge of the same cycle is its whole % (+-1 for a
+    scan in between). Returns the (time, soc, remaining, full, basis) of the known ones."""
+    known, summary = [], None
+    for t, ident, d in frames:
+        if ident == 0x100:
+            summary = d[4]
+        if ident != STATE_OF_CHARGE:
+            continue
+        soc, remaining, full, basis = soc_fields(d)
+        if soc == SOC_NA:
+            if (remaining, full, basis) != (0xFFFFF, 0xFFFFF, 0xF):
+                fail(f"{where}: StateOfCharge at {t:.3f} ms partly available: {d.hex()}")
+            continue
+        if "bq79616" in image or image.startswith("lp-mspm0l1306-"):
+            fail(f"{where}: StateOfCharge at {t:.3f} ms is {soc} on {image}, which has none")
+        if soc > 1000 or remaining > full or full in (0, 0xFFFFF) or basis not in range(1, 6):
+            fail(f"{where}: StateOfCharge at {t:.3f} ms: soc {soc}, {remaining}/{full} mAh, basis {basis}")
+        if (basis == 5) != (image == GAUGE_IMAGE):
+            fail(f"{where}: StateOfCharge at {t:.3f} ms has basis {basis} on {image}")
+        if summary is None or summary == 255 or abs(summary - (soc + 5) // 10) > 1:
+            fail(f"{where}: StateOfCharge at {t:.3f} ms is {soc / 10} %, PackSummary's {summary}")
+        known.append((t, soc, remaining, full, basis))
+    return known
 
 
 def fail(message):
@@ -241,12 +284,23 @@ def check_native_dbc(sim, dbc_dir, image, scratch):
                 fail(f"{name} at {t} ms decodes a temperature outside 0..100 degC: {values}")
             if all(v is None for v in temps):
                 fail(f"{name} at {t} ms has no temperature at all: {values}")
+        if name == "StateOfCharge" and t > 1200:
+            # Decoded with the DBC: the gauge has it (0.1 % steps of its whole %), the others never or once known.
+            if image == GAUGE_IMAGE and (values["Soc"] is None or values["FullChargeCapacity"] is None):
+                fail(f"StateOfCharge at {t} ms on the gauge image: {values}")
+            if image != GAUGE_IMAGE and image not in SOC_IMAGES and any(v is not None for v in values.values()):
+                fail(f"StateOfCharge at {t} ms on {image}, which has none: {values}")
         if name == "PackSummary" and t > 200:
             if values["DataValid"] != 1:
                 fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
-            # Only the gas gauge has a state of charge; the others once sent 0 % (a zero-filled default).
+            # The gauge always has a state of charge, SOC_IMAGES once known, the others never (they once sent
+            # 0 %, a zero-filled default).
             soc = values["StateOfCharge"]
-            if (soc is not None) != (image == GAUGE_IMAGE) or (soc is not None and not 0 <= soc <= 100):
+            if image == GAUGE_IMAGE:
+                bad = soc is None
+            else:
+                bad = soc is not None and image not in SOC_IMAGES
+            if bad or (soc is not None and not 0 <= soc <= 100):
                 fail(f"PackSummary at {t} ms: StateOfCharge {soc} on {image}")
             if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * summary_cells(summary)) > 0.1:
                 fail(f"PackSummary at {t} ms: pack voltage {values['PackVoltage']} V")
@@ -400,7 +454,57 @@ def check_gauge_soc(sim, scratch, extra=()):
     socs = [d[4] for t, d in summaries(frames, 0x100) if t > 200 and d[7] & 0x80]  # DataValid, bit 63
     if socs[0] != 80 or socs[-1] != 74 or any(b > a for a, b in zip(socs, socs[1:])):
         fail(f"StateOfCharge over 36 s at -25 A: {socs[0]} .. {socs[-1]} %, not 80 falling to 74")
-    print(f"REPORT sim.gauge_soc: {socs[0]} -> {socs[-1]} % after 250 mAh")
+    # The StateOfCharge message, once a second: the gauge's RemainingCapacity (3 200 mAh less 25 A since the
+    # start, +-10 mAh for the scan's age), FullChargeCapacity 4 000 mAh, RelativeStateOfCharge x 10 (the
+    # emulator rounds it up from RemainingCapacity, read just after it: 1 mAh more at most).
+    known = check_soc_published(image, frames, "gauge-soc")
+    for t, soc, remaining, full, basis in known:
+        expected = 3200 - 25000 * t / 3.6e6
+        rsoc = {10 * -(-(remaining + more) * 100 // full) for more in (0, 1)}
+        if full != 4000 or abs(remaining - expected) > 10 or soc not in rsoc:
+            fail(f"StateOfCharge at {t:.3f} ms: {soc / 10} %, {remaining} of {full} mAh; expected about "
+                 f"{expected:.0f} of 4000 mAh")
+    first, last = known[0], known[-1]
+    if len(known) < 30 or last[1] != 740:
+        fail(f"StateOfCharge over 36 s at -25 A: {len(known)} frames, {first[1]} .. {last[1]}, not .. 740")
+    print(f"REPORT sim.gauge_soc: {socs[0]} -> {socs[-1]} % after 250 mAh; StateOfCharge {first[1] / 10} -> "
+          f"{last[1] / 10} %, {first[2]} -> {last[2]} mAh of {last[3]}")
+
+
+def check_soc_count(sim, image, scratch, extra=(), duration=1200000):
+    """soc-discharge (bms-sim's scenario): the cells at 4.19 V at rest, so the first scans set 100 % from the
+    pack file's open-circuit table; 1C (2.5 A) from 2 s, 1 % every 36 s, with the cells at 3.70 V under load
+    (no full, empty or rest correction: the count alone moves it). Every StateOfCharge frame (not available
+    until the first value) and the end's --json must lie within 2 % (issue 29) of the true state of charge:
+    100 % plus the charge the emulator let flow (--json emulator_charge_mah; in between, 1C from 2 s)."""
+    summary, frames = simulate(sim, image, "soc-discharge", scratch, duration, extra)
+    known = check_soc_published(image, frames, "soc-count")
+    if not known:
+        fail("soc-count: the StateOfCharge message never carried a value")
+    worst = 0.0
+    for t, soc, remaining, full, basis in known:
+        true_permille = 1000 - max(0.0, t - 2000) / 3600.0  # 1C: 1 000 per hour
+        if full != EVM_CAPACITY_MAH or basis != 1:
+            fail(f"soc-count: StateOfCharge at {t:.3f} ms: capacity {full} mAh, basis {basis} (ocv, 2 500 mAh)")
+        if abs(remaining - soc * full / 1000) > full / 1000:
+            fail(f"soc-count: StateOfCharge at {t:.3f} ms: {remaining} mAh is not {soc / 10} % of {full}")
+        worst = max(worst, abs(soc - true_permille))
+    if worst > 20:
+        fail(f"soc-count: StateOfCharge strays {worst / 10:.1f} % from the true state of charge (2 % allowed)")
+    charge = summary["emulator_charge_mah"]
+    true_end = 1000 + charge * 1000 / EVM_CAPACITY_MAH
+    if abs(charge + 2.5 * (duration - 2000) / 3600) > 2.5:
+        fail(f"soc-count: the emulator let {charge} mAh flow, not 1C from 2 s")
+    got = summary["state_of_charge_permille"]
+    if summary["soc_basis"] != "ocv" or summary["full_charge_capacity_mah"] != EVM_CAPACITY_MAH or \
+            abs(got - true_end) > 20 or abs(summary["remaining_capacity_mah"] - (EVM_CAPACITY_MAH + charge)) > 50:
+        fail(f"soc-count: --json {got} permille, {summary['remaining_capacity_mah']} mAh "
+             f"({summary['soc_basis']}), true {true_end:.1f} permille after {charge:.1f} mAh")
+    if abs(known[-1][1] - got) > 1:
+        fail(f"soc-count: the last StateOfCharge frame says {known[-1][1]}, --json {got}")
+    print(f"REPORT sim.{image}.soc_count: {duration / 60000:.0f} min of 1C: {got / 10} % against the true "
+          f"{true_end / 10:.1f} % ({charge:.1f} mAh), worst frame {worst / 10:.1f} % off, first value at "
+          f"{known[0][0]:.0f} ms")
 
 
 def check_open_wire(sim, image, scratch):
@@ -531,6 +635,8 @@ def main():
         check_options(sim, image, scratch)
     elif check == "gauge-soc":
         check_gauge_soc(sim, scratch)
+    elif check == "soc-count":
+        check_soc_count(sim, image, scratch)
     else:
         print(__doc__)
         return 2

@@ -33,8 +33,11 @@ checks:
               stretch limit, SCL and SDA held, UART noise, CAN error frames), on the twin and on the host
               build: the image publishes valid data again within RECOVERY_MS of the fault's end (and PackSummary
               keeps coming, but for the bus-off error frames cause); a stretch within the limit loses nothing
-Every check also finds StateOfCharge not available in each PackSummary of an image without a gauge (it was
-0 %), and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
+  soc-count   (G3507-BQ76952) 5 minutes of the soc-discharge scenario: StateOfCharge within 2 % of the emulator's
+              true value
+Every check also finds StateOfCharge in each PackSummary and the StateOfCharge message as the image can know it:
+always from the BQ4050's gauge, never on the BQ79616 image (no current input; it was 0 %) nor on the L1306 images
+(built out, FW_SOC=0), 0..100 % or not available (until known) on G3507-BQ76952, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
 Prints REPORT lines (CPU load, interrupt latency, longest ISR, the twin's speed).
 Exit 77 (skipped) when the ELF has not been built (./ci/test builds every image before it tests)."""
 import json
@@ -49,7 +52,8 @@ import canmatrix.formats
 # The host runs' checks (tests/tools): the same contract keys and the same candump reader (absolute times).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check_gauge_soc,  # noqa: E402
-                                check_load_paths, check_options, read_candump, read_slcan_text)
+                                check_load_paths, check_options, check_soc_count, check_soc_published,
+                                read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
           "otc", "utc", "comm_rate"]
@@ -80,12 +84,23 @@ def simulate(sim, scratch, name, scenario, duration, source):
 
 
 def check_published(image, frames, scenario):
-    """What every run must show: StateOfCharge only from a gauge (bms.yaml: 255 is not available; the images
-    without one sent 0 % from their zero-filled state), and a PackSummary.Counter gap for each summary that
-    never went out, and none otherwise."""
+    """What every run must show: StateOfCharge always from the gauge, never on the BQ79616 image (bms.yaml: 255
+    is not available; it once sent 0 % from its zero-filled state), 0..100 or not available (until the first
+    value) on the BQ769x images' coulomb count; and a PackSummary.Counter gap for each summary that never went
+    out, and none otherwise."""
     for t, ident, d in frames:
-        if ident == PACK_SUMMARY and d[7] & 0x80 and (d[4] == 255) == (image == GAUGE_IMAGE):  # DataValid
-            fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {d[4]} on {image}")
+        if ident != PACK_SUMMARY or not d[7] & 0x80:  # DataValid
+            continue
+        soc = d[4]
+        if image == GAUGE_IMAGE:
+            bad = soc == 255
+        elif "bq79616" in image or image.startswith("lp-mspm0l1306-"):
+            bad = soc != 255  # no current input; the L1306 images build the state of charge out (FW_SOC=0)
+        else:
+            bad = soc != 255 and soc > 100
+        if bad:
+            fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {soc} on {image}")
+    check_soc_published(image, frames, scenario)
     if image.startswith("lp-mspm0g3507-"):
         check_counter(frames, scenario)
 
@@ -562,6 +577,8 @@ def main():
         check_profile(sim, elf, image, scratch)
     elif check == "faults":
         check_faults(sim, elf, image, scratch)
+    elif check == "soc-count":
+        check_soc_count(sim, image, scratch, ("--elf", elf), 300000)  # 5 minutes: the twin is slower than the host
     else:
         print(__doc__)
         return 2

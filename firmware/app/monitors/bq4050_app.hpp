@@ -122,8 +122,10 @@ class Bq4050Device : public MonitorBase {
       sample_.valid = true;
       view_.hasCurrent = true;
       view_.currentMa = m.currentMa;
-      view_.stateOfCharge = m.rsocPercent;
-      view_.hasStateOfCharge = true;
+      // The gauge's own state of charge: RelativeStateOfCharge in % and its capacities in mAh
+      // (BatteryMode[CAPM] = 0, SLUUAQ3A 0x03: the reset value, which this image never changes).
+      view_.soc.set(static_cast<uint16_t>(m.rsocPercent * 10U), m.remainingCapacity, m.fullChargeCapacity,
+                    SocBasis::Gauge);
       view_.deviceBlocks = blockedPaths(m);
     }
     return {.newData = result == Status::Ok || openWire, .failed = result != Status::Ok, .counts = !openWire};

@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "app/balancing/balancing_config.hpp"
 #include "app/balancing/balancing_policy.hpp"
@@ -52,6 +53,7 @@
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
 #include "app/publish/slcan_publisher.hpp"
+#include "app/soc/soc.hpp"
 #include "core/stats.hpp"
 #include "core/zeroed.hpp"
 #include "drivers/bq769x2/monitor.hpp"
@@ -68,6 +70,19 @@ inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
+static_assert(!kSoc || drivers::bq769x2::kCharge,
+              "the state of charge counts the device's accumulated charge (FW_BQ769X_CHARGE)");
+// FW_SOC=0: no state of charge is kept (nor its RAM); the view's StateOfCharge stays not available.
+struct NoStateOfCharge {
+  constexpr NoStateOfCharge(const SocConfig&, CounterFamily, int32_t) {}
+  void update(const SocInputs&) {}
+  bool known() const { return false; }
+  uint16_t permille() const { return 0; }
+  uint32_t remainingMah() const { return 0; }
+  uint32_t capacityMah() const { return 0; }
+  SocBasis basis() const { return SocBasis::Unknown; }
+};
+using SocState = std::conditional_t<kSoc, StateOfCharge, NoStateOfCharge>;
 
 struct Bq769xAppConfig {
   std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
@@ -87,6 +102,11 @@ struct Bq769xAppConfig {
   // link has failed. nullptr: not wired (the BQ7690x has no such pins).
   hal::DigitalOut* chargeOffPin = nullptr;
   hal::DigitalOut* dischargeOffPin = nullptr;
+  // State of charge (app/soc, built with FW_SOC) from the device's accumulated charge: the pack's
+  // parameters (its pack file's state_of_charge) and the device's current LSB in 0.1 mA (its user-amps unit).
+  // nullptr (or FW_SOC=0): none computed, published as not available.
+  const SocConfig* soc = nullptr;
+  int32_t currentLsbTenthMa = 10;
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -142,6 +162,7 @@ class Bq769xDevice : public MonitorBase {
         fet_(fet),
         status_(status),
         policy_(kDefaultBalancing, balancingRules(variantOf(driverArgs...))),
+        soc_(config.soc != nullptr ? *config.soc : kNoSoc, kCounterFamily, config.currentLsbTenthMa),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
@@ -157,10 +178,17 @@ class Bq769xDevice : public MonitorBase {
   // Balancing: the command interface's entry (BalancingPolicy::setMode) and what is published.
   BalancingPolicy& balancing() { return policy_; }
   const BalancingStatus& balancingStatus() const { return records_->balance; }
+  // The state of charge (restore(): the record store's saved value).
+  SocState& stateOfCharge() { return soc_; }
+  const SocState& stateOfCharge() const { return soc_; }
 
  protected:
   static constexpr bool kCommands = true;
   static constexpr bool kBalancing = drivers::bq769x2::kBalance;
+  static constexpr CounterFamily kCounterFamily =
+      std::is_same_v<Measurement, drivers::bq769x2::Bq7690xMeasurement> ? CounterFamily::Bq7690x
+                                                                        : CounterFamily::Bq769x2;
+  static constexpr SocConfig kNoSoc{};
   static constexpr sched::EventMask kPublisherScanDone = kPublisherScanDone_;
   enum class Step : uint8_t { Probe, Configure, FetEnable, RuntimeSetup };
 
@@ -248,13 +276,19 @@ class Bq769xDevice : public MonitorBase {
     flags_->step = static_cast<Step>(static_cast<uint8_t>(flags_->step) +
                                      (!kConfigUpdate && flags_->step == Step::Probe ? 2 : 1));
   }
-  Status startScan() { return driver_.startScan(records_->measurement); }
+  // A balancing read-back waits in the device's subcommand window: the scan leaves the accumulated charge out
+  // then (the device's counter runs on; the next scan's charge includes it).
+  Status startScan() {
+    const bool readBackWaits = kBalancing && (flags_->checkPending || flags_->checkWanted);
+    return driver_.startScan(records_->measurement, !readBackWaits);
+  }
   ScanVerdict scanFinished(Status result, Instant) {
     if (result == Status::Aborted)
       return {.measured = false};  // gave way to a FET command: not a measurement
     sample_.last = result;
     if (result == Status::Ok) {
       toSample(records_->measurement, config_.cells, sample_, view_);
+      flags_->socDue = true;
       // The device reset since the set-up: set it up again now (the measurement itself is valid).
       if (records_->measurement.reg.batteryStatus.sleep_en()) {
         setRunning(view_, false);
@@ -265,7 +299,27 @@ class Bq769xDevice : public MonitorBase {
   }
   // Balancing runs after protection has seen this scan (monitor_task.hpp, kBalance).
   void afterSummarize() {
+    if constexpr (kSoc)
+      if (config_.soc != nullptr && flags_->socDue) updateSoc();
     if constexpr (kBalancing) scheduler_.post(kMonitorTask, monitor_event::kBalance);
+  }
+  // The scan's totals and the device's charge counter into the state of charge, published in the view
+  // (PackSummary.StateOfCharge, the StateOfCharge message) once known.
+  void updateSoc() {
+    flags_->socDue = false;
+    const PackTotals& t = view_.totals;
+    const drivers::bq769x2::ChargeCounter& c = records_->measurement.charge;
+    SocInputs in{.now = t.takenAt,
+                 .currentMa = view_.currentMa,
+                 .maxCellMv = t.extreme[kMaxCell],
+                 .minCellMv = t.extreme[kMinCell],
+                 .avgCellMv = static_cast<int16_t>(t.packMv / config_.cells),
+                 .cells = t.complete && !t.openWire,
+                 .counted = c.valid};
+    if (c.valid)
+      in.count = kCounterFamily == CounterFamily::Bq769x2 ? bq769x2Count(c.raw) : bq7690xCount(c.raw);
+    soc_.update(in);
+    view_.soc.set(soc_.permille(), soc_.remainingMah(), soc_.capacityMah(), soc_.basis());
   }
   // The device stopped answering or keeps failing: go through probe and configuration again, starting with a
   // probe at the next scan period.
@@ -386,6 +440,7 @@ class Bq769xDevice : public MonitorBase {
     bool checkPending;                 // a write ended: its read-back is due after the next scan
     bool checkWanted;                  // the last write's read-back is due
     bool balanceBackoff;               // a balancing command failed on the bus: again next scan period
+    bool socDue;                       // a scan validated: the state of charge counts it after summarize
   };
   struct Records {
     Bq769xStats stats;
@@ -410,6 +465,7 @@ class Bq769xDevice : public MonitorBase {
   const PublishStatus& status_;
   BalancingPolicy policy_;
   Zeroed<Records> records_;
+  SocState soc_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -474,6 +530,7 @@ class Bq769xApp {
   const Publisher& publisher() const { return publisher_; }
   // The command interface's balancing entry (BalancingPolicy::setMode).
   BalancingPolicy& balancing() { return monitor_.balancing(); }
+  SocState& stateOfCharge() { return monitor_.stateOfCharge(); }
 
  private:
   // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a

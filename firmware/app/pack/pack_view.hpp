@@ -18,6 +18,7 @@
 #include <span>
 
 #include "app/config.hpp"
+#include "app/soc/soc_view.hpp"
 #include "core/status.hpp"
 #include "core/time.hpp"
 
@@ -111,10 +112,9 @@ struct PackView {
   // leaves stale_data and comm_loss alone and the monitor reports no failed scan periods (inStartupGrace()).
   // Past the bound a pack never measured is stale, counted from power-up.
   bool startupGrace = false;
-  // A gas gauge's state of charge stands behind stateOfCharge (set with it by the gauge's monitor). Zero, the
-  // state the images start from (Zeroed<PackView>), means none: StateOfCharge then goes out not available.
-  bool hasStateOfCharge = false;
-  uint8_t stateOfCharge = 0;  // %, valid with hasStateOfCharge and board 0's measurement
+  // The state of charge (app/soc/soc_view.hpp), set by the monitor; basis Unknown (zero, the state the images
+  // start from) means none, and the StateOfCharge signals go out not available. Empty in FW_SOC=0 builds.
+  [[no_unique_address]] SocView soc{};
   // Board measurements that failed since start-up, counted by summarize() (a scan that fails on n boards
   // counts n), saturating at 65535; published as ProtectionEvent.CommErrors. Not counted in builds that do
   // not publish it (FW_PUBLISH_LEVEL 0).

@@ -1,9 +1,12 @@
-// The firmware protection limits every image starts from (Li-ion cells), inside the monitors' own limits.
+// The firmware protection limits an image starts from: its pack file's (BMS_PACK, firmware/app/packs/*.yaml,
+// generated as fw::pack by regmapgen pack), inside the monitors' own limits.
 //
-// One table, kLimits below, one row per fault: what a pack file will replace (issue 29). Each device's own
-// protection is written outside these limits at start-up (monitors/bq769x_settings.hpp; the test
-// tests/app/backstop_test.cpp checks the ordering for every image), so the firmware acts first and the
-// device is the backstop.
+// The rows come from the pack file, one per fault it sets (pack::kLimitRows); regmapgen checks them against
+// the device (a current the device cannot report at its user-amps unit, a device protection inside a firmware
+// limit: file:line:col errors) and writes each device protection outside them (pack::kDeviceSettings;
+// tests/app/backstop_test.cpp checks the ordering on every image), so the firmware acts first and the device
+// is the backstop. The EVM packs hold the Li-ion limits below; firmware/app/packs/README.md says what each
+// value means.
 //
 // Actions: the path the fault endangers. Over-voltage, charge over-current and the charge temperature limits
 // open the charge path (discharging relieves them and stays allowed); under-voltage, discharge over-current
@@ -29,70 +32,56 @@
 // them, the third comes 6.4 s after the first at the soonest); a load that trips once every 10 s or more
 // never latches.
 //
+// Latch: repeated discharge over-currents latch the discharge path off (TI's OCDL, SLUUBY2B 5.2,
+// Protections:OCDL): each trip counts one, one is forgiven every 10 s after the latest (TI's Counter Dec
+// Delay default), and the third trip so counted latches (TI ships OCDL Latch Limit 0, off; 3 is the trip
+// after the BQ7690x's smallest latch setting of two retries, SLUUCJ0 Protections:Current:Latch Limit). A
+// latched over-current stays through its recovery until ClearFaults finds the current gone (no more than 200
+// mA of discharge); the charge path stays available throughout (on a single-output image, below, the one
+// output holds both off). Three trips each within 10 s of the one before latch (with the 3 s recovery between
+// them, the third comes 6.4 s after the first at the soonest); a load that trips once every 10 s or more
+// never latches. The pack file sets both (discharge_overcurrent latch_trips, trip_decay_s; the EVM packs
+// 3 and 10 s).
+//
 // Cell voltages and temperatures act on the first scan that shows them: the monitors already filter their
 // readings (BQ769x2 per-cell averaging, BQ79616 26 Hz low-pass, BQ4050 gauge filtering), and a second sample
 // would add a scan period of latency, past the budget "fault visible -> paths off within one scan period".
 // Current waits for two samples (load steps are real but brief).
 //
-// The discharge over-current limit, -30 A, lies inside what every monitor reports: a BQ769x2 or BQ7690x CC2
-// reading in the default 1 mA user unit and the BQ4050's Current() are 16-bit, down to -32 768 mA (a limit
-// beyond that could never trip). The devices' over-current protections sit beyond it (BQ76952 OCD1 40 mV
-// across the EVM's 1 mOhm shunt, 40 A).
+// The discharge over-current limit of the EVM packs, -30 A, lies inside what every monitor reports: a BQ769x2
+// or BQ7690x CC2 reading in the 1 mA user unit and the BQ4050's Current() are 16-bit, down to -32 768 mA (a
+// limit beyond that could never trip: regmapgen refuses it). The devices' over-current protections sit beyond
+// it (BQ76952 OCD1 40 mV across the EVM's 1 mOhm shunt, 40 A).
 //
 // One constant table (in flash, referenced, never copied) for the 100 ms scan period every image uses.
 #pragma once
 
+#include <array>
+#include <cstddef>
+
+#include "app/protection/limit_table.hpp"
 #include "app/protection/protection.hpp"
+#include "packs/selected.hpp"
 
 namespace fw::app {
 
 inline constexpr Duration kScanPeriod = ms(100);
 
-// One row of the limit table: the fault, its thresholds (mV, mA, 0.1 K; 0/1 for the flag rules), the trip and
-// recovery counts (evaluations, one per scan), the action, whether it latches on its first trip, and the
-// trip count that latches it with the decay (s) that forgives one (Rule::latchTrips, tripDecayS).
-struct LimitRow {
-  FaultId fault;
-  int32_t trip;
-  int32_t clear;
-  uint8_t debounce;
-  uint8_t recover;
-  Action action;
-  bool latch;
-  uint8_t latchTrips = 0;
-  uint8_t tripDecayS = 0;
-};
-
-inline constexpr int32_t kDeciKelvinAtZeroCelsius = 2732;
-constexpr int32_t degC(int32_t c) {
-  return kDeciKelvinAtZeroCelsius + 10 * c;
+namespace limits_detail {
+// The pack's rows, then the one rule a pack file does not set: an intermittent link, 4 of the last
+// rateWindow (10) scan attempts failed (a link that fails 40 % of its scans gives no data to trust); clears
+// once none of the last 10 failed.
+constexpr std::array<LimitRow, kFaultCount> table() {
+  std::array<LimitRow, kFaultCount> t{};
+  static_assert(std::size(pack::kLimitRows) == kFaultCount - 1, "the pack sets every fault but comm_rate");
+  for (size_t i = 0; i < std::size(pack::kLimitRows); ++i)
+    t[i] = pack::kLimitRows[i];
+  t[kFaultCount - 1] = {FaultId::CommErrorRate, 4, 1, 1, 1, Action::AllOff, false};
+  return t;
 }
+}  // namespace limits_detail
 
-// Recovery of the current limits: 3 s of current the other way (TI's Protections:Recovery:Time default).
-inline constexpr uint8_t kCurrentRecoveryScans = 30;
-// The discharge over-current latch: trips counted, and the seconds after the latest that forgive one.
-inline constexpr uint8_t kOcdLatchTrips = 3;
-inline constexpr uint8_t kOcdTripDecayS = 10;
-
-inline constexpr LimitRow kLimits[kFaultCount] = {
-    {FaultId::CellOvervoltage, 4250, 4150, 1, 1, Action::ChargeOff, false},
-    {FaultId::CellUndervoltage, 2700, 2900, 1, 1, Action::DischargeOff, false},
-    {FaultId::ChargeOvercurrent, 20000, -200, 2, kCurrentRecoveryScans, Action::ChargeOff, false},
-    {FaultId::DischargeOvercurrent, -30000, 200, 2, kCurrentRecoveryScans, Action::DischargeOff, false,
-     kOcdLatchTrips, kOcdTripDecayS},
-    {FaultId::OvertempDischarge, degC(60), degC(55), 1, 1, Action::DischargeOff, false},
-    {FaultId::UndertempDischarge, degC(-20), degC(-15), 1, 1, Action::DischargeOff, false},
-    {FaultId::DeviceSafety, 1, 1, 1, 1, Action::AllOff, false},  // narrowed to the device flags' paths
-    {FaultId::StaleData, 1, 1, 1, 1, Action::AllOff, false},
-    {FaultId::CommLoss, 1, 1, 1, 1, Action::AllOff, false},
-    {FaultId::OpenWire, 1, 1, 1, 1, Action::AllOff, false},
-    {FaultId::OvertempCharge, degC(45), degC(40), 1, 1, Action::ChargeOff, false},
-    {FaultId::UndertempCharge, degC(0), degC(5), 1, 1, Action::ChargeOff, false},
-    // An intermittent link: 4 of the last rateWindow (10) scan attempts failed (a link that fails 40 % of its
-    // scans gives no data to trust); clears once none of the last 10 failed.
-    {FaultId::CommErrorRate, 4, 1, 1, 1, Action::AllOff, false},
-};
-
+inline constexpr std::array<LimitRow, kFaultCount> kLimits = limits_detail::table();
 constexpr bool everyFaultOnceInOrder() {
   for (uint8_t i = 0; i < kFaultCount; ++i)
     if (static_cast<uint8_t>(kLimits[i].fault) != i) return false;
@@ -109,8 +98,8 @@ constexpr ProtectionConfig makeDefaultLimits(Duration scanPeriod) {
     r.latchTrips = row.latch ? 1 : row.latchTrips, r.tripDecayS = row.tripDecayS;
   }
   c.rateWindow = 10;
-  c.staleAfter = scanPeriod * 3;
-  c.commLossScans = 3;
+  c.staleAfter = scanPeriod * pack::kStaleScans;
+  c.commLossScans = pack::kCommLossScans;
   return c;
 }
 

@@ -155,7 +155,8 @@ using Sent = std::conditional_t<kSent, M, Left<M>>;
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
       bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
-      Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::BalancingStatus, kAllMessages>
+      Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::StateOfCharge, kAllMessages>,           \
+      Sent<bms::BalancingStatus, kAllMessages>
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
@@ -195,7 +196,14 @@ static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::ProtectionEvent::kFieldCount <= kMaxFields &&
               bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
               bms::BalancingStatus::kFieldCount <= kMaxFields &&
-              bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields);
+              bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields &&
+              bms::StateOfCharge::kFieldCount <= kMaxFields);
+// StateOfCharge's capacities go out unclamped: a pack file's capacity is at most 1 048 574 mAh (regmapgen
+// pack), the remaining charge never above it, and the gauge's words are 16 bits; all below not available.
+static_assert(bms::StateOfCharge::kRemainingCapacityNotAvailable == 0xFFFFF &&
+              bms::StateOfCharge::kFullChargeCapacityNotAvailable == 0xFFFFF &&
+              bms::StateOfCharge::kSocNotAvailable == 0xFFFF &&
+              bms::StateOfCharge::kBasisNotAvailable == 0xF);
 static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
                   bms::Startup::kFaultLineNotAvailable == 0xFFFF,
               "a Startup field left unset goes out as not available");
@@ -224,6 +232,8 @@ inline uint16_t FramePlan::framesIn(Step step) const {
           boards * framesPerBoard(step == kCells ? pack_.cellsPerBoard : pack_.tempsPerBoard));
     case kTempExtremes:
       return pack_.tempsPerBoard != 0;
+    case kStateOfCharge:
+      return 1;
     case kBalancing:
       return pack_.balancing != nullptr ? boards : 0;
     case kTiCells:
@@ -318,7 +328,8 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
         if (fresh && t.complete) v[S::kPackVoltageField] = clampU16(divideBy10(divideBy10(t.packMv + 50)));
         v[S::kPackCurrentField] = static_cast<uint16_t>(
             cells && pack_.hasCurrent ? clampI16(divideBy10(pack_.currentMa)) : S::kPackCurrentNotAvailable);
-        if (cells && pack_.hasStateOfCharge) v[S::kStateOfChargeField] = pack_.stateOfCharge;
+        // Whole %, rounded (the StateOfCharge message has it in 0.1 %).
+        if (cells && pack_.soc.known()) v[S::kStateOfChargeField] = (pack_.soc.permille + 5U) / 10U;
         // The paths only as confirmed (publish_status.hpp); not available otherwise.
         if (status_.pathsKnown) {
           v[S::kChargeFetField] = status_.chargeOn;
@@ -382,6 +393,21 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
            ++j, ++i) {
         if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
           v[C::kCellField + j] = reading(values[i]);
+      }
+      break;
+    }
+    case kStateOfCharge: {
+      if (!sent(kStateOfCharge)) return 0;
+      // Sent as PackSummary's StateOfCharge: once known, while the scan behind it is fresh. Builds without
+      // a state of charge (FW_SOC=0: known() is constant false) send it not available, for the price of its
+      // identifier and fields.
+      const SocView& soc = pack_.soc;
+      if (cells && soc.known()) {
+        using Q = bms::StateOfCharge;
+        v[Q::kSocField] = soc.permille;
+        v[Q::kRemainingCapacityField] = soc.remainingMah;
+        v[Q::kFullChargeCapacityField] = soc.fullChargeMah;
+        v[Q::kBasisField] = static_cast<uint8_t>(soc.basis);
       }
       break;
     }

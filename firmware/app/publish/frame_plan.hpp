@@ -14,7 +14,8 @@
 //                         cause, firmware version, surviving fault record
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
-//                         TemperatureExtremes, and BalancingStatus of every board where the pack balances
+//                         TemperatureExtremes, StateOfCharge (not available where the build or the monitor
+//                         has none), and BalancingStatus of every board where the pack balances
 //                         (PackView::balancing). The slow part may take longer than 100 ms (64 boards: 449
 //                         frames, about 120 ms at 500 kbit/s): a fast cycle that begins while it is still
 //                         going sends its own frames first and then lets the slow part continue where it
@@ -103,6 +104,7 @@ class FramePlan {
     kCells,
     kTemps,
     kTempExtremes,
+    kStateOfCharge,
     kBalancing,
     kTiCells,
     kDone
@@ -126,7 +128,8 @@ class FramePlan {
   inline uint16_t framesIn(Step step) const;
   // Whether this build sends the message of `step` (FW_PUBLISH_LEVEL).
   static constexpr bool sent(Step step) {
-    if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kBalancing)
+    if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kStateOfCharge ||
+        step == kBalancing)
       return kAllMessages;
     if (step == kEvent || step == kCells) return kCoreMessages;
     return true;

@@ -42,3 +42,14 @@ static_assert(!FW_BQ769X_PROBE_CRC || FW_BQ769X_CRC, "the CRC-mode probe needs t
 #endif
 static_assert(!FW_BQ769X_BALANCE || FW_BQ769X_CONFIG_PATHS,
               "balancing needs the configuration paths (FW_BQ769X_CONFIG_PATHS)");
+
+// The accumulated charge every other scan (the state of charge counts it, FW_SOC): one scan asks for
+// DASTATUS6 (BQ769x2) or PASSQ (BQ7690x) first, the next reads its echo and result after its blocks
+// (monitor.hpp). 0 leaves the request and the read out (ChargeCounter::valid stays false); the L1306 images,
+// which build the state of charge out. The BQ7690x's wait before that read uses the delayed read of the
+// configuration paths.
+#ifndef FW_BQ769X_CHARGE
+#define FW_BQ769X_CHARGE 1
+#endif
+static_assert(!FW_BQ769X_CHARGE || FW_BQ769X_CONFIG_PATHS,
+              "the accumulated-charge read needs the configuration paths (FW_BQ769X_CONFIG_PATHS)");

@@ -84,8 +84,14 @@ inline constexpr uint8_t kWindowBytes = kBufferBytes + 2;  // 0x40..0x61: buffer
 // The longest direct read: the largest scan block of either family (regmaps/*/commands.yaml `blocks`).
 inline constexpr uint8_t kMaxReadBytes =
     std::max(regmap::bq769x2::blocks::kLargestSize, regmap::bq7690x::blocks::kLargestSize);
-inline constexpr uint8_t kScratchBytes = 2 * kMaxReadBytes;  // ... with a CRC after every byte
-inline constexpr uint8_t kMaxWriteData = 4;                  // data bytes of one write (U4/F4 data memory)
+// The scan gathers its blocks and then the accumulated-charge read (the subcommand echo and 12 bytes) in the
+// scratch, each with a CRC after every byte in CRC mode (monitor.hpp scanFits).
+inline constexpr uint8_t kChargeReadBytes = 2 + 12;
+inline constexpr uint8_t kScratchBytes = static_cast<uint8_t>(std::max<unsigned>(
+    2u * kMaxReadBytes,
+    std::max<unsigned>(regmap::bq769x2::blocks::kRecordSize, regmap::bq7690x::blocks::kRecordSize) +
+        2u * kChargeReadBytes));
+inline constexpr uint8_t kMaxWriteData = 4;  // data bytes of one write (U4/F4 data memory)
 
 static_assert(kMaxReadBytes >= kWindowBytes,
               "a subcommand result (0x40..0x61) is fetched into the scratch too");
@@ -94,6 +100,7 @@ inline constexpr bool kConfigPaths = FW_BQ769X_CONFIG_PATHS != 0;
 inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
 inline constexpr bool kBalance =
     FW_BQ769X_BALANCE != 0;  // host-controlled balancing is built (drivers/bq769x2/config.hpp)
+inline constexpr bool kCharge = FW_BQ769X_CHARGE != 0;
 
 struct LinkConfig {
   uint8_t address = kDefaultAddress;

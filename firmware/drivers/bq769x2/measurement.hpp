@@ -109,9 +109,19 @@ static_assert(offsetof(R, fetStatus) == F::record + F::offsetFetStatus);
 static_assert(offsetof(R, fetStatus) + sizeof(R::fetStatus) == map::blocks::kRecordSize);  // then padding
 }  // namespace layout769x2
 
+// The accumulated charge a scan read (BQ769x2 DASTATUS6 / BQ7690x PASSQ result bytes 0..11: the count and
+// the accumulated time, app/soc/accumulated_charge.hpp decodes them). `valid`: the subcommand's echo named it
+// (the result was ready); otherwise the scan's other values stand and the charge is not read this time.
+inline constexpr uint8_t kChargeBytes = 12;
+struct ChargeCounter {
+  uint8_t raw[kChargeBytes];
+  bool valid;
+};
+
 struct Bq769x2Measurement {
   Instant takenAt{};
   Bq769x2Registers reg{};
+  ChargeCounter charge{};
   // Any enabled protection or permanent-fail flag the device reports as tripped.
   bool deviceFault() const {
     return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw() | reg.safetyStatusC.raw() |
@@ -166,6 +176,7 @@ static_assert(offsetof(R, safetyStatusB) + sizeof(R::safetyStatusB) == map7690x:
 struct Bq7690xMeasurement {
   Instant takenAt{};
   Bq7690xRegisters reg{};
+  ChargeCounter charge{};
   bool deviceFault() const { return (reg.safetyStatusA.raw() | reg.safetyStatusB.raw()) != 0; }
 };
 

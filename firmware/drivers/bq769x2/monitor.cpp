@@ -72,17 +72,36 @@ Status Monitor::startConfigure(std::span<const Setting> settings) {
   return begin(Op::Configure, nextSetting(false));
 }
 
-Status Monitor::startScan(Instant* measurement, uint8_t bytes) {
+// Scan steps: the charge request (every other scan), the variant's blocks (0..3), the charge read (the scans
+// between), the Alarm Status clear.
+constexpr uint8_t kScanBlocks = sizeof(Variant::blocks) / sizeof(ScanBlock);
+constexpr uint8_t kScanCharge = kScanBlocks;
+constexpr uint8_t kScanClear = kScanBlocks + 1;
+constexpr uint8_t kScanRequest = kScanBlocks + 2;
+
+Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge) {
   if (busy()) return Status::Busy;
   // A build for one family checks the record size at compile time (the front ends).
   if constexpr (kFamily == 0) FW_ASSERT(scanBytes(variant_) <= bytes);
   state_->out.record = measurement;
+  state_->charge = charge;
+  // The charge alternates between scans: one writes the request, the next reads its result (the request is
+  // long done by then), so no scan carries both (the BQ76952 scan's budget of 6 transactions).
+  state_->readCharge = kCharge && askCharge && state_->chargeRequested;
+  state_->requestCharge = kCharge && askCharge && !state_->chargeRequested;
+  state_->chargeRequested = false;
   state_->bytes = 0;
   state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
   state_->index = 0;
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
+  if (state_->requestCharge) {
+    const Status s = begin(Op::Scan, link_.startSubcommand(facts().chargeCode, false));
+    state_->step = kScanRequest;
+    state_->chargeAsked = clock_.now();
+    return s;
+  }
   return begin(Op::Scan, startScanRead());
 }
 
@@ -211,9 +230,6 @@ inline void Monitor::probeStep(Status r) {
   finish(Status::Ok);
 }
 
-// Scan steps: the variant's reads, then the Alarm Status clear when a read bit was set.
-constexpr uint8_t kScanClear = sizeof(Variant::blocks) / sizeof(ScanBlock);
-
 // The part of the scan's current block (state_->step) that the next read takes, from state_->index bytes
 // into it: at most kScanReadBytes (kScanReadBytesCrc with CRC, whose wire carries two bytes per byte).
 // Bounding each read bounds how long a FET command waits for the read in progress (yieldScan()): the
@@ -235,6 +251,13 @@ inline void Monitor::scanStep(Status r) {
   if (state_->step == kScanClear) return publish();
   if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
+  if (state_->step == kScanRequest) {
+    state_->chargeRequested = true;  // the next scan reads it
+    state_->step = 0;
+    state_->index = 0;
+    return next(startScanRead());
+  }
+  if (state_->step == kScanCharge) return scanEnd();
   state_->bytes = static_cast<uint8_t>(state_->bytes + state_->tmp);
   state_->index = static_cast<uint8_t>(state_->index + state_->tmp);
   if (state_->index == v.blocks[state_->step].len) {
@@ -244,19 +267,37 @@ inline void Monitor::scanStep(Status r) {
   if (state_->step < sizeof v.blocks / sizeof v.blocks[0]) return next(startScanRead());
   if (link_.stats().retries != state_->scanRetries && !state_->restarted) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
-    // reads, so the snapshot is taken again from its first read (once).
+    // reads, so the snapshot is taken again from its first read (once), the charge asked for again.
     state_->restarted = true;
     state_->bytes = 0;
+    if (state_->requestCharge) {
+      state_->step = kScanRequest;
+      state_->chargeAsked = clock_.now();
+      return next(link_.startSubcommand(v.chargeCode, false));
+    }
     state_->step = 0;
+    state_->index = 0;
     return next(startScanRead());
   }
   const uint8_t* raw = link_.scratch();
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  // Alarm Status is latched: 1s written to the bits read clear them (SLUUBY2B / SLUUCJ0 "Alarm Status"), so
-  // ALERT releases and the next event asserts it again. A write does not touch the scratch buffer.
-  const uint8_t* alarm = raw + v.alarmOffset;
+  if (state_->readCharge) {
+    // The charge the previous scan asked for, no earlier than the variant's wait after the request.
+    state_->step = kScanCharge;
+    const Duration since = elapsed(state_->chargeAsked, clock_.now());
+    const Duration wait = us(v.chargeWaitUs) > since ? us(v.chargeWaitUs) - since : Duration{};
+    return next(link_.startRead(kCmdSubcommand, kChargeReadBytes, state_->bytes, wait));
+  }
+  scanEnd();
+}
+
+// After the blocks (and the charge read): Alarm Status is latched and 1s written to the bits read clear them
+// (SLUUBY2B / SLUUCJ0 "Alarm Status"), so ALERT releases and the next event asserts it again. A write does
+// not touch the scratch buffer.
+void Monitor::scanEnd() {
+  const uint8_t* alarm = link_.scratch() + facts().alarmOffset;
   if ((alarm[0] | alarm[1]) != 0) {
     state_->step = kScanClear;
     return next(link_.startWrite(kAlarmStatus, {alarm, 2}));
@@ -268,6 +309,14 @@ void Monitor::publish() {
   // The record is the time stamp followed by the registers (the front ends check the layout).
   Instant* record = state_->out.record;
   std::memcpy(record + 1, link_.scratch(), state_->bytes);
+  if (kCharge) {
+    // The charge read's echo (0x3E/0x3F) names the subcommand once its result is in 0x40.. (FF FF while it
+    // runs): only then are the bytes after it the result.
+    const uint8_t* d = link_.scratch() + state_->bytes;
+    ChargeCounter& c = *state_->charge;
+    c.valid = state_->readCharge && bytes::loadLe16(d) == facts().chargeCode;
+    if (c.valid) std::memcpy(c.raw, d + 2, kChargeBytes);
+  }
   *record = clock_.now();
   finish(Status::Ok);
 }

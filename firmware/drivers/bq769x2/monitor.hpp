@@ -34,6 +34,19 @@
 //                         event makes a new edge; the record is written after that write succeeded.
 //                         yieldScan() makes a running scan end with Aborted instead of starting its next
 //                         read (the record is not written): a FET command need not wait for a whole scan.
+//                         The accumulated charge (kCharge), every other scan: one scan first writes the
+//                         charge subcommand (BQ769x2 DASTATUS6, BQ7690x PASSQ: S addr 3E lo hi P, no echo
+//                         poll), the next reads 0x3E..0x4B after its blocks in one transaction (at least
+//                         Variant::chargeWaitUs after the write): the echo and the result's first 12 bytes.
+//                         The echo naming the subcommand validates them (ChargeCounter::valid; a device still
+//                         busy reads FF FF, and a command written in between, e.g. a FET subcommand, names
+//                         itself: the charge is left out of that scan, the rest stands). So the BQ76952 scan
+//                         is 6 transactions either way (7 after an alarm), within its budget of 6 and 3 ms;
+//                         the request scans carry no charge (m.charge.valid false). The device's counter
+//                         runs on, so a reading includes all charge since the one before. startScan(m,
+//                         false) leaves the charge out (and drops a request made): the subcommand window
+//                         then keeps what a command left in it (a balancing read-back waiting for
+//                         startBalanceCheck()).
 //                         Each read takes at most kScanReadBytes of a block (kScanReadBytesCrc in CRC
 //                         mode), so the command waits at most one such read (0.7 ms at 400 kHz).
 //   startFet(cmd)         host FET intent: AllOn, AllOff, DischargeOff, ChargeOff, each the whole state of
@@ -148,6 +161,8 @@ struct Variant {
   uint8_t alarmOffset;        // Alarm Status in the scan record
   uint16_t alarmMaskAddress;  // data memory Default Alarm Mask
   uint16_t firstPollUs;       // LinkConfig::firstPoll at least this (BQ7690x: the echo is not documented)
+  uint16_t chargeCode;        // the accumulated-charge subcommand (DASTATUS6, PASSQ)
+  uint16_t chargeWaitUs;      // its result is read no earlier than this after the request
   bool cbAdjacent;            // the device balances neighbouring cells (BQ7690x, SLUAAP7 section 3)
   uint8_t cbRefreshS;         // CB_ACTIVE_CELLS is written again at least this often (see startBalance)
 };
@@ -216,6 +231,8 @@ constexpr Variant bq7690x(uint8_t cells) {
           .alarmOffset = A0::record + A0::offsetAlarmStatus,
           .alarmMaskAddress = regmap::code16(map7690x::dm::DefaultAlarmMask),
           .firstPollUs = 2000,  // 2 ms, as TI's examples wait
+          .chargeCode = regmap::code16(map7690x::sub::Passq),
+          .chargeWaitUs = 2000,  // as firstPollUs: no TI document gives PASSQ's time
           .cbAdjacent = true,
           .cbRefreshS = 10};  // half the 20 s the device balances after a write (SLUAAP7 section 3)
 }
@@ -243,6 +260,8 @@ inline constexpr Variant kBq76952{
     .alarmOffset = variant_detail::T2::record + variant_detail::T2::offsetAlarmStatus,
     .alarmMaskAddress = regmap::code16(map::dm::DefaultAlarmMask),
     .firstPollUs = 0,
+    .chargeCode = regmap::code16(map::sub::Dastatus6),
+    .chargeWaitUs = 0,  // the echo says when it is ready (FF FF while it runs)
     .cbAdjacent = false,
     .cbRefreshS =
         1};  // host balancing "only runs a few seconds by default" (E2E 958310; no TRM figure found)
@@ -327,8 +346,9 @@ class Monitor {
   }
 
  protected:
-  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers.
-  Status startScan(Instant* measurement, uint8_t bytes);
+  // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
+  // the accumulated charge goes, asked for or read (every other scan) when `askCharge`.
+  Status startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge);
   static constexpr uint8_t scanBytes(const Variant& v) {
     uint8_t total = 0;
     for (const ScanBlock& b : v.blocks)
@@ -343,7 +363,7 @@ class Monitor {
       if (b.len > kMaxReadBytes || at + 2u * b.len > kScratchBytes) return false;
       at += b.len;
     }
-    return true;
+    return at + 2u * kChargeReadBytes <= kScratchBytes;
   }
 
  private:
@@ -373,6 +393,7 @@ class Monitor {
   inline void probeStep(Status r);
   inline void configStep(Status r);
   inline void scanStep(Status r);
+  void scanEnd();
   inline void fetStep(Status r);
   inline void fetEnableStep(Status r);
   inline void runtimeSetupStep(Status r);
@@ -406,7 +427,10 @@ class Monitor {
     FetCommand command;
     FetIntent intent;
     bool restarted;
-    bool yield;    // the scan ends at its next read boundary
+    bool yield;            // the scan ends at its next read boundary
+    bool requestCharge;    // this scan asks for the accumulated charge ...
+    bool readCharge;       // ... or reads what the previous one asked for
+    bool chargeRequested;  // the last scan asked for it (kept between scans)
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
     std::span<const Setting> settings;
@@ -414,6 +438,8 @@ class Monitor {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)
     } out;
+    ChargeCounter* charge;           // startScan
+    Instant chargeAsked;             // when a scan asked for the charge
     uint8_t diff[kMaxSettings / 8];  // bit i: setting i differs from the table
     uint32_t scanRetries;
     uint16_t cbRead;     // CB_ACTIVE_CELLS read back by startBalanceCheck (bit 0 = cell 1)
@@ -437,10 +463,10 @@ class Bq769x2 : public Monitor {
       Bq769x2(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context,
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, kBq76952, config) {}
-  Status startScan(Bq769x2Measurement& out) {
+  Status startScan(Bq769x2Measurement& out, bool askCharge = true) {
     static_assert(offsetof(Bq769x2Measurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76952) == map::blocks::kRecordSize && scanFits(kBq76952));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq769x2Registers), &out.charge, askCharge);
   }
 };
 
@@ -452,10 +478,10 @@ class Bq7690x : public Monitor {
       Bq7690x(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
               const MonitorConfig& config = {})
       : Monitor(bus, clock, context, variant, config) {}
-  Status startScan(Bq7690xMeasurement& out) {
+  Status startScan(Bq7690xMeasurement& out, bool askCharge = true) {
     static_assert(offsetof(Bq7690xMeasurement, reg) == sizeof(Instant));
     static_assert(scanBytes(kBq76907) == map7690x::blocks::kRecordSize && scanFits(kBq76907));
-    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters));
+    return Monitor::startScan(&out.takenAt, sizeof(Bq7690xRegisters), &out.charge, askCharge);
   }
 };
 

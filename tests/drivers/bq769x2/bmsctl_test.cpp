@@ -163,8 +163,25 @@ TEST(Bq769x2Bmsctl, AppStartWritesTheProtectionThresholdsAndDelays) {
   const ToolRun seven = bmsctl("trace bq76907 app-start");
   ASSERT_EQ(seven.status, 0) << printed(seven);
   expectInOrder(seven,
-                {"S 10 3E 90 00 P", "S 10 3E 25 90 01 P", "S 10 3E 2D 90 01 P", "S 10 3E 32 90 CD 10 P",
-                 "S 10 3E 2E 90 28 0A P", "S 10 3E 3C 90 05 P", "S 10 3E 3D 90 03 P", "S 10 3E 92 00 P"});
+                {"S 10 3E 90 00 P", "S 10 3E 25 90 01 P", "S 10 3E 32 90 CD 10 P", "S 10 3E 2E 90 28 0A P",
+                 "S 10 3E 3C 90 05 P", "S 10 3E 3D 90 03 P", "S 10 3E 2D 90 01 P", "S 10 3E 92 00 P"});
+}
+
+// Issue 29: the start-up writes the settings regmapgen generated from the pack file
+// (firmware/app/packs/bq76952-evm.yaml, in the pack's order after the board's): the CC gain the 1 mOhm shunt
+// gives, 7.5684 mOhm / 1 mOhm (0x91A8 <- F4 0x40F23055), the capacity gain 7.5684 x 298261.6178
+// (0x91AC <- F4 0x4A09C74D), the cell inputs (0x9304 <- 0xFFFF), then the pack's protections; on the BQ76907
+// the pack's Vcell Mode (0x901B <- 7) and Enabled Protections A (0x9024 <- 0xE1) before its thresholds.
+TEST(Bq769x2Bmsctl, AppStartWritesThePackFileSettings) {
+  const ToolRun o = bmsctl("trace bq76952 app-start");
+  ASSERT_EQ(o.status, 0) << printed(o);
+  expectInOrder(
+      o, {"S 10 3E 90 00 P", "S 10 3E 04 93 FF FF P", "S 10 3E A8 91 55 30 F2 40 P",
+          "S 10 3E AC 91 4D C7 09 4A P", "S 10 3E 61 92 BC P", "S 10 3E 86 92 05 P", "S 10 3E 92 00 P"});
+  const ToolRun seven = bmsctl("trace bq76907 app-start");
+  ASSERT_EQ(seven.status, 0) << printed(seven);
+  expectInOrder(seven, {"S 10 3E 90 00 P", "S 10 3E 1C 90 00 F0 P", "S 10 3E 1B 90 07 P",
+                        "S 10 3E 24 90 E1 P", "S 10 3E 32 90 CD 10 P", "S 10 3E 92 00 P"});
 }
 
 // On the BQ76907: Balancing Configuration (0x9020) compared, the data-memory write of FET Options 0x901E with

@@ -53,7 +53,7 @@ struct Bq769xBoard {
   Bq769xBoard(Bq769xEmulator::Model model, std::span<const fw::drivers::bq769x2::Setting> settings,
               uint8_t cells, bool faultOutput, const DriverArgs&... driverArgs)
       : emu(h.clock, model),
-        config(makeConfig(settings, cells, faultOutput ? &faultOut : nullptr,
+        config(makeConfig(model, settings, cells, faultOutput ? &faultOut : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &cfetoff : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &dfetoff : nullptr)),
         app(h.sched, bus, alert, output, system, config, driverArgs...) {
@@ -74,7 +74,9 @@ struct Bq769xBoard {
 
   const fw::app::BoardSample& sample() const { return app.pack().boards[0]; }
 
-  static fw::app::Bq769xAppConfig makeConfig(std::span<const fw::drivers::bq769x2::Setting> settings,
+  // The state of charge as the images compute it, with their EVM packs' parameters.
+  static fw::app::Bq769xAppConfig makeConfig(Bq769xEmulator::Model model,
+                                             std::span<const fw::drivers::bq769x2::Setting> settings,
                                              uint8_t cells, fw::hal::DigitalOut* faultIndicator,
                                              fw::hal::DigitalOut* chargeOff,
                                              fw::hal::DigitalOut* dischargeOff) {
@@ -82,6 +84,10 @@ struct Bq769xBoard {
     c.faultIndicator = faultIndicator;
     c.chargeOffPin = chargeOff;
     c.dischargeOffPin = dischargeOff;
+    const bool bq76952 = model == Bq769xEmulator::Model::Bq76952;
+    c.soc = bq76952 ? &fw::packs::bq76952_evm::kSoc : &fw::packs::bq76907_evm::kSoc;
+    c.currentLsbTenthMa =
+        bq76952 ? fw::packs::bq76952_evm::kCurrentLsbTenthMa : fw::packs::bq76907_evm::kCurrentLsbTenthMa;
     return c;
   }
 

@@ -26,6 +26,7 @@ void Bq769xEmulator::setAllCellsMv(int16_t mv) {
   update();
 }
 void Bq769xEmulator::setCurrentMa(int32_t ma) {
+  integrateCharge();  // the charge counter has counted the old current up to now (charge.cpp)
   currentMa_ = ma;
   update();  // the current decides SLEEP
 }

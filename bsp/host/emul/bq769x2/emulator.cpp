@@ -170,6 +170,7 @@ void Bq769xEmulator::initRegisters() {
 
 void Bq769xEmulator::powerOn() {
   initRegisters();
+  resetCharge();
   nackFirst_ = timing_.nackFirstAfterPowerUp;
   bootUntil_ = clock_.nowUs();
   update();
@@ -178,6 +179,7 @@ void Bq769xEmulator::powerOn() {
 void Bq769xEmulator::reset() {
   ++resets_;
   initRegisters();
+  resetCharge();
   bootUntil_ = clock_.nowUs() + timing_.boot.us;
   update();
 }
@@ -488,6 +490,11 @@ void Bq769xEmulator::complete(uint16_t code) {
     fw::bytes::storeLe16(data, cbActive_);
     n = bq7690x() ? 1 : 2;
     reported = static_cast<uint8_t>(n + 4);
+  } else if (code == (bq7690x() ? m7::sub::Passq.address : m2::sub::Dastatus6.address)) {
+    n = fillCharge(data);  // charge.cpp
+    reported = static_cast<uint8_t>(n + 4);
+  } else if (code == (bq7690x() ? m7::sub::ResetPassq.address : m2::sub::ResetPassq.address)) {
+    resetCharge();
   }
 
   // Command effects.

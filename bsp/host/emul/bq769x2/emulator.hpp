@@ -113,6 +113,16 @@ class Bq769xEmulator final : public I2cTarget {
   bool crc() const { return crc_; }
   // Completes an ADC scan: sets Alarm Raw Status FULLSCAN/ADSCAN (latched into Alarm Status if enabled).
   void completeScan();
+  // The accumulated charge (charge.cpp): the counter as DASTATUS6 / PASSQ report it now (BQ769x2: userAh x
+  // 2^32; BQ7690x: userA-s), and the charge that truly flowed since power-up (mA x us, never cleared, never
+  // wrapped): what a state-of-charge test compares with. presetChargeCount() sets the counter (to test its
+  // wrap).
+  int64_t chargeCount();
+  int64_t trueChargeMaUs() {
+    integrateCharge();
+    return trueChargeMaUs_;
+  }
+  void presetChargeCount(int64_t count);
 
   // --- backend: observation --------------------------------------------------------------------------------
   uint8_t reg(uint8_t cmd);  // a direct-command byte as the host would read it now
@@ -208,6 +218,10 @@ class Bq769xEmulator final : public I2cTarget {
   void sleepTick();
   void evaluateTemperatures();
   bool computeAlertLine() const;
+  int32_t userAmpTenthMa() const;
+  void integrateCharge();
+  void resetCharge();
+  uint8_t fillCharge(uint8_t* data);
   void writeBalancing(uint16_t mask);  // balancing.cpp
   void settleBleed();
   void stopBalancing();
@@ -243,6 +257,13 @@ class Bq769xEmulator final : public I2cTarget {
   // Measurement state
   std::array<int16_t, 16> cells_{};
   int32_t currentMa_ = 0;
+  // Accumulated charge (charge.cpp): mA x us since the counter was cleared, the count it was cleared to,
+  // when; and the true charge since construction.
+  __int128 chargeMaUs_ = 0;
+  int64_t chargeBase_ = 0;
+  uint64_t chargeAtUs_ = 0;
+  uint64_t chargeSinceUs_ = 0;
+  int64_t trueChargeMaUs_ = 0;
   bool stackOverride_ = false;
   int16_t stackRaw_ = 0;
   int16_t packRaw_ = -1;  // -1: follows the stack

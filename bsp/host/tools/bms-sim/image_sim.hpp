@@ -52,6 +52,14 @@ struct SimFigures {
   int32_t currentMa = 0;
   std::vector<uint16_t> balancingCells;  // ImageSim::balancingCells()
   int cellSpreadMv = 0;                  // ImageSim::cellSpreadMv()
+  int stateOfChargePercent = -1;  // PackSummary.StateOfCharge as the board publishes it; -1 not available
+  // The StateOfCharge message as the board publishes it (bms.yaml); -1 not available.
+  int socPermille = -1;
+  int64_t remainingMah = -1, fullChargeMah = -1;
+  int socBasis = -1;  // StateOfCharge.Basis (fw::app::SocBasis)
+  // The charge the emulated device let flow since the run began, in mAh (positive charging), where the
+  // emulator counts it (the BQ769x2/BQ7690x emulator: the truth the state of charge is checked against).
+  std::optional<double> emulatorChargeMah;
   std::vector<std::pair<std::string, std::string>>
       extra;  // more --json keys and values (the twin's CPU figures)
 };

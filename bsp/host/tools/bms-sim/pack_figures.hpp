@@ -116,6 +116,13 @@ inline void fillPackFigures(SimFigures& f, const fw::app::PackView& view, const 
   f.pathsKnown = st.pathsKnown;
   f.faultOutput = st.faultOutput;
   f.activeFaults = st.active;
+  if (view.soc.known()) {
+    f.stateOfChargePercent = (view.soc.permille + 5) / 10;  // as PackSummary rounds it
+    f.socPermille = view.soc.permille;
+    f.remainingMah = view.soc.remainingMah;
+    f.fullChargeMah = view.soc.fullChargeMah;
+    f.socBasis = static_cast<int>(view.soc.basis);
+  }
 }
 
 }  // namespace bmssim

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <string>
+#include <string_view>
 
 #include "app/protection/protection.hpp"
 #include "can/bms.hpp"
+#include "can/bms_table.hpp"
 
 namespace bmssim {
 namespace {
@@ -145,6 +148,28 @@ EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets)
   return out;
 }
 
+namespace {
+
+// The StateOfCharge message's basis by name (bms.yaml's values), "" when not available.
+const char* basisName(int raw) {
+  for (const auto& v : fw::can::bms::table::kStateOfChargeBasisValues)
+    if (v.raw == raw && std::string_view(v.name) != "not_available") return v.name;
+  return "";
+}
+
+// The live view's SOC column: "43.7 % 1092/2500 mAh ocv", or "--" while not available.
+std::string socText(const SimFigures& f) {
+  if (f.socPermille < 0)
+    return f.stateOfChargePercent < 0 ? "--" : std::to_string(f.stateOfChargePercent) + " %";
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "%d.%d %% %lld/%lld mAh %s", f.socPermille / 10, f.socPermille % 10,
+                static_cast<long long>(f.remainingMah), static_cast<long long>(f.fullChargeMah),
+                basisName(f.socBasis));
+  return buf;
+}
+
+}  // namespace
+
 void Report::tick(uint64_t nowUs) {
   if (slcan_ != nullptr) slcan_->step(*sim_.slcanText(), nowUs);
   if (live_ == nullptr || nowUs < nextView_) return;
@@ -156,7 +181,7 @@ void Report::tick(uint64_t nowUs) {
   std::fprintf(
       live_,
       "t=%7.2fs  scans %5u  boards %d/%d  cells %4d..%4d mV  I=%+8.2f A  %s %s  faults: %-22s %s %llu  "
-      "spread %3d mV, balancing %d cells\n",
+      "spread %3d mV, balancing %d cells  SOC %s\n",
       static_cast<double>(nowUs) / 1e6, f.scans, f.validBoards, f.boards, f.minCellMv, f.maxCellMv,
       f.currentMa / 1000.0,
       !f.pathsKnown ? "CHG:?  "
@@ -166,7 +191,7 @@ void Report::tick(uint64_t nowUs) {
       : f.dischargeOn ? "DSG:on "
                       : "DSG:off",
       faultsText(f.activeFaults).c_str(), f.output == "can" ? "CAN frames" : "SLCAN lines",
-      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing);
+      static_cast<unsigned long long>(f.outputFrames), f.cellSpreadMv, balancing, socText(f).c_str());
   std::fflush(live_);
 }
 
@@ -292,6 +317,36 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   }
   std::printf("],\n");
   std::printf("  \"min_cell_mv\": %d,\n  \"max_cell_mv\": %d,\n", f.minCellMv, f.maxCellMv);
+  // PackSummary.StateOfCharge as the board published it (null: not available, e.g. the BQ79616 image, or not
+  // known yet).
+  if (f.stateOfChargePercent < 0) {
+    std::printf("  \"state_of_charge_percent\": null,\n");
+  } else {
+    std::printf("  \"state_of_charge_percent\": %d,\n", f.stateOfChargePercent);
+  }
+  // The StateOfCharge message as the board published it (null: not available), and the charge the emulated
+  // device let flow since the start (null where the emulator does not count it): a user checks the one
+  // against the other.
+  auto optionalInt = [](const char* key, int64_t v) {
+    if (v < 0) {
+      std::printf("  \"%s\": null,\n", key);
+    } else {
+      std::printf("  \"%s\": %lld,\n", key, static_cast<long long>(v));
+    }
+  };
+  optionalInt("state_of_charge_permille", f.socPermille);
+  optionalInt("remaining_capacity_mah", f.remainingMah);
+  optionalInt("full_charge_capacity_mah", f.fullChargeMah);
+  if (f.socBasis < 0) {
+    std::printf("  \"soc_basis\": null,\n");
+  } else {
+    std::printf("  \"soc_basis\": \"%s\",\n", basisName(f.socBasis));
+  }
+  if (f.emulatorChargeMah) {
+    std::printf("  \"emulator_charge_mah\": %.3f,\n", *f.emulatorChargeMah);
+  } else {
+    std::printf("  \"emulator_charge_mah\": null,\n");
+  }
   // Balancing as the emulated devices do it now: per board the cells (numbered from 1) they balance, and the
   // spread of the emulated cells (ImageSim::balancingCells(), cellSpreadMv()).
   std::printf("  \"balancing_cells\": [");

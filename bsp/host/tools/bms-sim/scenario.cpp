@@ -143,7 +143,7 @@ struct Builtin {
   const char* description;
   const char* text;
 };
-constexpr std::array<Builtin, 10> kBuiltins = {{
+constexpr std::array<Builtin, 12> kBuiltins = {{
     {"idle", "a resting pack at 3.70 V per cell, 25 degC", ""},
     {"charge", "charging at 10 A: cells rise 20 mV/s from 3.70 V", "0 current 10000\n0 ramp-all 20\n"},
     {"discharge", "discharging at 15 A: cells fall 20 mV/s from 3.70 V",
@@ -168,6 +168,16 @@ constexpr std::array<Builtin, 10> kBuiltins = {{
      "every board: cell 1 at 3.90 V, the others 20..80 mV above it; 4 mAh cells; charging at 2 A for 30 s, "
      "then at rest",
      "0 cell-capacity 4\n0 spread-cells 3900 80\n0 current 2000\n30000 current 0\n"},
+    // State of charge (the EVM packs: 2.5 Ah): full at rest, so the first scans set 100 % from the
+    // open-circuit table, then 1C with the cells at 3.70 V under load (no full, empty or rest correction):
+    // the count alone moves it, 1 % every 36 s. Run with --duration 3600000 for the whole hour.
+    {"soc-discharge",
+     "full at rest (4.19 V per cell), then 1C (2.5 A) from 2 s: the state of charge counts down",
+     "0 all-cells 4190\n0 current 0\n2000 all-cells 3700\n2000 current -2500\n"},
+    // A charge from the pack's 50 % rest voltage: the open-circuit table sets 50 % at the first scans, then
+    // 0.5C counts up 1 % every 72 s.
+    {"soc-charge", "at rest at 3.74 V per cell (50 %), then charging at 0.5C (1.25 A) from 2 s",
+     "0 all-cells 3740\n0 current 0\n2000 current 1250\n"},
 }};
 
 // A token as the message quotes it: printable ASCII, at most 40 characters.

@@ -165,6 +165,7 @@ class Bq769xSim final : public ImageSim {
                     fw::app::kDefaultLimits.staleAfter);
     f.balancingCells = balancingCells();
     f.cellSpreadMv = cellSpreadMv();
+    f.emulatorChargeMah = static_cast<double>(board_->emu.trueChargeMaUs()) / 3.6e9;
     return f;
   }
 

@@ -479,6 +479,15 @@ SimFigures TwinSim::figures() {
       f.activeFaults = p.activeFaults;
       f.validBoards = p.dataValid ? devices_ : 0;
       f.currentMa = hasCurrent() ? p.packCurrent * 10 : 0;
+      f.stateOfChargePercent =
+          p.stateOfCharge != bms::PackSummary::kStateOfChargeNotAvailable ? p.stateOfCharge : -1;
+    } else if (s.id == bms::StateOfCharge::kId) {
+      const auto q = bms::StateOfCharge::unpack(c);
+      const bool known = q.soc != bms::StateOfCharge::kSocNotAvailable;
+      f.socPermille = known ? q.soc : -1;
+      f.remainingMah = known ? q.remainingCapacity : -1;
+      f.fullChargeMah = known ? q.fullChargeCapacity : -1;
+      f.socBasis = known ? q.basis : -1;
     } else if (s.id == bms::CellExtremes::kId) {
       const auto e = bms::CellExtremes::unpack(c);
       f.maxCellMv = e.maxCellVoltage, f.minCellMv = e.minCellVoltage;
@@ -488,6 +497,7 @@ SimFigures TwinSim::figures() {
   }
   f.balancingCells = balancingCells();
   f.cellSpreadMv = cellSpreadMv();
+  if (auto* e = board_.bq769x()) f.emulatorChargeMah = static_cast<double>(e->trueChargeMaUs()) / 3.6e9;
   // CPU figures: the twin's own measurements.
   twin::Machine& m = board_.machine();
   const double perUs = static_cast<double>(m.cyclesPerUs());

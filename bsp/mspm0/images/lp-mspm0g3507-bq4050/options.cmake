@@ -11,3 +11,7 @@ set(BMS_IMAGE_OPTIONS
   FW_CAN_TI_LAYOUT=0              # the TI layout (seed 001) is the BQ79616 image's
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
 )
+
+# The pack this image builds from unless -DBMS_PACK=<file> names another (firmware/app/packs/README.md): its
+# limits, cells and device settings (regmaps/CMakeLists.txt generates it).
+set(BMS_IMAGE_PACK bq4050-evm)

@@ -5,15 +5,22 @@
 // PINCM16, mspm0g350x.h IOMUX_PINCM15_PF_GPIOB_DIO02 / PINCM16_PF_GPIOB_DIO03): protection drives them high
 // while it holds that path off, so a path opens without I2C (app/monitors/fet_mailbox.hpp). Asserted from
 // start-up until protection's first request.
+#include <string_view>
+
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/startup_info.hpp"
 #include "gpio.hpp"
+#include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
+
+// The device settings of the pack this image is built from (BMS_PACK: regmaps/CMakeLists.txt).
+static_assert(std::string_view(fw::pack::kDevice) == "bq76952", "BMS_PACK names a pack for another device");
+constexpr auto kSettings = fw::app::bq76952Settings(fw::pack::kDeviceSettings);
 
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::CanPublisher>;
@@ -27,7 +34,10 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   chargeOff.init(true);
   dischargeOff.init(true);
   // The board holds the fault output asserted from reset until protection first decides (bringUp()).
-  static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
+  static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
+                                                   .cells = fw::pack::kCells,
+                                                   .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
+                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
   config.faultIndicator = &board.faultOut;
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;

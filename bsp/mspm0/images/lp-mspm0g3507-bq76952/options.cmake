@@ -15,3 +15,7 @@ set(BMS_IMAGE_OPTIONS
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
 )
+
+# The pack this image builds from unless -DBMS_PACK=<file> names another (firmware/app/packs/README.md): its
+# limits, cells and device settings (regmaps/CMakeLists.txt generates it).
+set(BMS_IMAGE_PACK bq76952-evm)

@@ -9,4 +9,9 @@ set(BMS_IMAGE_OPTIONS
   FW_SCHED_MAX_TASKS=4            # protection, monitor, publisher and commands: the only tasks
   FW_SCHED_BUDGETS=0              # saves two clock reads per dispatch: no task has a run-time budget and no output carries the figures
   BSP_I2C_LISTS=0                 # removes nothing used: the board's I2C is not built
+  FW_SOC=0                        # no current input, so no state of charge: the view keeps none, StateOfCharge goes out not available
 )
+
+# The pack this image builds from unless -DBMS_PACK=<file> names another (firmware/app/packs/README.md): its
+# limits, cells and device settings (regmaps/CMakeLists.txt generates it).
+set(BMS_IMAGE_PACK bq79616-evm)

@@ -2,19 +2,29 @@
 // firmware protection (FETs through the BQ76907, ALERT fast path) and SLCAN publishing on the back-channel
 // UART (firmware/app/monitors/bq769x_app.hpp), with the start-up CONFIG_UPDATE of its settings table: the
 // whole application, as the G3507 images run it.
+#include <string_view>
+
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/startup_info.hpp"
+#include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
 
+// The device settings of the pack this image is built from (BMS_PACK: regmaps/CMakeLists.txt).
+static_assert(std::string_view(fw::pack::kDevice) == "bq76907", "BMS_PACK names a pack for another device");
+constexpr auto kSettings = fw::app::bq7690xSettings(fw::pack::kDeviceSettings);
+
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769x2::Bq7690xMeasurement,
                                fw::app::SlcanPublisher>;
 
-const fw::app::Bq769xAppConfig kConfig{fw::app::kBq76907Settings, 7};
+const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
+                                       .cells = fw::pack::kCells,
+                                       .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
+                                       .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
 
 }  // namespace
 

@@ -6,15 +6,22 @@
 // PINCM12, mspm0l130x.h IOMUX_PINCMn_PF_GPIOA_DIO(n-1)): protection drives them high while it holds that path
 // off, so a path opens without I2C (app/monitors/fet_mailbox.hpp). Asserted from start-up until protection's
 // first request.
+#include <string_view>
+
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/startup_info.hpp"
 #include "gpio.hpp"
+#include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
+
+// The device settings of the pack this image is built from (BMS_PACK: regmaps/CMakeLists.txt).
+static_assert(std::string_view(fw::pack::kDevice) == "bq76952", "BMS_PACK names a pack for another device");
+constexpr auto kSettings = fw::app::bq76952Settings(fw::pack::kDeviceSettings);
 
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::SlcanPublisher>;
@@ -27,7 +34,10 @@ constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{0, 11, 12});  // PA11
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   chargeOff.init(true);
   dischargeOff.init(true);
-  static constinit fw::app::Bq769xAppConfig config{fw::app::kBq76952Settings, 16};
+  static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
+                                                   .cells = fw::pack::kCells,
+                                                   .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
+                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, config);
