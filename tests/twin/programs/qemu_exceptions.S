@@ -19,6 +19,7 @@
   .equ ICSR, 0xE000ED04
   .equ SHPR2, 0xE000ED1C
   .equ SHPR3, 0xE000ED20
+  .equ ICSR_RETTOBASE, 0x800  /* reserved on ARMv6-M (B3.2.4); QEMU sets it as on ARMv7-M: masked out */
 
 /* log r0 (clobbers r1, r2) */
 .macro LOG0
@@ -46,7 +47,7 @@
   .word 0
   .word 0
   .word pendsv     /* 14 */
-  .word 0          /* SysTick */
+  .word systick    /* 15 */
   .word irq0       /* 16 */
   .word irq1       /* 17 */
   .word irq2       /* 18 */
@@ -75,6 +76,21 @@ reset:
   lsls r1, r1, #28
   str r1, [r0]
   MARK 0x1002
+
+  /* 2b: SysTick and PendSV pended together through ICSR (PENDSTSET, PENDSVSET; B3.2.4) with PRIMASK set: ICSR
+   * shows both pending and VECTPENDING the one to be taken first; CPSIE takes them in priority order, the
+   * second when the first returns (B1.5.4: the lower priority value first; at equal values the lower
+   * exception number, PendSV 14 before SysTick 15). Priorities: SHPR3 (B3.2.8). First SysTick 0x40 and
+   * PendSV 0x80, then both 0x80. */
+  ldr r0, =SHPR3
+  ldr r1, =0x40800000
+  str r1, [r0]
+  bl pend_both
+  ldr r0, =SHPR3
+  ldr r1, =0x80800000
+  str r1, [r0]
+  bl pend_both
+  MARK 0x1102
 
   /* 3: nesting: IRQ0 at priority 0xC0, IRQ1 0x40, IRQ2 0xC0; IRQ0 pends IRQ1 (preempts, EXC_RETURN
    * 0xFFFFFFF1) and IRQ2 (same priority: waits for IRQ0's return, then tail-chains before Thread). */
@@ -170,8 +186,11 @@ breakpoint:
   MARK 0x100C
   cpsid i
 svc_masked:
-  svc #3               /* SVC cannot be taken with PRIMASK set: escalates to HardFault */
-  cpsie i
+  svc #3               /* SVC cannot be taken with PRIMASK set: escalates to HardFault (B1.5.6) */
+svc_after:
+  cpsie i              /* the escalated SVC returns here, after the SVC (see hardfault) */
+  mrs r0, primask
+  LOG0
   MARK 0x100D
 
   /* 9: priorities of the system handlers (SHPR2/3) read back with the implemented bits only. */
@@ -191,6 +210,33 @@ svc_masked:
   str r1, [r0]
   ldr r0, =NVIC_ISER
   ldr r0, [r0]
+  LOG0
+  /* 10: the registers at the exit: APSR (flags of the last CMP: r0 = 0 vs 1 gives N), PRIMASK, CONTROL, MSP,
+   * PSP, LR, and r8-r12, which no handler touches (B1.5.6/B1.5.8: the frame restores r0-r3, r12, LR, PC and
+   * xPSR only, the rest are callee-saved). */
+  movs r0, #0
+  cmp r0, #1
+  mrs r0, apsr
+  LOG0
+  mrs r0, primask
+  LOG0
+  mrs r0, control
+  LOG0
+  mrs r0, msp
+  LOG0
+  mrs r0, psp
+  LOG0
+  mov r0, lr
+  LOG0
+  mov r0, r8
+  LOG0
+  mov r0, r9
+  LOG0
+  mov r0, r10
+  LOG0
+  mov r0, r11
+  LOG0
+  mov r0, r12
   LOG0
   MARK 0x10FF
   .global done
@@ -226,6 +272,21 @@ tty:
 callee:
   mov r0, lr
   bx lr
+
+  .thumb_func
+pend_both:              /* pends SysTick and PendSV with PRIMASK set, logs ICSR, then lets them run */
+  push {lr}
+  cpsid i
+  ldr r0, =ICSR
+  ldr r1, =0x14000000  /* PENDSVSET | PENDSTSET */
+  str r1, [r0]
+  ldr r0, [r0]
+  ldr r1, =ICSR_RETTOBASE
+  bics r0, r1
+  LOG0
+  cpsie i
+  MARK 0x1200
+  pop {pc}
 
   .align 2
 thumbless:
@@ -280,6 +341,17 @@ pendsv:
   pop {r4, r5, r6, pc}
 
   .thumb_func
+systick:
+  push {r4, lr}
+  mov r4, lr
+  MARK 0x2400
+  mrs r0, ipsr
+  LOG0
+  mov r0, r4
+  LOG0
+  pop {r4, pc}
+
+  .thumb_func
 irq0:
   push {r4, lr}
   mov r4, lr
@@ -290,6 +362,11 @@ irq0:
   movs r1, #6          /* IRQ1 preempts, IRQ2 waits */
   str r1, [r0]
   MARK 0x2001
+  ldr r0, =ICSR        /* VECTACTIVE 16, IRQ2 pending: VECTPENDING 18, ISRPENDING (B3.2.4) */
+  ldr r0, [r0]
+  ldr r1, =ICSR_RETTOBASE
+  bics r0, r1
+  LOG0
   pop {r4, pc}
 
   .thumb_func
@@ -327,6 +404,9 @@ hardfault:
   mov r0, r4
   LOG0
   ldr r0, [r5, #24]
+  ldr r1, =svc_after   /* an escalated SVC already returns after itself */
+  cmp r0, r1
+  beq 6f
   ldr r1, =thumbless
   cmp r0, r1
   bne 5f
@@ -334,6 +414,7 @@ hardfault:
 5:
   adds r0, #2
   str r0, [r5, #24]
+6:
   ldr r0, [r5, #28]    /* EPSR.T back on (an INVSTATE frame has it clear) */
   movs r1, #1
   lsls r1, r1, #24
