@@ -317,7 +317,8 @@ uint32_t Core::step() {
   }
   if (!thumb_) {  // EPSR.T = 0: the instruction here cannot execute (INVSTATE, B1.4.2)
     faulted_ = false;
-    fault("instruction at " + hex(pc_) + " with EPSR.T = 0 (INVSTATE: a branch to an address with bit 0 clear)");
+    fault("instruction at " + hex(pc_) +
+          " with EPSR.T = 0 (INVSTATE: a branch to an address with bit 0 clear)");
     return cycles::kAlu;
   }
   uint16_t op = 0;
