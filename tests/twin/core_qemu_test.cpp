@@ -1,17 +1,31 @@
 // The twin's core against a second reference: QEMU's Cortex-M0 machine (qemu-system-arm -M microbit, the
-// nRF51's Cortex-M0: the ARMv6-M architecture the MSPM0's Cortex-M0+ implements) running the same programs
-// with -icount. Each program ends at `done` by writing a RAM region to QEMU's semihosting console; on the
-// twin the test stops at `done` and reads the same region from SRAM. The regions must agree byte for byte.
+// nRF51's Cortex-M0: the ARMv6-M architecture, ARM DDI 0419E, that the MSPM0's Cortex-M0+ implements) running
+// the same programs with -icount shift=0 (deterministic: one instruction, one virtual nanosecond). Each
+// program ends at `done` by writing a RAM region to QEMU's semihosting console (SYS_OPEN ":tt", SYS_WRITE,
+// SYS_EXIT); the twin stops when its PC reaches `done` and reads the same region from SRAM. The regions must
+// agree word for word: registers and memory at one defined exit point, never a value the test computed
+// itself.
 // - Sequences: programs generated here, each 96 random straight-line sequences of 4..12 16-bit instructions
-//   (every data-processing, shift, load/store, SP-relative, extend/reverse and hi-register class, and
+//   (every data-processing, shift, load/store, SP-relative, extend/reverse and hi-register class of A5.2, and
 //   forward conditional branches) from random registers and flags; after each sequence r0..r12 and APSR go
 //   to a result slot, and the scratch RAM the loads and stores used is compared at the end too. Loads and
 //   stores use r6/r7 as bases and r5 as the offset register, which no instruction of a sequence writes, so
-//   every access lands in the scratch RAM, aligned.
-// - Exceptions: programs/qemu_exceptions.S (SVC, PendSV, NVIC priorities and nesting, tail-chaining,
-//   PRIMASK and WFI, Thread on PSP, frame alignment, BLX/BX/MOV PC, the faults: unaligned, UDF, INVSTATE,
-//   BKPT, SVC escalation; system handler priorities), its log compared word by word.
-// Skipped when qemu-system-arm is not installed (ci/setup installs it).
+//   every access lands in the scratch RAM, aligned. SP and LR are not written by a sequence (usable()).
+// - Exceptions: programs/qemu_exceptions.S (SVC, PendSV and SysTick pended through ICSR, NVIC priorities and
+//   nesting, order at equal priority, PRIMASK and WFI, Thread on PSP, frame alignment, BLX/BX/MOV PC, the
+//   faults: unaligned, UDF, INVSTATE, BKPT, SVC escalation; priority registers; the registers at the exit),
+//   its log compared word by word. Each step cites the DDI 0419E section it relies on.
+// Left out, because QEMU does not model them as the Cortex-M0+ does (bsp/twin/README.md says the same):
+// - cycle counts: -icount counts instructions, not M0+ cycles (the cycle table is CorePrograms.Cycles*);
+//   SysTick counting, WFI sleep time and interrupt latency are timing too: SysTick is pended through ICSR;
+// - ICSR bit 11 (RETTOBASE, ARMv7-M): reserved on ARMv6-M (B3.2.4), QEMU sets it; the program masks it out;
+// - UNPREDICTABLE encodings (CMP T2 with two low registers, A6.7 CMP (register); hi-register forms with SP or
+// PC) and
+//   unaligned or out-of-RAM accesses in the sequences: the architecture allows either result;
+// - BKPT 0xAB is QEMU's semihosting call: it appears only in the epilogue, which the twin never runs (other
+//   BKPTs are HardFault on both, C1.7);
+// - the MSPM0's memory map and peripherals: the programs touch flash, the first 16 KiB of RAM and the SCS.
+// Skipped (GTEST_SKIP) when qemu-system-arm is not installed (ci/setup installs it).
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -190,7 +204,8 @@ bool usable(uint16_t op) {
   if (op >= 0x4400 && op < 0x4800) {  // hi-register ADD, CMP, MOV
     const uint32_t opc = (op >> 8) & 3U, d = ((op >> 4) & 8U) | (op & 7U), m = (op >> 3) & 0xFU;
     if (opc == 3 || d == 13 || d == 15 || m == 13 || m == 15) return false;
-    if (opc == 1 && d < 8 && m < 8) return false;  // CMP T2 with two low registers: UNPREDICTABLE
+    if (opc == 1 && d < 8 && m < 8)
+      return false;  // CMP T2 with two low registers: UNPREDICTABLE (A6.7 CMP (register))
     if (opc != 1 && d >= 5 && d <= 7) return false;
     return true;
   }

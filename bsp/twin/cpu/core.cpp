@@ -713,8 +713,10 @@ uint32_t Core::execute(uint16_t op) {
       }
       if (cond == 0xF) {  // SVC: taken at once, or HardFault if its priority cannot preempt (B1.5.6)
         if (nvic_.priority(Nvic::kSvcall) >= nvic_.executionPriority(primask_)) {
-          // Escalated to HardFault, returning after the SVC as SVCall would (QEMU's Cortex-M0 agrees,
-          // core_qemu_test.cpp).
+          // Escalated to HardFault. The SVC has completed (A6.7 SVC: its operation is CallSupervisor()), so
+          // the return address stays SVCall's, the next instruction (B1.5.6 ReturnAddress); DDI 0419E does
+          // not name the escalated case, QEMU's Cortex-M0 does the same (core_qemu_test.cpp; README open
+          // questions).
           fault("SVC at a priority that cannot take SVCall", true);
         } else {
           nvic_.setPending(Nvic::kSvcall);

@@ -61,7 +61,8 @@ reset:
   str r1, [r0]
   MARK 0x1000
 
-  /* 1: SVC from Thread on MSP: the handler logs IPSR, EXC_RETURN, CONTROL, PRIMASK and the stacked frame. */
+  /* 1: SVC from Thread on MSP: the handler logs IPSR, EXC_RETURN, CONTROL, PRIMASK and the stacked frame
+   * (B1.5.6 PushStack: r0-r3, r12, LR, the return address after the SVC, xPSR; EXC_RETURN 0xFFFFFFF9, B1.5.8). */
   movs r0, #0x10
   movs r1, #0x11
   movs r2, #0x12
@@ -70,7 +71,7 @@ reset:
   svc #7
   MARK 0x1001
 
-  /* 2: PendSV pended through ICSR, taken at once. */
+  /* 2: PendSV pended through ICSR.PENDSVSET (B3.2.4), taken at once (B1.5.2). */
   ldr r0, =ICSR
   movs r1, #1
   lsls r1, r1, #28
@@ -80,7 +81,7 @@ reset:
   /* 2b: SysTick and PendSV pended together through ICSR (PENDSTSET, PENDSVSET; B3.2.4) with PRIMASK set: ICSR
    * shows both pending and VECTPENDING the one to be taken first; CPSIE takes them in priority order, the
    * second when the first returns (B1.5.4: the lower priority value first; at equal values the lower
-   * exception number, PendSV 14 before SysTick 15). Priorities: SHPR3 (B3.2.8). First SysTick 0x40 and
+   * exception number, PendSV 14 before SysTick 15). Priorities: SHPR3 (B3.2.10). First SysTick 0x40 and
    * PendSV 0x80, then both 0x80. */
   ldr r0, =SHPR3
   ldr r1, =0x40800000
@@ -93,7 +94,8 @@ reset:
   MARK 0x1102
 
   /* 3: nesting: IRQ0 at priority 0xC0, IRQ1 0x40, IRQ2 0xC0; IRQ0 pends IRQ1 (preempts, EXC_RETURN
-   * 0xFFFFFFF1) and IRQ2 (same priority: waits for IRQ0's return, then tail-chains before Thread). */
+   * 0xFFFFFFF1) and IRQ2 (same priority: waits for IRQ0's return, then is taken before Thread resumes).
+   * B1.5.4 preemption by priority; NVIC_IPR/ISER/ISPR B3.4; EXC_RETURN B1.5.8. */
   ldr r0, =NVIC_IPR0
   ldr r1, =0x00C040C0
   str r1, [r0]
@@ -105,7 +107,8 @@ reset:
   str r1, [r0]
   MARK 0x1003
 
-  /* 4: PRIMASK holds a pended IRQ0; ISPR shows it; WFI returns at once; CPSIE takes it. */
+  /* 4: PRIMASK holds a pended IRQ0 (B1.4.3); ISPR shows it (B3.4.5); WFI returns at once, the pending
+   * interrupt would preempt if PRIMASK were 0 (B1.5.19); CPSIE takes it. */
   cpsid i
   ldr r0, =NVIC_ISPR
   movs r1, #1
@@ -119,7 +122,8 @@ reset:
   cpsie i
   MARK 0x1005
 
-  /* 5: Thread on the process stack: SVC's frame goes to PSP, EXC_RETURN 0xFFFFFFFD, MSP untouched. */
+  /* 5: Thread on the process stack (CONTROL.SPSEL, B1.4.4): SVC's frame goes to PSP, EXC_RETURN
+   * 0xFFFFFFFD (B1.5.8), MSP untouched; the handler runs on MSP (B1.5.6). */
   ldr r0, =PSP_TOP
   msr psp, r0
   movs r0, #2
@@ -139,7 +143,8 @@ reset:
   mrs r0, control
   LOG0
 
-  /* 6: an SP that is 4 mod 8: the frame is aligned down and xPSR bit 9 says so; SP comes back unchanged. */
+  /* 6: an SP that is 4 mod 8: the frame is aligned down and the stacked xPSR bit 9 says so; SP comes back
+   * unchanged (B1.5.7 stack alignment, B1.5.6 PushStack, B1.5.8 PopStack). */
   mov r4, sp
   subs r4, #4
   mov sp, r4
@@ -150,7 +155,8 @@ reset:
   adds r4, #4
   mov sp, r4
 
-  /* 7: BLX to a Thumb function (LR = return | 1), BX back; MOV PC; ADD PC. */
+  /* 7: BLX to a Thumb function (LR = return | 1), BX back (A6.7 BLX/BX, BXWritePC A2.3.1); BX to an odd
+   * address; MOV PC (ALUWritePC: bit 0 ignored). */
   ldr r3, =callee
   blx r3
   LOG0                 /* callee left its LR in r0 */
@@ -168,8 +174,10 @@ reset:
 2:
   MARK 0x1008
 
-  /* 8: faults: the HardFault handler logs the stacked PC and moves it past the faulting instruction (2 bytes;
-   * for an INVSTATE branch to the instruction after the BX). */
+  /* 8: faults (B1.5.13; HardFault only on ARMv6-M): an unaligned LDR (A3.2.1), UDF (UNDEFINED), a BX to an
+   * even address (EPSR.T = 0: the target faults, B1.4.2), BKPT without a debugger (C1.7), an SVC with
+   * PRIMASK set (escalation, B1.5.6). The HardFault handler logs the stacked PC and xPSR and moves the PC
+   * past the faulting instruction (2 bytes; for INVSTATE to the instruction after the BX). */
   ldr r0, =SCRATCH + 1
 unaligned:
   ldr r1, [r0]
@@ -193,7 +201,8 @@ svc_after:
   LOG0
   MARK 0x100D
 
-  /* 9: priorities of the system handlers (SHPR2/3) read back with the implemented bits only. */
+  /* 9: priorities read back with the implemented bits only (2 on Cortex-M0: B3.2.9 SHPR2, B3.4.7 IPR);
+   * ICER clears the enables ISER shows (B3.4.3, B3.4.4). */
   ldr r0, =SHPR2
   ldr r1, =0xFFFFFFFF
   str r1, [r0]
