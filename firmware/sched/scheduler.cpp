@@ -181,7 +181,7 @@ inline void Scheduler::noteRun(TaskId id, Duration took) {
   }
 }
 
-void Scheduler::idle() {
+bool Scheduler::idle() {
   const uint32_t saved = port::irqSave();
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
@@ -194,11 +194,18 @@ void Scheduler::idle() {
     port::waitForInterrupt();
   }
   port::irqRestore(saved);
+  return !work;
 }
 
 void Scheduler::run() {
   for (;;) {
-    if (!dispatchOne()) idle();
+    // Every interrupt ends WFI, and most of them (each byte of an I2C transfer, each half-period of the
+    // clock) post nothing and leave the timers not due: idle() sees that and sleeps again, without a pass
+    // through dispatchOne() and its clock read and critical section.
+    if (!dispatchOne()) {
+      while (idle()) {
+      }
+    }
   }
 }
 

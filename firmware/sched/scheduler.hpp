@@ -80,7 +80,8 @@ class Scheduler {
   // Thread mode. Fires due timers, then runs the highest-priority ready task. False if no task ran.
   bool dispatchOne();
   // Thread mode. Sleeps until an interrupt unless work is pending; never loses a wake-up (see irq.hpp).
-  void idle();
+  // True if it slept, false if work was pending (a ready task or a due timer).
+  bool idle();
   // The firmware main loop: dispatch, and idle when there is nothing to do.
   [[noreturn]] void run();
 

@@ -126,6 +126,28 @@ TEST_F(ClockTest, FarDeadlinesArmAnIntermediateWakeUpLessThanAWrapAhead) {
   EXPECT_FALSE(regs().lastWrite(kIset).has_value());
 }
 
+TEST_F(ClockTest, WakeAtForTheDeadlineStillArmedTouchesNothing) {
+  regs().queueReads(kCtr, {100, 110});
+  clock.wakeAt(fw::Instant{600});
+  // Another interrupt woke the idle loop; the earliest deadline is the same.
+  regs().clearLog();
+  clock.wakeAt(fw::Instant{600});
+  EXPECT_FALSE(regs().lastWrite(kCc0).has_value());
+  EXPECT_FALSE(regs().lastWrite(kImask).has_value());
+  EXPECT_FALSE(regs().lastWrite(kIclr).has_value());
+  // An earlier deadline re-arms.
+  regs().queueReads(kCtr, {120, 125});
+  clock.wakeAt(fw::Instant{300});
+  EXPECT_EQ(regs().lastWrite(kCc0), 300U);
+  // Once the alarm has fired (the handler disarms it), the same deadline is armed again.
+  interrupt(kCcu0);
+  regs().clearLog();
+  regs().queueReads(kCtr, {130, 131});
+  clock.wakeAt(fw::Instant{300});
+  EXPECT_EQ(regs().lastWrite(kCc0), 300U);
+  EXPECT_NE(regs().lastWrite(kImask).value() & kCcu0, 0U);
+}
+
 // The clock against a counting timer (timg_model.hpp), driven the way the scheduler's idle loop drives it:
 // check the deadline, wakeAt(), sleep until an interrupt, take it, check again.
 class ClockWakeTest : public ClockTest {
@@ -168,6 +190,31 @@ TEST_F(ClockWakeTest, WakesOnTheDeadlineTickAtAnyDistanceAndPhase) {
       // half-period event instead, up to 16.4 ms late.
       EXPECT_EQ(sleepUntil(fresh, deadline), deadline);
     }
+  }
+}
+
+TEST_F(ClockWakeTest, WakeUpsForOtherInterruptsLeaveTheDeadlineExact) {
+  // The idle loop wakes for every interrupt (the bytes of an I2C scan) and calls wakeAt() again with the same
+  // deadline, which leaves the alarm armed the first time: it still fires on the deadline tick, at any
+  // distance (a far one through its intermediate wake-ups).
+  for (uint32_t distance : {700U, 20000U, 65535U, 70000U, 250000U}) {
+    SCOPED_TRACE(::testing::Message() << "deadline " << distance << " us ahead");
+    RegisterTest::SetUp();
+    TimgClock fresh{{kBase, 16, 31}};
+    fresh.start();
+    timer.attach();
+    ASSERT_EQ(sleepUntil(fresh, 100), 100U);
+    const uint32_t deadline = 100 + distance;
+    uint64_t seen = 0;
+    for (int wakeUps = 0; wakeUps < 2000 && seen == 0; ++wakeUps) {
+      if (fw::isDue(fw::Instant{deadline}, fresh.now())) {
+        seen = timer.now();
+        break;
+      }
+      fresh.wakeAt(fw::Instant{deadline});
+      if (timer.runUntilInterrupt(997)) fresh.onInterrupt();  // else another peripheral's interrupt woke it
+    }
+    EXPECT_EQ(seen, deadline);
   }
 }
 

@@ -78,7 +78,7 @@ TEST(CorePrograms, ExceptionsNestByPriorityAndReturnAsTheArchitectureSays) {
 TEST(CorePrograms, FaultsRaiseHardFaultWithTheFaultingInstructionStacked) {
   const auto r = run("faults");
   const std::vector<uint32_t> expected = {address(*r, "unaligned"), address(*r, "undefined"),
-                                          address(*r, "branch"), 0xFF};
+                                          address(*r, "even"), 0xFF};
   EXPECT_EQ(r->probe->marks, expected);
   EXPECT_EQ(r->machine->hardFaults().size(), 3U);
 }

@@ -56,6 +56,7 @@ void Core::reset() {
   }
   msp_ = sp & ~3U;
   psp_ = 0;
+  thumb_ = true;
   pc_ = next_ = entry & ~1U;
   if ((entry & 1U) == 0) halt("reset: the reset vector " + hex(entry) + " has bit 0 clear (not Thumb)");
 }
@@ -190,9 +191,9 @@ bool Core::condition(uint32_t cond) const {
   }
 }
 
-void Core::fault(const std::string& why) {
+void Core::fault(const std::string& why, bool completed) {
   if (faulted_) return;
-  faulted_ = true;
+  faulted_ = !completed;
   ++hardFaults_;
   const std::string text = why + " at " + where();
   if (observer_ != nullptr) observer_->onHardFault(text);
@@ -210,10 +211,8 @@ void Core::bxWritePc(uint32_t address) {
     exceptionReturn(address);
     return;
   }
-  if ((address & 1U) == 0) {
-    fault("branch to " + hex(address) + " with bit 0 clear (INVSTATE)");
-    return;
-  }
+  // BXWritePC: EPSR.T = address<0>; the next instruction faults if it is 0 (step()).
+  thumb_ = (address & 1U) != 0;
   next_ = address & ~1U;
 }
 
@@ -224,7 +223,7 @@ void Core::takeException(int exception, uint32_t returnAddress) {
   uint32_t& sp = threadPsp ? psp_ : msp_;
   const uint32_t padding = (sp >> 2) & 1U;
   const uint32_t frame = (sp - 0x20) & ~7U;
-  const uint32_t xpsr = apsr() | ipsr_ | (padding << 9) | (1U << 24);
+  const uint32_t xpsr = apsr() | ipsr_ | (padding << 9) | (thumb_ ? 1U << 24 : 0U);
   const uint32_t words[8] = {r_[0], r_[1], r_[2], r_[3], r_[12], lr_, returnAddress, xpsr};
   stacking_ = true;
   for (uint32_t i = 0; i < 8; ++i) {
@@ -249,6 +248,7 @@ void Core::takeException(int exception, uint32_t returnAddress) {
   }
   if (observer_ != nullptr) observer_->onExceptionEntry(exception);
   pc_ = next_ = vector & ~1U;
+  thumb_ = true;
   if ((vector & 1U) == 0) {
     // EPSR.T = 0: the first instruction of the handler faults (B1.5.6, B1.4.2).
     faulted_ = false;
@@ -293,6 +293,7 @@ void Core::exceptionReturn(uint32_t excReturn) {
   }
   spsel_ = excReturn == kReturnThreadPsp;
   next_ = words[6] & ~1U;
+  thumb_ = ((xpsr >> 24) & 1U) != 0;
   event_ = true;
   extraCycles_ = cycles::kExceptionReturn;
 }
@@ -313,6 +314,12 @@ uint32_t Core::step() {
       takeException(e, pc_);
       return cycles::kExceptionEntry;
     }
+  }
+  if (!thumb_) {  // EPSR.T = 0: the instruction here cannot execute (INVSTATE, B1.4.2)
+    faulted_ = false;
+    fault("instruction at " + hex(pc_) +
+          " with EPSR.T = 0 (INVSTATE: a branch to an address with bit 0 clear)");
+    return cycles::kAlu;
   }
   uint16_t op = 0;
   if (!fetch(pc_, op)) return 0;
@@ -706,7 +713,11 @@ uint32_t Core::execute(uint16_t op) {
       }
       if (cond == 0xF) {  // SVC: taken at once, or HardFault if its priority cannot preempt (B1.5.6)
         if (nvic_.priority(Nvic::kSvcall) >= nvic_.executionPriority(primask_)) {
-          fault("SVC at a priority that cannot take SVCall");
+          // Escalated to HardFault. The SVC has completed (A6.7 SVC: its operation is CallSupervisor()), so
+          // the return address stays SVCall's, the next instruction (B1.5.6 ReturnAddress); DDI 0419E does
+          // not name the escalated case, QEMU's Cortex-M0 does the same (core_qemu_test.cpp; README open
+          // questions).
+          fault("SVC at a priority that cannot take SVCall", true);
         } else {
           nvic_.setPending(Nvic::kSvcall);
         }

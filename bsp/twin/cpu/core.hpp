@@ -3,8 +3,9 @@
 //
 // Architecture: ARM DDI 0419E (ARMv6-M Architecture Reference Manual). What it models:
 // - every 16-bit Thumb encoding of A5.2 and the 32-bit BL, MSR, MRS, DSB, DMB, ISB (A5.3); anything else
-//   is UNDEFINED and raises HardFault, as does an unaligned access (A3.2.1), a BX/BLX/POP to an address
-//   with bit 0 clear (INVSTATE, B1.4.2), BKPT without a debugger (C1.7) and an SVC that cannot be taken at
+//   is UNDEFINED and raises HardFault, as does an unaligned access (A3.2.1), the instruction after a
+//   BX/BLX/POP or exception return to an address with bit 0 clear (EPSR.T = 0: INVSTATE at the target, the
+//   stacked xPSR with T clear, B1.4.2), BKPT without a debugger (C1.7) and an SVC that cannot be taken at
 //   the current priority (B1.5.6 escalation);
 // - the registers of B1.4: R0-R12, MSP/PSP selected by CONTROL.SPSEL in Thread mode, LR, PC, APSR (NZCV),
 //   IPSR, PRIMASK, CONTROL;
@@ -126,7 +127,9 @@ class Core {
   void bxWritePc(uint32_t address);
   void takeException(int exception, uint32_t returnAddress);
   void exceptionReturn(uint32_t excReturn);
-  void fault(const std::string& why);  // raises HardFault for the current instruction
+  // Raises HardFault for the current instruction (it returns to itself), or, `completed`, after it (an SVC
+  // that escalates: its return address is the next instruction, as SVCall's would be).
+  void fault(const std::string& why, bool completed = false);
   std::string where() const;
 
   CoreBus& bus_;
@@ -148,6 +151,7 @@ class Core {
   bool n_ = false, z_ = false, c_ = false, v_ = false;
   uint32_t ipsr_ = 0;
   bool primask_ = false, spsel_ = false, npriv_ = false;
+  bool thumb_ = true;  // EPSR.T: a BX/POP/exception return to an even address clears it (B1.4.2)
   uint32_t vtor_ = 0;
   bool sleeping_ = false, waitForEvent_ = false, event_ = false;
   bool faulted_ = false;      // the current instruction raised HardFault
