@@ -472,6 +472,28 @@ TEST(BrokenImage, AUartRxPinWithoutInputEnableIsStoppedByThePinRule) {
   EXPECT_NE(stop.find("UART0 RX on PA11"), std::string::npos) << stop;
 }
 
+TEST(BrokenImage, AnSlcanRxPinWithoutInputEnableIsStoppedByThePinRuleOnTheL1306) {
+  // PINCM10 (PA9, UART0 RX from the XDS110 on the LP-MSPM0L1306) without INENA: silicon receives no SLCAN
+  // command. The PC's text arrives after bring-up; the board delivered it without asking the pin before.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto stopWithCommand = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(100000);
+    EXPECT_TRUE(r.board.sendSerial("V\r"));
+    r.board.runUntilUs(300000);
+    return r.board.machine().stopReason();
+  };
+  EXPECT_EQ(stopWithCommand(*elf), "");
+  const auto rx = storeSites(preset, *elf, 0x40428000 + 4 * 10, 50000);
+  ASSERT_FALSE(rx.empty());
+  ASSERT_NE(rx[0].value & 0x40000U, 0U) << "the image sets INENA on PA9";
+  ASSERT_TRUE(storeValue(*elf, rx[0], rx[0].value & ~0x40000U));
+  const std::string stop = stopWithCommand(*elf);
+  EXPECT_RULE(stop, "PIN-INENA");
+  EXPECT_NE(stop.find("UART0 RX on PA9"), std::string::npos) << stop;
+}
+
 // The address of the first `op` in the function whose name contains `function`, or 0.
 uint32_t findInstruction(const ElfFile& elf, const std::string& function, uint16_t op) {
   for (const auto& s : elf.symbols()) {

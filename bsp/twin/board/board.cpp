@@ -301,7 +301,8 @@ void Board::driveMonitorSignal(bool level) {
 }
 
 std::vector<std::string> Board::warnings() const {
-  std::vector<std::string> out;
+  // The silicon rules that only warn (rules.hpp: where the part would degrade, not fail), then the board's.
+  std::vector<std::string> out = chip_.machine().ruleWarnings();
   for (const std::string& pin : chip_.pins().floatingReads())
     out.push_back(pin + " read while floating (no drive, no pull)");
   if (const Mcan* mcan = chip_.mcan()) {
@@ -391,7 +392,8 @@ void Board::serialArrive() {
   const uint8_t byte = serialOut_.front();
   serialOut_.pop_front();
   ++serialBytes_;
-  if (chip_.pins().routed(kL1306Pa9, kPf2)) chip_.uart(0).receive(byte, false);
+  if (chip_.pins().routed(kL1306Pa9, kPf2) && chip_.pins().requireInput(kL1306Pa9, "UART0 RX"))
+    chip_.uart(0).receive(byte, false);
   if (serialOut_.empty()) {
     serialArriving_ = false;
     return;
