@@ -2,6 +2,7 @@
 
 #include <atomic>
 
+#include "hal/irq.hpp"
 #include "mmio.hpp"
 #include "regs/cpuss.hpp"
 #include "regs/timg.hpp"
@@ -34,12 +35,6 @@ fw::Instant TimgClock::doNow() const {
 void TimgClock::doWakeAt(fw::Instant deadline) {
   reg::EventBlock& events = reg::cpuInt(config_.base);
   timg::Counter& counter = timg::counter(config_.base);
-  // Still armed at this deadline's counter value (the handler disarms CCU0 once it fires): the compare fires
-  // at the counter's next pass over CC0, which is the deadline itself when it is less than a wrap ahead, or
-  // a whole number of wraps before it (an early wake-up, after which the scheduler calls again). Every
-  // interrupt wakes the idle loop, and most (the I2C bytes of a scan) leave the earliest deadline as it was:
-  // re-arming each time read the clock twice and wrote three registers for nothing.
-  if ((events.imask.read() & timg::kIntCcu0) != 0 && counter.cc[0].read() == (deadline.us & 0xFFFF)) return;
   const uint32_t now = doNow().us;
   if (static_cast<int32_t>(deadline.us - now) > kMaxAlarmUs) deadline = fw::Instant{now + kMaxAlarmUs};
   counter.cc[0].write(deadline.us & 0xFFFF);
@@ -58,7 +53,11 @@ void TimgClock::onInterrupt() {
   if (pending & timg::kIntLoad) ++halves;
   if (pending & timg::kIntCcu1) ++halves;
   halves_ = halves;
-  if (pending & timg::kIntCcu0) mmio::clearBits(events.imask, timg::kIntCcu0);  // one-shot alarm
+  if (pending & timg::kIntCcu0) {
+    mmio::clearBits(events.imask, timg::kIntCcu0);  // one-shot alarm
+    wakeFired();
+    fw::port::resumeOnExit();  // a timer may be due: the Thread looks (the counts alone let it sleep)
+  }
 }
 
 }  // namespace bsp::mspm0

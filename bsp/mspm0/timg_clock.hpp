@@ -12,11 +12,12 @@
 //   intermediate wake-up 61.4 ms ahead when the deadline is further (the scheduler then calls wakeAt() again
 //   and the remainder is armed): the CPU wakes within 1 us of the deadline whatever its distance. Right after
 //   arming it re-reads now(); if the armed time has already passed it pends the interrupt with ISET, so the
-//   wake-up is never lost. A call while CC0 is still armed at the deadline's counter value touches nothing
-//   (most calls: every interrupt wakes the idle loop, and few move the earliest deadline).
+//   wake-up is never lost.
+// - wakeArmed() (hal::Clock): cleared by onInterrupt() when CCU0 fires; an intermediate alarm of a far
+//   deadline fires before the deadline, never after.
 // - onInterrupt(): body of the timer's IRQ handler. Reads MIS, clears exactly those bits, counts
-//   half-periods, disarms a fired alarm, returns. The wake-up itself is the point: the scheduler re-checks
-//   its timers after WFI.
+//   half-periods, disarms a fired alarm and resumes the Thread for it (fw::port::resumeOnExit: the scheduler
+//   re-checks its timers); the half-period counts alone let the core sleep on.
 #pragma once
 
 #include <cstdint>

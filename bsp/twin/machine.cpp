@@ -269,6 +269,18 @@ void Machine::fireDue() {
     hook();
 }
 
+bool Machine::stepCore() {
+  const uint32_t pc = core_.pc();
+  const uint32_t ipsr = core_.ipsr();
+  enteredException_ = false;
+  const uint32_t spent = core_.step();
+  if (spent == 0) return false;
+  if (profiler_ != nullptr) profiler_->account(pc, ipsr, core_.ipsr(), enteredException_, spent);
+  timeline_.advanceTo(now() + spent);
+  busy_ += spent;
+  return true;
+}
+
 void Machine::run(uint64_t endCycle) {
   while (!core_.halted() && now() < endCycle) {
     if (pendingReset_) reset(*pendingReset_, pendingResetCause_, pendingCauseId_);
@@ -280,7 +292,9 @@ void Machine::run(uint64_t endCycle) {
       continue;
     }
     if (core_.sleeping()) {
-      core_.step();  // wakes (and returns 0) only if an interrupt would preempt
+      // Wakes only if an interrupt would preempt; the step that wakes takes that exception (sleep-on-exit,
+      // PRIMASK clear) or runs the instruction after the WFI, and is counted like any other.
+      stepCore();
       if (core_.sleeping()) {
         timeline_.advanceTo(std::max(horizon, now()));
         continue;
@@ -288,14 +302,7 @@ void Machine::run(uint64_t endCycle) {
     }
     timeline_.clearRearmed();
     while (now() < horizon) {
-      const uint32_t pc = core_.pc();
-      const uint32_t ipsr = core_.ipsr();
-      enteredException_ = false;
-      const uint32_t spent = core_.step();
-      if (spent == 0) break;
-      if (profiler_ != nullptr) profiler_->account(pc, ipsr, core_.ipsr(), enteredException_, spent);
-      timeline_.advanceTo(now() + spent);
-      busy_ += spent;
+      if (!stepCore()) break;
       if (timeline_.rearmed() || pendingReset_ || core_.sleeping()) break;
     }
   }

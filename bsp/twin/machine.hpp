@@ -154,6 +154,9 @@ class Machine final : public CoreObserver {
   void onExceptionEntry(int exception) override;
   void onExceptionReturn(int exception) override;
   void onHardFault(const std::string& why) override;
+  // One step of the core, counted: busy cycles, time and the profiler. False when the core did nothing
+  // (halted or still asleep).
+  bool stepCore();
   void onWfi() override;
   std::string describePc(uint32_t pc) const;
   uint64_t armedExceptions() const;

@@ -8,6 +8,15 @@
 //                                  handler runs once the caller restores the mask, so an interrupt that
 //                                  arrives between the caller's last check and the WFI is never lost.
 //                                  On the host it returns to the test harness instead of sleeping.
+//   void sleepOnExit();            called with interrupts MASKED, right before waitForInterrupt(): from
+//                                  now on a handler that returns to Thread mode puts the core back to
+//                                  sleep instead of resuming the Thread (ARMv6-M SCR.SLEEPONEXIT), so an
+//                                  interrupt that makes no work for the Thread (a byte of a transfer, a
+//                                  clock count) costs its handler only, not a pass of the scheduler loop.
+//   void resumeOnExit();           the Thread resumes when the current handler returns. Every handler
+//                                  that makes work for the Thread calls it (Scheduler::post, a clock's
+//                                  alarm); the Thread calls it after its wait too (a wake-up with no
+//                                  handler behind it). On the host both only record the state.
 // CriticalSection is the RAII form; sections nest.
 #pragma once
 

@@ -47,6 +47,7 @@ void Scheduler::post(TaskId id, EventMask events) {
     hal::CriticalSection cs;
     state_.pending[id] |= events;
     state_.ready = static_cast<uint8_t>(state_.ready | (1U << id));
+    port::resumeOnExit();  // from a handler: the Thread runs when it returns (idle() let it sleep on)
   }
   trace(TraceKind::Post, id, events);
 }
@@ -143,7 +144,9 @@ void Scheduler::fireDueTimers(Instant now) {
 }
 
 bool Scheduler::dispatchOne() {
-  fireDueTimers(clock_.now());
+  // The clock is read only when a timer may be due: while the wake-up armed for the earliest deadline has
+  // not fired, none is (most passes: a task posted by an interrupt, its follow-up).
+  if (state_.timers != nullptr && !wakeArmedForEarliest()) fireDueTimers(clock_.now());
 
   TaskId id;
   EventMask events;
@@ -185,23 +188,35 @@ bool Scheduler::idle() {
   const uint32_t saved = port::irqSave();
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
-  const bool work =
-      state_.ready != 0 || (state_.timers != nullptr && isDue(state_.timers->deadline_, clock_.now()));
+  const bool armed = state_.timers != nullptr && wakeArmedForEarliest();
+  const bool work = state_.ready != 0 ||
+                    (state_.timers != nullptr && !armed && isDue(state_.timers->deadline_, clock_.now()));
   if (!work) {
-    if (state_.timers != nullptr) clock_.wakeAt(state_.timers->deadline_);
+    // Armed only when the earliest deadline moved before the armed wake-up, or that wake-up fired (early,
+    // or a far deadline's intermediate one).
+    if (state_.timers != nullptr && !armed) {
+      clock_.wakeAt(state_.timers->deadline_);
+      state_.wakeFor = state_.timers->deadline_;
+    }
     trace(TraceKind::Idle, kNoTask, 0);
     FW_IDLE_WINDOW();
+    // Handlers that post nothing (each byte of an I2C transfer, the clock's half-period counts) return
+    // straight to sleep: only post() and the clock's alarm resume the Thread (resumeOnExit).
+    port::sleepOnExit();
     port::waitForInterrupt();
   }
   port::irqRestore(saved);
+  // Here a handler resumed the Thread, or the WFI ended with none taken (ARMv6-M allows a wake-up for no
+  // reason, B1.5.19): either way the Thread runs on, and its own handlers must not stop it.
+  if (!work) port::resumeOnExit();
   return !work;
 }
 
 void Scheduler::run() {
   for (;;) {
-    // Every interrupt ends WFI, and most of them (each byte of an I2C transfer, each half-period of the
-    // clock) post nothing and leave the timers not due: idle() sees that and sleeps again, without a pass
-    // through dispatchOne() and its clock read and critical section.
+    // Only an interrupt that made work resumes the Thread (idle(): sleep-on-exit); a wake-up that finds no
+    // task ready and no timer due (the clock's intermediate alarm, a spurious wake-up) sleeps again in idle()
+    // without a pass through dispatchOne() and its clock read and critical section.
     if (!dispatchOne()) {
       while (idle()) {
       }

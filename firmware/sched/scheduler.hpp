@@ -103,6 +103,13 @@ class Scheduler {
 
  private:
   void fireDueTimers(Instant now);
+  // The clock's wake-up is armed for the earliest deadline, or for an earlier time, and has not fired: no
+  // timer is due yet. (Armed earlier: the timer it was armed for has stopped, e.g. a bus transaction's
+  // timeout. Left armed, it wakes the core once early, and the next transaction's later timeout needs no
+  // re-arming: one wake-up armed per scan instead of two per transaction.)
+  bool wakeArmedForEarliest() const {
+    return clock_.wakeArmed() && !isBefore(state_.timers->deadline_, state_.wakeFor);
+  }
   void insertTimer(Timer& timer);
   void removeTimer(Timer& timer);
   inline void superviseOnce();
@@ -125,6 +132,7 @@ class Scheduler {
     volatile uint8_t ready;
     uint8_t watched;
     uint8_t checkedIn;
+    Instant wakeFor;  // the earliest deadline when idle() last armed the clock's wake-up (its only caller)
     Task* tasks[kMaxTasks];
     EventMask pending[kMaxTasks];
     Duration budget[kMaxTasks];

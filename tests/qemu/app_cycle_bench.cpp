@@ -48,6 +48,9 @@ class VirtualClock final : public fw::hal::Clock {
     alarm = deadline.us;
     alarmSet = true;
   }
+
+ public:
+  void fire() { wakeFired(); }  // the alarm's handler
 };
 
 // The back-channel both ways; nothing arrives from the PC in the benchmark (no commands).
@@ -186,7 +189,9 @@ extern "C" void fw_sched_idle_probe() {
   bsp::scs::nvicSetPending(irq);
 }
 
-extern "C" void Irq20_Handler() {}  // the alarm: the scheduler's loop finds the due timers
+extern "C" void Irq20_Handler() {  // the alarm: the scheduler's loop finds the due timers
+  gClock.fire();
+}
 extern "C" void Irq21_Handler() {
   gI2c.complete();
 }

@@ -77,4 +77,66 @@ TEST(SchedIdle, InterruptBetweenReadyCheckAndSleepIsNotLost) {
   h.irq.setIdleProbe(nullptr);
 }
 
+TEST(SchedIdle, TheClockIsLeftAloneWhileTheWakeUpForTheEarliestDeadlineIsArmed) {
+  // Issue 32: arm the clock's wake-up only when the earliest deadline changes, and do not read the clock on
+  // passes that cannot find a timer due.
+  bsp::host::Harness h;
+  FnTask task;
+  fw::sched::Timer timer;
+  h.sched.addTask(0, task);
+  h.sched.startTimer(timer, 0, 0x1, ms(50), ms(50));
+  const int quiet = h.irq.attach("quiet", [] {});
+  const int busy = h.irq.attach("busy", [&] { h.sched.post(0, 0x2); });
+  h.runUntilIdle();
+  EXPECT_EQ(h.clock.wakeAts(), 1u);
+  const uint64_t reads = h.clock.reads();
+  for (int i = 1; i <= 20; ++i)
+    h.clock.schedule(uint64_t(i) * 1000, [&] { h.irq.raise(quiet); });  // the bytes of a transfer
+  h.clock.schedule(25000, [&] { h.irq.raise(busy); });                  // a completion that posts
+  h.runFor(ms(30));
+  ASSERT_EQ(task.received.size(), 1u);
+  EXPECT_EQ(task.received[0], 0x2u);
+  EXPECT_EQ(h.clock.wakeAts(), 1u) << "the earliest deadline never moved";
+  // The one task run reads it twice where run-time budgets are built (FW_SCHED_BUDGETS), for its figures.
+  EXPECT_EQ(h.clock.reads(), reads + (fw::sched::kBudgets ? 2u : 0u)) << "no pass could find the timer due";
+  h.runFor(ms(25));  // the deadline: its wake-up fired, so the clock is read and the next one armed
+  ASSERT_EQ(task.received.size(), 2u);
+  EXPECT_EQ(task.received[1], 0x1u);
+  EXPECT_EQ(h.clock.wakeAts(), 2u);
+  // An earlier deadline than the armed one is armed at once.
+  fw::sched::Timer sooner;
+  h.sched.startTimer(sooner, 0, 0x4, ms(10));
+  h.runUntilIdle();
+  EXPECT_EQ(h.clock.wakeAts(), 3u);
+  h.runFor(ms(10));
+  ASSERT_EQ(task.received.size(), 3u);
+  EXPECT_EQ(task.received[2], 0x4u);
+}
+
+TEST(SchedIdle, OnlyAHandlerThatPostsResumesTheThread) {
+  // Sleep-on-exit (firmware/hal/irq.hpp): idle() sets it with interrupts masked before its WFI, so on the
+  // target a handler that posts nothing returns straight to sleep; post() clears it, so the Thread runs
+  // once a handler made work. The Thread clears it when it runs on, so its tasks are never stopped by it.
+  bsp::host::Harness h;
+  FnTask task;
+  h.sched.addTask(0, task);
+  bool quietLeavesItSet = false, busyLeavesItSet = true;
+  const int quiet = h.irq.attach("quiet", [&] { quietLeavesItSet = h.irq.sleepingOnExit(); });
+  const int busy = h.irq.attach("busy", [&] {
+    h.sched.post(0, 0x1);
+    busyLeavesItSet = h.irq.sleepingOnExit();
+  });
+  h.irq.setIdleProbe([&] { h.irq.raise(quiet); });
+  EXPECT_TRUE(h.sched.idle());
+  EXPECT_TRUE(quietLeavesItSet) << "a handler that posts nothing returns to sleep";
+  EXPECT_FALSE(h.irq.sleepingOnExit()) << "the Thread clears it when it runs on";
+
+  h.irq.setIdleProbe([&] { h.irq.raise(busy); });
+  EXPECT_TRUE(h.sched.idle());
+  EXPECT_FALSE(busyLeavesItSet) << "post() resumes the Thread";
+  EXPECT_TRUE(h.sched.dispatchOne());
+  EXPECT_EQ(task.received.size(), 1u);
+  h.irq.setIdleProbe(nullptr);
+}
+
 }  // namespace

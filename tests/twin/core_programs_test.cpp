@@ -5,11 +5,13 @@
 // n), +8 reads the cycle count, +12 is a scratch word.
 #include <chrono>
 #include <cstdio>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "gtest/gtest.h"
 #include "machine.hpp"
+#include "profiler.hpp"
 
 namespace {
 
@@ -44,7 +46,8 @@ struct Run {
   std::unique_ptr<Probe> probe;
 };
 
-std::unique_ptr<Run> run(const std::string& name, uint64_t cycles = 100000) {
+std::unique_ptr<Run> run(const std::string& name, uint64_t cycles = 100000,
+                         twin::Profiler* profiler = nullptr) {
   auto r = std::make_unique<Run>();
   const std::string path = std::string(TWIN_PROGRAMS) + "/" + name + ".elf";
   EXPECT_TRUE(r->elf.load(path)) << r->elf.error();
@@ -52,6 +55,7 @@ std::unique_ptr<Run> run(const std::string& name, uint64_t cycles = 100000) {
   r->probe = std::make_unique<Probe>(*r->machine);
   r->machine->map().add(0x40000000, 0x100, *r->probe);
   r->machine->loadFlash(r->elf.flashImage());
+  r->machine->setProfiler(profiler);
   r->machine->powerOn();
   r->machine->run(cycles);
   EXPECT_FALSE(r->machine->stopped()) << r->machine->stopReason();
@@ -73,6 +77,44 @@ TEST(CorePrograms, ExceptionsNestByPriorityAndReturnAsTheArchitectureSays) {
       0x10, 0x11,       0xFFFFFFF9, 0x01,       0xFFFFFFF1, 0x12, 0x21, 0x1F, 0x30, 0x31, 0x22, 0x32,
       0x11, 0xFFFFFFF9, 0x01,       0xFFFFFFF1, 0x12,       0x23, 0x40, 0x21, 0x22, 0x50, 0xFF};
   EXPECT_EQ(r->probe->marks, expected);
+}
+
+TEST(CorePrograms, SleepOnExitSleepsOnTheReturnToThreadModeOnly) {
+  const auto r = run("sleep_on_exit");
+  // sleep_on_exit.S: with SCR.SLEEPONEXIT set, IRQ0's return to Thread mode sleeps (0x11 comes only after
+  // SysTick cleared the bit, 0x30); a return to Handler mode (IRQ1 preempting IRQ0) does not (0x41 at once).
+  const std::vector<uint32_t> expected = {0x10, 0x20, 0x30, 0x11, 0x12, 0x40, 0x41, 0x31, 0x13, 0xFF};
+  EXPECT_EQ(r->probe->marks, expected);
+}
+
+TEST(CorePrograms, AWakeUpFromSleepIsCountedLikeAnyOtherStep) {
+  // The step that wakes the core takes the exception at once (sleep-on-exit leaves PRIMASK clear): its entry
+  // is busy time and a profiler entry like any other (it was dropped: the L1306 image's profile showed 1 314
+  // I2C handler entries of 4 288).
+  twin::ElfFile elf;
+  ASSERT_TRUE(elf.load(std::string(TWIN_PROGRAMS) + "/sleep_on_exit.elf")) << elf.error();
+  twin::Profiler profiler(elf);
+  const auto r = run("sleep_on_exit", 100000, &profiler);
+  std::ostringstream out;
+  profiler.write(out, "sleep_on_exit", 32000000, r->machine->now(), r->machine->busyCycles());
+  std::istringstream in(out.str());
+  uint64_t systickEntries = 0, exceptionCycles = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("exception\t", 0) != 0) continue;
+    std::istringstream row(line);
+    std::string kind, name;
+    int number = 0;
+    uint64_t entries = 0, cycles = 0;
+    row >> kind >> number;
+    row.ignore(1);
+    std::getline(row, name, '\t');
+    row >> entries >> cycles;
+    exceptionCycles += cycles;
+    if (number == 15) systickEntries = entries;
+  }
+  EXPECT_EQ(r->machine->interrupts()[15].entries, 2u);
+  EXPECT_EQ(systickEntries, 2u) << "both SysTick entries came from sleep";
+  EXPECT_EQ(exceptionCycles, r->machine->busyCycles());
 }
 
 TEST(CorePrograms, FaultsRaiseHardFaultWithTheFaultingInstructionStacked) {

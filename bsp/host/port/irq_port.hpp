@@ -9,5 +9,7 @@ namespace fw::port {
 uint32_t irqSave();
 void irqRestore(uint32_t saved);
 void waitForInterrupt();
+void sleepOnExit();
+void resumeOnExit();
 
 }  // namespace fw::port

@@ -59,6 +59,9 @@ void SimClock::advanceBefore(uint64_t timeUs) {
   if (timeUs <= now_) return;
   advanceTo(timeUs - 1);
   now_ = timeUs;
+  // The alarm, if it falls on this microsecond, stays queued, but the firmware must see its deadline due as
+  // the target would (a pending interrupt runs at once): the wake-up counts as fired.
+  if (alarm_ != 0 && alarmAt_ <= now_) wakeFired();
 }
 
 uint64_t SimClock::expand(fw::Instant instant) const {
@@ -70,11 +73,16 @@ uint64_t SimClock::expand(fw::Instant instant) const {
 void SimClock::doWakeAt(fw::Instant deadline) {
   // The scheduler re-arms the alarm on every idle: erasing it by its key keeps that O(log n) with many device
   // events pending (a 64-device chain queues thousands).
+  ++wakeAts_;
   if (alarm_ != 0) events_.erase({alarmAt_, alarm_});
   const int line = timerLine_;
   SimIrq* irq = &irq_;
   alarmAt_ = std::max(expand(deadline), now_);
-  alarm_ = schedule(alarmAt_, [irq, line] { irq->raise(line); });
+  // The event is the compare match and its handler's bookkeeping together (wakeFired), as on the target.
+  alarm_ = schedule(alarmAt_, [this, irq, line] {
+    wakeFired();
+    irq->raise(line);
+  });
 }
 
 }  // namespace bsp::host

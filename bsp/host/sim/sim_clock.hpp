@@ -43,11 +43,18 @@ class SimClock final : public fw::hal::Clock {
   // Time of the earliest pending event (including the wake alarm); false if none.
   bool nextEvent(uint64_t& atUs) const;
 
+  // How often the firmware read the clock and armed its wake-up (the scheduler's cost, tests).
+  uint64_t reads() const { return reads_; }
+  uint64_t wakeAts() const { return wakeAts_; }
+
   // Converts a firmware Instant (32-bit) to the nearest 64-bit time at or around now.
   uint64_t expand(fw::Instant instant) const;
 
  private:
-  fw::Instant doNow() const override { return fw::Instant{static_cast<uint32_t>(now_)}; }
+  fw::Instant doNow() const override {
+    ++reads_;
+    return fw::Instant{static_cast<uint32_t>(now_)};
+  }
   void doWakeAt(fw::Instant deadline) override;
 
   SimIrq& irq_;
@@ -58,6 +65,8 @@ class SimClock final : public fw::hal::Clock {
   EventId alarm_ = 0;
   uint64_t alarmAt_ = 0;  // the alarm's time: doWakeAt() erases it by key, not by a search of every event
   bool advancing_ = false;
+  mutable uint64_t reads_ = 0;
+  uint64_t wakeAts_ = 0;
 };
 
 }  // namespace bsp::host

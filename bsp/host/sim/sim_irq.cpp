@@ -43,6 +43,15 @@ void SimIrq::waitForInterrupt() {
   ++sleeps_;
 }
 
+void SimIrq::sleepOnExit() {
+  // The contract (firmware/hal/irq.hpp): set with interrupts masked, right before the wait.
+  if (!primask_) {
+    std::fprintf(stderr, "SimIrq: sleepOnExit called with interrupts enabled\n");
+    std::abort();
+  }
+  sleepOnExit_ = true;
+}
+
 void SimIrq::deliverPending() {
   if (primask_ || inHandler_) return;
   for (bool again = true; again;) {
@@ -66,6 +75,7 @@ void SimIrq::reset() {
   primask_ = false;
   inHandler_ = false;
   sleeps_ = 0;
+  sleepOnExit_ = false;
 }
 
 }  // namespace bsp::host
@@ -84,6 +94,12 @@ void irqRestore(uint32_t saved) {
 }
 void waitForInterrupt() {
   bsp::host::simIrq().waitForInterrupt();
+}
+void sleepOnExit() {
+  bsp::host::simIrq().sleepOnExit();
+}
+void resumeOnExit() {
+  bsp::host::simIrq().resumeOnExit();
 }
 
 }  // namespace fw::port

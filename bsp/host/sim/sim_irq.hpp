@@ -30,11 +30,16 @@ class SimIrq {
   uint64_t deliveries(int line) const { return lines_.at(static_cast<size_t>(line)).deliveries; }
   const std::string& name(int line) const { return lines_.at(static_cast<size_t>(line)).name; }
   uint64_t sleeps() const { return sleeps_; }
+  // The sleep-on-exit state (fw::port::sleepOnExit / resumeOnExit): set, a handler returning to the Thread
+  // would put the core back to sleep on the target.
+  bool sleepingOnExit() const { return sleepOnExit_; }
 
   // Port implementation.
   uint32_t save();
   void restore(uint32_t saved);
   void waitForInterrupt();
+  void sleepOnExit();
+  void resumeOnExit() { sleepOnExit_ = false; }
 
   // Called by the scheduler between its last ready check and WFI (interrupts masked); tests raise lines here
   // to hit the lost-wake-up window exactly.
@@ -59,6 +64,7 @@ class SimIrq {
   bool primask_ = false;
   bool inHandler_ = false;
   uint64_t sleeps_ = 0;
+  bool sleepOnExit_ = false;
   std::function<void()> idleProbe_;
 };
 

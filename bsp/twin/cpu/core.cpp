@@ -48,6 +48,7 @@ void Core::reset() {
   primask_ = spsel_ = npriv_ = false;
   vtor_ = 0;
   sleeping_ = waitForEvent_ = event_ = faulted_ = false;
+  sleepOnExit_ = false;
   nvic_.reset();
   uint32_t sp = 0, entry = 0;
   if (!load(vtor_, 4, sp) || !load(vtor_ + 4, 4, entry)) {
@@ -296,6 +297,10 @@ void Core::exceptionReturn(uint32_t excReturn) {
   thumb_ = ((xpsr >> 24) & 1U) != 0;
   event_ = true;
   extraCycles_ = cycles::kExceptionReturn;
+  // Sleep-on-exit (B3.2.7 SCR.SLEEPONEXIT: on the return to the base level of execution priority). The
+  // Cortex-M0+ may skip the unstacking here and the stacking at the next entry; the twin pays both (its
+  // cycle counts err on the busy side) and resumes the Thread at the stacked address when woken.
+  if (toThread && sleepOnExit_) sleeping_ = true;
 }
 
 uint32_t Core::step() {

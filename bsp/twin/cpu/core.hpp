@@ -12,7 +12,8 @@
 // - exception entry and return (B1.5.6-B1.5.8): the eight-word frame with 8-byte alignment (xPSR bit 9),
 //   EXC_RETURN 0xFFFFFFF1/9/D, vector fetch from VTOR; priorities and PRIMASK through Nvic;
 // - WFI (B1.5.19): the core sleeps until an exception would preempt if PRIMASK were 0; WFE/SEV with the
-//   event register (B1.5.18).
+//   event register (B1.5.18); sleep-on-exit (SCR.SLEEPONEXIT, B3.2.7): a return to Thread mode sleeps the
+//   same way.
 // Memory: flash and SRAM windows are read directly; every other access goes to the CoreBus (peripherals,
 // the System Control Space). An access nobody answers halts the core with the PC and the address: the
 // twin stops rather than guess (bsp/twin/README.md).
@@ -110,6 +111,11 @@ class Core {
   uint32_t psp() const { return psp_; }
   uint32_t vtor() const { return vtor_; }
   void setVtor(uint32_t value) { vtor_ = value & 0xFFFFFF80U; }
+  // SCR.SLEEPONEXIT (B3.2.7), written through the System Control Space: while set, an exception return to
+  // Thread mode puts the core to sleep as WFI would, the Thread resuming only after a later handler clears
+  // it and returns (TI's MSPM0 SDK: DL_SYSCTL_enableSleepOnExit, SCB->SCR bit 1, used by its low-power
+  // examples with a __WFI loop).
+  void setSleepOnExit(bool on) { sleepOnExit_ = on; }
   uint64_t instructions() const { return instructions_; }
   uint32_t hardFaults() const { return hardFaults_; }
 
@@ -154,6 +160,7 @@ class Core {
   bool thumb_ = true;  // EPSR.T: a BX/POP/exception return to an even address clears it (B1.4.2)
   uint32_t vtor_ = 0;
   bool sleeping_ = false, waitForEvent_ = false, event_ = false;
+  bool sleepOnExit_ = false;
   bool faulted_ = false;      // the current instruction raised HardFault
   uint32_t extraCycles_ = 0;  // an exception return inside the current instruction (its frame pop)
   void setPrimask(bool on) {

@@ -185,6 +185,7 @@ bool Scs::write(uint32_t offset, unsigned bytes, uint32_t value) {
       return true;
     case kScr:
       scr_ = value & 0x16;
+      core_.setSleepOnExit((scr_ & 0x2) != 0);  // SLEEPONEXIT (B3.2.7)
       return true;
     case kCcr:
       return true;  // read-only on ARMv6-M
