@@ -551,13 +551,15 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
                                  "--candump", log)
     bus = slcan_pty.open_bus(path)
     received = []
-    # As the README's recipe: until the board has been silent for 2 s (bms-sim then waits for this reader to
-    # close the terminal, and must not close it under the reader). The first frame may take longer on a loaded
-    # machine (bms-sim starts the board only once this reader has sent O): up to slcan_pty.FIRST_FRAME_S.
+    # As the README's recipe: until the board has been silent for a while (bms-sim then waits for this reader
+    # to close the terminal, and must not close it under the reader). The recipe's 2 s once ended this read
+    # early on a machine loaded by other builds (the sanitized bms-sim stalled), so the test waits 5 s. The
+    # first frame may take longer (bms-sim starts the board only once this reader has sent O): up to
+    # slcan_pty.FIRST_FRAME_S.
     timeout = slcan_pty.FIRST_FRAME_S
     while (msg := bus.recv(timeout=timeout)) is not None:
         received.append((msg.arbitration_id, bytes(msg.data)))
-        timeout = 2.0
+        timeout = 5.0
     bus.shutdown()
     out, err = proc.communicate(timeout=30)
     if proc.returncode != 0:
