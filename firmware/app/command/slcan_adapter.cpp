@@ -1,4 +1,5 @@
 #include "app/command/slcan_adapter.hpp"
+#include "app/publish/slcan.hpp"
 
 namespace fw::app::command {
 
@@ -11,11 +12,6 @@ constexpr uint8_t kVersionAnswer[] = {'V',
                                       static_cast<uint8_t>('0' + kVersion.major % 10),
                                       static_cast<uint8_t>('0' + kVersion.minor % 10),
                                       kCr};
-
-uint8_t hexDigit(uint32_t v) {
-  v &= 0xFU;
-  return static_cast<uint8_t>(v < 10 ? '0' + v : 'A' - 10 + v);
-}
 
 // The value of hex digit `c` (either case), or 16 if it is none.
 uint32_t hexValue(uint32_t c) {
@@ -110,7 +106,7 @@ bool SlcanAdapter::execute(const Info& info, Line& out) {
     case 'N':
       a[0] = 'N';
       for (uint8_t i = 0; i < 4; ++i)
-        a[1 + i] = hexDigit(info.serial >> (12 - 4 * i));
+        a[1 + i] = slcan::hexDigit(info.serial >> (12 - 4 * i));
       a[5] = kCr;
       out.answerLength = 6;
       return true;

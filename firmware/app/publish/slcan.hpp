@@ -25,6 +25,13 @@ inline constexpr size_t kMaxEncodedLength = 1 + 8 + 1 + 16 + 1;  // 'T' + id + d
 
 inline constexpr size_t kStandardLength = 1 + 3 + 1 + 16 + 1;  // 't' + id + '8' + data + '\r'
 
+// The uppercase digit of a nibble (the low four bits of `value`): one table for every SLCAN writer.
+inline constexpr uint8_t kHexDigits[16] = {'0', '1', '2', '3', '4', '5', '6', '7',
+                                           '8', '9', 'A', 'B', 'C', 'D', 'E', 'F'};
+inline uint8_t hexDigit(uint32_t value) {
+  return kHexDigits[value & 0xFU];
+}
+
 size_t encode(const hal::CanFrame& frame, std::span<uint8_t> out);
 void encodeStandard(uint16_t id, const std::array<uint8_t, 8>& data, uint8_t* out);
 
