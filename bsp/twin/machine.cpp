@@ -56,6 +56,7 @@ void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
     }
   }
   if (race_) race_->reset();
+  idleSeen_ = false;
   for (auto& hook : resetHooks_)
     hook(kind);
   scs_.reset();
@@ -100,6 +101,16 @@ void Machine::violate(Rule rule, const std::string& detail) {
     ruleWarnings_.push_back(text);
 }
 
+bool Machine::checkKey(const std::string& reg, uint32_t value, uint32_t key) {
+  if ((value >> 24) == key) return true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "%s written with 0x%08X, KEY 0x%02X instead of 0x%02X: the part ignores the write",
+                reg.c_str(), value, value >> 24, key);
+  violate(Rule::KeyWrite, buf);
+  return false;
+}
+
 void Machine::enableImageRules(uint32_t stackLow) {
   imageRules_ = true;
   race_ = std::make_unique<RaceWatch>(
@@ -136,6 +147,10 @@ void Machine::onWfi() {
     violate(Rule::IdleWfi,
             "WFI in Thread mode with PRIMASK clear: an interrupt between the last check for work and the WFI "
             "is slept through until the next one");
+  }
+  if (imageRules_ && !core_.handlerMode() && !idleSeen_) {
+    idleSeen_ = true;
+    if (firstIdleHook_) firstIdleHook_();
   }
 }
 

@@ -110,6 +110,9 @@ class Machine final : public CoreObserver {
   // PC and the function either way.
   void violate(Rule rule, const std::string& detail);
   const std::vector<std::string>& ruleWarnings() const { return ruleWarnings_; }
+  // KEY-WRITE (rules.hpp): `reg` written with `value`, whose KEY (31:24) is not `key`: the part ignores it.
+  // True if the key is right.
+  bool checkKey(const std::string& reg, uint32_t value, uint32_t key);
   // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
   // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
   void enableImageRules(uint32_t stackLow);
@@ -139,6 +142,9 @@ class Machine final : public CoreObserver {
   bool busWrite(uint32_t address, unsigned bytes, uint32_t value);
   // Registered by the chip: called on every reset, after the core's state is reset.
   void onReset(std::function<void(ResetKind)> hook) { resetHooks_.push_back(std::move(hook)); }
+  // Called at the first WFI in Thread mode after each reset, with the image rules on: bring-up is over and
+  // the scheduler has nothing to do (the WWDT-STOPPED rule looks at the watchdog then).
+  void onFirstIdle(std::function<void()> hook) { firstIdleHook_ = std::move(hook); }
   // Called after every batch of events (the board samples signals the emulators drive, e.g. nFAULT).
   void onEvents(std::function<void()> hook) { eventHooks_.push_back(std::move(hook)); }
   void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
@@ -187,6 +193,8 @@ class Machine final : public CoreObserver {
   std::string pendingResetCause_;
   std::vector<std::string> ruleWarnings_;
   bool imageRules_ = false;
+  bool idleSeen_ = false;  // a Thread-mode WFI since the last reset
+  std::function<void()> firstIdleHook_;
   std::unique_ptr<RaceWatch> race_;
   std::array<std::function<InterruptSources()>, 32> irqSources_{};
   Profiler* profiler_ = nullptr;

@@ -155,6 +155,14 @@ bool Mspm0::load(const ElfFile& elf) {
   // (bsp/mspm0/linker).
   const auto limit = elf.symbol("__stack_limit__");
   machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase);
+  // WWDT-STOPPED (rules.hpp): bring-up ends at the first Thread-mode WFI; the watchdog must be running then.
+  machine_->onFirstIdle([this] {
+    if (!wwdt0_->running())
+      machine_->violate(
+          Rule::WatchdogStopped,
+          "bring-up ended (the first WFI of Thread mode) with WWDT0 never started: a firmware that "
+          "hangs from now on stays hung");
+  });
   machine_->powerOn();
   return true;
 }

@@ -8,6 +8,11 @@
 // Machine::ruleWarnings() (bms-sim --json twin_warnings).
 //
 // The table (bsp/twin/README.md "Rules" lists the same):
+//   WIRE-UART-FRAME   UART LCRH frame (WLEN, PEN) against the link partner's (8N1 for the BQ79616: SLUSE81E
+//                     DEV_CONF, one stop bit unless TWO_STOP_EN; TI's BQ79616 example ti_msp_dl_config.c
+//                     configures 8 data bits, no parity, one stop bit;
+//                     8N1 for the XDS110 back-channel the PC opens): a frame of another length or with a
+//                     parity bit is misread by the partner and the partner's by the MSPM0 (hw_uart.h LCRH)
 //   WIRE-UART-BAUD    UART baud (BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD/64))) against the link
 //                     partner's rate within the tolerance the receiver allows (BQ79616: SLUSE81E "UART RX
 //                     baud rate error" +-1 %; XDS110 back-channel: half the 16x sampling margin, computed)
@@ -37,6 +42,25 @@
 //                     written or a burst started then is lost), and cleared only after MFIFOSR showed the
 //                     flush complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT
 //                     should be checked to be 8"; DL_I2C_flushControllerTXFIFO waits the same way)
+//   I2C-READ-NACK     a controller read burst that ends with STOP has MCTR.ACK clear: the last byte is NACKed
+//                     (UM10204 3.1.6: the controller-receiver signals the end of the transfer with a NACK
+//                     before STOP; SLUSE13B I2C read figure: the last data byte, NACK, Stop; hw_i2c.h
+//                     MCTR.ACK); an ACKed last byte leaves the target driving SDA for the next one, and the
+//                     STOP can fail
+//   KEY-WRITE         (warns) a keyed register written without its key: the part ignores the write
+//                     (GPRCM.PWREN 0x26, GPRCM.RSTCTL 0xB1 in every hw_*.h; SYSCTL SYSOSCFCLCTL 0x2A and
+//                     RESETCMD 0xE4 in hw_sysctl; WWDTCTL0 0xC9 / WWDTCTL1 0xBE in hw_wwdt.h; TI's driverlib
+//                     writes each key with its register: DL_*_enablePower, DL_SYSCTL_enableSYSOSCFCL)
+//   WWDT-STOPPED      (warns) bring-up ends (the first WFI in Thread mode: the scheduler has nothing to do)
+//   with
+//                     WWDT0 not running: a firmware that hangs later stays hung. WWDT0 is off after a reset
+//                     and starts only with a keyed WWDTCTL0 write (SLAU846B / SLAU847D WWDT; hw_wwdt.h);
+//                     the product relies on it (firmware/README.md, bsp/mspm0/README.md watchdog)
+//   MCAN-INIT-SYNC    a configuration write (CCCR.CCE, NBTP, the filter and FIFO set-up) while CCCR.INIT does
+//                     not read back 1 yet: "there may be a delay until the value written to INIT can be read
+//                     back" (hw_mcan.h CCCR.INIT, the M_CAN user manual it follows); CCE and the protected
+//                     registers are written only with INIT = 1 (hw_mcan.h CCCR.CCE); TI's set-up polls
+//                     DL_MCAN_getOpMode until it reads SW_INIT before it configures
 #pragma once
 
 #include <cstdint>
@@ -56,6 +80,11 @@ enum class Rule : uint8_t {
   IsrRace,
   I2cClockStretch,
   I2cFlush,
+  UartFrame,
+  I2cReadNack,
+  KeyWrite,
+  WatchdogStopped,
+  McanInitSync,
 };
 
 struct RuleInfo {

@@ -121,6 +121,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
     // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text, at
     // 115 200 Bd. Its tolerance is not documented: half the margin of a 16x-oversampling receiver (sampling
     // mid-bit, 7/16 of a bit over the 9.5 bits to the stop bit: 4.6 %), the other half left to our clock.
+    // Its frame is the PC's 8N1 (bsp/mspm0/README.md: the back-channel at 115200 8N1; Link's default).
     chip_.uart(0).setLink(
         {"XDS110 back-channel", 115200, 23000,
          "computed: half a 16x receiver's 4.6 % margin; bsp/twin/README.md open questions"});
@@ -206,7 +207,9 @@ void Board::wireChain(int devices) {
   Pins& pins = chip_.pins();
   Uart& uart = chip_.uart(0);
   // "The device supports 1-Mbps baud rate" (SLUSE81E 9.3.6.1.1, UART); the host's baud error must lie within
-  // +-1 % (SLUSE81E electrical characteristics, "UART RX baud rate error").
+  // +-1 % (SLUSE81E electrical characteristics, "UART RX baud rate error"). Its frame is 8N1 (Link's
+  // default): 8 data bits, no parity, one stop bit unless DEV_CONF.TWO_STOP_EN (SLUSE81E DEV_CONF), as TI's
+  // BQ79616 example configures the MSPM0 (ti_msp_dl_config.c: 8 bits, no parity, one stop bit).
   uart.setLink({"BQ79616", 1000000, 10000, "SLUSE81E: 1 Mbps, UART RX baud rate error +-1 %"});
   uart.onTransmit([this](uint8_t byte) {
     ++uartBytes_;

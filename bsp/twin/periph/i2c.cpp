@@ -196,6 +196,13 @@ void I2c::startBurst() {
   stopAfter_ = (mctr_ & kStop) != 0;
   ackLast_ = (mctr_ & kAck) != 0;
   adrNack_ = dataNack_ = err_ = false;
+  if (read_ && stopAfter_ && ackLast_ && remaining_ != 0) {
+    machine_.violate(
+        Rule::I2cReadNack,
+        name() + std::string(": a read burst ends with STOP and MCTR.ACK set: its last byte is "
+                             "ACKed, so the target drives SDA for one more and the STOP can fail"));
+    return;
+  }
   if ((mctr_ & kStart) == 0 && !busOwned_) {
     stop("MCTR.BURSTRUN without START while the controller does not own the bus");
     return;

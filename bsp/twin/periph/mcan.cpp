@@ -557,7 +557,16 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
           recovered_.cancel();
         }
       }
-      // CCE and the other configuration bits change only while INIT reads 1.
+      // CCE and the other configuration bits change only while INIT reads 1 (MCAN-INIT-SYNC: CCE written
+      // before INIT read back is refused, and named).
+      if (!initReadBack() && (value & kCce) && init) {
+        machine_.violate(Rule::McanInitSync,
+                         std::string(name()) +
+                             ": CCCR.CCE written before CCCR.INIT read back 1: the "
+                             "configuration change is refused and the set-up that follows "
+                             "is ignored");
+        return true;
+      }
       cccr_ = initReadBack() || init ? value : ((cccr_ & ~kInit) | (value & kInit));
       if (!initReadBack() && (value & kCce)) cccr_ &= ~kCce;
       return true;

@@ -103,6 +103,18 @@ uint64_t Uart::baud64() const {
 void Uart::checkLink() {
   if (linkChecked_ || link_.baud == 0) return;
   linkChecked_ = true;
+  const uint32_t dataBits = 5 + ((lcrh_ >> 4) & 3U);
+  const bool parity = (lcrh_ & kPen) != 0;
+  if (dataBits != link_.dataBits || parity != link_.parity) {
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "%s: LCRH 0x%02X frames %u data bits%s against the %s's %u data bits%s: every byte is "
+                  "misread on both sides",
+                  name(), lcrh_ & 0xFF, dataBits, parity ? " with parity" : ", no parity",
+                  link_.partner.c_str(), link_.dataBits, link_.parity ? " with parity" : ", no parity");
+    machine_.violate(Rule::UartFrame, buf);
+    return;
+  }
   const uint32_t hse = (ctl0_ >> kHseShift) & 3U;
   const int64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
   // The MSPM0 receiver's margin in ppm: (1/2 - 1/oversampling) / 9.5 of a bit; half of it is ours.

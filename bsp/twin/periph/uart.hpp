@@ -34,7 +34,11 @@
 // BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD / 64)), against the partner's: the error may be at most the
 // partner's documented receive tolerance, and at most half the margin the MSPM0's own receiver has at its
 // oversampling (it samples mid-bit, (1/2 - 1/oversampling) bit times over the 9.5 bits to the stop bit; the
-// other half is the partner's clock's).
+// other half is the partner's clock's). The same frame checks the frame format (rules.hpp WIRE-UART-FRAME):
+// LCRH.WLEN (5:4, 3 = 8 bits) and LCRH.PEN (bit 1) against the partner's data bits and parity (8N1 for both
+// partners). A second stop bit (LCRH.STP2) is allowed: the MSPM0 transmits it as idle time an 8N1 receiver
+// accepts, and its own receiver checks only the first stop bit ("The receive logic does not check for two
+// stop bits being received", hw_uart.h LCRH.STP2).
 #pragma once
 
 #include <cstdint>
@@ -66,6 +70,8 @@ class Uart final : public Peripheral, public DmaRequester {
     uint32_t baud = 0;
     uint32_t tolerancePpm = 0;
     std::string source;
+    uint32_t dataBits = 8;  // the partner's frame: data bits, and whether it sends and expects a parity bit
+    bool parity = false;
   };
   void setLink(Link link) { link_ = std::move(link), linkChecked_ = false; }
   // The baud the settings give, in 1/64 Bd (0 if not configured).
