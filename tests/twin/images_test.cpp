@@ -637,4 +637,62 @@ TEST(BrokenImage, AnI2cFlushNeverEndedIsStoppedByTheFlushRule) {
   EXPECT_RULE(stop, "I2C-FLUSH");
 }
 
+TEST(BrokenImage, SevenDataBitsOnTheBq79616LinkAreStoppedByTheFrameRule) {
+  // LCRH 0x20 (WLEN 7 bits) instead of 0x30 (8N1): the BQ79616 frames 8 data bits (SLUSE81E DEV_CONF; TI's
+  // BQ79616 example configures the MSPM0 8N1), so every byte is misread on both sides.
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto lcrh = storeSites(preset, *elf, 0x40108000 + 0x1104, 50000);
+  const StoreSite site = siteOf(lcrh, 0x30);
+  ASSERT_NE(site.pc, 0U) << "no LCRH write of 0x30 (8N1)";
+  ASSERT_TRUE(storeValue(*elf, site, 0x20));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-UART-FRAME");
+  EXPECT_NE(stop.find("7 data bits"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("BQ79616"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, TheFclWrittenWithoutItsKeyIsNamedByTheKeyRule) {
+  // SYSOSCFCLCTL without KEY 0x2A: the part ignores the write (hw_sysctl SYSOSCFCLCTL.KEY), SYSOSC stays
+  // without its frequency correction loop; the image would run on, so the twin warns.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto warnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(300000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
+  const auto fcl = storeSites(preset, *elf, 0x400AF000 + 0x1310, 50000);
+  ASSERT_EQ(fcl.size(), 1U);
+  ASSERT_EQ(fcl[0].value >> 24, 0x2AU);
+  ASSERT_TRUE(storeValue(*elf, fcl[0], fcl[0].value & 0x00FFFFFFU));
+  const auto caught = warnings(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[KEY-WRITE] SYSCTL SYSOSCFCLCTL"), std::string::npos) << caught[0];
+}
+
+TEST(BrokenImage, AWatchdogNeverStartedIsNamedWhenBringUpEnds) {
+  // The WWDTCTL0 write that starts WWDT0 taken out: nothing in a run hangs, so nothing needs the watchdog,
+  // but the part is then unsupervised: the twin warns at the first idle WFI.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto run = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(500000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(run(*elf).empty()) << run(*elf).front();
+  const auto start = storesTo(preset, *elf, 0x40080000 + 0x1100, 50000);
+  ASSERT_EQ(start.size(), 1U);
+  removeStores(*elf, start);
+  const auto caught = run(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[WWDT-STOPPED]"), std::string::npos) << caught[0];
+  EXPECT_NE(caught[0].find("WWDT0 never started"), std::string::npos) << caught[0];
+}
+
 }  // namespace

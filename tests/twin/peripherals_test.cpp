@@ -216,6 +216,23 @@ TEST_F(I2c, ACountByteReadAloneIsContinuedWithoutStartThenNackedAndStopped) {
   EXPECT_EQ(log[0], "S 17 [02 A1 A2] P");
 }
 
+TEST_F(I2c, AReadThatAcksItsLastByteBeforeStopIsStoppedByTheNackRule) {
+  // UM10204 3.1.6: a controller-receiver signals the end of the transfer with a NACK on the last byte, then
+  // STOP (SLUSE13B's I2C read figure shows the same). MCTR.ACK with STOP ACKs it: the target drives the next
+  // byte and the STOP can fail.
+  start();
+  ScriptedTarget target({0x11, 0x22});
+  chip_.i2c0().attach(0x08, target);
+  wr(kI2c0 + 0x1210, (0x08 << 1) | 1);
+  wr(kI2c0 + 0x1214, (2U << 16) | 1U | 2U | 4U);  // 2 bytes, BURSTRUN, START, STOP, ACK = 0: fine
+  runUs(200);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_EQ(target.stops, 1);
+  wr(kI2c0 + 0x1214, (2U << 16) | (1U << 3) | 1U | 2U | 4U);  // the same with ACK
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-READ-NACK]"), std::string::npos) << why();
+}
+
 TEST_F(I2c, TheControllerAckOverrideIsRefused) {
   // MCTR.MACKOEN: no TI example or library uses it, no TRM text describes it (bsp/mspm0/README.md, open
   // questions): the twin does not guess its behaviour.
@@ -342,6 +359,40 @@ TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
   EXPECT_EQ(rd(kCan + 0x7830) & 1U, 0U);         // ...but no interrupt: the line waits for EOI
   wr(kCan + 0x7220, 1);                          // EOI line 0
   EXPECT_EQ(rd(kCan + 0x7830) & 1U, 1U);         // TC still pending: the line asserts again
+}
+
+TEST_F(Chip, McanConfigurationBeforeInitReadsBackIsStoppedByTheSyncRule) {
+  // "there may be a delay until the value written to INIT can be read back" (hw_mcan.h CCCR.INIT); CCE and
+  // the protected registers take a write only with INIT = 1 (CCCR.CCE). From reset INIT is 1 already: INIT
+  // then CCE at once is fine. Once INIT was cleared, setting INIT and CCE without waiting is refused.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);  // INIT from reset: CCE taken
+  EXPECT_EQ(rd(kCan + 0x7018) & 3U, 3U);
+  wr(kCan + 0x701C, 0x12004409);
+  wr(kCan + 0x7018, 0);  // leave INIT, and wait until it reads back 0
+  runUs(1);
+  ASSERT_EQ(rd(kCan + 0x7018) & 1U, 0U);
+  ASSERT_FALSE(stopped()) << why();
+  wr(kCan + 0x7018, 3);  // INIT and CCE together: INIT has not crossed into the CAN clock domain
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[MCAN-INIT-SYNC]"), std::string::npos) << why();
+}
+
+TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
+  // GPRCM.PWREN takes a write only with KEY 0x26 (hw_*.h PWREN.KEY): without it the peripheral stays off.
+  wr(kUart0 + 0x800, 0x00000001);
+  EXPECT_EQ(rd(kUart0 + 0x800) & 1U, 0U);
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[KEY-WRITE] UART0 GPRCM.PWREN"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
+  wr(kUart0 + 0x800, kPwrenOn);
+  EXPECT_EQ(chip_.machine().ruleWarnings().size(), 1U);
 }
 
 // MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter
