@@ -171,12 +171,24 @@ void Machine::setIrq(int irq, bool asserted) {
   const bool was = (irqLevels_ & bit) != 0;
   if (was == asserted) return;
   irqLevels_ = asserted ? (irqLevels_ | bit) : (irqLevels_ & ~bit);
+  if (asserted) assertedAt_[static_cast<size_t>(irq)] = now();
   nvic_.setIrqLevel(irq, asserted);
   const int e = Nvic::kIrq0 + irq;
   if (asserted && !requested_[e] && (nvic_.enabledIrqs() & bit) != 0) {
     requested_[e] = true;
     requestedAt_[e] = now();
   }
+}
+
+std::vector<std::pair<int, uint64_t>> Machine::unservedIrqs(uint64_t minCycles) const {
+  std::vector<std::pair<int, uint64_t>> out;
+  for (int irq = 0; irq < 32; ++irq) {
+    const uint32_t bit = 1U << irq;
+    const uint64_t held = now() - assertedAt_[static_cast<size_t>(irq)];
+    if ((irqLevels_ & bit) != 0 && (nvic_.everEnabledIrqs() & bit) == 0 && held >= minCycles)
+      out.emplace_back(irq, held);
+  }
+  return out;
 }
 
 void Machine::onExceptionEntry(int exception) {

@@ -137,6 +137,9 @@ class Machine final : public CoreObserver {
   const MemoryLayout& layout() const { return layout_; }
   // An external interrupt line's level (IRQ n of the NVIC).
   void setIrq(int irq, bool asserted);
+  // IRQ-UNSERVED (rules.hpp): the lines asserted now for at least `minCycles` whose NVIC enable was never set
+  // since the reset, with the cycles each has been asserted.
+  std::vector<std::pair<int, uint64_t>> unservedIrqs(uint64_t minCycles) const;
   // A bus master other than the CPU (DMA): same map, flash and SRAM included. False: nothing there.
   bool busRead(uint32_t address, unsigned bytes, uint32_t& value);
   bool busWrite(uint32_t address, unsigned bytes, uint32_t value);
@@ -187,6 +190,7 @@ class Machine final : public CoreObserver {
   std::array<uint64_t, Nvic::kExceptions> enteredAt_{};
   std::array<InterruptFigures, Nvic::kExceptions> irqFigures_{};
   uint32_t irqLevels_ = 0;
+  std::array<uint64_t, 32> assertedAt_{};
   std::vector<std::string> resetLog_;
   std::vector<std::string> hardFaultLog_;
   std::optional<ResetKind> pendingReset_;

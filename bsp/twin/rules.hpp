@@ -61,6 +61,25 @@
 //                     back" (hw_mcan.h CCCR.INIT, the M_CAN user manual it follows); CCE and the protected
 //                     registers are written only with INIT = 1 (hw_mcan.h CCCR.CCE); TI's set-up polls
 //                     DL_MCAN_getOpMode until it reads SW_INIT before it configures
+// The rules below name the usual cause of "nothing ever happens": a block enabled whose pin, DMA trigger or
+// interrupt can never work. Each looks at what the firmware set, not at the result, so it names the cause:
+//   PIN-UNROUTED      a UART byte leaves while its TX pin is muxed to another function, or one arrives at its
+//                     RX pin while the receiver is enabled and the pin is muxed elsewhere: the byte goes
+//                     nowhere (hw_iomux.h PINCM.PF/PC: the pin function selects who drives and reads the pin;
+//                     the data sheets' pin function tables, bsp/mspm0/README.md "Connections")
+//   DMA-TRIGGER       a DMA channel enabled to move to a peripheral's TX data register (or from its RX data
+//                     register) on another trigger than that peripheral's for that direction: its transfers
+//                     are never paced by the peripheral (hw_dma.h DMATCTL.DMATSEL; the data sheets' DMA
+//                     trigger tables, e.g. UART0 RX 17 / TX 18 on the G3507)
+//   UART-DMA-LEVEL    (warns) a DMA channel enabled on a UART trigger whose IFLS level is not 7: "TX FIFO >=
+//   1
+//                     entry free / RX FIFO >= 1 entry available ... esp. required for DMA Trigger" (hw_uart.h
+//                     IFLS); the other levels trigger on a transition through the level (driverlib
+//                     DL_UART_setTXFIFOThreshold), which an idle FIFO never makes
+//   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
+//                     or more and its NVIC line was never enabled since the reset: no handler will ever run
+//                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
+//                     examples enable the line, NVIC_EnableIRQ, after the peripheral's IMASK)
 #pragma once
 
 #include <cstdint>
@@ -85,6 +104,10 @@ enum class Rule : uint8_t {
   KeyWrite,
   WatchdogStopped,
   McanInitSync,
+  PinUnrouted,
+  DmaTrigger,
+  UartDmaLevel,
+  IrqUnserved,
 };
 
 struct RuleInfo {

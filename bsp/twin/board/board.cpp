@@ -1,5 +1,7 @@
 #include "board/board.hpp"
 
+#include <cstdio>
+
 #include "sim/sim_irq.hpp"
 
 namespace twin {
@@ -129,6 +131,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
       ++uartBytes_;
       if (!chip_.pins().routed(kL1306Pa8, kPf2)) {
         ++unroutedBytes_;
+        unrouted("UART0 TX", kL1306Pa8, byte, true);
         return;
       }
       slcanPending_ += static_cast<char>(byte);
@@ -215,6 +218,7 @@ void Board::wireChain(int devices) {
     ++uartBytes_;
     if (!chip_.pins().routed(kG3507Pa10, kPf2)) {
       ++unroutedBytes_;
+      unrouted("UART0 TX", kG3507Pa10, byte, true);
       return;
     }
     bool lost = false;  // the line's noise (setUartNoise); the chain's side is SimUart's
@@ -225,8 +229,11 @@ void Board::wireChain(int devices) {
   });
   chainUart_->onPeerByte([this](uint8_t byte, bool framingError) {
     ++uartRxBytes_;
-    if (chip_.pins().routed(kG3507Pa11, kPf2) && chip_.pins().requireInput(kG3507Pa11, "UART0 RX"))
+    if (!chip_.pins().routed(kG3507Pa11, kPf2)) {
+      if (chip_.uart(0).receiving()) unrouted("UART0 RX", kG3507Pa11, byte, false);
+    } else if (chip_.pins().requireInput(kG3507Pa11, "UART0 RX")) {
       chip_.uart(0).receive(byte, framingError);
+    }
   });
   // A ping: the TX line low (the firmware drives it as a GPIO) for its length, measured on the line.
   pins.onChange(kG3507Pa10, [this](bool level) {
@@ -303,9 +310,24 @@ void Board::driveMonitorSignal(bool level) {
   }
 }
 
+void Board::unrouted(const char* function, int pincm, uint8_t byte, bool transmitted) {
+  // PIN-UNROUTED (rules.hpp): the UART works, the pin is muxed to something else (PINCM.PF), so the byte
+  // goes nowhere on silicon.
+  char buf[200];
+  const uint32_t cm = chip_.pins().pincm(pincm);
+  std::snprintf(buf, sizeof buf,
+                "%s: byte 0x%02X %s %s, whose PINCM 0x%08X (PC %u, PF %u) does not select %s (PF 2): it goes "
+                "nowhere",
+                function, byte, transmitted ? "sent with its pin" : "arrived at its pin",
+                chip_.pins().pinName(pincm).c_str(), cm, (cm >> 7) & 1U, cm & 0x3FU, function);
+  chip_.machine().violate(Rule::PinUnrouted, buf);
+}
+
 std::vector<std::string> Board::warnings() const {
   // The silicon rules that only warn (rules.hpp: where the part would degrade, not fail), then the board's.
   std::vector<std::string> out = chip_.machine().ruleWarnings();
+  for (const std::string& unserved : chip_.unservedInterrupts())
+    out.push_back(unserved);
   for (const std::string& pin : chip_.pins().floatingReads())
     out.push_back(pin + " read while floating (no drive, no pull)");
   if (const Mcan* mcan = chip_.mcan()) {
@@ -395,8 +417,11 @@ void Board::serialArrive() {
   const uint8_t byte = serialOut_.front();
   serialOut_.pop_front();
   ++serialBytes_;
-  if (chip_.pins().routed(kL1306Pa9, kPf2) && chip_.pins().requireInput(kL1306Pa9, "UART0 RX"))
+  if (!chip_.pins().routed(kL1306Pa9, kPf2)) {
+    if (chip_.uart(0).receiving()) unrouted("UART0 RX", kL1306Pa9, byte, false);
+  } else if (chip_.pins().requireInput(kL1306Pa9, "UART0 RX")) {
     chip_.uart(0).receive(byte, false);
+  }
   if (serialOut_.empty()) {
     serialArriving_ = false;
     return;

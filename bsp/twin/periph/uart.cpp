@@ -80,6 +80,10 @@ bool Uart::enabled() const {
   return powered() && (ctl0_ & kEnable);
 }
 
+bool Uart::receiving() const {
+  return enabled() && (ctl0_ & kRxe) != 0;
+}
+
 size_t Uart::depth() const {
   return (ctl0_ & kFen) ? kFifoDepth : 1;
 }
@@ -225,6 +229,20 @@ bool Uart::dmaRequested(int trigger) const {
 void Uart::dmaAcknowledge(int trigger) {
   if (trigger == txTrigger_) dmaTx_.ris &= ~kTxInt;
   if (trigger == rxTrigger_) dmaRx_.ris &= ~kRxInt;
+}
+
+std::string Uart::dmaTriggerProblem(int trigger, Rule& rule) const {
+  const bool tx = trigger == txTrigger_;
+  const uint32_t level = tx ? (ifls_ & 7U) : ((ifls_ >> 4) & 7U);
+  if (level == kLevelDma) return "";
+  rule = Rule::UartDmaLevel;
+  char buf[200];
+  std::snprintf(
+      buf, sizeof buf,
+      "IFLS.%s %u, not 7 (\"%s\", the level made for the DMA): the trigger fires only on a transition "
+      "through its level, which an idle FIFO never makes",
+      tx ? "TXIFLSEL" : "RXIFLSEL", level, tx ? "TX FIFO >= 1 entry free" : "RX FIFO >= 1 entry available");
+  return buf;
 }
 
 void Uart::dmaDone(int trigger) {

@@ -57,6 +57,7 @@ class Uart final : public Peripheral, public DmaRequester {
   static constexpr uint32_t kRtout = 1U << 0, kFrmErr = 1U << 1, kOvrErr = 1U << 4;
   static constexpr uint32_t kRxInt = 1U << 10, kTxInt = 1U << 11, kEot = 1U << 12;
   static constexpr uint32_t kDmaDoneRx = 1U << 15, kDmaDoneTx = 1U << 16;
+  static constexpr uint32_t kTxdataOffset = 0x1120, kRxdataOffset = 0x1124;
 
   Uart(Machine& machine, const char* name, Dma& dma, int rxTrigger, int txTrigger);
 
@@ -78,17 +79,21 @@ class Uart final : public Peripheral, public DmaRequester {
   uint64_t baud64() const;
   // Cycles one frame takes with the current settings (0 if not configured).
   uint64_t frameCycles64() const;  // in 1/64 cycles
+  bool enabled() const;
 
   bool dmaRequested(int trigger) const override;
   void dmaAcknowledge(int trigger) override;
   void dmaDone(int trigger) override;
+  // UART-DMA-LEVEL (rules.hpp): a DMA channel paced by this UART needs IFLS level 7 in its direction.
+  std::string dmaTriggerProblem(int trigger, Rule& rule) const override;
+  // The receiver samples its RX pin (the board asks before it delivers a byte: PIN-UNROUTED).
+  bool receiving() const;
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;
   bool writeRegister(uint32_t offset, uint32_t value) override;
   void resetRegisters() override;
 
-  bool enabled() const;
   size_t depth() const;
   void raiseEvent(uint32_t bit);  // CPU_INT and the matching DMA trigger block
   void txFillChanged(size_t before);
