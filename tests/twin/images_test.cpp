@@ -695,4 +695,55 @@ TEST(BrokenImage, AWatchdogNeverStartedIsNamedWhenBringUpEnds) {
   EXPECT_NE(caught[0].find("WWDT0 never started"), std::string::npos) << caught[0];
 }
 
+TEST(BrokenImage, TheSlcanTxPinMuxedAsGpioIsStoppedByTheRoutingRule) {
+  // PINCM9 (PA8, UART0 TX to the XDS110 on the LP-MSPM0L1306) with PF 1 (GPIO) instead of PF 2: the UART
+  // sends, the pin does not carry it.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto tx = storeSites(preset, *elf, 0x40428000 + 4 * 9, 50000);
+  ASSERT_FALSE(tx.empty());
+  ASSERT_EQ(tx[0].value & 0x3FU, 2U) << "the image muxes PA8 to UART0 TX";
+  ASSERT_TRUE(storeValue(*elf, tx[0], (tx[0].value & ~0x3FU) | 1U));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "PIN-UNROUTED");
+  EXPECT_NE(stop.find("UART0 TX"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("PA8"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, ATxDmaChannelOnTheRxTriggerIsStoppedByTheTriggerRule) {
+  // DMATCTL.DMATSEL 17 (UART0 RX) for the channel that feeds UART0 TXDATA (TX trigger 18 on the G3507).
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  std::vector<StoreSite> tx;
+  for (uint32_t ch = 0; ch < 7 && tx.empty(); ++ch) {
+    for (const auto& s : storeSites(preset, *elf, 0x4042A000 + 0x1110 + 4 * ch, 50000)) {
+      if (s.value == 18) tx.push_back(s);
+    }
+  }
+  ASSERT_FALSE(tx.empty()) << "no DMATCTL write of UART0's TX trigger";
+  ASSERT_TRUE(storeValue(*elf, tx[0], 17));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "DMA-TRIGGER");
+  EXPECT_NE(stop.find("to UART0 TX"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("trigger 17 (UART0 RX)"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, AUartDmaOnTheHalfEmptyLevelIsNamedByTheLevelRule) {
+  // IFLS TXIFLSEL 2 (half empty) instead of 7 under the TX DMA: the trigger waits for a transition an empty
+  // FIFO never makes (hw_uart.h IFLS: 7 "esp. required for DMA Trigger").
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  const auto ifls = storeSites(preset, *elf, 0x40108000 + 0x110C, 50000);
+  ASSERT_EQ(ifls.size(), 1U);
+  ASSERT_EQ(ifls[0].value & 7U, 7U);
+  ASSERT_TRUE(storeValue(*elf, ifls[0], (ifls[0].value & ~7U) | 2U));
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("[UART-DMA-LEVEL]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("TXIFLSEL 2"), std::string::npos) << warnings[0];
+}
+
 }  // namespace

@@ -113,6 +113,31 @@ TEST_F(Uart, TheHalfLevelNeverTriggersTheDmaOnAnEmptyFifo) {
   EXPECT_EQ(rd(kDma + 0x1200 + 12), 5U);  // DMASZ: nothing moved
 }
 
+TEST_F(Uart, AnInterruptPendingWithItsNvicLineNeverEnabledIsNamed) {
+  // IMASK DMA_DONE_TX set, the NVIC line of UART0 (IRQ 15) never enabled: the request stays pending and no
+  // handler runs (DDI 0419E B3.4, ISER). Named once it has waited 10 ms.
+  start(7, {'t', '\r'});
+  runUs(5000);
+  EXPECT_NE(rd(kUart0 + 0x1038) & (1U << 16), 0U);  // MIS DMA_DONE_TX
+  EXPECT_TRUE(chip_.unservedInterrupts().empty());  // 5 ms: not yet
+  runUs(10000);
+  const auto unserved = chip_.unservedInterrupts();
+  ASSERT_EQ(unserved.size(), 1U);
+  EXPECT_NE(unserved[0].find("[IRQ-UNSERVED] UART0 interrupt request (IRQ 15)"), std::string::npos)
+      << unserved[0];
+}
+
+TEST_F(Uart, AnInterruptMaskedInTheNvicAfterItWasEnabledIsNotNamed) {
+  // A line enabled once and masked again (ICER) is the firmware's choice: the rule looks for lines never
+  // enabled.
+  wr(0xE000E100, 1U << 15);  // ISER
+  wr(0xE000E180, 1U << 15);  // ICER
+  start(7, {'t', '\r'});
+  runUs(20000);
+  EXPECT_NE(rd(kUart0 + 0x1038) & (1U << 16), 0U);
+  EXPECT_TRUE(chip_.unservedInterrupts().empty());
+}
+
 // --- I2C
 // -------------------------------------------------------------------------------------------------------
 
