@@ -76,6 +76,11 @@
 //                     entry free / RX FIFO >= 1 entry available ... esp. required for DMA Trigger" (hw_uart.h
 //                     IFLS); the other levels trigger on a transition through the level (driverlib
 //                     DL_UART_setTXFIFOThreshold), which an idle FIFO never makes
+//   CLOCK-OFF         the MCAN's clock requested (MCANSS_CLKEN.CLK_REQEN) from a source that is not running:
+//                     GENCLKCFG.CANCLKSRC selects HFCLK with the HFXT never started (HSCLKEN.HFXTEN), or
+//                     SYSPLLCLK1 with the SYSPLL off (HSCLKEN.SYSPLLEN) (hw_sysctl_mspm0g1x0x_g3x0x.h;
+//                     SLAU846B 2 clock tree: CANCLK from HFCLK or SYSPLLCLK1): the message RAM never
+//                     initialises
 //   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
 //                     or more and its NVIC line was never enabled since the reset: no handler will ever run
 //                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
@@ -108,6 +113,7 @@ enum class Rule : uint8_t {
   DmaTrigger,
   UartDmaLevel,
   IrqUnserved,
+  ClockOff,
 };
 
 struct RuleInfo {

@@ -420,6 +420,20 @@ TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
   EXPECT_EQ(chip_.machine().ruleWarnings().size(), 1U);
 }
 
+TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
+  // GENCLKCFG.CANCLKSRC 1 = SYSPLLCLK1 (hw_sysctl_mspm0g1x0x_g3x0x.h) with HSCLKEN.SYSPLLEN clear: CANCLK has
+  // no source, MEM_INIT_DONE never comes.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);  // HFXT on
+  runUs(700);
+  wr(kSysctl + 0x1138, 1U << 8);  // CANCLKSRC = SYSPLLCLK1
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);  // CLK_REQEN
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[CLOCK-OFF]"), std::string::npos) << why();
+  EXPECT_NE(why().find("SYSPLL is off"), std::string::npos) << why();
+}
+
 // MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter
 // rules periph/mcan.hpp cites): the first matching element decides; a frame no element matches follows
 // GFC.ANFS; a rejected frame leaves no trace; a full FIFO in blocking mode loses the new frame.

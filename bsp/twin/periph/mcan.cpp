@@ -681,7 +681,16 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
       }
       return true;
     case kClken:
-      if ((value & 1U) && !(clken_ & 1U)) clockRequestedAt_ = machine_.now();
+      if ((value & 1U) && !(clken_ & 1U)) {
+        clockRequestedAt_ = machine_.now();
+        const std::string off = sysctl_.canClockProblem();
+        if (!off.empty()) {
+          machine_.violate(Rule::ClockOff, std::string(name()) +
+                                               ": MCANSS_CLKEN.CLK_REQEN with no clock: " + off +
+                                               ", so the message RAM never initialises (MEM_INIT_DONE)");
+          return true;
+        }
+      }
       clken_ = value;
       return true;
     case kClkdiv:

@@ -16,6 +16,8 @@
 // - Protected registers (NBTP, DBTP, TEST, GFC, SIDFC, XIDFC, XIDAM, RXF0C, RXF1C, RXBC, RXESC, TXBC, TXESC,
 //   TXEFC, TSCC, TOCC, TDCR) take a write only "with CCCR.CCE='1' and CCCR.INIT='1'" (hw_mcan.h CCCR.CCE);
 //   otherwise the write is ignored, as the M_CAN ignores it, and noted in notes().
+// - CLK_REQEN with CANCLK's source off (rules.hpp CLOCK-OFF: the HFXT never started, or the SYSPLL off)
+//   stops the run: the message RAM would never initialise.
 // - MEM_INIT_DONE: the message RAM is ready kMemInitCycles after the module clock is requested (CLK_REQEN)
 //   with CANCLK running (SYSCTL HFXT good, CANCLKSRC = HFCLK).
 // - TX FIFO (TXBC.TFQS elements from TXBC.TBSA, TXESC = 0: 8 data bytes, 16-byte elements; element T0/T1

@@ -47,6 +47,18 @@ bool Sysctl::canClockRunning() const {
   return hasHfxt_ && (genclkcfg_ & kCanclkSysPll) == 0 && machine_.now() >= hfxtGoodAt_;
 }
 
+std::string Sysctl::canClockProblem() const {
+  constexpr uint32_t kSysPllEnable = 1U << 8;  // HSCLKEN.SYSPLLEN
+  if (genclkcfg_ & kCanclkSysPll) {
+    if ((hsclken_ & kSysPllEnable) == 0)
+      return "GENCLKCFG.CANCLKSRC selects SYSPLLCLK1 and the SYSPLL is off (HSCLKEN.SYSPLLEN clear)";
+    return "";
+  }
+  if ((hsclken_ & kHfxtEnable) == 0)
+    return "GENCLKCFG.CANCLKSRC selects HFCLK and the HFXT was never started (HSCLKEN.HFXTEN clear)";
+  return "";
+}
+
 bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
   if (bytes != 4) return false;
   switch (offset) {
