@@ -10,6 +10,10 @@
 
 namespace twin {
 
+namespace {
+constexpr uint32_t kStormEntries = 1000;  // IRQ-STORM: entries in a row with the source left pending
+}  // namespace
+
 Machine::Machine(const MemoryLayout& layout)
     : layout_(layout),
       flash_(layout.flashSize, 0xFF),
@@ -57,6 +61,8 @@ void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   }
   if (race_) race_->reset();
   idleSeen_ = false;
+  pendingAtReturn_.fill(0);
+  stormCount_.fill(0);
   for (auto& hook : resetHooks_)
     hook(kind);
   scs_.reset();
@@ -202,11 +208,23 @@ void Machine::onExceptionEntry(int exception) {
     requested_[exception] = false;
   }
   enteredAt_[exception] = start;
+  // IRQ-STORM (rules.hpp): entered again for a source its last run left pending.
+  const uint32_t again = pendingAtReturn_[exception] & interruptSources(exception).pending;
+  stormCount_[exception] = again != 0 ? stormCount_[exception] + 1 : 0;
+  if (imageRules_ && stormCount_[exception] == kStormEntries) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "exception %d returned %u times in a row with its source still pending (0x%X): the handler "
+                  "never clears it, so the line re-enters it at once and Thread code starves",
+                  exception, kStormEntries, again);
+    violate(Rule::IrqStorm, buf);
+  }
 }
 
 void Machine::onExceptionReturn(int exception) {
   InterruptFigures& f = irqFigures_[exception];
   f.worstHandlerCycles = std::max(f.worstHandlerCycles, now() - enteredAt_[exception]);
+  pendingAtReturn_[exception] = interruptSources(exception).pending;
   // A level still asserted is a new request (the NVIC pends it again on return).
   if (exception >= Nvic::kIrq0 && (irqLevels_ >> (exception - Nvic::kIrq0)) & 1U) {
     requested_[exception] = true;

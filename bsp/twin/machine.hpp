@@ -191,6 +191,8 @@ class Machine final : public CoreObserver {
   std::array<InterruptFigures, Nvic::kExceptions> irqFigures_{};
   uint32_t irqLevels_ = 0;
   std::array<uint64_t, 32> assertedAt_{};
+  std::array<uint32_t, Nvic::kExceptions> pendingAtReturn_{};  // IRQ-STORM: the sources still pending
+  std::array<uint32_t, Nvic::kExceptions> stormCount_{};
   std::vector<std::string> resetLog_;
   std::vector<std::string> hardFaultLog_;
   std::optional<ResetKind> pendingReset_;

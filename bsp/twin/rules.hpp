@@ -81,6 +81,11 @@
 //                     SYSPLLCLK1 with the SYSPLL off (HSCLKEN.SYSPLLEN) (hw_sysctl_mspm0g1x0x_g3x0x.h;
 //                     SLAU846B 2 clock tree: CANCLK from HFCLK or SYSPLLCLK1): the message RAM never
 //                     initialises
+//   IRQ-STORM         (warns) a handler returns 1000 times in a row with the source it was entered for still
+//                     pending (the same MIS bit at its return and at its next entry): it never clears its
+//                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
+//                     B1.5: a level still asserted at exception return pends the interrupt again; hw_*.h
+//                     CPU_INT ICLR "clears the corresponding bit in RIS")
 //   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
 //                     or more and its NVIC line was never enabled since the reset: no handler will ever run
 //                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
@@ -114,6 +119,7 @@ enum class Rule : uint8_t {
   UartDmaLevel,
   IrqUnserved,
   ClockOff,
+  IrqStorm,
 };
 
 struct RuleInfo {

@@ -746,4 +746,32 @@ TEST(BrokenImage, AUartDmaOnTheHalfEmptyLevelIsNamedByTheLevelRule) {
   EXPECT_NE(warnings[0].find("TXIFLSEL 2"), std::string::npos) << warnings[0];
 }
 
+TEST(BrokenImage, AnAlertHandlerThatNeverClearsItsFlagIsNamedByTheStormRule) {
+  // The GPIO handler's ICLR write taken out: the first ALERT edge leaves GPIOA's RIS set, INT_GROUP1 stays
+  // asserted, and the handler is re-entered as soon as it returns.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto alertRun = [&](const ElfFile& image, std::vector<uint32_t>* iclr) {
+    Rig r(preset, image);
+    twin::Machine& m = r.board.machine();
+    m.map().onStore([&](uint32_t a, uint32_t) {
+      if (iclr != nullptr && a == 0x400A0000 + 0x1048 &&
+          std::find(iclr->begin(), iclr->end(), m.core().pc()) == iclr->end())
+        iclr->push_back(m.core().pc());
+    });
+    r.board.runUntilUs(1000000);
+    r.board.driveMonitorSignal(false);
+    r.board.runUntilUs(1300000);
+    return r.board.warnings();
+  };
+  std::vector<uint32_t> iclr;
+  const auto clean = alertRun(*elf, &iclr);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  ASSERT_FALSE(iclr.empty()) << "the handler never writes GPIOA ICLR";
+  removeStores(*elf, iclr);
+  const auto caught = alertRun(*elf, nullptr);
+  ASSERT_FALSE(caught.empty());
+  EXPECT_NE(caught[0].find("[IRQ-STORM] exception 17"), std::string::npos) << caught[0];
+}
+
 }  // namespace
