@@ -135,6 +135,7 @@ class Machine final : public CoreObserver {
   Nvic& nvic() { return nvic_; }
   Core& core() { return core_; }
   const MemoryLayout& layout() const { return layout_; }
+  bool inSram(uint32_t address) const { return address - layout_.sramBase < layout_.sramSize; }
   // An external interrupt line's level (IRQ n of the NVIC).
   void setIrq(int irq, bool asserted);
   // IRQ-UNSERVED (rules.hpp): the lines asserted now for at least `minCycles` whose NVIC enable was never set

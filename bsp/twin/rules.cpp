@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 22> kRules = {{
+constexpr std::array<RuleInfo, 25> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -33,6 +33,10 @@ constexpr std::array<RuleInfo, 22> kRules = {{
     {"IRQ-UNSERVED", "DDI 0419E B3.4 NVIC ISER; TI examples' NVIC_EnableIRQ", false},
     {"CLOCK-OFF", "hw_sysctl GENCLKCFG.CANCLKSRC, HSCLKEN.HFXTEN/SYSPLLEN; SLAU846B 2 clock tree", true},
     {"IRQ-STORM", "DDI 0419E B1.5 a level still asserted at return pends again; hw_*.h CPU_INT ICLR", false},
+    {"MCAN-TC-UNARMED", "hw_mcan.h TXBTIE and IE.TCE; TI examples' DL_MCAN_TXBufTransIntrEnable", false},
+    {"DMA-NO-INCREMENT", "hw_dma.h DMACTL.DMADSTINCR; TI UART RX DMA examples", false},
+    {"I2C-NO-STOP", "UM10204 3.1.4; hw_i2c.h MCTR.STOP; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout",
+     false},
 }};
 
 }  // namespace

@@ -81,6 +81,19 @@
 //                     SYSPLLCLK1 with the SYSPLL off (HSCLKEN.SYSPLLEN) (hw_sysctl_mspm0g1x0x_g3x0x.h;
 //                     SLAU846B 2 clock tree: CANCLK from HFCLK or SYSPLLCLK1): the message RAM never
 //                     initialises
+//   MCAN-TC-UNARMED   (warns) the MCAN joins the bus with IE.TCE set and no TX buffer's TXBTIE bit: IR.TC is
+//                     raised only for buffers whose TXBTIE bit is set ("Each Tx Buffer has its own
+//                     Transmission Interrupt Enable bit", hw_mcan.h TXBTIE; TI's MCAN examples set it with
+//                     DL_MCAN_TXBufTransIntrEnable), so the enabled interrupt never comes
+//   DMA-NO-INCREMENT  (warns) a channel moves DMASZ > 1 items from a peripheral's RX data register into SRAM
+//                     without incrementing the destination (DMACTL.DMADSTINCR unchanged): each byte
+//                     overwrites the last (hw_dma.h DMADSTINCR; TI's UART RX DMA examples increment the
+//                     destination)
+//   I2C-NO-STOP       (warns) the clock-low timeout expires while the controller itself holds SCL after a
+//   burst
+//                     that ended without STOP and was never continued: the firmware left the transaction open
+//                     (UM10204 3.1.4: a transaction ends with STOP; hw_i2c.h MCTR.STOP "generate STOP
+//                     condition at the end of the burst"; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout)
 //   IRQ-STORM         (warns) a handler returns 1000 times in a row with the source it was entered for still
 //                     pending (the same MIS bit at its return and at its next entry): it never clears its
 //                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
@@ -120,6 +133,9 @@ enum class Rule : uint8_t {
   IrqUnserved,
   ClockOff,
   IrqStorm,
+  McanTcUnarmed,
+  DmaNoIncrement,
+  I2cNoStop,
 };
 
 struct RuleInfo {

@@ -774,4 +774,24 @@ TEST(BrokenImage, AnAlertHandlerThatNeverClearsItsFlagIsNamedByTheStormRule) {
   EXPECT_NE(caught[0].find("[IRQ-STORM] exception 17"), std::string::npos) << caught[0];
 }
 
+TEST(BrokenImage, AnRxDmaWithoutDestinationIncrementIsNamed) {
+  // The BQ79616 response DMA (UART0 RXDATA to SRAM) without DMADSTINCR: every byte lands on the first.
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  StoreSite rx;
+  for (uint32_t ch = 0; ch < 7 && rx.pc == 0; ++ch) {
+    for (const auto& s : storeSites(preset, *elf, 0x4042A000 + 0x1200 + 0x10 * ch, 300000)) {
+      if ((s.value & 2U) && ((s.value >> 20) & 0xFU) == 3U && ((s.value >> 16) & 0xFU) == 0U) rx = s;
+    }
+  }
+  ASSERT_NE(rx.pc, 0U) << "no DMACTL write enabling a channel with the destination incremented";
+  ASSERT_TRUE(storeValue(*elf, rx, rx.value & ~(0xFU << 20)));
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("[DMA-NO-INCREMENT]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("from UART0 RX"), std::string::npos) << warnings[0];
+}
+
 }  // namespace

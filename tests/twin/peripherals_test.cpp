@@ -283,6 +283,10 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   EXPECT_EQ(rd(kI2c0 + 0x1030) & (1U << 14), 0U);
   runUs(200);
   EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 14), 0U);  // TIMEOUTA
+  // Nobody continued or ended the transaction: named (I2C-NO-STOP, a warning).
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[I2C-NO-STOP]"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
 }
 
 // A target that stretches SCL before each byte it sends (a BQ76952 or BQ4050 extending the clock).
@@ -432,6 +436,28 @@ TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
   ASSERT_TRUE(stopped());
   EXPECT_NE(why().find("[CLOCK-OFF]"), std::string::npos) << why();
   EXPECT_NE(why().find("SYSPLL is off"), std::string::npos) << why();
+}
+
+TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
+  // IR.TC is raised only for TX buffers whose TXBTIE bit is set (hw_mcan.h TXBTIE): IE.TCE alone never fires.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);
+  wr(kCan + 0x701C, 0x12004409);
+  wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO, TXBTIE left 0
+  wr(kCan + 0x7054, 1U << 9);   // IE: TC
+  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+  EXPECT_TRUE(chip_.machine().ruleWarnings().empty());
+  wr(kCan + 0x7018, 0);
+  ASSERT_FALSE(stopped()) << why();
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[MCAN-TC-UNARMED]"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
 }
 
 // MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter

@@ -52,6 +52,14 @@ void Dma::checkTrigger(int n, const Channel& ch) {
       machine_.violate(Rule::DmaTrigger, buf);
       return;
     }
+    const uint32_t dstInc = (ch.ctl >> 20) & 0xFU;
+    if (!t.toPeripheral && ch.sz > 1 && dstInc == 0 && machine_.inSram(ch.da)) {
+      std::snprintf(buf, sizeof buf,
+                    "DMA channel %d moves %u items from %s (0x%08X) to SRAM 0x%08X without incrementing the "
+                    "destination (DMADSTINCR 0): each overwrites the last",
+                    n, ch.sz, t.name.c_str(), t.dataRegister, ch.da);
+      machine_.violate(Rule::DmaNoIncrement, buf);
+    }
     DmaRequester* requester = requesters_[static_cast<size_t>(t.trigger)];
     Rule rule = Rule::UartDmaLevel;
     const std::string problem = requester != nullptr ? requester->dmaTriggerProblem(t.trigger, rule) : "";

@@ -152,6 +152,13 @@ void I2c::holdSclLow(uint64_t from) {
 }
 
 void I2c::onTimeout() {
+  if (phase_ == Phase::Idle && busOwned_) {
+    machine_.violate(
+        Rule::I2cNoStop,
+        name() + std::string(": the clock-low timeout expired with the controller holding SCL after "
+                             "a burst that ended without STOP (MCTR.STOP clear) and was never "
+                             "continued: the transaction was left open"));
+  }
   step_.cancel();
   phase_ = Phase::TimedOut;
   log("TIMEOUT");

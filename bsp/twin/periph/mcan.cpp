@@ -545,6 +545,13 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
         initSyncAt_ = machine_.now() + kInitSyncCycles;
         if (!init) {
           checkWire();
+          if ((ie_ & kIrTc) != 0 && txbtie_ == 0) {
+            machine_.violate(Rule::McanTcUnarmed,
+                             std::string(name()) +
+                                 ": joins the bus with IE.TCE set and TXBTIE 0: no TX buffer "
+                                 "raises IR.TC, the enabled transmission-complete interrupt "
+                                 "never comes");
+          }
           integrating_ = true;
           // Leaving INIT: bus-off recovery (129 x 11 recessive bits) or bus integration (11 bits).
           if (busOff_) {
