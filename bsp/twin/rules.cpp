@@ -39,6 +39,8 @@ constexpr std::array<RuleInfo, 25> kRules = {{
      false},
 }};
 
+static_assert(kRules.size() == static_cast<size_t>(Rule::I2cNoStop) + 1, "one entry per Rule, in its order");
+
 }  // namespace
 
 const RuleInfo& ruleInfo(Rule rule) {

@@ -20,10 +20,9 @@
 //                     SLUSE13B 14: up to 400 kHz; BQ4050 SMBus 10..100 kHz, SLUSC67A)
 //   WIRE-I2C-TPR      the controller's own limits: MTPR.TPR 1..127 (hw_i2c.h MTPR) and SCL <= 1 MHz
 //                     (Fast-mode Plus, SLAU846B 20.1 / SLAU847D 21.1)
-//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 + NTSEG2))
-//   equal
-//                     to the bus's within the oscillator tolerance its own bit timing allows (ISO 11898-1 bit
-//                     timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
+//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 +
+//                     NTSEG2)) equal to the bus's within the oscillator tolerance its own bit timing allows
+//                     (ISO 11898-1 bit timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
 //   WIRE-CAN-SAMPLE   (warns) sample point within 5 points of 87.5 % (CiA 301 / the TI example's 87.5 %)
 //   WIRE-HFXT-RANGE   HFCLKCLKCFG.HFXTRSEL selects the crystal's range when HFXTEN starts it (hw_sysctl
 //                     HFXTRSEL: 32..48 MHz = 3 for the LaunchPad's 40 MHz)
@@ -51,16 +50,15 @@
 //                     (GPRCM.PWREN 0x26, GPRCM.RSTCTL 0xB1 in every hw_*.h; SYSCTL SYSOSCFCLCTL 0x2A and
 //                     RESETCMD 0xE4 in hw_sysctl; WWDTCTL0 0xC9 / WWDTCTL1 0xBE in hw_wwdt.h; TI's driverlib
 //                     writes each key with its register: DL_*_enablePower, DL_SYSCTL_enableSYSOSCFCL)
-//   WWDT-STOPPED      (warns) bring-up ends (the first WFI in Thread mode: the scheduler has nothing to do)
-//   with
-//                     WWDT0 not running: a firmware that hangs later stays hung. WWDT0 is off after a reset
-//                     and starts only with a keyed WWDTCTL0 write (SLAU846B / SLAU847D WWDT; hw_wwdt.h);
-//                     the product relies on it (firmware/README.md, bsp/mspm0/README.md watchdog)
-//   MCAN-INIT-SYNC    a configuration write (CCCR.CCE, NBTP, the filter and FIFO set-up) while CCCR.INIT does
-//                     not read back 1 yet: "there may be a delay until the value written to INIT can be read
-//                     back" (hw_mcan.h CCCR.INIT, the M_CAN user manual it follows); CCE and the protected
-//                     registers are written only with INIT = 1 (hw_mcan.h CCCR.CCE); TI's set-up polls
-//                     DL_MCAN_getOpMode until it reads SW_INIT before it configures
+//   WWDT-STOPPED      (warns) bring-up ends (the first WFI in Thread mode: the scheduler has nothing to
+//                     do) with WWDT0 not running: a firmware that hangs later stays hung. WWDT0 is off after
+//                     a reset and starts only with a keyed WWDTCTL0 write (SLAU846B / SLAU847D WWDT;
+//                     hw_wwdt.h); the product relies on it (firmware/README.md, bsp/mspm0/README.md watchdog)
+//   MCAN-INIT-SYNC    CCCR.CCE written while CCCR.INIT does not read back 1 yet (refused: the protected
+//                     writes after it are then ignored): "there may be a delay until the value written to
+//                     INIT can be read back" (hw_mcan.h CCCR.INIT, the M_CAN user manual it follows); CCE and
+//                     the protected registers are written only with INIT = 1 (hw_mcan.h CCCR.CCE); TI's
+//                     set-up polls DL_MCAN_getOpMode until it reads SW_INIT before it configures
 // The rules below name the usual cause of "nothing ever happens": a block enabled whose pin, DMA trigger or
 // interrupt can never work. Each looks at what the firmware set, not at the result, so it names the cause:
 //   PIN-UNROUTED      a UART byte leaves while its TX pin is muxed to another function, or one arrives at its
@@ -71,10 +69,9 @@
 //                     register) on another trigger than that peripheral's for that direction: its transfers
 //                     are never paced by the peripheral (hw_dma.h DMATCTL.DMATSEL; the data sheets' DMA
 //                     trigger tables, e.g. UART0 RX 17 / TX 18 on the G3507)
-//   UART-DMA-LEVEL    (warns) a DMA channel enabled on a UART trigger whose IFLS level is not 7: "TX FIFO >=
-//   1
-//                     entry free / RX FIFO >= 1 entry available ... esp. required for DMA Trigger" (hw_uart.h
-//                     IFLS); the other levels trigger on a transition through the level (driverlib
+//   UART-DMA-LEVEL    (warns) a DMA channel enabled on a UART trigger whose IFLS level is not 7: "TX FIFO
+//                     >= 1 entry free / RX FIFO >= 1 entry available ... esp. required for DMA Trigger"
+//                     (hw_uart.h IFLS); the other levels trigger on a transition through the level (driverlib
 //                     DL_UART_setTXFIFOThreshold), which an idle FIFO never makes
 //   CLOCK-OFF         the MCAN's clock requested (MCANSS_CLKEN.CLK_REQEN) from a source that is not running:
 //                     GENCLKCFG.CANCLKSRC selects HFCLK with the HFXT never started (HSCLKEN.HFXTEN), or
@@ -89,16 +86,16 @@
 //                     without incrementing the destination (DMACTL.DMADSTINCR unchanged): each byte
 //                     overwrites the last (hw_dma.h DMADSTINCR; TI's UART RX DMA examples increment the
 //                     destination)
-//   I2C-NO-STOP       (warns) the clock-low timeout expires while the controller itself holds SCL after a
-//   burst
-//                     that ended without STOP and was never continued: the firmware left the transaction open
-//                     (UM10204 3.1.4: a transaction ends with STOP; hw_i2c.h MCTR.STOP "generate STOP
-//                     condition at the end of the burst"; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout)
+//   I2C-NO-STOP       (warns) the clock-low timeout expires while the controller itself holds SCL after
+//                     a burst that ended without STOP and was never continued: the firmware left the
+//                     transaction open (UM10204 3.1.4: a transaction ends with STOP; hw_i2c.h MCTR.STOP
+//                     "generate STOP condition at the end of the burst"; SLAU846B 20.2 / SLAU847D 21.2 clock
+//                     low timeout)
 //   IRQ-STORM         (warns) a handler returns 1000 times in a row with the source it was entered for still
 //                     pending (the same MIS bit at its return and at its next entry): it never clears its
 //                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
 //                     B1.5: a level still asserted at exception return pends the interrupt again; hw_*.h
-//                     CPU_INT ICLR "clears the corresponding bit in RIS")
+//                     CPU_INT ICLR clears the RIS bit)
 //   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
 //                     or more and its NVIC line was never enabled since the reset: no handler will ever run
 //                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
