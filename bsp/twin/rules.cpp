@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 25> kRules = {{
+constexpr std::array<RuleInfo, 26> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -37,9 +37,11 @@ constexpr std::array<RuleInfo, 25> kRules = {{
     {"DMA-NO-INCREMENT", "hw_dma.h DMACTL.DMADSTINCR; TI UART RX DMA examples", false},
     {"I2C-NO-STOP", "UM10204 3.1.4; hw_i2c.h MCTR.STOP; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout",
      false},
+    {"SIGNAL-EDGE", "hw_gpio.h POLARITY; the monitor's ALERT / NFAULT active low (SLUSE13B, SLUSE81E)",
+     false},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::I2cNoStop) + 1, "one entry per Rule, in its order");
+static_assert(kRules.size() == static_cast<size_t>(Rule::SignalEdge) + 1, "one entry per Rule, in its order");
 
 }  // namespace
 

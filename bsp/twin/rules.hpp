@@ -91,6 +91,10 @@
 //                     transaction open (UM10204 3.1.4: a transaction ends with STOP; hw_i2c.h MCTR.STOP
 //                     "generate STOP condition at the end of the burst"; SLAU846B 20.2 / SLAU847D 21.2 clock
 //                     low timeout)
+//   SIGNAL-EDGE       (warns) the monitor's active-low signal (BQ769x2/BQ7690x ALERT as the board's device
+//                     drives it, open drain; BQ79616 NFAULT, SLUSE81E) falls on a GPIO input whose edge
+//                     interrupt is unmasked but set for the rising edge only (hw_gpio.h POLARITY 1): the
+//                     interrupt comes when the alert ends, not when it starts
 //   IRQ-STORM         (warns) a handler returns 1000 times in a row with the source it was entered for still
 //                     pending (the same MIS bit at its return and at its next entry): it never clears its
 //                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
@@ -133,6 +137,7 @@ enum class Rule : uint8_t {
   McanTcUnarmed,
   DmaNoIncrement,
   I2cNoStop,
+  SignalEdge,
 };
 
 struct RuleInfo {

@@ -794,4 +794,31 @@ TEST(BrokenImage, AnRxDmaWithoutDestinationIncrementIsNamed) {
   EXPECT_NE(warnings[0].find("from UART0 RX"), std::string::npos) << warnings[0];
 }
 
+TEST(BrokenImage, AnAlertTakenOnItsRisingEdgeIsNamedByTheEdgeRule) {
+  // PA15's POLARITY (hw_gpio.h POLARITY15_0 DIO15, bits 31:30) rising (1) instead of falling (2): the
+  // BQ76952's active-low ALERT then interrupts when it ends. The image computes the register value at run
+  // time, so the broken setting is written after bring-up, through the bus, as a debugger would.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto alert = [&](bool rising) {
+    Rig r(preset, *elf);
+    r.board.runUntilUs(1000000);
+    twin::AddressMap& map = r.board.machine().map();
+    uint32_t polarity = 0;
+    EXPECT_TRUE(map.load(0x400A0000 + 0x1390, 4, polarity));
+    EXPECT_EQ((polarity >> 30) & 3U, 2U) << "the image takes ALERT on its falling edge";
+    if (rising) {
+      EXPECT_TRUE(map.store(0x400A0000 + 0x1390, 4, (polarity & ~(3U << 30)) | (1U << 30)));
+    }
+    r.board.driveMonitorSignal(false);
+    r.board.runUntilUs(1010000);
+    return r.board.warnings();
+  };
+  const auto clean = alert(false);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  const auto caught = alert(true);
+  ASSERT_FALSE(caught.empty());
+  EXPECT_NE(caught[0].find("[SIGNAL-EDGE] PA15"), std::string::npos) << caught[0];
+}
+
 }  // namespace

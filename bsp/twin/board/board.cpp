@@ -147,6 +147,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
   if (signalPincm_ != 0) {
     chip_.pins().onChange(signalPincm_, [this](bool level) {
       monitorSignal_.push_back({chip_.machine().now(), level});
+      if (!level) checkSignalEdge();
     });
   }
 }
@@ -308,6 +309,20 @@ void Board::driveMonitorSignal(bool level) {
   } else if (signalPincm_ != 0) {
     chip_.pins().setExternal(signalPincm_, level ? Drive::None : Drive::Low);  // open drain
   }
+}
+
+void Board::checkSignalEdge() {
+  // SIGNAL-EDGE (rules.hpp): the signal asserts by falling; an edge interrupt set for rising only comes late.
+  const bool l1306 = image_.part == Part::L1306;
+  const int port = l1306 ? 0 : 1, bit = l1306 ? 15 : 0;  // PA15 on the L1306, PB0 on the G3507
+  const Gpio& gpio = chip_.gpio(port);
+  if (!gpio.powered() || !gpio.edgeUnmasked(bit) || gpio.edgePolarity(bit) != 1) return;
+  chip_.machine().violate(
+      Rule::SignalEdge,
+      chip_.pins().pinName(signalPincm_) +
+          ": the monitor's active-low signal fell with its GPIO edge interrupt set for the "
+          "rising edge only (POLARITY 1): the handler runs when the signal ends, not when it "
+          "starts");
 }
 
 void Board::unrouted(const char* function, int pincm, uint8_t byte, bool transmitted) {
