@@ -10,6 +10,10 @@
 
 namespace twin {
 
+namespace {
+constexpr uint32_t kStormEntries = 1000;  // IRQ-STORM: entries in a row with the source left pending
+}  // namespace
+
 Machine::Machine(const MemoryLayout& layout)
     : layout_(layout),
       flash_(layout.flashSize, 0xFF),
@@ -56,6 +60,9 @@ void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
     }
   }
   if (race_) race_->reset();
+  idleSeen_ = false;
+  pendingAtReturn_.fill(0);
+  stormCount_.fill(0);
   for (auto& hook : resetHooks_)
     hook(kind);
   scs_.reset();
@@ -100,6 +107,16 @@ void Machine::violate(Rule rule, const std::string& detail) {
     ruleWarnings_.push_back(text);
 }
 
+bool Machine::checkKey(const std::string& reg, uint32_t value, uint32_t key) {
+  if ((value >> 24) == key) return true;
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "%s written with 0x%08X, KEY 0x%02X instead of 0x%02X: the part ignores the write",
+                reg.c_str(), value, value >> 24, key);
+  violate(Rule::KeyWrite, buf);
+  return false;
+}
+
 void Machine::enableImageRules(uint32_t stackLow) {
   imageRules_ = true;
   race_ = std::make_unique<RaceWatch>(
@@ -137,6 +154,10 @@ void Machine::onWfi() {
             "WFI in Thread mode with PRIMASK clear: an interrupt between the last check for work and the WFI "
             "is slept through until the next one");
   }
+  if (imageRules_ && !core_.handlerMode() && !idleSeen_) {
+    idleSeen_ = true;
+    if (firstIdleHook_) firstIdleHook_();
+  }
 }
 
 std::string Machine::stopReason() const {
@@ -156,12 +177,24 @@ void Machine::setIrq(int irq, bool asserted) {
   const bool was = (irqLevels_ & bit) != 0;
   if (was == asserted) return;
   irqLevels_ = asserted ? (irqLevels_ | bit) : (irqLevels_ & ~bit);
+  if (asserted) assertedAt_[static_cast<size_t>(irq)] = now();
   nvic_.setIrqLevel(irq, asserted);
   const int e = Nvic::kIrq0 + irq;
   if (asserted && !requested_[e] && (nvic_.enabledIrqs() & bit) != 0) {
     requested_[e] = true;
     requestedAt_[e] = now();
   }
+}
+
+std::vector<std::pair<int, uint64_t>> Machine::unservedIrqs(uint64_t minCycles) const {
+  std::vector<std::pair<int, uint64_t>> out;
+  for (int irq = 0; irq < 32; ++irq) {
+    const uint32_t bit = 1U << irq;
+    const uint64_t held = now() - assertedAt_[static_cast<size_t>(irq)];
+    if ((irqLevels_ & bit) != 0 && (nvic_.everEnabledIrqs() & bit) == 0 && held >= minCycles)
+      out.emplace_back(irq, held);
+  }
+  return out;
 }
 
 void Machine::onExceptionEntry(int exception) {
@@ -175,11 +208,23 @@ void Machine::onExceptionEntry(int exception) {
     requested_[exception] = false;
   }
   enteredAt_[exception] = start;
+  // IRQ-STORM (rules.hpp): entered again for a source its last run left pending.
+  const uint32_t again = pendingAtReturn_[exception] & interruptSources(exception).pending;
+  stormCount_[exception] = again != 0 ? stormCount_[exception] + 1 : 0;
+  if (imageRules_ && stormCount_[exception] == kStormEntries) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "exception %d returned %u times in a row with its source still pending (0x%X): the handler "
+                  "never clears it, so the line re-enters it at once and Thread code starves",
+                  exception, kStormEntries, again);
+    violate(Rule::IrqStorm, buf);
+  }
 }
 
 void Machine::onExceptionReturn(int exception) {
   InterruptFigures& f = irqFigures_[exception];
   f.worstHandlerCycles = std::max(f.worstHandlerCycles, now() - enteredAt_[exception]);
+  pendingAtReturn_[exception] = interruptSources(exception).pending;
   // A level still asserted is a new request (the NVIC pends it again on return).
   if (exception >= Nvic::kIrq0 && (irqLevels_ >> (exception - Nvic::kIrq0)) & 1U) {
     requested_[exception] = true;

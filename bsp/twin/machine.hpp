@@ -110,6 +110,9 @@ class Machine final : public CoreObserver {
   // PC and the function either way.
   void violate(Rule rule, const std::string& detail);
   const std::vector<std::string>& ruleWarnings() const { return ruleWarnings_; }
+  // KEY-WRITE (rules.hpp): `reg` written with `value`, whose KEY (31:24) is not `key`: the part ignores it.
+  // True if the key is right.
+  bool checkKey(const std::string& reg, uint32_t value, uint32_t key);
   // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
   // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
   void enableImageRules(uint32_t stackLow);
@@ -132,13 +135,20 @@ class Machine final : public CoreObserver {
   Nvic& nvic() { return nvic_; }
   Core& core() { return core_; }
   const MemoryLayout& layout() const { return layout_; }
+  bool inSram(uint32_t address) const { return address - layout_.sramBase < layout_.sramSize; }
   // An external interrupt line's level (IRQ n of the NVIC).
   void setIrq(int irq, bool asserted);
+  // IRQ-UNSERVED (rules.hpp): the lines asserted now for at least `minCycles` whose NVIC enable was never set
+  // since the reset, with the cycles each has been asserted.
+  std::vector<std::pair<int, uint64_t>> unservedIrqs(uint64_t minCycles) const;
   // A bus master other than the CPU (DMA): same map, flash and SRAM included. False: nothing there.
   bool busRead(uint32_t address, unsigned bytes, uint32_t& value);
   bool busWrite(uint32_t address, unsigned bytes, uint32_t value);
   // Registered by the chip: called on every reset, after the core's state is reset.
   void onReset(std::function<void(ResetKind)> hook) { resetHooks_.push_back(std::move(hook)); }
+  // Called at the first WFI in Thread mode after each reset, with the image rules on: bring-up is over and
+  // the scheduler has nothing to do (the WWDT-STOPPED rule looks at the watchdog then).
+  void onFirstIdle(std::function<void()> hook) { firstIdleHook_ = std::move(hook); }
   // Called after every batch of events (the board samples signals the emulators drive, e.g. nFAULT).
   void onEvents(std::function<void()> hook) { eventHooks_.push_back(std::move(hook)); }
   void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
@@ -184,12 +194,17 @@ class Machine final : public CoreObserver {
   std::array<uint64_t, Nvic::kExceptions> enteredAt_{};
   std::array<InterruptFigures, Nvic::kExceptions> irqFigures_{};
   uint32_t irqLevels_ = 0;
+  std::array<uint64_t, 32> assertedAt_{};
+  std::array<uint32_t, Nvic::kExceptions> pendingAtReturn_{};  // IRQ-STORM: the sources still pending
+  std::array<uint32_t, Nvic::kExceptions> stormCount_{};
   std::vector<std::string> resetLog_;
   std::vector<std::string> hardFaultLog_;
   std::optional<ResetKind> pendingReset_;
   std::string pendingResetCause_;
   std::vector<std::string> ruleWarnings_;
   bool imageRules_ = false;
+  bool idleSeen_ = false;  // a Thread-mode WFI since the last reset
+  std::function<void()> firstIdleHook_;
   std::unique_ptr<RaceWatch> race_;
   std::array<std::function<InterruptSources()>, 32> irqSources_{};
   Profiler* profiler_ = nullptr;

@@ -57,6 +57,7 @@ Model* Mspm0::add(uint32_t base, uint32_t size, int irq, Args&&... args) {
   auto* model = new Model(*machine_, std::forward<Args>(args)...);
   machine_->map().add(base, size, *model);
   if (irq >= 0) {
+    irqNames_[static_cast<size_t>(irq)] = model->name();
     model->connectInterrupt([this, irq](bool level) { machine_->setIrq(irq, level); });
     machine_->setIrqSources(irq, [model] { return model->interruptSources(); });
   }
@@ -86,6 +87,8 @@ Mspm0::Mspm0(Part part) : part_(part) {
   m.map().add(Dma::kBase, Dma::kSize, *dma_);
   dma_->connectInterrupt([&m](bool level) { m.setIrq(31, level); });
   m.setIrqSources(31, [this] { return dma_->interruptSources(); });
+  irqNames_[31] = "DMA";
+  irqNames_[1] = g ? "INT_GROUP1 (GPIOA, GPIOB)" : "INT_GROUP1 (GPIOA)";
 
   // GPIO ports feed INT_GROUP1: GPIOA is member 1, GPIOB member 2 (tsv group_iidx rows).
   gpioA_.reset(add<Gpio>(kGpioa, kPeripheralSpan, -1, "GPIOA", 0, *pins_));
@@ -117,6 +120,8 @@ Mspm0::Mspm0(Part part) : part_(part) {
   for (size_t i = 0; i < uarts.size(); ++i) {
     const Slot& u = uarts[i];
     uart_[i].reset(add<Uart>(u.base, kPeripheralSpan, u.irq, u.name, *dma_, u.dmaRx, u.dmaTx));
+    dma_->describeTrigger(u.dmaRx, std::string(u.name) + " RX", u.base + Uart::kRxdataOffset, false);
+    dma_->describeTrigger(u.dmaTx, std::string(u.name) + " TX", u.base + Uart::kTxdataOffset, true);
   }
   if (g) {
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
@@ -138,6 +143,21 @@ Mspm0::Mspm0(Part part) : part_(part) {
 
 Mspm0::~Mspm0() = default;
 
+std::vector<std::string> Mspm0::unservedInterrupts() const {
+  std::vector<std::string> out;
+  const uint64_t tenMs = 10000 * machine_->cyclesPerUs();
+  for (const auto& [irq, held] : machine_->unservedIrqs(tenMs)) {
+    const std::string who =
+        irqNames_[static_cast<size_t>(irq)].empty() ? "a peripheral" : irqNames_[static_cast<size_t>(irq)];
+    out.push_back(ruleText(Rule::IrqUnserved,
+                           who + " interrupt request (IRQ " + std::to_string(irq) + ") pending for " +
+                               std::to_string(held / machine_->cyclesPerUs() / 1000) +
+                               " ms with its NVIC line never enabled (ISER) since the reset: no "
+                               "handler ever runs for it"));
+  }
+  return out;
+}
+
 int Mspm0::pincm(int port, int bit) const {
   const PinId* p = pins_->find(port, bit);
   return p == nullptr ? 0 : p->pincm;
@@ -155,6 +175,14 @@ bool Mspm0::load(const ElfFile& elf) {
   // (bsp/mspm0/linker).
   const auto limit = elf.symbol("__stack_limit__");
   machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase);
+  // WWDT-STOPPED (rules.hpp): bring-up ends at the first Thread-mode WFI; the watchdog must be running then.
+  machine_->onFirstIdle([this] {
+    if (!wwdt0_->running())
+      machine_->violate(
+          Rule::WatchdogStopped,
+          "bring-up ended (the first WFI of Thread mode) with WWDT0 never started: a firmware that "
+          "hangs from now on stays hung");
+  });
   machine_->powerOn();
   return true;
 }

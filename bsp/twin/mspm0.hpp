@@ -8,8 +8,10 @@
 // touches one stops with the PC and the address.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bsl/boot_code.hpp"
 #include "bsl/rom_bsl.hpp"
@@ -59,6 +61,13 @@ class Mspm0 {
   const BootCode& bootCode() const { return *boot_; }
   // PINCM index of port/bit (0 if the part has no such pin).
   int pincm(int port, int bit) const;
+  // What drives IRQ n ("UART0", "INT_GROUP1 (GPIOA/GPIOB)", "DMA"; "" if nothing modelled).
+  std::string irqName(int irq) const {
+    return irq >= 0 && irq < 32 ? irqNames_[static_cast<size_t>(irq)] : "";
+  }
+  // IRQ-UNSERVED (rules.hpp): a line pending 10 ms or more, its NVIC enable never set since the reset. The
+  // texts, in the rules' form ("[IRQ-UNSERVED] ...").
+  std::vector<std::string> unservedInterrupts() const;
 
  private:
   template <class Model, class... Args>
@@ -81,6 +90,7 @@ class Mspm0 {
   std::unique_ptr<RomBsl> bsl_;
   std::unique_ptr<BootCode> boot_;
   const ElfFile* elf_ = nullptr;
+  std::array<std::string, 32> irqNames_{};
 };
 
 }  // namespace twin

@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 11> kRules = {{
+constexpr std::array<RuleInfo, 26> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -18,7 +18,30 @@ constexpr std::array<RuleInfo, 11> kRules = {{
     {"RACE-ISR-RMW", "DDI 0419E B1.5 exception preemption between a load and its store", true},
     {"I2C-CLKSTRETCH", "hw_i2c.h MCR.CLKSTRETCH", true},
     {"I2C-FLUSH", "hw_i2c.h MFIFOCTL.TXFLUSH/RXFLUSH; DL_I2C_flushControllerTXFIFO", true},
+    {"WIRE-UART-FRAME",
+     "hw_uart.h LCRH WLEN/PEN; SLUSE81E DEV_CONF (8 data bits, no parity); TI BQ79616 example 8N1", true},
+    {"I2C-READ-NACK", "UM10204 3.1.6; SLUSE13B I2C read: NACK, then Stop; hw_i2c.h MCTR.ACK", true},
+    {"KEY-WRITE",
+     "hw_*.h KEY fields (PWREN 0x26, RSTCTL 0xB1, SYSOSCFCLCTL 0x2A, RESETCMD 0xE4, WWDT 0xC9/0xBE)", false},
+    {"WWDT-STOPPED", "SLAU846B/SLAU847D WWDT: off after reset until a keyed WWDTCTL0 write; hw_wwdt.h",
+     false},
+    {"MCAN-INIT-SYNC", "hw_mcan.h CCCR.INIT read-back delay and CCCR.CCE; DL_MCAN_getOpMode poll", true},
+    {"PIN-UNROUTED", "hw_iomux.h PINCM.PF; the data sheets' pin function tables", true},
+    {"DMA-TRIGGER", "hw_dma.h DMATCTL.DMATSEL; the data sheets' DMA trigger tables", true},
+    {"UART-DMA-LEVEL", "hw_uart.h IFLS level 7 'esp. required for DMA Trigger'; DL_UART_setTXFIFOThreshold",
+     false},
+    {"IRQ-UNSERVED", "DDI 0419E B3.4 NVIC ISER; TI examples' NVIC_EnableIRQ", false},
+    {"CLOCK-OFF", "hw_sysctl GENCLKCFG.CANCLKSRC, HSCLKEN.HFXTEN/SYSPLLEN; SLAU846B 2 clock tree", true},
+    {"IRQ-STORM", "DDI 0419E B1.5 a level still asserted at return pends again; hw_*.h CPU_INT ICLR", false},
+    {"MCAN-TC-UNARMED", "hw_mcan.h TXBTIE and IE.TCE; TI examples' DL_MCAN_TXBufTransIntrEnable", false},
+    {"DMA-NO-INCREMENT", "hw_dma.h DMACTL.DMADSTINCR; TI UART RX DMA examples", false},
+    {"I2C-NO-STOP", "UM10204 3.1.4; hw_i2c.h MCTR.STOP; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout",
+     false},
+    {"SIGNAL-EDGE", "hw_gpio.h POLARITY; the monitor's ALERT / NFAULT active low (SLUSE13B, SLUSE81E)",
+     false},
 }};
+
+static_assert(kRules.size() == static_cast<size_t>(Rule::SignalEdge) + 1, "one entry per Rule, in its order");
 
 }  // namespace
 

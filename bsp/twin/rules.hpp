@@ -8,6 +8,11 @@
 // Machine::ruleWarnings() (bms-sim --json twin_warnings).
 //
 // The table (bsp/twin/README.md "Rules" lists the same):
+//   WIRE-UART-FRAME   UART LCRH frame (WLEN, PEN) against the link partner's (8N1 for the BQ79616: SLUSE81E
+//                     DEV_CONF, one stop bit unless TWO_STOP_EN; TI's BQ79616 example ti_msp_dl_config.c
+//                     configures 8 data bits, no parity, one stop bit;
+//                     8N1 for the XDS110 back-channel the PC opens): a frame of another length or with a
+//                     parity bit is misread by the partner and the partner's by the MSPM0 (hw_uart.h LCRH)
 //   WIRE-UART-BAUD    UART baud (BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD/64))) against the link
 //                     partner's rate within the tolerance the receiver allows (BQ79616: SLUSE81E "UART RX
 //                     baud rate error" +-1 %; XDS110 back-channel: half the 16x sampling margin, computed)
@@ -15,10 +20,9 @@
 //                     SLUSE13B 14: up to 400 kHz; BQ4050 SMBus 10..100 kHz, SLUSC67A)
 //   WIRE-I2C-TPR      the controller's own limits: MTPR.TPR 1..127 (hw_i2c.h MTPR) and SCL <= 1 MHz
 //                     (Fast-mode Plus, SLAU846B 20.1 / SLAU847D 21.1)
-//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 + NTSEG2))
-//   equal
-//                     to the bus's within the oscillator tolerance its own bit timing allows (ISO 11898-1 bit
-//                     timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
+//   WIRE-CAN-BITRATE  MCAN nominal bit rate (CANCLK / MCANSS_CLKDIV / (NBRP + 1) / (3 + NTSEG1 +
+//                     NTSEG2)) equal to the bus's within the oscillator tolerance its own bit timing allows
+//                     (ISO 11898-1 bit timing; df = min(PS1, PS2) / (2 (13 NBT - PS2)), SJW / (20 NBT))
 //   WIRE-CAN-SAMPLE   (warns) sample point within 5 points of 87.5 % (CiA 301 / the TI example's 87.5 %)
 //   WIRE-HFXT-RANGE   HFCLKCLKCFG.HFXTRSEL selects the crystal's range when HFXTEN starts it (hw_sysctl
 //                     HFXTRSEL: 32..48 MHz = 3 for the LaunchPad's 40 MHz)
@@ -37,6 +41,69 @@
 //                     written or a burst started then is lost), and cleared only after MFIFOSR showed the
 //                     flush complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT
 //                     should be checked to be 8"; DL_I2C_flushControllerTXFIFO waits the same way)
+//   I2C-READ-NACK     a controller read burst that ends with STOP has MCTR.ACK clear: the last byte is NACKed
+//                     (UM10204 3.1.6: the controller-receiver signals the end of the transfer with a NACK
+//                     before STOP; SLUSE13B I2C read figure: the last data byte, NACK, Stop; hw_i2c.h
+//                     MCTR.ACK); an ACKed last byte leaves the target driving SDA for the next one, and the
+//                     STOP can fail
+//   KEY-WRITE         (warns) a keyed register written without its key: the part ignores the write
+//                     (GPRCM.PWREN 0x26, GPRCM.RSTCTL 0xB1 in every hw_*.h; SYSCTL SYSOSCFCLCTL 0x2A and
+//                     RESETCMD 0xE4 in hw_sysctl; WWDTCTL0 0xC9 / WWDTCTL1 0xBE in hw_wwdt.h; TI's driverlib
+//                     writes each key with its register: DL_*_enablePower, DL_SYSCTL_enableSYSOSCFCL)
+//   WWDT-STOPPED      (warns) bring-up ends (the first WFI in Thread mode: the scheduler has nothing to
+//                     do) with WWDT0 not running: a firmware that hangs later stays hung. WWDT0 is off after
+//                     a reset and starts only with a keyed WWDTCTL0 write (SLAU846B / SLAU847D WWDT;
+//                     hw_wwdt.h); the product relies on it (firmware/README.md, bsp/mspm0/README.md watchdog)
+//   MCAN-INIT-SYNC    CCCR.CCE written while CCCR.INIT does not read back 1 yet (refused: the protected
+//                     writes after it are then ignored): "there may be a delay until the value written to
+//                     INIT can be read back" (hw_mcan.h CCCR.INIT, the M_CAN user manual it follows); CCE and
+//                     the protected registers are written only with INIT = 1 (hw_mcan.h CCCR.CCE); TI's
+//                     set-up polls DL_MCAN_getOpMode until it reads SW_INIT before it configures
+// The rules below name the usual cause of "nothing ever happens": a block enabled whose pin, DMA trigger or
+// interrupt can never work. Each looks at what the firmware set, not at the result, so it names the cause:
+//   PIN-UNROUTED      a UART byte leaves while its TX pin is muxed to another function, or one arrives at its
+//                     RX pin while the receiver is enabled and the pin is muxed elsewhere: the byte goes
+//                     nowhere (hw_iomux.h PINCM.PF/PC: the pin function selects who drives and reads the pin;
+//                     the data sheets' pin function tables, bsp/mspm0/README.md "Connections")
+//   DMA-TRIGGER       a DMA channel enabled to move to a peripheral's TX data register (or from its RX data
+//                     register) on another trigger than that peripheral's for that direction: its transfers
+//                     are never paced by the peripheral (hw_dma.h DMATCTL.DMATSEL; the data sheets' DMA
+//                     trigger tables, e.g. UART0 RX 17 / TX 18 on the G3507)
+//   UART-DMA-LEVEL    (warns) a DMA channel enabled on a UART trigger whose IFLS level is not 7: "TX FIFO
+//                     >= 1 entry free / RX FIFO >= 1 entry available ... esp. required for DMA Trigger"
+//                     (hw_uart.h IFLS); the other levels trigger on a transition through the level (driverlib
+//                     DL_UART_setTXFIFOThreshold), which an idle FIFO never makes
+//   CLOCK-OFF         the MCAN's clock requested (MCANSS_CLKEN.CLK_REQEN) from a source that is not running:
+//                     GENCLKCFG.CANCLKSRC selects HFCLK with the HFXT never started (HSCLKEN.HFXTEN), or
+//                     SYSPLLCLK1 with the SYSPLL off (HSCLKEN.SYSPLLEN) (hw_sysctl_mspm0g1x0x_g3x0x.h;
+//                     SLAU846B 2 clock tree: CANCLK from HFCLK or SYSPLLCLK1): the message RAM never
+//                     initialises
+//   MCAN-TC-UNARMED   (warns) the MCAN joins the bus with IE.TCE set and no TX buffer's TXBTIE bit: IR.TC is
+//                     raised only for buffers whose TXBTIE bit is set ("Each Tx Buffer has its own
+//                     Transmission Interrupt Enable bit", hw_mcan.h TXBTIE; TI's MCAN examples set it with
+//                     DL_MCAN_TXBufTransIntrEnable), so the enabled interrupt never comes
+//   DMA-NO-INCREMENT  (warns) a channel moves DMASZ > 1 items from a peripheral's RX data register into SRAM
+//                     without incrementing the destination (DMACTL.DMADSTINCR unchanged): each byte
+//                     overwrites the last (hw_dma.h DMADSTINCR; TI's UART RX DMA examples increment the
+//                     destination)
+//   I2C-NO-STOP       (warns) the clock-low timeout expires while the controller itself holds SCL after
+//                     a burst that ended without STOP and was never continued: the firmware left the
+//                     transaction open (UM10204 3.1.4: a transaction ends with STOP; hw_i2c.h MCTR.STOP
+//                     "generate STOP condition at the end of the burst"; SLAU846B 20.2 / SLAU847D 21.2 clock
+//                     low timeout)
+//   SIGNAL-EDGE       (warns) the monitor's active-low signal (BQ769x2/BQ7690x ALERT as the board's device
+//                     drives it, open drain; BQ79616 NFAULT, SLUSE81E) falls on a GPIO input whose edge
+//                     interrupt is unmasked but set for the rising edge only (hw_gpio.h POLARITY 1): the
+//                     interrupt comes when the alert ends, not when it starts
+//   IRQ-STORM         (warns) a handler returns 1000 times in a row with the source it was entered for still
+//                     pending (the same MIS bit at its return and at its next entry): it never clears its
+//                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
+//                     B1.5: a level still asserted at exception return pends the interrupt again; hw_*.h
+//                     CPU_INT ICLR clears the RIS bit)
+//   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
+//                     or more and its NVIC line was never enabled since the reset: no handler will ever run
+//                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
+//                     examples enable the line, NVIC_EnableIRQ, after the peripheral's IMASK)
 #pragma once
 
 #include <cstdint>
@@ -56,6 +123,21 @@ enum class Rule : uint8_t {
   IsrRace,
   I2cClockStretch,
   I2cFlush,
+  UartFrame,
+  I2cReadNack,
+  KeyWrite,
+  WatchdogStopped,
+  McanInitSync,
+  PinUnrouted,
+  DmaTrigger,
+  UartDmaLevel,
+  IrqUnserved,
+  ClockOff,
+  IrqStorm,
+  McanTcUnarmed,
+  DmaNoIncrement,
+  I2cNoStop,
+  SignalEdge,
 };
 
 struct RuleInfo {

@@ -637,4 +637,188 @@ TEST(BrokenImage, AnI2cFlushNeverEndedIsStoppedByTheFlushRule) {
   EXPECT_RULE(stop, "I2C-FLUSH");
 }
 
+TEST(BrokenImage, SevenDataBitsOnTheBq79616LinkAreStoppedByTheFrameRule) {
+  // LCRH 0x20 (WLEN 7 bits) instead of 0x30 (8N1): the BQ79616 frames 8 data bits (SLUSE81E DEV_CONF; TI's
+  // BQ79616 example configures the MSPM0 8N1), so every byte is misread on both sides.
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto lcrh = storeSites(preset, *elf, 0x40108000 + 0x1104, 50000);
+  const StoreSite site = siteOf(lcrh, 0x30);
+  ASSERT_NE(site.pc, 0U) << "no LCRH write of 0x30 (8N1)";
+  ASSERT_TRUE(storeValue(*elf, site, 0x20));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "WIRE-UART-FRAME");
+  EXPECT_NE(stop.find("7 data bits"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("BQ79616"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, TheFclWrittenWithoutItsKeyIsNamedByTheKeyRule) {
+  // SYSOSCFCLCTL without KEY 0x2A: the part ignores the write (hw_sysctl SYSOSCFCLCTL.KEY), SYSOSC stays
+  // without its frequency correction loop; the image would run on, so the twin warns.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto warnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(300000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
+  const auto fcl = storeSites(preset, *elf, 0x400AF000 + 0x1310, 50000);
+  ASSERT_EQ(fcl.size(), 1U);
+  ASSERT_EQ(fcl[0].value >> 24, 0x2AU);
+  ASSERT_TRUE(storeValue(*elf, fcl[0], fcl[0].value & 0x00FFFFFFU));
+  const auto caught = warnings(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[KEY-WRITE] SYSCTL SYSOSCFCLCTL"), std::string::npos) << caught[0];
+}
+
+TEST(BrokenImage, AWatchdogNeverStartedIsNamedWhenBringUpEnds) {
+  // The WWDTCTL0 write that starts WWDT0 taken out: nothing in a run hangs, so nothing needs the watchdog,
+  // but the part is then unsupervised: the twin warns at the first idle WFI.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto run = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(500000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(run(*elf).empty()) << run(*elf).front();
+  const auto start = storesTo(preset, *elf, 0x40080000 + 0x1100, 50000);
+  ASSERT_EQ(start.size(), 1U);
+  removeStores(*elf, start);
+  const auto caught = run(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[WWDT-STOPPED]"), std::string::npos) << caught[0];
+  EXPECT_NE(caught[0].find("WWDT0 never started"), std::string::npos) << caught[0];
+}
+
+TEST(BrokenImage, TheSlcanTxPinMuxedAsGpioIsStoppedByTheRoutingRule) {
+  // PINCM9 (PA8, UART0 TX to the XDS110 on the LP-MSPM0L1306) with PF 1 (GPIO) instead of PF 2: the UART
+  // sends, the pin does not carry it.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  const auto tx = storeSites(preset, *elf, 0x40428000 + 4 * 9, 50000);
+  ASSERT_FALSE(tx.empty());
+  ASSERT_EQ(tx[0].value & 0x3FU, 2U) << "the image muxes PA8 to UART0 TX";
+  ASSERT_TRUE(storeValue(*elf, tx[0], (tx[0].value & ~0x3FU) | 1U));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "PIN-UNROUTED");
+  EXPECT_NE(stop.find("UART0 TX"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("PA8"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, ATxDmaChannelOnTheRxTriggerIsStoppedByTheTriggerRule) {
+  // DMATCTL.DMATSEL 17 (UART0 RX) for the channel that feeds UART0 TXDATA (TX trigger 18 on the G3507).
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  std::vector<StoreSite> tx;
+  for (uint32_t ch = 0; ch < 7 && tx.empty(); ++ch) {
+    for (const auto& s : storeSites(preset, *elf, 0x4042A000 + 0x1110 + 4 * ch, 50000)) {
+      if (s.value == 18) tx.push_back(s);
+    }
+  }
+  ASSERT_FALSE(tx.empty()) << "no DMATCTL write of UART0's TX trigger";
+  ASSERT_TRUE(storeValue(*elf, tx[0], 17));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "DMA-TRIGGER");
+  EXPECT_NE(stop.find("to UART0 TX"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("trigger 17 (UART0 RX)"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, AUartDmaOnTheHalfEmptyLevelIsNamedByTheLevelRule) {
+  // IFLS TXIFLSEL 2 (half empty) instead of 7 under the TX DMA: the trigger waits for a transition an empty
+  // FIFO never makes (hw_uart.h IFLS: 7 "esp. required for DMA Trigger").
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  const auto ifls = storeSites(preset, *elf, 0x40108000 + 0x110C, 50000);
+  ASSERT_EQ(ifls.size(), 1U);
+  ASSERT_EQ(ifls[0].value & 7U, 7U);
+  ASSERT_TRUE(storeValue(*elf, ifls[0], (ifls[0].value & ~7U) | 2U));
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("[UART-DMA-LEVEL]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("TXIFLSEL 2"), std::string::npos) << warnings[0];
+}
+
+TEST(BrokenImage, AnAlertHandlerThatNeverClearsItsFlagIsNamedByTheStormRule) {
+  // The GPIO handler's ICLR write taken out: the first ALERT edge leaves GPIOA's RIS set, INT_GROUP1 stays
+  // asserted, and the handler is re-entered as soon as it returns.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto alertRun = [&](const ElfFile& image, std::vector<uint32_t>* iclr) {
+    Rig r(preset, image);
+    twin::Machine& m = r.board.machine();
+    m.map().onStore([&](uint32_t a, uint32_t) {
+      if (iclr != nullptr && a == 0x400A0000 + 0x1048 &&
+          std::find(iclr->begin(), iclr->end(), m.core().pc()) == iclr->end())
+        iclr->push_back(m.core().pc());
+    });
+    r.board.runUntilUs(1000000);
+    r.board.driveMonitorSignal(false);
+    r.board.runUntilUs(1300000);
+    return r.board.warnings();
+  };
+  std::vector<uint32_t> iclr;
+  const auto clean = alertRun(*elf, &iclr);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  ASSERT_FALSE(iclr.empty()) << "the handler never writes GPIOA ICLR";
+  removeStores(*elf, iclr);
+  const auto caught = alertRun(*elf, nullptr);
+  ASSERT_FALSE(caught.empty());
+  EXPECT_NE(caught[0].find("[IRQ-STORM] exception 17"), std::string::npos) << caught[0];
+}
+
+TEST(BrokenImage, AnRxDmaWithoutDestinationIncrementIsNamed) {
+  // The BQ79616 response DMA (UART0 RXDATA to SRAM) without DMADSTINCR: every byte lands on the first.
+  const std::string preset = "lp-mspm0g3507-bq79616";
+  LOAD_OR_SKIP(elf, preset);
+  StoreSite rx;
+  for (uint32_t ch = 0; ch < 7 && rx.pc == 0; ++ch) {
+    for (const auto& s : storeSites(preset, *elf, 0x4042A000 + 0x1200 + 0x10 * ch, 300000)) {
+      if ((s.value & 2U) && ((s.value >> 20) & 0xFU) == 3U && ((s.value >> 16) & 0xFU) == 0U) rx = s;
+    }
+  }
+  ASSERT_NE(rx.pc, 0U) << "no DMACTL write enabling a channel with the destination incremented";
+  ASSERT_TRUE(storeValue(*elf, rx, rx.value & ~(0xFU << 20)));
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("[DMA-NO-INCREMENT]"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("from UART0 RX"), std::string::npos) << warnings[0];
+}
+
+TEST(BrokenImage, AnAlertTakenOnItsRisingEdgeIsNamedByTheEdgeRule) {
+  // PA15's POLARITY (hw_gpio.h POLARITY15_0 DIO15, bits 31:30) rising (1) instead of falling (2): the
+  // BQ76952's active-low ALERT then interrupts when it ends. The image computes the register value at run
+  // time, so the broken setting is written after bring-up, through the bus, as a debugger would.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto alert = [&](bool rising) {
+    Rig r(preset, *elf);
+    r.board.runUntilUs(1000000);
+    twin::AddressMap& map = r.board.machine().map();
+    uint32_t polarity = 0;
+    EXPECT_TRUE(map.load(0x400A0000 + 0x1390, 4, polarity));
+    EXPECT_EQ((polarity >> 30) & 3U, 2U) << "the image takes ALERT on its falling edge";
+    if (rising) {
+      EXPECT_TRUE(map.store(0x400A0000 + 0x1390, 4, (polarity & ~(3U << 30)) | (1U << 30)));
+    }
+    r.board.driveMonitorSignal(false);
+    r.board.runUntilUs(1010000);
+    return r.board.warnings();
+  };
+  const auto clean = alert(false);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  const auto caught = alert(true);
+  ASSERT_FALSE(caught.empty());
+  EXPECT_NE(caught[0].find("[SIGNAL-EDGE] PA15"), std::string::npos) << caught[0];
+}
+
 }  // namespace

@@ -113,6 +113,31 @@ TEST_F(Uart, TheHalfLevelNeverTriggersTheDmaOnAnEmptyFifo) {
   EXPECT_EQ(rd(kDma + 0x1200 + 12), 5U);  // DMASZ: nothing moved
 }
 
+TEST_F(Uart, AnInterruptPendingWithItsNvicLineNeverEnabledIsNamed) {
+  // IMASK DMA_DONE_TX set, the NVIC line of UART0 (IRQ 15) never enabled: the request stays pending and no
+  // handler runs (DDI 0419E B3.4, ISER). Named once it has waited 10 ms.
+  start(7, {'t', '\r'});
+  runUs(5000);
+  EXPECT_NE(rd(kUart0 + 0x1038) & (1U << 16), 0U);  // MIS DMA_DONE_TX
+  EXPECT_TRUE(chip_.unservedInterrupts().empty());  // 5 ms: not yet
+  runUs(10000);
+  const auto unserved = chip_.unservedInterrupts();
+  ASSERT_EQ(unserved.size(), 1U);
+  EXPECT_NE(unserved[0].find("[IRQ-UNSERVED] UART0 interrupt request (IRQ 15)"), std::string::npos)
+      << unserved[0];
+}
+
+TEST_F(Uart, AnInterruptMaskedInTheNvicAfterItWasEnabledIsNotNamed) {
+  // A line enabled once and masked again (ICER) is the firmware's choice: the rule looks for lines never
+  // enabled.
+  wr(0xE000E100, 1U << 15);  // ISER
+  wr(0xE000E180, 1U << 15);  // ICER
+  start(7, {'t', '\r'});
+  runUs(20000);
+  EXPECT_NE(rd(kUart0 + 0x1038) & (1U << 16), 0U);
+  EXPECT_TRUE(chip_.unservedInterrupts().empty());
+}
+
 // --- I2C
 // -------------------------------------------------------------------------------------------------------
 
@@ -216,6 +241,23 @@ TEST_F(I2c, ACountByteReadAloneIsContinuedWithoutStartThenNackedAndStopped) {
   EXPECT_EQ(log[0], "S 17 [02 A1 A2] P");
 }
 
+TEST_F(I2c, AReadThatAcksItsLastByteBeforeStopIsStoppedByTheNackRule) {
+  // UM10204 3.1.6: a controller-receiver signals the end of the transfer with a NACK on the last byte, then
+  // STOP (SLUSE13B's I2C read figure shows the same). MCTR.ACK with STOP ACKs it: the target drives the next
+  // byte and the STOP can fail.
+  start();
+  ScriptedTarget target({0x11, 0x22});
+  chip_.i2c0().attach(0x08, target);
+  wr(kI2c0 + 0x1210, (0x08 << 1) | 1);
+  wr(kI2c0 + 0x1214, (2U << 16) | 1U | 2U | 4U);  // 2 bytes, BURSTRUN, START, STOP, ACK = 0: fine
+  runUs(200);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_EQ(target.stops, 1);
+  wr(kI2c0 + 0x1214, (2U << 16) | (1U << 3) | 1U | 2U | 4U);  // the same with ACK
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-READ-NACK]"), std::string::npos) << why();
+}
+
 TEST_F(I2c, TheControllerAckOverrideIsRefused) {
   // MCTR.MACKOEN: no TI example or library uses it, no TRM text describes it (bsp/mspm0/README.md, open
   // questions): the twin does not guess its behaviour.
@@ -241,6 +283,10 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   EXPECT_EQ(rd(kI2c0 + 0x1030) & (1U << 14), 0U);
   runUs(200);
   EXPECT_NE(rd(kI2c0 + 0x1030) & (1U << 14), 0U);  // TIMEOUTA
+  // Nobody continued or ended the transaction: named (I2C-NO-STOP, a warning).
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[I2C-NO-STOP]"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
 }
 
 // A target that stretches SCL before each byte it sends (a BQ76952 or BQ4050 extending the clock).
@@ -342,6 +388,76 @@ TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
   EXPECT_EQ(rd(kCan + 0x7830) & 1U, 0U);         // ...but no interrupt: the line waits for EOI
   wr(kCan + 0x7220, 1);                          // EOI line 0
   EXPECT_EQ(rd(kCan + 0x7830) & 1U, 1U);         // TC still pending: the line asserts again
+}
+
+TEST_F(Chip, McanConfigurationBeforeInitReadsBackIsStoppedByTheSyncRule) {
+  // "there may be a delay until the value written to INIT can be read back" (hw_mcan.h CCCR.INIT); CCE and
+  // the protected registers take a write only with INIT = 1 (CCCR.CCE). From reset INIT is 1 already: INIT
+  // then CCE at once is fine. Once INIT was cleared, setting INIT and CCE without waiting is refused.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);  // INIT from reset: CCE taken
+  EXPECT_EQ(rd(kCan + 0x7018) & 3U, 3U);
+  wr(kCan + 0x701C, 0x12004409);
+  wr(kCan + 0x7018, 0);  // leave INIT, and wait until it reads back 0
+  runUs(1);
+  ASSERT_EQ(rd(kCan + 0x7018) & 1U, 0U);
+  ASSERT_FALSE(stopped()) << why();
+  wr(kCan + 0x7018, 3);  // INIT and CCE together: INIT has not crossed into the CAN clock domain
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[MCAN-INIT-SYNC]"), std::string::npos) << why();
+}
+
+TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
+  // GPRCM.PWREN takes a write only with KEY 0x26 (hw_*.h PWREN.KEY): without it the peripheral stays off.
+  wr(kUart0 + 0x800, 0x00000001);
+  EXPECT_EQ(rd(kUart0 + 0x800) & 1U, 0U);
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[KEY-WRITE] UART0 GPRCM.PWREN"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
+  wr(kUart0 + 0x800, kPwrenOn);
+  EXPECT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+}
+
+TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
+  // GENCLKCFG.CANCLKSRC 1 = SYSPLLCLK1 (hw_sysctl_mspm0g1x0x_g3x0x.h) with HSCLKEN.SYSPLLEN clear: CANCLK has
+  // no source, MEM_INIT_DONE never comes.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);  // HFXT on
+  runUs(700);
+  wr(kSysctl + 0x1138, 1U << 8);  // CANCLKSRC = SYSPLLCLK1
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);  // CLK_REQEN
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[CLOCK-OFF]"), std::string::npos) << why();
+  EXPECT_NE(why().find("SYSPLL is off"), std::string::npos) << why();
+}
+
+TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
+  // IR.TC is raised only for TX buffers whose TXBTIE bit is set (hw_mcan.h TXBTIE): IE.TCE alone never fires.
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);
+  wr(kCan + 0x701C, 0x12004409);
+  wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO, TXBTIE left 0
+  wr(kCan + 0x7054, 1U << 9);   // IE: TC
+  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+  EXPECT_TRUE(chip_.machine().ruleWarnings().empty());
+  wr(kCan + 0x7018, 0);
+  ASSERT_FALSE(stopped()) << why();
+  ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+  EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[MCAN-TC-UNARMED]"), std::string::npos)
+      << chip_.machine().ruleWarnings()[0];
 }
 
 // MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter

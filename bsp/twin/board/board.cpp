@@ -1,5 +1,7 @@
 #include "board/board.hpp"
 
+#include <cstdio>
+
 #include "sim/sim_irq.hpp"
 
 namespace twin {
@@ -121,6 +123,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
     // The XDS110 back-channel receives on PA8 (tsv note "LP-MSPM0L1306 backchannel UART"): SLCAN text, at
     // 115 200 Bd. Its tolerance is not documented: half the margin of a 16x-oversampling receiver (sampling
     // mid-bit, 7/16 of a bit over the 9.5 bits to the stop bit: 4.6 %), the other half left to our clock.
+    // Its frame is the PC's 8N1 (bsp/mspm0/README.md: the back-channel at 115200 8N1; Link's default).
     chip_.uart(0).setLink(
         {"XDS110 back-channel", 115200, 23000,
          "computed: half a 16x receiver's 4.6 % margin; bsp/twin/README.md open questions"});
@@ -128,6 +131,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
       ++uartBytes_;
       if (!chip_.pins().routed(kL1306Pa8, kPf2)) {
         ++unroutedBytes_;
+        unrouted("UART0 TX", kL1306Pa8, byte, true);
         return;
       }
       slcanPending_ += static_cast<char>(byte);
@@ -143,6 +147,7 @@ Board::Board(const ImageId& image, bsp::host::SimClock& world, int devices)
   if (signalPincm_ != 0) {
     chip_.pins().onChange(signalPincm_, [this](bool level) {
       monitorSignal_.push_back({chip_.machine().now(), level});
+      if (!level) checkSignalEdge();
     });
   }
 }
@@ -206,12 +211,15 @@ void Board::wireChain(int devices) {
   Pins& pins = chip_.pins();
   Uart& uart = chip_.uart(0);
   // "The device supports 1-Mbps baud rate" (SLUSE81E 9.3.6.1.1, UART); the host's baud error must lie within
-  // +-1 % (SLUSE81E electrical characteristics, "UART RX baud rate error").
+  // +-1 % (SLUSE81E electrical characteristics, "UART RX baud rate error"). Its frame is 8N1 (Link's
+  // default): 8 data bits, no parity, one stop bit unless DEV_CONF.TWO_STOP_EN (SLUSE81E DEV_CONF), as TI's
+  // BQ79616 example configures the MSPM0 (ti_msp_dl_config.c: 8 bits, no parity, one stop bit).
   uart.setLink({"BQ79616", 1000000, 10000, "SLUSE81E: 1 Mbps, UART RX baud rate error +-1 %"});
   uart.onTransmit([this](uint8_t byte) {
     ++uartBytes_;
     if (!chip_.pins().routed(kG3507Pa10, kPf2)) {
       ++unroutedBytes_;
+      unrouted("UART0 TX", kG3507Pa10, byte, true);
       return;
     }
     bool lost = false;  // the line's noise (setUartNoise); the chain's side is SimUart's
@@ -222,8 +230,11 @@ void Board::wireChain(int devices) {
   });
   chainUart_->onPeerByte([this](uint8_t byte, bool framingError) {
     ++uartRxBytes_;
-    if (chip_.pins().routed(kG3507Pa11, kPf2) && chip_.pins().requireInput(kG3507Pa11, "UART0 RX"))
+    if (!chip_.pins().routed(kG3507Pa11, kPf2)) {
+      if (chip_.uart(0).receiving()) unrouted("UART0 RX", kG3507Pa11, byte, false);
+    } else if (chip_.pins().requireInput(kG3507Pa11, "UART0 RX")) {
       chip_.uart(0).receive(byte, framingError);
+    }
   });
   // A ping: the TX line low (the firmware drives it as a GPIO) for its length, measured on the line.
   pins.onChange(kG3507Pa10, [this](bool level) {
@@ -300,9 +311,38 @@ void Board::driveMonitorSignal(bool level) {
   }
 }
 
+void Board::checkSignalEdge() {
+  // SIGNAL-EDGE (rules.hpp): the signal asserts by falling; an edge interrupt set for rising only comes late.
+  const bool l1306 = image_.part == Part::L1306;
+  const int port = l1306 ? 0 : 1, bit = l1306 ? 15 : 0;  // PA15 on the L1306, PB0 on the G3507
+  const Gpio& gpio = chip_.gpio(port);
+  if (!gpio.powered() || !gpio.edgeUnmasked(bit) || gpio.edgePolarity(bit) != 1) return;
+  chip_.machine().violate(
+      Rule::SignalEdge,
+      chip_.pins().pinName(signalPincm_) +
+          ": the monitor's active-low signal fell with its GPIO edge interrupt set for the "
+          "rising edge only (POLARITY 1): the handler runs when the signal ends, not when it "
+          "starts");
+}
+
+void Board::unrouted(const char* function, int pincm, uint8_t byte, bool transmitted) {
+  // PIN-UNROUTED (rules.hpp): the UART works, the pin is muxed to something else (PINCM.PF), so the byte
+  // goes nowhere on silicon.
+  char buf[200];
+  const uint32_t cm = chip_.pins().pincm(pincm);
+  std::snprintf(buf, sizeof buf,
+                "%s: byte 0x%02X %s %s, whose PINCM 0x%08X (PC %u, PF %u) does not select %s (PF 2): it goes "
+                "nowhere",
+                function, byte, transmitted ? "sent with its pin" : "arrived at its pin",
+                chip_.pins().pinName(pincm).c_str(), cm, (cm >> 7) & 1U, cm & 0x3FU, function);
+  chip_.machine().violate(Rule::PinUnrouted, buf);
+}
+
 std::vector<std::string> Board::warnings() const {
   // The silicon rules that only warn (rules.hpp: where the part would degrade, not fail), then the board's.
   std::vector<std::string> out = chip_.machine().ruleWarnings();
+  for (const std::string& unserved : chip_.unservedInterrupts())
+    out.push_back(unserved);
   for (const std::string& pin : chip_.pins().floatingReads())
     out.push_back(pin + " read while floating (no drive, no pull)");
   if (const Mcan* mcan = chip_.mcan()) {
@@ -392,8 +432,11 @@ void Board::serialArrive() {
   const uint8_t byte = serialOut_.front();
   serialOut_.pop_front();
   ++serialBytes_;
-  if (chip_.pins().routed(kL1306Pa9, kPf2) && chip_.pins().requireInput(kL1306Pa9, "UART0 RX"))
+  if (!chip_.pins().routed(kL1306Pa9, kPf2)) {
+    if (chip_.uart(0).receiving()) unrouted("UART0 RX", kL1306Pa9, byte, false);
+  } else if (chip_.pins().requireInput(kL1306Pa9, "UART0 RX")) {
     chip_.uart(0).receive(byte, false);
+  }
   if (serialOut_.empty()) {
     serialArriving_ = false;
     return;

@@ -175,6 +175,8 @@ class Board {
   std::vector<ChainCommand> chainCommands_;
   std::vector<uint64_t> chainPings_;
   std::vector<uint8_t> chainFrame_;
+  void unrouted(const char* function, int pincm, uint8_t byte, bool transmitted);
+  void checkSignalEdge();
   uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
   uint64_t pingStart_ = 0;
   bool fets_ = false;

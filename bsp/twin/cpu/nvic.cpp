@@ -12,6 +12,7 @@ constexpr uint64_t kSystemExceptions = (1ULL << Nvic::kNmi) | (1ULL << Nvic::kHa
 void Nvic::reset() {
   latch_ = level_ = active_ = 0;
   enabled_ = 0;
+  everEnabled_ = 0;
   priority_.fill(0);
   priority_[kReset] = -3;  // B1.5.4: fixed priorities
   priority_[kNmi] = -2;

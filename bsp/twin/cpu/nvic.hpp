@@ -38,7 +38,12 @@ class Nvic {
 
   // --- NVIC registers (B3.4) -------------------------------------------------------------------------------
   uint32_t enabledIrqs() const { return enabled_; }
-  void enableIrqs(uint32_t mask) { enabled_ |= mask; }
+  void enableIrqs(uint32_t mask) {
+    enabled_ |= mask;
+    everEnabled_ |= mask;
+  }
+  // The lines enabled at any time since the reset (rules.hpp IRQ-UNSERVED).
+  uint32_t everEnabledIrqs() const { return everEnabled_; }
   void disableIrqs(uint32_t mask) { enabled_ &= ~mask; }
   uint32_t pendingIrqs() const { return static_cast<uint32_t>(pendingMask() >> kIrq0); }
   // 8-bit priority field as software reads it (bits [7:6] kept, the rest read as zero).
@@ -69,6 +74,7 @@ class Nvic {
   uint64_t level_ = 0;
   uint64_t active_ = 0;
   uint32_t enabled_ = 0;
+  uint32_t everEnabled_ = 0;
   std::array<int8_t, kExceptions> priority_{};
 };
 

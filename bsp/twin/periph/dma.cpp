@@ -32,6 +32,46 @@ void Dma::updateInterrupt() {
   if (line_) line_(level);
 }
 
+void Dma::checkTrigger(int n, const Channel& ch) {
+  const int selected = static_cast<int>(ch.tctl & 0x3F);
+  for (const TriggerInfo& t : triggers_) {
+    const uint32_t end = t.toPeripheral ? ch.da : ch.sa;
+    if (end != t.dataRegister) continue;
+    char buf[220];
+    if (selected != t.trigger) {
+      std::string selectedName =
+          selected == 0 ? "trigger 0 (software: DMAREQ only)" : "trigger " + std::to_string(selected);
+      for (const TriggerInfo& other : triggers_) {
+        if (other.trigger == selected) selectedName += " (" + other.name + ")";
+      }
+      std::snprintf(buf, sizeof buf,
+                    "DMA channel %d enabled to move %s %s (0x%08X) on %s, not %s's trigger %d: the "
+                    "peripheral never paces it",
+                    n, t.toPeripheral ? "to" : "from", t.name.c_str(), t.dataRegister, selectedName.c_str(),
+                    t.name.c_str(), t.trigger);
+      machine_.violate(Rule::DmaTrigger, buf);
+      return;
+    }
+    const uint32_t dstInc = (ch.ctl >> 20) & 0xFU;
+    if (!t.toPeripheral && ch.sz > 1 && dstInc == 0 && machine_.inSram(ch.da)) {
+      std::snprintf(buf, sizeof buf,
+                    "DMA channel %d moves %u items from %s (0x%08X) to SRAM 0x%08X without incrementing the "
+                    "destination (DMADSTINCR 0): each overwrites the last",
+                    n, ch.sz, t.name.c_str(), t.dataRegister, ch.da);
+      machine_.violate(Rule::DmaNoIncrement, buf);
+    }
+    DmaRequester* requester = requesters_[static_cast<size_t>(t.trigger)];
+    Rule rule = Rule::UartDmaLevel;
+    const std::string problem = requester != nullptr ? requester->dmaTriggerProblem(t.trigger, rule) : "";
+    if (!problem.empty()) {
+      std::snprintf(buf, sizeof buf, "DMA channel %d on %s's trigger %d: %s", n, t.name.c_str(), t.trigger,
+                    problem.c_str());
+      machine_.violate(rule, buf);
+    }
+    return;
+  }
+}
+
 void Dma::requestRaised(int) {
   if (!serviceEvent_.armed()) serviceEvent_.after(kTransferCycles);
 }
@@ -151,7 +191,10 @@ bool Dma::write(uint32_t offset, unsigned bytes, uint32_t value) {
     switch ((offset & 0xF) / 4) {
       case 0:
         ch.ctl = value;
-        if ((value & kEnable) && ch.sz != 0) serviceEvent_.after(kTransferCycles);
+        if ((value & kEnable) && ch.sz != 0) {
+          checkTrigger(static_cast<int>((offset - kChan) / 0x10), ch);
+          serviceEvent_.after(kTransferCycles);
+        }
         break;
       case 1:
         ch.sa = value;

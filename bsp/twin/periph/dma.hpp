@@ -13,10 +13,16 @@
 // - Block mode: one trigger moves DMASZ transfers. Repeat modes, extended modes (gather/fill/table),
 //   strides and widths above a word stop the run (not modelled; the images use none).
 // - A transfer takes kTransferCycles after its trigger (read + write on the bus; an estimate, README).
+// - A channel enabled to move to a peripheral's TX data register or from its RX data register must select
+//   that peripheral's trigger for that direction (rules.hpp DMA-TRIGGER: the run stops), and the peripheral
+//   may say what else keeps its trigger from firing (DmaRequester::dmaTriggerProblem, rules.hpp
+//   UART-DMA-LEVEL).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "address_map.hpp"
 #include "machine.hpp"
@@ -30,6 +36,8 @@ class DmaRequester {
   virtual bool dmaRequested(int trigger) const = 0;
   virtual void dmaAcknowledge(int trigger) = 0;
   virtual void dmaDone(int trigger) = 0;
+  // Why `trigger` cannot pace a DMA channel with the current settings ("" when it can); `rule` the rule.
+  virtual std::string dmaTriggerProblem(int /*trigger*/, Rule& /*rule*/) const { return ""; }
 
  protected:
   ~DmaRequester() = default;
@@ -49,6 +57,11 @@ class Dma final : public Device {
   void connect(int trigger, DmaRequester& requester) {
     requesters_[static_cast<size_t>(trigger)] = &requester;
   }
+  // The data register a trigger paces: `name` (e.g. "UART0 TX"), its address, and whether the channel writes
+  // to it (TX) or reads from it (RX). DMA-TRIGGER checks every channel enabled on it.
+  void describeTrigger(int trigger, std::string name, uint32_t dataRegister, bool toPeripheral) {
+    triggers_.push_back({trigger, std::move(name), dataRegister, toPeripheral});
+  }
   // A requester's request for `trigger` was raised.
   void requestRaised(int trigger);
   void connectInterrupt(std::function<void(bool)> line) { line_ = std::move(line); }
@@ -60,6 +73,13 @@ class Dma final : public Device {
   struct Channel {
     uint32_t ctl = 0, sa = 0, da = 0, sz = 0, tctl = 0;
   };
+  struct TriggerInfo {
+    int trigger;
+    std::string name;
+    uint32_t dataRegister;
+    bool toPeripheral;
+  };
+  void checkTrigger(int n, const Channel& ch);
   void service();
   bool transfer(Channel& ch);
   void reset();
@@ -74,6 +94,7 @@ class Dma final : public Device {
   bool lineLevel_ = false;
   TimedEvent serviceEvent_;
   uint32_t prio_ = 0;
+  std::vector<TriggerInfo> triggers_;
 };
 
 }  // namespace twin

@@ -21,6 +21,10 @@ class Gpio final : public Peripheral {
   Gpio(Machine& machine, const char* name, int port, Pins& pins);
   uint32_t dout() const { return dout_; }
   uint32_t doe() const { return doe_; }
+  // The edges of `bit` that set its RIS bit (POLARITY: 0 none, 1 rising, 2 falling, 3 both) and whether its
+  // interrupt is unmasked (IMASK): the board's SIGNAL-EDGE rule asks.
+  uint32_t edgePolarity(int bit) const { return (polarity_[bit / 16] >> (2 * (bit % 16))) & 3U; }
+  bool edgeUnmasked(int bit) const { return (cpuInt_.imask >> bit) & 1U; }
   // Pins: the pad level of `bit` changed.
   void padChanged(int bit, bool level);
 

@@ -152,6 +152,13 @@ void I2c::holdSclLow(uint64_t from) {
 }
 
 void I2c::onTimeout() {
+  if (phase_ == Phase::Idle && busOwned_) {
+    machine_.violate(
+        Rule::I2cNoStop,
+        name() + std::string(": the clock-low timeout expired with the controller holding SCL after "
+                             "a burst that ended without STOP (MCTR.STOP clear) and was never "
+                             "continued: the transaction was left open"));
+  }
   step_.cancel();
   phase_ = Phase::TimedOut;
   log("TIMEOUT");
@@ -196,6 +203,13 @@ void I2c::startBurst() {
   stopAfter_ = (mctr_ & kStop) != 0;
   ackLast_ = (mctr_ & kAck) != 0;
   adrNack_ = dataNack_ = err_ = false;
+  if (read_ && stopAfter_ && ackLast_ && remaining_ != 0) {
+    machine_.violate(
+        Rule::I2cReadNack,
+        name() + std::string(": a read burst ends with STOP and MCTR.ACK set: its last byte is "
+                             "ACKed, so the target drives SDA for one more and the STOP can fail"));
+    return;
+  }
   if ((mctr_ & kStart) == 0 && !busOwned_) {
     stop("MCTR.BURSTRUN without START while the controller does not own the bus");
     return;

@@ -12,11 +12,13 @@
 // with BURSTRUN starts a burst of MBLEN bytes to MSA's address, opening with START, or with a repeated START
 // when the previous burst ended without STOP (the controller kept the bus); STOP ends it when MCTR.STOP is
 // set. A transmit burst takes its bytes from the 8-entry TX FIFO, a receive burst fills the 8-entry RX FIFO,
-// acknowledging every byte except the last unless MCTR.ACK. The controller holds SCL low while it waits for
-// the FIFO (empty on transmit, full on receive). A NACK of the address or a data byte sets MSR.ADRACK /
-// DATACK and MNACK, and the controller sends STOP by itself. Interrupts: MRXDONE/MTXDONE at the end of a
-// burst, MSTART, MSTOP, MNACK; MTXFIFOTRG "when Transmit FIFO contains <= defined bytes" and MRXFIFOTRG "when
-// RX FIFO contains >= defined bytes" (hw_i2c.h RIS descriptions), evaluated at every FIFO change.
+// acknowledging every byte except the last unless MCTR.ACK; a read burst with STOP must NACK its last byte
+// (rules.hpp I2C-READ-NACK: MCTR.ACK with STOP stops the run, UM10204 3.1.6). The controller holds SCL low
+// while it waits for the FIFO (empty on transmit, full on receive). A NACK of the address or a data byte sets
+// MSR.ADRACK / DATACK and MNACK, and the controller sends STOP by itself. Interrupts: MRXDONE/MTXDONE at the
+// end of a burst, MSTART, MSTOP, MNACK; MTXFIFOTRG "when Transmit FIFO contains <= defined bytes" and
+// MRXFIFOTRG "when RX FIFO contains >= defined bytes" (hw_i2c.h RIS descriptions), evaluated at every FIFO
+// change.
 //
 // A burst that ends without STOP keeps the bus and holds SCL low (the clock-low timeout runs) until the next
 // MCTR write. With START that write opens a repeated START; without START it continues a receive whose last

@@ -545,6 +545,13 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
         initSyncAt_ = machine_.now() + kInitSyncCycles;
         if (!init) {
           checkWire();
+          if ((ie_ & kIrTc) != 0 && txbtie_ == 0) {
+            machine_.violate(Rule::McanTcUnarmed,
+                             std::string(name()) +
+                                 ": joins the bus with IE.TCE set and TXBTIE 0: no TX buffer "
+                                 "raises IR.TC, the enabled transmission-complete interrupt "
+                                 "never comes");
+          }
           integrating_ = true;
           // Leaving INIT: bus-off recovery (129 x 11 recessive bits) or bus integration (11 bits).
           if (busOff_) {
@@ -557,7 +564,16 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
           recovered_.cancel();
         }
       }
-      // CCE and the other configuration bits change only while INIT reads 1.
+      // CCE and the other configuration bits change only while INIT reads 1 (MCAN-INIT-SYNC: CCE written
+      // before INIT read back is refused, and named).
+      if (!initReadBack() && (value & kCce) && init) {
+        machine_.violate(Rule::McanInitSync,
+                         std::string(name()) +
+                             ": CCCR.CCE written before CCCR.INIT read back 1: the "
+                             "configuration change is refused and the set-up that follows "
+                             "is ignored");
+        return true;
+      }
       cccr_ = initReadBack() || init ? value : ((cccr_ & ~kInit) | (value & kInit));
       if (!initReadBack() && (value & kCce)) cccr_ &= ~kCce;
       return true;
@@ -672,7 +688,16 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
       }
       return true;
     case kClken:
-      if ((value & 1U) && !(clken_ & 1U)) clockRequestedAt_ = machine_.now();
+      if ((value & 1U) && !(clken_ & 1U)) {
+        clockRequestedAt_ = machine_.now();
+        const std::string off = sysctl_.canClockProblem();
+        if (!off.empty()) {
+          machine_.violate(Rule::ClockOff, std::string(name()) +
+                                               ": MCANSS_CLKEN.CLK_REQEN with no clock: " + off +
+                                               ", so the message RAM never initialises (MEM_INIT_DONE)");
+          return true;
+        }
+      }
       clken_ = value;
       return true;
     case kClkdiv:

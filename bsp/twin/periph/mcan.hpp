@@ -9,10 +9,15 @@
 // - CCCR.INIT crosses clock domains: "there may be a delay until the value written to INIT can be read back.
 //   Therefore the programmer has to assure that the previous value written to INIT has been accepted by
 //   reading INIT before setting INIT to a new value" (hw_mcan.h CCCR.INIT). A new INIT value written before
-//   the previous one reads back stops the run. The delay is kInitSyncCycles (an estimate).
+//   the previous one reads back stops the run. The delay is kInitSyncCycles (an estimate). CCE written
+//   together with INIT, or before INIT reads back 1, is refused and stops the run (rules.hpp
+//   MCAN-INIT-SYNC): TI's set-up polls DL_MCAN_getOpMode for SW_INIT before it configures. After a reset
+//   INIT is already 1 (CCCR reset value), so a set-up that writes INIT again and goes on at once is fine.
 // - Protected registers (NBTP, DBTP, TEST, GFC, SIDFC, XIDFC, XIDAM, RXF0C, RXF1C, RXBC, RXESC, TXBC, TXESC,
 //   TXEFC, TSCC, TOCC, TDCR) take a write only "with CCCR.CCE='1' and CCCR.INIT='1'" (hw_mcan.h CCCR.CCE);
 //   otherwise the write is ignored, as the M_CAN ignores it, and noted in notes().
+// - CLK_REQEN with CANCLK's source off (rules.hpp CLOCK-OFF: the HFXT never started, or the SYSPLL off)
+//   stops the run: the message RAM would never initialise.
 // - MEM_INIT_DONE: the message RAM is ready kMemInitCycles after the module clock is requested (CLK_REQEN)
 //   with CANCLK running (SYSCTL HFXT good, CANCLKSRC = HFCLK).
 // - TX FIFO (TXBC.TFQS elements from TXBC.TBSA, TXESC = 0: 8 data bytes, 16-byte elements; element T0/T1

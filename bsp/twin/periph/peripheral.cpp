@@ -137,11 +137,12 @@ bool Peripheral::write(uint32_t offset, unsigned bytes, uint32_t value) {
   if ((offset & 3U) != 0) return false;
   if (bytes != 4) return write(offset, 4, value & ((1U << (8 * bytes)) - 1));  // low byte lanes (DMA)
   if (offset == gprcmOffset_) {
-    if ((value >> 24) == kPwrenKey) powered_ = (value & 1U) != 0;  // without the key: ignored
+    if (machine_.checkKey(name_ + " GPRCM.PWREN", value, kPwrenKey))
+      powered_ = (value & 1U) != 0;  // without the key: ignored
     return true;
   }
   if (offset == gprcmOffset_ + 4) {
-    if ((value >> 24) != kRstctlKey) return true;
+    if (!machine_.checkKey(name_ + " GPRCM.RSTCTL", value, kRstctlKey)) return true;
     if (value & 2U) resetSticky_ = false;
     if (value & 1U) {
       resetSticky_ = true;

@@ -47,6 +47,18 @@ bool Sysctl::canClockRunning() const {
   return hasHfxt_ && (genclkcfg_ & kCanclkSysPll) == 0 && machine_.now() >= hfxtGoodAt_;
 }
 
+std::string Sysctl::canClockProblem() const {
+  constexpr uint32_t kSysPllEnable = 1U << 8;  // HSCLKEN.SYSPLLEN
+  if (genclkcfg_ & kCanclkSysPll) {
+    if ((hsclken_ & kSysPllEnable) == 0)
+      return "GENCLKCFG.CANCLKSRC selects SYSPLLCLK1 and the SYSPLL is off (HSCLKEN.SYSPLLEN clear)";
+    return "";
+  }
+  if ((hsclken_ & kHfxtEnable) == 0)
+    return "GENCLKCFG.CANCLKSRC selects HFCLK and the HFXT was never started (HSCLKEN.HFXTEN clear)";
+  return "";
+}
+
 bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
   if (bytes != 4) return false;
   switch (offset) {
@@ -118,7 +130,7 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       // Without KEY 0x2A the write is ignored (hw_sysctl SYSOSCFCLCTL.KEY). SETUSEEXRES exists on the MSPM0G
       // only (hw_sysctl_mspm0l11xx_l13xx.h has no such field). The twin's SYSOSC runs at exactly 32 MHz
       // either way; FCL mode shows in CLKSTATUS.FCLMODE.
-      if ((value >> 24) != kFclKey) return true;
+      if (!machine_.checkKey("SYSCTL SYSOSCFCLCTL", value, kFclKey)) return true;
       if (!hasHfxt_ && (value & kSetUseExRes)) {
         machine_.stop("SYSCTL: SYSOSCFCLCTL.SETUSEEXRES on the MSPM0L1306, which has no such field");
         return true;
@@ -126,7 +138,8 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       if (value & kSetUseFcl) fclMode_ = true;
       return true;
     case kResetcmd:
-      if ((value >> 24) != kResetKey || (value & kResetGo) == 0) return true;  // without the key: ignored
+      if (!machine_.checkKey("SYSCTL RESETCMD", value, kResetKey) || (value & kResetGo) == 0)
+        return true;  // without the key: ignored
       if (resetLevel_ == 0) {
         machine_.requestReset(ResetKind::Sysrst, "software SYSRST (RESETCMD, RESETLEVEL 0)",
                               rstcause::kSysSoftware);

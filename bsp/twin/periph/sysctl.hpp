@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "address_map.hpp"
 #include "machine.hpp"
@@ -48,6 +49,8 @@ class Sysctl final : public Device {
   bool write(uint32_t offset, unsigned bytes, uint32_t value) override;
 
   bool canClockRunning() const;
+  // Why CANCLK cannot run (rules.hpp CLOCK-OFF): its source is off; "" when it is on or starting.
+  std::string canClockProblem() const;
   void setHfxtCrystalHz(uint32_t hz) { crystalHz_ = hz; }
 
   enum class BootRequest : uint8_t { None, EnterBootloader, ExitBootloader };

@@ -80,6 +80,10 @@ bool Uart::enabled() const {
   return powered() && (ctl0_ & kEnable);
 }
 
+bool Uart::receiving() const {
+  return enabled() && (ctl0_ & kRxe) != 0;
+}
+
 size_t Uart::depth() const {
   return (ctl0_ & kFen) ? kFifoDepth : 1;
 }
@@ -103,6 +107,18 @@ uint64_t Uart::baud64() const {
 void Uart::checkLink() {
   if (linkChecked_ || link_.baud == 0) return;
   linkChecked_ = true;
+  const uint32_t dataBits = 5 + ((lcrh_ >> 4) & 3U);
+  const bool parity = (lcrh_ & kPen) != 0;
+  if (dataBits != link_.dataBits || parity != link_.parity) {
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "%s: LCRH 0x%02X frames %u data bits%s against the %s's %u data bits%s: every byte is "
+                  "misread on both sides",
+                  name(), lcrh_ & 0xFF, dataBits, parity ? " with parity" : ", no parity",
+                  link_.partner.c_str(), link_.dataBits, link_.parity ? " with parity" : ", no parity");
+    machine_.violate(Rule::UartFrame, buf);
+    return;
+  }
   const uint32_t hse = (ctl0_ >> kHseShift) & 3U;
   const int64_t oversampling = hse == 0 ? 16 : hse == 1 ? 8 : 3;
   // The MSPM0 receiver's margin in ppm: (1/2 - 1/oversampling) / 9.5 of a bit; half of it is ours.
@@ -213,6 +229,20 @@ bool Uart::dmaRequested(int trigger) const {
 void Uart::dmaAcknowledge(int trigger) {
   if (trigger == txTrigger_) dmaTx_.ris &= ~kTxInt;
   if (trigger == rxTrigger_) dmaRx_.ris &= ~kRxInt;
+}
+
+std::string Uart::dmaTriggerProblem(int trigger, Rule& rule) const {
+  const bool tx = trigger == txTrigger_;
+  const uint32_t level = tx ? (ifls_ & 7U) : ((ifls_ >> 4) & 7U);
+  if (level == kLevelDma) return "";
+  rule = Rule::UartDmaLevel;
+  char buf[200];
+  std::snprintf(
+      buf, sizeof buf,
+      "IFLS.%s %u, not 7 (\"%s\", the level made for the DMA): the trigger fires only on a transition "
+      "through its level, which an idle FIFO never makes",
+      tx ? "TXIFLSEL" : "RXIFLSEL", level, tx ? "TX FIFO >= 1 entry free" : "RX FIFO >= 1 entry available");
+  return buf;
 }
 
 void Uart::dmaDone(int trigger) {

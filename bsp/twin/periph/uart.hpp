@@ -34,7 +34,11 @@
 // BUSCLK / CLKDIV / (oversampling x (IBRD + FBRD / 64)), against the partner's: the error may be at most the
 // partner's documented receive tolerance, and at most half the margin the MSPM0's own receiver has at its
 // oversampling (it samples mid-bit, (1/2 - 1/oversampling) bit times over the 9.5 bits to the stop bit; the
-// other half is the partner's clock's).
+// other half is the partner's clock's). The same frame checks the frame format (rules.hpp WIRE-UART-FRAME):
+// LCRH.WLEN (5:4, 3 = 8 bits) and LCRH.PEN (bit 1) against the partner's data bits and parity (8N1 for both
+// partners). A second stop bit (LCRH.STP2) is allowed: the MSPM0 transmits it as idle time an 8N1 receiver
+// accepts, and its own receiver checks only the first stop bit ("The receive logic does not check for two
+// stop bits being received", hw_uart.h LCRH.STP2).
 #pragma once
 
 #include <cstdint>
@@ -53,6 +57,7 @@ class Uart final : public Peripheral, public DmaRequester {
   static constexpr uint32_t kRtout = 1U << 0, kFrmErr = 1U << 1, kOvrErr = 1U << 4;
   static constexpr uint32_t kRxInt = 1U << 10, kTxInt = 1U << 11, kEot = 1U << 12;
   static constexpr uint32_t kDmaDoneRx = 1U << 15, kDmaDoneTx = 1U << 16;
+  static constexpr uint32_t kTxdataOffset = 0x1120, kRxdataOffset = 0x1124;
 
   Uart(Machine& machine, const char* name, Dma& dma, int rxTrigger, int txTrigger);
 
@@ -66,23 +71,29 @@ class Uart final : public Peripheral, public DmaRequester {
     uint32_t baud = 0;
     uint32_t tolerancePpm = 0;
     std::string source;
+    uint32_t dataBits = 8;  // the partner's frame: data bits, and whether it sends and expects a parity bit
+    bool parity = false;
   };
   void setLink(Link link) { link_ = std::move(link), linkChecked_ = false; }
   // The baud the settings give, in 1/64 Bd (0 if not configured).
   uint64_t baud64() const;
   // Cycles one frame takes with the current settings (0 if not configured).
   uint64_t frameCycles64() const;  // in 1/64 cycles
+  bool enabled() const;
 
   bool dmaRequested(int trigger) const override;
   void dmaAcknowledge(int trigger) override;
   void dmaDone(int trigger) override;
+  // UART-DMA-LEVEL (rules.hpp): a DMA channel paced by this UART needs IFLS level 7 in its direction.
+  std::string dmaTriggerProblem(int trigger, Rule& rule) const override;
+  // The receiver samples its RX pin (the board asks before it delivers a byte: PIN-UNROUTED).
+  bool receiving() const;
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;
   bool writeRegister(uint32_t offset, uint32_t value) override;
   void resetRegisters() override;
 
-  bool enabled() const;
   size_t depth() const;
   void raiseEvent(uint32_t bit);  // CPU_INT and the matching DMA trigger block
   void txFillChanged(size_t before);

@@ -61,7 +61,7 @@ bool Wwdt::readRegister(uint32_t offset, uint32_t& value) {
 bool Wwdt::writeRegister(uint32_t offset, uint32_t value) {
   switch (offset) {
     case kCtl0:
-      if ((value >> 24) != kCtl0Key) return true;
+      if (!machine_.checkKey(std::string(name()) + " WWDTCTL0", value, kCtl0Key)) return true;
       ctl0_ = value;
       if (value & kModeInterval) {
         stop("WWDTCTL0 selects interval-timer mode, not modelled");
@@ -72,7 +72,7 @@ bool Wwdt::writeRegister(uint32_t offset, uint32_t value) {
       timeout_.at(startedAt_ + periodCycles());
       return true;
     case kCtl1:
-      if ((value >> 24) == kCtl1Key) ctl1_ = value;
+      if (machine_.checkKey(std::string(name()) + " WWDTCTL1", value, kCtl1Key)) ctl1_ = value;
       return true;
     case kCntrst: {
       if (!running_) return true;
