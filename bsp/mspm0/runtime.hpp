@@ -2,8 +2,8 @@
 // compiler emits calls to them for aggregate initialisation and copies) and the EABI unsigned division
 // helpers (__aeabi_uidiv / __aeabi_uidivmod). newlib-nano and libgcc ship speed-optimised versions of 166,
 // 142 and 266 bytes; these are about 80 bytes together, which matters on the L1306 images (16 KiB budget,
-// under 100 B left). Byte loops are slow: memset and memcpy are 5.8 % of L1306-BQ76952's busy cycles and
-// memset 9 % of G3507-BQ79616's at 64 devices (twin profiles). Whole-word loops were measured (2026-11-28):
+// under 100 B left). Byte loops are slow: memset and memcpy are 5.8 % of L1306-BQ76952's busy cycles (twin
+// profile, idle). Whole-word loops were measured (2026-11-28):
 // -3.6 % busy cycles on L1306-BQ76952 for +80 B of flash (LTO inlines them), past what its budget leaves;
 // they wait for the smaller L1306 composition. Division is
 // bit-serial (32 iterations, about 200 cycles): the firmware divides only on rare paths (timer catch-up,
