@@ -2,6 +2,7 @@
 
 #include <atomic>
 
+#include "hal/irq.hpp"
 #include "mmio.hpp"
 #include "regs/cpuss.hpp"
 #include "regs/timg.hpp"
@@ -54,7 +55,8 @@ void TimgClock::onInterrupt() {
   halves_ = halves;
   if (pending & timg::kIntCcu0) {
     mmio::clearBits(events.imask, timg::kIntCcu0);  // one-shot alarm
-    wakeFired();  // the Thread resumes to look at its timers (the half-period counts alone let it sleep)
+    wakeFired();
+    fw::port::resumeOnExit();  // a timer may be due: the Thread looks (the counts alone let it sleep)
   }
 }
 

@@ -28,6 +28,7 @@ void SysTickClock::stop() {
 void SysTickClock::onTick() {
   ticks_ = ticks_ + 1;
   wakeFired();  // the tick is this clock's only wake-up: a timer may now be due
+  fw::port::resumeOnExit();
   if (hook_ != nullptr) hook_();
 }
 

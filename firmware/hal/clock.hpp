@@ -8,13 +8,11 @@
 // - A tick-based BSP may wake earlier than asked (e.g. every SysTick); waking early is always allowed.
 // - wakeArmed(): true from wakeAt() until the BSP's handler for that wake-up calls wakeFired(): its
 //   deadline has not come, or its interrupt is pending and runs as soon as interrupts are unmasked (a WFI
-//   then returns at once). A tick-based BSP calls wakeFired() on every tick. wakeFired() also resumes the
-//   Thread (port::resumeOnExit): the scheduler must look at its timers. The scheduler leaves the clock
+//   then returns at once). A tick-based BSP calls wakeFired() on every tick. The scheduler leaves the clock
 //   unread while the wake-up for its earliest deadline is still to come: one load, no virtual call.
 #pragma once
 
 #include "core/time.hpp"
-#include "hal/irq.hpp"
 
 namespace fw::hal {
 
@@ -30,12 +28,8 @@ class Clock {
 
  protected:
   ~Clock() = default;
-  // The BSP's handler, for the wake-up wakeAt() armed (or for any tick of a tick-based clock): a timer may
-  // now be due, so the Thread resumes when the handler returns (sleep-on-exit, hal/irq.hpp).
-  void wakeFired() {
-    fired_ = armed_;
-    port::resumeOnExit();
-  }
+  // The BSP's handler, for the wake-up wakeAt() armed (or for any tick of a tick-based clock).
+  void wakeFired() { fired_ = armed_; }
 
  private:
   virtual Instant doNow() const = 0;

@@ -55,14 +55,6 @@ struct Rig {
   bool loaded = false;
 };
 
-// The twin's warnings after `us` of `elf`: what silicon would only degrade, so the run itself must not stop.
-std::vector<std::string> warningsOf(const std::string& preset, const ElfFile& elf, uint64_t us) {
-  Rig r(preset, elf);
-  r.board.runUntilUs(us);
-  EXPECT_EQ(r.board.machine().stopReason(), "");
-  return r.board.warnings();
-}
-
 std::unique_ptr<ElfFile> loadElf(const std::string& preset) {
   auto elf = std::make_unique<ElfFile>();
   if (!std::filesystem::exists(elfPath(preset)) || !elf->load(elfPath(preset))) return nullptr;
@@ -217,10 +209,14 @@ TEST(BrokenImage, AnMcanInterruptNeverAcknowledgedIsCaught) {
   LOAD_OR_SKIP(elf, preset);
   const auto eoi = storesTo(preset, *elf, 0x40508000 + 0x7220, 500000);
   ASSERT_FALSE(eoi.empty()) << "the image never writes MCANSS_EOI";
-  const auto clean = warningsOf(preset, *elf, 1000000);
-  EXPECT_TRUE(clean.empty()) << clean.front();
+  auto warnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(1000000);
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
   removeStores(*elf, eoi);
-  const auto caught = warningsOf(preset, *elf, 1000000);
+  const auto caught = warnings(*elf);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("waiting for MCANSS_EOI"), std::string::npos) << caught[0];
 }
@@ -662,13 +658,18 @@ TEST(BrokenImage, TheFclWrittenWithoutItsKeyIsNamedByTheKeyRule) {
   // without its frequency correction loop; the image would run on, so the twin warns.
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  const auto clean = warningsOf(preset, *elf, 300000);
-  EXPECT_TRUE(clean.empty()) << clean.front();
+  auto warnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(300000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
   const auto fcl = storeSites(preset, *elf, 0x400AF000 + 0x1310, 50000);
   ASSERT_EQ(fcl.size(), 1U);
   ASSERT_EQ(fcl[0].value >> 24, 0x2AU);
   ASSERT_TRUE(storeValue(*elf, fcl[0], fcl[0].value & 0x00FFFFFFU));
-  const auto caught = warningsOf(preset, *elf, 300000);
+  const auto caught = warnings(*elf);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("[KEY-WRITE] SYSCTL SYSOSCFCLCTL"), std::string::npos) << caught[0];
 }
@@ -678,12 +679,17 @@ TEST(BrokenImage, AWatchdogNeverStartedIsNamedWhenBringUpEnds) {
   // but the part is then unsupervised: the twin warns at the first idle WFI.
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  const auto clean = warningsOf(preset, *elf, 500000);
-  EXPECT_TRUE(clean.empty()) << clean.front();
+  auto run = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(500000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  EXPECT_TRUE(run(*elf).empty()) << run(*elf).front();
   const auto start = storesTo(preset, *elf, 0x40080000 + 0x1100, 50000);
   ASSERT_EQ(start.size(), 1U);
   removeStores(*elf, start);
-  const auto caught = warningsOf(preset, *elf, 500000);
+  const auto caught = run(*elf);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("[WWDT-STOPPED]"), std::string::npos) << caught[0];
   EXPECT_NE(caught[0].find("WWDT0 never started"), std::string::npos) << caught[0];
@@ -732,7 +738,9 @@ TEST(BrokenImage, AUartDmaOnTheHalfEmptyLevelIsNamedByTheLevelRule) {
   ASSERT_EQ(ifls.size(), 1U);
   ASSERT_EQ(ifls[0].value & 7U, 7U);
   ASSERT_TRUE(storeValue(*elf, ifls[0], (ifls[0].value & ~7U) | 2U));
-  const auto warnings = warningsOf(preset, *elf, 300000);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("[UART-DMA-LEVEL]"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("TXIFLSEL 2"), std::string::npos) << warnings[0];
@@ -778,7 +786,9 @@ TEST(BrokenImage, AnRxDmaWithoutDestinationIncrementIsNamed) {
   }
   ASSERT_NE(rx.pc, 0U) << "no DMACTL write enabling a channel with the destination incremented";
   ASSERT_TRUE(storeValue(*elf, rx, rx.value & ~(0xFU << 20)));
-  const auto warnings = warningsOf(preset, *elf, 300000);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(300000);
+  const auto warnings = r.board.warnings();
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("[DMA-NO-INCREMENT]"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("from UART0 RX"), std::string::npos) << warnings[0];

@@ -43,24 +43,6 @@ class Chip : public ::testing::Test {
   void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
   bool stopped() { return chip_.machine().stopped(); }
   std::string why() { return chip_.machine().stopReason(); }
-  // The 40 MHz HFXT for CANCLK, its start-up monitor on, waited for (HFCLKCLKCFG HFXTTIME 10: 640 us).
-  void startHfxt() {
-    wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-    wr(kSysctl + 0x1108, 1);
-    runUs(700);
-  }
-  // MCAN powered and its clocks requested (MCANSS_CLKEN.CLK_REQEN), its message RAM initialised.
-  void powerMcan() {
-    wr(kCan + 0x6800, kPwrenOn);
-    wr(kCan + 0x7900, 1);
-    runUs(10);
-  }
-  // From INIT (its reset value) into configuration (INIT + CCE), 500 kbit/s from 40 MHz (NBTP).
-  void configureMcan() {
-    wr(kCan + 0x7018, 1);
-    wr(kCan + 0x7018, 3);
-    wr(kCan + 0x701C, 0x12004409);
-  }
 
   Mspm0 chip_;
 };
@@ -370,15 +352,21 @@ TEST_F(I2c, AFlushEndedBeforeMfifosrShowedItDoneStopsTheRun) {
 TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
   // MCANSS_EOI: "A write to this register will clear the associated interrupt ... 0x01 MCAN(0) interrupt is
   // cleared" (hw_mcan.h): after one interrupt, line 0 gives no other until EOI, however many IR events come.
-  startHfxt();
-  powerMcan();
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);  // HFXT for CANCLK, start-up monitor on
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);  // MCANSS_CLKEN.CLK_REQEN
+  runUs(10);
   ASSERT_NE(rd(kCan + 0x7208) & 2U, 0U);  // MEM_INIT_DONE
-  configureMcan();
-  wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO at 0
-  wr(kCan + 0x70E0, 0xFF);      // TXBTIE
-  wr(kCan + 0x7054, 1U << 9);   // IE: TC
-  wr(kCan + 0x705C, 1);         // ILE: line 0
-  wr(kCan + 0x7828, 1);         // wrapper IMASK INTL0
+  wr(kCan + 0x7018, 1);                   // CCCR INIT (its reset value)
+  wr(kCan + 0x7018, 3);                   // INIT + CCE
+  wr(kCan + 0x701C, 0x12004409);          // NBTP: 500 kbit/s from 40 MHz
+  wr(kCan + 0x70C0, 8U << 24);            // TXBC: 8-element TX FIFO at 0
+  wr(kCan + 0x70E0, 0xFF);                // TXBTIE
+  wr(kCan + 0x7054, 1U << 9);             // IE: TC
+  wr(kCan + 0x705C, 1);                   // ILE: line 0
+  wr(kCan + 0x7828, 1);                   // wrapper IMASK INTL0
   runUs(1);
   wr(kCan + 0x7018, 0);                            // leave INIT
   wr(0x40428000 + 4 * 34, 0x80 | 5);               // PA12 CANFD0_CANTX
@@ -406,8 +394,12 @@ TEST_F(Chip, McanConfigurationBeforeInitReadsBackIsStoppedByTheSyncRule) {
   // "there may be a delay until the value written to INIT can be read back" (hw_mcan.h CCCR.INIT); CCE and
   // the protected registers take a write only with INIT = 1 (CCCR.CCE). From reset INIT is 1 already: INIT
   // then CCE at once is fine. Once INIT was cleared, setting INIT and CCE without waiting is refused.
-  startHfxt();
-  powerMcan();
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
   wr(kCan + 0x7018, 1);
   wr(kCan + 0x7018, 3);  // INIT from reset: CCE taken
   EXPECT_EQ(rd(kCan + 0x7018) & 3U, 3U);
@@ -435,7 +427,9 @@ TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
 TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
   // GENCLKCFG.CANCLKSRC 1 = SYSPLLCLK1 (hw_sysctl_mspm0g1x0x_g3x0x.h) with HSCLKEN.SYSPLLEN clear: CANCLK has
   // no source, MEM_INIT_DONE never comes.
-  startHfxt();
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);  // HFXT on
+  runUs(700);
   wr(kSysctl + 0x1138, 1U << 8);  // CANCLKSRC = SYSPLLCLK1
   wr(kCan + 0x6800, kPwrenOn);
   wr(kCan + 0x7900, 1);  // CLK_REQEN
@@ -446,9 +440,15 @@ TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
 
 TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
   // IR.TC is raised only for TX buffers whose TXBTIE bit is set (hw_mcan.h TXBTIE): IE.TCE alone never fires.
-  startHfxt();
-  powerMcan();
-  configureMcan();
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);
+  wr(kCan + 0x701C, 0x12004409);
   wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO, TXBTIE left 0
   wr(kCan + 0x7054, 1U << 9);   // IE: TC
   wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
@@ -464,9 +464,15 @@ TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
 // rules periph/mcan.hpp cites): the first matching element decides; a frame no element matches follows
 // GFC.ANFS; a rejected frame leaves no trace; a full FIFO in blocking mode loses the new frame.
 TEST_F(Chip, McanReceivesThroughItsFilterListIntoFifoZero) {
-  startHfxt();
-  powerMcan();
-  configureMcan();
+  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+  wr(kSysctl + 0x1108, 1);
+  runUs(700);
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7900, 1);
+  runUs(10);
+  wr(kCan + 0x7018, 1);
+  wr(kCan + 0x7018, 3);
+  wr(kCan + 0x701C, 0x12004409);
   wr(kCan + 0x7080, (2U << 4) | (2U << 2) | 3U);  // GFC: reject non-matching and remote frames
   wr(kCan + 0x7084, 0x200U | (3U << 16));         // SIDFC: three elements at 0x200
   wr(kCan + 0x200, (0U << 30) | (1U << 27) | (0x100U << 16) | 0x10FU);  // range 0x100..0x10F: FIFO 0
