@@ -14,7 +14,7 @@ namespace {
 // Readings are clamped to their signal's physical range, which stops one short of the not-available value
 // (all ones for the unsigned signals, the most negative value for PackCurrent): a reading never looks
 // missing, and a missing one never looks like a reading.
-constexpr uint32_t kNotAvailable = 0xFFFFFFFFU;  // every unsigned signal's, once packStream() masks it
+constexpr uint32_t kNotAvailable = 0xFFFFFFFFU;  // every unsigned signal's, once packRuntime() masks it
 static_assert(bms::PackSummary::kPackVoltageNotAvailable == 0xFFFF &&
                   bms::PackSummary::kStateOfChargeNotAvailable == 0xFF &&
                   bms::PackSummary::kPackCurrentNotAvailable == INT16_MIN &&
@@ -84,15 +84,10 @@ static_assert([] {
   return true;
 }());
 
-// The messages of the steps (can/bms.hpp), indexed by Step: identifiers and one shared table of field
-// codes, so a step costs 4 bytes of flash and no pointer. The TI message is left out where the layout is
-// compiled out, and a message the build leaves out (FW_PUBLISH_LEVEL) keeps its identifier but no fields.
-//
-// Every message's fields follow each other from bit 0 of the payload, each starting where the previous one
-// ended (checked below against the generated tables), so a frame is its values as one bit stream, least
-// significant bit first, and a field is only its length: one byte, with bit 7 set for a big-endian field
-// (the TI layout's, all 16 bits on a byte boundary: their bytes swapped, they join the stream too).
-constexpr uint8_t kBigEndian = 0x80;
+// The messages of the steps (can/bms.hpp), indexed by Step: identifiers and one shared table of their
+// fields (copies of the generated tables, back to back), so a step costs 4 bytes of flash and no pointer. The
+// TI message is left out where the layout is compiled out, and a message the build leaves out
+// (FW_PUBLISH_LEVEL) keeps its identifier but no fields.
 struct Message {
   uint16_t id;
   uint8_t first;  // index of its first field in Catalogue::fields
@@ -110,31 +105,14 @@ constexpr size_t fieldCount() {
     return 0;
   }
 }
-// Whether M's fields form one stream: contiguous from bit 0 within 64 bits, at most 24 bits each (so a
-// 32-bit accumulator with under 8 bits pending never overflows), big-endian ones 16 bits on a byte boundary.
-template <class M>
-constexpr bool streamable() {
-  if constexpr (fieldCount<M>() == 0) {
-    return true;
-  } else {
-    uint16_t next = 0;
-    for (const can::Field& f : M::kFields) {
-      const uint16_t lsb = f.bigEndian ? static_cast<uint16_t>(f.start / 8 * 8) : f.start;  // its first bit
-      if (f.length > 24 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7)) || lsb != next) return false;
-      next = static_cast<uint16_t>(next + f.length);
-    }
-    return next <= 64;
-  }
-}
 template <class... M>
 struct Catalogue {
   static constexpr size_t kFieldCount = (fieldCount<M>() + ...);
   Message messages[sizeof...(M)];
-  uint8_t fields[kFieldCount];
+  can::Field fields[kFieldCount];
 };
 template <class... M>
 constexpr Catalogue<M...> catalogue() {
-  static_assert((streamable<M>() && ...), "a message whose fields do not form one bit stream");
   Catalogue<M...> c{};
   uint8_t m = 0;
   uint8_t f = 0;
@@ -142,9 +120,8 @@ constexpr Catalogue<M...> catalogue() {
     constexpr auto n = static_cast<uint8_t>(fieldCount<T>());
     c.messages[m++] = {static_cast<uint16_t>(T::kId), f, n};
     if constexpr (n != 0) {
-      for (uint8_t i = 0; i < n; ++i)
-        c.fields[f++] =
-            static_cast<uint8_t>(T::kFields[i].length | (T::kFields[i].bigEndian ? kBigEndian : 0));
+      for (const can::Field& field : T::kFields)
+        c.fields[f++] = field;
     }
   };
   (add(static_cast<M*>(nullptr)), ...);
@@ -171,25 +148,6 @@ static_assert(
     }(),
     "standard identifiers above 0");
 
-// Writes the values of `count` fields (codes as above) as the frame's bit stream: all 8 bytes, the bits no
-// field covers 0. Kept out of line by hand: inlined into fill() it costs 12..16 B per image (measured, LTO).
-[[gnu::noinline]] void packStream(uint8_t* data, const uint8_t* fields, const uint32_t* values,
-                                  uint32_t count) {
-  uint8_t* const end = data + 8;
-  uint32_t acc = 0;  // bits not yet stored, the next one at bit 0
-  uint32_t bits = 0;
-  for (; count != 0; --count) {
-    const uint32_t code = *fields++;
-    const uint32_t n = code & 0x3FU;
-    uint32_t v = *values++ << (32U - n) >> (32U - n);  // the field's bits only
-    if (kTiLayout && (code & kBigEndian) != 0) v = (v >> 8) | ((v & 0xFFU) << 8);
-    acc |= v << bits;
-    for (bits += n; bits >= 8; bits -= 8, acc >>= 8)
-      *data++ = static_cast<uint8_t>(acc);
-  }
-  for (; data != end; acc >>= 8)
-    *data++ = static_cast<uint8_t>(acc);
-}
 constexpr uint8_t kMaxFields = bms::PackSummary::kFieldCount;  // the longest message
 static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::TemperatureExtremes::kFieldCount <= kMaxFields &&
@@ -296,8 +254,8 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   // its code. (Inside the switch, not before it: a test of sent(step_) ahead of the switch made GCC thread it
   // into a second copy of the dispatch, 80 B on the L1306 image.)
   // Each step fills the raw values of its message in field order (can/bms.hpp kFields); one call packs them,
-  // so every message costs only its stores and all share one packing loop. A value left unset goes out as
-  // not available.
+  // so every message costs only its stores and all share one packing loop (with the command answers). A value
+  // left unset goes out as not available.
   uint32_t v[kMaxFields];
   for (uint32_t& x : v)
     x = kNotAvailable;
@@ -440,7 +398,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
     }
   }
   const Message& m = kCatalogue.messages[step_];
-  packStream(data.data(), &kCatalogue.fields[m.first], v, m.count);
+  can::packRuntime(data, &kCatalogue.fields[m.first], v, m.count);
   return m.id;
 }
 
