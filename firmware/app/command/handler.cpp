@@ -28,16 +28,23 @@ constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
 static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && bms::IdentifyChip::kDlc == 8 &&
               bms::SettingValue::kDlc == 8 && bms::SettingRange::kDlc == 8);
 
+// An answer frame: every answer is a standard 8-byte frame (checked above), so only its identifier and
+// payload differ. One out-of-line copy for every answer.
+void answerFrame(hal::CanFrame& f, uint16_t id, const can::Field* fields, const uint32_t* raw,
+                 uint8_t count) {
+  f.id = id;
+  f.extended = false;
+  f.dlc = 8;
+  can::pack(f.data, fields, raw, count);  // every byte of the payload
+}
+
 // Answer frame `f` of message M from its raw values in the order of M's signals (the generated packer's
 // field table and packing loop).
 template <class M, class... Values>
 void packAnswer(hal::CanFrame& f, Values... values) {
-  static_assert(sizeof...(Values) == M::kFieldCount);
+  static_assert(sizeof...(Values) == M::kFieldCount && !M::kExtended && M::kDlc == 8);
   const uint32_t raw[] = {static_cast<uint32_t>(values)...};
-  f.id = M::kId;
-  f.extended = M::kExtended;
-  f.dlc = M::kDlc;
-  can::pack(f.data, M::kFields, raw, M::kFieldCount);  // every byte of the payload
+  answerFrame(f, M::kId, M::kFields, raw, M::kFieldCount);
 }
 
 }  // namespace
