@@ -9,7 +9,7 @@ namespace {
 // V, 0.1 A, 0 degC / 25 degC (0.1 K). A current limit clears only while current flows the other way (its
 // default clear value, app/protection/default_limits.hpp), up to 5 A of it.
 struct Bounds {
-  int32_t tripEnd, clearEnd;
+  int16_t tripEnd, clearEnd;  // every end fits 16 bits (mV, mA, 0.1 K)
 };
 constexpr Bounds kTightEnd[6] = {{3000, 2900}, {3800, 4000}, {100, -5000},
                                  {-100, 5000}, {2732, 2732}, {2982, 3032}};
