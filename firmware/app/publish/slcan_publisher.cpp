@@ -38,29 +38,32 @@ void SlcanPublisher::pump(Instant now) {
     return;
   }
   slcan::encodeStandard(id, data, state_->line);
-  if (serial_.write(state_->line, scheduler_.notifier(id_, kSent)) != Status::Ok) {
-    if (kStats) ++state_->stats.refused;
+  if (!write(state_->line)) {
     plan_.abandon();
     return;
   }
   // The line is the transmitter's now (state_->line stays untouched until kSent): the plan moves on at once,
   // so a tick while it is on the wire begins the next cycle from the right place.
   plan_.advance();
-  state_->busy = true;
   state_->answered = false;
 }
 
 // The outbox's text in one write, if any waits; true if it went.
 bool SlcanPublisher::sendAnswer() {
   SlcanOutbox& box = state_->outbox;
-  if (box.length == 0) return false;
-  if (serial_.write({box.text, box.length}, scheduler_.notifier(id_, kSent)) != Status::Ok) {
+  if (box.length == 0 || !write({box.text, box.length})) return false;
+  box.inFlight = true;
+  state_->answered = true;
+  return true;
+}
+
+// Hands `text` to the line (busy until kSent); false, and counted, if the line refused it.
+bool SlcanPublisher::write(std::span<const uint8_t> text) {
+  if (serial_.write(text, scheduler_.notifier(id_, kSent)) != Status::Ok) {
     if (kStats) ++state_->stats.refused;
     return false;
   }
-  box.inFlight = true;
   state_->busy = true;
-  state_->answered = true;
   return true;
 }
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "app/publish/can_publisher.hpp"
 #include "app/publish/frame_plan.hpp"
@@ -50,6 +51,7 @@ class SlcanPublisher final : public sched::Task {
   static constexpr sched::EventMask kSent = 0x4;
   void pump(Instant now);
   bool sendAnswer();
+  bool write(std::span<const uint8_t> text);
 
   // What changes, zero at construction (one block, no per-member start-up code); byte fields first
   // (Cortex-M0+ byte loads reach only 31 bytes past the object's address).
