@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include "app/publish/can_bits.hpp"
 #include "can/bms.hpp"
 
 namespace {
@@ -122,6 +123,43 @@ TEST(CanCatalogue, PackingIsConstexpr) {
   }();
   static_assert(f.data[0] == 0x68 && f.data[1] == 0x10 && f.data[6] == 0xFF && f.data[7] == 0x03);
   SUCCEED();
+}
+
+// The firmware packs its own frames (FramePlan's messages, the command answers) from stream codes, one byte
+// a field: for every such message, with every field at its all-ones value and with a mixed pattern (bits
+// above a field's length included, which must be dropped), the bytes equal the Field-table packer's, which
+// the DBC check holds against an independent reader.
+template <class M>
+void expectStreamPackedLikeFields() {
+  static constexpr auto kCodes = fw::can::streamCodes<M>();
+  for (const uint32_t seed : {0xFFFFFFFFu, 0xA5C3F00Fu, 0x12345678u, 0u}) {
+    uint32_t values[M::kFieldCount];
+    for (size_t i = 0; i < M::kFieldCount; ++i)
+      values[i] = seed ^ (0x9E3779B9u * static_cast<uint32_t>(i));
+    Bytes fromFields{}, fromCodes{};
+    fromCodes.fill(0xEE);  // every byte is written
+    fw::can::pack(fromFields, M::kFields, values, M::kFieldCount);
+    fw::can::packStream(fromCodes, kCodes.data(), values, M::kFieldCount);
+    EXPECT_EQ(fromCodes, fromFields) << "message 0x" << std::hex << M::kId << " seed 0x" << seed;
+  }
+}
+
+TEST(CanCatalogue, StreamCodesPackTheSameBytesAsTheFieldTables) {
+  expectStreamPackedLikeFields<PackSummary>();
+  expectStreamPackedLikeFields<CellExtremes>();
+  expectStreamPackedLikeFields<ProtectionEvent>();
+  expectStreamPackedLikeFields<Startup>();
+  expectStreamPackedLikeFields<CellVoltages>();
+  expectStreamPackedLikeFields<Temperatures>();
+  expectStreamPackedLikeFields<TemperatureExtremes>();
+  expectStreamPackedLikeFields<StateOfCharge>();
+  expectStreamPackedLikeFields<BalancingStatus>();
+  expectStreamPackedLikeFields<TiCellVoltages>();
+  expectStreamPackedLikeFields<CommandAck>();
+  expectStreamPackedLikeFields<IdentifyVersion>();
+  expectStreamPackedLikeFields<IdentifyChip>();
+  expectStreamPackedLikeFields<SettingValue>();
+  expectStreamPackedLikeFields<SettingRange>();
 }
 
 }  // namespace

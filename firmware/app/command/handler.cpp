@@ -29,22 +29,24 @@ static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && b
               bms::SettingValue::kDlc == 8 && bms::SettingRange::kDlc == 8);
 
 // An answer frame: every answer is a standard 8-byte frame (checked above), so only its identifier and
-// payload differ. One out-of-line copy for every answer.
-void answerFrame(hal::CanFrame& f, uint16_t id, const can::Field* fields, const uint32_t* raw,
-                 uint8_t count) {
+// payload differ. One out-of-line copy for every answer, packed by the loop that packs the published frames.
+void answerFrame(hal::CanFrame& f, uint16_t id, const uint8_t* codes, const uint32_t* raw, uint8_t count) {
   f.id = id;
   f.extended = false;
   f.dlc = 8;
-  can::pack(f.data, fields, raw, count);  // every byte of the payload
+  can::packStream(f.data, codes, raw, count);  // every byte of the payload
 }
 
-// Answer frame `f` of message M from its raw values in the order of M's signals (the generated packer's
-// field table and packing loop).
+// The stream codes of answer M (can_bits.hpp).
+template <class M>
+constexpr auto kAnswerCodes = can::streamCodes<M>();
+
+// Answer frame `f` of message M from its raw values in the order of M's signals.
 template <class M, class... Values>
 void packAnswer(hal::CanFrame& f, Values... values) {
   static_assert(sizeof...(Values) == M::kFieldCount && !M::kExtended && M::kDlc == 8);
   const uint32_t raw[] = {static_cast<uint32_t>(values)...};
-  answerFrame(f, M::kId, M::kFields, raw, M::kFieldCount);
+  answerFrame(f, M::kId, kAnswerCodes<M>.data(), raw, M::kFieldCount);
 }
 
 }  // namespace

@@ -2,33 +2,63 @@
 
 namespace fw::can {
 
-// A little-endian field is its value shifted to its first bit, ORed into the bytes it covers: a byte at a
-// time, not a bit at a time. A big-endian field of 16 bits on a byte boundary (the TI layout's) is the same
-// with its two bytes swapped, at its first byte; any other big-endian field goes bit by bit (none of
+namespace {
+
+// ORs the `n` bits of `v` (nothing above them) into `data` from bit `at` up (little-endian): a byte at a
+// time, not a bit at a time.
+void orBits(std::array<uint8_t, 8>& data, uint32_t at, uint32_t n, uint32_t v) {
+  uint8_t* byte = &data[at / 8];
+  const uint32_t shift = at % 8;
+  *byte = static_cast<uint8_t>(*byte | (v << shift));
+  v >>= 8 - shift;
+  for (int32_t left = static_cast<int32_t>(n + shift) - 8; left > 0; left -= 8, v >>= 8) {
+    ++byte;
+    *byte = static_cast<uint8_t>(*byte | v);
+  }
+}
+// The field's bits only (n is 1..32).
+uint32_t fieldBits(uint32_t value, uint32_t n) {
+  return value << (32U - n) >> (32U - n);
+}
+// A big-endian field of 16 bits on a byte boundary (the TI layout's) is a little-endian one with its two
+// bytes swapped.
+uint32_t swapBytes16(uint32_t v) {
+  return (v >> 8) | ((v & 0xFFU) << 8);
+}
+
+}  // namespace
+
+// Big-endian fields other than the TI layout's (16 bits on a byte boundary) go bit by bit (none of
 // bms.yaml's).
 void packRuntime(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values, uint8_t count) {
   data = {};
   for (; count != 0; --count, ++fields, ++values) {
     const Field f = *fields;
-    const uint32_t n = f.length;
-    uint32_t v = *values << (32U - n) >> (32U - n);  // the field's bits only (n is 1..32)
-    uint32_t at = f.start;                           // its least significant bit
+    uint32_t v = fieldBits(*values, f.length);
+    uint32_t at = f.start;
     if (FW_CAN_TI_LAYOUT && f.bigEndian) {
-      if (n != 16 || at % 8 != 7) {
+      if (f.length != 16 || f.start % 8 != 7) {
         put(data, f.start, f.length, true, v);
         continue;
       }
-      v = (v >> 8) | ((v & 0xFFU) << 8);
-      at -= 7;
+      v = swapBytes16(v);
+      at -= 7;  // its first byte's bit 0
     }
-    uint8_t* byte = &data[at / 8];
-    const uint32_t shift = at % 8;
-    *byte = static_cast<uint8_t>(*byte | (v << shift));
-    v >>= 8 - shift;
-    for (int32_t left = static_cast<int32_t>(n + shift) - 8; left > 0; left -= 8, v >>= 8) {
-      ++byte;
-      *byte = static_cast<uint8_t>(*byte | v);
-    }
+    orBits(data, at, f.length, v);
+  }
+}
+
+void packStream(std::array<uint8_t, 8>& data, const uint8_t* codes, const uint32_t* values, uint8_t count) {
+  data = {};
+  uint32_t at = 0;  // where the next field starts (unless it starts on the next byte)
+  for (; count != 0; --count) {
+    const uint32_t code = *codes++;
+    const uint32_t n = code & 0x3FU;
+    uint32_t v = fieldBits(*values++, n);
+    if ((code & kStreamByteAligned) != 0) at = (at + 7U) & ~7U;
+    if (FW_CAN_TI_LAYOUT && (code & kStreamBigEndian) != 0) v = swapBytes16(v);
+    orBits(data, at, n, v);
+    at += n;
   }
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -71,6 +72,49 @@ constexpr void pack(std::array<uint8_t, 8>& data, const Field* fields, const uin
     packRuntime(data, fields, values, count);
   }
 }
+
+// The firmware's own frames (FramePlan's messages and the command answers) are packed from stream codes: one
+// byte per field instead of a Field. Every field of those messages starts where the previous one ended, or
+// at the next byte boundary, so a field needs only its length (bits 0..5), whether it starts on the next
+// byte (kStreamByteAligned) and its byte order (kStreamBigEndian: the TI layout's 16-bit fields, which
+// start on a byte boundary, their two bytes swapped).
+constexpr uint8_t kStreamBigEndian = 0x80;
+constexpr uint8_t kStreamByteAligned = 0x40;
+
+// A field's first (least significant) bit in the payload's bit stream.
+constexpr uint16_t firstBit(const Field& f) {
+  return f.bigEndian ? static_cast<uint16_t>(f.start / 8 * 8) : f.start;
+}
+// Whether `fields` can be packed from stream codes (above), within 64 bits.
+constexpr bool streamable(const Field* fields, size_t count) {
+  uint16_t next = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const Field& f = fields[i];
+    const uint16_t lsb = firstBit(f);
+    if (f.length > 32 || (f.bigEndian && (f.length != 16 || f.start % 8 != 7))) return false;
+    if (lsb != next && lsb != (next + 7) / 8 * 8) return false;
+    next = static_cast<uint16_t>(lsb + f.length);
+  }
+  return next <= 64;
+}
+// The stream codes of message M (generated: M::kFields, M::kFieldCount).
+template <class M>
+constexpr std::array<uint8_t, M::kFieldCount> streamCodes() {
+  static_assert(streamable(M::kFields, M::kFieldCount), "a message that stream codes cannot describe");
+  std::array<uint8_t, M::kFieldCount> codes{};
+  uint16_t next = 0;
+  for (size_t i = 0; i < M::kFieldCount; ++i) {
+    const Field& f = M::kFields[i];
+    codes[i] = static_cast<uint8_t>(f.length | (f.bigEndian ? kStreamBigEndian : 0) |
+                                    (firstBit(f) != next ? kStreamByteAligned : 0));
+    next = static_cast<uint16_t>(firstBit(f) + f.length);
+  }
+  return codes;
+}
+
+// Writes the values of `count` fields given by their stream codes as the whole payload (every bit no field
+// covers 0): the same bytes pack() writes from those fields' Field table.
+void packStream(std::array<uint8_t, 8>& data, const uint8_t* codes, const uint32_t* values, uint8_t count);
 
 constexpr int32_t signExtend(uint32_t value, uint8_t length) {
   const uint32_t sign = 1U << (length - 1);

@@ -14,7 +14,7 @@ namespace {
 // Readings are clamped to their signal's physical range, which stops one short of the not-available value
 // (all ones for the unsigned signals, the most negative value for PackCurrent): a reading never looks
 // missing, and a missing one never looks like a reading.
-constexpr uint32_t kNotAvailable = 0xFFFFFFFFU;  // every unsigned signal's, once packRuntime() masks it
+constexpr uint32_t kNotAvailable = 0xFFFFFFFFU;  // every unsigned signal's, once packStream() masks it
 static_assert(bms::PackSummary::kPackVoltageNotAvailable == 0xFFFF &&
                   bms::PackSummary::kStateOfChargeNotAvailable == 0xFF &&
                   bms::PackSummary::kPackCurrentNotAvailable == INT16_MIN &&
@@ -85,7 +85,7 @@ static_assert([] {
 }());
 
 // The messages of the steps (can/bms.hpp), indexed by Step: identifiers and one shared table of their
-// fields (copies of the generated tables, back to back), so a step costs 4 bytes of flash and no pointer. The
+// fields' stream codes (can_bits.hpp: a byte a field), so a step costs 4 bytes of flash and no pointer. The
 // TI message is left out where the layout is compiled out, and a message the build leaves out
 // (FW_PUBLISH_LEVEL) keeps its identifier but no fields.
 struct Message {
@@ -109,7 +109,7 @@ template <class... M>
 struct Catalogue {
   static constexpr size_t kFieldCount = (fieldCount<M>() + ...);
   Message messages[sizeof...(M)];
-  can::Field fields[kFieldCount];
+  uint8_t fields[kFieldCount];  // stream codes
 };
 template <class... M>
 constexpr Catalogue<M...> catalogue() {
@@ -120,8 +120,8 @@ constexpr Catalogue<M...> catalogue() {
     constexpr auto n = static_cast<uint8_t>(fieldCount<T>());
     c.messages[m++] = {static_cast<uint16_t>(T::kId), f, n};
     if constexpr (n != 0) {
-      for (const can::Field& field : T::kFields)
-        c.fields[f++] = field;
+      for (const uint8_t code : can::streamCodes<T>())
+        c.fields[f++] = code;
     }
   };
   (add(static_cast<M*>(nullptr)), ...);
@@ -398,7 +398,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
     }
   }
   const Message& m = kCatalogue.messages[step_];
-  can::packRuntime(data, &kCatalogue.fields[m.first], v, m.count);
+  can::packStream(data, &kCatalogue.fields[m.first], v, m.count);
   return m.id;
 }
 
