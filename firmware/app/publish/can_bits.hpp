@@ -15,8 +15,7 @@
 
 // The TI layout (big-endian fields) is packed at run time only where it is built: FW_CAN_TI_LAYOUT
 // (app/config.hpp). Without it packRuntime() and packStream() pack little-endian fields only (every native
-// message's are);
-// constant evaluation packs both either way.
+// message's are); constant evaluation packs both either way.
 
 namespace fw::can {
 
