@@ -7,11 +7,21 @@
 
 extern "C" {
 
+// Whole words between the unaligned ends: the scan clears every board's record (64 boards on a BQ79616
+// chain), where a byte loop took 10 % of the busy cycles (twin profile, 64 devices).
+using AliasingWord = uint32_t __attribute__((may_alias));
+
 __attribute__((optimize("no-tree-loop-distribute-patterns"))) void* memset(void* destination, int value,
                                                                            size_t size) {
   auto* d = static_cast<uint8_t*>(destination);
+  const auto byte = static_cast<uint8_t>(value);
+  for (; size != 0 && (reinterpret_cast<uintptr_t>(d) & 3U) != 0; --size)
+    *d++ = byte;
+  const uint32_t word = byte * 0x01010101U;
+  for (; size >= 4; size -= 4, d += 4)
+    *reinterpret_cast<AliasingWord*>(d) = word;
   while (size-- != 0)
-    *d++ = static_cast<uint8_t>(value);
+    *d++ = byte;
   return destination;
 }
 

@@ -17,6 +17,7 @@
 #include "can/bms.hpp"
 #include "drivers/bq769x2/measurement.hpp"
 #include "pack_figures.hpp"
+#include "power.hpp"
 #include "profiler.hpp"
 #include "sim/peripherals.hpp"
 
@@ -513,6 +514,12 @@ SimFigures TwinSim::figures() {
   };
   add("cpu_load_pct",
       m.now() ? 100.0 * static_cast<double>(m.busyCycles()) / static_cast<double>(m.now()) : 0.0);
+  // Computed from residency and TI's data-sheet currents, not measured (bsp/twin/power.hpp).
+  const uint64_t run = m.now(), busy = std::min(m.busyCycles(), run);
+  add("residency_run_pct", run ? 100.0 * static_cast<double>(busy) / static_cast<double>(run) : 0.0);
+  add("residency_sleep_pct", run ? 100.0 * static_cast<double>(run - busy) / static_cast<double>(run) : 0.0);
+  f.extra.emplace_back("mcu_current_ua",
+                       std::to_string(twin::averageCurrentUa(twin::powerTable(id_.part), busy, run)));
   add("isr_max_us", static_cast<double>(handler) / perUs);
   add("wake_latency_max_us", static_cast<double>(latency) / perUs);
   f.extra.emplace_back("twin_instructions", std::to_string(m.core().instructions()));
