@@ -14,7 +14,7 @@ set(BMS_IMAGE_OPTIONS
   FW_BQ769X_PROBE_CRC=0           # removes nothing used: the configuration knows the device's CRC mode (probe never asked for)
   FW_BQ769X_CRC=0                 # removes nothing used: the device runs without CRC (link.crc false, the default Comm Type)
   FW_BQ769X_FAULT_INDICATOR=0     # the L1306 board has no fault output pin
-  FW_BQ769X_BALANCE=1             # balancing with the commands is 1.3 KiB past the 16 KiB budget: built out until the LTO and size work (README "Open questions")
+  FW_BQ769X_BALANCE=0             # balancing with the commands is 1.3 KiB past the 16 KiB budget: built out until the LTO and size work (README "Open questions")
   FW_SOC=0                        # the state of charge is past the 16 KiB budget (measured, README "Open questions"): PackSummary.StateOfCharge and the StateOfCharge message stay not available
   FW_BQ769X_CHARGE=0              # nothing counts the accumulated charge without the state of charge: the scan leaves its request and read out
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
