@@ -66,15 +66,12 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   const uint16_t boards = view.boardCount();
   const BalancingState why = blocked(view, faults);
   st.state = why;
-  if (why != BalancingState::Balancing) {
-    st.episode = false;
+  // Held back: nothing balances (an Auto episode ends). Forced: the forced board's mask, nothing elsewhere.
+  const bool forced = why == BalancingState::Balancing && mode() == BalancingMode::Forced;
+  if (why != BalancingState::Balancing || forced) {
+    if (!forced) st.episode = false;
     for (uint16_t b = 0; b < boards; ++b)
-      want[b] = 0;
-    return;
-  }
-  if (mode() == BalancingMode::Forced) {
-    for (uint16_t b = 0; b < boards; ++b)
-      want[b] = b == st.forcedBoard ? st.forcedMask : 0;
+      want[b] = forced && b == st.forcedBoard ? st.forcedMask : 0;
     return;
   }
   const PackTotals& t = view.totals;
