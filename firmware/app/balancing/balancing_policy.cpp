@@ -67,11 +67,12 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   const BalancingState why = blocked(view, faults);
   st.state = why;
   // Held back: nothing balances (an Auto episode ends). Forced: the forced board's mask, nothing elsewhere.
-  const bool forced = why == BalancingState::Balancing && mode() == BalancingMode::Forced;
-  if (why != BalancingState::Balancing || forced) {
-    if (!forced) st.episode = false;
+  const bool held = why != BalancingState::Balancing;
+  if (held || mode() == BalancingMode::Forced) {
+    if (held) st.episode = false;
+    const uint16_t mask = held ? 0 : st.forcedMask;
     for (uint16_t b = 0; b < boards; ++b)
-      want[b] = forced && b == st.forcedBoard ? st.forcedMask : 0;
+      want[b] = b == st.forcedBoard ? mask : 0;
     return;
   }
   const PackTotals& t = view.totals;
