@@ -66,15 +66,13 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   const uint16_t boards = view.boardCount();
   const BalancingState why = blocked(view, faults);
   st.state = why;
-  if (why != BalancingState::Balancing) {
-    st.episode = false;
+  // Held back: nothing balances (an Auto episode ends). Forced: the forced board's mask, nothing elsewhere.
+  const bool held = why != BalancingState::Balancing;
+  if (held || mode() == BalancingMode::Forced) {
+    if (held) st.episode = false;
+    const uint16_t mask = held ? 0 : st.forcedMask;
     for (uint16_t b = 0; b < boards; ++b)
-      want[b] = 0;
-    return;
-  }
-  if (mode() == BalancingMode::Forced) {
-    for (uint16_t b = 0; b < boards; ++b)
-      want[b] = b == st.forcedBoard ? st.forcedMask : 0;
+      want[b] = b == st.forcedBoard ? mask : 0;
     return;
   }
   const PackTotals& t = view.totals;
