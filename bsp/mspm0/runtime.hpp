@@ -1,11 +1,11 @@
 // Size-optimised replacements for the few C runtime helpers the firmware links: memset and memcpy (the
 // compiler emits calls to them for aggregate initialisation and copies) and the EABI division helpers.
 // newlib-nano and libgcc ship speed-optimised versions of 166, 142 and 266 bytes. memset writes whole words
-// between its unaligned ends: the scans clear their records (64 boards on a BQ79616 chain), and a byte loop was
-// 10 % of that image's busy cycles (twin profile; now 3.8 %, +52 B). memcpy stays a byte loop: whole words
-// measured -1 % busy cycles on L1306-BQ76952 for +80 B of flash (2026-11-28). Division is bit-serial (32
-// iterations, about 200 cycles): the firmware divides only on rare paths (timer catch-up, unit conversions),
-// never per byte.
+// between its unaligned ends: the scans clear their records (64 boards on a BQ79616 chain), and a byte loop
+// was 10 % of that image's busy cycles (twin profile; now 3.8 %, +52 B). memcpy stays a byte loop: whole
+// words measured -1 % busy cycles on L1306-BQ76952 for +80 B of flash (2026-11-28). Division is bit-serial
+// (32 iterations, about 200 cycles): the firmware divides only on rare paths (timer catch-up, unit
+// conversions), never per byte.
 //
 // Contract: the target definitions (runtime.cpp, extern "C") follow the C standard and the ARM RTABI;
 // division by zero returns 0 (quotient and remainder), as the RTABI leaves it to the implementation.
