@@ -39,9 +39,13 @@ constexpr std::array<RuleInfo, 26> kRules = {{
      false},
     {"SIGNAL-EDGE", "hw_gpio.h POLARITY; the monitor's ALERT / NFAULT active low (SLUSE13B, SLUSE81E)",
      false},
+    {"BSS-UNINIT",
+     "ISO C++ [basic.start.static] zero-initialisation; the start-up zero fill of .bss (TI SDK "
+     "Reset_Handler)",
+     true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::SignalEdge) + 1, "one entry per Rule, in its order");
+static_assert(kRules.size() == static_cast<size_t>(Rule::BssUninit) + 1, "one entry per Rule, in its order");
 
 }  // namespace
 
