@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 26> kRules = {{
+constexpr std::array<RuleInfo, 27> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
