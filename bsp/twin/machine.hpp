@@ -118,6 +118,13 @@ class Machine final : public CoreObserver {
   // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp), and
   // BSS-UNINIT over [bssLow, bssHigh) (uninit_watch.hpp; an empty range: none).
   void enableImageRules(uint32_t stackLow, uint32_t bssLow = 0, uint32_t bssHigh = 0);
+  // The flash was reprogrammed (the ROM BSL): the loaded ELF's .bss range no longer describes the image, so
+  // BSS-UNINIT is off from now on.
+  void flashReprogrammed() {
+    if (!uninit_) return;
+    core_.setSramWatch(race_.get());
+    uninit_.reset();
+  }
   // What can raise IRQ n now (race_watch.hpp InterruptSources: the peripheral's IMASK and MIS); a line
   // without one counts as able to assert at any time, for no source in particular.
   void setIrqSources(int irq, std::function<InterruptSources()> sources) {
