@@ -60,6 +60,7 @@ void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
     }
   }
   if (race_) race_->reset();
+  if (uninit_) uninit_->reset();
   idleSeen_ = false;
   pendingAtReturn_.fill(0);
   stormCount_.fill(0);
@@ -117,7 +118,7 @@ bool Machine::checkKey(const std::string& reg, uint32_t value, uint32_t key) {
   return false;
 }
 
-void Machine::enableImageRules(uint32_t stackLow) {
+void Machine::enableImageRules(uint32_t stackLow, uint32_t bssLow, uint32_t bssHigh) {
   imageRules_ = true;
   race_ = std::make_unique<RaceWatch>(
       core_, layout_.sramBase, layout_.sramBase + layout_.sramSize, stackLow,
@@ -125,6 +126,16 @@ void Machine::enableImageRules(uint32_t stackLow) {
       [this](const std::string& what) { violate(Rule::IsrRace, what); });
   race_->setDescribe([this](uint32_t pc) { return describePc(pc); });
   core_.setSramWatch(race_.get());
+  if (bssHigh <= bssLow) return;
+  uninit_ = std::make_unique<UninitWatch>(bssLow, bssHigh, race_.get(), [this](uint32_t address) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf,
+                  "load of .bss byte 0x%08X that no instruction stored since the reset: the start-up did not "
+                  "zero .bss, the firmware reads what SRAM held at power-up",
+                  address);
+    violate(Rule::BssUninit, buf);
+  });
+  core_.setSramWatch(uninit_.get());
 }
 
 uint64_t Machine::armedExceptions() const {

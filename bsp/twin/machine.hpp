@@ -31,6 +31,7 @@
 #include "race_watch.hpp"
 #include "rules.hpp"
 #include "timeline.hpp"
+#include "uninit_watch.hpp"
 
 namespace bsp::host {
 class SimClock;
@@ -114,8 +115,16 @@ class Machine final : public CoreObserver {
   // True if the key is right.
   bool checkKey(const std::string& reg, uint32_t value, uint32_t key);
   // The rules that hold for a firmware image but not for the core's own test programs: IDLE-WFI and
-  // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp).
-  void enableImageRules(uint32_t stackLow);
+  // RACE-ISR-RMW over all SRAM, the stack reservation starting at `stackLow` (rules.hpp, race_watch.hpp), and
+  // BSS-UNINIT over [bssLow, bssHigh) (uninit_watch.hpp; an empty range: none).
+  void enableImageRules(uint32_t stackLow, uint32_t bssLow = 0, uint32_t bssHigh = 0);
+  // The flash was reprogrammed (the ROM BSL): the loaded ELF's .bss range no longer describes the image, so
+  // BSS-UNINIT is off from now on.
+  void flashReprogrammed() {
+    if (!uninit_) return;
+    core_.setSramWatch(race_.get());
+    uninit_.reset();
+  }
   // What can raise IRQ n now (race_watch.hpp InterruptSources: the peripheral's IMASK and MIS); a line
   // without one counts as able to assert at any time, for no source in particular.
   void setIrqSources(int irq, std::function<InterruptSources()> sources) {
@@ -206,6 +215,7 @@ class Machine final : public CoreObserver {
   bool idleSeen_ = false;  // a Thread-mode WFI since the last reset
   std::function<void()> firstIdleHook_;
   std::unique_ptr<RaceWatch> race_;
+  std::unique_ptr<UninitWatch> uninit_;
   std::array<std::function<InterruptSources()>, 32> irqSources_{};
   Profiler* profiler_ = nullptr;
   bool enteredException_ = false;  // the step just taken was an exception entry (profiler)

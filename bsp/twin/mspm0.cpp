@@ -171,10 +171,13 @@ bool Mspm0::load(const ElfFile& elf) {
     return false;
   }
   machine_->setSymbolizer([this](uint32_t address) { return elf_->symbolAt(address); });
-  // The data-race rule and IDLE-WFI (rules.hpp); the stack reservation starts at __stack_limit__
-  // (bsp/mspm0/linker).
+  // The data-race rule, IDLE-WFI and BSS-UNINIT (rules.hpp); the stack reservation starts at __stack_limit__,
+  // .bss spans [__bss_start__, __bss_end__) (bsp/mspm0/linker).
   const auto limit = elf.symbol("__stack_limit__");
-  machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase);
+  const auto bssStart = elf.symbol("__bss_start__");
+  const auto bssEnd = elf.symbol("__bss_end__");
+  machine_->enableImageRules(limit ? limit->value : machine_->layout().sramBase,
+                             bssStart ? bssStart->value : 0, bssEnd ? bssEnd->value : 0);
   // WWDT-STOPPED (rules.hpp): bring-up ends at the first Thread-mode WFI; the watchdog must be running then.
   machine_->onFirstIdle([this] {
     if (!wwdt0_->running())

@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 26> kRules = {{
+constexpr std::array<RuleInfo, 28> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -39,9 +39,16 @@ constexpr std::array<RuleInfo, 26> kRules = {{
      false},
     {"SIGNAL-EDGE", "hw_gpio.h POLARITY; the monitor's ALERT / NFAULT active low (SLUSE13B, SLUSE81E)",
      false},
+    {"BSS-UNINIT",
+     "ISO C++ [basic.start.static] zero-initialisation; the start-up zero fill of .bss (TI SDK "
+     "Reset_Handler)",
+     true},
+    {"I2C-RX-UNREAD", "hw_i2c.h MFIFOCTL.RXFLUSH, MFIFOSR.RXFIFOCNT; SLAU846B 20.2 / SLAU847D 21.2 RX FIFO",
+     true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::SignalEdge) + 1, "one entry per Rule, in its order");
+static_assert(kRules.size() == static_cast<size_t>(Rule::I2cRxUnread) + 1,
+              "one entry per Rule, in its order");
 
 }  // namespace
 

@@ -100,6 +100,18 @@
 //                     flag (ICLR), so the line re-enters it at once and Thread code no longer runs (DDI 0419E
 //                     B1.5: a level still asserted at exception return pends the interrupt again; hw_*.h
 //                     CPU_INT ICLR clears the RIS bit)
+//   BSS-UNINIT        a load from .bss ([__bss_start__, __bss_end__)) of a byte no instruction stored since
+//                     the reset: no reset initialises SRAM (the twin fills it with a pattern at power-up and
+//                     BOOTRST, Machine::reset; a SYSRST keeps the last run's values), and a static object
+//                     without initialiser must read 0 (ISO C++ [basic.start.static] zero-initialisation),
+//                     which only the start-up's zero fill before main gives (bsp/mspm0/startup.cpp, as the
+//                     Reset_Handler of TI's SDK start-up files does). A read of one is start-up garbage
+//                     (uninit_watch.hpp)
+//   I2C-RX-UNREAD     MFIFOCTL.RXFLUSH empties bytes of a read burst that ended with STOP, no NACK and no
+//                     error, none of them read from MRXDATA: the transfer's data are thrown away (hw_i2c.h
+//                     MFIFOCTL.RXFLUSH flushes the RX FIFO, MFIFOSR.RXFIFOCNT counts the bytes still to read;
+//                     SLAU846B 20.2 / SLAU847D 21.2 controller RX FIFO: the CPU or DMA reads each received
+//                     byte from MRXDATA). A flush after a NACK or an error is the drivers' clean-up, not this
 //   IRQ-UNSERVED      (warns) at the end of the run a peripheral's interrupt request has been pending 10 ms
 //                     or more and its NVIC line was never enabled since the reset: no handler will ever run
 //                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
@@ -138,6 +150,8 @@ enum class Rule : uint8_t {
   DmaNoIncrement,
   I2cNoStop,
   SignalEdge,
+  BssUninit,
+  I2cRxUnread,
 };
 
 struct RuleInfo {

@@ -822,3 +822,25 @@ TEST(BrokenImage, AnAlertTakenOnItsRisingEdgeIsNamedByTheEdgeRule) {
 }
 
 }  // namespace
+
+TEST(BrokenImage, BssLeftUnzeroedIsStoppedByTheUninitialisedReadRule) {
+  // The start-up's zero fill of .bss (its first call of memset, after the .data copy) taken out: the image
+  // then reads what SRAM held at power-up where C++ promises 0. Unpatched, the same run is clean.
+  for (const std::string preset : {"lp-mspm0l1306-bq76952", "lp-mspm0g3507-bq76952"}) {
+    LOAD_OR_SKIP(elf, preset);
+    EXPECT_EQ(stopOf(preset, *elf, 300000), "") << preset;
+    const auto reset = elf->symbol("Reset_Handler");
+    ASSERT_TRUE(reset.has_value());
+    uint32_t call = 0;
+    for (uint32_t at = reset->value & ~1U; at + 4 <= (reset->value & ~1U) + reset->size && call == 0;
+         at += 2) {
+      const uint32_t target = blTarget(*elf, at);
+      if (target != 0 && elf->symbolAt(target) == "memset") call = at;
+    }
+    ASSERT_NE(call, 0U) << preset << ": no memset call in Reset_Handler";
+    ASSERT_TRUE(elf->patch16(call, 0xBF00) && elf->patch16(call + 2, 0xBF00));
+    const std::string stop = stopOf(preset, *elf, 300000);
+    EXPECT_RULE(stop, "BSS-UNINIT");
+    EXPECT_NE(stop.find("no instruction stored since the reset"), std::string::npos) << stop;
+  }
+}

@@ -316,6 +316,31 @@ TEST_F(I2c, AStretchOnAReadByteWithClockStretchingOffStopsTheRun) {
   EXPECT_NE(why().find("a read byte"), std::string::npos) << why();
 }
 
+TEST_F(I2c, AReadFlushedBeforeItsBytesWereReadIsStoppedByTheUnreadRule) {
+  // A read of 2 bytes ends with STOP; RXFLUSH (hw_i2c.h MFIFOCTL bit 15) with both read is the drivers'
+  // clean-up before the next transaction; with one left in the FIFO it throws the transfer's data away.
+  start();
+  ScriptedTarget target({0x11, 0x22, 0x33, 0x44});
+  chip_.i2c0().attach(0x08, target);
+  wr(kI2c0 + 0x1210, (0x08 << 1) | 1);
+  wr(kI2c0 + 0x1214, (2U << 16) | 1U | 2U | 4U);  // 2 bytes, BURSTRUN, START, STOP
+  runUs(200);
+  EXPECT_EQ(rd(kI2c0 + 0x121C), 0x11U);
+  EXPECT_EQ(rd(kI2c0 + 0x121C), 0x22U);
+  wr(kI2c0 + 0x1238, 0x8000);  // RXFLUSH of an empty FIFO: fine
+  runUs(1);
+  (void)rd(kI2c0 + 0x123C);
+  wr(kI2c0 + 0x1238, 0);
+  ASSERT_FALSE(stopped()) << why();
+  wr(kI2c0 + 0x1214, (2U << 16) | 1U | 2U | 4U);  // the next 2 bytes
+  runUs(200);
+  EXPECT_EQ(rd(kI2c0 + 0x121C), 0x33U);  // one read, 0x44 left
+  wr(kI2c0 + 0x1238, 0x8000);
+  runUs(1);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("[I2C-RX-UNREAD]"), std::string::npos) << why();
+}
+
 TEST_F(I2c, AFlushIsHeldWhileItsBitIsSetAndEndedOnlyAfterMfifosrShowedItDone) {
   // hw_i2c.h MFIFOCTL.TXFLUSH: "Setting this bit will Flush the TX FIFO. Before clearing this bit to stop
   // Flush the TXFIFOCNT should be checked to be 8"; MFIFOSR.TXFLUSH: "a Flush operation for the TX FIFO is

@@ -311,6 +311,7 @@ uint8_t RomBsl::program(uint32_t address, const std::vector<uint8_t>& bytes, uin
     std::copy(bytes.begin() + static_cast<long>(w), bytes.begin() + static_cast<long>(w + 8), word);
     cycles += micros(kWordProgramUs);
   }
+  machine_.flashReprogrammed();
   return 0;
 }
 

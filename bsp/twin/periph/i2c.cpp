@@ -45,6 +45,13 @@ I2c::I2c(Machine& machine, const char* name, Pins& pins)
       timeout_(machine.timeline(), [this] { onTimeout(); }),
       flush_(machine.timeline(), [this] {
         if (mfifoctl_ & kTxFlush) tx_.clear();
+        if ((mfifoctl_ & kRxFlush) && rxDelivered_ && !rx_.empty()) {
+          machine_.violate(
+              Rule::I2cRxUnread,
+              this->name() + std::string(": RXFLUSH empties ") + std::to_string(rx_.size()) +
+                  " byte(s) of a read that ended with STOP, no NACK and no error, never read from "
+                  "MRXDATA: the transfer's data are lost, the read comes back short");
+        }
         if (mfifoctl_ & kRxFlush) rx_.clear();
         txChanged();
       }) {}
@@ -391,6 +398,7 @@ void I2c::byteDone() {
 
 void I2c::finishBurst() {
   raise(read_ ? kMrxDone : kMtxDone);
+  rxDelivered_ = read_ && stopAfter_ && !adrNack_ && !dataNack_ && !err_;
   if (stopAfter_) {
     sendStop();
   } else {

@@ -161,6 +161,9 @@ class I2c final : public Peripheral {
   bool busOwned_ = false;  // START sent, no STOP yet (a following burst opens with a repeated START)
   bsp::host::I2cTarget* target_ = nullptr;
   bool read_ = false, stopAfter_ = false, ackLast_ = false;
+  // The RX FIFO holds bytes of a read that ended with STOP, no NACK, no error: the transfer's data
+  // (I2C-RX-UNREAD).
+  bool rxDelivered_ = false;
   uint32_t remaining_ = 0;
   uint8_t byte_ = 0;
   bool byteAck_ = true;
