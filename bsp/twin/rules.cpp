@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 28> kRules = {{
+constexpr std::array<RuleInfo, 30> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -45,9 +45,17 @@ constexpr std::array<RuleInfo, 28> kRules = {{
      true},
     {"I2C-RX-UNREAD", "hw_i2c.h MFIFOCTL.RXFLUSH, MFIFOSR.RXFIFOCNT; SLAU846B 20.2 / SLAU847D 21.2 RX FIFO",
      true},
+    {"UART-TX-END-UNSEEN",
+     "SLAU846B/SLAU847D UART interrupts (an event reaches the CPU through IMASK); hw_uart.h CPU_INT EOT, "
+     "DMA_DONE_TX",
+     false},
+    {"MCAN-BUS-OFF-STUCK",
+     "Bosch M_CAN user's manual 3.1.1 (INIT set on bus-off, recovery once the CPU clears it); hw_mcan.h "
+     "PSR.BO, CCCR.INIT",
+     false},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::I2cRxUnread) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::McanBusOffStuck) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

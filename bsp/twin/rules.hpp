@@ -116,6 +116,18 @@
 //                     or more and its NVIC line was never enabled since the reset: no handler will ever run
 //                     (DDI 0419E B3.4 NVIC, ISER: a disabled interrupt stays pending and is not taken; TI's
 //                     examples enable the line, NVIC_EnableIRQ, after the peripheral's IMASK)
+//   UART-TX-END-UNSEEN (warns) the last byte a TX DMA transfer moved leaves the serializer while the driver
+//                     keeps interrupts of that UART unmasked (an exchange is open) but none of EOT,
+//                     DMA_DONE_TX or TXINT: an event reaches the CPU only through its IMASK bit (SLAU846B /
+//                     SLAU847D UART chapter, interrupts: RIS, IMASK, MIS; hw_uart.h CPU_INT IMASK EOT "End of
+//                     Transmission", DMA_DONE_TX), so nothing tells the CPU the transmission ended and what
+//                     it starts then (a response timeout) never starts
+//   MCAN-BUS-OFF-STUCK (warns) the MCAN stays bus-off (PSR.BO) with CCCR.INIT at 1 for 1 s and no CPU write
+//                     has cleared INIT since the bus-off began: the M_CAN sets INIT itself on bus-off and
+//                     starts the recovery (129 x 11 recessive bits) only once the CPU clears it (Bosch M_CAN
+//                     user's manual 3.1.1, the same text as periph/mcan.cpp's bus-off model; hw_mcan.h
+//                     PSR.BO, CCCR.INIT): the node never rejoins the bus. The bound (1 s) is ours, far above
+//                     any recovery policy's delay (the product recovers within a few ms, twin.bus-off)
 #pragma once
 
 #include <cstdint>
@@ -152,6 +164,8 @@ enum class Rule : uint8_t {
   SignalEdge,
   BssUninit,
   I2cRxUnread,
+  UartTxEndUnseen,
+  McanBusOffStuck,
 };
 
 struct RuleInfo {

@@ -138,6 +138,39 @@ TEST_F(Uart, AnInterruptMaskedInTheNvicAfterItWasEnabledIsNotNamed) {
   EXPECT_TRUE(chip_.unservedInterrupts().empty());
 }
 
+TEST_F(Uart, ADmaTransmissionWhoseEndNoInterruptCanTellIsNamed) {
+  // IMASK with the receive DMA's end only (DMA_DONE_RX): the transmission's end (EOT, DMA_DONE_TX, TXINT) is
+  // flagged in RIS but reaches no CPU (SLAU846B / SLAU847D UART interrupts: an event interrupts only through
+  // its IMASK bit), so a driver that starts its response timeout there waits for ever.
+  auto run = [this](uint32_t imask) {
+    start(7, {'t', '\r'});
+    wr(kUart0 + 0x1028, imask);
+    runUs(1000);
+    EXPECT_EQ(sent_.size(), 2U);
+    return chip_.machine().ruleWarnings();
+  };
+  const auto caught = run(1U << 15);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[UART-TX-END-UNSEEN] UART0"), std::string::npos) << caught[0];
+}
+
+TEST_F(Uart, ADmaTransmissionWhoseEndEotTellsIsNotNamed) {
+  start(7, {'t', '\r'});
+  wr(kUart0 + 0x1028, (1U << 15) | (1U << 12));  // DMA_DONE_RX and EOT
+  runUs(1000);
+  EXPECT_EQ(sent_.size(), 2U);
+  EXPECT_TRUE(chip_.machine().ruleWarnings().empty()) << chip_.machine().ruleWarnings()[0];
+}
+
+TEST_F(Uart, ADmaTransmissionEndedWithEveryInterruptMaskedIsNotNamed) {
+  // IMASK 0: the driver has closed its exchange; nothing waits for the end.
+  start(7, {'t', '\r'});
+  wr(kUart0 + 0x1028, 0);
+  runUs(1000);
+  EXPECT_EQ(sent_.size(), 2U);
+  EXPECT_TRUE(chip_.machine().ruleWarnings().empty()) << chip_.machine().ruleWarnings()[0];
+}
+
 // --- I2C
 // -------------------------------------------------------------------------------------------------------
 
@@ -483,6 +516,51 @@ TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
   ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
   EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[MCAN-TC-UNARMED]"), std::string::npos)
       << chip_.machine().ruleWarnings()[0];
+}
+
+// The M_CAN sets CCCR.INIT itself on bus-off and starts the recovery (129 x 11 recessive bits) only once the
+// CPU clears INIT (M_CAN user's manual 3.1.1): a CPU that never does leaves the node off the bus for good.
+class McanBusOff : public Chip {
+ protected:
+  void goBusOff() {  // on the bus at 500 kbit/s from the 40 MHz HFXT, as the images, then knocked off
+    wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+    wr(kSysctl + 0x1108, 1);
+    runUs(700);
+    wr(kCan + 0x6800, kPwrenOn);
+    wr(kCan + 0x7900, 1);
+    runUs(10);
+    wr(kCan + 0x7018, 1);
+    wr(kCan + 0x7018, 3);
+    wr(kCan + 0x701C, 0x12004409);
+    wr(0x40428000 + 4 * 34, 0x80 | 5);
+    wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+    wr(kCan + 0x7018, 0);
+    runUs(100);
+    chip_.mcan()->injectBusOff();
+    runUs(10);
+    ASSERT_NE(rd(kCan + 0x7044) & (1U << 7), 0U);  // PSR.BO
+    ASSERT_NE(rd(kCan + 0x7018) & 1U, 0U);         // CCCR.INIT set by the controller
+  }
+  const std::vector<std::string>& warnings() { return chip_.machine().ruleWarnings(); }
+};
+
+TEST_F(McanBusOff, InitNeverClearedByTheCpuIsNamedAfterOneSecond) {
+  goBusOff();
+  runUs(900000);
+  EXPECT_TRUE(warnings().empty()) << "0.9 s: not yet";
+  runUs(200000);
+  ASSERT_FALSE(stopped()) << why();
+  ASSERT_EQ(warnings().size(), 1U);
+  EXPECT_NE(warnings()[0].find("[MCAN-BUS-OFF-STUCK] CANFD0"), std::string::npos) << warnings()[0];
+}
+
+TEST_F(McanBusOff, InitClearedByTheCpuRecoversAndIsNotNamed) {
+  goBusOff();
+  wr(kCan + 0x7018, 0);  // 129 x 11 bits at 500 kbit/s (2.8 ms) later the node is back
+  runUs(10000);
+  EXPECT_EQ(rd(kCan + 0x7044) & (1U << 7), 0U);
+  runUs(1500000);
+  EXPECT_TRUE(warnings().empty()) << warnings()[0];
 }
 
 // MCAN reception (hw_mcan.h SIDFC, GFC, RXF0C/RXF0S/RXF0A, IR RF0N/RF0F/RF0L; the M_CAN acceptance filter

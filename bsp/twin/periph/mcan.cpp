@@ -57,6 +57,16 @@ Mcan::Mcan(Machine& machine, Pins& pins, Sysctl& sysctl)
                    tryTransmit();
                  }),
       peerDone_(machine.timeline(), [this] { peerDone(); }),
+      busOffStuck_(machine.timeline(),
+                   [this] {
+                     if (!busOff_) return;
+                     machine_.violate(
+                         Rule::McanBusOffStuck,
+                         std::string(name()) +
+                             ": bus-off (PSR.BO) for 1 s with CCCR.INIT still 1 and no write "
+                             "clearing it: the M_CAN starts its bus-off recovery only once the CPU "
+                             "clears INIT, so the node never rejoins the bus");
+                   }),
       ram_(kRamBytes / 4, 0) {}
 
 void Mcan::resetRegisters() {
@@ -79,6 +89,7 @@ void Mcan::resetRegisters() {
   txDone_.cancel();
   integrated_.cancel();
   recovered_.cancel();
+  busOffStuck_.cancel();
 }
 
 void Mcan::note(const std::string& text) {
@@ -342,6 +353,7 @@ void Mcan::enterBusOff() {
   cccr_ |= kInit;
   initValue_ = true;
   initSyncAt_ = machine_.now();
+  busOffStuck_.after(kBusOffStuckMs * machine_.clockHz() / 1000);
   setIr(kIrBo);
 }
 
@@ -552,6 +564,7 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
                                  "raises IR.TC, the enabled transmission-complete interrupt "
                                  "never comes");
           }
+          busOffStuck_.cancel();  // the CPU cleared INIT: a bus-off recovers
           integrating_ = true;
           // Leaving INIT: bus-off recovery (129 x 11 recessive bits) or bus integration (11 bits).
           if (busOff_) {

@@ -31,7 +31,8 @@
 //   above 255, ISO 11898-1 12.1.4).
 // - Bus-off (injected by the board, or from TEC): PSR.BO, CCCR.INIT set by the controller, IR.BO; pending
 //   requests stay pending. Clearing INIT starts the recovery: 129 x 11 recessive bits, then PSR.BO and ECR
-//   clear and IR.BO is set again.
+//   clear and IR.BO is set again. Still bus-off with INIT at 1 kBusOffStuckMs after the bus-off began, no
+//   CPU write having cleared INIT, warns (rules.hpp MCAN-BUS-OFF-STUCK): the node would never rejoin.
 // - Interrupts: IR & IE, each bit to line 0 or 1 by ILS, lines enabled by ILE. The MCANSS holds a line's
 //   interrupt until it is acknowledged: "MCANSS_EOI ... A write to this register will clear the associated
 //   interrupt ... 0x01 MCAN(0) interrupt is cleared, 0x02 MCAN(1) interrupt is cleared" (hw_mcan.h MCAN_EOI).
@@ -96,7 +97,8 @@ class Mcan final : public Peripheral {
   static constexpr uint32_t kRamBytes = 0x400;
   static constexpr uint64_t kInitSyncCycles = 8;
   static constexpr uint64_t kMemInitCycles = 32;
-  static constexpr uint32_t kCanClockHz = 40000000;  // HFXT on the LP-MSPM0G3507 (tsv "HFXT" example row)
+  static constexpr uint32_t kCanClockHz = 40000000;
+  static constexpr uint64_t kBusOffStuckMs = 1000;  // HFXT on the LP-MSPM0G3507 (tsv "HFXT" example row)
 
   Mcan(Machine& machine, Pins& pins, Sysctl& sysctl);
   void setPins(int txPincm, uint32_t txPf, int rxPincm, uint32_t rxPf) {
@@ -148,7 +150,7 @@ class Mcan final : public Peripheral {
 
   Pins& pins_;
   Sysctl& sysctl_;
-  TimedEvent txDone_, integrated_, recovered_, peerDone_;
+  TimedEvent txDone_, integrated_, recovered_, peerDone_, busOffStuck_;
   std::function<void(const CanWireFrame&)> sink_;
   int txPincm_ = 0, rxPincm_ = 0;
   uint32_t txPf_ = 0, rxPf_ = 0;

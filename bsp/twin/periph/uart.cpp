@@ -74,6 +74,7 @@ void Uart::resetRegisters() {
   frameRemainder64_ = 0;
   frameEnd_.cancel();
   linkChecked_ = false;
+  txDmaDone_ = false;
 }
 
 bool Uart::enabled() const {
@@ -202,9 +203,25 @@ void Uart::frameDone() {
   if (txSink_) txSink_(shiftByte_);
   if (!txFifo_.empty()) {
     startNextFrame();
-  } else if (ctl0_ & kRxe) {
-    raise(kEot);  // not with TXE alone: UART_ERR_02 (SLAZ742G, SLAZ741B)
+    return;
   }
+  if (ctl0_ & kRxe) raise(kEot);  // not with TXE alone: UART_ERR_02 (SLAZ742G, SLAZ741B)
+  checkTxEndSeen();
+}
+
+void Uart::checkTxEndSeen() {
+  if (!txDmaDone_) return;
+  txDmaDone_ = false;
+  const uint32_t imask = cpuInt_.imask;
+  // IMASK 0: the driver has closed the exchange (nothing waits for the end); a TX-end source unmasked: it
+  // hears of it.
+  if (imask == 0 || (imask & (kEot | kDmaDoneTx | kTxInt)) != 0) return;
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "%s: a DMA transmission ended (last stop bit sent) with CPU_INT.IMASK 0x%05X: neither EOT, "
+                "DMA_DONE_TX nor TXINT is unmasked, so nothing tells the CPU the transmission is over",
+                name(), imask);
+  machine_.violate(Rule::UartTxEndUnseen, buf);
 }
 
 void Uart::receive(uint8_t byte, bool framingError) {
@@ -246,6 +263,7 @@ std::string Uart::dmaTriggerProblem(int trigger, Rule& rule) const {
 }
 
 void Uart::dmaDone(int trigger) {
+  if (trigger == txTrigger_) txDmaDone_ = true;
   raise(trigger == txTrigger_ ? kDmaDoneTx : kDmaDoneRx);
 }
 

@@ -39,6 +39,12 @@
 // partners). A second stop bit (LCRH.STP2) is allowed: the MSPM0 transmits it as idle time an 8N1 receiver
 // accepts, and its own receiver checks only the first stop bit ("The receive logic does not check for two
 // stop bits being received", hw_uart.h LCRH.STP2).
+// End of a DMA transmission (rules.hpp UART-TX-END-UNSEEN, warns): when the last byte a TX DMA transfer
+// moved leaves the serializer and the driver still has interrupts of this UART unmasked (an exchange is
+// open), one of EOT, DMA_DONE_TX or TXINT must be unmasked in CPU_INT.IMASK: otherwise nothing tells the CPU
+// that the transmission ended (an event reaches the CPU only through its IMASK bit, SLAU846B / SLAU847D UART
+// interrupts; hw_uart.h CPU_INT IMASK EOT, DMA_DONE_TX), and whatever it starts then (a response timeout)
+// never starts.
 #pragma once
 
 #include <cstdint>
@@ -102,6 +108,7 @@ class Uart final : public Peripheral, public DmaRequester {
   void frameDone();
   void checkMode();
   void checkLink();
+  void checkTxEndSeen();
 
   Dma& dma_;
   int rxTrigger_, txTrigger_;
@@ -117,6 +124,7 @@ class Uart final : public Peripheral, public DmaRequester {
   uint32_t ctl0_ = 0, lcrh_ = 0, ifls_ = 0, ibrd_ = 0, fbrd_ = 0, gfctl_ = 0;
   Link link_;
   bool linkChecked_ = false;
+  bool txDmaDone_ = false;  // a TX DMA transfer completed; its last byte has not left yet
 };
 
 }  // namespace twin
