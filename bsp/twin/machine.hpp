@@ -139,6 +139,8 @@ class Machine final : public CoreObserver {
   Timeline& timeline() { return timeline_; }
   uint64_t now() const { return timeline_.now(); }
   uint32_t clockHz() const { return layout_.clockHz; }
+  // The rules that hold only for the product's images (enableImageRules): not for bare register tests.
+  bool imageRules() const { return imageRules_; }
   uint64_t cyclesPerUs() const { return layout_.clockHz / 1000000; }
   AddressMap& map() { return map_; }
   Nvic& nvic() { return nvic_; }

@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 30> kRules = {{
+constexpr std::array<RuleInfo, 31> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -53,10 +53,13 @@ constexpr std::array<RuleInfo, 30> kRules = {{
      "Bosch M_CAN user's manual 3.1.1 (INIT set on bus-off, recovery once the CPU clears it); hw_mcan.h "
      "PSR.BO, CCCR.INIT",
      false},
+    {"TIMER-TICK",
+     "SLAU846B/SLAU847D TIMx clock prescaler (hw_gptimer.h CPS.PCNT); the firmware's 1 us time base "
+     "(bsp/mspm0/README.md TimgClock)",
+     true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::McanBusOffStuck) + 1,
-              "one entry per Rule, in its order");
+static_assert(kRules.size() == static_cast<size_t>(Rule::TimerTick) + 1, "one entry per Rule, in its order");
 
 }  // namespace
 

@@ -128,6 +128,12 @@
 //                     user's manual 3.1.1, the same text as periph/mcan.cpp's bus-off model; hw_mcan.h
 //                     PSR.BO, CCCR.INIT): the node never rejoins the bus. The bound (1 s) is ours, far above
 //                     any recovery policy's delay (the product recovers within a few ms, twin.bus-off)
+//   TIMER-TICK        a TIMG counter enabled (CTRCTL.EN) in an image with a counter clock other than 1 MHz:
+//                     BUSCLK / (CLKDIV.RATIO + 1) / (CPS.PCNT + 1) (SLAU846B / SLAU847D TIMx clock
+//                     prescaler; hw_gptimer.h CPS.PCNT) against the product's time base, microseconds
+//                     (fw::Duration; TimgClock and TimgOneShot count at 1 MHz, bsp/mspm0/README.md): every
+//                     period and timeout of the firmware would be off by the ratio. A project rule, like
+//                     IDLE-WFI
 #pragma once
 
 #include <cstdint>
@@ -166,6 +172,7 @@ enum class Rule : uint8_t {
   I2cRxUnread,
   UartTxEndUnseen,
   McanBusOffStuck,
+  TimerTick,
 };
 
 struct RuleInfo {

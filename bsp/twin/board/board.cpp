@@ -179,7 +179,10 @@ void Board::wireI2cMonitor() {
     line_ = std::make_unique<DeviceLine>(*bq4050_, world_);
     chip_.i2c0().attach(i2cAddress_, *line_);
     // SMBus: 10..100 kHz (SLUSC67A SMBus timing, fSMB; SMBus 2.0 3.1.1).
-    chip_.i2c0().setTargetRange(i2cAddress_, {"BQ4050", 10000, 100000, "SLUSC67A fSMB 10..100 kHz"});
+    // Clock stretching: SMBus 2.0 lets a target stretch (tLOW:SEXT up to 25 ms), and the BQ4050 does (the
+    // project's 25 ms stretch limit, bsp/host/emul/bq4050).
+    chip_.i2c0().setTargetRange(i2cAddress_, {"BQ4050", 10000, 100000, "SLUSC67A fSMB 10..100 kHz",
+                                              "SMBus 2.0 tLOW:SEXT, a target may stretch up to 25 ms"});
     return;
   }
   using Model = bsp::host::Bq769xEmulator::Model;
@@ -190,8 +193,13 @@ void Board::wireI2cMonitor() {
   chip_.i2c0().attach(i2cAddress_, *line_);
   // BQ76952: "supports rates up to 400 kHz" (SLUSE13B 14, I2C Communications Subsystem); the BQ7690x data
   // sheet (SLUSE97) gives the same 400 kHz maximum.
-  chip_.i2c0().setTargetRange(i2cAddress_, {image_.family == Family::Bq76907 ? "BQ76907" : "BQ76952", 1,
-                                            400000, "SLUSE13B 14 / SLUSE97: I2C up to 400 kHz"});
+  // Clock stretching: the BQ76952 stretches SCL (SLUUBY2B 9, its I2C interface), and TI's BQ769x2 example
+  // for the L1306 (bq769x2_control_i2c ti_msp_dl_config.c) enables the controller's clock stretching. For
+  // the BQ7690x no TI source was checked (open question in bsp/twin/README.md): not required there.
+  const bool bq76907 = image_.family == Family::Bq76907;
+  chip_.i2c0().setTargetRange(
+      i2cAddress_, {bq76907 ? "BQ76907" : "BQ76952", 1, 400000, "SLUSE13B 14 / SLUSE97: I2C up to 400 kHz",
+                    bq76907 ? "" : "SLUUBY2B 9; TI bq769x2_control_i2c enables controller clock stretching"});
   // ALERT: the line as the device's ALERT Pin Config drives it (the emulator's alertLine()); where it drives
   // nothing or high, the MCU's own pull-up must make the high (an input left floating is a twin warning).
   signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;

@@ -98,6 +98,16 @@ void I2c::checkWire(uint8_t address7) {
       machine_.violate(Rule::I2cScl, buf);
       return;
     }
+    // A device that may stretch SCL, addressed without CLKSTRETCH: the first stretch it makes is clocked over
+    // (hw_i2c.h MCR.CLKSTRETCH), even if no stretch comes in this run.
+    if (!r.stretchSource.empty() && (mcr_ & kMcrClkStretch) == 0) {
+      std::snprintf(buf, sizeof buf,
+                    "%s: addressing the %s with MCR.CLKSTRETCH clear, but the %s may stretch SCL (%s): the "
+                    "controller would clock over the stretch",
+                    name(), r.device.c_str(), r.device.c_str(), r.stretchSource.c_str());
+      machine_.violate(Rule::I2cClockStretch, buf);
+      return;
+    }
   }
   if (tpr == 0 || scl > 1000000) {
     std::snprintf(

@@ -105,6 +105,9 @@ class I2c final : public Peripheral {
     std::string device;
     uint32_t minHz = 0, maxHz = 0;
     std::string source;
+    // Non-empty when the device's documents say it may stretch SCL (the source): every transaction to it then
+    // needs MCR.CLKSTRETCH (rules.hpp I2C-CLKSTRETCH), whether or not this run's device stretches.
+    std::string stretchSource = {};
   };
   void setTargetRange(uint8_t address7, TargetRange range) { ranges_[address7] = std::move(range); }
   uint32_t sclHz() const;

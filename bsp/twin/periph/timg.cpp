@@ -66,6 +66,22 @@ void Timg::rebase() {
   }
 }
 
+void Timg::checkTick() {
+  // The product's timers count microseconds: fw::Duration's unit, TimgClock and TimgOneShot at 1 MHz
+  // (bsp/mspm0/README.md); the counter clock as SLAU846B / SLAU847D TIMx give it (periph/timg.hpp).
+  if (!machine_.imageRules() || !clock_.busclk()) return;
+  const uint64_t divider = tickCycles();
+  if (divider * 1000000 == machine_.clockHz()) return;
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "%s: counts at %u Hz (BUSCLK %u Hz / CLKDIV %u / CPS.PCNT+1 %u), not the 1 MHz of the "
+                "firmware's microsecond time base: every period and timeout is off by %+.2f %%",
+                name(), static_cast<unsigned>(machine_.clockHz() / divider),
+                static_cast<unsigned>(machine_.clockHz()), clock_.divider(), (cps_ & 0xFFU) + 1,
+                (static_cast<double>(divider) * 1e6 / machine_.clockHz() - 1.0) * 100.0);
+  machine_.violate(Rule::TimerTick, buf);
+}
+
 void Timg::checkControl() {
   if ((ctrctl_ & kEn) == 0) return;
   char buf[128];
@@ -186,6 +202,7 @@ bool Timg::writeRegister(uint32_t offset, uint32_t value) {
       const bool enabling = (value & kEn) && !(ctrctl_ & kEn);
       ctrctl_ = value;
       if (enabling) {
+        checkTick();
         const uint32_t cvae = value & kCvaeMask;
         if (cvae == kCvaeLoad) baseValue_ = load_ & kCounterMask;
         if (cvae == kCvaeZero) baseValue_ = 0;

@@ -16,6 +16,8 @@
 //   CAC/CLC/CZC (their reset value 7) on an enabled counter, or capture mode (CCCTL.COC) stops the run.
 // - Event flags (CPU_INT RIS) are exact to the timer clock: every event is scheduled on the timeline,
 //   masked or not.
+// - Tick (rules.hpp TIMER-TICK, image runs only): a counter enabled with a clock other than 1 MHz stops the
+//   run: the product's timers count the firmware's microseconds.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +47,7 @@ class Timg final : public Peripheral {
   void schedule();
   void onTick();
   void checkControl();
+  void checkTick();  // rules.hpp TIMER-TICK, when the counter is enabled
 
   TimedEvent event_;
   ClockRegs clock_{0x1008};
