@@ -620,18 +620,33 @@ TEST(BrokenImage, ClockStretchingSwitchedOffIsStoppedWhenTheDeviceStretches) {
 
 TEST(BrokenImage, ATimerPrescaledBy33IsStoppedByTheTickRule) {
   // CPS.PCNT 32 instead of 31 (reg::timg::prescalerFor1MHz off by one): the firmware's microsecond clock
-  // runs at 32 MHz / 33 = 969 697 Hz, every period and timeout 3 % long.
+  // would run at 32 MHz / 33 = 969 697 Hz, every period and timeout 3 % long. The image passes the prescaler
+  // to a function, so the broken setting is made after bring-up through the bus, as a debugger would: the
+  // counter stopped, CPS written, the counter enabled again (with 31 again, the same steps run clean).
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  StoreSite cps;
-  for (uint32_t timg : {0x40084000U, 0x40086000U, 0x40088000U, 0x4008C000U}) {
-    for (const auto& s : storeSites(preset, *elf, timg + 0x110C, 50000)) {
-      if (cps.pc == 0 && s.value == 31) cps = s;
+  uint32_t timg = 0;
+  for (uint32_t base : {0x40084000U, 0x40086000U, 0x40088000U, 0x4008C000U}) {
+    for (const auto& s : storeSites(preset, *elf, base + 0x110C, 50000)) {
+      if (timg == 0 && s.value == 31) timg = base;
     }
   }
-  ASSERT_NE(cps.pc, 0U) << "no CPS write of 31 (1 MHz from 32 MHz)";
-  ASSERT_TRUE(storeValue(*elf, cps, 32));
-  const std::string stop = stopOf(preset, *elf, 300000);
+  ASSERT_NE(timg, 0U) << "no CPS write of 31 (1 MHz from 32 MHz)";
+  auto restart = [&](uint32_t pcnt) {
+    Rig r(preset, *elf);
+    r.board.runUntilUs(100000);
+    twin::AddressMap& map = r.board.machine().map();
+    uint32_t ctrctl = 0;
+    EXPECT_TRUE(map.load(timg + 0x1804, 4, ctrctl));
+    EXPECT_NE(ctrctl & 1U, 0U) << "the counter runs";
+    EXPECT_TRUE(map.store(timg + 0x1804, 4, ctrctl & ~1U));
+    EXPECT_TRUE(map.store(timg + 0x110C, 4, pcnt));
+    EXPECT_TRUE(map.store(timg + 0x1804, 4, ctrctl | 1U));
+    r.board.runUntilUs(101000);
+    return r.board.machine().stopped() ? r.board.machine().stopReason() : std::string();
+  };
+  EXPECT_EQ(restart(31).find("[TIMER-TICK]"), std::string::npos);
+  const std::string stop = restart(32);
   EXPECT_RULE(stop, "TIMER-TICK");
   EXPECT_NE(stop.find("969696 Hz"), std::string::npos) << stop;
 }
