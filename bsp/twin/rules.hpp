@@ -36,7 +36,9 @@
 //                     section (PRIMASK), while that handler can run for the sources that led it to write
 //                     (DDI 0419E B1.5: an exception can preempt between the load and the store)
 //   I2C-CLKSTRETCH    a target stretches SCL on any byte with MCR.CLKSTRETCH clear (hw_i2c.h MCR.CLKSTRETCH:
-//                     the controller then does not detect the stretch)
+//                     the controller then does not detect the stretch); and a device documented to stretch
+//                     (I2c::TargetRange::stretchSource: BQ76952 SLUUBY2B 9 and TI's bq769x2_control_i2c
+//                     example, BQ4050 SMBus tLOW:SEXT) addressed with CLKSTRETCH clear, stretch or not
 //   I2C-FLUSH         MFIFOCTL.TXFLUSH/RXFLUSH held as TI describes: while set the FIFO is flushed (a byte
 //                     written or a burst started then is lost), and cleared only after MFIFOSR showed the
 //                     flush complete (hw_i2c.h MFIFOCTL "Before clearing this bit to stop Flush the TXFIFOCNT
