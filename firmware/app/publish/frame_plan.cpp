@@ -341,14 +341,15 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
-      const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
       using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
       v[C::kBoardField] = board, v[C::kFrameIndexField] = frame,
       v[C::kStatusField] = static_cast<uint8_t>(st);
       if (st != BoardStatus::Valid) break;
+      // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole board's.
+      const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
+      const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
       if ((open & 7U) != 0) v[C::kStatusField] = kOpenWireStatus;
-      for (uint8_t j = 0, i = static_cast<uint8_t>(frame * C::kCellPerFrame); j < C::kCellPerFrame;
-           ++j, ++i) {
+      for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
         if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
           v[C::kCellField + j] = reading(values[i]);
       }
