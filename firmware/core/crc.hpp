@@ -57,9 +57,14 @@ constexpr uint16_t crc16Update(uint16_t crc, uint8_t byte) {
   return static_cast<uint16_t>((crc >> 8) ^ detail::kCrc16Table.entry[(crc ^ byte) & 0xFFU]);
 }
 
+// The loop test at the bottom: with a for loop GCC -Os tested at the top and branched back, two branches a
+// byte (twin profile, 64-device BQ79616 chain, where this checks every byte received).
 constexpr uint16_t crc16(const uint8_t* data, size_t length, uint16_t crc = kCrc16Init) {
-  for (size_t i = 0; i < length; ++i)
-    crc = crc16Update(crc, data[i]);
+  if (length == 0) return crc;
+  const uint8_t* const end = data + length;
+  do {
+    crc = static_cast<uint16_t>((crc >> 8) ^ detail::kCrc16Table.entry[static_cast<uint8_t>(crc ^ *data)]);
+  } while (++data != end);
   return crc;
 }
 

@@ -2,6 +2,7 @@
 // that a value with no reading behind it goes out as its signal's not-available value (bms.yaml).
 #include <gtest/gtest.h>
 
+#include <iterator>
 #include <map>
 #include <set>
 #include <tuple>
@@ -336,6 +337,31 @@ TEST(FramePlan, OpenWireIsAPairTooFarApartOrAReadingBelowTheFloor) {
   EXPECT_EQ(fw::app::openWireCells(beyond, 3), 0);
   const int16_t one[1] = {0};
   EXPECT_EQ(fw::app::openWireCells(one, 1), 0b1);
+}
+
+// The window a CellVoltages frame uses gives the whole board's verdict for its cells, at every position
+// (the ends of the board included) and for every kind of open wire, on boards of every size.
+TEST(FramePlan, OpenWireOfAWindowIsTheBoardsVerdictForItsCells) {
+  const int16_t readings[] = {3700, 0, 7400, 499, 500, 6250, -40, 3700, 8300};
+  uint32_t seed = 1;
+  int open = 0;
+  for (int round = 0; round < 2000; ++round) {
+    int16_t cells[fw::app::kMaxCellsPerBoard];
+    for (int16_t& c : cells) {
+      seed = seed * 1103515245U + 12345U;
+      c = (seed >> 16) % 4 != 0 ? int16_t{3700} : readings[(seed >> 18) % std::size(readings)];
+    }
+    for (uint8_t n = 1; n <= fw::app::kMaxCellsPerBoard; ++n) {
+      const uint16_t board = fw::app::openWireCells(cells, n);
+      open += board != 0;
+      for (uint8_t first = 0; first < n; ++first)
+        for (uint8_t count = 1; count <= 3; ++count)
+          ASSERT_EQ(fw::app::openWireCells(cells, n, first, count), (board >> first) & ((1U << count) - 1U))
+              << "round " << round << " cells " << int(n) << " from " << int(first) << " count "
+              << int(count);
+    }
+  }
+  EXPECT_GT(open, 1000);  // the boards do show open wires
 }
 
 TEST(FramePlan, AFrameHeldBackIsRebuiltFromTheDataWhenItFinallyGoes) {

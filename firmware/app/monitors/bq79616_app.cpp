@@ -36,6 +36,22 @@ inline void Bq79616Device::setupFinished(Status result) {
   scheduler_.startTimer(records_->retryTimer, kMonitorTask, monitor_event::kRetry, config_.retryAfterFailure);
 }
 
+namespace {
+// A device's cell codes as mV and as the codes kept for the TI layout, the `suspect` cells (bit c = cell c)
+// as the no-reading 0. Its own function: inside scanFinished()'s device loop the compiler ran out of
+// registers and kept the loop's values on the stack (twin profile, 64 devices).
+[[gnu::noinline]] void convertCells(int16_t* mv, int16_t* raw, const int16_t* codes, uint8_t cells,
+                                    uint32_t suspect) {
+  for (uint8_t c = 0; c < cells; ++c, suspect >>= 1) {
+    // 190.73 uV per code = 12 500 / 65 536 mV within 0.003 %: a multiply and a shift instead of a division
+    // per cell, exact to the millivolt over the whole range (+-1 mV rounding).
+    const int16_t code = (suspect & 1U) != 0 ? int16_t{0} : codes[c];
+    mv[c] = static_cast<int16_t>((code * 12500 + 32768) >> 16);
+    raw[c] = code;
+  }
+}
+}  // namespace
+
 inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
   if (kStats) records_->stats.lastScan = elapsed(records_->summary.started, now);
   bool anyValid = false;
@@ -54,13 +70,7 @@ inline ScanVerdict Bq79616Device::scanFinished(Status result, Instant now) {
     // that may be open (VCn's sink pulls cell n down and cell n + 1 up; VC0's source pulls cell 1 down), so
     // neither reading is a cell voltage, however plausible it looks: both get the no-reading 0 mV.
     const uint32_t suspect = static_cast<uint32_t>(*failing) | static_cast<uint32_t>(*failing) << 1;
-    for (uint8_t c = 0; c < cells; ++c) {
-      // 190.73 uV per code = 12 500 / 65 536 mV within 0.003 %: a multiply and a shift instead of a division
-      // per cell, exact to the millivolt over the whole range (+-1 mV rounding).
-      const int16_t code = ((suspect >> c) & 1U) != 0 ? int16_t{0} : r->cellRaw[c];
-      s->cellMv[c] = static_cast<int16_t>((code * 12500 + 32768) >> 16);
-      raw[c] = code;
-    }
+    convertCells(s->cellMv, raw, r->cellRaw, cells, suspect);
     const bool temps = (r->valid & b616::kValidDieTemp) != 0;  // a failed temperature read is no reading
     s->tempDeciK[0] = temps ? r->dieTemp[0] : kNoReading;
     s->tempDeciK[1] = temps ? r->dieTemp[1] : kNoReading;

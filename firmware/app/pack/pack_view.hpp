@@ -56,6 +56,15 @@ inline constexpr int16_t kCellFloorMv = 500;
 // The cells (bit c = cell c, from 0) of a board whose readings show an open sense wire beside them: a pair
 // of neighbours too far apart, or one reading below the floor.
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells);
+// The same verdict for the `count` cells from `first` (bit 0 = cell `first`; first < cells, count < 16),
+// from those cells and their two neighbours alone: what a CAN frame of three cells needs, without the
+// whole board.
+inline uint16_t openWireCells(const int16_t* cellMv, uint8_t cells, uint8_t first, uint8_t count) {
+  const uint8_t from = first == 0 ? 0 : static_cast<uint8_t>(first - 1);
+  const uint8_t to = first + count + 1 < cells ? static_cast<uint8_t>(first + count + 1) : cells;
+  const uint32_t open = openWireCells(cellMv + from, static_cast<uint8_t>(to - from));
+  return static_cast<uint16_t>((open >> (first - from)) & ((1U << count) - 1U));
+}
 
 // All-zero is the start-up state (no attempt yet), so arrays of samples live in .bss with no constructor.
 struct BoardSample {

@@ -64,6 +64,19 @@ constexpr uint16_t framesPerBoard(uint8_t items) {
   return static_cast<uint16_t>(((items + 2U) * 43U) >> 7);
 }
 static_assert(kMaxCellsPerBoard + 2 < 128 && kMaxTempsPerBoard <= kMaxCellsPerBoard);
+// index / perBoard for the frame indexes of a step (below kMaxBoards * perBoard; perBoard = 1..6): a multiply
+// by 2^15 / perBoard, rounded up, and a shift, exact over that range (checked below for every case).
+constexpr uint16_t kReciprocal[] = {0, 32768, 16384, 10923, 8192, 6554, 5462};
+constexpr uint16_t boardOf(uint16_t index, uint16_t perBoard) {
+  return static_cast<uint16_t>((index * uint32_t{kReciprocal[perBoard]}) >> 15);
+}
+static_assert(framesPerBoard(kMaxCellsPerBoard) == 6 && framesPerBoard(kMaxTempsPerBoard) <= 6);
+static_assert([] {
+  for (uint16_t perBoard = 1; perBoard <= 6; ++perBoard)
+    for (uint32_t index = 0; index < uint32_t{kMaxBoards} * perBoard; ++index)
+      if (boardOf(static_cast<uint16_t>(index), perBoard) != index / perBoard) return false;
+  return true;
+}());
 // x / 10, truncated toward zero as C division is, without a division: the quotient of |x| by shifts and
 // adds (Hacker's Delight 10-17), corrected by the remainder.
 constexpr int32_t divideBy10(int32_t x) {
@@ -330,25 +343,22 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const bool isCells = step_ == kCells;
       const uint8_t items = isCells ? pack_.cellsPerBoard : pack_.tempsPerBoard;
       const uint16_t perBoard = framesPerBoard(items);
-      // index = board * perBoard + frame, split by subtraction (at most one step per board): ARMv6-M has no
-      // divide instruction, and this is the only division the plan would need.
-      uint16_t board = 0;
-      uint16_t frame = index_;
-      if constexpr (kMaxBoards > 1) {
-        for (; frame >= perBoard; frame = static_cast<uint16_t>(frame - perBoard))
-          ++board;
-      }
+      // index = board * perBoard + frame, split by a multiply (boardOf()): ARMv6-M has no divide
+      // instruction, and this is the only division the plan would need.
+      const uint16_t board = kMaxBoards > 1 ? boardOf(index_, perBoard) : 0;
+      const auto frame = static_cast<uint16_t>(index_ - board * perBoard);
       const BoardSample& s = pack_.boards[board];
       const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
-      const uint32_t open = isCells ? openWireCells(s.cellMv, items) >> (frame * 3) : 0;
       using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
       v[C::kBoardField] = board, v[C::kFrameIndexField] = frame,
       v[C::kStatusField] = static_cast<uint8_t>(st);
       if (st != BoardStatus::Valid) break;
+      // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole board's.
+      const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
+      const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
       if ((open & 7U) != 0) v[C::kStatusField] = kOpenWireStatus;
-      for (uint8_t j = 0, i = static_cast<uint8_t>(frame * C::kCellPerFrame); j < C::kCellPerFrame;
-           ++j, ++i) {
+      for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
         if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
           v[C::kCellField + j] = reading(values[i]);
       }
