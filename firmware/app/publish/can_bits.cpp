@@ -6,18 +6,6 @@ namespace fw::can {
 
 namespace {
 
-// ORs the `n` bits of `v` (nothing above them) into `data` from bit `at` up (little-endian): a byte at a
-// time, not a bit at a time.
-void orBits(std::array<uint8_t, 8>& data, uint32_t at, uint32_t n, uint32_t v) {
-  uint8_t* byte = &data[at / 8];
-  const uint32_t shift = at % 8;
-  *byte = static_cast<uint8_t>(*byte | (v << shift));
-  v >>= 8 - shift;
-  for (int32_t left = static_cast<int32_t>(n + shift) - 8; left > 0; left -= 8, v >>= 8) {
-    ++byte;
-    *byte = static_cast<uint8_t>(*byte | v);
-  }
-}
 // The field's bits only (n is 1..32).
 uint32_t fieldBits(uint32_t value, uint32_t n) {
   return value << (32U - n) >> (32U - n);
@@ -30,24 +18,11 @@ uint32_t swapBytes16(uint32_t v) {
 
 }  // namespace
 
-// Big-endian fields other than the TI layout's (16 bits on a byte boundary) go bit by bit (none of
-// bms.yaml's).
+// The host tools' packer (pack() at run time); the firmware packs its frames with packStream() below.
 void packRuntime(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values, uint8_t count) {
   data = {};
-  for (; count != 0; --count, ++fields, ++values) {
-    const Field f = *fields;
-    uint32_t v = fieldBits(*values, f.length);
-    uint32_t at = f.start;
-    if (FW_CAN_TI_LAYOUT && f.bigEndian) {
-      if (f.length != 16 || f.start % 8 != 7) {
-        put(data, f.start, f.length, true, v);
-        continue;
-      }
-      v = swapBytes16(v);
-      at -= 7;  // its first byte's bit 0
-    }
-    orBits(data, at, f.length, v);
-  }
+  for (; count != 0; --count, ++fields, ++values)
+    put(data, fields->start, fields->length, FW_CAN_TI_LAYOUT && fields->bigEndian, *values);
 }
 
 void packStream(std::array<uint8_t, 8>& data, const uint8_t* codes, const uint32_t* values, uint8_t count) {

@@ -58,7 +58,8 @@ struct Field {
 };
 static_assert(sizeof(Field) == 2);
 
-// Out-of-line packing loop (can_bits.cpp): one copy in the image, however many messages use it.
+// Out-of-line packing loop (can_bits.cpp) of pack() at run time, for the host tools: the firmware packs its
+// own frames from stream codes (packStream() below).
 void packRuntime(std::array<uint8_t, 8>& data, const Field* fields, const uint32_t* values, uint8_t count);
 
 // Writes the whole payload: every bit that no field covers is 0.
