@@ -63,7 +63,7 @@ constexpr uint16_t crc16(const uint8_t* data, size_t length, uint16_t crc = kCrc
   if (length == 0) return crc;
   const uint8_t* const end = data + length;
   do {
-    crc = static_cast<uint16_t>((crc >> 8) ^ detail::kCrc16Table.entry[static_cast<uint8_t>(crc ^ *data)]);
+    crc = crc16Update(crc, *data);
   } while (++data != end);
   return crc;
 }
