@@ -55,6 +55,15 @@ struct Rig {
   bool loaded = false;
 };
 
+// The warnings of a `us` run of the image, which must not stop (a warning rule names what silicon would only
+// degrade).
+std::vector<std::string> warningsOf(const std::string& preset, const ElfFile& elf, uint64_t us) {
+  Rig r(preset, elf);
+  r.board.runUntilUs(us);
+  EXPECT_EQ(r.board.machine().stopReason(), "");
+  return r.board.warnings();
+}
+
 std::unique_ptr<ElfFile> loadElf(const std::string& preset) {
   auto elf = std::make_unique<ElfFile>();
   if (!std::filesystem::exists(elfPath(preset)) || !elf->load(elfPath(preset))) return nullptr;
@@ -209,14 +218,10 @@ TEST(BrokenImage, AnMcanInterruptNeverAcknowledgedIsCaught) {
   LOAD_OR_SKIP(elf, preset);
   const auto eoi = storesTo(preset, *elf, 0x40508000 + 0x7220, 500000);
   ASSERT_FALSE(eoi.empty()) << "the image never writes MCANSS_EOI";
-  auto warnings = [&](const ElfFile& image) {
-    Rig r(preset, image);
-    r.board.runUntilUs(1000000);
-    return r.board.warnings();
-  };
-  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
+  const auto clean = warningsOf(preset, *elf, 1000000);
+  EXPECT_TRUE(clean.empty()) << clean.front();
   removeStores(*elf, eoi);
-  const auto caught = warnings(*elf);
+  const auto caught = warningsOf(preset, *elf, 1000000);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("waiting for MCANSS_EOI"), std::string::npos) << caught[0];
 }
@@ -694,18 +699,13 @@ TEST(BrokenImage, TheFclWrittenWithoutItsKeyIsNamedByTheKeyRule) {
   // without its frequency correction loop; the image would run on, so the twin warns.
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  auto warnings = [&](const ElfFile& image) {
-    Rig r(preset, image);
-    r.board.runUntilUs(300000);
-    EXPECT_EQ(r.board.machine().stopReason(), "");
-    return r.board.warnings();
-  };
-  EXPECT_TRUE(warnings(*elf).empty()) << warnings(*elf).front();
+  const auto clean = warningsOf(preset, *elf, 300000);
+  EXPECT_TRUE(clean.empty()) << clean.front();
   const auto fcl = storeSites(preset, *elf, 0x400AF000 + 0x1310, 50000);
   ASSERT_EQ(fcl.size(), 1U);
   ASSERT_EQ(fcl[0].value >> 24, 0x2AU);
   ASSERT_TRUE(storeValue(*elf, fcl[0], fcl[0].value & 0x00FFFFFFU));
-  const auto caught = warnings(*elf);
+  const auto caught = warningsOf(preset, *elf, 300000);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("[KEY-WRITE] SYSCTL SYSOSCFCLCTL"), std::string::npos) << caught[0];
 }
@@ -715,17 +715,12 @@ TEST(BrokenImage, AWatchdogNeverStartedIsNamedWhenBringUpEnds) {
   // but the part is then unsupervised: the twin warns at the first idle WFI.
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  auto run = [&](const ElfFile& image) {
-    Rig r(preset, image);
-    r.board.runUntilUs(500000);
-    EXPECT_EQ(r.board.machine().stopReason(), "");
-    return r.board.warnings();
-  };
-  EXPECT_TRUE(run(*elf).empty()) << run(*elf).front();
+  const auto clean = warningsOf(preset, *elf, 500000);
+  EXPECT_TRUE(clean.empty()) << clean.front();
   const auto start = storesTo(preset, *elf, 0x40080000 + 0x1100, 50000);
   ASSERT_EQ(start.size(), 1U);
   removeStores(*elf, start);
-  const auto caught = run(*elf);
+  const auto caught = warningsOf(preset, *elf, 500000);
   ASSERT_EQ(caught.size(), 1U);
   EXPECT_NE(caught[0].find("[WWDT-STOPPED]"), std::string::npos) << caught[0];
   EXPECT_NE(caught[0].find("WWDT0 never started"), std::string::npos) << caught[0];
@@ -774,9 +769,7 @@ TEST(BrokenImage, AUartDmaOnTheHalfEmptyLevelIsNamedByTheLevelRule) {
   ASSERT_EQ(ifls.size(), 1U);
   ASSERT_EQ(ifls[0].value & 7U, 7U);
   ASSERT_TRUE(storeValue(*elf, ifls[0], (ifls[0].value & ~7U) | 2U));
-  Rig r(preset, *elf);
-  r.board.runUntilUs(300000);
-  const auto warnings = r.board.warnings();
+  const auto warnings = warningsOf(preset, *elf, 300000);
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("[UART-DMA-LEVEL]"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("TXIFLSEL 2"), std::string::npos) << warnings[0];
@@ -822,9 +815,7 @@ TEST(BrokenImage, AnRxDmaWithoutDestinationIncrementIsNamed) {
   }
   ASSERT_NE(rx.pc, 0U) << "no DMACTL write enabling a channel with the destination incremented";
   ASSERT_TRUE(storeValue(*elf, rx, rx.value & ~(0xFU << 20)));
-  Rig r(preset, *elf);
-  r.board.runUntilUs(300000);
-  const auto warnings = r.board.warnings();
+  const auto warnings = warningsOf(preset, *elf, 300000);
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("[DMA-NO-INCREMENT]"), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("from UART0 RX"), std::string::npos) << warnings[0];
