@@ -43,6 +43,25 @@ class Chip : public ::testing::Test {
   void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
   bool stopped() { return chip_.machine().stopped(); }
   std::string why() { return chip_.machine().stopReason(); }
+  // The G3507 images' MCAN bring-up, in the steps the MCAN tests interleave with their own writes.
+  void startHfxt() {  // HFXT for CANCLK, start-up monitor on, through its start-up time
+    wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
+    wr(kSysctl + 0x1108, 1);
+    runUs(700);
+  }
+  void powerMcan() {
+    wr(kCan + 0x6800, kPwrenOn);
+    wr(kCan + 0x7900, 1);  // MCANSS_CLKEN.CLK_REQEN
+  }
+  void enterMcanConfiguration() {
+    wr(kCan + 0x7018, 1);           // CCCR INIT (its reset value)
+    wr(kCan + 0x7018, 3);           // INIT + CCE
+    wr(kCan + 0x701C, 0x12004409);  // NBTP: 500 kbit/s from 40 MHz
+  }
+  void muxCanPins() {
+    wr(0x40428000 + 4 * 34, 0x80 | 5);               // PA12 CANFD0_CANTX
+    wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));  // PA13 CANFD0_CANRX
+  }
 
   Mspm0 chip_;
 };
@@ -410,25 +429,19 @@ TEST_F(I2c, AFlushEndedBeforeMfifosrShowedItDoneStopsTheRun) {
 TEST_F(Chip, McanHoldsItsInterruptLineUntilEoi) {
   // MCANSS_EOI: "A write to this register will clear the associated interrupt ... 0x01 MCAN(0) interrupt is
   // cleared" (hw_mcan.h): after one interrupt, line 0 gives no other until EOI, however many IR events come.
-  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);  // HFXT for CANCLK, start-up monitor on
-  wr(kSysctl + 0x1108, 1);
-  runUs(700);
-  wr(kCan + 0x6800, kPwrenOn);
-  wr(kCan + 0x7900, 1);  // MCANSS_CLKEN.CLK_REQEN
+  startHfxt();
+  powerMcan();
   runUs(10);
   ASSERT_NE(rd(kCan + 0x7208) & 2U, 0U);  // MEM_INIT_DONE
-  wr(kCan + 0x7018, 1);                   // CCCR INIT (its reset value)
-  wr(kCan + 0x7018, 3);                   // INIT + CCE
-  wr(kCan + 0x701C, 0x12004409);          // NBTP: 500 kbit/s from 40 MHz
-  wr(kCan + 0x70C0, 8U << 24);            // TXBC: 8-element TX FIFO at 0
-  wr(kCan + 0x70E0, 0xFF);                // TXBTIE
-  wr(kCan + 0x7054, 1U << 9);             // IE: TC
-  wr(kCan + 0x705C, 1);                   // ILE: line 0
-  wr(kCan + 0x7828, 1);                   // wrapper IMASK INTL0
+  enterMcanConfiguration();
+  wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO at 0
+  wr(kCan + 0x70E0, 0xFF);      // TXBTIE
+  wr(kCan + 0x7054, 1U << 9);   // IE: TC
+  wr(kCan + 0x705C, 1);         // ILE: line 0
+  wr(kCan + 0x7828, 1);         // wrapper IMASK INTL0
   runUs(1);
-  wr(kCan + 0x7018, 0);                            // leave INIT
-  wr(0x40428000 + 4 * 34, 0x80 | 5);               // PA12 CANFD0_CANTX
-  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));  // PA13 CANFD0_CANRX
+  wr(kCan + 0x7018, 0);  // leave INIT
+  muxCanPins();
   auto send = [&](uint32_t element) {
     wr(kCan + element * 16, 0x100U << 18);  // T0: standard ID 0x100
     wr(kCan + element * 16 + 4, 8U << 16);  // T1: DLC 8
@@ -452,11 +465,8 @@ TEST_F(Chip, McanConfigurationBeforeInitReadsBackIsStoppedByTheSyncRule) {
   // "there may be a delay until the value written to INIT can be read back" (hw_mcan.h CCCR.INIT); CCE and
   // the protected registers take a write only with INIT = 1 (CCCR.CCE). From reset INIT is 1 already: INIT
   // then CCE at once is fine. Once INIT was cleared, setting INIT and CCE without waiting is refused.
-  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-  wr(kSysctl + 0x1108, 1);
-  runUs(700);
-  wr(kCan + 0x6800, kPwrenOn);
-  wr(kCan + 0x7900, 1);
+  startHfxt();
+  powerMcan();
   runUs(10);
   wr(kCan + 0x7018, 1);
   wr(kCan + 0x7018, 3);  // INIT from reset: CCE taken
@@ -485,12 +495,9 @@ TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
 TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
   // GENCLKCFG.CANCLKSRC 1 = SYSPLLCLK1 (hw_sysctl_mspm0g1x0x_g3x0x.h) with HSCLKEN.SYSPLLEN clear: CANCLK has
   // no source, MEM_INIT_DONE never comes.
-  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-  wr(kSysctl + 0x1108, 1);  // HFXT on
-  runUs(700);
+  startHfxt();
   wr(kSysctl + 0x1138, 1U << 8);  // CANCLKSRC = SYSPLLCLK1
-  wr(kCan + 0x6800, kPwrenOn);
-  wr(kCan + 0x7900, 1);  // CLK_REQEN
+  powerMcan();
   ASSERT_TRUE(stopped());
   EXPECT_NE(why().find("[CLOCK-OFF]"), std::string::npos) << why();
   EXPECT_NE(why().find("SYSPLL is off"), std::string::npos) << why();
@@ -498,15 +505,10 @@ TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
 
 TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
   // IR.TC is raised only for TX buffers whose TXBTIE bit is set (hw_mcan.h TXBTIE): IE.TCE alone never fires.
-  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-  wr(kSysctl + 0x1108, 1);
-  runUs(700);
-  wr(kCan + 0x6800, kPwrenOn);
-  wr(kCan + 0x7900, 1);
+  startHfxt();
+  powerMcan();
   runUs(10);
-  wr(kCan + 0x7018, 1);
-  wr(kCan + 0x7018, 3);
-  wr(kCan + 0x701C, 0x12004409);
+  enterMcanConfiguration();
   wr(kCan + 0x70C0, 8U << 24);  // TXBC: 8-element TX FIFO, TXBTIE left 0
   wr(kCan + 0x7054, 1U << 9);   // IE: TC
   wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
@@ -523,17 +525,11 @@ TEST_F(Chip, McanWithTransmitCompleteEnabledButNoBufferArmedIsNamed) {
 class McanBusOff : public Chip {
  protected:
   void goBusOff() {  // on the bus at 500 kbit/s from the 40 MHz HFXT, as the images, then knocked off
-    wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-    wr(kSysctl + 0x1108, 1);
-    runUs(700);
-    wr(kCan + 0x6800, kPwrenOn);
-    wr(kCan + 0x7900, 1);
+    startHfxt();
+    powerMcan();
     runUs(10);
-    wr(kCan + 0x7018, 1);
-    wr(kCan + 0x7018, 3);
-    wr(kCan + 0x701C, 0x12004409);
-    wr(0x40428000 + 4 * 34, 0x80 | 5);
-    wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+    enterMcanConfiguration();
+    muxCanPins();
     wr(kCan + 0x7018, 0);
     runUs(100);
     chip_.mcan()->injectBusOff();
@@ -567,15 +563,10 @@ TEST_F(McanBusOff, InitClearedByTheCpuRecoversAndIsNotNamed) {
 // rules periph/mcan.hpp cites): the first matching element decides; a frame no element matches follows
 // GFC.ANFS; a rejected frame leaves no trace; a full FIFO in blocking mode loses the new frame.
 TEST_F(Chip, McanReceivesThroughItsFilterListIntoFifoZero) {
-  wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
-  wr(kSysctl + 0x1108, 1);
-  runUs(700);
-  wr(kCan + 0x6800, kPwrenOn);
-  wr(kCan + 0x7900, 1);
+  startHfxt();
+  powerMcan();
   runUs(10);
-  wr(kCan + 0x7018, 1);
-  wr(kCan + 0x7018, 3);
-  wr(kCan + 0x701C, 0x12004409);
+  enterMcanConfiguration();
   wr(kCan + 0x7080, (2U << 4) | (2U << 2) | 3U);  // GFC: reject non-matching and remote frames
   wr(kCan + 0x7084, 0x200U | (3U << 16));         // SIDFC: three elements at 0x200
   wr(kCan + 0x200, (0U << 30) | (1U << 27) | (0x100U << 16) | 0x10FU);  // range 0x100..0x10F: FIFO 0
@@ -585,8 +576,7 @@ TEST_F(Chip, McanReceivesThroughItsFilterListIntoFifoZero) {
   wr(kCan + 0x7054, 0xF);                                               // IE: RF0N..RF0L
   runUs(1);
   wr(kCan + 0x7018, 0);
-  wr(0x40428000 + 4 * 34, 0x80 | 5);
-  wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));
+  muxCanPins();
   runUs(100);
   twin::Mcan& mcan = *chip_.mcan();
   auto arrive = [&](uint32_t id) {
