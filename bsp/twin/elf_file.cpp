@@ -12,7 +12,10 @@ namespace {
 
 // ELF32 field offsets (System V gABI "ELF Header", "Program Header", "Section Header", "Symbol Table").
 constexpr uint32_t kPtLoad = 1;
-constexpr uint32_t kShtSymtab = 2;
+constexpr uint32_t kShtProgbits = 1, kShtSymtab = 2;
+// The section holding the image's preset name (bsp/mspm0/CMakeLists.txt adds it after the link).
+constexpr const char* kImageSection = ".bms_image";
+constexpr uint32_t kMaxImageName = 64;
 constexpr uint16_t kEtExec = 2;
 constexpr uint16_t kEmArm = 40;
 constexpr uint8_t kSttNotype = 0, kSttObject = 1, kSttFunc = 2;
@@ -42,6 +45,7 @@ bool ElfFile::fail(const std::string& what) {
   error_ = path_ + ": " + what;
   flash_.clear();
   symbols_.clear();
+  imageName_.clear();
   return false;
 }
 
@@ -50,6 +54,7 @@ bool ElfFile::load(const std::string& path) {
   error_.clear();
   flash_.clear();
   symbols_.clear();
+  imageName_.clear();
   std::ifstream in(path, std::ios::binary);
   if (!in) return fail("cannot read the file");
   const std::vector<uint8_t> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -60,6 +65,7 @@ bool ElfFile::load(const std::string& path) {
   entry_ = le32(b, 24);
   const uint32_t phoff = le32(b, 28), shoff = le32(b, 32);
   const uint16_t phentsize = le16(b, 42), phnum = le16(b, 44), shentsize = le16(b, 46), shnum = le16(b, 48);
+  const uint16_t shstrndx = le16(b, 50);
   if (phentsize < 32 || static_cast<uint64_t>(phoff) + static_cast<uint64_t>(phnum) * phentsize > b.size())
     return fail("program headers outside the file");
 
@@ -78,6 +84,26 @@ bool ElfFile::load(const std::string& path) {
 
   if (shentsize < 40 || static_cast<uint64_t>(shoff) + static_cast<uint64_t>(shnum) * shentsize > b.size())
     return fail("section headers outside the file");
+  if (shstrndx < shnum) {
+    // The section names (e_shstrndx), for the one section looked up by name.
+    const size_t namesSh = shoff + static_cast<size_t>(shstrndx) * shentsize;
+    const uint32_t namesOffset = le32(b, namesSh + 16), namesSize = le32(b, namesSh + 20);
+    if (static_cast<uint64_t>(namesOffset) + namesSize > b.size())
+      return fail("a malformed section name table");
+    for (uint16_t i = 0; i < shnum; ++i) {
+      const size_t sh = shoff + static_cast<size_t>(i) * shentsize;
+      const uint32_t nameIndex = le32(b, sh), offset = le32(b, sh + 16), size = le32(b, sh + 20);
+      if (nameIndex >= namesSize || le32(b, sh + 4) != kShtProgbits) continue;
+      std::string name;
+      for (uint32_t k = namesOffset + nameIndex; k < namesOffset + namesSize && b[k] != 0; ++k)
+        name += static_cast<char>(b[k]);
+      if (name != kImageSection) continue;
+      if (static_cast<uint64_t>(offset) + size > b.size() || size > kMaxImageName)
+        return fail("a malformed .bms_image section");
+      for (uint32_t k = offset; k < offset + size && b[k] != 0 && b[k] != '\n'; ++k)
+        imageName_ += static_cast<char>(b[k]);
+    }
+  }
   for (uint16_t i = 0; i < shnum; ++i) {
     const size_t sh = shoff + static_cast<size_t>(i) * shentsize;
     if (le32(b, sh + 4) != kShtSymtab) continue;

@@ -9,6 +9,8 @@
 //   their flash (load) address, where the reset handler copies them from.
 // - symbol(name) / symbolAt(address): the .symtab entries (functions and objects); symbolAt returns the
 //   function or object containing the address ("" if none), demangled.
+// - imageName(): the image's preset name, the text of its `.bms_image` section (a section the MSPM0 build
+//   adds to every image, not loaded: bsp/mspm0/CMakeLists.txt), "" when the file has none.
 // - patch16(address, value): changes a halfword of the flash image (tests build broken variants of an image).
 #pragma once
 
@@ -37,6 +39,7 @@ class ElfFile {
   std::optional<ElfSymbol> symbol(const std::string& name) const;
   std::string symbolAt(uint32_t address) const;
   const std::vector<ElfSymbol>& symbols() const { return symbols_; }
+  const std::string& imageName() const { return imageName_; }
   bool patch16(uint32_t address, uint16_t value);
   bool patch32(uint32_t address, uint32_t value);
 
@@ -47,6 +50,7 @@ class ElfFile {
   std::string error_;
   std::vector<uint8_t> flash_;
   std::vector<ElfSymbol> symbols_;
+  std::string imageName_;
   uint32_t entry_ = 0;
 };
 

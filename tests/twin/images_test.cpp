@@ -160,6 +160,51 @@ void sweepFastPath(const std::string& preset, const char* what) {
         static_cast<unsigned long long>(worstDoneAt));
 }
 
+// Every built image names itself (its `.bms_image` section, bsp/mspm0/CMakeLists.txt), and the twin takes
+// the part and the monitor from that name: nothing is guessed from symbols or addresses.
+TEST(ImageIdentity, EveryBuiltImageNamesItselfAndTheTwinReadsItsPartAndMonitor) {
+  int seen = 0;
+  if (!std::filesystem::is_directory(TWIN_IMAGES)) GTEST_SKIP() << TWIN_IMAGES << " has no images";
+  for (const auto& dir : std::filesystem::directory_iterator(TWIN_IMAGES)) {
+    const std::string preset = dir.path().filename().string();
+    if (preset.rfind("lp-", 0) != 0 || !std::filesystem::exists(elfPath(preset))) continue;
+    ElfFile elf;
+    ASSERT_TRUE(elf.load(elfPath(preset))) << elf.error();
+    EXPECT_EQ(elf.imageName(), preset);
+    std::string error;
+    const auto id = twin::identify(elf, error);
+    ASSERT_TRUE(id) << error;
+    EXPECT_EQ(id->preset, preset);
+    EXPECT_EQ(id->part,
+              preset.find("mspm0l1306") != std::string::npos ? twin::Part::L1306 : twin::Part::G3507);
+    const bool bq769x = id->family == twin::Family::Bq76952 || id->family == twin::Family::Bq76907;
+    EXPECT_EQ(bq769x, preset.find("-bq769") != std::string::npos) << preset;
+    ++seen;
+  }
+  if (seen == 0) GTEST_SKIP() << "no image is built (./ci/test builds them)";
+}
+
+TEST(ImageIdentity, NamesOfPartsOrMonitorsTheTwinCannotWireAreRefused) {
+  EXPECT_TRUE(
+      twin::imageByPreset("lp-mspm0g3507-bq76907"));  // a pairing no image has yet: the board wires it
+  EXPECT_FALSE(twin::imageByPreset("lp-mspm0c1104-bq76952"));
+  EXPECT_FALSE(twin::imageByPreset("lp-mspm0l1306-bq76940"));
+  EXPECT_FALSE(twin::imageByPreset("lp-mspm0l1306-bq76952-x"));
+}
+
+#ifdef TWIN_PROGRAMS
+// An ELF that is not one of the repository's images (here a twin test program) has no name: refused, with
+// why.
+TEST(ImageIdentity, AnElfWithoutItsNameIsRefused) {
+  ElfFile elf;
+  ASSERT_TRUE(elf.load(std::string(TWIN_PROGRAMS) + "/sleep_on_exit.elf")) << elf.error();
+  EXPECT_EQ(elf.imageName(), "");
+  std::string error;
+  EXPECT_FALSE(twin::identify(elf, error));
+  EXPECT_NE(error.find("no .bms_image section"), std::string::npos) << error;
+}
+#endif
+
 TEST(FastPath, Bq76952AlertToFetsOffOnTheG3507) {
   sweepFastPath("lp-mspm0g3507-bq76952", "alert_to_fets_off");
 }

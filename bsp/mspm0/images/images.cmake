@@ -1,72 +1,104 @@
-# The five firmware images: one row each, read by bsp/mspm0/CMakeLists.txt (to build) and by
-# tests/firmware/CMakeLists.txt (to check). bms_image_info(<preset>) sets, in the caller's scope:
-#   BMS_IMAGE_CHIP          mspm0l1306 | mspm0g3507
+# The firmware images: one folder each under this one, found by its image.cmake (the image's description).
+# Read by bsp/mspm0/CMakeLists.txt (to build), by tests/ (to check and to run on the host and the twin), by
+# bms-sim's build and, through `bms_image_names` in ci/test's way of listing folders, by CI. Adding an image
+# is adding a folder (bsp/mspm0/README.md, "Adding an image"); CMakePresets.json must name it too, which the
+# test `images.presets` checks.
+#
+# bms_image_info(<preset>) sets, in the caller's scope:
+#   BMS_IMAGE_CHIP          mspm0l1306 | mspm0g3507                                  (image.cmake)
+#   BMS_IMAGE_BOARD         the board kind in images/common (board_<kind>.cpp)         (image.cmake)
+#   BMS_IMAGE_FAMILY        bq769x2 | bq79616 | bq4050: the suffix of its firmware libraries (fw_app_<family>,
+#                           fw_drv_<family>), emulator and bms-sim binding                  (image.cmake)
+#   BMS_IMAGE_DEVICE        the monitor part (bq76952, bq76907, bq79616, bq4050), the preset's suffix
+#                                                                                            (image.cmake)
+#   BMS_IMAGE_STACK         stack reservation in bytes (linker --defsym __stack_size__)    (image.cmake)
+#   BMS_IMAGE_HANDLERS      "<handler>:<irq>" for every peripheral interrupt the image uses (image.cmake)
 #   BMS_IMAGE_SRAM_BASE, BMS_IMAGE_SRAM_SIZE, BMS_IMAGE_FLASH_SIZE   the part's memories (tsv "mem" rows)
-#   BMS_IMAGE_BOARD         the board kind in images/common (board_<kind>.cpp)
-#   BMS_IMAGE_STACK         stack reservation in bytes (linker --defsym __stack_size__)
-#   BMS_IMAGE_FLASH_BUDGET  text + data limit in bytes
-#   BMS_IMAGE_SRAM_BUDGET   data + bss + measured worst-case stack limit in bytes
-#   BMS_IMAGE_HANDLERS      "<handler>:<irq>" for every peripheral interrupt the image uses
+#   BMS_IMAGE_FLASH_BUDGET  text + data limit in bytes                                     (the chip's)
+#   BMS_IMAGE_SRAM_BUDGET   data + bss + measured worst-case stack limit in bytes          (the chip's)
 #   BMS_IMAGE_BUDGET_SOURCE where the budgets come from
 #   BMS_IMAGE_DEFINES       the image's build options (<preset>/options.cmake, one NAME=VALUE a line with its
 #                           reason), applied to every firmware library of the image through fw_options so all
 #                           translation units agree; the host tests and bms-sim build the image's application
 #                           with the same file. Defaults and meanings: the config headers the file names.
 # Budgets (the full application on every image: watchdog, start-up configuration, every output, commands,
-# balancing, state of charge, record store, bootloader entry): each L1306 image flash 16 384 B (aim 12 KiB) and
-# SRAM 3 072 B of the part's 4 KiB including the worst-case stack; each G3507 image flash 24 576 B (aim 16 KiB),
-# SRAM 16 KiB (half the part, provisional).
+# balancing, state of charge, record store, bootloader entry), per chip: each L1306 image flash 16 384 B (aim
+# 12 KiB) and SRAM 3 072 B of the part's 4 KiB including the worst-case stack; each G3507 image flash
+# 24 576 B (aim 16 KiB), SRAM 16 KiB (half the part, provisional).
 set(BMS_MSPM0_IMAGES_DIR ${CMAKE_CURRENT_LIST_DIR})
-set(BMS_MSPM0_IMAGES lp-mspm0l1306-bq76952 lp-mspm0l1306-bq76907 lp-mspm0g3507-bq79616 lp-mspm0g3507-bq4050
-                     lp-mspm0g3507-bq76952)
+file(GLOB _descriptions RELATIVE ${BMS_MSPM0_IMAGES_DIR} ${BMS_MSPM0_IMAGES_DIR}/*/image.cmake)
+set(BMS_MSPM0_IMAGES)
+foreach(_description ${_descriptions})
+  get_filename_component(_image ${_description} DIRECTORY)
+  list(APPEND BMS_MSPM0_IMAGES ${_image})
+endforeach()
+list(SORT BMS_MSPM0_IMAGES)
 
 function(bms_image_info image)
-  set(l1306_irqs GROUP1_IRQHandler:1 UART0_IRQHandler:15 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
-  set(g3507_i2c_irqs GROUP1_IRQHandler:1 CANFD0_IRQHandler:6 TIMG0_IRQHandler:16 I2C0_IRQHandler:24)
   if(NOT image IN_LIST BMS_MSPM0_IMAGES)
     message(FATAL_ERROR "unknown MSPM0 image '${image}' (known: ${BMS_MSPM0_IMAGES})")
   endif()
-  include(${BMS_MSPM0_IMAGES_DIR}/${image}/options.cmake)
-  set(defines ${BMS_IMAGE_OPTIONS})
-  if(image STREQUAL "lp-mspm0l1306-bq76952")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 16384 3072 "full application" "${l1306_irqs}")
-  elseif(image STREQUAL "lp-mspm0l1306-bq76907")
-    set(row mspm0l1306 l1306_i2c_slcan 1024 16384 3072 "full application" "${l1306_irqs}")
-  elseif(image STREQUAL "lp-mspm0g3507-bq79616")
-    if(BMS_BQ79616_UART STREQUAL "UART1_PA8_PA9")
-      set(uart UART1_IRQHandler:13)
-    else()
-      set(uart UART0_IRQHandler:15)
+  foreach(var CHIP BOARD FAMILY DEVICE STACK HANDLERS)
+    unset(BMS_IMAGE_${var})
+  endforeach()
+  include(${BMS_MSPM0_IMAGES_DIR}/${image}/image.cmake)
+  foreach(var CHIP BOARD FAMILY DEVICE STACK HANDLERS)
+    if("${BMS_IMAGE_${var}}" STREQUAL "")
+      message(FATAL_ERROR "${BMS_MSPM0_IMAGES_DIR}/${image}/image.cmake: BMS_IMAGE_${var} is not set")
     endif()
-    set(row mspm0g3507 g3507_can 2048 24576 16384 "full application (flash), SRAM provisional"
-        "GROUP1_IRQHandler:1;CANFD0_IRQHandler:6;${uart};TIMG0_IRQHandler:16;TIMG6_IRQHandler:17")
-  else()  # lp-mspm0g3507-bq4050, lp-mspm0g3507-bq76952
-    set(row mspm0g3507 g3507_can 2048 24576 16384 "full application (flash), SRAM provisional" "${g3507_i2c_irqs}")
+  endforeach()
+  # The preset's name states the board's part and the monitor (lp-<chip>-<device>): tools and the twin read it.
+  if(NOT image STREQUAL "lp-${BMS_IMAGE_CHIP}-${BMS_IMAGE_DEVICE}")
+    message(FATAL_ERROR "${image}/image.cmake: an image is named lp-<chip>-<device> "
+                        "(here lp-${BMS_IMAGE_CHIP}-${BMS_IMAGE_DEVICE})")
   endif()
-  list(GET row 0 chip)
-  list(GET row 1 board)
-  list(GET row 2 stack)
-  list(GET row 3 flash)
-  list(GET row 4 sram)
-  list(GET row 5 source)
-  list(SUBLIST row 6 -1 handlers)
-  set(BMS_IMAGE_CHIP ${chip} PARENT_SCOPE)
-  if(chip STREQUAL "mspm0l1306")
-    set(BMS_IMAGE_SRAM_BASE 0x20000000 PARENT_SCOPE)
-    set(BMS_IMAGE_SRAM_SIZE 0x1000 PARENT_SCOPE)
-    set(BMS_IMAGE_FLASH_SIZE 0x10000 PARENT_SCOPE)
+  include(${BMS_MSPM0_IMAGES_DIR}/${image}/options.cmake)
+  if(BMS_IMAGE_CHIP STREQUAL "mspm0l1306")
+    set(memories 0x20000000 0x1000 0x10000)
+    set(budgets 16384 3072 "full application")
+  elseif(BMS_IMAGE_CHIP STREQUAL "mspm0g3507")
+    set(memories 0x20200000 0x8000 0x20000)
+    set(budgets 24576 16384 "full application (flash), SRAM provisional")
   else()
-    set(BMS_IMAGE_SRAM_BASE 0x20200000 PARENT_SCOPE)
-    set(BMS_IMAGE_SRAM_SIZE 0x8000 PARENT_SCOPE)
-    set(BMS_IMAGE_FLASH_SIZE 0x20000 PARENT_SCOPE)
+    message(FATAL_ERROR "${image}/image.cmake: unknown chip '${BMS_IMAGE_CHIP}' (mspm0l1306, mspm0g3507)")
   endif()
-  set(BMS_IMAGE_BOARD ${board} PARENT_SCOPE)
-  set(BMS_IMAGE_STACK ${stack} PARENT_SCOPE)
-  set(BMS_IMAGE_FLASH_BUDGET ${flash} PARENT_SCOPE)
-  set(BMS_IMAGE_SRAM_BUDGET ${sram} PARENT_SCOPE)
+  foreach(var CHIP BOARD FAMILY DEVICE STACK HANDLERS)
+    set(BMS_IMAGE_${var} ${BMS_IMAGE_${var}} PARENT_SCOPE)
+  endforeach()
+  list(GET memories 0 base)
+  list(GET memories 1 sram)
+  list(GET memories 2 flash)
+  set(BMS_IMAGE_SRAM_BASE ${base} PARENT_SCOPE)
+  set(BMS_IMAGE_SRAM_SIZE ${sram} PARENT_SCOPE)
+  set(BMS_IMAGE_FLASH_SIZE ${flash} PARENT_SCOPE)
+  list(GET budgets 0 flash_budget)
+  list(GET budgets 1 sram_budget)
+  list(GET budgets 2 source)
+  set(BMS_IMAGE_FLASH_BUDGET ${flash_budget} PARENT_SCOPE)
+  set(BMS_IMAGE_SRAM_BUDGET ${sram_budget} PARENT_SCOPE)
   set(BMS_IMAGE_BUDGET_SOURCE "${source}" PARENT_SCOPE)
-  set(BMS_IMAGE_HANDLERS ${handlers} PARENT_SCOPE)
-  set(BMS_IMAGE_DEFINES ${defines} PARENT_SCOPE)
+  set(BMS_IMAGE_DEFINES ${BMS_IMAGE_OPTIONS} PARENT_SCOPE)
+endfunction()
+
+# bms_images(<out> [CHIP <chip>] [BOARD <kind>] [FAMILY <family>]): the images, or those on one chip, board
+# kind or device family.
+function(bms_images out)
+  cmake_parse_arguments(arg "" "CHIP;BOARD;FAMILY" "" ${ARGN})
+  set(selected)
+  foreach(image ${BMS_MSPM0_IMAGES})
+    bms_image_info(${image})
+    if(arg_CHIP AND NOT BMS_IMAGE_CHIP STREQUAL arg_CHIP)
+      continue()
+    endif()
+    if(arg_BOARD AND NOT BMS_IMAGE_BOARD STREQUAL arg_BOARD)
+      continue()
+    endif()
+    if(arg_FAMILY AND NOT BMS_IMAGE_FAMILY STREQUAL arg_FAMILY)
+      continue()
+    endif()
+    list(APPEND selected ${image})
+  endforeach()
+  set(${out} ${selected} PARENT_SCOPE)
 endfunction()
 
 # bms_sources_of(<out> <target>...): the absolute paths of the targets' own sources.
@@ -83,16 +115,10 @@ function(bms_sources_of out)
   set(${out} ${all} PARENT_SCOPE)
 endfunction()
 
-# bms_image_family(<image> <out>): the image's device family (bq769x2, bq79616, bq4050), the suffix of its
-# firmware libraries (fw_app_<family>, fw_drv_<family>), emulator and bms-sim binding.
+# bms_image_family(<image> <out>): the image's device family (bq769x2, bq79616, bq4050), from its description.
 function(bms_image_family image out)
-  if(image MATCHES "-bq769(52|05|07)$")
-    set(${out} bq769x2 PARENT_SCOPE)
-  elseif(image MATCHES "-bq79616$")
-    set(${out} bq79616 PARENT_SCOPE)
-  else()
-    set(${out} bq4050 PARENT_SCOPE)
-  endif()
+  bms_image_info(${image})
+  set(${out} ${BMS_IMAGE_FAMILY} PARENT_SCOPE)
 endfunction()
 
 # bms_image_app_sources(<image> <out>): every target-independent firmware source of the image's application

@@ -15,54 +15,37 @@ constexpr uint64_t kSlcanBaud = 115200;
 constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb26 = 57;
 constexpr uint8_t kBq769xAddress = 0x08;
 
-bool contains(const std::string& s, const char* what) {
-  return s.find(what) != std::string::npos;
-}
-
 }  // namespace
 
-const std::vector<ImageId>& images() {
-  static const std::vector<ImageId> list = {
-      {Part::L1306, Family::Bq76952, "lp-mspm0l1306-bq76952"},
-      {Part::L1306, Family::Bq76907, "lp-mspm0l1306-bq76907"},
-      {Part::G3507, Family::Bq79616, "lp-mspm0g3507-bq79616"},
-      {Part::G3507, Family::Bq4050, "lp-mspm0g3507-bq4050"},
-      {Part::G3507, Family::Bq76952, "lp-mspm0g3507-bq76952"},
-  };
-  return list;
-}
-
 std::optional<ImageId> imageByPreset(const std::string& preset) {
-  for (const ImageId& id : images()) {
-    if (preset == id.preset) return id;
+  static constexpr struct {
+    const char* chip;
+    Part part;
+  } kParts[] = {{"mspm0l1306", Part::L1306}, {"mspm0g3507", Part::G3507}};
+  static constexpr struct {
+    const char* device;
+    Family family;
+  } kDevices[] = {{"bq76952", Family::Bq76952},
+                  {"bq76907", Family::Bq76907},
+                  {"bq79616", Family::Bq79616},
+                  {"bq4050", Family::Bq4050}};
+  for (const auto& p : kParts) {
+    for (const auto& d : kDevices) {
+      if (preset == std::string("lp-") + p.chip + "-" + d.device) return ImageId{p.part, d.family, preset};
+    }
   }
   return std::nullopt;
 }
 
 std::optional<ImageId> identify(const ElfFile& elf, std::string& error) {
-  const auto top = elf.symbol("__stack_top__");
-  if (!top) {
-    error = elf.path() + ": no __stack_top__ symbol: not one of the MSPM0 images (bsp/mspm0/linker)";
+  const std::string& name = elf.imageName();
+  if (name.empty()) {
+    error = elf.path() + ": no .bms_image section: not an MSPM0 image of this repository (bsp/mspm0)";
     return std::nullopt;
   }
-  const uint32_t sramRegion = top->value & 0xFFF00000U;
-  if (sramRegion != 0x20000000U && sramRegion != 0x20200000U) {
-    error = elf.path() + ": its stack is not in the SRAM of an MSPM0L1306 or MSPM0G3507";
-    return std::nullopt;
-  }
-  const Part part = sramRegion == 0x20200000U ? Part::G3507 : Part::L1306;
-  std::optional<Family> family;
-  for (const ElfSymbol& s : elf.symbols()) {
-    if (contains(s.name, "bq79616")) family = Family::Bq79616;
-    if (!family && contains(s.name, "bq4050")) family = Family::Bq4050;
-    if (!family && contains(s.name, "Bq7690x")) family = Family::Bq76907;
-    if (!family && contains(s.name, "Bq769x2")) family = Family::Bq76952;
-  }
-  for (const ImageId& id : images()) {
-    if (family && id.part == part && id.family == *family) return id;
-  }
-  error = elf.path() + ": its monitor driver and part match none of the five images (give --image)";
-  return std::nullopt;
+  std::optional<ImageId> id = imageByPreset(name);
+  if (!id) error = elf.path() + ": the image " + name + " has a part or monitor the twin cannot wire up";
+  return id;
 }
 
 // The I2C device as the controller sees it: the emulator's replies, plus the SCL stretch the scenario puts on

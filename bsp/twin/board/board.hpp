@@ -39,13 +39,12 @@ enum class Family : uint8_t { Bq76952, Bq76907, Bq79616, Bq4050 };
 struct ImageId {
   Part part;
   Family family;
-  const char* preset;
+  std::string preset;
 };
 
-// The five images. identify() recognises one from its ELF: the part from where the stack starts (SRAM at
-// 0x20000000 or 0x20200000, symbol __stack_top__), the monitor from the driver code it contains
-// (fw::drivers::bq79616, fw::drivers::bq4050, Bq7690x or Bq769x2 classes).
-const std::vector<ImageId>& images();
+// An image is named lp-<chip>-<device> (bsp/mspm0/images/images.cmake checks it): imageByPreset() reads the
+// part and the monitor from the name, for any image whose part and monitor the twin's board can wire up;
+// identify() reads the name from the ELF's `.bms_image` section (ElfFile::imageName()).
 std::optional<ImageId> imageByPreset(const std::string& preset);
 std::optional<ImageId> identify(const ElfFile& elf, std::string& error);
 
