@@ -34,8 +34,8 @@ namespace fw::app {
 
 struct Bq4050AppConfig {
   drivers::bq4050::GaugeConfig gauge{};
-  Duration scanPeriod = ms(100);
-  Duration retryInterval = ms(100);  // between failed probes (a probe of an absent gauge is a few NACKs)
+  Duration scanPeriod = kScanPeriod;  // the default limits' debounce counts assume it (default_limits.hpp)
+  Duration retryInterval = ms(100);   // between failed probes (a probe of an absent gauge is a few NACKs)
 };
 
 // The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each
@@ -45,9 +45,7 @@ struct Bq4050AppConfig {
 // charging does not read as a pack that cannot discharge (bq4050_app.cpp).
 uint8_t blockedPaths(const drivers::bq4050::Measurement& m);
 
-struct Bq4050Stats {
-  uint32_t scans = 0;
-  uint32_t scanFailures = 0;
+struct Bq4050Stats : ScanStats {
   uint32_t probes = 0;
 };
 

@@ -88,7 +88,7 @@ struct Bq769xAppConfig {
   std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
   uint8_t cells = 16;                                     // cells connected
   drivers::bq769x2::MonitorConfig monitor{};
-  Duration scanPeriod = ms(100);
+  Duration scanPeriod = kScanPeriod;  // the default limits' debounce counts assume it (default_limits.hpp)
   // After a set-up step past the probe failed (the device answers but refuses its configuration): the wait
   // before the next attempt, so CONFIG_UPDATE (which stops the device's protections) is not entered over and
   // over. A device that does not answer is probed again every scan period instead.
@@ -110,9 +110,7 @@ struct Bq769xAppConfig {
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
-struct Bq769xStats {
-  uint32_t scans = 0;
-  uint32_t scanFailures = 0;
+struct Bq769xStats : ScanStats {
   uint32_t fetCommands = 0;    // FET commands completed
   uint32_t setupAttempts = 0;  // probe/configure/FET-enable sequences started
   uint8_t configWrites = 0;    // settings the last configuration actually wrote (0: the device matched)

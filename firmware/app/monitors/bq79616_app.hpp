@@ -62,7 +62,7 @@ namespace fw::app {
 
 struct Bq79616AppConfig {
   drivers::bq79616::ChainConfig chain{};
-  Duration scanPeriod = ms(100);
+  Duration scanPeriod = kScanPeriod;  // the default limits' debounce counts assume it (default_limits.hpp)
   const ProtectionConfig* limits = nullptr;  // null: kSingleOutputLimits (default_limits.hpp)
   CanLayout layout = CanLayout::Native;
   Duration recoveryInterval = s(1);      // wait before another recovery while scans keep failing
@@ -90,9 +90,7 @@ inline constexpr BalancingRules kBq79616BalancingRules{drivers::bq79616::Balance
 // Devices whose timers one scan period writes (3 frames each, about 0.4 ms at 1 Mbaud).
 inline constexpr uint8_t kBalanceAppliesPerScan = 8;
 
-struct MonitorStats {
-  uint32_t scans = 0;            // scans completed
-  uint32_t scanFailures = 0;     // scans that did not validate every device
+struct Bq79616Stats : ScanStats {
   uint32_t earlyScans = 0;       // scans started by the fault line
   uint32_t scanOverruns = 0;     // scan periods that came while the previous scan was still running
   uint32_t recoveries = 0;       // bring-up and recovery operations run
@@ -125,7 +123,7 @@ class Bq79616Device : public MonitorBase {
         openWire_(driver_) {}
 
   const drivers::bq79616::Chain& chain() const { return driver_; }
-  const MonitorStats& stats() const { return records_->stats; }
+  const Bq79616Stats& stats() const { return records_->stats; }
   BalancingPolicy& balancing() { return policy_; }  // the command interface's entry
 
  protected:
@@ -224,7 +222,7 @@ class Bq79616Device : public MonitorBase {
     uint8_t openWireIn;                    // scans until the next check
   };
   struct Records {
-    MonitorStats stats;
+    Bq79616Stats stats;
     drivers::bq79616::ScanSummary summary;
     sched::Timer scanTimer;
     sched::Timer retryTimer;

@@ -21,7 +21,7 @@
 //
 // A Device is a class derived from MonitorBase that provides, in this order of members (small fields first:
 // Cortex-M0+ byte loads reach only 31 bytes past the object's address; the driver with its buffers last):
-//   scheduler_, view_, records_ (with .stats.scans, .stats.scanFailures, .scanTimer), driver_ (busy(),
+//   scheduler_, view_, records_ (with .stats, a ScanStats, and .scanTimer), driver_ (busy(),
 //   result(), onEvent()), and
 //   kCommands, kPublisherScanDone      device commands (startCommand()/commandPosted()/commandFinished());
 //                                      the publisher's scan-done event (0: none)
@@ -61,6 +61,13 @@ inline constexpr sched::EventMask kBalance = 0x40;
 inline constexpr uint8_t kFailuresBeforeRecovery = 3;
 
 enum class MonitorOp : uint8_t { None, Setup, Scan, Command };
+
+// What the loop counts on every device: the first fields of each device's statistics, which add their own
+// (core/stats.hpp: all 0 in a build without them).
+struct ScanStats {
+  uint32_t scans = 0;         // scans completed (a scan that gave way to a command is not one)
+  uint32_t scanFailures = 0;  // scans that did not validate every board
+};
 
 // What a finished scan means for the loop (Device::scanFinished()). Bit-fields: one byte, so the verdict
 // stays in a register once scanFinished() is folded into the loop.

@@ -28,7 +28,8 @@ using twin::Family;
 namespace bms = fw::can::bms;
 namespace b769 = fw::drivers::bq769x2;
 
-constexpr uint32_t kScanPeriodMs = 100;  // every image's scan period (app configs' default)
+constexpr uint32_t kScanPeriodMs =
+    fw::app::kScanPeriod.us / 1000;  // every image's scan period (app configs' default)
 
 // "t<iii><l><dd..>" / "T<iiiiiiii><l><dd..>" (firmware/app/publish/slcan.hpp) back into a frame; nullopt if
 // malformed.
