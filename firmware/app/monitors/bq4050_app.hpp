@@ -81,10 +81,6 @@ class Bq4050Device : public MonitorBase {
   // The events this task gave the gauge (its DriverContext): driver_.events(), as constants.
   static constexpr sched::EventMask driverEvents() { return monitor_event::kBus | monitor_event::kTimer; }
   static constexpr bool kFaultLineToo = false;
-  void attachFaultLine() {}  // the gauge has no fault line to the MCU
-  void scanTick() {}
-  bool commandWaiting() const { return false; }
-  Status startCommand() { return Status::Busy; }
 
   Status startSetup() {
     const Status s = driver_.startProbe(records_->info);

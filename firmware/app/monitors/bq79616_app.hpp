@@ -165,7 +165,6 @@ class Bq79616Device : public MonitorBase {
   void scanTick() {
     if (loop_->op == MonitorOp::Scan) ++records_->stats.scanOverruns;
   }
-  void commandPosted() {}  // nothing posts kCommand to this task
   // Balancing work (bq79616_app.cpp), only after the scan due has run.
   bool commandWaiting() const {
     const auto& f = *flags_;

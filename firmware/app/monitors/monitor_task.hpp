@@ -23,20 +23,27 @@
 // Cortex-M0+ byte loads reach only 31 bytes past the object's address; the driver with its buffers last):
 //   scheduler_, view_, records_ (with .stats, a ScanStats, and .scanTimer), driver_ (busy(),
 //   result(), onEvent()), and
-//   kCommands, kPublisherScanDone      device commands (startCommand()/commandPosted()/commandFinished());
-//                                      the publisher's scan-done event (0: none)
+//   kCommands, kPublisherScanDone      device commands (then commandWaiting(), startCommand(),
+//                                      commandFinished(Status), and commandPosted() if anything posts
+//                                      kCommand); the publisher's scan-done event (0: none)
 //   kFaultLineToo                      the monitor gets the fault line as well (then faultLine())
-//   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), attachFaultLine(),
-//   scanTick(), firstDataBound() (from power-up: the documented bound of the first bring-up and its first
-//   scan; PackView::inStartupGrace() until then or the first scan's result)
+//   kBalancing                         optional: the device balances (then balanceCheck())
+//   scanPeriod(), driverEvents() (constexpr: the events the task gave its driver), firstDataBound() (from
+//   power-up: the documented bound of the first bring-up and its first scan; PackView::inStartupGrace()
+//   until then or the first scan's result)
+//   attachFaultLine(), scanTick()                           optional: a device without them has no such work
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
-// Each image has one Device; link-time optimisation folds the hooks into the task (no hand inlining).
+// MonitorTask checks this contract when it is built (checkDevice(): one static_assert per hook, naming it),
+// where the device's protected hooks are visible. Each image has one Device; link-time optimisation folds the
+// hooks into the task (no hand inlining).
 // Thread mode only (the task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
 #pragma once
 
+#include <concepts>
 #include <cstdint>
+#include <type_traits>
 
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
@@ -116,10 +123,11 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
   void start() {
+    checkDevice();
     this->view_.startupGrace = true;  // until the first scan's result, or firstDataBound()
     this->view_.firstDataDue = Instant{this->firstDataBound().us};
     this->scheduler_.addTask(kId, *this, {}, true);
-    this->attachFaultLine();
+    if constexpr (requires(MonitorTask & t) { t.attachFaultLine(); }) this->attachFaultLine();
     // Scans start on the clock's scan-period grid, whatever start-up took: the host build and the image on
     // the twin (which boots for 0.5 ms first) then scan at the same instants and see a scenario the same way.
     this->scheduler_.startTimer(this->records_->scanTimer, kId, monitor_event::kScanTick,
@@ -133,11 +141,11 @@ class MonitorTask final : public Device, public sched::Task {
     // all, so a scan in progress gives way before the driver starts its next read.
     const sched::EventMask driverEvents = this->driverEvents();
     if ((events & ~driverEvents) != 0) {
-      if constexpr (Device::kCommands) {
+      if constexpr (requires(MonitorTask & t) { t.commandPosted(); }) {
         if ((events & kCommand) != 0) this->commandPosted();
       }
       if ((events & kScanTick) != 0) {
-        this->scanTick();
+        if constexpr (requires(MonitorTask & t) { t.scanTick(); }) this->scanTick();
         this->loop_->scanDue = true;
         this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
       }
@@ -154,6 +162,70 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
  private:
+  // The device contract (the list at the top of this file), one hook per assertion so a device that lacks
+  // one or gives it another type is told which. Checked here, where the device's protected hooks are visible.
+  static consteval void checkDevice() {
+    static_assert(std::is_base_of_v<MonitorBase, Device>, "a Device derives from MonitorBase");
+    static_assert(
+        requires(MonitorTask & t) {
+          { t.scheduler_ } -> std::convertible_to<sched::Scheduler&>;
+          { t.view_ } -> std::convertible_to<PackView&>;
+        },
+        "Device::scheduler_ (sched::Scheduler&) and view_ (PackView&)");
+    static_assert(
+        requires(MonitorTask & t) {
+          { t.records_->stats } -> std::convertible_to<ScanStats&>;
+          { t.records_->scanTimer } -> std::convertible_to<sched::Timer&>;
+        },
+        "Device::records_ with stats (a ScanStats) and scanTimer");
+    static_assert(
+        requires(MonitorTask & t, sched::EventMask e) {
+          { t.driver_.busy() } -> std::same_as<bool>;
+          { t.driver_.result() } -> std::same_as<Status>;
+          { t.driver_.onEvent(e) } -> std::same_as<drivers::Progress>;
+        },
+        "Device::driver_ with busy(), result() and onEvent(EventMask) -> Progress");
+    static_assert(std::is_same_v<decltype(Device::kCommands), const bool> &&
+                      std::is_same_v<decltype(Device::kFaultLineToo), const bool> &&
+                      std::is_convertible_v<decltype(Device::kPublisherScanDone), sched::EventMask>,
+                  "Device::kCommands, kFaultLineToo (bool) and kPublisherScanDone (EventMask)");
+    static_assert(
+        requires(MonitorTask & t) {
+          { t.scanPeriod() } -> std::same_as<Duration>;
+          { t.firstDataBound() } -> std::same_as<Duration>;
+          { Device::driverEvents() } -> std::same_as<sched::EventMask>;
+        },
+        "Device::scanPeriod(), firstDataBound() (Duration) and driverEvents() (EventMask)");
+    static_assert(
+        requires(MonitorTask & t, Status s, Instant now) {
+          { t.startSetup() } -> std::same_as<Status>;
+          { t.setupFinished(s) } -> std::same_as<void>;
+          { t.startScan() } -> std::same_as<Status>;
+          { t.scanFinished(s, now) } -> std::same_as<ScanVerdict>;
+          { t.afterSummarize() } -> std::same_as<void>;
+          { t.recover() } -> std::same_as<void>;
+        },
+        "Device set-up and scan hooks: startSetup(), setupFinished(Status), startScan(), "
+        "scanFinished(Status, Instant) -> ScanVerdict, afterSummarize(), recover()");
+    if constexpr (Device::kCommands) {
+      static_assert(
+          requires(MonitorTask & t, Status s) {
+            { t.commandWaiting() } -> std::same_as<bool>;
+            { t.startCommand() } -> std::same_as<Status>;
+            { t.commandFinished(s) } -> std::same_as<void>;
+          },
+          "a Device with kCommands: commandWaiting(), startCommand(), commandFinished(Status)");
+    }
+    if constexpr (Device::kFaultLineToo) {
+      static_assert(
+          requires(MonitorTask & t) { t.faultLine(); }, "a Device with kFaultLineToo: faultLine()");
+    }
+    if constexpr (balances()) {
+      static_assert(
+          requires(MonitorTask & t) { t.balanceCheck(); }, "a Device with kBalancing: balanceCheck()");
+    }
+  }
+
   void startNext() {
     auto& loop = *this->loop_;
     Status s = Status::Busy;
@@ -168,7 +240,7 @@ class MonitorTask final : public Device, public sched::Task {
       }
       if (!loop.retryDue) return;
       s = this->startSetup();
-    } else if (Device::kCommands && this->commandWaiting()) {
+    } else if (commandWaiting()) {
       s = this->startCommand();
       op = MonitorOp::Command;
     } else if (loop.scanDue) {
@@ -177,6 +249,22 @@ class MonitorTask final : public Device, public sched::Task {
       op = MonitorOp::Scan;
     }
     loop.op = s == Status::Ok ? op : MonitorOp::None;
+  }
+
+  // The command hooks, for a device with kCommands only (a device without them has none to write).
+  bool commandWaiting() const {
+    if constexpr (Device::kCommands) {
+      return this->Device::commandWaiting();
+    } else {
+      return false;
+    }
+  }
+  Status startCommand() {
+    if constexpr (Device::kCommands) {
+      return this->Device::startCommand();
+    } else {
+      return Status::Busy;  // not reached: commandWaiting() is false
+    }
   }
 
   void finished() {
