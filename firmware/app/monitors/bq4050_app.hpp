@@ -175,7 +175,7 @@ class Bq4050App {
         settings_(kLimits),
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
-        publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, ms(100), 10),
+        publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, kFastPeriod, kSlowEvery),
         command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
                  io.system),
         monitor_(scheduler, io.bus, config, *sample_, *view_) {

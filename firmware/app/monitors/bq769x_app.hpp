@@ -472,10 +472,10 @@ using Bq769xMonitor = MonitorTask<Bq769xDevice<Driver, Measurement, kPublisherSc
 // The publisher that suits the image's output: SLCAN text on a serial line, or CAN frames.
 inline SlcanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::SerialTx& out,
                                     FramePlan& plan) {
-  return SlcanPublisher(s, id, out, plan, ms(100), 10);
+  return SlcanPublisher(s, id, out, plan, kFastPeriod, kSlowEvery);
 }
 inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::CanBus& out, FramePlan& plan) {
-  return CanPublisher(s, id, out, plan, CanLayout::Native, ms(100), 10);
+  return CanPublisher(s, id, out, plan, CanLayout::Native, kFastPeriod, kSlowEvery);
 }
 
 // The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold), the

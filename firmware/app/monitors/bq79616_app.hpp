@@ -272,7 +272,7 @@ class Bq79616App {
         settings_(limitsOf(config)),
         protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
                     config.scanPeriod),
-        publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, ms(100), 10),
+        publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, kFastPeriod, kSlowEvery),
         command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
                  io.system),
         monitor_(scheduler, io.uart, io.nfault, config, storage, *view_, *status_) {

@@ -37,6 +37,7 @@
 #include "app/pack/pack_view.hpp"
 #include "app/publish/can_bits.hpp"
 #include "app/publish/publish_status.hpp"
+#include "can/bms.hpp"
 #include "core/time.hpp"
 #include "hal/can_bus.hpp"
 
@@ -48,6 +49,13 @@ namespace fw::app {
 inline constexpr bool kTiLayout = FW_CAN_TI_LAYOUT != 0;
 
 enum class CanLayout : uint8_t { Native, Ti };
+
+// The native cycles' timing, from bms.yaml's cycle_ms: the fast messages (PackSummary) every kFastPeriod, the
+// slow ones (CellVoltages) every kSlowEvery fast periods. Every publisher is built with these.
+inline constexpr Duration kFastPeriod = ms(can::bms::PackSummary::kCycleMs);
+inline constexpr uint8_t kSlowEvery = can::bms::CellVoltages::kCycleMs / can::bms::PackSummary::kCycleMs;
+static_assert(can::bms::CellVoltages::kCycleMs % can::bms::PackSummary::kCycleMs == 0,
+              "a slow cycle is a whole number of fast ones");
 
 class FramePlan {
  public:
