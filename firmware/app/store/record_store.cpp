@@ -74,7 +74,10 @@ void encodeCommit(uint8_t* w, uint16_t crc) {
 bool commitMatches(const uint8_t* w, uint16_t crc) {
   uint8_t expect[kWord];
   encodeCommit(expect, crc);
-  return std::memcmp(w, expect, kWord) == 0;
+  // A loop, not memcmp: the images' runtime (bsp/mspm0/runtime.cpp) provides memset and memcpy only.
+  for (uint32_t i = 0; i < kWord; ++i)
+    if (w[i] != expect[i]) return false;
+  return true;
 }
 
 }  // namespace

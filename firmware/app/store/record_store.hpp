@@ -46,7 +46,8 @@ class RecordStore {
   // Words of a record: its header, the payload, the commit word.
   static constexpr uint32_t recordWords(uint32_t length) { return 2 + (length + kWord - 1) / kWord; }
 
-  explicit RecordStore(hal::FlashStorage& flash) : flash_(flash) {}
+  // constexpr: an image keeps the store in a constinit global (no start-up constructors on the MSPM0).
+  constexpr explicit RecordStore(hal::FlashStorage& flash) : flash_(flash) {}
 
   [[nodiscard]] Status restore();
   [[nodiscard]] Status read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const;
