@@ -35,7 +35,7 @@ void SimFlash::powerOn() {
 fw::Status SimFlash::doErase(uint32_t sector) {
   if (powerLost_) return fw::Status::Aborted;
   if (sector >= sectors_) return fw::Status::InvalidArgument;
-  if (failNext_ != fw::Status::Ok) {
+  if (failNext_ != fw::Status::Ok && failSkip_-- == 0) {
     const fw::Status s = failNext_;
     failNext_ = fw::Status::Ok;
     return s;
@@ -66,7 +66,7 @@ fw::Status SimFlash::doProgram(uint32_t offset, std::span<const uint8_t, kWordBy
   uint8_t* target = image_.data() + offset;
   for (uint32_t i = 0; i < kWordBytes; ++i)
     if (target[i] != kErased) return fw::Status::InvalidArgument;
-  if (failNext_ != fw::Status::Ok) {
+  if (failNext_ != fw::Status::Ok && failSkip_-- == 0) {
     const fw::Status s = failNext_;
     failNext_ = fw::Status::Ok;
     return s;

@@ -7,8 +7,8 @@
 //   fails: that word is left torn (see Tear) and it and every later call return Aborted until powerOn().
 //   cutAtErase(n) does the same for the n-th erase: the sector is left partly erased (each word either
 //   erased, or its old value with random bits set, as a cut erase can leave it).
-// - failNext(status) makes the next program or erase return `status` (Timeout or VerifyFailed) without
-//   changing the flash, as a controller that did not report completion would.
+// - failNext(status, skip) makes the program or erase after the next `skip` ones return `status` (Timeout or
+//   VerifyFailed) without changing the flash, as a controller that did not report completion would.
 // - Counts of programs and erases (per sector) for wear tests; load()/save() of the image to a file.
 // - Randomness from a seeded generator: every run is reproducible.
 #pragma once
@@ -38,7 +38,10 @@ class SimFlash final : public fw::hal::FlashStorage {
   void cutAtErase(uint32_t n);
   void powerOn();
   bool powerLost() const { return powerLost_; }
-  void failNext(fw::Status status) { failNext_ = status; }
+  void failNext(fw::Status status, uint32_t skip = 0) {
+    failNext_ = status;
+    failSkip_ = skip;
+  }
 
   uint32_t programCount() const { return programs_; }
   uint32_t eraseCount() const { return erases_; }
@@ -67,6 +70,7 @@ class SimFlash final : public fw::hal::FlashStorage {
   Tear tear_ = Tear::Partial;
   bool powerLost_ = false;
   fw::Status failNext_ = fw::Status::Ok;
+  uint32_t failSkip_ = 0;
 };
 
 }  // namespace bsp::host

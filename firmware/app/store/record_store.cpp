@@ -220,8 +220,6 @@ Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
   const uint32_t length = static_cast<uint32_t>(payload.size());
   const uint32_t words = recordWords(length);
   const uint32_t start = free_;
-  // The words are used whatever happens next: a failed program may have left bits behind.
-  free_ += words * kWord;
   uint8_t header[kWord];
   encodeHeader(header, Header{type, static_cast<uint8_t>(length), nextSeq_});
   Status s = programWord(active_, start, header);
@@ -233,11 +231,20 @@ Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
     crc = crc::crc16(word, kWord, crc);
     s = programWord(active_, start + (i + 1) * kWord, word);
   }
-  if (s != Status::Ok) return s;
-  uint8_t commit[kWord];
-  encodeCommit(commit, crc);
-  s = programWord(active_, start + (words - 1) * kWord, commit);
-  if (s != Status::Ok) return s;
+  if (s == Status::Ok) {
+    uint8_t commit[kWord];
+    encodeCommit(commit, crc);
+    s = programWord(active_, start + (words - 1) * kWord, commit);
+  }
+  if (s != Status::Ok) {
+    // Where the next record goes is whatever a restore would find now: a header slot the failed program
+    // left erased is used again, a header that took makes the scan skip the record by its length, a header
+    // left unreadable closes the sector (the next write compacts). Otherwise an erased gap would end a later
+    // restore's scan and hide the records written after it.
+    scanActive();
+    return s;
+  }
+  free_ = start + words * kWord;
   index_[type] = Entry{static_cast<uint16_t>(start), static_cast<uint8_t>(length), nextSeq_};
   ++nextSeq_;
   return Status::Ok;

@@ -24,6 +24,7 @@
 //     read      one copy of at most kMaxPayload bytes;
 //     write     at most 2 + kMaxPayload / 8 program calls, plus a compaction of at most
 //               T * (2 + kMaxPayload / 8) + 1 programs (each word program <= 275 us on the MSPM0);
+//               after a failed program, one walk of the active sector (W word reads);
 //     eraseStep one sector erase (<= 20 ms on the MSPM0) and at most N checks.
 // - Integer only, no heap, all sizes static. Thread context only; not reentrant.
 #pragma once
