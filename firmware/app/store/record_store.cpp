@@ -1,0 +1,286 @@
+// The record store's format (README.md): why each word is written when it is.
+#include "app/store/record_store.hpp"
+
+#include <cstring>
+
+#include "core/bytes.hpp"
+#include "core/crc.hpp"
+
+namespace fw::app::store {
+using namespace fw::bytes;
+namespace {
+
+constexpr uint32_t kWord = RecordStore::kWord;
+constexpr uint32_t kSector = RecordStore::kSector;
+constexpr uint8_t kSectorMagic0 = 'S';
+constexpr uint8_t kSectorMagic1 = 'T';
+constexpr uint8_t kHeaderMark = 0x5A;
+constexpr uint8_t kCommit0 = 'C';
+constexpr uint8_t kCommit1 = 'M';
+constexpr uint32_t kGenerationMask = 0xFFFFFF;
+
+bool erased(const uint8_t* word) {
+  for (uint32_t i = 0; i < kWord; ++i)
+    if (word[i] != hal::FlashStorage::kErased) return false;
+  return true;
+}
+
+void store24(uint8_t* p, uint32_t v) {
+  p[0] = static_cast<uint8_t>(v);
+  p[1] = static_cast<uint8_t>(v >> 8);
+  p[2] = static_cast<uint8_t>(v >> 16);
+}
+uint32_t load24(const uint8_t* p) {
+  return p[0] | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16);
+}
+
+// Record header word: type, length, sequence (LE), a mark, CRC-8 of the first seven bytes. Its own CRC lets a
+// scan trust the length to find the next record even when the record's commit word never got written.
+struct Header {
+  uint8_t type;
+  uint8_t length;
+  uint32_t seq;
+};
+void encodeHeader(uint8_t* w, const Header& h) {
+  w[0] = h.type;
+  w[1] = h.length;
+  storeLe32(w + 2, h.seq);
+  w[6] = kHeaderMark;
+  w[7] = crc::crc8(w, 7);
+}
+bool decodeHeader(const uint8_t* w, Header& h) {
+  if (w[6] != kHeaderMark || crc::crc8(w, 7) != w[7]) return false;
+  h = Header{w[0], w[1], loadLe32(w + 2)};
+  return h.type < RecordStore::kTypes && h.length <= RecordStore::kMaxPayload && h.seq != 0;
+}
+
+// Commit word: a mark, the CRC-16 over the header word and the payload words (padding included, so any
+// changed bit of the record fails it), and its complement. Written last: before it
+// exists the record does not, and a torn commit word fails the mark, the CRC or the complement.
+uint32_t paddedLength(uint32_t length) {
+  return (length + kWord - 1) / kWord * kWord;
+}
+uint16_t recordCrc(const uint8_t* header, const uint8_t* payloadWords, uint32_t length) {
+  return crc::crc16(payloadWords, paddedLength(length), crc::crc16(header, kWord));
+}
+void encodeCommit(uint8_t* w, uint16_t crc) {
+  w[0] = kCommit0;
+  w[1] = kCommit1;
+  storeLe16(w + 2, crc);
+  storeLe16(w + 4, static_cast<uint16_t>(~crc));
+  w[6] = 0;
+  w[7] = 0;
+}
+bool commitMatches(const uint8_t* w, uint16_t crc) {
+  uint8_t expect[kWord];
+  encodeCommit(expect, crc);
+  // A loop, not memcmp: the images' runtime (bsp/mspm0/runtime.cpp) provides memset and memcpy only.
+  for (uint32_t i = 0; i < kWord; ++i)
+    if (w[i] != expect[i]) return false;
+  return true;
+}
+
+}  // namespace
+
+const uint8_t* RecordStore::at(uint32_t sector, uint32_t offset) const {
+  return flash_.read().data() + sector * kSector + offset;
+}
+
+bool RecordStore::sectorErased(uint32_t sector) const {
+  for (uint32_t off = 0; off < kSector; off += kWord)
+    if (!erased(at(sector, off))) return false;
+  return true;
+}
+
+// Sector header: magic, generation (24 bits) and its complement. Written after the compaction's copies, so a
+// valid header means the sector holds the newest record of every type. The complement also rejects a sector
+// whose erase was cut (an erase only sets bits, so a bit and its complement cannot both survive as 1/0 pairs
+// once either was erased).
+bool RecordStore::headerGeneration(uint32_t sector, uint32_t& generation) const {
+  const uint8_t* w = at(sector, 0);
+  if (w[0] != kSectorMagic0 || w[1] != kSectorMagic1) return false;
+  generation = load24(w + 2);
+  return ((generation ^ load24(w + 5)) == kGenerationMask) && generation != 0;
+}
+
+Status RecordStore::restore() {
+  restored_ = false;
+  sectors_ = flash_.sectorCount() < kMaxSectors ? flash_.sectorCount() : kMaxSectors;
+  if (sectors_ < 2) return Status::InvalidArgument;
+  active_ = sectors_;
+  generation_ = 0;
+  for (uint32_t s = 0; s < sectors_; ++s) {
+    uint32_t gen = 0;
+    if (headerGeneration(s, gen)) {
+      state_[s] = SectorState::Dirty;
+      if (gen > generation_) {
+        generation_ = gen;
+        active_ = s;
+      }
+    } else {
+      state_[s] = sectorErased(s) ? SectorState::Erased : SectorState::Dirty;
+    }
+  }
+  for (Entry& e : index_)
+    e = Entry{};
+  nextSeq_ = 1;
+  free_ = kSector;
+  if (active_ < sectors_) {
+    state_[active_] = SectorState::Active;
+    scanActive();
+  }
+  restored_ = true;
+  return Status::Ok;
+}
+
+// Walks the active sector's records (at most W - 1 of them). A header that fails its check ends the walk and
+// closes the sector to appends (its length cannot be trusted); so does a written word after the first erased
+// header slot. A record without a valid commit word is skipped by its length.
+void RecordStore::scanActive() {
+  uint32_t off = kWord;
+  free_ = kSector;
+  while (off + kWord <= kSector) {
+    const uint8_t* w = at(active_, off);
+    if (erased(w)) {
+      for (uint32_t rest = off; rest < kSector; rest += kWord)
+        if (!erased(at(active_, rest))) return;
+      free_ = off;
+      return;
+    }
+    Header h{};
+    if (!decodeHeader(w, h)) return;
+    const uint32_t words = recordWords(h.length);
+    if (off + words * kWord > kSector) return;
+    if (h.seq >= nextSeq_) nextSeq_ = h.seq + 1;
+    const uint8_t* commit = at(active_, off + (words - 1) * kWord);
+    if (commitMatches(commit, recordCrc(w, w + kWord, h.length)) && h.seq > index_[h.type].seq)
+      index_[h.type] = Entry{static_cast<uint16_t>(off), h.length, h.seq};
+    off += words * kWord;
+  }
+}
+
+Status RecordStore::read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const {
+  if (!restored_) return Status::NotReady;
+  if (type >= kTypes) return Status::InvalidArgument;
+  const Entry& e = index_[type];
+  if (e.seq == 0) return Status::NoResponse;
+  if (out.size() < e.length) return Status::InvalidArgument;
+  std::memcpy(out.data(), at(active_, e.offset + kWord), e.length);
+  length = e.length;
+  return Status::Ok;
+}
+
+Status RecordStore::programWord(uint32_t sector, uint32_t offset, const uint8_t* word) {
+  return flash_.program(sector * kSector + offset, std::span<const uint8_t, kWord>(word, kWord));
+}
+
+// Copies the newest record of each type, word for word (same sequence numbers), into the next sector of the
+// ring, then writes that sector's header. A cut before the header leaves the old sector active and the new
+// one Dirty (erased before its next use), so nothing is lost.
+Status RecordStore::compact(uint32_t& target) {
+  target = active_ < sectors_ ? (active_ + 1) % sectors_ : 0;
+  if (active_ >= sectors_) {
+    for (uint32_t i = 0; i < sectors_ && state_[target] != SectorState::Erased; ++i)
+      target = (target + 1) % sectors_;
+  }
+  if (state_[target] != SectorState::Erased) return Status::Busy;
+  state_[target] = SectorState::Dirty;  // until its header is written
+  uint32_t off = kWord;
+  Entry moved[kTypes]{};
+  for (uint8_t t = 0; t < kTypes; ++t) {
+    const Entry& e = index_[t];
+    if (e.seq == 0) continue;
+    const uint32_t words = recordWords(e.length);
+    for (uint32_t i = 0; i < words; ++i) {
+      uint8_t word[kWord];
+      std::memcpy(word, at(active_, e.offset + i * kWord), kWord);
+      const Status s = programWord(target, off + i * kWord, word);
+      if (s != Status::Ok) return s;
+    }
+    moved[t] = Entry{static_cast<uint16_t>(off), e.length, e.seq};
+    off += words * kWord;
+  }
+  const uint32_t gen = (generation_ + 1) & kGenerationMask;
+  uint8_t header[kWord] = {kSectorMagic0, kSectorMagic1};
+  store24(header + 2, gen);
+  store24(header + 5, ~gen & kGenerationMask);
+  const Status s = programWord(target, 0, header);
+  if (s != Status::Ok) return s;
+  if (active_ < sectors_) state_[active_] = SectorState::Dirty;
+  state_[target] = SectorState::Active;
+  active_ = target;
+  generation_ = gen;
+  free_ = off;
+  for (uint8_t t = 0; t < kTypes; ++t)
+    index_[t] = moved[t];
+  return Status::Ok;
+}
+
+Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
+  const uint32_t length = static_cast<uint32_t>(payload.size());
+  const uint32_t words = recordWords(length);
+  const uint32_t start = free_;
+  uint8_t header[kWord];
+  encodeHeader(header, Header{type, static_cast<uint8_t>(length), nextSeq_});
+  Status s = programWord(active_, start, header);
+  uint16_t crc = crc::crc16(header, kWord);
+  for (uint32_t i = 0; s == Status::Ok && i + 2 < words; ++i) {
+    uint8_t word[kWord] = {};  // padding 0x00
+    const uint32_t n = length - i * kWord < kWord ? length - i * kWord : kWord;
+    std::memcpy(word, payload.data() + i * kWord, n);
+    crc = crc::crc16(word, kWord, crc);
+    s = programWord(active_, start + (i + 1) * kWord, word);
+  }
+  if (s == Status::Ok) {
+    uint8_t commit[kWord];
+    encodeCommit(commit, crc);
+    s = programWord(active_, start + (words - 1) * kWord, commit);
+  }
+  if (s != Status::Ok) {
+    // Where the next record goes is whatever a restore would find now: a header slot the failed program
+    // left erased is used again, a header that took makes the scan skip the record by its length, a header
+    // left unreadable closes the sector (the next write compacts). Otherwise an erased gap would end a later
+    // restore's scan and hide the records written after it.
+    scanActive();
+    return s;
+  }
+  free_ = start + words * kWord;
+  index_[type] = Entry{static_cast<uint16_t>(start), static_cast<uint8_t>(length), nextSeq_};
+  ++nextSeq_;
+  return Status::Ok;
+}
+
+Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
+  if (!restored_) return Status::NotReady;
+  if (type >= kTypes || payload.size() > kMaxPayload) return Status::InvalidArgument;
+  const uint32_t need = recordWords(static_cast<uint32_t>(payload.size())) * kWord;
+  if (active_ >= sectors_ || free_ + need > kSector) {
+    uint32_t target = 0;
+    const Status s = compact(target);
+    if (s != Status::Ok) return s;
+  }
+  return append(type, payload);
+}
+
+bool RecordStore::needsErase() const {
+  for (uint32_t s = 0; s < sectors_; ++s)
+    if (state_[s] == SectorState::Dirty) return true;
+  return false;
+}
+
+// Erases the first Dirty sector after the active one in ring order: the ring order is the order in which
+// compaction will need them, and it spreads the erases evenly.
+Status RecordStore::eraseStep() {
+  if (!restored_) return Status::NotReady;
+  const uint32_t first = active_ < sectors_ ? active_ + 1 : 0;
+  for (uint32_t i = 0; i < sectors_; ++i) {
+    const uint32_t s = (first + i) % sectors_;
+    if (state_[s] != SectorState::Dirty) continue;
+    const Status st = flash_.erase(s);
+    if (st == Status::Ok) state_[s] = SectorState::Erased;
+    return st;
+  }
+  return Status::Busy;
+}
+
+}  // namespace fw::app::store

@@ -1,0 +1,96 @@
+// RecordStore: a power-fail-safe store of small typed records in the data flash (hal::FlashStorage).
+//
+// Contract (format and reasoning: README.md in this folder)
+// - Up to kTypes record types (0..kTypes-1), each with a payload of 0..kMaxPayload bytes. read() gives the
+//   newest complete record of a type; write() appends a new one and never overwrites an older one, so a
+//   power cut at any point leaves the last complete record of every type readable after restore().
+// - Two or more sectors, used as a ring: one holds the records (the active sector); when it is full, write()
+//   first carries the newest record of each type into the next sector (compaction) and only then writes the
+//   new one. The old sector is then waiting to be erased: erasing is the caller's step (needsErase() /
+//   eraseStep()), run when the scan's bus work allows it (a sector erase stalls the CPU for up to 20 ms).
+// - restore() must run first (at start-up); before it every call returns NotReady (read/write/eraseStep).
+// - Results, each distinct:
+//     restore:   Ok; InvalidArgument (the region has fewer than 2 sectors). It never programs or erases.
+//     read:      Ok; InvalidArgument (type out of range, `out` shorter than the record); NoResponse (no
+//                record of that type); NotReady.
+//     write:     Ok; InvalidArgument (type out of range or payload too long); Busy (a compaction is due and
+//                no erased sector is ready: run eraseStep() first; nothing was written); NotReady; or the
+//                flash's Timeout / VerifyFailed / InvalidArgument / Aborted from the failing program: then
+//                the new record is not stored and every earlier record is kept.
+//     eraseStep: Ok (one sector erased); NotReady; Busy (nothing to erase); the flash's failure otherwise
+//                (the sector stays waiting).
+// - Worst-case work (W = kSectorBytes / 8 = 128 words, N = sector count, T = kTypes):
+//     restore   reads every word of every sector once (N * W word reads), no flash writes;
+//     read      one copy of at most kMaxPayload bytes;
+//     write     at most 2 + kMaxPayload / 8 program calls, plus a compaction of at most
+//               T * (2 + kMaxPayload / 8) + 1 programs (each word program <= 275 us on the MSPM0);
+//               after a failed program, one walk of the active sector (W word reads);
+//     eraseStep one sector erase (<= 20 ms on the MSPM0) and at most N checks.
+// - Integer only, no heap, all sizes static. Thread context only; not reentrant.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "core/status.hpp"
+#include "hal/flash.hpp"
+
+namespace fw::app::store {
+
+class RecordStore {
+ public:
+  static constexpr uint8_t kTypes = 8;
+  static constexpr uint32_t kMaxPayload = 64;
+  static constexpr uint32_t kMaxSectors = 16;
+  static constexpr uint32_t kWord = hal::FlashStorage::kWordBytes;
+  static constexpr uint32_t kSector = hal::FlashStorage::kSectorBytes;
+  // Words of a record: its header, the payload, the commit word.
+  static constexpr uint32_t recordWords(uint32_t length) { return 2 + (length + kWord - 1) / kWord; }
+
+  // constexpr: an image keeps the store in a constinit global (no start-up constructors on the MSPM0).
+  constexpr explicit RecordStore(hal::FlashStorage& flash) : flash_(flash) {}
+
+  [[nodiscard]] Status restore();
+  [[nodiscard]] Status read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const;
+  [[nodiscard]] Status write(uint8_t type, std::span<const uint8_t> payload);
+  bool needsErase() const;
+  [[nodiscard]] Status eraseStep();
+
+  // For tests and diagnostics: the active sector (sectorCount() when none) and the sequence number of the
+  // newest record of `type` (0 when none).
+  uint32_t activeSector() const { return active_; }
+  uint32_t sequence(uint8_t type) const { return type < kTypes ? index_[type].seq : 0; }
+
+ private:
+  enum class SectorState : uint8_t { Erased, Active, Dirty };
+  struct Entry {
+    uint16_t offset;  // in the active sector; valid when seq != 0
+    uint8_t length;
+    uint32_t seq;
+  };
+
+  bool sectorErased(uint32_t sector) const;
+  bool headerGeneration(uint32_t sector, uint32_t& generation) const;
+  void scanActive();
+  Status programWord(uint32_t sector, uint32_t offset, const uint8_t* word);
+  Status compact(uint32_t& target);
+  Status append(uint8_t type, std::span<const uint8_t> payload);
+  const uint8_t* at(uint32_t sector, uint32_t offset) const;
+
+  hal::FlashStorage& flash_;
+  bool restored_ = false;
+  uint32_t sectors_ = 0;
+  uint32_t active_ = 0;      // == sectors_ when no sector holds records yet
+  uint32_t generation_ = 0;  // of the active sector
+  uint32_t free_ = 0;        // offset of the first free word in the active sector
+  uint32_t nextSeq_ = 1;
+  SectorState state_[kMaxSectors]{};
+  Entry index_[kTypes]{};
+};
+
+// A full compaction (every type at its largest) plus the sector header and one more record always fits.
+static_assert(RecordStore::kWord *
+                  (1 + (RecordStore::kTypes + 1) * RecordStore::recordWords(RecordStore::kMaxPayload)) <=
+              RecordStore::kSector);
+
+}  // namespace fw::app::store
