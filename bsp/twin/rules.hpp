@@ -136,6 +136,13 @@
 //                     (fw::Duration; TimgClock and TimgOneShot count at 1 MHz, bsp/mspm0/README.md): every
 //                     period and timeout of the firmware would be off by the ratio. A project rule, like
 //                     IDLE-WFI
+//   I2C-NO-TIMEOUT    (warns) a device documented to stretch or hold SCL (I2c::TargetRange::stretchSource)
+//                     addressed while the controller's clock-low timeout A is off (TIMEOUT_CTL.TCLKAEN clear,
+//                     or a count of 0..1): with CLKSTRETCH the controller waits on a held SCL as long as the
+//                     device holds it, and only timeout A ends that wait (SLAU846B 20.2 / SLAU847D 21.2 clock
+//                     low timeout; hw_i2c.h TIMEOUT_CTL.TCLKAEN). The board works until a device hangs with
+//                     SCL low (a reset or brown-out mid-byte); then the transaction never ends and the
+//                     monitor is never read again: a degradation, hence a warning
 #pragma once
 
 #include <cstdint>
@@ -175,6 +182,7 @@ enum class Rule : uint8_t {
   UartTxEndUnseen,
   McanBusOffStuck,
   TimerTick,
+  I2cNoTimeout,
 };
 
 struct RuleInfo {

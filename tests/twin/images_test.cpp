@@ -668,6 +668,25 @@ TEST(BrokenImage, ClockStretchingSwitchedOffIsStoppedWhenTheDeviceStretches) {
   EXPECT_RULE(stop, "I2C-CLKSTRETCH");
 }
 
+TEST(BrokenImage, AnI2cClockLowTimeoutLeftOffIsNamedOnTheFirstTransaction) {
+  // The TIMEOUT_CTL write (TCLKAEN | count) taken out: timeout A stays off, so a BQ76952 holding SCL low
+  // (it may stretch, SLUUBY2B 9) would hang the controller without a bound (SLAU846B 20.2 / SLAU847D 21.2
+  // clock low timeout). The image runs on, so the twin warns (mutant i2c-timeout-disabled).
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto clean = warningsOf(preset, *elf, 300000);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  const auto timeoutCtl = storesTo(preset, *elf, 0x400F0000 + 0x1204, 50000);
+  ASSERT_EQ(timeoutCtl.size(), 1U);
+  removeStores(*elf, timeoutCtl);
+  const auto caught = warningsOf(preset, *elf, 300000);
+  ASSERT_FALSE(caught.empty());
+  for (const auto& w : caught)  // one per addressing site (the PC differs), each this rule
+    EXPECT_NE(w.find("[I2C-NO-TIMEOUT] I2C0: addressing the BQ76952 with the clock-low timeout A off"),
+              std::string::npos)
+        << w;
+}
+
 TEST(BrokenImage, ATimerPrescaledBy33IsStoppedByTheTickRule) {
   // CPS.PCNT 32 instead of 31 (reg::timg::prescalerFor1MHz off by one): the firmware's microsecond clock
   // would run at 32 MHz / 33 = 969 697 Hz, every period and timeout 3 % long. The image passes the prescaler

@@ -720,6 +720,25 @@ TEST_F(Chip, TimerCountsUpAtItsClockAndFlagsLoadAndCompare) {
   EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 0), 0U);  // ZERO at the wrap
 }
 
+TEST_F(Chip, ATimerCountingUpWithoutRepeatStopsAtZeroAfterOnePeriod) {
+  // CTRCTL.REPEAT 0: "Does not automatically advance following a zero event" (hw_gptimer.h; SLAU846B /
+  // SLAU847D TIMx); counting up, the wrap from LOAD to 0 is that zero event (mutant
+  // timg-clock-not-repeating).
+  wr(kTimg0 + 0x800, kPwrenOn);
+  wr(kTimg0 + 0x1008, 1U << 3);                      // CLKSEL BUSCLK
+  wr(kTimg0 + 0x110C, 31);                           // CPS: 1 MHz
+  wr(kTimg0 + 0x1108, 1);                            // CCLKCTL
+  wr(kTimg0 + 0x1808, 999);                          // LOAD
+  wr(kTimg0 + 0x1814, 500);                          // CC1
+  wr(kTimg0 + 0x1804, 1U | (2U << 4) | (2U << 28));  // EN, up, start at zero, no REPEAT
+  runUs(1001);
+  EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 0), 0U);  // ZERO at the wrap
+  wr(kTimg0 + 0x1048, 0xFFFFFFFF);                 // ICLR
+  runUs(600);
+  EXPECT_EQ(rd(kTimg0 + 0x1800), 0U);  // held at zero
+  EXPECT_EQ(rd(kTimg0 + 0x1030), 0U);  // no CCU1, no LOAD in the second period
+}
+
 // --- GPIO, power, clocks
 // ---------------------------------------------------------------------------------------
 

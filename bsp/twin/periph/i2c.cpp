@@ -108,6 +108,16 @@ void I2c::checkWire(uint8_t address7) {
       machine_.violate(Rule::I2cClockStretch, buf);
       return;
     }
+    // The same device with the clock-low timeout A off: a held SCL is waited on without a bound (SLAU846B
+    // 20.2 / SLAU847D 21.2 clock low timeout; hw_i2c.h TIMEOUT_CTL.TCLKAEN).
+    if (!r.stretchSource.empty() && timeoutCycles() == 0) {
+      std::snprintf(buf, sizeof buf,
+                    "%s: addressing the %s with the clock-low timeout A off (TIMEOUT_CTL 0x%08X)", name(),
+                    r.device.c_str(), timeoutCtl_);
+      machine_.violate(Rule::I2cNoTimeout, std::string(buf) + ", but the " + r.device +
+                                               " may hold SCL low (" + r.stretchSource +
+                                               "): the controller would wait on it without a bound");
+    }
   }
   if (tpr == 0 || scl > 1000000) {
     std::snprintf(

@@ -139,8 +139,10 @@ void Timg::onTick() {
   for (int n = 0; n < 2; ++n) {
     if (v == (cc_[n] & kCounterMask)) bits |= (up ? kCcu0 : kCcd0) << n;
   }
-  // Down counting without REPEAT: the counter holds at zero.
-  if (!up && v == 0 && (ctrctl_ & kRepeatMask) == 0) {
+  // Without REPEAT the counter holds at zero after its zero event, counting down (at 0) and up (the wrap from
+  // LOAD to 0) alike: hw_gptimer.h CTRCTL.REPEAT 0 "Does not automatically advance following a zero event";
+  // SLAU846B / SLAU847D TIMx counter operation (periph/timg.hpp).
+  if (v == 0 && (ctrctl_ & kRepeatMask) == 0) {
     baseValue_ = 0;
     stoppedAtZero_ = true;
   }

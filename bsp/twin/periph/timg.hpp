@@ -7,7 +7,8 @@
 //   CCLKCTL.CLKEN. Other clock sources stop the run (not modelled).
 // - EN 0 -> 1 sets the counter from CVAE: LOAD (0), unchanged (1) or zero (2).
 // - Up (CM = 2): 0, 1, ..., LOAD, 0, ...; the LOAD event when the counter becomes LOAD, the ZERO event
-//   when it wraps to 0, CCUn when it becomes CCn counting up.
+//   when it wraps to 0, CCUn when it becomes CCn counting up. With REPEAT = 0 the counter stays at 0 after
+//   that wrap (the same REPEAT text as below: the wrap is a zero event), so it runs one period only.
 // - Down (CM = 0): LOAD, ..., 1, 0; the ZERO event at 0, then with REPEAT = 1 a load at the next advance
 //   (LOAD event), with REPEAT = 0 the counter stays at 0 ("Does not automatically advance following a zero
 //   event"). CCDn when it becomes CCn counting down.
