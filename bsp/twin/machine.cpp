@@ -171,6 +171,30 @@ void Machine::onWfi() {
   }
 }
 
+PowerMode Machine::sleepMode() const {
+  return scs_.sleepDeep() && deepSleepMode_ ? deepSleepMode_() : PowerMode::Sleep;
+}
+
+void Machine::checkSleep(PowerMode mode) {
+  for (const auto& check : sleepChecks_) {
+    const std::string why = check(mode);
+    if (why.empty()) continue;
+    violate(Rule::SleepEventLost, std::string("the core sleeps in ") + powerModeName(mode) + ": " + why);
+    return;
+  }
+}
+
+Residency Machine::residency() const {
+  Residency r = deepCycles_;
+  const uint64_t total = now(), busy = std::min(busy_, total);
+  uint64_t deep = 0;
+  for (const uint64_t c : deepCycles_)
+    deep += c;
+  r[static_cast<size_t>(PowerMode::Run)] = busy;
+  r[static_cast<size_t>(PowerMode::Sleep)] = total - busy > deep ? total - busy - deep : 0;
+  return r;
+}
+
 std::string Machine::stopReason() const {
   if (!core_.halted()) return "";
   char buf[48];
@@ -352,7 +376,12 @@ void Machine::run(uint64_t endCycle) {
       // PRIMASK clear) or runs the instruction after the WFI, and is counted like any other.
       stepCore();
       if (core_.sleeping()) {
+        const PowerMode mode = sleepMode();
+        const uint64_t from = now();
+        if (isDeepSleep(mode)) checkSleep(mode);
+        if (core_.halted()) break;
         timeline_.advanceTo(std::max(horizon, now()));
+        deepCycles_[static_cast<size_t>(mode)] += isDeepSleep(mode) ? now() - from : 0;
         continue;
       }
     }

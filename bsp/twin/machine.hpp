@@ -28,6 +28,7 @@
 #include "cpu/nvic.hpp"
 #include "cpu/scs.hpp"
 #include "elf_file.hpp"
+#include "power_mode.hpp"
 #include "race_watch.hpp"
 #include "rules.hpp"
 #include "timeline.hpp"
@@ -162,10 +163,21 @@ class Machine final : public CoreObserver {
   void onFirstIdle(std::function<void()> hook) { firstIdleHook_ = std::move(hook); }
   // Called after every batch of events (the board samples signals the emulators drive, e.g. nFAULT).
   void onEvents(std::function<void()> hook) { eventHooks_.push_back(std::move(hook)); }
+  // Power modes (power.hpp): the chip's SYSCTL tells which deep-sleep mode SCR.SLEEPDEEP enters now; each
+  // model with an event the core may wait for says why that event would not arrive in a mode ("" if it
+  // would). A sleep in a mode some check refuses breaks SLEEP-EVENT-LOST (rules.hpp).
+  void setDeepSleepMode(std::function<PowerMode()> mode) { deepSleepMode_ = std::move(mode); }
+  void addSleepCheck(std::function<std::string(PowerMode)> check) {
+    sleepChecks_.push_back(std::move(check));
+  }
+  // The mode a sleep would enter now.
+  PowerMode sleepMode() const;
   void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
 
   // --- figures --------------------------------------------------------------------------------------------
   uint64_t busyCycles() const { return busy_; }
+  // Cycles of the run in each power mode (RUN = busy; SLEEP = the rest that no deep mode took).
+  Residency residency() const;
   const std::array<InterruptFigures, Nvic::kExceptions>& interrupts() const { return irqFigures_; }
   const std::vector<std::string>& resets() const { return resetLog_; }
   const std::vector<std::string>& hardFaults() const { return hardFaultLog_; }
@@ -200,6 +212,10 @@ class Machine final : public CoreObserver {
   std::vector<std::function<void()>> eventHooks_;
   std::function<std::string(uint32_t)> symbolizer_;
   uint64_t busy_ = 0;
+  std::function<PowerMode()> deepSleepMode_;
+  std::vector<std::function<std::string(PowerMode)>> sleepChecks_;
+  Residency deepCycles_{};  // cycles slept in each deep mode
+  void checkSleep(PowerMode mode);
   std::array<uint64_t, Nvic::kExceptions> requestedAt_{};
   std::array<bool, Nvic::kExceptions> requested_{};
   std::array<uint64_t, Nvic::kExceptions> enteredAt_{};

@@ -123,6 +123,7 @@ Mspm0::Mspm0(Part part) : part_(part) {
     dma_->describeTrigger(u.dmaRx, std::string(u.name) + " RX", u.base + Uart::kRxdataOffset, false);
     dma_->describeTrigger(u.dmaTx, std::string(u.name) + " TX", u.base + Uart::kTxdataOffset, true);
   }
+  addSleepChecks();
   if (g) {
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
     mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
@@ -188,6 +189,43 @@ bool Mspm0::load(const ElfFile& elf) {
   });
   machine_->powerOn();
   return true;
+}
+
+// SLEEP-EVENT-LOST (rules.hpp): in every STOP and STANDBY mode the 32 MHz BUSCLK these models run from is
+// gone (STOP0/1: ULPCLK at most 4 MHz; STOP2 and STANDBY: LFCLK; STANDBY1: only TIMG0/TIMG1 clocked at all;
+// SLAU847D/SLAU846B 2 PMCU operating modes, the data sheets' STOP/STANDBY test conditions), so a transfer
+// in flight or a timer deadline counted from it does not arrive as configured. A GPIO edge (ALERT, nFAULT)
+// wakes from every mode and is not checked; an idle UART or I2C target waiting for an external start wakes
+// by an asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 comment).
+void Mspm0::addSleepChecks() {
+  Machine& m = machine();
+  for (auto& i2c : {i2c0_.get(), i2c1_.get()}) {
+    m.addSleepCheck([i2c](PowerMode) {
+      return i2c->transferInFlight()
+                 ? std::string(i2c->name()) +
+                       " has a transfer in flight, timed from the 32 MHz BUSCLK this mode stops"
+                 : std::string();
+    });
+  }
+  for (auto& uart : uart_) {
+    if (!uart) continue;
+    Uart* u = uart.get();
+    m.addSleepCheck([u](PowerMode) {
+      return u->transmitting() ? std::string(u->name()) +
+                                     " is transmitting, its baud from the 32 MHz BUSCLK this mode stops"
+                               : std::string();
+    });
+  }
+  for (auto& timer : timg_) {
+    if (!timer) continue;
+    Timg* t = timer.get();
+    m.addSleepCheck([t](PowerMode) {
+      return t->deadlineArmed() ? std::string(t->name()) +
+                                      " counts a deadline from the 32 MHz BUSCLK this mode stops (an LFCLK "
+                                      "timer keeps counting; the twin models BUSCLK timers only)"
+                                : std::string();
+    });
+  }
 }
 
 }  // namespace twin

@@ -70,6 +70,7 @@ class Mspm0 {
   std::vector<std::string> unservedInterrupts() const;
 
  private:
+  void addSleepChecks();  // SLEEP-EVENT-LOST: what each model needs awake (rules.hpp)
   template <class Model, class... Args>
   Model* add(uint32_t base, uint32_t size, int irq, Args&&... args);
 

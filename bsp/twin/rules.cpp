@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 32> kRules = {{
+constexpr std::array<RuleInfo, 33> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -59,9 +59,13 @@ constexpr std::array<RuleInfo, 32> kRules = {{
      true},
     {"I2C-NO-TIMEOUT", "hw_i2c.h TIMEOUT_CTL.TCLKAEN; SLAU846B 20.2 / SLAU847D 21.2 clock low timeout",
      false},
+    {"SLEEP-EVENT-LOST",
+     "SLAU847D/SLAU846B 2 PMCU operating modes (clocks per mode); hw_sysctl PMODECFG.DSLEEP; "
+     "DDI 0419E B3.2.7 SCR.SLEEPDEEP",
+     true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::I2cNoTimeout) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::SleepEventLost) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

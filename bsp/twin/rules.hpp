@@ -143,6 +143,14 @@
 //                     low timeout; hw_i2c.h TIMEOUT_CTL.TCLKAEN). The board works until a device hangs with
 //                     SCL low (a reset or brown-out mid-byte); then the transaction never ends and the
 //                     monitor is never read again: a degradation, hence a warning
+//   SLEEP-EVENT-LOST  the core sleeps (WFI or sleep-on-exit) in STOP or STANDBY (SCR.SLEEPDEEP, SYSCTL
+//                     PMODECFG) while an event it waits for needs a clock that mode stops or slows: an
+//                     I2C or UART transfer in flight (its bit timing runs from the 32 MHz BUSCLK/ULPCLK; in
+//                     STOP0/1 ULPCLK is at most 4 MHz, in STOP2 and STANDBY it is LFCLK, and in STANDBY1
+//                     only TIMG0/TIMG1 keep a clock: SLAU847D/SLAU846B 2 PMCU operating modes, mspm0-sdk
+//                     dl_sysctl_mspm0l11xx_l13xx.h DL_SYSCTL_setPowerPolicySTANDBY1 comment), or a TIMG
+//                     deadline counted from that BUSCLK (the only timer clock the twin runs, TIMER-TICK):
+//                     the transfer stalls or runs at another rate, the deadline comes late or never
 #pragma once
 
 #include <cstdint>
@@ -183,6 +191,7 @@ enum class Rule : uint8_t {
   McanBusOffStuck,
   TimerTick,
   I2cNoTimeout,
+  SleepEventLost,
 };
 
 struct RuleInfo {

@@ -935,3 +935,28 @@ TEST(BrokenImage, BssLeftUnzeroedIsStoppedByTheUninitialisedReadRule) {
     EXPECT_NE(stop.find("no instruction stored since the reset"), std::string::npos) << stop;
   }
 }
+
+TEST(BrokenImage, StandbyWithAScanPendingIsStoppedByTheSleepEventRule) {
+  // A power policy that picks STANDBY1 (SCR.SLEEPDEEP, PMODECFG.DSLEEP STANDBY, MCLKCFG.STOPCLKSTBY: the
+  // fields DL_SYSCTL_setPowerPolicySTANDBY1 sets) while the scheduler's deadline is counted by a TIMG from
+  // the 32 MHz BUSCLK and the scan's I2C transfers run from it, which that mode stops: the scan would come
+  // late or stall (the first sleep names whichever is pending, at 100 ms an I2C transfer). Set through the
+  // bus after bring-up, as a debugger would; the same image left in SLEEP runs clean (the image tests above).
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  Rig r(preset, *elf);
+  r.board.runUntilUs(100000);
+  ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
+  twin::AddressMap& map = r.board.machine().map();
+  uint32_t mclkcfg = 0;
+  EXPECT_TRUE(map.load(0x400AF000 + 0x1104, 4, mclkcfg));
+  EXPECT_TRUE(map.store(0x400AF000 + 0x1140, 4, 1));                     // PMODECFG STANDBY
+  EXPECT_TRUE(map.store(0x400AF000 + 0x1104, 4, mclkcfg | (1U << 21)));  // STOPCLKSTBY
+  EXPECT_TRUE(map.store(0xE000ED10, 4, 0x2 | 0x4));                      // SLEEPONEXIT, SLEEPDEEP
+  r.board.runUntilUs(200000);
+  const std::string stop = r.board.machine().stopped() ? r.board.machine().stopReason() : std::string();
+  EXPECT_RULE(stop, "SLEEP-EVENT-LOST");
+  EXPECT_NE(stop.find("STANDBY1"), std::string::npos) << stop;
+  EXPECT_TRUE(stop.find("TIMG") != std::string::npos || stop.find("I2C0 has a transfer") != std::string::npos)
+      << stop;
+}

@@ -774,3 +774,109 @@ TEST_F(Chip, AnMclkDividerStopsTheRunAndTheCrystalReportsGoodAfterItsStartupTime
 }
 
 }  // namespace
+
+// --- Power modes (power_mode.hpp, rules.hpp SLEEP-EVENT-LOST)
+// -------------------------------------------------------------------
+
+constexpr uint32_t kScr = 0xE000ED10, kSleepDeep = 1U << 2;     // DDI 0419E B3.2.7
+constexpr uint32_t kPmodecfg = kSysctl + 0x1140, kStandby = 1;  // hw_sysctl PMODECFG.DSLEEP
+constexpr uint32_t kSysosccfg = kSysctl + 0x1100, kMclkcfg = kSysctl + 0x1104;
+constexpr uint32_t kDisableStop = 1U << 9, kStopClkStby = 1U << 21;  // SYSOSCCFG, MCLKCFG
+
+uint64_t cyclesIn(const Mspm0& chip, twin::PowerMode mode) {
+  return chip.machine().residency()[static_cast<size_t>(mode)];
+}
+
+TEST_F(Chip, SleepDeepWithPmodecfgSelectsTheStopOrStandbySubModeTheResidencyCounts) {
+  using twin::PowerMode;
+  runUs(100);  // SLEEPDEEP clear: SLEEP
+  wr(kScr, kSleepDeep);
+  wr(kSysosccfg, kDisableStop);  // STOP2
+  runUs(100);
+  wr(kPmodecfg, kStandby);
+  wr(kMclkcfg, kStopClkStby);  // STANDBY1
+  runUs(100);
+  wr(kMclkcfg, 0);  // STANDBY0
+  runUs(100);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_EQ(cyclesIn(chip_, PowerMode::Stop2), 3200U);
+  EXPECT_EQ(cyclesIn(chip_, PowerMode::Standby1), 3200U);
+  EXPECT_EQ(cyclesIn(chip_, PowerMode::Standby0), 3200U);
+  EXPECT_EQ(cyclesIn(chip_, PowerMode::Stop0), 0U);
+  const twin::Residency r = chip_.machine().residency();
+  uint64_t total = 0;
+  for (const uint64_t c : r)
+    total += c;
+  EXPECT_EQ(total, chip_.machine().now());
+  EXPECT_GE(cyclesIn(chip_, PowerMode::Sleep), 3200U - cyclesIn(chip_, PowerMode::Run));
+}
+
+TEST_F(Chip, ShutdownIsRefused) {
+  wr(kPmodecfg, 2);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("SHUTDOWN"), std::string::npos) << why();
+}
+
+class SleepWithTimer : public Chip {
+ protected:
+  // TIMG0 from BUSCLK at 1 MHz with its ZERO interrupt armed: the deadline the firmware's idle waits for.
+  void armTimer() {
+    wr(kTimg0 + 0x800, kPwrenOn);
+    wr(kTimg0 + 0x1008, 1U << 3);  // CLKSEL BUSCLK
+    wr(kTimg0 + 0x110C, 31);       // CPS
+    wr(kTimg0 + 0x1108, 1);        // CCLKCTL
+    wr(kTimg0 + 0x1808, 999);      // LOAD
+    wr(kTimg0 + 0x1028, 1U);       // CPU_INT.IMASK ZERO
+    wr(kTimg0 + 0x1804, 1U | (1U << 1));
+  }
+};
+
+TEST_F(SleepWithTimer, ABusclkTimerDeadlineKeepsTheCoreInSleep) {
+  armTimer();
+  runUs(3000);
+  EXPECT_FALSE(stopped()) << why();
+}
+
+TEST_F(SleepWithTimer, ABusclkTimerDeadlineInStandbyIsCaughtAsAWakeSourceLost) {
+  armTimer();
+  wr(kPmodecfg, kStandby);
+  wr(kScr, kSleepDeep);
+  runUs(10);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("STANDBY0"), std::string::npos) << why();
+  EXPECT_NE(why().find("TIMG0"), std::string::npos) << why();
+}
+
+TEST_F(SleepWithTimer, ATimerWithoutAnArmedInterruptIsNoWakeSource) {
+  armTimer();
+  wr(kTimg0 + 0x1028, 0);  // IMASK clear: nothing waits for it
+  wr(kScr, kSleepDeep);    // STOP0
+  runUs(3000);
+  EXPECT_FALSE(stopped()) << why();
+  // All but the WFI's own cycles (RUN) of the run.
+  EXPECT_EQ(cyclesIn(chip_, twin::PowerMode::Stop0), 3000U * 32 - cyclesIn(chip_, twin::PowerMode::Run));
+}
+
+TEST_F(I2c, ATransferInFlightWhenTheCoreEntersStopIsCaughtAsAnEventLost) {
+  start();
+  wr(kI2c0 + 0x1220, 0x14);
+  wr(kI2c0 + 0x1210, 0x08 << 1);                  // MSA: 0x08, write
+  wr(kI2c0 + 0x1214, (1U << 16) | 1U | 2U | 4U);  // MCTR: 1 byte, BURSTRUN, START, STOP
+  wr(kScr, kSleepDeep);                           // STOP0: ULPCLK no longer the 32 MHz MTPR was set for
+  runUs(100);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("I2C0 has a transfer in flight"), std::string::npos) << why();
+}
+
+TEST_F(I2c, AFinishedTransferLetsTheCoreEnterStop) {
+  start();
+  wr(kI2c0 + 0x1220, 0x14);
+  wr(kI2c0 + 0x1210, 0x08 << 1);
+  wr(kI2c0 + 0x1214, (1U << 16) | 1U | 2U | 4U);
+  runUs(100);  // NACKed and stopped
+  wr(kScr, kSleepDeep);
+  runUs(100);
+  EXPECT_FALSE(stopped()) << why();
+}

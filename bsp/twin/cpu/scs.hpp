@@ -30,6 +30,9 @@ class Scs final : public Device {
   const char* name() const override { return "SCS"; }
   bool read(uint32_t offset, unsigned bytes, uint32_t& value) override;
   bool write(uint32_t offset, unsigned bytes, uint32_t value) override;
+  // SCR.SLEEPDEEP (B3.2.7): a WFI or a sleep-on-exit enters the part's deep sleep (MSPM0: STOP or STANDBY,
+  // as SYSCTL PMODECFG selects) instead of SLEEP.
+  bool sleepDeep() const { return (scr_ & 0x4) != 0; }
 
  private:
   uint32_t systickValue() const;

@@ -116,6 +116,9 @@ class I2c final : public Peripheral {
   void onTransaction(std::function<void(const I2cWireLog&)> sink) { sink_ = std::move(sink); }
   uint64_t transactions() const { return transactions_; }
   uint64_t busCycles() const { return busCycles_; }
+  // A controller transfer is on the bus (START sent, STOP not yet): its bit timing needs the functional
+  // clock it was configured for (the power-mode rule, rules.hpp SLEEP-EVENT-LOST).
+  bool transferInFlight() const { return phase_ != Phase::Idle && phase_ != Phase::TimedOut; }
 
  private:
   enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, Stop, TimedOut };

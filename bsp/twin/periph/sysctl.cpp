@@ -10,9 +10,14 @@ constexpr uint32_t kSysosccfg = 0x1100, kMclkcfg = 0x1104, kHsclken = 0x1108, kH
 constexpr uint32_t kHfclkclkcfg = 0x1110, kGenclkcfg = 0x1138, kClkstatus = 0x1204;
 constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304, kRstcause = 0x1220, kSysoscfclctl = 0x1310;
 
+constexpr uint32_t kPmodecfg = 0x1140;     // SOCLOCK.PMODECFG (hw_sysctl_mspm0l11xx_l13xx.h, _g1x0x_g3x0x.h)
 constexpr uint32_t kSysoscFreqMask = 0x3;  // SYSOSCCFG.FREQ, 0 = base 32 MHz
-constexpr uint32_t kMclkMdivMask = 0xF;    // MCLKCFG.MDIV
-constexpr uint32_t kMclkUdivMask = 0x30;   // MCLKCFG.UDIV (ULPCLK divider)
+// SYSOSCCFG.USE4MHZSTOP (bit 8) and DISABLESTOP (bit 9), MCLKCFG.STOPCLKSTBY (bit 21), PMODECFG.DSLEEP (1:0:
+// 0 STOP, 1 STANDBY, 2 SHUTDOWN) (hw_sysctl; the modes they select: power_mode.hpp).
+constexpr uint32_t kUse4MhzStop = 1U << 8, kDisableStop = 1U << 9, kStopClkStby = 1U << 21;
+constexpr uint32_t kDsleepMask = 0x3, kDsleepStandby = 1, kDsleepShutdown = 2;
+constexpr uint32_t kMclkMdivMask = 0xF;   // MCLKCFG.MDIV
+constexpr uint32_t kMclkUdivMask = 0x30;  // MCLKCFG.UDIV (ULPCLK divider)
 constexpr uint32_t kMclkUseHsclk = 1U << 16, kMclkUseLfclk = 1U << 20;
 constexpr uint32_t kHfxtEnable = 1U << 0;                 // HSCLKEN.HFXTEN
 constexpr uint32_t kHfxtTimeMask = 0xFF;                  // HFCLKCLKCFG.HFXTTIME, 64 us units
@@ -27,10 +32,18 @@ constexpr uint32_t kFclMode = 1U << 24;                                         
 
 Sysctl::Sysctl(Machine& machine, bool hasHfxt) : machine_(machine), hasHfxt_(hasHfxt) {
   machine.onReset([this](ResetKind kind) { reset(kind); });
+  machine.setDeepSleepMode([this] { return deepSleepMode(); });
+}
+
+PowerMode Sysctl::deepSleepMode() const {
+  if ((pmodecfg_ & kDsleepMask) == kDsleepStandby)
+    return (mclkcfg_ & kStopClkStby) ? PowerMode::Standby1 : PowerMode::Standby0;
+  if (sysosccfg_ & kDisableStop) return PowerMode::Stop2;
+  return (sysosccfg_ & kUse4MhzStop) ? PowerMode::Stop1 : PowerMode::Stop0;
 }
 
 void Sysctl::reset(ResetKind kind) {
-  sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = 0;
+  sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = pmodecfg_ = 0;
   // The FCL stays on until the next BOOTRST ("Once enabled, this state is locked until the next BOOTRST",
   // hw_sysctl SYSOSCFCLCTL.SETUSEFCL; a BOOTRST resets "SYSOSC FCL mode (if enabled)", SLAU847F, BOOTRST
   // section).
@@ -64,6 +77,9 @@ bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
   switch (offset) {
     case kSysosccfg:
       value = sysosccfg_;
+      return true;
+    case kPmodecfg:
+      value = pmodecfg_;
       return true;
     case kMclkcfg:
       value = mclkcfg_;
@@ -122,6 +138,14 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       return true;
     case kGenclkcfg:
       genclkcfg_ = value;
+      return true;
+    case kPmodecfg:
+      // SHUTDOWN loses the core's state and leaves through a BOOTRST (SLAU847D/SLAU846B 2 PMCU SHUTDOWN):
+      // not modelled, and no image uses it.
+      if ((value & kDsleepMask) >= kDsleepShutdown)
+        machine_.stop(
+            "SYSCTL: PMODECFG.DSLEEP selects SHUTDOWN (or a reserved value); the twin has no SHUTDOWN");
+      pmodecfg_ = value & kDsleepMask;
       return true;
     case kResetlevel:
       resetLevel_ = value & 7U;

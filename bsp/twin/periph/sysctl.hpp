@@ -27,6 +27,9 @@
 // - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT,
 //   HFCLKCLKCFG.HFXTRSEL must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1
 //   8..16, 2 16..32, 3 32..48 MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
+// - PMODECFG (0x1140) with SYSOSCCFG.USE4MHZSTOP/DISABLESTOP and MCLKCFG.STOPCLKSTBY select the mode
+//   SCR.SLEEPDEEP enters (power_mode.hpp; the machine's residency and SLEEP-EVENT-LOST); SHUTDOWN stops
+//   the run.
 // Registers the images do not use are not modelled: an access stops the run.
 #pragma once
 
@@ -52,6 +55,8 @@ class Sysctl final : public Device {
   // Why CANCLK cannot run (rules.hpp CLOCK-OFF): its source is off; "" when it is on or starting.
   std::string canClockProblem() const;
   void setHfxtCrystalHz(uint32_t hz) { crystalHz_ = hz; }
+  // The mode SCR.SLEEPDEEP enters now: PMODECFG.DSLEEP, SYSOSCCFG and MCLKCFG.STOPCLKSTBY (power_mode.hpp).
+  PowerMode deepSleepMode() const;
 
   enum class BootRequest : uint8_t { None, EnterBootloader, ExitBootloader };
   // The bootloader request of the software reset in progress (RESETLEVEL 2 or 4), taken once.
@@ -67,7 +72,7 @@ class Sysctl final : public Device {
   Machine& machine_;
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
-  uint32_t resetLevel_ = 0;
+  uint32_t resetLevel_ = 0, pmodecfg_ = 0;
   BootRequest bootRequest_ = BootRequest::None;
   bool fclMode_ = false;
   uint64_t hfxtGoodAt_ = UINT64_MAX;

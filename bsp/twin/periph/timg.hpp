@@ -34,6 +34,9 @@ class Timg final : public Peripheral {
 
   // CPU_INT bits (hw_gptimer.h GPTIMER_CPU_INT_IMASK_*).
   static constexpr uint32_t kZero = 1U << 0, kLoad = 1U << 1, kCcd0 = 1U << 4, kCcu0 = 1U << 8;
+  // The counter counts, from BUSCLK (the only clock the model runs: TIMER-TICK), with an interrupt that can
+  // still fire: a deadline the firmware waits for (the power-mode rule, rules.hpp SLEEP-EVENT-LOST).
+  bool deadlineArmed() const { return eventsPossible() && cpuInt_.imask != 0; }
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;

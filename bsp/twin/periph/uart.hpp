@@ -94,6 +94,9 @@ class Uart final : public Peripheral, public DmaRequester {
   std::string dmaTriggerProblem(int trigger, Rule& rule) const override;
   // The receiver samples its RX pin (the board asks before it delivers a byte: PIN-UNROUTED).
   bool receiving() const;
+  // A frame is leaving (shift register or TX FIFO not empty): its baud needs the functional clock it was
+  // configured for (the power-mode rule, rules.hpp SLEEP-EVENT-LOST).
+  bool transmitting() const { return shifting_ || !txFifo_.empty(); }
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;

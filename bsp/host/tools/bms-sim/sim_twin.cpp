@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <initializer_list>
 #include <optional>
 
 #include "app/protection/default_limits.hpp"
@@ -516,11 +517,21 @@ SimFigures TwinSim::figures() {
   add("cpu_load_pct",
       m.now() ? 100.0 * static_cast<double>(m.busyCycles()) / static_cast<double>(m.now()) : 0.0);
   // Computed from residency and TI's data-sheet currents, not measured (bsp/twin/power.hpp).
-  const uint64_t run = m.now(), busy = std::min(m.busyCycles(), run);
-  add("residency_run_pct", run ? 100.0 * static_cast<double>(busy) / static_cast<double>(run) : 0.0);
-  add("residency_sleep_pct", run ? 100.0 * static_cast<double>(run - busy) / static_cast<double>(run) : 0.0);
+  const twin::Residency r = m.residency();
+  const uint64_t run = m.now();
+  auto pct = [&](std::initializer_list<twin::PowerMode> modes) {
+    uint64_t cycles = 0;
+    for (const twin::PowerMode mode : modes)
+      cycles += r[static_cast<size_t>(mode)];
+    return run ? 100.0 * static_cast<double>(cycles) / static_cast<double>(run) : 0.0;
+  };
+  using twin::PowerMode;
+  add("residency_run_pct", pct({PowerMode::Run}));
+  add("residency_sleep_pct", pct({PowerMode::Sleep}));
+  add("residency_stop_pct", pct({PowerMode::Stop0, PowerMode::Stop1, PowerMode::Stop2}));
+  add("residency_standby_pct", pct({PowerMode::Standby0, PowerMode::Standby1}));
   f.extra.emplace_back("mcu_current_ua",
-                       std::to_string(twin::averageCurrentUa(twin::powerTable(id_.part), busy, run)));
+                       std::to_string(twin::averageCurrentUa(twin::powerTable(id_.part), r)));
   add("isr_max_us", static_cast<double>(handler) / perUs);
   add("wake_latency_max_us", static_cast<double>(latency) / perUs);
   f.extra.emplace_back("twin_instructions", std::to_string(m.core().instructions()));
