@@ -358,6 +358,13 @@ void Machine::run(uint64_t endCycle) {
     }
     timeline_.clearRearmed();
     while (now() < horizon) {
+      if (now() < flashBusyUntil_ && core_.pc() < layout_.flashSize) {
+        // The next fetch is from the flash bank FLASHCTL is busy with: the core stalls (busy, not asleep).
+        const uint64_t until = std::min(flashBusyUntil_, horizon);
+        busy_ += until - now();
+        timeline_.advanceTo(until);
+        continue;
+      }
       if (!stepCore()) break;
       if (timeline_.rearmed() || pendingReset_ || core_.sleeping()) break;
     }

@@ -136,6 +136,13 @@
 //                     (fw::Duration; TimgClock and TimgOneShot count at 1 MHz, bsp/mspm0/README.md): every
 //                     period and timeout of the firmware would be off by the ratio. A project rule, like
 //                     IDLE-WFI
+//   FLASH-PROTECTED   a FLASHCTL command on a sector still protected: the controller protects every sector
+//                     after each command, so each command needs its own unprotect (SLAU846A/SLAU847 FLASHCTL
+//                     write/erase protection; hw_flashctl.h CMDWEPROTA, STATCMD.FAILWEPROT)
+//   FLASH-UNERASED    a program into a flash word that is not erased (SLAU846A program section: ECC over the
+//                     whole 64-bit word on the G3507; the safe side on the L1306; hal/flash.hpp)
+//   FLASH-REGION      a FLASHCTL command to NONMAIN or to the image's sectors, or CMDWEPROTNM cleared: the
+//                     firmware writes only its data region (bsp/mspm0/flashctl.hpp; bsl.md NONMAIN lockout)
 #pragma once
 
 #include <cstdint>
@@ -175,6 +182,9 @@ enum class Rule : uint8_t {
   UartTxEndUnseen,
   McanBusOffStuck,
   TimerTick,
+  FlashProtected,
+  FlashUnerased,
+  FlashRegion,
 };
 
 struct RuleInfo {
