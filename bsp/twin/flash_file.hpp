@@ -22,6 +22,10 @@ struct FlashRegion {
   uint32_t begin = 0, end = 0;
 };
 
+// The region as the linker scripts place it on both parts (bsp/mspm0/linker/mspm0_sections.ld DATA), for a
+// twin started without an ELF (twin-bsl on a blank part).
+inline constexpr FlashRegion kLinkerDataRegion{0x7000, 0x8000};
+
 std::optional<FlashRegion> dataRegion(const ElfFile& elf);
 bool loadFlashFile(Machine& machine, FlashRegion region, const std::string& path, std::string& error);
 bool saveFlashFile(const Machine& machine, FlashRegion region, const std::string& path, std::string& error);
