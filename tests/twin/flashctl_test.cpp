@@ -1,9 +1,12 @@
 // The FLASHCTL model (bsp/twin/periph/flashctl.hpp) against TI's description: commands, protection, the
 // stall, timing, the misuse rules and the power cut. Registers are driven through the address map as the
 // CPU's stores would; the CPU meanwhile runs a counting loop in flash (or in SRAM), so the stall shows.
+#include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
+#include "flash_file.hpp"
 #include "gtest/gtest.h"
 #include "mspm0.hpp"
 
@@ -184,6 +187,32 @@ TEST_F(Flash, APowerCutDuringAnEraseLeavesTheSectorPartlyErased) {
   EXPECT_EQ(flashAt(kData), 0xFF);
   EXPECT_EQ(flashAt(kData + 1023), 0x00);
   EXPECT_EQ(chip_.flashctl().busy(), twin::Flashctl::Op::None);
+}
+
+// bms-sim / twin-bsl --flash (flash_file.hpp): the region in a file across runs.
+TEST(FlashFile, AMissingFileIsCreatedErasedAndTheRegionComesBackFromIt) {
+  const std::string path = ::testing::TempDir() + "twin_flash_file_test.bin";
+  std::remove(path.c_str());
+  const twin::FlashRegion region = twin::kLinkerDataRegion;
+  std::string error;
+  {
+    Mspm0 chip(Part::L1306);
+    chip.machine().flash()[region.begin] = 0x00;
+    ASSERT_TRUE(twin::loadFlashFile(chip.machine(), region, path, error)) << error;
+    EXPECT_EQ(chip.machine().flash()[region.begin], 0xFF) << "created erased";
+    chip.machine().flash()[region.begin + 5] = 0x5A;
+    chip.machine().flash()[region.end - 1] = 0x00;
+    ASSERT_TRUE(twin::saveFlashFile(chip.machine(), region, path, error)) << error;
+  }
+  Mspm0 next(Part::L1306);
+  ASSERT_TRUE(twin::loadFlashFile(next.machine(), region, path, error)) << error;
+  EXPECT_EQ(next.machine().flash()[region.begin + 5], 0x5A);
+  EXPECT_EQ(next.machine().flash()[region.end - 1], 0x00);
+  EXPECT_EQ(next.machine().flash()[region.end], 0xFF) << "nothing outside the region";
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << "short";
+  EXPECT_FALSE(twin::loadFlashFile(next.machine(), region, path, error));
+  EXPECT_NE(error.find("5 B, the data region is 4096 B"), std::string::npos) << error;
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -50,6 +50,8 @@ inline constexpr uint32_t kCommandErase = 0x2;     // CMDTYPE.COMMAND ERASE
 inline constexpr uint32_t kSizeOneWord = 0x00;     // CMDTYPE.SIZE ONEWORD
 inline constexpr uint32_t kSizeSector = 0x40;      // CMDTYPE.SIZE SECTOR
 inline constexpr uint32_t kByteEnableData = 0xFF;  // CMDBYTEN: the 8 data bytes
+// CMDBYTEN 0x1FF = "64-bit programming with ECC enabled", 0xFF = 64-bit without (dl_flashctl.h
+// DL_FlashCTL_setCommandByteEnable; hw_flashctl.h CMDBYTEN: one bit per byte "including the ECC byte").
 inline constexpr uint32_t kByteEnableEcc = 0x100;  // CMDBYTEN: the ECC byte (parts with ECC)
 inline constexpr uint32_t kEccGenOverride = 1U
                                             << 17;  // CMDCTL.ECCGENOVR: left clear, the hardware computes ECC
