@@ -53,7 +53,7 @@ fw::Status FlashctlStorage::doErase(uint32_t sector) {
   command.cmdctl.write(0);  // address translation by the hardware, MAIN region from the address
   command.cmdtype.write(fc::kCommandErase | fc::kSizeSector);
   command.cmdaddr.write(address);
-  if (fw::Status s = execute(address, flashPollBound(kFlashEraseMaxUs, config_.cpuHz)); s != fw::Status::Ok)
+  if (fw::Status s = execute(address, flashPollBound(kFlashEraseMaxUs, config_.cpuMhz)); s != fw::Status::Ok)
     return s;
   for (uint32_t i = 0; i < kSectorBytes; ++i) {
     if (flashByte(sector * kSectorBytes + i) != kErased) return fw::Status::VerifyFailed;
@@ -78,7 +78,8 @@ fw::Status FlashctlStorage::doProgram(uint32_t offset, std::span<const uint8_t, 
   command.cmdbyten.write(fc::kByteEnableData | (config_.ecc ? fc::kByteEnableEcc : 0));
   command.cmddata0.write(le32(0));
   command.cmddata1.write(le32(4));
-  if (fw::Status s = execute(address, flashPollBound(kFlashProgramMaxUs, config_.cpuHz)); s != fw::Status::Ok)
+  if (fw::Status s = execute(address, flashPollBound(kFlashProgramMaxUs, config_.cpuMhz));
+      s != fw::Status::Ok)
     return s;
   for (unsigned i = 0; i < kWordBytes; ++i) {
     if (flashByte(offset + i) != word[i]) return fw::Status::VerifyFailed;

@@ -36,16 +36,17 @@ struct FlashctlConfig {
   const uint8_t* mapped;   // where reads see the region (the same address on the target)
   uint32_t sectors;        // sectors in the region
   bool ecc;                // the part computes and stores ECC (G3507)
-  uint32_t cpuHz;          // the CPU clock the bounds are computed for
+  uint32_t cpuMhz;         // the CPU clock the bounds are computed for, MHz
 };
 
-// The data sheet maxima the bounds use (us), and the iteration bound of a wait of `us` at `cpuHz`.
+// The data sheet maxima the bounds use (us), and the iteration bound of a wait of `us` at `cpuMhz` (32-bit
+// arithmetic: no 64-bit division helper from libgcc in the image).
 inline constexpr uint32_t kFlashProgramMaxUs = 275;
 inline constexpr uint32_t kFlashEraseMaxUs = 20000;
-constexpr uint32_t flashPollBound(uint32_t us, uint32_t cpuHz) {
+constexpr uint32_t flashPollBound(uint32_t us, uint32_t cpuMhz) {
   constexpr uint32_t kMinCyclesPerIteration = 4;
   constexpr uint32_t kMargin = 2;
-  return static_cast<uint32_t>(uint64_t{us} * (cpuHz / 1000000U) * kMargin / kMinCyclesPerIteration);
+  return us * cpuMhz * kMargin / kMinCyclesPerIteration;
 }
 
 class FlashctlStorage final : public fw::hal::FlashStorage {

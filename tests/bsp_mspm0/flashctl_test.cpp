@@ -55,7 +55,7 @@ class Flashctl : public RegisterTest {
     }
     regs().set(kStatcmd, kDone | kPass);
   }
-  FlashctlStorage storage() { return FlashctlStorage({kFc, kRegion, flash_.data(), 4, ecc_, 32000000}); }
+  FlashctlStorage storage() { return FlashctlStorage({kFc, kRegion, flash_.data(), 4, ecc_, 32}); }
 
   std::array<uint8_t, 4096> flash_{};
   bool ecc_ = true;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/status.hpp"
+#include "elf_file.hpp"
 #include "flash_file.hpp"
 #include "gtest/gtest.h"
 #include "mspm0.hpp"
@@ -214,5 +216,77 @@ TEST(FlashFile, AMissingFileIsCreatedErasedAndTheRegionComesBackFromIt) {
   EXPECT_NE(error.find("5 B, the data region is 4096 B"), std::string::npos) << error;
   std::remove(path.c_str());
 }
+
+#ifdef TWIN_PROGRAMS
+// The driver itself (bsp/mspm0/flashctl.cpp, programs/flash_driver.cpp) with the product's start-up and
+// linker script, on the model: the sequence TI documents works, the SRAM loop is copied and runs, the
+// refusals never reach the controller.
+class Driver : public ::testing::TestWithParam<Part> {
+ protected:
+  Driver() : chip_(GetParam()) {
+    const std::string chip = GetParam() == Part::G3507 ? "mspm0g3507" : "mspm0l1306";
+    EXPECT_TRUE(elf_.load(std::string(TWIN_PROGRAMS) + "/flash_driver_" + chip + ".elf")) << elf_.error();
+    EXPECT_TRUE(chip_.load(elf_)) << chip_.error();
+  }
+  uint32_t word(const char* symbol, uint32_t index = 0) {
+    const auto s = elf_.symbol(symbol);
+    EXPECT_TRUE(s.has_value()) << symbol;
+    return s ? chip_.machine().readSram32(s->value + 4 * index) : 0;
+  }
+  // Runs until the program sets kDone (at most 100 ms); the time it took, in us.
+  uint64_t runToDone() {
+    const uint64_t start = chip_.machine().now();
+    chip_.machine().run(start +
+                        32 * 10);  // past the start-up's zeroing of .bss (SRAM holds a pattern before)
+    while (word("kDone") != 1 && !chip_.machine().stopped() && chip_.machine().now() - start < 3200000)
+      chip_.machine().run(chip_.machine().now() + 32 * 10);
+    return (chip_.machine().now() - start) / 32;
+  }
+  void expectResults() {
+    const uint32_t ok = static_cast<uint32_t>(fw::Status::Ok);
+    const uint32_t invalid = static_cast<uint32_t>(fw::Status::InvalidArgument);
+    EXPECT_EQ(word("kResults", 0), ok) << "erase";
+    EXPECT_EQ(word("kResults", 1), ok) << "program 0";
+    EXPECT_EQ(word("kResults", 2), ok) << "program 8";
+    EXPECT_EQ(word("kResults", 3), invalid) << "program into a programmed word";
+    EXPECT_EQ(word("kResults", 4), invalid) << "unaligned";
+    EXPECT_EQ(word("kResults", 5), invalid) << "sector outside the region";
+    EXPECT_EQ(word("kResults", 6), invalid) << "offset outside the region";
+    EXPECT_EQ(word("kResults", 7), 4U) << "sectors in the region";
+    const auto& flash = chip_.machine().flash();
+    EXPECT_EQ(flash[0x7000], 0x11);
+    EXPECT_EQ(flash[0x7007], 0x88);
+    EXPECT_EQ(flash[0x700F], 0x07);
+    EXPECT_EQ(flash[0x7010], 0xFF);
+  }
+
+  twin::ElfFile elf_;
+  Mspm0 chip_;
+};
+
+TEST_P(Driver, ErasesProgramsAndRefusesWhatTheContractRefuses) {
+  const uint64_t us = runToDone();
+  ASSERT_FALSE(chip_.machine().stopped()) << chip_.machine().stopReason();
+  expectResults();
+  // One erase and two programs at the typical times (4 ms + 2 x 50 us) pass while the core waits.
+  EXPECT_GE(us, 4100U);
+  EXPECT_EQ(chip_.flashctl().commandsStarted(), 3U) << "the refused requests never reached the controller";
+}
+
+TEST_P(Driver, APowerCutInTheFirstProgramLeavesATornWordAndTheRestartRecovers) {
+  while (chip_.flashctl().commandsStarted() < 2 && !chip_.machine().stopped())
+    chip_.machine().run(chip_.machine().now() + 32);
+  ASSERT_EQ(chip_.flashctl().busy(), twin::Flashctl::Op::Program);
+  chip_.machine().run(chip_.machine().now() + 25 * 32);
+  chip_.cutPower();
+  EXPECT_EQ(chip_.machine().flash()[0x7000], 0x11);
+  EXPECT_NE(chip_.machine().flash()[0x7007], 0x88) << "the word is torn";
+  runToDone();  // the restarted program erases the sector again
+  ASSERT_FALSE(chip_.machine().stopped()) << chip_.machine().stopReason();
+  expectResults();
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, Driver, ::testing::Values(Part::L1306, Part::G3507));
+#endif
 
 }  // namespace
