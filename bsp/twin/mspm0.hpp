@@ -57,7 +57,9 @@ class Mspm0 {
   FactoryRegion& factory() { return *factory_; }
   Flashctl& flashctl() { return *flashctl_; }
   // Power fails now and comes back: a flash operation in progress is left half done (Flashctl::cutPower),
-  // then a power-on reset; the flash keeps its content, SRAM does not.
+  // then a power-on reset; the flash keeps its content, SRAM does not. To cut after a given instruction:
+  // machine().run(machine().now() + 1) executes exactly one (every instruction takes at least one cycle);
+  // during a given operation: run until flashctl().commandsStarted() counts it and busy() is set.
   void cutPower();
   const Mcan* mcan() const { return mcan_.get(); }
   const Pins& pins() const { return *pins_; }

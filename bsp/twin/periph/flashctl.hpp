@@ -6,7 +6,8 @@
 // n), CMDWEPROTB 0x11D4 (bit n: sectors 32 + 8n .. 39 + 8n), CMDWEPROTNM 0x1210, STATCMD 0x13D0 (CMDDONE 0,
 // CMDPASS 1, CMDINPROGRESS 2, FAILWEPROT 4, FAILVERIFY 5, FAILILLADDR 6, FAILMODE 7, FAILINVDATA 8,
 // FAILMISC 12). Any other register, or a command other than PROGRAM ONEWORD / ERASE SECTOR, stops the run
-// (not modelled).
+// (not modelled). FLASHCTL has no GPRCM block (hw_flashctl.h FLASHCTL_GEN_Regs holds nothing below 0x1020:
+// no PWREN to set), so the model is a plain Device, always powered.
 //
 // Behaviour
 // - Protection: every sector is protected after reset and again after every command ("the flash controller
