@@ -235,7 +235,10 @@ std::vector<std::pair<int, uint64_t>> Machine::unservedIrqs(uint64_t minCycles) 
 void Machine::onExceptionEntry(int exception) {
   enteredException_ = true;
   if (race_) race_->onExceptionEntry(exception);
-  const uint64_t start = now() + cycles::kExceptionEntry;  // the handler's first instruction
+  // The handler's first instruction; the vector fetch waits for a FLASHCTL program/erase to end (the bank
+  // stalls every read, SLAAE56A), which the latency figure includes (the safe side: the whole entry after
+  // it).
+  const uint64_t start = std::max(now(), flashBusyUntil_) + cycles::kExceptionEntry;
   InterruptFigures& f = irqFigures_[exception];
   ++f.entries;
   if (requested_[exception]) {
@@ -387,6 +390,17 @@ void Machine::run(uint64_t endCycle) {
     }
     timeline_.clearRearmed();
     while (now() < horizon) {
+      if (now() < flashBusyUntil_ && core_.pc() < layout_.flashSize) {
+        // The next fetch is from the flash bank FLASHCTL is busy with: the core stalls (busy, not asleep).
+        const uint64_t until = std::min(flashBusyUntil_, horizon);
+        if (profiler_ != nullptr) {
+          profiler_->account(core_.pc(), core_.ipsr(), core_.ipsr(), false,
+                             static_cast<uint32_t>(until - now()));
+        }
+        busy_ += until - now();
+        timeline_.advanceTo(until);
+        continue;
+      }
       if (!stepCore()) break;
       if (timeline_.rearmed() || pendingReset_ || core_.sleeping()) break;
     }

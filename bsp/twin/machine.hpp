@@ -148,6 +148,9 @@ class Machine final : public CoreObserver {
   Core& core() { return core_; }
   const MemoryLayout& layout() const { return layout_; }
   bool inSram(uint32_t address) const { return address - layout_.sramBase < layout_.sramSize; }
+  // FLASHCTL programs or erases until `cycle` (0: not): the one flash bank stalls every read, so the core
+  // fetches no instruction from flash before then; code in SRAM runs on (periph/flashctl.hpp).
+  void stallFlashUntil(uint64_t cycle) { flashBusyUntil_ = cycle; }
   // An external interrupt line's level (IRQ n of the NVIC).
   void setIrq(int irq, bool asserted);
   // IRQ-UNSERVED (rules.hpp): the lines asserted now for at least `minCycles` whose NVIC enable was never set
@@ -239,6 +242,7 @@ class Machine final : public CoreObserver {
   bool enteredException_ = false;  // the step just taken was an exception entry (profiler)
   uint8_t pendingCauseId_ = 0;
   uint8_t resetCause_ = 0;
+  uint64_t flashBusyUntil_ = 0;
 };
 
 }  // namespace twin

@@ -77,6 +77,9 @@ Mspm0::Mspm0(Part part) : part_(part) {
   factory_ = g ? std::make_unique<FactoryRegion>(0x35070001, 0xBB88)
                : std::make_unique<FactoryRegion>(0x13060001, 0xBB82);
   m.map().add(FactoryRegion::kBase, FactoryRegion::kSize, *factory_);
+  flashctl_ = std::make_unique<Flashctl>(m, g);  // ECC on the G3507 only (reference section 3)
+  m.map().add(Flashctl::kBase, Flashctl::kSize, *flashctl_);
+  m.onReset([this](ResetKind) { flashctl_->systemReset(); });
   if (g) {
     pins_ = std::make_unique<Pins>(m, std::span<const PinId>(kG3507Pins));
   } else {
@@ -159,6 +162,11 @@ std::vector<std::string> Mspm0::unservedInterrupts() const {
   return out;
 }
 
+void Mspm0::cutPower() {
+  flashctl_->cutPower();
+  machine_->reset(ResetKind::Por, "power cut", rstcause::kPorSupply);
+}
+
 int Mspm0::pincm(int port, int bit) const {
   const PinId* p = pins_->find(port, bit);
   return p == nullptr ? 0 : p->pincm;
@@ -172,6 +180,7 @@ bool Mspm0::load(const ElfFile& elf) {
     return false;
   }
   machine_->setSymbolizer([this](uint32_t address) { return elf_->symbolAt(address); });
+  flashctl_->setImageEnd(static_cast<uint32_t>(elf.flashImage().size()));
   // The data-race rule, IDLE-WFI and BSS-UNINIT (rules.hpp); the stack reservation starts at __stack_limit__,
   // .bss spans [__bss_start__, __bss_end__) (bsp/mspm0/linker).
   const auto limit = elf.symbol("__stack_limit__");

@@ -20,6 +20,7 @@
 #include "periph/cpuss.hpp"
 #include "periph/dma.hpp"
 #include "periph/factory.hpp"
+#include "periph/flashctl.hpp"
 #include "periph/gpio.hpp"
 #include "periph/i2c.hpp"
 #include "periph/mcan.hpp"
@@ -54,6 +55,12 @@ class Mspm0 {
   Uart& uart(int n) { return *uart_[n]; }  // 0..3 on the G3507, 0..1 on the L1306
   Mcan* mcan() { return mcan_.get(); }     // G3507 only
   FactoryRegion& factory() { return *factory_; }
+  Flashctl& flashctl() { return *flashctl_; }
+  // Power fails now and comes back: a flash operation in progress is left half done (Flashctl::cutPower),
+  // then a power-on reset; the flash keeps its content, SRAM does not. To cut after a given instruction:
+  // machine().run(machine().now() + 1) executes exactly one (every instruction takes at least one cycle);
+  // during a given operation: run until flashctl().commandsStarted() counts it and busy() is set.
+  void cutPower();
   const Mcan* mcan() const { return mcan_.get(); }
   const Pins& pins() const { return *pins_; }
   // The ROM bootloader and the boot code that starts it (bsl/).
@@ -80,6 +87,7 @@ class Mspm0 {
   std::unique_ptr<Sysctl> sysctl_;
   std::unique_ptr<Cpuss> cpuss_;
   std::unique_ptr<FactoryRegion> factory_;
+  std::unique_ptr<Flashctl> flashctl_;
   std::unique_ptr<Pins> pins_;
   std::unique_ptr<Dma> dma_;
   std::unique_ptr<Gpio> gpioA_, gpioB_;

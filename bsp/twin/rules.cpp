@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 33> kRules = {{
+constexpr std::array<RuleInfo, 36> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -63,9 +63,15 @@ constexpr std::array<RuleInfo, 33> kRules = {{
      "SLAU847D/SLAU846B 2 PMCU operating modes (clocks per mode); hw_sysctl PMODECFG.DSLEEP; "
      "DDI 0419E B3.2.7 SCR.SLEEPDEEP",
      true},
+    {"FLASH-PROTECTED",
+     "SLAU846A/SLAU847 FLASHCTL write/erase protection; hw_flashctl.h CMDWEPROTA, STATCMD.FAILWEPROT", true},
+    {"FLASH-UNERASED", "SLAU846A FLASHCTL program (ECC over the 64-bit word); fw::hal::FlashStorage contract",
+     true},
+    {"FLASH-REGION",
+     "bsp/mspm0/flashctl.hpp data region; SLAU887 4.3.9 NONMAIN lockout; hw_flashctl.h CMDWEPROTNM", true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::SleepEventLost) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::FlashRegion) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

@@ -151,6 +151,13 @@
 //                     dl_sysctl_mspm0l11xx_l13xx.h DL_SYSCTL_setPowerPolicySTANDBY1 comment), or a TIMG
 //                     deadline counted from that BUSCLK (the only timer clock the twin runs, TIMER-TICK):
 //                     the transfer stalls or runs at another rate, the deadline comes late or never
+//   FLASH-PROTECTED   a FLASHCTL command on a sector still protected: the controller protects every sector
+//                     after each command, so each command needs its own unprotect (SLAU846A/SLAU847 FLASHCTL
+//                     write/erase protection; hw_flashctl.h CMDWEPROTA, STATCMD.FAILWEPROT)
+//   FLASH-UNERASED    a program into a flash word that is not erased (SLAU846A program section: ECC over the
+//                     whole 64-bit word on the G3507; the safe side on the L1306; hal/flash.hpp)
+//   FLASH-REGION      a FLASHCTL command to NONMAIN or to the image's sectors, or CMDWEPROTNM cleared: the
+//                     firmware writes only its data region (bsp/mspm0/flashctl.hpp; bsl.md NONMAIN lockout)
 #pragma once
 
 #include <cstdint>
@@ -192,6 +199,9 @@ enum class Rule : uint8_t {
   TimerTick,
   I2cNoTimeout,
   SleepEventLost,
+  FlashProtected,
+  FlashUnerased,
+  FlashRegion,
 };
 
 struct RuleInfo {

@@ -189,6 +189,24 @@ def c_flash(preset):
           f"loaded directly (worst time difference {worst} us)")
 
 
+def c_keeps_data():
+    """The flash data region (0x7000..0x7FFF, bsp/mspm0/linker) holds records from before: a reflash over the
+    BSL erases only the image's sectors (Flash Range Erase), so every byte of the region survives it."""
+    preset = "lp-mspm0l1306-bq76907"
+    ext, baud = HOW[preset]
+    data = os.path.join(scratch, "data-region.bin")
+    before = bytes((i * 7 + 3) & 0xFF for i in range(4096))
+    with open(data, "wb") as f:
+        f.write(before)
+    twin, stdout, stderr, log = flash_and_run(preset, ext, baud, "--flash", data)
+    check(log is not None and "application started" in log, "the flashed application ran")
+    with open(data, "rb") as f:
+        after = f.read()
+    changed = sum(1 for a, b in zip(before, after) if a != b) + abs(len(after) - len(before))
+    check(changed == 0, f"the data region survives the reflash: {changed} of 4096 bytes changed")
+    print(f"REPORT bmsctl flash {preset}{ext}: {4096 - changed} of 4096 bytes of the data region kept")
+
+
 def c_report():
     preset = "lp-mspm0g3507-bq79616"
     twin, stdout, stderr, log = flash_and_run(preset, ".elf", 115200)
@@ -546,6 +564,7 @@ else:
         "password-file": c_password_file,
         "invoke-app-host": c_invoke_app_host,
         "flash-target": c_flash_target,
+        "keeps-data": c_keeps_data,
     }[check_name]()
 print(f"{check_name}: {'FAILED' if failures else 'ok'}")
 sys.exit(1 if failures else 0)

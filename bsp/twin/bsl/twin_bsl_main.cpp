@@ -3,7 +3,7 @@
 //
 //   twin-bsl --board <preset> [--elf IMAGE] [--s1] [--command-pty] [--password HEX64] [--run MS]
 //            [--frames FILE] [--timeout S] [--log] [--power-loss-after N] [--corrupt-answer N]
-//            [--drop-host-byte N] [--flip-bit ADDR]
+//            [--drop-host-byte N] [--flip-bit ADDR] [--flash FILE]
 //
 // The chip starts blank (MAIN flash erased: the boot code starts the BSL), or with --elf loaded (the image
 // runs, unless --s1 holds the invoke pin PA18 high through the power-on). The first line on stdout is
@@ -27,6 +27,10 @@
 // acknowledged and restores it 500 ms later (as unplugging a LaunchPad's USB cable does); --corrupt-answer N
 // sends the N-th core answer with a wrong CRC; --drop-host-byte N loses the N-th byte from the host;
 // --flip-bit ADDR flips bit 0 of the flash byte at ADDR once a Program Data has written it.
+//
+// --flash FILE: the flash data region (bsp/mspm0/linker, 0x7000..0x7FFF) is read from FILE before the chip
+// starts (created erased if missing) and written back after the application ran (exit 0 only): a test sees
+// what a reflash left of it (flash_file.hpp).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -40,6 +44,7 @@
 #include "board/board.hpp"
 #include "bsl/bsl_pty.hpp"
 #include "bsl/command_pty.hpp"
+#include "flash_file.hpp"
 #include "sim/harness.hpp"
 
 namespace {
@@ -82,7 +87,7 @@ bool decodeSlcan(const std::string& line, uint32_t& id, std::vector<uint8_t>& da
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string preset, elfPath, framesPath, passwordHex;
+  std::string preset, elfPath, framesPath, passwordHex, flashPath;
   bool s1 = false, log = false, commandPty = false;
   uint64_t runMs = 2000, timeoutS = 60, powerLossAfter = 0, corruptAnswer = 0, dropHostByte = 0;
   std::optional<uint64_t> flipBit;
@@ -93,10 +98,14 @@ int main(int argc, char** argv) {
       const char* v = value();
       return v != nullptr && parseNumber(v, out);
     };
-    if (a == "--board" || a == "--elf" || a == "--frames" || a == "--password") {
+    if (a == "--board" || a == "--elf" || a == "--frames" || a == "--password" || a == "--flash") {
       const char* v = value();
       if (v == nullptr) return usage(a + " needs a value");
-      (a == "--board" ? preset : a == "--elf" ? elfPath : a == "--frames" ? framesPath : passwordHex) = v;
+      (a == "--board"    ? preset
+       : a == "--elf"    ? elfPath
+       : a == "--frames" ? framesPath
+       : a == "--flash"  ? flashPath
+                         : passwordHex) = v;
     } else if (a == "--s1") {
       s1 = true;
     } else if (a == "--command-pty") {
@@ -230,6 +239,13 @@ int main(int argc, char** argv) {
   } else {
     m.powerOn();
   }
+  // --flash: the data region from the file (created erased), written back when the application has run.
+  const twin::FlashRegion region =
+      elfPath.empty() ? twin::kLinkerDataRegion : twin::dataRegion(elf).value_or(twin::kLinkerDataRegion);
+  if (!flashPath.empty() && !twin::loadFlashFile(m, region, flashPath, error)) {
+    std::fprintf(stderr, "twin-bsl: error: --flash: %s\n", error.c_str());
+    return 1;
+  }
   board.chip().pins().setExternal(invokePin, twin::Drive::None);  // S1 released; the board pulls PA18 down
   std::printf("twin-bsl: BSL UART on %s (%s board)\n", pty.path().c_str(), preset.c_str());
   if (command) {
@@ -318,6 +334,10 @@ int main(int argc, char** argv) {
     uint32_t canId = 0;
     std::vector<uint8_t> data;
     if (decodeSlcan(line.text, canId, data)) emit(line.cycle, canId, data);
+  }
+  if (!flashPath.empty() && !twin::saveFlashFile(m, region, flashPath, error)) {
+    std::fprintf(stderr, "twin-bsl: error: --flash: %s\n", error.c_str());
+    return 1;
   }
   std::printf("twin-bsl: the application ran %llu ms: %zu frames%s\n", static_cast<unsigned long long>(runMs),
               frames, framesPath.empty() ? "" : (" written to " + framesPath).c_str());

@@ -30,7 +30,8 @@ struct SimOptions {
   int devices = 0;  // 0 = the image's default
   bool tiLayout = false;
   uint32_t durationMs = 10000;
-  std::string elf;  // --elf: run this image on the MSPM0 twin (sim_twin.hpp)
+  std::string elf;        // --elf: run this image on the MSPM0 twin (sim_twin.hpp)
+  std::string flashFile;  // --flash: the twin's flash data region kept in this file (twin/flash_file.hpp)
 };
 
 // Figures every image reports (the --json summary's keys).
@@ -126,6 +127,11 @@ class ImageSim {
   virtual void canErrorFrames(uint32_t) {}
   // --profile (the twin only): count cycles per function from now on, then write them (profiler.hpp).
   virtual void startProfile() {}
+  // --flash: writes the flash data region back to its file at the end of the run (twin runs only).
+  virtual bool saveFlash(std::string& error) {
+    error = "no flash to save";
+    return false;
+  }
   virtual bool writeProfile(const std::string& path, std::string& error) {
     error = path + ": only a run on the twin (--elf) is profiled";
     return false;

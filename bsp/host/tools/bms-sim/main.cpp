@@ -64,6 +64,10 @@ constexpr OptionSpec kOptions[] = {
      "stderr; the run starts when a reader sends SLCAN's O, keeps wall-clock time, and waits for the reader "
      "to close the terminal) for python-can or slcand, both ways: what they send reaches the board's UART "
      "receiver"},
+    {"--flash", "<file>",
+     "with --elf: the flash data region (bsp/mspm0/linker) is read from FILE at start and written back at "
+     "the "
+     "end, so a later run starts with what this one left; a missing FILE is created erased"},
     {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
     {"--profile", "<file>",
      "with --elf: CPU cycles per function and per interrupt of the run, to a file (format: "
@@ -150,6 +154,7 @@ int run(int argc, char** argv) {
      : name == "--slcan"    ? slcan
      : name == "--elf"      ? opt.elf
      : name == "--profile"  ? profile
+     : name == "--flash"    ? opt.flashFile
                             : layout) = v;
   }
   if (opt.image.empty() && opt.elf.empty()) return usage("--image or --elf is required (try --help)");
@@ -159,6 +164,8 @@ int run(int argc, char** argv) {
     return usage("--can-layout applies to host runs; an image has its layout built in");
   if (!profile.empty() && opt.elf.empty())
     return usage("--profile applies to --elf runs: it counts the image's own instructions on the twin");
+  if (!opt.flashFile.empty() && opt.elf.empty())
+    return usage("--flash applies to --elf runs: it keeps the twin's flash data region");
   if (!opt.elf.empty()) {
     std::string error;
     if (checkInputFile(opt.elf, kMaxElfBytes, "firmware ELF", error) != InputError::None)
@@ -284,6 +291,10 @@ int run(int argc, char** argv) {
       sim->boardWatchdog() ? *sim->boardWatchdog() : watchdog);
   if (!candump.empty() && !report.writeCandump(candump)) {
     std::fprintf(stderr, "bms-sim: error: cannot write %s\n", candump.c_str());
+    return 1;
+  }
+  if (!opt.flashFile.empty() && !sim->saveFlash(error)) {
+    std::fprintf(stderr, "bms-sim: error: --flash %s: %s\n", opt.flashFile.c_str(), error.c_str());
     return 1;
   }
   if (!profile.empty() && !sim->writeProfile(profile, error)) {

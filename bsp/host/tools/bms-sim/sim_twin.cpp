@@ -17,6 +17,7 @@
 #include "board/board.hpp"
 #include "can/bms.hpp"
 #include "drivers/bq769x2/measurement.hpp"
+#include "flash_file.hpp"
 #include "pack_figures.hpp"
 #include "power.hpp"
 #include "profiler.hpp"
@@ -89,10 +90,23 @@ class TwinSim final : public ImageSim {
     }
   }
 
-  bool load(std::string& error) {
-    if (board_.load(*elf_)) return true;
-    error = board_.error();
-    return false;
+  bool load(const std::string& flashFile, std::string& error) {
+    if (!board_.load(*elf_)) {
+      error = board_.error();
+      return false;
+    }
+    if (flashFile.empty()) return true;
+    const auto region = twin::dataRegion(*elf_);
+    if (!region) {
+      error = "--flash: the image has no flash data region (__record_store_start__, bsp/mspm0/linker)";
+      return false;
+    }
+    region_ = *region;
+    flashFile_ = flashFile;
+    return twin::loadFlashFile(board_.chip().machine(), region_, flashFile_, error);
+  }
+  bool saveFlash(std::string& error) override {
+    return twin::saveFlashFile(board_.chip().machine(), region_, flashFile_, error);
   }
 
   int boards() const override { return devices_; }
@@ -301,6 +315,8 @@ class TwinSim final : public ImageSim {
   std::vector<int> truth_;
   int openBoard_ = -1, openCell_ = -1;
   bool intermittent_ = false;
+  twin::FlashRegion region_;
+  std::string flashFile_;
   uint64_t tick_ = 0;
   ScanMeter meter_;
   uint32_t scans_ = 0, scanFailures_ = 0, operations_ = 0;
@@ -568,7 +584,7 @@ std::unique_ptr<ImageSim> makeTwinSim(SimOptions& options, std::string& error) {
     return nullptr;
   }
   auto sim = std::make_unique<TwinSim>(*id, options, std::move(elf));
-  if (!sim->load(error)) return nullptr;
+  if (!sim->load(options.flashFile, error)) return nullptr;
   return sim;
 }
 

@@ -1,0 +1,90 @@
+#include "flashctl.hpp"
+
+#include "regs/flashctl.hpp"
+
+namespace bsp::mspm0 {
+
+namespace {
+
+namespace fc = reg::flashctl;
+
+// The only code that runs while the flash bank is busy. In SRAM (.ramfunc, placed in .data by
+// linker/mspm0_sections.ld and copied by the reset handler): a fetch from flash would stall until the
+// operation ends (SLAAE56A flash section: a program/erase stalls every read of the bank), which would make
+// the bound meaningless. long_call: SRAM is beyond the reach of a BL from flash. It calls nothing and reads
+// no constant from flash (the masks are immediates). Returns the last STATCMD value read.
+#if defined(BSP_MSPM0_MMIO_MODEL) && BSP_MSPM0_MMIO_MODEL
+#define BSP_MSPM0_RAMFUNC __attribute__((noinline))
+#else
+#define BSP_MSPM0_RAMFUNC __attribute__((section(".ramfunc"), noinline, long_call))
+#endif
+BSP_MSPM0_RAMFUNC uint32_t executeAndPoll(fc::Command& command, const mmio::Reg& statcmd, uint32_t bound) {
+  command.cmdexec.write(fc::kExecute);
+  uint32_t status = 0;
+  for (uint32_t i = 0; i < bound; ++i) {
+    status = statcmd.read();
+    if ((status & fc::kStatDone) != 0) break;
+  }
+  return status;
+}
+
+}  // namespace
+
+// The flash changes under the compiler's feet (the controller writes it): every check reads it afresh.
+uint8_t FlashctlStorage::flashByte(uint32_t offset) const {
+  return static_cast<const volatile uint8_t*>(config_.mapped)[offset];
+}
+
+fw::Status FlashctlStorage::execute(uint32_t address, uint32_t bound) {
+  // Protection is re-armed by the controller after every command, so it is cleared here, for this one
+  // sector, right before CMDEXEC (SLAU846A/SLAU847 FLASHCTL write/erase protection; CMDWEPROTA bit n =
+  // sector n, hw_flashctl.h).
+  fc::protect(config_.base).cmdweprota.write(~(1U << (address / kSectorBytes)));
+  const uint32_t status = executeAndPoll(fc::command(config_.base), fc::statcmd(config_.base), bound);
+  if ((status & fc::kStatDone) == 0) return fw::Status::Timeout;
+  if ((status & fc::kStatPass) == 0) return fw::Status::VerifyFailed;
+  return fw::Status::Ok;
+}
+
+fw::Status FlashctlStorage::doErase(uint32_t sector) {
+  if (sector >= config_.sectors) return fw::Status::InvalidArgument;
+  const uint32_t address = config_.regionAddress + sector * kSectorBytes;
+  fc::Command& command = fc::command(config_.base);
+  command.cmdctl.write(0);  // address translation by the hardware, MAIN region from the address
+  command.cmdtype.write(fc::kCommandErase | fc::kSizeSector);
+  command.cmdaddr.write(address);
+  if (fw::Status s = execute(address, flashPollBound(kFlashEraseMaxUs, config_.cpuMhz)); s != fw::Status::Ok)
+    return s;
+  for (uint32_t i = 0; i < kSectorBytes; ++i) {
+    if (flashByte(sector * kSectorBytes + i) != kErased) return fw::Status::VerifyFailed;
+  }
+  return fw::Status::Ok;
+}
+
+fw::Status FlashctlStorage::doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) {
+  if (offset % kWordBytes != 0 || offset >= size()) return fw::Status::InvalidArgument;
+  for (uint32_t i = 0; i < kWordBytes; ++i) {
+    if (flashByte(offset + i) != kErased) return fw::Status::InvalidArgument;  // one program per erase
+  }
+  auto le32 = [&](unsigned at) {
+    return static_cast<uint32_t>(word[at] | word[at + 1] << 8 | word[at + 2] << 16) |
+           static_cast<uint32_t>(word[at + 3]) << 24;
+  };
+  const uint32_t address = config_.regionAddress + offset;
+  fc::Command& command = fc::command(config_.base);
+  command.cmdctl.write(0);  // ECCGENOVR clear: on the G3507 the hardware computes the ECC byte
+  command.cmdtype.write(fc::kCommandProgram | fc::kSizeOneWord);
+  command.cmdaddr.write(address);
+  command.cmdbyten.write(fc::kByteEnableData | (config_.ecc ? fc::kByteEnableEcc : 0));
+  command.cmddata0.write(le32(0));
+  command.cmddata1.write(le32(4));
+  if (fw::Status s = execute(address, flashPollBound(kFlashProgramMaxUs, config_.cpuMhz));
+      s != fw::Status::Ok)
+    return s;
+  for (unsigned i = 0; i < kWordBytes; ++i) {
+    if (flashByte(offset + i) != word[i]) return fw::Status::VerifyFailed;
+  }
+  return fw::Status::Ok;
+}
+
+}  // namespace bsp::mspm0

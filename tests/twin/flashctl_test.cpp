@@ -1,0 +1,310 @@
+// The FLASHCTL model (bsp/twin/periph/flashctl.hpp) against TI's description: commands, protection, the
+// stall, timing, the misuse rules and the power cut. Registers are driven through the address map as the
+// CPU's stores would; the CPU meanwhile runs a counting loop in flash (or in SRAM), so the stall shows.
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/status.hpp"
+#include "elf_file.hpp"
+#include "flash_file.hpp"
+#include "gtest/gtest.h"
+#include "mspm0.hpp"
+
+namespace {
+
+using twin::Mspm0;
+using twin::Part;
+
+// hw_flashctl.h: FLASHCTL_BASE 0x400CD000 (tsv base rows) and the GEN register offsets.
+constexpr uint32_t kFc = 0x400CD000;
+constexpr uint32_t kCmdexec = kFc + 0x1100, kCmdtype = kFc + 0x1104, kCmdctl = kFc + 0x1108;
+constexpr uint32_t kCmdaddr = kFc + 0x1120, kCmdbyten = kFc + 0x1124, kData0 = kFc + 0x1130;
+constexpr uint32_t kData1 = kFc + 0x1134, kWeprotA = kFc + 0x11D0, kWeprotNm = kFc + 0x1210;
+constexpr uint32_t kStatcmd = kFc + 0x13D0;
+// STATCMD: CMDDONE 0, CMDPASS 1, CMDINPROGRESS 2, FAILWEPROT 4 (hw_flashctl.h).
+constexpr uint32_t kDone = 1, kPass = 2, kInProgress = 4, kFailWeProt = 0x10;
+constexpr uint32_t kData = 0x7000;  // the data region (bsp/mspm0/linker), sector 28
+
+class Flash : public ::testing::Test {
+ protected:
+  // Vector table: SP at the top of SRAM, reset at `entry`: ADDS r0, #1; B .-2 (r0 counts the iterations),
+  // at 0x100 in flash and at the bottom of SRAM.
+  explicit Flash(Part part = Part::G3507, bool fromSram = false) : chip_(part) {
+    const uint32_t sramBase = part == Part::G3507 ? 0x20200000 : 0x20000000;
+    const uint32_t sp = sramBase + (part == Part::G3507 ? 0x8000 : 0x1000);
+    const uint32_t entry = (fromSram ? sramBase : 0x100) | 1;
+    std::vector<uint8_t> flash(0x104, 0);
+    for (int i = 0; i < 4; ++i) {
+      flash[i] = static_cast<uint8_t>(sp >> (8 * i));
+      flash[4 + i] = static_cast<uint8_t>(entry >> (8 * i));
+    }
+    flash[0x100] = 0x01, flash[0x101] = 0x30, flash[0x102] = 0xFD, flash[0x103] = 0xE7;
+    chip_.machine().loadFlash(flash);
+    chip_.machine().powerOn();
+    for (uint32_t i = 0; i < 4; ++i)
+      chip_.machine().busWrite(sramBase + i, 1, flash[0x100 + i]);
+  }
+  uint32_t rd(uint32_t address) {
+    uint32_t v = 0;
+    EXPECT_TRUE(chip_.machine().map().load(address, 4, v)) << std::hex << address;
+    return v;
+  }
+  void wr(uint32_t address, uint32_t value) {
+    EXPECT_TRUE(chip_.machine().map().store(address, 4, value)) << std::hex << address;
+  }
+  void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
+  std::string why() { return chip_.machine().stopReason(); }
+  uint8_t flashAt(uint32_t address) { return chip_.machine().flash()[address]; }
+  // DL_FlashCTL-style program of one word with hardware ECC (G3507): the sector unprotected first.
+  void program(uint32_t address, uint32_t lo, uint32_t hi, bool unprotect = true) {
+    wr(kCmdctl, 0);
+    wr(kCmdtype, 0x01);  // PROGRAM, ONEWORD
+    wr(kCmdaddr, address);
+    wr(kCmdbyten, chip_.part() == Part::G3507 ? 0x1FF : 0xFF);
+    wr(kData0, lo);
+    wr(kData1, hi);
+    if (unprotect) wr(kWeprotA, ~(1U << (address / 1024)));
+    wr(kCmdexec, 1);
+  }
+  void erase(uint32_t address) {
+    wr(kCmdctl, 0);
+    wr(kCmdtype, 0x42);  // ERASE, SECTOR
+    wr(kCmdaddr, address);
+    wr(kWeprotA, ~(1U << (address / 1024)));
+    wr(kCmdexec, 1);
+  }
+
+  Mspm0 chip_;
+};
+
+TEST_F(Flash, AWordIsProgrammedAfterTheTypicalTimeAndTheSectorIsProtectedAgain) {
+  program(kData + 8, 0x44332211, 0x88776655);
+  EXPECT_EQ(rd(kStatcmd), kInProgress);
+  runUs(45);
+  EXPECT_EQ(flashAt(kData + 8), 0xFF) << "word program takes 50 us typical (data sheet 7.7)";
+  runUs(10);
+  EXPECT_EQ(rd(kStatcmd), kDone | kPass);
+  for (uint32_t i = 0; i < 8; ++i)
+    EXPECT_EQ(flashAt(kData + 8 + i), 0x11 * (i + 1));
+  EXPECT_EQ(rd(kWeprotA), 0xFFFFFFFFU) << "re-protected after every command (TRM FLASHCTL)";
+  EXPECT_FALSE(chip_.machine().stopped()) << why();
+}
+
+TEST_F(Flash, ASectorEraseTakesTheTypicalTime) {
+  chip_.machine().flash()[kData + 1023] = 0;
+  erase(kData);
+  runUs(3900);
+  EXPECT_EQ(flashAt(kData + 1023), 0);
+  runUs(200);
+  EXPECT_EQ(flashAt(kData + 1023), 0xFF);
+  EXPECT_EQ(rd(kStatcmd), kDone | kPass);
+}
+
+TEST_F(Flash, ACommandOnAProtectedSectorFailsWithFailWeProtAndStops) {
+  program(kData, 0, 0, false);
+  EXPECT_EQ(rd(kStatcmd), kDone | kFailWeProt);
+  EXPECT_EQ(flashAt(kData), 0xFF);
+  EXPECT_TRUE(chip_.machine().stopped());
+  EXPECT_NE(why().find("[FLASH-PROTECTED]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, TheUnprotectHoldsForOneCommandOnly) {
+  program(kData, 0, 0);
+  runUs(60);
+  program(kData + 8, 0, 0, false);  // the same sector, no new unprotect
+  EXPECT_NE(why().find("[FLASH-PROTECTED]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, ProgrammingAWordTwiceWithoutEraseStops) {
+  program(kData, 0xFFFFFF00, 0xFFFFFFFF);
+  runUs(60);
+  program(kData, 0xFFFF0000, 0xFFFFFFFF);  // only 1 -> 0 bits, still refused: the ECC byte would not match
+  EXPECT_NE(why().find("[FLASH-UNERASED]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, ACommandToNonmainStops) {
+  wr(kCmdtype, 0x42);
+  wr(kCmdaddr, 0x41C00000);
+  wr(kCmdexec, 1);
+  EXPECT_NE(why().find("[FLASH-REGION]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, UnprotectingNonmainStops) {
+  wr(kWeprotNm, 0);
+  EXPECT_NE(why().find("[FLASH-REGION]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, ACommandToTheImageStops) {
+  chip_.flashctl().setImageEnd(0x4000);
+  erase(0x3C00);
+  EXPECT_NE(why().find("[FLASH-REGION]"), std::string::npos) << why();
+}
+
+TEST_F(Flash, FlashCodeStallsWhileTheBankIsBusy) {
+  runUs(10);
+  const uint32_t before = chip_.machine().core().reg(0);
+  program(kData, 1, 2);
+  runUs(40);
+  EXPECT_EQ(chip_.machine().core().reg(0), before) << "no instruction fetched from flash during the program";
+  runUs(20);
+  EXPECT_GT(chip_.machine().core().reg(0), before);
+}
+
+class FlashSram : public Flash {
+ protected:
+  FlashSram() : Flash(Part::G3507, true) {}
+};
+
+// An interrupt during a program waits for it: the vector and the handler are in flash. The latency figure
+// (Machine::interrupts) includes the wait, so a protection latency measured on the twin does too.
+TEST_F(FlashSram, AnInterruptDuringAProgramWaitsForItsEnd) {
+  // IRQ 5's vector (0x40 + 4 x 5) -> 0x104: B . (the handler spins; only its entry matters here).
+  auto& f = chip_.machine().flash();
+  f[0x54] = 0x05, f[0x55] = 0x01, f[0x56] = 0, f[0x57] = 0;
+  f[0x104] = 0xFE, f[0x105] = 0xE7;
+  wr(0xE000E100, 1U << 5);  // NVIC ISER
+  runUs(10);
+  program(kData, 1, 2);
+  runUs(5);
+  chip_.machine().setIrq(5, true);
+  runUs(100);
+  const uint64_t latency = chip_.machine().interrupts()[16 + 5].worstLatencyCycles;
+  EXPECT_GE(latency, 44U * 32) << "the program's remaining 45 us";
+  EXPECT_LE(latency, 46U * 32);
+}
+
+TEST_F(FlashSram, SramCodeRunsWhileTheBankIsBusy) {
+  runUs(10);
+  const uint32_t before = chip_.machine().core().reg(0);
+  program(kData, 1, 2);
+  runUs(40);
+  EXPECT_GT(chip_.machine().core().reg(0), before + 100);
+  EXPECT_EQ(rd(kStatcmd), kInProgress);
+}
+
+TEST_F(Flash, APowerCutHalfWayLeavesATornWordAndTheFlashSurvivesTheReset) {
+  program(kData + 16, 0x00000000, 0x00000000);
+  runUs(25);
+  chip_.cutPower();
+  EXPECT_EQ(flashAt(kData + 16), 0x00);
+  EXPECT_EQ(flashAt(kData + 20), 0xF0) << "half programmed: the byte being programmed is torn";
+  EXPECT_EQ(flashAt(kData + 23), 0xFF);
+  EXPECT_EQ(rd(kStatcmd), 0U);
+  EXPECT_EQ(rd(kWeprotA), 0xFFFFFFFFU);
+  runUs(100);  // nothing completes the abandoned command later
+  EXPECT_EQ(flashAt(kData + 23), 0xFF);
+  EXPECT_GT(chip_.machine().core().reg(0), 0U) << "the CPU runs again after the power-on reset";
+}
+
+TEST_F(Flash, APowerCutDuringAnEraseLeavesTheSectorPartlyErased) {
+  for (uint32_t i = 0; i < 1024; ++i)
+    chip_.machine().flash()[kData + i] = 0;
+  erase(kData);
+  runUs(1000);  // a quarter of 4 ms
+  chip_.cutPower();
+  EXPECT_EQ(flashAt(kData), 0xFF);
+  EXPECT_EQ(flashAt(kData + 1023), 0x00);
+  EXPECT_EQ(chip_.flashctl().busy(), twin::Flashctl::Op::None);
+}
+
+// bms-sim / twin-bsl --flash (flash_file.hpp): the region in a file across runs.
+TEST(FlashFile, AMissingFileIsCreatedErasedAndTheRegionComesBackFromIt) {
+  const std::string path = ::testing::TempDir() + "twin_flash_file_test.bin";
+  std::remove(path.c_str());
+  const twin::FlashRegion region = twin::kLinkerDataRegion;
+  std::string error;
+  {
+    Mspm0 chip(Part::L1306);
+    chip.machine().flash()[region.begin] = 0x00;
+    ASSERT_TRUE(twin::loadFlashFile(chip.machine(), region, path, error)) << error;
+    EXPECT_EQ(chip.machine().flash()[region.begin], 0xFF) << "created erased";
+    chip.machine().flash()[region.begin + 5] = 0x5A;
+    chip.machine().flash()[region.end - 1] = 0x00;
+    ASSERT_TRUE(twin::saveFlashFile(chip.machine(), region, path, error)) << error;
+  }
+  Mspm0 next(Part::L1306);
+  ASSERT_TRUE(twin::loadFlashFile(next.machine(), region, path, error)) << error;
+  EXPECT_EQ(next.machine().flash()[region.begin + 5], 0x5A);
+  EXPECT_EQ(next.machine().flash()[region.end - 1], 0x00);
+  EXPECT_EQ(next.machine().flash()[region.end], 0xFF) << "nothing outside the region";
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << "short";
+  EXPECT_FALSE(twin::loadFlashFile(next.machine(), region, path, error));
+  EXPECT_NE(error.find("5 B, the data region is 4096 B"), std::string::npos) << error;
+  std::remove(path.c_str());
+}
+
+#ifdef TWIN_PROGRAMS
+// The driver itself (bsp/mspm0/flashctl.cpp, programs/flash_driver.cpp) with the product's start-up and
+// linker script, on the model: the sequence TI documents works, the SRAM loop is copied and runs, the
+// refusals never reach the controller.
+class Driver : public ::testing::TestWithParam<Part> {
+ protected:
+  Driver() : chip_(GetParam()) {
+    const std::string chip = GetParam() == Part::G3507 ? "mspm0g3507" : "mspm0l1306";
+    EXPECT_TRUE(elf_.load(std::string(TWIN_PROGRAMS) + "/flash_driver_" + chip + ".elf")) << elf_.error();
+    EXPECT_TRUE(chip_.load(elf_)) << chip_.error();
+  }
+  uint32_t word(const char* symbol, uint32_t index = 0) {
+    const auto s = elf_.symbol(symbol);
+    EXPECT_TRUE(s.has_value()) << symbol;
+    return s ? chip_.machine().readSram32(s->value + 4 * index) : 0;
+  }
+  // Runs until the program sets kDone (at most 100 ms); the time it took, in us.
+  uint64_t runToDone() {
+    const uint64_t start = chip_.machine().now();
+    chip_.machine().run(start +
+                        32 * 10);  // past the start-up's zeroing of .bss (SRAM holds a pattern before)
+    while (word("kDone") != 1 && !chip_.machine().stopped() && chip_.machine().now() - start < 3200000)
+      chip_.machine().run(chip_.machine().now() + 32 * 10);
+    return (chip_.machine().now() - start) / 32;
+  }
+  void expectResults() {
+    const uint32_t ok = static_cast<uint32_t>(fw::Status::Ok);
+    const uint32_t invalid = static_cast<uint32_t>(fw::Status::InvalidArgument);
+    EXPECT_EQ(word("kResults", 0), ok) << "erase";
+    EXPECT_EQ(word("kResults", 1), ok) << "program 0";
+    EXPECT_EQ(word("kResults", 2), ok) << "program 8";
+    EXPECT_EQ(word("kResults", 3), invalid) << "program into a programmed word";
+    EXPECT_EQ(word("kResults", 4), invalid) << "unaligned";
+    EXPECT_EQ(word("kResults", 5), invalid) << "sector outside the region";
+    EXPECT_EQ(word("kResults", 6), invalid) << "offset outside the region";
+    EXPECT_EQ(word("kResults", 7), 4U) << "sectors in the region";
+    const auto& flash = chip_.machine().flash();
+    EXPECT_EQ(flash[0x7000], 0x11);
+    EXPECT_EQ(flash[0x7007], 0x88);
+    EXPECT_EQ(flash[0x700F], 0x07);
+    EXPECT_EQ(flash[0x7010], 0xFF);
+  }
+
+  twin::ElfFile elf_;
+  Mspm0 chip_;
+};
+
+TEST_P(Driver, ErasesProgramsAndRefusesWhatTheContractRefuses) {
+  const uint64_t us = runToDone();
+  ASSERT_FALSE(chip_.machine().stopped()) << chip_.machine().stopReason();
+  expectResults();
+  // One erase and two programs at the typical times (4 ms + 2 x 50 us) pass while the core waits.
+  EXPECT_GE(us, 4100U);
+  EXPECT_EQ(chip_.flashctl().commandsStarted(), 3U) << "the refused requests never reached the controller";
+}
+
+TEST_P(Driver, APowerCutInTheFirstProgramLeavesATornWordAndTheRestartRecovers) {
+  while (chip_.flashctl().commandsStarted() < 2 && !chip_.machine().stopped())
+    chip_.machine().run(chip_.machine().now() + 32);
+  ASSERT_EQ(chip_.flashctl().busy(), twin::Flashctl::Op::Program);
+  chip_.machine().run(chip_.machine().now() + 25 * 32);
+  chip_.cutPower();
+  EXPECT_EQ(chip_.machine().flash()[0x7000], 0x11);
+  EXPECT_NE(chip_.machine().flash()[0x7007], 0x88) << "the word is torn";
+  runToDone();  // the restarted program erases the sector again
+  ASSERT_FALSE(chip_.machine().stopped()) << chip_.machine().stopReason();
+  expectResults();
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, Driver, ::testing::Values(Part::L1306, Part::G3507));
+#endif
+
+}  // namespace
