@@ -35,10 +35,10 @@
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
-// MonitorTask checks this contract when it is built (checkDevice(): one static_assert per hook, naming it),
-// where the device's protected hooks are visible. Each image has one Device; link-time optimisation folds the
-// hooks into the task (no hand inlining).
-// Thread mode only (the task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
+// MonitorTask checks this contract when it is built (checkDevice(): one static_assert per hook group, naming
+// it), where the device's protected hooks are visible. Each image has one Device; link-time optimisation
+// folds the hooks into the task (no hand inlining). Thread mode only (the task's run()); the fault line's
+// Notify is ISR-safe (Scheduler::post).
 #pragma once
 
 #include <concepts>
@@ -162,8 +162,9 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
  private:
-  // The device contract (the list at the top of this file), one hook per assertion so a device that lacks
-  // one or gives it another type is told which. Checked here, where the device's protected hooks are visible.
+  // The device contract (the list at the top of this file), one assertion per group of hooks so a device
+  // that lacks one or gives it another type is told which. Checked here, where the device's protected hooks
+  // are visible.
   static consteval void checkDevice() {
     static_assert(std::is_base_of_v<MonitorBase, Device>, "a Device derives from MonitorBase");
     static_assert(
@@ -210,8 +211,9 @@ class MonitorTask final : public Device, public sched::Task {
     if constexpr (Device::kCommands) {
       static_assert(
           requires(MonitorTask & t, Status s) {
-            { t.commandWaiting() } -> std::same_as<bool>;
-            { t.startCommand() } -> std::same_as<Status>;
+            // Qualified: MonitorTask's own commandWaiting()/startCommand() would hide the device's.
+            { t.Device::commandWaiting() } -> std::same_as<bool>;
+            { t.Device::startCommand() } -> std::same_as<Status>;
             { t.commandFinished(s) } -> std::same_as<void>;
           },
           "a Device with kCommands: commandWaiting(), startCommand(), commandFinished(Status)");
