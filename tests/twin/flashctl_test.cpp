@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "chip_rig.hpp"
 #include "core/status.hpp"
 #include "elf_file.hpp"
 #include "flash_file.hpp"
@@ -27,37 +28,14 @@ constexpr uint32_t kStatcmd = kFc + 0x13D0;
 constexpr uint32_t kDone = 1, kPass = 2, kInProgress = 4, kFailWeProt = 0x10;
 constexpr uint32_t kData = 0x7000;  // the data region (bsp/mspm0/linker), sector 28
 
-class Flash : public ::testing::Test {
+class Flash : public twin_test::ChipRig {
  protected:
-  // Vector table: SP at the top of SRAM, reset at `entry`: ADDS r0, #1; B .-2 (r0 counts the iterations),
-  // at 0x100 in flash and at the bottom of SRAM.
-  explicit Flash(Part part = Part::G3507, bool fromSram = false) : chip_(part) {
-    const uint32_t sramBase = part == Part::G3507 ? 0x20200000 : 0x20000000;
-    const uint32_t sp = sramBase + (part == Part::G3507 ? 0x8000 : 0x1000);
-    const uint32_t entry = (fromSram ? sramBase : 0x100) | 1;
-    std::vector<uint8_t> flash(0x104, 0);
-    for (int i = 0; i < 4; ++i) {
-      flash[i] = static_cast<uint8_t>(sp >> (8 * i));
-      flash[4 + i] = static_cast<uint8_t>(entry >> (8 * i));
-    }
-    flash[0x100] = 0x01, flash[0x101] = 0x30, flash[0x102] = 0xFD, flash[0x103] = 0xE7;
-    chip_.machine().loadFlash(flash);
-    chip_.machine().powerOn();
-    for (uint32_t i = 0; i < 4; ++i)
-      chip_.machine().busWrite(sramBase + i, 1, flash[0x100 + i]);
-  }
-  uint32_t rd(uint32_t address) {
-    uint32_t v = 0;
-    EXPECT_TRUE(chip_.machine().map().load(address, 4, v)) << std::hex << address;
-    return v;
-  }
-  void wr(uint32_t address, uint32_t value) {
-    EXPECT_TRUE(chip_.machine().map().store(address, 4, value)) << std::hex << address;
-  }
-  void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
-  std::string why() { return chip_.machine().stopReason(); }
+  // The CPU runs ADDS r0, #1; B .-2 (r0 counts the iterations), from flash or from the bottom of SRAM.
+  explicit Flash(Part part = Part::G3507, bool fromSram = false)
+      : ChipRig(part, {0x01, 0x30, 0xFD, 0xE7}, fromSram) {}
   uint8_t flashAt(uint32_t address) { return chip_.machine().flash()[address]; }
-  // DL_FlashCTL-style program of one word with hardware ECC (G3507): the sector unprotected first.
+  // A one-word program in the order TI's driverlib issues it (hardware ECC on the G3507): the sector
+  // unprotected first.
   void program(uint32_t address, uint32_t lo, uint32_t hi, bool unprotect = true) {
     wr(kCmdctl, 0);
     wr(kCmdtype, 0x01);  // PROGRAM, ONEWORD
@@ -75,8 +53,6 @@ class Flash : public ::testing::Test {
     wr(kWeprotA, ~(1U << (address / 1024)));
     wr(kCmdexec, 1);
   }
-
-  Mspm0 chip_;
 };
 
 TEST_F(Flash, AWordIsProgrammedAfterTheTypicalTimeAndTheSectorIsProtectedAgain) {

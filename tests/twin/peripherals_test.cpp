@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "chip_rig.hpp"
 #include "gtest/gtest.h"
 #include "mspm0.hpp"
 #include "sim/i2c_target.hpp"
@@ -18,31 +19,10 @@ constexpr uint32_t kUart0 = 0x40108000, kI2c0 = 0x400F0000, kTimg0 = 0x40084000,
 constexpr uint32_t kCan = 0x40508000, kDma = 0x4042A000, kGpioa = 0x400A0000, kSysctl = 0x400AF000;
 constexpr uint32_t kPwrenOn = 0x26000001;
 
-class Chip : public ::testing::Test {
+class Chip : public twin_test::ChipRig {
  protected:
-  explicit Chip(Part part = Part::G3507) : chip_(part) {
-    // Vector table: SP at the top of SRAM, reset at 0x100: WFI; B .-2 (sleeps until the test ends).
-    const uint32_t sram = part == Part::G3507 ? 0x20208000 : 0x20001000;
-    std::vector<uint8_t> flash(0x104, 0);
-    for (int i = 0; i < 4; ++i) {
-      flash[i] = static_cast<uint8_t>(sram >> (8 * i));
-      flash[4 + i] = static_cast<uint8_t>(0x101 >> (8 * i));
-    }
-    flash[0x100] = 0x30, flash[0x101] = 0xBF, flash[0x102] = 0xFD, flash[0x103] = 0xE7;
-    chip_.machine().loadFlash(flash);
-    chip_.machine().powerOn();
-  }
-  uint32_t rd(uint32_t address) {
-    uint32_t v = 0;
-    EXPECT_TRUE(chip_.machine().map().load(address, 4, v)) << std::hex << address;
-    return v;
-  }
-  void wr(uint32_t address, uint32_t value) {
-    EXPECT_TRUE(chip_.machine().map().store(address, 4, value)) << std::hex << address;
-  }
-  void runUs(uint64_t us) { chip_.machine().run(chip_.machine().now() + us * 32); }
-  bool stopped() { return chip_.machine().stopped(); }
-  std::string why() { return chip_.machine().stopReason(); }
+  // The CPU runs WFI; B .-2: it sleeps until the test ends.
+  explicit Chip(Part part = Part::G3507) : ChipRig(part, {0x30, 0xBF, 0xFD, 0xE7}) {}
   // The G3507 images' MCAN bring-up, in the steps the MCAN tests interleave with their own writes.
   void startHfxt() {  // HFXT for CANCLK, start-up monitor on, through its start-up time
     wr(kSysctl + 0x1110, (1U << 28) | 0x3000 | 10U);
@@ -62,8 +42,6 @@ class Chip : public ::testing::Test {
     wr(0x40428000 + 4 * 34, 0x80 | 5);               // PA12 CANFD0_CANTX
     wr(0x40428000 + 4 * 35, 0x80 | 6 | (1U << 18));  // PA13 CANFD0_CANRX
   }
-
-  Mspm0 chip_;
 };
 
 // --- UART
