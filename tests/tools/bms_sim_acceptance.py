@@ -39,6 +39,11 @@ import sys
 import canmatrix
 import canmatrix.formats
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import image_descriptions  # noqa: E402  (tests/image_descriptions.py: what each image folder says it is)
+
+IMAGES = image_descriptions.by_preset()
+
 CONTRACT_KEYS = ["image", "sim_time_ms", "scans", "scan_period_ms", "scan_bus_us", "scan_transactions",
                  "can_frames", "comm_errors", "recoveries", "protection_events"]
 EVENT_KEYS = ["fault", "onset_ms", "detected_ms", "fets_off_ms"]
@@ -46,9 +51,6 @@ STALE_AFTER_MS = 300  # firmware/app/protection/default_limits.hpp: three scan p
 EPOCH_S = 1735689600  # bsp/host/tools/bms-sim/report.hpp: a run starts at 2025-01-01 00:00:00 UTC
 NA16 = 0xFFFF  # bms.yaml: not available, for every 16-bit unsigned signal
 GAUGE_IMAGE = "lp-mspm0g3507-bq4050"  # the gauge's state of charge, always there
-# The images that count a state of charge (not available until known); the L1306 images build it out
-# (FW_SOC=0 in their options.cmake), the BQ79616 image has no current input.
-SOC_IMAGES = ("lp-mspm0g3507-bq76952",)
 PERIOD_MS = 100.0  # PackSummary's cycle (bms.yaml)
 STATE_OF_CHARGE = 0x104  # bms.yaml StateOfCharge: Soc 0.1 % (bits 0-15), RemainingCapacity, FullChargeCapacity
 SOC_NA = 0xFFFF          # (20 bits each, mAh), Basis (4 bits)
@@ -77,11 +79,11 @@ def check_soc_published(image, frames, where):
             if (remaining, full, basis) != (0xFFFFF, 0xFFFFF, 0xF):
                 fail(f"{where}: StateOfCharge at {t:.3f} ms partly available: {d.hex()}")
             continue
-        if "bq79616" in image or image.startswith("lp-mspm0l1306-"):
+        if not IMAGES[image].counts_soc and not IMAGES[image].gauge_soc:
             fail(f"{where}: StateOfCharge at {t:.3f} ms is {soc} on {image}, which has none")
         if soc > 1000 or remaining > full or full in (0, 0xFFFFF) or basis not in range(1, 6):
             fail(f"{where}: StateOfCharge at {t:.3f} ms: soc {soc}, {remaining}/{full} mAh, basis {basis}")
-        if (basis == 5) != (image == GAUGE_IMAGE):
+        if (basis == 5) != IMAGES[image].gauge_soc:
             fail(f"{where}: StateOfCharge at {t:.3f} ms has basis {basis} on {image}")
         if summary is None or summary == 255 or abs(summary - (soc + 5) // 10) > 1:
             fail(f"{where}: StateOfCharge at {t:.3f} ms is {soc / 10} %, PackSummary's {summary}")
@@ -286,20 +288,20 @@ def check_native_dbc(sim, dbc_dir, image, scratch):
                 fail(f"{name} at {t} ms has no temperature at all: {values}")
         if name == "StateOfCharge" and t > 1200:
             # Decoded with the DBC: the gauge has it (0.1 % steps of its whole %), the others never or once known.
-            if image == GAUGE_IMAGE and (values["Soc"] is None or values["FullChargeCapacity"] is None):
+            if IMAGES[image].gauge_soc and (values["Soc"] is None or values["FullChargeCapacity"] is None):
                 fail(f"StateOfCharge at {t} ms on the gauge image: {values}")
-            if image != GAUGE_IMAGE and image not in SOC_IMAGES and any(v is not None for v in values.values()):
+            if not IMAGES[image].gauge_soc and not IMAGES[image].counts_soc and any(v is not None for v in values.values()):
                 fail(f"StateOfCharge at {t} ms on {image}, which has none: {values}")
         if name == "PackSummary" and t > 200:
             if values["DataValid"] != 1:
                 fail(f"PackSummary at {t} ms says the data is not valid in an idle pack")
-            # The gauge always has a state of charge, SOC_IMAGES once known, the others never (they once sent
+            # The gauge always has a state of charge, an image that counts it once known, the others never (they once sent
             # 0 %, a zero-filled default).
             soc = values["StateOfCharge"]
-            if image == GAUGE_IMAGE:
+            if IMAGES[image].gauge_soc:
                 bad = soc is None
             else:
-                bad = soc is not None and image not in SOC_IMAGES
+                bad = soc is not None and not IMAGES[image].counts_soc
             if bad or (soc is not None and not 0 <= soc <= 100):
                 fail(f"PackSummary at {t} ms: StateOfCharge {soc} on {image}")
             if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * summary_cells(summary)) > 0.1:
@@ -309,7 +311,7 @@ def check_native_dbc(sim, dbc_dir, image, scratch):
 
 
 def summary_cells(summary):
-    return {"lp-mspm0l1306-bq76907": 7, "lp-mspm0g3507-bq4050": 4}.get(summary["image"], 16) * summary["devices"]
+    return IMAGES[summary["image"]].cells * summary["devices"]
 
 
 def summaries(frames, ident):
@@ -410,7 +412,7 @@ def check_load_paths(sim, image, scratch, extra=()):
         if summary[f"{key}_path_closed"] or summary["load_current_ma"] != 0:
             fail(f"{name}: after the trip the {key} path is {'closed' if summary[f'{key}_path_closed'] else 'open'} "
                  f"and {summary['load_current_ma']} mA flow")
-        if image == "lp-mspm0g3507-bq79616":
+        if not IMAGES[image].has_current:
             continue  # no current sensor: PackCurrent is not available
         acted = [e["fets_off_ms"] for e in summary["protection_events"] if e["fets_off_ms"] is not None]
         if not acted:
@@ -432,7 +434,7 @@ def check_options(sim, image, scratch, extra=()):
                            text=True)
         if r.returncode != 2 or expect not in r.stderr or not r.stderr.startswith("bms-sim: error: "):
             fail(f"{' '.join(args)} on {image}: exit {r.returncode}, {r.stderr!r} (expected exit 2 and '{expect}')")
-    if image != "lp-mspm0g3507-bq79616":
+    if IMAGES[image].family != "bq79616":  # one device, no TI layout
         refused(["--can-layout", "ti"], "--can-layout")
         refused(["--devices", "3"], "--devices 3")
     elif extra:
@@ -580,7 +582,7 @@ def check_slcan_pty(sim, dbc_dir, image, scratch):
     db = canmatrix.formats.loadp_flat(os.path.join(dbc_dir, "bms_native.dbc"))
     last = [d for i, d in received if i == 0x100][-1]
     _, values = decode(db, 0, 0x100, last)
-    cells = {"lp-mspm0l1306-bq76907": 7}.get(image, 16)
+    cells = IMAGES[image].cells
     if values["PackVoltage"] is None or abs(values["PackVoltage"] - 3.7 * cells) > 0.1:
         fail(f"PackSummary over SLCAN decodes to {values}")
     print(f"REPORT sim.{image}.slcan_pty.frames={len(received)} (python-can = --json = --candump = --slcan FILE)")
@@ -595,7 +597,7 @@ def check_open_wire_update(sim, image, scratch):
         f.write("0 cell 0 2 2000\n500 open-wire 0 3\n1000 cell 0 3 3000\n")
     summary = json.loads(run(sim, "--image", image, "--scenario", path, "--duration", "2000", "--json"))
     expected = 2000 + 3000
-    if image == "lp-mspm0g3507-bq79616":
+    if IMAGES[image].family == "bq79616":
         # The devices' own open-wire check (drivers/bq79616/open_wire.hpp, once a second) names cell 2 within
         # a second, and the application then publishes no reading for cells 2 and 3: what is left is the
         # healthy cells' 3700 mV. (The world model is the same code for every image; the others check it.)

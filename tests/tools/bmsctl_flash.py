@@ -44,9 +44,8 @@ import sys
 import threading
 import time
 
-PRESETS = ["lp-mspm0l1306-bq76952", "lp-mspm0l1306-bq76907", "lp-mspm0g3507-bq79616", "lp-mspm0g3507-bq4050",
-           "lp-mspm0g3507-bq76952"]
-# How each image is flashed in its check: the three file formats and the line rates between them.
+# How each image is flashed in its check: the three file formats and the line rates between them (an image
+# not named here, e.g. one just added as a folder, goes as its ELF at 115 200 Bd).
 HOW = {
     "lp-mspm0l1306-bq76952": (".hex", 9600),
     "lp-mspm0l1306-bq76907": (".elf", 115200),
@@ -174,7 +173,7 @@ def flash_and_run(preset, ext, baud, *twin_args, bmsctl_args=(), expect_exit=0):
 
 
 def c_flash(preset):
-    ext, baud = HOW[preset]
+    ext, baud = HOW.get(preset, (".elf", 115200))
     twin, stdout, stderr, log = flash_and_run(preset, ext, baud)
     check(re.match(r"bmsctl: flashed \S+ \((ELF|Intel HEX|binary), \d+ B\) into the MSPM0(L1306|G3507) at %d Bd in "
                    r"[\d.]+ s: \d+ sectors erased, \d+ B in \d+ packets, CRC verified, application started\n$" % baud,
@@ -193,7 +192,7 @@ def c_keeps_data():
     """The flash data region (0x7000..0x7FFF, bsp/mspm0/linker) holds records from before: a reflash over the
     BSL erases only the image's sectors (Flash Range Erase), so every byte of the region survives it."""
     preset = "lp-mspm0l1306-bq76907"
-    ext, baud = HOW[preset]
+    ext, baud = HOW.get(preset, (".elf", 115200))
     data = os.path.join(scratch, "data-region.bin")
     before = bytes((i * 7 + 3) & 0xFF for i in range(4096))
     with open(data, "wb") as f:

@@ -51,7 +51,7 @@ import canmatrix.formats
 
 # The host runs' checks (tests/tools): the same contract keys and the same candump reader (absolute times).
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from bms_sim_acceptance import (CONTRACT_KEYS, GAUGE_IMAGE, check_counter, check_gauge_soc,  # noqa: E402
+from bms_sim_acceptance import (CONTRACT_KEYS, IMAGES, check_counter, check_gauge_soc,  # noqa: E402
                                 check_load_paths, check_options, check_soc_count, check_soc_published,
                                 read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
@@ -92,16 +92,16 @@ def check_published(image, frames, scenario):
         if ident != PACK_SUMMARY or not d[7] & 0x80:  # DataValid
             continue
         soc = d[4]
-        if image == GAUGE_IMAGE:
+        if IMAGES[image].gauge_soc:
             bad = soc == 255
-        elif "bq79616" in image or image.startswith("lp-mspm0l1306-"):
-            bad = soc != 255  # no current input; the L1306 images build the state of charge out (FW_SOC=0)
+        elif not IMAGES[image].counts_soc:
+            bad = soc != 255  # no current input (BQ79616), or the state of charge built out (FW_SOC=0)
         else:
             bad = soc != 255 and soc > 100
         if bad:
             fail(f"{scenario}: PackSummary at {t:.3f} ms has StateOfCharge {soc} on {image}")
     check_soc_published(image, frames, scenario)
-    if image.startswith("lp-mspm0g3507-"):
+    if IMAGES[image].output == "can":
         check_counter(frames, scenario)
 
 
@@ -442,10 +442,10 @@ def recovery(frames, end_ms):
 
 
 def check_faults(sim, elf, image, scratch):
-    i2c = image != "lp-mspm0g3507-bq79616"
-    can = image.startswith("lp-mspm0g3507-")
+    i2c = IMAGES[image].family != "bq79616"  # the BQ79616 chain is on a UART
+    can = IMAGES[image].output == "can"
     # (name, steps, when the fault ends, duration): the device's own timeouts end the held lines (board.hpp).
-    release = 1035 if image == GAUGE_IMAGE else 3000
+    release = 1035 if IMAGES[image].family == "bq4050" else 3000
     cases = []
     if i2c:
         cases += [("stretch-within", "1000 stretch 1000\n2000 stretch 0\n", None, 3000),
@@ -536,7 +536,7 @@ def check_profile(sim, elf, image, scratch):
              f"functions {sum(f[2] for f in functions)}")
     if [f[2] for f in functions] != sorted((f[2] for f in functions), reverse=True):
         fail("function rows not in order of cycles")
-    handler = "UART0_IRQHandler" if image == "lp-mspm0g3507-bq79616" else "I2C0_IRQHandler"
+    handler = "UART0_IRQHandler" if IMAGES[image].family == "bq79616" else "I2C0_IRQHandler"
     if not any(e[1] == handler and e[2] > 0 for e in exceptions):
         fail(f"{handler} never entered: {exceptions}")
     top = ", ".join(f"{f[0]} {f[3]:.1f} %" for f in functions[:10])

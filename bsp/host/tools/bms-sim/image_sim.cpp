@@ -1,6 +1,7 @@
 #include "image_sim.hpp"
 
 #include "app/publish/slcan.hpp"
+#include "image_descriptions.hpp"
 
 namespace bmssim {
 namespace {
@@ -43,8 +44,30 @@ void ImageSim::pumpSerialFlood() {
   }
 }
 
-ImageRegistrar::ImageRegistrar(ImageEntry entry) {
-  registry().push_back(entry);
+namespace {
+// What a board kind (images/common/board_<kind>.cpp) sends its results on.
+std::string outputOf(std::string_view board) {
+  if (board == "l1306_i2c_slcan") return "SLCAN on the back-channel UART";
+  if (board == "g3507_can") return "CAN out";
+  return "board " + std::string(board);
+}
+}  // namespace
+
+ImageRegistrar::ImageRegistrar(std::string_view family, int defaultDevices, BindImage bind) {
+  for (const ImageDescription& d : kImageDescriptions) {
+    if (d.family != family) continue;
+#ifdef BMS_SIM_IMAGE
+    if (d.preset != BMS_SIM_IMAGE) continue;  // an image's own simulator runs that image only
+#endif
+    ImageBinding b = bind(d);
+    auto& entries = registry();
+    // In name order, whatever order the bindings' registrars run in.
+    auto at = entries.begin();
+    while (at != entries.end() && at->image < d.preset)
+      ++at;
+    entries.insert(at, {std::string(d.preset), b.device + ", " + outputOf(d.board), defaultDevices, b.make,
+                        std::move(b.missing)});
+  }
 }
 const std::vector<ImageEntry>& images() {
   return registry();

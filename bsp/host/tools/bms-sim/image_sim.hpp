@@ -15,6 +15,7 @@
 
 #include "app/protection/protection_task.hpp"
 #include "hal/can_bus.hpp"
+#include "image_description.hpp"
 #include "sim/harness.hpp"
 #include "sim/peripherals.hpp"
 #include "slcan_output.hpp"
@@ -182,15 +183,29 @@ class ImageSim {
 
 using SimFactory = std::unique_ptr<ImageSim> (*)(const SimOptions& options, std::string& error);
 
+// One image bms-sim can run (every image folder of this build's families; an image's own simulator,
+// bms-sim-<preset>, has that one only).
 struct ImageEntry {
-  const char* image;
-  const char* summary;
-  int defaultDevices;
-  SimFactory make;
+  std::string image;    // the preset name
+  std::string summary;  // the device and the board's output, for --help
+  int defaultDevices;   // --devices when not given
+  SimFactory make;      // nullptr: the binding has no host board for this image (`missing` says why)
+  std::string missing;
 };
 
+// What a family's binding makes of one image of its family: the factory of its host board and what the
+// device is ("BQ76952 over I2C"); a factory of nullptr with `missing` for a combination it does not build.
+struct ImageBinding {
+  SimFactory make = nullptr;
+  std::string device;
+  std::string missing;
+};
+using BindImage = ImageBinding (*)(const ImageDescription& image);
+
+// A family's binding (sim_<family>.cpp) registers every image of `family` in the generated list
+// (image_descriptions.hpp; in an image's own simulator, BMS_SIM_IMAGE only) through `bind`.
 struct ImageRegistrar {
-  explicit ImageRegistrar(ImageEntry entry);
+  ImageRegistrar(std::string_view family, int defaultDevices, BindImage bind);
 };
 const std::vector<ImageEntry>& images();
 

@@ -92,7 +92,7 @@ void printHelp() {
   }
   std::printf("\nimages:\n");
   for (const auto& e : images())
-    std::printf("  %-24s %s\n", e.image, e.summary);
+    std::printf("  %-24s %s\n", e.image.c_str(), e.summary.c_str());
   std::printf("\nscenarios:");
   for (const auto& n : builtinNames())
     std::printf(" %s", n.c_str());
@@ -214,6 +214,8 @@ int run(int argc, char** argv) {
       return 2;
     }
   }
+  if (entry != nullptr && entry->make == nullptr && opt.elf.empty())
+    return usage("bms-sim has no host board for " + entry->image + ": " + entry->missing);
   if (opt.devices == 0) opt.devices = entry != nullptr ? entry->defaultDevices : 2;
 
   std::string error;

@@ -100,7 +100,14 @@ std::unique_ptr<ImageSim> make(const SimOptions&, std::string&) {
   return std::make_unique<Bq4050Sim>();
 }
 
-const ImageRegistrar kRegistrar{{"lp-mspm0g3507-bq4050", "BQ4050 gas gauge over SMBus, CAN out", 1, &make}};
+// Every BQ4050 image: the gauge on the G3507's SMBus with CAN out (the one board kind this family has).
+ImageBinding bind(const ImageDescription& image) {
+  if (image.board != "g3507_can")
+    return {nullptr, "BQ4050 gas gauge over SMBus", "no host board of kind " + std::string(image.board)};
+  return {&make, "BQ4050 gas gauge over SMBus", ""};
+}
+
+const ImageRegistrar kRegistrar{"bq4050", 1, &bind};
 
 }  // namespace
 }  // namespace bmssim

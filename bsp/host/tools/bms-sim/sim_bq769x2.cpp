@@ -241,38 +241,46 @@ class Bq769xSim final : public ImageSim {
   mutable size_t slcanWrite_ = 0;
 };
 
-// A build for one device family (FW_BQ769X_FAMILY, an image's simulator) has only that family's front end.
+// The host board of an image: its board kind picks the output (SLCAN on the L1306 boards, CAN with the fault
+// output on the G3507), its device the driver, emulator, cells and settings (the device's EVM pack, as
+// bq769x2/board.hpp builds them).
+template <class Publisher, class Output>
+struct BoardKind {
+  static constexpr bool kFaultOutput = std::is_same_v<Output, bsp::host::SimCan>;
 #if FW_BQ769X_FAMILY != 2
-using L1306Bq76952 =
-    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
-using G3507Bq76952 =
-    Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, fw::app::CanPublisher, bsp::host::SimCan>;
-
-std::unique_ptr<ImageSim> makeL1306Bq76952(const SimOptions&, std::string&) {
-  return std::make_unique<L1306Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, false);
-}
-std::unique_ptr<ImageSim> makeG3507Bq76952(const SimOptions&, std::string&) {
-  return std::make_unique<G3507Bq76952>(Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, true);
-}
-
-const ImageRegistrar kL1306Bq76952{
-    {"lp-mspm0l1306-bq76952", "BQ76952 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76952}};
-const ImageRegistrar kG3507Bq76952{
-    {"lp-mspm0g3507-bq76952", "BQ76952 over I2C, CAN out", 1, &makeG3507Bq76952}};
+  static std::unique_ptr<ImageSim> bq76952(const SimOptions&, std::string&) {
+    return std::make_unique<Bq769xSim<b769::Bq769x2, b769::Bq769x2Measurement, Publisher, Output>>(
+        Emulator::Model::Bq76952, 16, fw::app::kBq76952Settings, kFaultOutput);
+  }
 #endif
-
 #if FW_BQ769X_FAMILY != 1
-using L1306Bq76907 =
-    Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, fw::app::SlcanPublisher, bsp::host::SimSerial>;
+  static std::unique_ptr<ImageSim> bq76907(const SimOptions&, std::string&) {
+    return std::make_unique<Bq769xSim<b769::Bq7690x, b769::Bq7690xMeasurement, Publisher, Output>>(
+        Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, kFaultOutput, b769::kBq76907);
+  }
+#endif
+  static ImageBinding bind(std::string_view device) {
+#if FW_BQ769X_FAMILY != 2
+    if (device == "bq76952") return {&bq76952, "BQ76952 over I2C", ""};
+#endif
+#if FW_BQ769X_FAMILY != 1
+    if (device == "bq76907") return {&bq76907, "BQ76907 over I2C", ""};
+#endif
+    // A build for one device family (FW_BQ769X_FAMILY, an image's simulator) has only that family's front
+    // end.
+    return {nullptr, std::string(device), "this build's driver does not serve the " + std::string(device)};
+  }
+};
 
-std::unique_ptr<ImageSim> makeL1306Bq76907(const SimOptions&, std::string&) {
-  return std::make_unique<L1306Bq76907>(Emulator::Model::Bq76907, 7, fw::app::kBq76907Settings, false,
-                                        b769::kBq76907);
+ImageBinding bind(const ImageDescription& image) {
+  if (image.board == "l1306_i2c_slcan")
+    return BoardKind<fw::app::SlcanPublisher, bsp::host::SimSerial>::bind(image.device);
+  if (image.board == "g3507_can")
+    return BoardKind<fw::app::CanPublisher, bsp::host::SimCan>::bind(image.device);
+  return {nullptr, std::string(image.device), "no host board of kind " + std::string(image.board)};
 }
 
-const ImageRegistrar kL1306Bq76907{
-    {"lp-mspm0l1306-bq76907", "BQ76907 over I2C, SLCAN on the back-channel UART", 1, &makeL1306Bq76907}};
-#endif
+const ImageRegistrar kRegistrar{"bq769x2", 1, &bind};
 
 }  // namespace
 }  // namespace bmssim

@@ -138,8 +138,14 @@ std::unique_ptr<ImageSim> make(const SimOptions& o, std::string& error) {
   return std::make_unique<Bq79616Sim>(o);
 }
 
-const ImageRegistrar kRegistrar{
-    {"lp-mspm0g3507-bq79616", "BQ79616 daisy chain over UART, CAN out", 2, &make}};
+// Every BQ79616 image: a chain on the G3507's UART with CAN out (the one board kind this family has).
+ImageBinding bind(const ImageDescription& image) {
+  if (image.board != "g3507_can")
+    return {nullptr, "BQ79616 daisy chain over UART", "no host board of kind " + std::string(image.board)};
+  return {&make, "BQ79616 daisy chain over UART", ""};
+}
+
+const ImageRegistrar kRegistrar{"bq79616", 2, &bind};
 
 }  // namespace
 }  // namespace bmssim
