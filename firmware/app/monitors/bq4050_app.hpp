@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "app/command/commands.hpp"
+#include "app/monitors/app_core.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -155,7 +156,10 @@ class Bq4050Device : public MonitorBase {
 using Bq4050Monitor = MonitorTask<Bq4050Device>;
 extern template class MonitorTask<Bq4050Device>;  // bq4050_app.cpp
 
-class Bq4050App {
+// The composition (app_core.hpp): the gauge's monitor, and protection with the fault output (one output opens
+// both paths: FaultPinActuator; the current faults recover on time). Inline: an image constructs it once, and
+// the constructor is then stores only.
+class Bq4050App : public AppCore<FaultPinActuator, CanPublisher> {
  public:
   struct Io {
     hal::I2cBus& bus;
@@ -163,55 +167,24 @@ class Bq4050App {
     hal::DigitalOut& faultOut;
     hal::SystemControl& system;
   };
-  static constexpr sched::TaskId kProtectionId = kProtectionTask;
-  static constexpr sched::TaskId kPublisherId = kPublisherTask;
-  // One fault output opens both paths (FaultPinActuator): the current faults recover on time.
   static constexpr const ProtectionConfig& kLimits = kSingleOutputLimits;
 
-  // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
-      : plan_(*view_, *status_, kLimits.staleAfter),
-        actuator_(io.faultOut, true),
-        settings_(kLimits),
-        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
-                    config.scanPeriod),
-        publisher_(scheduler, kPublisherId, io.can, plan_, CanLayout::Native, kFastPeriod, kSlowEvery),
-        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
-                 io.system),
-        monitor_(scheduler, io.bus, config, *sample_, *view_) {
+      : AppCore(scheduler, kLimits, config.scanPeriod, io.can, io.system, CanLayout::Native, io.faultOut,
+                true),
+        monitor_(scheduler, io.bus, config, *addressOf(sample_), *view_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.gauge.cells;
     view_->tempsPerBoard = 1;
     view_->boards = {&*sample_, 1};
   }
-  void start() {
-    protection_.setLimitUpdate(settings_);
-    protection_.start();
-    monitor_.start();
-    publisher_.start();
-    command_.start();
-  }
+  void start() { startAll(monitor_, nullptr); }
 
-  const PackView& pack() const { return *view_; }
-  const PublishStatus& status() const { return *status_; }
-  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
-  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
-  const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
-  const CanPublisher& publisher() const { return publisher_; }
-  const command::CommandTask<command::CanLink>& commands() const { return command_; }
 
  private:
+  Bq4050Monitor monitor_;  // last but the sample: its gauge driver's buffers would push the rest far away
   Zeroed<BoardSample> sample_;
-  Zeroed<PackView> view_;
-  Zeroed<PublishStatus> status_;
-  FramePlan plan_;
-  FaultPinActuator actuator_;
-  command::LimitSettings settings_;
-  ProtectionTask protection_;
-  CanPublisher publisher_;
-  command::CommandTask<command::CanLink> command_;
-  Bq4050Monitor monitor_;  // last: its gauge driver's buffers would push the rest far away
 };
 
 }  // namespace fw::app

@@ -44,6 +44,7 @@
 #include "app/balancing/balancing_status.hpp"
 #include "app/command/commands.hpp"
 #include "app/config.hpp"
+#include "app/monitors/app_core.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/monitors/fet_mailbox.hpp"
 #include "app/monitors/monitor_task.hpp"
@@ -469,80 +470,39 @@ class Bq769xDevice : public MonitorBase {
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
 using Bq769xMonitor = MonitorTask<Bq769xDevice<Driver, Measurement, kPublisherScanDone>>;
 
-// The publisher that suits the image's output: SLCAN text on a serial line, or CAN frames.
-inline SlcanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::SerialTx& out,
-                                    FramePlan& plan) {
-  return SlcanPublisher(s, id, out, plan, kFastPeriod, kSlowEvery);
-}
-inline CanPublisher makePublisher(sched::Scheduler& s, sched::TaskId id, hal::CanBus& out, FramePlan& plan) {
-  return CanPublisher(s, id, out, plan, CanLayout::Native, kFastPeriod, kSlowEvery);
-}
-
-// The composition: one board, the monitor, protection, its FET actuator (the mailbox both tasks hold), the
-// publisher and the command task. `output` is a CanBus (G3507) or a SerialPort (L1306: SLCAN out and in).
+// The composition (app_core.hpp): one board, its monitor, and protection with the FET actuator (the mailbox
+// both tasks hold: the FETs switch through the monitor, and through CFETOFF/DFETOFF where wired). `output` is
+// a CanBus (G3507) or a SerialPort (L1306: SLCAN out and in).
 template <class Driver, class Measurement, class Publisher>
-class Bq769xApp {
- public:
-  static constexpr sched::TaskId kProtectionId = kProtectionTask;
-  static constexpr sched::TaskId kPublisherId = kPublisherTask;
+class Bq769xApp : public AppCore<FetMailbox, Publisher> {
+  using Core = AppCore<FetMailbox, Publisher>;
 
+ public:
   template <class Output, class... DriverArgs>
   Bq769xApp(sched::Scheduler& scheduler, hal::I2cBus& bus, hal::EdgeInput& alert, Output& output,
             hal::SystemControl& system, const Bq769xAppConfig& config, DriverArgs&&... driverArgs)
-      : plan_(*view_, *addressOf(status_), kDefaultLimits.staleAfter),  // status_ is built after plan_
-        fet_(scheduler, config.chargeOffPin, config.dischargeOffPin),
-        settings_(kDefaultLimits),
-        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, fet_, config.scanPeriod),
-        publisher_(makePublisher(scheduler, kPublisherId, output, plan_)),
-        command_({scheduler, protection_, settings_, system, command::kNode}, output, publisher_.outbox(),
-                 system),
-        monitor_(scheduler, bus, alert, config, *addressOf(sample_), *view_, fet_, *status_,
-                 static_cast<DriverArgs&&>(driverArgs)...) {
+      : Core(scheduler, kDefaultLimits, config.scanPeriod, output, system, CanLayout::Native, scheduler,
+             config.chargeOffPin, config.dischargeOffPin),
+        monitor_(scheduler, bus, alert, config, *addressOf(sample_), *this->view_, this->actuator_,
+                 *this->status_, static_cast<DriverArgs&&>(driverArgs)...) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
-    view_->cellsPerBoard = config.cells;
-    view_->tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
-    view_->hasFetStatus = true;  // every scan reads the FETs' state back
-    view_->boards = {&*sample_, 1};
-    if constexpr (drivers::bq769x2::kBalance) view_->balancing = &monitor_.balancingStatus();
+    PackView& view = *this->view_;
+    view.cellsPerBoard = config.cells;
+    view.tempsPerBoard = tempsOf(static_cast<Measurement*>(nullptr));
+    view.hasFetStatus = true;  // every scan reads the FETs' state back
+    view.boards = {&*sample_, 1};
+    if constexpr (drivers::bq769x2::kBalance) view.balancing = &monitor_.balancingStatus();
   }
 
-  void start() {
-    protection_.setLimitUpdate(settings_);
-    protection_.start();
-    monitor_.start();
-    publisher_.start();
-    if constexpr (drivers::bq769x2::kBalance) command_.setBalancing(monitor_.balancing(), *view_);
-    command_.start();
-  }
+  void start() { this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr); }
 
-  const PackView& pack() const { return *view_; }
-  const PublishStatus& status() const { return *status_; }
-  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
-  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
-  const ProtectionTask& protection() const { return protection_; }
-  const command::LimitSettings& settings() const { return settings_; }
-  using Commands = command::CommandTask<command::LinkFor<Publisher>>;
-  const Commands& commands() const { return command_; }
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }
-  const Publisher& publisher() const { return publisher_; }
-  // The command interface's balancing entry (BalancingPolicy::setMode).
+  // The command interface's entry to balancing, and the state of charge.
   BalancingPolicy& balancing() { return monitor_.balancing(); }
   SocState& stateOfCharge() { return monitor_.stateOfCharge(); }
 
  private:
-  // Member order only decides where the constructor's stores land (Thumb stores reach 124 bytes past a
-  // base register, farther ones cost an address computation each): the wiring first, the zero blocks last.
-  // Still pays under link-time optimisation: the plain order (the three blocks first) is +48 B on each
-  // BQ769x-family image (measured).
-  Zeroed<PackView> view_;
-  FramePlan plan_;
-  Zeroed<PublishStatus> status_;
-  FetMailbox fet_;
-  command::LimitSettings settings_;
-  ProtectionTask protection_;
-  Publisher publisher_;
-  Commands command_;
   Monitor monitor_;
   Zeroed<BoardSample> sample_;
 };

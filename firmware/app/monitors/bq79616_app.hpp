@@ -42,6 +42,7 @@
 #include "app/balancing/balancing_policy.hpp"
 #include "app/balancing/balancing_status.hpp"
 #include "app/command/commands.hpp"
+#include "app/monitors/app_core.hpp"
 #include "app/monitors/monitor_task.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
@@ -251,7 +252,10 @@ class Bq79616Device : public MonitorBase {
 using Bq79616Monitor = MonitorTask<Bq79616Device>;
 extern template class MonitorTask<Bq79616Device>;  // bq79616_app.cpp
 
-class Bq79616App {
+// The composition (app_core.hpp): the chain's monitor, and protection with the fault output (one output opens
+// both paths: FaultPinActuator). `config` and `storage` must outlive the application (they are referenced,
+// not copied). Inline: an image constructs it once, and the constructor is then stores only.
+class Bq79616App : public AppCore<FaultPinActuator, CanPublisher> {
  public:
   struct Io {
     hal::Uart& uart;
@@ -260,21 +264,11 @@ class Bq79616App {
     hal::DigitalOut& faultOut;
     hal::SystemControl& system;
   };
-  static constexpr sched::TaskId kProtectionId = kProtectionTask;
-  static constexpr sched::TaskId kPublisherId = kPublisherTask;
 
-  // `config` and `storage` must outlive the application (they are referenced, not copied).
-  // Inline: an image constructs it once, and the constructor is then stores only.
   Bq79616App(sched::Scheduler& scheduler, const Io& io, const Bq79616AppConfig& config,
              Bq79616Storage& storage)
-      : plan_(*view_, *status_, limitsOf(config).staleAfter),
-        actuator_(io.faultOut, true),
-        settings_(limitsOf(config)),
-        protection_(scheduler, kProtectionId, settings_.limits(), *view_, *status_, actuator_,
-                    config.scanPeriod),
-        publisher_(scheduler, kPublisherId, io.can, plan_, config.layout, kFastPeriod, kSlowEvery),
-        command_({scheduler, protection_, settings_, io.system, command::kNode}, io.can, publisher_.outbox(),
-                 io.system),
+      : AppCore(scheduler, limitsOf(config), config.scanPeriod, io.can, io.system, config.layout, io.faultOut,
+                true),
         monitor_(scheduler, io.uart, io.nfault, config, storage, *view_, *status_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.chain.activeCells;
@@ -283,38 +277,16 @@ class Bq79616App {
     view_->rawCells = &storage.raw[0][0];
     view_->balancing = &storage.balancing;
   }
-  void start() {
-    protection_.setLimitUpdate(settings_);
-    protection_.start();
-    monitor_.start();
-    publisher_.start();
-    command_.setBalancing(monitor_.balancing(), *view_);
-    command_.start();
-  }
+  void start() { startAll(monitor_, &monitor_.balancing()); }
 
-  const PackView& pack() const { return *view_; }
-  const ProtectionTask& protection() const { return protection_; }
-  const CanPublisher& publisher() const { return publisher_; }
-  const command::CommandTask<command::CanLink>& commands() const { return command_; }
   const Bq79616Monitor& monitor() const { return monitor_; }
-  const PublishStatus& status() const { return *status_; }
   BalancingPolicy& balancing() { return monitor_.balancing(); }  // the command interface's entry
-  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
-  void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
     return config.limits != nullptr ? *config.limits : kSingleOutputLimits;  // one fault output
   }
 
-  Zeroed<PackView> view_;
-  Zeroed<PublishStatus> status_;
-  FramePlan plan_;
-  FaultPinActuator actuator_;
-  command::LimitSettings settings_;
-  ProtectionTask protection_;
-  CanPublisher publisher_;
-  command::CommandTask<command::CanLink> command_;
   Bq79616Monitor monitor_;  // last: its chain driver's buffers would push everything after it far away
 };
 
