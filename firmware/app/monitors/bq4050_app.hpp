@@ -196,6 +196,12 @@ class Bq4050App {
   const PublishStatus& status() const { return *status_; }
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
+  // The record store's hooks (FW_RECORD_STORE, app/store/persistence.hpp): trips to `observer`, its flash
+  // jobs in the command task. Before start().
+  void attachStore(TripObserver& observer, BackgroundWork& work) {
+    protection_.setTripObserver(observer);
+    command_.setBackground(work);
+  }
   const ProtectionTask& protection() const { return protection_; }
   const Bq4050Monitor& monitor() const { return monitor_; }
   const CanPublisher& publisher() const { return publisher_; }

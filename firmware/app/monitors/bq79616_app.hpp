@@ -301,6 +301,12 @@ class Bq79616App {
   BalancingPolicy& balancing() { return monitor_.balancing(); }  // the command interface's entry
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
+  // The record store's hooks (FW_RECORD_STORE, app/store/persistence.hpp): trips to `observer`, its flash
+  // jobs in the command task. Before start().
+  void attachStore(TripObserver& observer, BackgroundWork& work) {
+    protection_.setTripObserver(observer);
+    command_.setBackground(work);
+  }
 
  private:
   static const ProtectionConfig& limitsOf(const Bq79616AppConfig& config) {
