@@ -392,7 +392,8 @@ TEST(Startup, AFaultRecordSurvivesTheSoftwareSysrstAndIsPublished) {
 // --- records kept in flash (app/store/persistence.hpp) on the G3507 images -------------------------------
 
 // A protection trip, a watchdog reset and a power cycle: every boot after them publishes what the flash kept.
-// Cell 1 stands at 4.5 V from power-on (cell_ov trips on the first scans, the BQ76952's own COV with it);
+// Cell 1 stands at 4.5 V from power-on (cell_ov trips on the first scans, the BQ76952's own COV with it; the
+// BQ4050 image: the gauge reads 100 C, otd trips);
 // the watchdog feeds are patched out, so WWDT0 resets the chip after 1 s; 300 ms into the second boot
 // power fails and comes back (Mspm0::cutPower: the flash keeps its content, SRAM does not).
 void keptAcrossResets(const std::string& preset) {
@@ -405,6 +406,7 @@ void keptAcrossResets(const std::string& preset) {
   ASSERT_TRUE(r.loaded) << r.board.error();
   if (auto* e = r.board.bq769x()) e->setCellMv(1, 4500);
   if (auto* chain = r.board.chain()) chain->setCellMicrovolts(0, 1, 4500000);
+  if (auto* gauge = r.board.bq4050()) gauge->setTemperature(3731);  // 100 C: over the discharge limit
   uint64_t t = 0;
   while (r.board.machine().resets().size() < 2 && t < 1500000)
     r.board.runUntilUs(t += 10000);
@@ -448,6 +450,10 @@ TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheG3507Bq76952) {
 
 TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheG3507Bq79616) {
   keptAcrossResets("lp-mspm0g3507-bq79616");
+}
+
+TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheG3507Bq4050) {
+  keptAcrossResets("lp-mspm0g3507-bq4050");
 }
 
 // ALERT to FETs off while a sector erase of the data region is in progress (started through FLASHCTL 2 ms

@@ -137,8 +137,8 @@ Status Persistence::writeFault(const FaultRecord& r) {
 // Seconds since start-up from the evaluations' instants (the microsecond clock wraps every 71.6 minutes;
 // the protection task evaluates at least every check period, so no gap spans a wrap).
 uint32_t Persistence::uptimeS(Instant now) {
-  subUs_ += now.us - last_us_.us;
-  last_us_ = now;
+  subUs_ += now.us - lastEvaluation_.us;
+  lastEvaluation_ = now;
   while (subUs_ >= 1'000'000U) {
     subUs_ -= 1'000'000U;
     ++seconds_;

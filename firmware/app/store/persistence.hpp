@@ -73,7 +73,7 @@ class Persistence final : public TripObserver, public BackgroundWork {
   ProtectionLogRecord log_{};
   uint32_t seconds_ = 0;  // since start-up, counted from the evaluations' instants
   uint32_t subUs_ = 0;    // microseconds past seconds_
-  Instant last_us_{};
+  Instant lastEvaluation_{};
   bool logDirty_ = false;
   bool posted_ = false;
   Status last_ = Status::Ok;
