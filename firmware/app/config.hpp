@@ -86,3 +86,10 @@ static_assert(FW_PUBLISH_LEVEL >= 0 && FW_PUBLISH_LEVEL <= 2, "FW_PUBLISH_LEVEL:
 #ifndef FW_SOC
 #define FW_SOC 1
 #endif
+
+// The record store's hooks (app/store/persistence.hpp): the protection task tells an observer of each
+// evaluation, the command task runs the store's flash jobs. 0: neither hook is built (the L1306 images,
+// whose 16 KiB the store does not fit: README "Open questions").
+#ifndef FW_RECORD_STORE
+#define FW_RECORD_STORE 1
+#endif

@@ -74,6 +74,8 @@ struct ZeroedPack {
     startup.faultValid = true;
     startup.faultModule = 21;
     startup.faultLine = 300;
+    startup.kept.logEntries = 2;  // the record store restored two trips and keeps this fault
+    startup.kept.faultSource = fw::app::FaultSource::LastReset;
     plan.announceStartup(startup);
   }
   void scanned(uint32_t tMs) { fw::app::summarize(*view, at(tMs)); }
@@ -148,6 +150,12 @@ void noFaultRecord(ZeroedPack& p) {
   p.plan.announceStartup(startup);
 }
 
+void noRecordStore(ZeroedPack& p) {
+  fw::app::StartupInfo startup;  // kept left as it starts: what an image without the store announces
+  startup.resetCause = 1;
+  p.plan.announceStartup(startup);
+}
+
 // By "Message.Signal": the state in which that signal has no reading, and where to look for it.
 const std::map<std::string, Case>& cases() {
   static const std::map<std::string, Case> table = {
@@ -181,6 +189,9 @@ const std::map<std::string, Case>& cases() {
       {"Startup.FaultLine",
        {"no fault record survived the reset (SRAM cleared, or the run ended without a fault)", noFaultRecord,
         any}},
+      {"Startup.ProtectionLogEntries",
+       {"an image without the record store (the L1306 images)", noRecordStore, any}},
+      {"Startup.FaultSource", {"an image without the record store (the L1306 images)", noRecordStore, any}},
       {"Temperatures.Temp",
        {"the sensors of a scan that validated had no reading", noTemperature, itemsOfBoard(0, 2)}},
   };

@@ -13,6 +13,7 @@
 
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection.hpp"
+#include "app/store/records.hpp"
 #include "can/can_model.hpp"
 
 namespace {
@@ -131,6 +132,8 @@ const std::map<std::string, Need>& needs() {
         {"Startup.FirmwarePatch", {0, 255, false}},
         {"Startup.FaultModule", {0, 99, true}},
         {"Startup.FaultLine", {0, 0xFFFE, true}},
+        {"Startup.ProtectionLogEntries", {0, fw::app::store::ProtectionLogRecord::kEntries, true}},
+        {"Startup.FaultSource", {0, 2, true}},
     });
     return t;
   }();

@@ -140,12 +140,18 @@ int main() {
   up.firmwarePatch = 0;
   up.faultModule = 30;
   up.faultLine = 0xFFFE;
+  up.protectionLogEntries = 3;  // the record store restored three trips
+  up.faultSource = 1;           // the fault of this reset, now kept in flash
   print("native", up.pack(),
-        "ResetCause=27 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=30 FaultLine=65534");
+        "ResetCause=27 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=30 FaultLine=65534 "
+        "ProtectionLogEntries=3 FaultSource=1");
   up.resetCause = 0x0E;  // WWDT0: a BOOTRST, nothing survived
   up.faultModule = Startup::kFaultModuleNotAvailable;
   up.faultLine = Startup::kFaultLineNotAvailable;
+  up.protectionLogEntries = Startup::kProtectionLogEntriesNotAvailable;  // an image without the store
+  up.faultSource = Startup::kFaultSourceNotAvailable;
   print("ti", up.pack(),
-        "ResetCause=14 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=na FaultLine=na");
+        "ResetCause=14 FirmwareMajor=0 FirmwareMinor=1 FirmwarePatch=0 FaultModule=na FaultLine=na "
+        "ProtectionLogEntries=na FaultSource=na");
   return 0;
 }

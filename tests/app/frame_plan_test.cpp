@@ -559,7 +559,28 @@ TEST(FramePlan, StartupCarriesTheFaultRecordThatSurvived) {
   const fw::hal::CanFrame& f = frames[2];
   EXPECT_EQ(f.data,
             (std::array<uint8_t, 8>{0x1B, fw::app::kFirmwareVersionMajor, fw::app::kFirmwareVersionMinor,
-                                    fw::app::kFirmwareVersionPatch, 30, 0x34, 0x12, 0x00}));
+                                    fw::app::kFirmwareVersionPatch, 30, 0x34, 0x12, 0x3F}))
+      << "no record store restored: ProtectionLogEntries and FaultSource not available";
+}
+
+// What the record store restored (app/store/persistence.hpp): the protection-log entries and where the fault
+// record comes from, in the byte that was spare.
+TEST(FramePlan, StartupCarriesWhatTheRecordStoreRestored) {
+  Pack p;
+  fw::app::StartupInfo info{0x01, true, 30, 0xFFFC};  // a power cycle; the watchdog record kept in flash
+  info.kept.logEntries = 3;
+  info.kept.faultSource = fw::app::FaultSource::Stored;
+  p.plan.announceStartup(info);
+  p.plan.beginFast();
+  const auto frames = p.drain(10);
+  ASSERT_EQ(ids(frames), (std::vector<uint32_t>{0x100, 0x101, 0x1F0}));
+  const auto u = bms::Startup::unpack(frames[2]);
+  EXPECT_EQ(u.resetCause, 0x01);
+  EXPECT_EQ(u.faultModule, 30);
+  EXPECT_EQ(u.faultLine, 0xFFFC);
+  EXPECT_EQ(u.protectionLogEntries, 3);
+  EXPECT_EQ(u.faultSource, 2);
+  EXPECT_EQ(frames[2].data[7], 0x23);
 }
 
 TEST(FramePlan, StartupHeldBackByAFullQueueGoesOutWithTheNextCycle) {

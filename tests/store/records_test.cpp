@@ -42,9 +42,10 @@ TEST(StoreRecords, ProtectionLogRoundTrip) {
 }
 
 TEST(StoreRecords, FaultAndSocRoundTrip) {
-  FaultRecord f{0x0C, 0xBEEF, 0x0000'12A4, 99};
+  FaultRecord f{0x0C, 0xBEEF, 0x0000'12A4, 99, 30};
   std::array<uint8_t, FaultRecord::kBytes> fb{};
   encode(f, fb);
+  EXPECT_EQ(fb[1], 30);  // the module, in what was the padding byte
   EXPECT_EQ(fb[2], 0xEF);
   EXPECT_EQ(fb[3], 0xBE);
   FaultRecord fback;
@@ -53,6 +54,7 @@ TEST(StoreRecords, FaultAndSocRoundTrip) {
   EXPECT_EQ(fback.code, 0xBEEF);
   EXPECT_EQ(fback.pc, 0x12A4U);
   EXPECT_EQ(fback.uptimeS, 99U);
+  EXPECT_EQ(fback.module, 30);
 
   SocRecord s{734, 41250};
   std::array<uint8_t, SocRecord::kBytes> sb{};

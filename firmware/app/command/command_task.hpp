@@ -38,6 +38,9 @@ class CommandTask final : public sched::Task {
   // One frame or line per run, then the task posts itself again: every other task that became ready in
   // between runs first.
   void run(sched::EventMask events) override {
+    if constexpr (FW_RECORD_STORE != 0) {
+      if ((events & command_event::kStore) != 0 && background_.to != nullptr) background_.to->step();
+    }
     if ((events & command_event::kTimer) != 0) bootStep();
     if (!link_.outboxEmpty()) return link_.waitForOutbox();
     if (link_.step(handler_, scheduler())) scheduler().post(kCommandTask, command_event::kInput);
@@ -45,6 +48,8 @@ class CommandTask final : public sched::Task {
 
   const CommandHandler& handler() const { return handler_; }
   void setBalancing(BalancingPolicy& policy, const PackView& pack) { handler_.setBalancing(policy, pack); }
+  // Images with the record store (FW_RECORD_STORE) only: its flash jobs run here, the lowest priority.
+  void setBackground(BackgroundWork& work) { background_.set(work); }
   const Link& link() const { return link_; }
 
  private:
@@ -63,6 +68,7 @@ class CommandTask final : public sched::Task {
   CommandHandler handler_;
   Link link_;
   uint8_t drained_ = 0;
+  [[no_unique_address]] StoreHook<BackgroundWork> background_{};
 };
 
 }  // namespace fw::app::command

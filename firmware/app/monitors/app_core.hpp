@@ -59,8 +59,14 @@ class AppCore {
   const command::LimitSettings& settings() const { return settings_; }
   const Publisher& publisher() const { return publisher_; }
   const Commands& commands() const { return command_; }
-  // The Startup message (sent once, first): the reset cause the board read, version, fault record.
+  // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.
   void announceStartup(const StartupInfo& info) { plan_.announceStartup(info); }
+  // The record store's hooks (FW_RECORD_STORE, app/store/persistence.hpp): trips to `observer`, its flash
+  // jobs in the command task. Before start().
+  void attachStore(TripObserver& observer, BackgroundWork& work) {
+    protection_.setTripObserver(observer);
+    command_.setBackground(work);
+  }
 
  protected:
   // `output` is the image's line or bus (a SerialPort or a CanBus: out for the publisher, in for the

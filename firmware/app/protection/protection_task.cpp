@@ -31,6 +31,11 @@ void ProtectionTask::run(sched::EventMask events) {
     if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
     if (pack_.hasFetStatus) readBack(in, now);
+    if constexpr (FW_RECORD_STORE != 0) {
+      if (state_->observer.to != nullptr)
+        state_->observer.to->evaluated(st.newlyTripped, (in.fresh || in.scanFailed) && !state_->pendingAction,
+                                       now);
+    }
   }
   scheduler_.checkIn(id_);
 }

@@ -36,6 +36,7 @@
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection.hpp"
 #include "app/publish/publish_status.hpp"
+#include "app/tasks.hpp"
 #include "core/zeroed.hpp"
 #include "hal/gpio.hpp"
 #include "sched/scheduler.hpp"
@@ -50,6 +51,17 @@ class LimitUpdate {
 
  protected:
   ~LimitUpdate() = default;
+};
+
+// Told of every evaluation (app/store/persistence.hpp logs the trips in flash): the faults that tripped in
+// it, and whether protection is settled (a scan ended and no path request is pending, so flash work now
+// delays no FET command). Called from the protection task after it acted; must only note and post.
+class TripObserver {
+ public:
+  virtual void evaluated(FaultMask newlyTripped, bool settled, Instant now) = 0;
+
+ protected:
+  ~TripObserver() = default;
 };
 
 class Actuator {
@@ -131,6 +143,8 @@ class ProtectionTask final : public sched::Task {
   // there (true: every latched fault cleared, or none was latched). Thread mode (the command task).
   bool clearLatched();
   void setLimitUpdate(LimitUpdate& update) { update_ = &update; }
+  // Images with the record store (FW_RECORD_STORE) only.
+  void setTripObserver(TripObserver& observer) { state_->observer.set(observer); }
   // Both paths off, and the actuator has confirmed it (FETs commanded off / fault output asserted).
   bool pathsOffConfirmed() const {
     return state_->requested && !state_->pendingAction && !state_->chargeOn && !state_->dischargeOn;
@@ -164,6 +178,7 @@ class ProtectionTask final : public sched::Task {
     uint32_t evaluations;
     sched::Timer timer;
     ProtectionRecord log[kLogSize != 0 ? kLogSize : 1];
+    [[no_unique_address]] StoreHook<TripObserver> observer;  // zero until setTripObserver()
   };
   // The references every run() uses before the state: with the log inside, the state would push them past
   // the 124 bytes a Thumb load reaches from the object's address; its byte fields stay within 31 bytes.

@@ -176,7 +176,9 @@ static_assert(bms::StateOfCharge::kRemainingCapacityNotAvailable == 0xFFFFF &&
               bms::StateOfCharge::kSocNotAvailable == 0xFFFF &&
               bms::StateOfCharge::kBasisNotAvailable == 0xF);
 static_assert(bms::Startup::kFaultModuleNotAvailable == 0xFF &&
-                  bms::Startup::kFaultLineNotAvailable == 0xFFFF,
+                  bms::Startup::kFaultLineNotAvailable == 0xFFFF &&
+                  bms::Startup::kProtectionLogEntriesNotAvailable == KeptRecordsInfo::kNotAvailable &&
+                  bms::Startup::kFaultSourceNotAvailable == static_cast<uint8_t>(FaultSource::NotAvailable),
               "a Startup field left unset goes out as not available");
 
 }  // namespace
@@ -289,6 +291,10 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       if (startup_.faultValid) {
         v[U::kFaultModuleField] = startup_.faultModule;
         v[U::kFaultLineField] = startup_.faultLine;
+      }
+      if constexpr (FW_RECORD_STORE != 0) {  // without the store both stay not available
+        v[U::kProtectionLogEntriesField] = startup_.kept.logEntries;
+        v[U::kFaultSourceField] = static_cast<uint8_t>(startup_.kept.faultSource);
       }
       break;
     }

@@ -40,14 +40,14 @@ bool decode(std::span<const uint8_t> in, ProtectionLogRecord& r) {
 
 void encode(const FaultRecord& r, std::span<uint8_t, FaultRecord::kBytes> out) {
   out[0] = r.resetCause;
-  out[1] = 0;
+  out[1] = r.module;
   storeLe16(out.data() + 2, r.code);
   storeLe32(out.data() + 4, r.pc);
   storeLe32(out.data() + 8, r.uptimeS);
 }
 bool decode(std::span<const uint8_t> in, FaultRecord& r) {
   if (in.size() != FaultRecord::kBytes) return false;
-  r = FaultRecord{in[0], loadLe16(in.data() + 2), loadLe32(in.data() + 4), loadLe32(in.data() + 8)};
+  r = FaultRecord{in[0], loadLe16(in.data() + 2), loadLe32(in.data() + 4), loadLe32(in.data() + 8), in[1]};
   return true;
 }
 

@@ -35,13 +35,15 @@ struct ProtectionLogRecord {
   std::array<Entry, kEntries> entry{};
 };
 
-// The last fault: the reset cause (hal::SystemControl identity's resetCause), a fault code, the PC if known.
+// The last fault: the reset cause (hal::SystemControl identity's resetCause), the fault's code (the line of
+// fw::onFault, or a code: core/assert.hpp, bsp/mspm0/fault.hpp), the PC if known, and its fw::Module.
 struct FaultRecord {
   static constexpr uint32_t kBytes = 12;
   uint8_t resetCause = 0;
   uint16_t code = 0;
   uint32_t pc = 0;  // 0 when unknown
   uint32_t uptimeS = 0;
+  uint8_t module = 0;  // fw::Module (byte 1 of the payload, 0 in records written before it)
 };
 
 // The state of charge as app/soc keeps it.

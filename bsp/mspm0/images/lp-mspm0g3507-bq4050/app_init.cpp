@@ -3,7 +3,7 @@
 #include "app/monitors/bq4050_app.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
-#include "common/startup_info.hpp"
+#include "common/kept_records.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -16,7 +16,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   using App = fw::app::Bq4050App;
   App& app = image::constructOnce<App>(scheduler, App::Io{board.i2c, board.can, board.faultOut, board.system},
                                        kConfig);
-  // Startup message: the reset cause the board read, version, fault record
-  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  // Records kept in flash restored, this reset's fault record written; the Startup message: the reset cause
+  // the board read, version, fault record, protection-log entries
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
   app.start();
 }

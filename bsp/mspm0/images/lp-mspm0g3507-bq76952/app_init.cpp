@@ -11,7 +11,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
-#include "common/startup_info.hpp"
+#include "common/kept_records.hpp"
 #include "gpio.hpp"
 #include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
@@ -42,7 +42,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config);
-  // Startup message: the reset cause the board read, version, fault record
-  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  // Records kept in flash restored, this reset's fault record written; the Startup message: the reset cause
+  // the board read, version, fault record, protection-log entries
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
   app.start();
 }

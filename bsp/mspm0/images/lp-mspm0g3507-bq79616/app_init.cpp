@@ -5,7 +5,7 @@
 #include "board.hpp"
 #include "board_config.hpp"
 #include "common/construct_once.hpp"
-#include "common/startup_info.hpp"
+#include "common/kept_records.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
@@ -22,7 +22,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   App& app = image::constructOnce<App>(
       scheduler, App::Io{board.bq79616, board.nfault, board.can, board.faultOut, board.system}, kConfig,
       storage);
-  // Startup message: the reset cause the board read, version, fault record
-  app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+  // Records kept in flash restored, this reset's fault record written; the Startup message: the reset cause
+  // the board read, version, fault record, protection-log entries
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
   app.start();
 }

@@ -1,0 +1,33 @@
+#include "data_flash.hpp"
+
+#include <cstdint>
+
+#include "common/construct_once.hpp"
+#include "core/assert.hpp"
+#include "flashctl.hpp"
+#include "sysclock.hpp"
+
+extern "C" const uint8_t __record_store_start__[];
+extern "C" const uint8_t __record_store_end__[];
+
+namespace image {
+
+namespace {
+
+// FLASHCTL_BASE (regs/flashctl.hpp; mspm0g3507.tsv "base" row).
+constexpr uintptr_t kFlashctlBase = 0x400CD000;
+// The G3507 computes and stores ECC for each flash word (SLAU846A FLASHCTL; flashctl.hpp).
+constexpr bool kEcc = true;
+
+}  // namespace
+
+fw::hal::FlashStorage& dataFlash() {
+  const auto address = static_cast<uint32_t>(reinterpret_cast<uintptr_t>(__record_store_start__));
+  const auto sectors = static_cast<uint32_t>(__record_store_end__ - __record_store_start__) /
+                       fw::hal::FlashStorage::kSectorBytes;
+  FW_ASSERT_MODULE(fw::Module::Bsp, bsp::mspm0::FlashctlStorage::regionFits(address, sectors));
+  return constructOnce<bsp::mspm0::FlashctlStorage>(bsp::mspm0::FlashctlConfig{
+      kFlashctlBase, address, __record_store_start__, sectors, kEcc, bsp::mspm0::kBusClockHz / 1000000U});
+}
+
+}  // namespace image

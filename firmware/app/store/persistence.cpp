@@ -1,0 +1,149 @@
+#include "app/store/persistence.hpp"
+
+#include <array>
+
+#include "core/assert.hpp"
+
+namespace fw::app::store {
+
+namespace {
+
+constexpr uint8_t type(RecordType t) {
+  return static_cast<uint8_t>(t);
+}
+
+}  // namespace
+
+void Persistence::start(StartupInfo& info) {
+  info.kept.logEntries = 0;
+  info.kept.faultSource = FaultSource::None;
+  last_ = store_.restore();
+  if (last_ != Status::Ok) {  // a region of fewer than two sectors: nothing kept, nothing said
+    info.kept.logEntries = KeptRecordsInfo::kNotAvailable;
+    info.kept.faultSource = FaultSource::NotAvailable;
+    return;
+  }
+  std::array<uint8_t, RecordStore::kMaxPayload> buf{};
+  uint32_t length = 0;
+  if (store_.read(type(RecordType::ProtectionLog), buf, length) == Status::Ok &&
+      decode(std::span<const uint8_t>(buf.data(), length), log_))
+    info.kept.logEntries = log_.count;
+
+  FaultRecord fault{};
+  if (info.faultValid) {
+    fault = {info.resetCause, info.faultLine, 0, 0, info.faultModule};
+  } else if (info.resetCause == kResetCauseWatchdog) {
+    fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
+  } else {
+    FaultRecord stored{};
+    if (store_.read(type(RecordType::Fault), buf, length) == Status::Ok &&
+        decode(std::span<const uint8_t>(buf.data(), length), stored)) {
+      info.kept.faultSource = FaultSource::Stored;
+      info.faultValid = true;
+      info.faultModule = stored.module;
+      info.faultLine = stored.code;
+    }
+    return;
+  }
+  info.faultValid = true;
+  info.faultModule = fault.module;
+  info.faultLine = fault.code;
+  info.kept.faultSource = FaultSource::LastReset;
+  last_ = writeFault(fault);
+  if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok) last_ = writeFault(fault);
+}
+
+void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
+  const uint32_t s = uptimeS(now);
+  for (uint8_t i = 0; newlyTripped != 0; ++i, newlyTripped >>= 1) {
+    if ((newlyTripped & 1U) == 0) continue;
+    addTrip(static_cast<FaultId>(i));
+    log_.entry[log_.count - 1].uptimeS = s;
+  }
+  if (settled && !posted_ && hasWork()) repost();
+}
+
+void Persistence::step() {
+  posted_ = false;
+  if (logDirty_) {
+    last_ = writeLog();
+    // Busy: a compaction is due and no sector is erased yet; erase one now and write in the next step.
+    // A failed write or erase is not retried (the flash's status stays in lastStatus()): the next trip
+    // writes the log again. So a failing flash costs one job a trip, never a loop.
+    if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok) return repost();
+    logDirty_ = false;
+  } else if (store_.needsErase()) {
+    last_ = store_.eraseStep();
+  }
+}
+
+// The log waits for its write: the next step, after everything else that is ready.
+void Persistence::repost() {
+  posted_ = true;
+  scheduler_.post(kCommandTask, command_event::kStore);
+}
+
+// Appends `id` to the log, dropping the oldest entry when full, with the value that tripped it: the ones
+// Protection::evaluate compares (protection.cpp), read back from the pack view it evaluated.
+void Persistence::addTrip(FaultId id) {
+  if (log_.count == ProtectionLogRecord::kEntries) {
+    for (uint8_t k = 1; k < ProtectionLogRecord::kEntries; ++k)
+      log_.entry[k - 1] = log_.entry[k];
+    --log_.count;
+  }
+  const PackTotals& t = pack_.totals;
+  int32_t value = 0;
+  switch (id) {
+    case FaultId::CellOvervoltage:
+      value = t.extreme[kMaxCell];
+      break;
+    case FaultId::CellUndervoltage:
+      value = t.extreme[kMinCell];
+      break;
+    case FaultId::ChargeOvercurrent:
+    case FaultId::DischargeOvercurrent:
+      value = pack_.currentMa;
+      break;
+    case FaultId::OvertempDischarge:
+    case FaultId::OvertempCharge:
+      value = t.extreme[kMaxTemp];
+      break;
+    case FaultId::UndertempDischarge:
+    case FaultId::UndertempCharge:
+      value = t.extreme[kMinTemp];
+      break;
+    case FaultId::DeviceSafety:
+      value = pack_.deviceBlocks;
+      break;
+    default:
+      break;  // the rules of counts and time: the record's rule says it all
+  }
+  log_.entry[log_.count++] = {static_cast<uint8_t>(id), 0, value};
+  logDirty_ = true;
+}
+
+Status Persistence::writeLog() {
+  std::array<uint8_t, ProtectionLogRecord::kBytes> b{};
+  encode(log_, b);
+  return store_.write(type(RecordType::ProtectionLog), b);
+}
+
+Status Persistence::writeFault(const FaultRecord& r) {
+  std::array<uint8_t, FaultRecord::kBytes> b{};
+  encode(r, b);
+  return store_.write(type(RecordType::Fault), b);
+}
+
+// Seconds since start-up from the evaluations' instants (the microsecond clock wraps every 71.6 minutes;
+// the protection task evaluates at least every check period, so no gap spans a wrap).
+uint32_t Persistence::uptimeS(Instant now) {
+  subUs_ += now.us - lastEvaluation_.us;
+  lastEvaluation_ = now;
+  while (subUs_ >= 1'000'000U) {
+    subUs_ -= 1'000'000U;
+    ++seconds_;
+  }
+  return seconds_;
+}
+
+}  // namespace fw::app::store

@@ -1,0 +1,82 @@
+// Persistence: what an image keeps across a reset in the RecordStore (records.hpp), the protection log and
+// the fault record, with the start-up restore and the scheduling of every flash write and erase.
+//
+// Contract
+// - start(info), once at start-up before the tasks start (thread mode, interrupts may be on): restores the
+//   store, reads the protection log and the fault record, and writes a new Fault record when this reset was
+//   a watchdog expiry (RSTCAUSE WWDT0: Bsp, code kWatchdogCode) or a fault the previous run recorded in SRAM
+//   (info.faultValid: its module and line). It fills info: logEntries (the restored log's entries),
+//   faultSource (LastReset: the fault of this reset, now in flash; Stored: no fault this reset, the newest
+//   Fault record of an earlier run, whose module and code it puts in faultModule / faultLine; None), so the
+//   Startup message publishes them. A write that finds no erased sector erases one first (at start-up only:
+//   at most one sector erase, <= 20 ms, SLASEX5C section 7.7, before protection runs).
+// - evaluated() (TripObserver, from the protection task after each evaluation): a newly tripped fault is
+//   added to the log in RAM (the oldest entry dropped when full) with the seconds since start-up and the
+//   value that tripped it (PackView: the extreme, the current, the device's blocks). Nothing is written
+//   there: when the protection task reports `settled` (a scan ended, no path request pending) and the store
+//   has work (a log to write, a sector to erase), it posts the lowest-priority task, which calls step().
+// - step() (BackgroundWork, from that task): one flash job per call, the log write first, else one sector
+//   erase; it posts itself again if work is left. A log write that finds no erased sector (Busy) erases one
+//   and writes in the next step. So every program and erase runs after the scan's bus work and the FET
+//   request, from the task that runs only when protection, the monitor and the publisher have nothing to
+//   do (the CPU still stalls for the flash: a fault-line interrupt that comes during an erase waits for it,
+//   measured in tests/twin, store/README.md).
+// - Results: lastStatus() is the store's status of the last write or erase (Ok before any).
+// - Thread mode only; not reentrant.
+#pragma once
+
+#include <cstdint>
+
+#include "app/pack/pack_view.hpp"
+#include "app/protection/protection_task.hpp"
+#include "app/publish/publish_status.hpp"
+#include "app/store/record_store.hpp"
+#include "app/store/records.hpp"
+#include "app/tasks.hpp"
+#include "hal/flash.hpp"
+#include "sched/scheduler.hpp"
+
+namespace fw::app::store {
+
+// The fault code of a watchdog expiry in the Fault record and the Startup message (next to HardFault's
+// 0xFFFE and abort's 0xFFFD, bsp/mspm0/fault.hpp).
+inline constexpr uint16_t kWatchdogCode = 0xFFFC;
+// RSTCAUSE.ID of a WWDT0 violation (MSPM0 TRM SLAU846B Table 2-12 / SLAU847D Table 2-9; hw_sysctl
+// RSTCAUSE_ID 0x0E): a BOOTRST, which clears SRAM, so only the reset cause tells of it.
+inline constexpr uint8_t kResetCauseWatchdog = 0x0E;
+
+class Persistence final : public TripObserver, public BackgroundWork {
+ public:
+  // `pack` gives the values trips are logged with; step() runs in kCommandTask on command_event::kStore.
+  constexpr Persistence(hal::FlashStorage& flash, sched::Scheduler& scheduler, const PackView& pack)
+      : store_(flash), scheduler_(scheduler), pack_(pack) {}
+
+  void start(StartupInfo& info);
+  void evaluated(FaultMask newlyTripped, bool settled, Instant now) override;
+  void step() override;
+
+  const ProtectionLogRecord& log() const { return log_; }
+  Status lastStatus() const { return last_; }
+  const RecordStore& store() const { return store_; }
+
+ private:
+  bool hasWork() const { return logDirty_ || store_.needsErase(); }
+  void repost();
+  void addTrip(FaultId id);
+  Status writeLog();
+  Status writeFault(const FaultRecord& r);
+  uint32_t uptimeS(Instant now);
+
+  RecordStore store_;
+  sched::Scheduler& scheduler_;
+  const PackView& pack_;
+  ProtectionLogRecord log_{};
+  uint32_t seconds_ = 0;  // since start-up, counted from the evaluations' instants
+  uint32_t subUs_ = 0;    // microseconds past seconds_
+  Instant lastEvaluation_{};
+  bool logDirty_ = false;
+  bool posted_ = false;
+  Status last_ = Status::Ok;
+};
+
+}  // namespace fw::app::store
