@@ -158,6 +158,10 @@
 //                     whole 64-bit word on the G3507; the safe side on the L1306; hal/flash.hpp)
 //   FLASH-REGION      a FLASHCTL command to NONMAIN or to the image's sectors, or CMDWEPROTNM cleared: the
 //                     firmware writes only its data region (bsp/mspm0/flashctl.hpp; bsl.md NONMAIN lockout)
+//   FAULT-OUT-RELEASED the G3507 images' fault output (PB26) was never driven asserted (high) between the
+//                     power-up and the image's first CAN frame: the product's contract (README "Protection",
+//                     board_g3507_can.cpp) asserts it from reset until the application has measured the pack,
+//                     so a pack path behind it never closes on a pack nobody measured. Not a TI rule.
 #pragma once
 
 #include <cstdint>
@@ -202,6 +206,7 @@ enum class Rule : uint8_t {
   FlashProtected,
   FlashUnerased,
   FlashRegion,
+  FaultOutReleased,
 };
 
 struct RuleInfo {

@@ -960,3 +960,25 @@ TEST(BrokenImage, StandbyWithAScanPendingIsStoppedByTheSleepEventRule) {
   EXPECT_TRUE(stop.find("TIMG") != std::string::npos || stop.find("I2C0 has a transfer") != std::string::npos)
       << stop;
 }
+
+TEST(BrokenImage, AFaultOutputReleasedAtBootIsStoppedByTheFaultOutputRule) {
+  // The DOUTSET31_0 store that asserts PB26 before its driver is enabled taken out (GpioOut::init(true)
+  // become init(false), the mutation run's gpio-fault-output-released-at-boot): the output is driven low from
+  // the reset on, and the pack path behind it could close before any scan. Named at the image's first CAN
+  // frame, on the BQ79616 image (whose path the output opens) and the BQ76952 image (where it only
+  // indicates).
+  for (const std::string preset : {"lp-mspm0g3507-bq79616", "lp-mspm0g3507-bq76952"}) {
+    SCOPED_TRACE(preset);
+    LOAD_OR_SKIP(elf, preset);
+    EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+    std::vector<uint32_t> asserts;
+    for (const auto& s : storeSites(preset, *elf, 0x400A2000 + 0x1290, 20000)) {
+      if (s.value == 1U << 26) asserts.push_back(s.pc);
+    }
+    ASSERT_EQ(asserts.size(), 1U);
+    removeStores(*elf, asserts);
+    const std::string stop = stopOf(preset, *elf, 300000);
+    EXPECT_RULE(stop, "FAULT-OUT-RELEASED");
+    EXPECT_NE(stop.find("PB26"), std::string::npos) << stop;
+  }
+}
