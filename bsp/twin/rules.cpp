@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 36> kRules = {{
+constexpr std::array<RuleInfo, 38> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -69,9 +69,15 @@ constexpr std::array<RuleInfo, 36> kRules = {{
      true},
     {"FLASH-REGION",
      "bsp/mspm0/flashctl.hpp data region; SLAU887 4.3.9 NONMAIN lockout; hw_flashctl.h CMDWEPROTNM", true},
+    {"FAULT-OUT-RELEASED",
+     "the product's contract, not TI's: README Protection, board_g3507_can.cpp (asserted until the pack is "
+     "measured)",
+     true},
+    {"MCAN-FILTER-OPEN",
+     "hw_mcan.h GFC.ANFS; Bosch M_CAN user's manual 3.4.1 acceptance filtering (SLAU846 MCAN)", false},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::FlashRegion) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::McanFilterOpen) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

@@ -158,6 +158,17 @@
 //                     whole 64-bit word on the G3507; the safe side on the L1306; hal/flash.hpp)
 //   FLASH-REGION      a FLASHCTL command to NONMAIN or to the image's sectors, or CMDWEPROTNM cleared: the
 //                     firmware writes only its data region (bsp/mspm0/flashctl.hpp; bsl.md NONMAIN lockout)
+//   FAULT-OUT-RELEASED the G3507 images' fault output (PB26) was never driven asserted (high) between the
+//                     power-up and the image's first CAN frame: the product's contract (README "Protection",
+//                     board_g3507_can.cpp) asserts it from reset until the application has measured the pack,
+//                     so a pack path behind it never closes on a pack nobody measured. Not a TI rule.
+//   MCAN-FILTER-OPEN  (warns) a frame that no element of the standard ID filter list matched is stored in RX
+//                     FIFO 0 by GFC.ANFS 0 while the list has an enabled element storing into RX FIFO 0:
+//                     the list selects the firmware's identifiers and the global filter lets every other
+//                     frame in as well, so the bus's whole traffic takes FIFO room and CPU time meant for the
+//                     commands (hw_mcan.h GFC.ANFS 0: non-matching standard frames go to RX FIFO 0; Bosch
+//                     M_CAN user's manual 3.4.1 acceptance filtering, as SLAU846 MCAN describes it). TI does
+//                     not call the combination wrong: the safe side, as a warning (bsp/twin/README.md)
 #pragma once
 
 #include <cstdint>
@@ -202,6 +213,8 @@ enum class Rule : uint8_t {
   FlashProtected,
   FlashUnerased,
   FlashRegion,
+  FaultOutReleased,
+  McanFilterOpen,
 };
 
 struct RuleInfo {

@@ -1076,3 +1076,52 @@ TEST(BrokenImage, StandbyWithAScanPendingIsStoppedByTheSleepEventRule) {
   EXPECT_TRUE(stop.find("TIMG") != std::string::npos || stop.find("I2C0 has a transfer") != std::string::npos)
       << stop;
 }
+
+TEST(BrokenImage, AFaultOutputReleasedAtBootIsStoppedByTheFaultOutputRule) {
+  // The DOUTSET31_0 store that asserts PB26 before its driver is enabled taken out (GpioOut::init(true)
+  // become init(false), the mutation run's gpio-fault-output-released-at-boot): the output is driven low from
+  // the reset on, and the pack path behind it could close before any scan. Named at the image's first CAN
+  // frame, on the BQ79616 image (whose path the output opens) and the BQ76952 image (where it only
+  // indicates).
+  for (const std::string preset : {"lp-mspm0g3507-bq79616", "lp-mspm0g3507-bq76952"}) {
+    SCOPED_TRACE(preset);
+    LOAD_OR_SKIP(elf, preset);
+    EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+    std::vector<uint32_t> asserts;
+    for (const auto& s : storeSites(preset, *elf, 0x400A2000 + 0x1290, 20000)) {
+      if (s.value == 1U << 26) asserts.push_back(s.pc);
+    }
+    ASSERT_EQ(asserts.size(), 1U);
+    removeStores(*elf, asserts);
+    const std::string stop = stopOf(preset, *elf, 300000);
+    EXPECT_RULE(stop, "FAULT-OUT-RELEASED");
+    EXPECT_NE(stop.find("PB26"), std::string::npos) << stop;
+  }
+}
+
+TEST(BrokenImage, AGlobalFilterAcceptingEveryFrameIsNamedByTheFilterRule) {
+  // GFC written with ANFS/ANFE 0 (accept non-matching frames into RX FIFO 0) instead of rejecting them, the
+  // mutation run's mcan-accept-all: the command filter list then passes the bus's whole traffic. The image
+  // keeps up with a full bus of foreign frames (bms-sim measured 12.5 % CPU instead of 1.7 %, no RF0L), so
+  // only the configuration names it, at the first foreign frame. Unpatched, that frame is rejected silently.
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  auto foreignFrameWarnings = [&](const ElfFile& image) {
+    Rig r(preset, image);
+    r.board.runUntilUs(300000);
+    r.board.sendCan({0x104, false, 8, {}});  // another node's telemetry
+    r.board.runUntilUs(320000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    return r.board.warnings();
+  };
+  const auto clean = foreignFrameWarnings(*elf);
+  EXPECT_TRUE(clean.empty()) << clean.front();
+  const auto gfc = storeSites(preset, *elf, 0x40508000 + 0x7080, 50000);
+  ASSERT_EQ(gfc.size(), 1U);
+  ASSERT_EQ(gfc[0].value & 0x3CU, 0x28U);  // ANFS 2, ANFE 2: reject
+  ASSERT_TRUE(storeValue(*elf, gfc[0], gfc[0].value & ~0x3CU));
+  const auto caught = foreignFrameWarnings(*elf);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[MCAN-FILTER-OPEN]"), std::string::npos) << caught[0];
+  EXPECT_NE(caught[0].find("0x104"), std::string::npos) << caught[0];
+}

@@ -258,7 +258,10 @@ void Board::noteChainByte(uint8_t byte) {
 }
 
 void Board::wireCan() {
-  chip_.mcan()->onFrame([this](const CanWireFrame& f) { canFrames_.push_back(f); });
+  chip_.mcan()->onFrame([this](const CanWireFrame& f) {
+    if (canFrames_.empty()) checkFaultOutputAsserted();
+    canFrames_.push_back(f);
+  });
   chip_.mcan()->setBus(500000);                       // the product's CAN bus (README "The five images")
   chip_.pins().setExternal(kG3507Pa13, Drive::High);  // the transceiver's RXD: recessive while idle
 }
@@ -314,6 +317,22 @@ void Board::checkSignalEdge() {
           ": the monitor's active-low signal fell with its GPIO edge interrupt set for the "
           "rising edge only (POLARITY 1): the handler runs when the signal ends, not when it "
           "starts");
+}
+
+void Board::checkFaultOutputAsserted() {
+  // FAULT-OUT-RELEASED (rules.hpp, the product's contract): by the image's first CAN frame the fault output
+  // must have been driven high at least once since the power-up. The first frame comes before any scan could
+  // have validated the pack, and an output the image never drove high stays at its reset level (low:
+  // released).
+  for (const auto& e : faultOutput_) {
+    if (e.level) return;
+  }
+  chip_.machine().violate(
+      Rule::FaultOutReleased,
+      chip_.pins().pinName(faultPincm_) +
+          ": the fault output was never asserted (driven high) between the power-up and the "
+          "image's first CAN frame: the pack path behind it may close on a pack not yet "
+          "measured");
 }
 
 void Board::unrouted(const char* function, int pincm, uint8_t byte, bool transmitted) {

@@ -176,6 +176,7 @@ class Board {
   std::vector<uint8_t> chainFrame_;
   void unrouted(const char* function, int pincm, uint8_t byte, bool transmitted);
   void checkSignalEdge();
+  void checkFaultOutputAsserted();
   uint64_t uartBytes_ = 0, uartRxBytes_ = 0, unroutedBytes_ = 0;
   uint64_t pingStart_ = 0;
   bool fets_ = false;

@@ -241,6 +241,7 @@ void Mcan::peerDone() {
 void Mcan::receive(const fw::hal::CanFrame& f) {
   enum class To { Fifo0, Reject };
   std::optional<To> to;
+  bool listStores = false;  // an enabled standard element stores its matches in RX FIFO 0
   if (!f.extended) {
     const uint32_t lss = (sidfc_ >> 16) & 0xFF, first = (sidfc_ & 0xFFFC) / 4;
     for (uint32_t k = 0; k < lss && !to; ++k) {
@@ -251,6 +252,7 @@ void Mcan::receive(const fw::hal::CanFrame& f) {
       const uint32_t e = ram_[first + k];
       const uint32_t sft = e >> 30, sfec = (e >> 27) & 7U, id1 = (e >> 16) & 0x7FF, id2 = e & 0x7FF;
       if (sfec == 0 || sft == 3) continue;  // disabled element
+      listStores = listStores || sfec == 1;
       const bool match = sft == 0   ? (id1 <= f.id && f.id <= id2)
                          : sft == 1 ? (f.id == id1 || f.id == id2)
                                     : ((f.id & id2) == (id1 & id2));
@@ -272,6 +274,16 @@ void Mcan::receive(const fw::hal::CanFrame& f) {
       return;
     }
     to = anf == 0 ? To::Fifo0 : To::Reject;
+    // MCAN-FILTER-OPEN (rules.hpp): the list picks the frames to store and ANFS 0 stores every other one too.
+    if (anf == 0 && listStores) {
+      char buf[220];
+      std::snprintf(
+          buf, sizeof buf,
+          "standard frame 0x%03X, which no element of the %u-element filter list matched, stored in RX "
+          "FIFO 0 (GFC 0x%08X, ANFS 0): every frame on the bus gets past the list",
+          f.id, (sidfc_ >> 16) & 0xFF, gfc_);
+      machine_.violate(Rule::McanFilterOpen, buf);
+    }
   }
   if (*to == To::Reject) {
     ++rejected_;
