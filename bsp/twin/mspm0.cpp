@@ -148,6 +148,15 @@ Mspm0::Mspm0(Part part) : part_(part) {
   if (g) {
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
     mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
+    // SLEEP-EVENT-LOST: the MCAN is in PD1, disabled in STOP and STANDBY ("the CPU, SRAM, and PD1 peripherals
+    // are disabled and in retention (if applicable)", SLAU846A 2 STOP), and "some MSPM0G peripherals residing
+    // in PD1 do not retain register contents when entering STOP or STANDBY" (SLAAET4 2.4, MCAN app note):
+    // a powered MCAN neither receives nor keeps its configuration there.
+    Mcan* can = mcan_.get();
+    machine().addSleepCheck([can](PowerMode) {
+      return can->powered() ? std::string("CANFD0 is powered: PD1, no clock and no retention in STOP/STANDBY")
+                            : std::string();
+    });
     // Output functions idle high: UART0 TX on PA10 (PINCM21), UART1 TX on PA8 (PINCM19), CAN TX.
     pins_->setFunctionDrive(21, 2, Drive::High);
     pins_->setFunctionDrive(19, 2, Drive::High);

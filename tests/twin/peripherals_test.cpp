@@ -905,6 +905,18 @@ TEST_F(LfclkTimer, WakingFromStandby1TakesTheDataSheetWakeUpTime) {
   EXPECT_GE(cyclesIn(chip_, twin::PowerMode::Run) - runBefore, 487U);
 }
 
+TEST_F(Chip, APoweredMcanIsCaughtInStopItsPd1LosesItsClockAndRegisters) {
+  startHfxt();
+  powerMcan();
+  runUs(10);
+  ASSERT_FALSE(stopped()) << why();
+  wr(kScr, kSleepDeep);  // STOP0
+  runUs(10);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("CANFD0 is powered"), std::string::npos) << why();
+}
+
 class LfclkTimerL1306 : public LfclkTimer {
  protected:
   LfclkTimerL1306() : LfclkTimer(Part::L1306) {}
