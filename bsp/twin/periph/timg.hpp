@@ -22,8 +22,9 @@
 //   CAC/CLC/CZC (their reset value 7) on an enabled counter, or capture mode (CCCTL.COC) stops the run.
 // - Event flags (CPU_INT RIS) are exact to the timer clock: every event is scheduled on the timeline,
 //   masked or not.
-// - Tick (rules.hpp TIMER-TICK, image runs only): a counter enabled with a clock other than 1 MHz stops the
-//   run: the product's timers count the firmware's microseconds.
+// - Tick (rules.hpp TIMER-TICK, image runs only): a BUSCLK counter enabled at other than 1 MHz stops the
+//   run: the product's timers count the firmware's microseconds. An LFCLK counter is not checked: its
+//   32 768 Hz is what a deep-sleep wake timer counts (bsp/mspm0/README.md "Low-power modes").
 #pragma once
 
 #include <cstdint>
