@@ -49,6 +49,8 @@ void Machine::requestReset(ResetKind kind, const std::string& cause, uint8_t cau
 
 void Machine::reset(ResetKind kind, const std::string& cause, uint8_t causeId) {
   pendingReset_.reset();
+  sleptIn_ = PowerMode::Run;
+  wakeUntil_ = 0;
   if (causeId != 0 && (resetCause_ == 0 || causeId < resetCause_)) resetCause_ = causeId;
   if (kind != ResetKind::Sysrst) {
     // SRAM content is undefined after power-up / BOOTRST: a fixed pseudo-random pattern keeps runs repeatable
@@ -190,8 +192,10 @@ Residency Machine::residency() const {
   uint64_t deep = 0;
   for (const uint64_t c : deepCycles_)
     deep += c;
-  r[static_cast<size_t>(PowerMode::Run)] = busy;
-  r[static_cast<size_t>(PowerMode::Sleep)] = total - busy > deep ? total - busy - deep : 0;
+  // Waking from a deep mode counts as RUN: the data sheets give no current for it, RUN is the safe side.
+  const uint64_t run = std::min(busy + waking_, total);
+  r[static_cast<size_t>(PowerMode::Run)] = run;
+  r[static_cast<size_t>(PowerMode::Sleep)] = total - run > deep ? total - run - deep : 0;
   return r;
 }
 
@@ -374,12 +378,26 @@ void Machine::run(uint64_t endCycle) {
       timeline_.advanceTo(std::max(horizon, now()));
       continue;
     }
+    if (now() < wakeUntil_) {
+      // Waking from STOP or STANDBY (the data sheets' tWAKE, power.hpp): the core has not started yet; the
+      // peripherals and the world run on, and interrupts that arrive meanwhile are pending when it starts.
+      const uint64_t until = std::min(horizon, wakeUntil_);
+      waking_ += until - now();
+      timeline_.advanceTo(until);
+      continue;
+    }
     if (core_.sleeping()) {
       // Wakes only if an interrupt would preempt; the step that wakes takes that exception (sleep-on-exit,
       // PRIMASK clear) or runs the instruction after the WFI, and is counted like any other.
       stepCore();
+      if (!core_.sleeping()) {
+        if (isDeepSleep(sleptIn_)) wakeUntil_ = now() + wakeCycles_[static_cast<size_t>(sleptIn_)];
+        sleptIn_ = PowerMode::Run;
+        if (now() < wakeUntil_) continue;
+      }
       if (core_.sleeping()) {
         const PowerMode mode = sleepMode();
+        sleptIn_ = mode;
         const uint64_t from = now();
         if (isDeepSleep(mode)) checkSleep(mode);
         if (core_.halted()) break;

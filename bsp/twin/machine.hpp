@@ -175,6 +175,9 @@ class Machine final : public CoreObserver {
   }
   // The mode a sleep would enter now.
   PowerMode sleepMode() const;
+  // Cycles from a wake-up event to the core's first instruction after a sleep in each mode (power.hpp): the
+  // core stays stopped that long after a deep sleep ends; the residency counts them as RUN.
+  void setWakeCycles(const std::array<uint32_t, kPowerModes>& cycles) { wakeCycles_ = cycles; }
   void setSymbolizer(std::function<std::string(uint32_t)> s) { symbolizer_ = std::move(s); }
 
   // --- figures --------------------------------------------------------------------------------------------
@@ -218,6 +221,10 @@ class Machine final : public CoreObserver {
   std::function<PowerMode()> deepSleepMode_;
   std::vector<std::function<std::string(PowerMode)>> sleepChecks_;
   Residency deepCycles_{};  // cycles slept in each deep mode
+  std::array<uint32_t, kPowerModes> wakeCycles_{};
+  PowerMode sleptIn_ = PowerMode::Run;  // the mode of the sleep the core is in (Run: awake)
+  uint64_t wakeUntil_ = 0;              // the core waking from a deep mode starts executing here
+  uint64_t waking_ = 0;                 // cycles spent waking from deep modes
   void checkSleep(PowerMode mode);
   std::array<uint64_t, Nvic::kExceptions> requestedAt_{};
   std::array<bool, Nvic::kExceptions> requested_{};

@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "power.hpp"
+
 namespace twin {
 
 namespace {
@@ -40,10 +42,23 @@ struct Slot {
   const char* name;
   int dmaRx = 0, dmaTx = 0;
 };
-constexpr Slot kG3507Timers[] = {
-    {kTimg0, 16, "TIMG0"}, {0x40868000, 17, "TIMG6"}, {0x4086A000, 20, "TIMG7"}, {0x40090000, 2, "TIMG8"}};
-constexpr Slot kL1306Timers[] = {
-    {kTimg0, 16, "TIMG0"}, {0x40086000, 2, "TIMG1"}, {0x40088000, 18, "TIMG2"}, {0x4008C000, 20, "TIMG4"}};
+struct TimerSlot {
+  Slot slot;
+  StandbyClock standby;  // periph/timg.hpp
+};
+// Deep-mode clocks: L1306 TIMG0/1 through STANDBY1, TIMG2/4 through STANDBY0 (MSPM0L130x data sheet
+// SLASEX0D table 8-1). G3507: TIMG0 through STANDBY1 (SLAU846A 2 "LFCLK": RTC, TIMG0 and TIMG1 are the only
+// clocked peripherals in STANDBY1); TIMG8 is PD0 but its STANDBY1 clock was not confirmed by a second TI
+// source, so the twin takes the safe side (STANDBY0 only); TIMG6/TIMG7 are taken as PD1 (no deep-mode
+// clock, SLAU846A TIMx low-power modes), also the safe side until the G3507 table is read.
+constexpr TimerSlot kG3507Timers[] = {{{kTimg0, 16, "TIMG0"}, StandbyClock::AllModes},
+                                      {{0x40868000, 17, "TIMG6"}, StandbyClock::RunSleepOnly},
+                                      {{0x4086A000, 20, "TIMG7"}, StandbyClock::RunSleepOnly},
+                                      {{0x40090000, 2, "TIMG8"}, StandbyClock::UpToStandby0}};
+constexpr TimerSlot kL1306Timers[] = {{{kTimg0, 16, "TIMG0"}, StandbyClock::AllModes},
+                                      {{0x40086000, 2, "TIMG1"}, StandbyClock::AllModes},
+                                      {{0x40088000, 18, "TIMG2"}, StandbyClock::UpToStandby0},
+                                      {{0x4008C000, 20, "TIMG4"}, StandbyClock::UpToStandby0}};
 constexpr Slot kG3507Uarts[] = {{kUart0, 15, "UART0", 17, 18},
                                 {kUart1, 13, "UART1", 19, 20},
                                 {0x40102000, 14, "UART2", 21, 22},
@@ -116,9 +131,11 @@ Mspm0::Mspm0(Part part) : part_(part) {
   i2c1_.reset(add<I2c>(kI2c1, kPeripheralSpan, 25, "I2C1", *pins_));
   // I2C0 on PA0 (SDA, PINCM1) / PA1 (SCL, PINCM2), PF 3 on both parts (device headers).
   i2c0_->setPins(1, 3, 2, 3);
-  const std::span<const Slot> timers(g ? std::span<const Slot>(kG3507Timers) : kL1306Timers);
-  for (size_t i = 0; i < timers.size(); ++i)
-    timg_[i].reset(add<Timg>(timers[i].base, kPeripheralSpan, timers[i].irq, timers[i].name));
+  const std::span<const TimerSlot> timers(g ? std::span<const TimerSlot>(kG3507Timers) : kL1306Timers);
+  for (size_t i = 0; i < timers.size(); ++i) {
+    const Slot& t = timers[i].slot;
+    timg_[i].reset(add<Timg>(t.base, kPeripheralSpan, t.irq, t.name, timers[i].standby));
+  }
   const std::span<const Slot> uarts(g ? std::span<const Slot>(kG3507Uarts) : kL1306Uarts);
   for (size_t i = 0; i < uarts.size(); ++i) {
     const Slot& u = uarts[i];
@@ -127,9 +144,19 @@ Mspm0::Mspm0(Part part) : part_(part) {
     dma_->describeTrigger(u.dmaTx, std::string(u.name) + " TX", u.base + Uart::kTxdataOffset, true);
   }
   addSleepChecks();
+  machine().setWakeCycles(wakeCycles(part, machine().clockHz()));
   if (g) {
     mcan_.reset(add<Mcan>(kCanfd0, kCanfdSpan, 6, *pins_, *sysctl_));
     mcan_->setPins(34, 5, 35, 6);  // PA12 CANFD0_CANTX (PF 5), PA13 CANFD0_CANRX (PF 6)
+    // SLEEP-EVENT-LOST: the MCAN is in PD1, disabled in STOP and STANDBY ("the CPU, SRAM, and PD1 peripherals
+    // are disabled and in retention (if applicable)", SLAU846A 2 STOP), and "some MSPM0G peripherals residing
+    // in PD1 do not retain register contents when entering STOP or STANDBY" (SLAAET4 2.4, MCAN app note):
+    // a powered MCAN neither receives nor keeps its configuration there.
+    Mcan* can = mcan_.get();
+    machine().addSleepCheck([can](PowerMode) {
+      return can->powered() ? std::string("CANFD0 is powered: PD1, no clock and no retention in STOP/STANDBY")
+                            : std::string();
+    });
     // Output functions idle high: UART0 TX on PA10 (PINCM21), UART1 TX on PA8 (PINCM19), CAN TX.
     pins_->setFunctionDrive(21, 2, Drive::High);
     pins_->setFunctionDrive(19, 2, Drive::High);
@@ -203,7 +230,8 @@ bool Mspm0::load(const ElfFile& elf) {
 // SLEEP-EVENT-LOST (rules.hpp): in every STOP and STANDBY mode the 32 MHz BUSCLK these models run from is
 // gone (STOP0/1: ULPCLK at most 4 MHz; STOP2 and STANDBY: LFCLK; STANDBY1: only TIMG0/TIMG1 clocked at all;
 // SLAU847D/SLAU846B 2 PMCU operating modes, the data sheets' STOP/STANDBY test conditions), so a transfer
-// in flight or a timer deadline counted from it does not arrive as configured. A GPIO edge (ALERT, nFAULT)
+// in flight or a timer deadline counted from it does not arrive as configured; a timer on LFCLK keeps
+// counting where its instance keeps LFCLK (periph/timg.hpp StandbyClock). A GPIO edge (ALERT, nFAULT)
 // wakes from every mode and is not checked; an idle UART or I2C target waiting for an external start wakes
 // by an asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 comment).
 void Mspm0::addSleepChecks() {
@@ -228,12 +256,7 @@ void Mspm0::addSleepChecks() {
   for (auto& timer : timg_) {
     if (!timer) continue;
     Timg* t = timer.get();
-    m.addSleepCheck([t](PowerMode) {
-      return t->deadlineArmed() ? std::string(t->name()) +
-                                      " counts a deadline from the 32 MHz BUSCLK this mode stops (an LFCLK "
-                                      "timer keeps counting; the twin models BUSCLK timers only)"
-                                : std::string();
-    });
+    m.addSleepCheck([t](PowerMode mode) { return t->deadlineLostIn(mode); });
   }
 }
 

@@ -34,6 +34,26 @@ constexpr const PowerTable& powerTable(Part part) {
   return part == Part::L1306 ? kL1306Power : kG3507Power;
 }
 
+// Typical wake-up time from each mode to the first instruction, in tenths of us (indexed by PowerMode; RUN
+// and SLEEP 0: SLEEP's 2 cycles are within the core's exception entry, which the twin counts).
+// MSPM0L1306: tWAKE,STOP 14 us (given for STOP1; taken for STOP0 too), STOP2 13 us, tWAKE,STBY 15 us
+// (MSPM0L130x data sheet SLASEX0D 7.8 "Timing characteristics"; the same in MSPM0L110x SLASEX5C 7.8).
+using WakeTable = std::array<uint32_t, kPowerModes>;
+inline constexpr WakeTable kL1306WakeTenthsUs{0, 0, 140, 140, 130, 150, 150};
+// MSPM0G3507: STOP0 12.1, STOP1 13.5, STOP2 12.9, STANDBY0/1 15.2 us from the MSPM0G310x data sheet SLASF12C
+// 7.8 (the G350x table was not retrieved: open question, bsp/twin/README.md "Power"; the earlier advance
+// data sheet of the G150x, JAJSPX2A, gave 19.7 .. 22.7 us).
+inline constexpr WakeTable kG3507WakeTenthsUs{0, 0, 121, 135, 129, 152, 152};
+
+constexpr std::array<uint32_t, kPowerModes> wakeCycles(Part part, uint32_t clockHz) {
+  const WakeTable& t = part == Part::L1306 ? kL1306WakeTenthsUs : kG3507WakeTenthsUs;
+  std::array<uint32_t, kPowerModes> cycles{};
+  for (size_t i = 0; i < kPowerModes; ++i)
+    cycles[i] = static_cast<uint32_t>((static_cast<uint64_t>(t[i]) * clockHz + 9999999) / 10000000);
+  return cycles;
+}
+static_assert(wakeCycles(Part::L1306, 32000000)[static_cast<size_t>(PowerMode::Standby1)] == 480);
+
 // Average current over a run with `residency` cycles in each mode, in uA (rounded to nearest). 0 for an
 // empty run.
 constexpr uint32_t averageCurrentUa(const PowerTable& t, const Residency& residency) {

@@ -149,8 +149,10 @@
 //                     STOP0/1 ULPCLK is at most 4 MHz, in STOP2 and STANDBY it is LFCLK, and in STANDBY1
 //                     only TIMG0/TIMG1 keep a clock: SLAU847D/SLAU846B 2 PMCU operating modes, mspm0-sdk
 //                     dl_sysctl_mspm0l11xx_l13xx.h DL_SYSCTL_setPowerPolicySTANDBY1 comment), or a TIMG
-//                     deadline counted from that BUSCLK (the only timer clock the twin runs, TIMER-TICK):
-//                     the transfer stalls or runs at another rate, the deadline comes late or never
+//                     deadline counted from that BUSCLK, or from LFCLK on an instance the mode leaves
+//                     unclocked (periph/timg.hpp StandbyClock), or a powered MCAN (G3507, PD1: SLAU846A 2
+//                     STOP, SLAAET4 2.4): the transfer stalls or runs at another rate, the deadline comes
+//                     late or never
 //   FLASH-PROTECTED   a FLASHCTL command on a sector still protected: the controller protects every sector
 //                     after each command, so each command needs its own unprotect (SLAU846A/SLAU847 FLASHCTL
 //                     write/erase protection; hw_flashctl.h CMDWEPROTA, STATCMD.FAILWEPROT)

@@ -836,6 +836,111 @@ TEST_F(SleepWithTimer, ATimerWithoutAnArmedInterruptIsNoWakeSource) {
   EXPECT_EQ(cyclesIn(chip_, twin::PowerMode::Stop0), 3000U * 32 - cyclesIn(chip_, twin::PowerMode::Run));
 }
 
+// A TIMG on LFCLK (CLKSEL.LFCLK_SEL): 32 768 Hz through STOP and STANDBY, where its instance keeps LFCLK.
+class LfclkTimer : public Chip {
+ protected:
+  explicit LfclkTimer(Part part = Part::G3507) : Chip(part) {}
+  // `base` counting up from LFCLK, LOAD 327 (a 328-edge period, 10.01 ms), its LOAD interrupt armed.
+  void armLfclkTimer(uint32_t base) {
+    wr(base + 0x800, kPwrenOn);
+    wr(base + 0x1008, 1U << 1);  // CLKSEL LFCLK
+    wr(base + 0x1108, 1);        // CCLKCTL
+    wr(base + 0x1808, 327);      // LOAD
+    wr(base + 0x1028, 1U << 1);  // CPU_INT.IMASK LOAD
+    // CTRCTL: EN, REPEAT, CM up, CVAE zero.
+    wr(base + 0x1804, 1U | (1U << 1) | (2U << 4) | (2U << 28));
+  }
+  void standby1() {
+    wr(kPmodecfg, kStandby);
+    wr(kMclkcfg, kStopClkStby);
+    wr(kScr, kSleepDeep);
+  }
+  static constexpr uint32_t kNvicIspr = 0xE000E200;
+};
+
+TEST_F(LfclkTimer, Timg0CountsLfclkInStandby1AndRaisesItsInterrupt) {
+  armLfclkTimer(kTimg0);
+  standby1();
+  runUs(5000);
+  ASSERT_FALSE(stopped()) << why();
+  // 5 ms of 32 768 Hz: 163.84 edges, the first one wherever the enable fell in an LFCLK period.
+  EXPECT_GE(rd(kTimg0 + 0x1800), 163U);
+  EXPECT_LE(rd(kTimg0 + 0x1800), 164U);
+  EXPECT_EQ(rd(kTimg0 + 0x1030) & (1U << 1), 0U);  // RIS LOAD: not yet
+  EXPECT_EQ(rd(kNvicIspr) & (1U << 16), 0U);
+  runUs(5100);  // past 328 edges (10.01 ms)
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_NE(rd(kTimg0 + 0x1030) & (1U << 1), 0U);
+  EXPECT_NE(rd(kNvicIspr) & (1U << 16), 0U);  // TIMG0's IRQ pending: what wakes the core
+  EXPECT_GE(cyclesIn(chip_, twin::PowerMode::Standby1), 10000U * 32 - cyclesIn(chip_, twin::PowerMode::Run));
+}
+
+TEST_F(LfclkTimer, ATimerOnlyPd1ClocksIsCaughtInStop) {
+  armLfclkTimer(0x40868000);  // TIMG6
+  wr(kScr, kSleepDeep);       // STOP0
+  runUs(10);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("TIMG6 is in PD1"), std::string::npos) << why();
+}
+
+// The core starts tWAKE after the wake-up event ends a deep sleep (power.hpp, SLAU846A LFCLK timer as the
+// source). TIMG0's LOAD interrupt is enabled and its handler is the loop itself, so
+// the core leaves STANDBY1 at the LOAD event and starts 15.2 us (487 cycles) later, counted as RUN. The
+// vector table for it is in SRAM (VTOR), IRQ 16's entry the WFI loop: the handler sleeps on.
+TEST_F(LfclkTimer, WakingFromStandby1TakesTheDataSheetWakeUpTime) {
+  armLfclkTimer(kTimg0);
+  standby1();
+  runUs(100);  // asleep
+  const uint64_t runBefore = cyclesIn(chip_, twin::PowerMode::Run);
+  runUs(8900);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_EQ(cyclesIn(chip_, twin::PowerMode::Run), runBefore);  // no wake-up yet
+  constexpr uint32_t kTable = 0x20200400;
+  chip_.machine().busWrite(kTable + 4 * (16 + 16), 4, 0x101);  // TIMG0 (IRQ 16): the loop at 0x100, Thumb
+  wr(0xE000ED08, kTable);                                      // VTOR
+  wr(0xE000E100, 1U << 16);                                    // NVIC ISER: TIMG0, the wake-up source
+  runUs(2000);                                                 // the LOAD event at 10.01 ms
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_GE(cyclesIn(chip_, twin::PowerMode::Run) - runBefore, 487U);
+}
+
+TEST_F(Chip, APoweredMcanIsCaughtInStopItsPd1LosesItsClockAndRegisters) {
+  startHfxt();
+  powerMcan();
+  runUs(10);
+  ASSERT_FALSE(stopped()) << why();
+  wr(kScr, kSleepDeep);  // STOP0
+  runUs(10);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("CANFD0 is powered"), std::string::npos) << why();
+}
+
+class LfclkTimerL1306 : public LfclkTimer {
+ protected:
+  LfclkTimerL1306() : LfclkTimer(Part::L1306) {}
+  static constexpr uint32_t kTimg2 = 0x40088000;
+};
+
+TEST_F(LfclkTimerL1306, Timg2KeepsLfclkInStandby0) {
+  armLfclkTimer(kTimg2);
+  wr(kPmodecfg, kStandby);
+  wr(kScr, kSleepDeep);  // STANDBY0
+  runUs(11000);
+  ASSERT_FALSE(stopped()) << why();
+  EXPECT_NE(rd(kTimg2 + 0x1030) & (1U << 1), 0U);
+}
+
+TEST_F(LfclkTimerL1306, Timg2InStandby1IsCaughtAsAWakeSourceLost) {
+  armLfclkTimer(kTimg2);
+  standby1();
+  runUs(10);
+  ASSERT_TRUE(stopped());
+  EXPECT_NE(why().find("SLEEP-EVENT-LOST"), std::string::npos) << why();
+  EXPECT_NE(why().find("TIMG2 gets no LFCLK in STANDBY1"), std::string::npos) << why();
+}
+
 TEST_F(I2c, ATransferInFlightWhenTheCoreEntersStopIsCaughtAsAnEventLost) {
   start();
   wr(kI2c0 + 0x1220, 0x14);

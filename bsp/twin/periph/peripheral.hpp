@@ -52,6 +52,7 @@ struct ClockRegs {
   uint32_t div = 0, sel = 0;
   uint32_t divider() const { return (div & 7U) + 1; }
   bool busclk() const { return (sel & (1U << 3)) != 0; }
+  bool lfclk() const { return (sel & (1U << 1)) != 0; }  // LFCLK_SEL (hw_gptimer.h CLKSEL bit 1)
   // False for offsets other than CLKDIV and CLKSEL.
   bool read(uint32_t offset, uint32_t& value) const;
   bool write(uint32_t offset, uint32_t value);

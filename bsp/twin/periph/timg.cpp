@@ -18,11 +18,13 @@ constexpr uint32_t kCvaeMask = 0x30000000, kCvaeLoad = 0x00000000, kCvaeZero = 0
 constexpr uint32_t kCounterMask = 0xFFFF;  // TIMGx here are 16-bit timers
 constexpr uint32_t kCcctlCoc = 1U << 17;   // capture (1) or compare (0)
 constexpr uint32_t kCcctlAcond = 0x70, kCcctlLcond = 0x700, kCcctlZcond = 0x7000;
+// LFCLK from LFOSC after BOOTRST, 32 768 Hz (SLAU846A / SLAU847D 2 "LFCLK"; SLASEX0D 7.9.2 LFOSC).
+constexpr uint64_t kLfclkHz = 32768;
 
 }  // namespace
 
-Timg::Timg(Machine& machine, const char* name)
-    : Peripheral(machine, name), event_(machine.timeline(), [this] { onTick(); }) {}
+Timg::Timg(Machine& machine, const char* name, StandbyClock standby)
+    : Peripheral(machine, name), event_(machine.timeline(), [this] { onTick(); }), standby_(standby) {}
 
 void Timg::resetRegisters() {
   clock_ = ClockRegs(kClksel);
@@ -30,22 +32,44 @@ void Timg::resetRegisters() {
   ctrctl_ = (7U << 7) | (7U << 10) | (7U << 13);  // CLC/CAC/CZC reset to 7 (reserved encodings)
   cc_[0] = cc_[1] = ccctl_[0] = ccctl_[1] = 0;
   baseValue_ = 0;
-  baseCycle_ = machine_.now();
+  baseEdge_ = edgesAt(machine_.now());
   stoppedAtZero_ = false;
   event_.cancel();
 }
 
 bool Timg::running() const {
-  return (ctrctl_ & kEn) && (cclkctl_ & 1U) && clock_.busclk() && powered();
+  return (ctrctl_ & kEn) && (cclkctl_ & 1U) && (clock_.busclk() || clock_.lfclk()) && powered();
 }
 
-uint64_t Timg::tickCycles() const {
+uint64_t Timg::edgesAt(uint64_t cycle) const {
+  if (!clock_.lfclk() || clock_.busclk()) return cycle;
+  return cycle * kLfclkHz / machine_.clockHz();
+}
+
+uint64_t Timg::cycleOfEdge(uint64_t edge) const {
+  if (!clock_.lfclk() || clock_.busclk()) return edge;
+  return (edge * machine_.clockHz() + kLfclkHz - 1) / kLfclkHz;
+}
+
+uint64_t Timg::tickEdges() const {
   return static_cast<uint64_t>(clock_.divider()) * ((cps_ & 0xFFU) + 1);
+}
+
+std::string Timg::deadlineLostIn(PowerMode mode) const {
+  if (!isDeepSleep(mode) || !deadlineArmed()) return {};
+  const std::string n(name());
+  if (!clock_.lfclk() || clock_.busclk())
+    return n + " counts a deadline from the 32 MHz BUSCLK this mode stops (an LFCLK timer keeps counting)";
+  if (standby_ == StandbyClock::RunSleepOnly)
+    return n + " is in PD1: disabled in STOP and STANDBY even on LFCLK (SLAU846A TIMx, low-power modes)";
+  if (standby_ == StandbyClock::UpToStandby0 && mode == PowerMode::Standby1)
+    return n + " gets no LFCLK in STANDBY1: only TIMG0/TIMG1 do (SLASEX0D table 8-1, SLAU846A 2 LFCLK)";
+  return {};
 }
 
 uint32_t Timg::counterNow() const {
   if (!running() || stoppedAtZero_) return baseValue_;
-  const uint64_t ticks = (machine_.now() - baseCycle_) / tickCycles();
+  const uint64_t ticks = (edgesAt(machine_.now()) - baseEdge_) / tickEdges();
   const uint64_t period = static_cast<uint64_t>(load_ & kCounterMask) + 1;
   if ((ctrctl_ & kCmMask) == kCmUp) return static_cast<uint32_t>((baseValue_ + ticks) % period);
   // Down: baseValue_, ..., 0, then LOAD again if repeating.
@@ -58,11 +82,11 @@ uint32_t Timg::counterNow() const {
 void Timg::rebase() {
   // Keep the tick phase: the new base is the last tick boundary at or before now.
   if (running() && !stoppedAtZero_) {
-    const uint64_t ticks = (machine_.now() - baseCycle_) / tickCycles();
+    const uint64_t ticks = (edgesAt(machine_.now()) - baseEdge_) / tickEdges();
     baseValue_ = counterNow();
-    baseCycle_ += ticks * tickCycles();
+    baseEdge_ += ticks * tickEdges();
   } else {
-    baseCycle_ = machine_.now();
+    baseEdge_ = edgesAt(machine_.now());
   }
 }
 
@@ -70,7 +94,7 @@ void Timg::checkTick() {
   // The product's timers count microseconds: fw::Duration's unit, TimgClock and TimgOneShot at 1 MHz
   // (bsp/mspm0/README.md); the counter clock as SLAU846B / SLAU847D TIMx give it (periph/timg.hpp).
   if (!machine_.imageRules() || !clock_.busclk()) return;
-  const uint64_t divider = tickCycles();
+  const uint64_t divider = tickEdges();
   if (divider * 1000000 == machine_.clockHz()) return;
   char buf[240];
   std::snprintf(buf, sizeof buf,
@@ -124,8 +148,8 @@ void Timg::schedule() {
     d = std::min(d, until(c & kCounterMask));
   if (d == UINT64_MAX) return;
   // The tick boundary d ticks after the one the counter showed v on.
-  const uint64_t ticksSoFar = (machine_.now() - baseCycle_) / tickCycles();
-  event_.at(baseCycle_ + (ticksSoFar + d) * tickCycles());
+  const uint64_t ticksSoFar = (edgesAt(machine_.now()) - baseEdge_) / tickEdges();
+  event_.at(cycleOfEdge(baseEdge_ + (ticksSoFar + d) * tickEdges()));
 }
 
 void Timg::onTick() {
@@ -184,8 +208,10 @@ bool Timg::readRegister(uint32_t offset, uint32_t& value) {
 bool Timg::writeRegister(uint32_t offset, uint32_t value) {
   rebase();
   if (clock_.write(offset, value)) {
-    // CLKSEL: LFCLK_SEL bit 1, MFCLK_SEL bit 2 are not modelled; 0 (no clock) is a valid reset value.
-    if ((clock_.sel & 0x6U) != 0 && !clock_.busclk()) stop("CLKSEL selects LFCLK or MFCLK, not modelled");
+    // CLKSEL: MFCLK_SEL bit 2 is not modelled; 0 (no clock) is a valid reset value. A new source keeps the
+    // counter value (rebase above) and counts on from the source's current edge.
+    if ((clock_.sel & 0x4U) != 0 && !clock_.busclk()) stop("CLKSEL selects MFCLK, not modelled");
+    baseEdge_ = edgesAt(machine_.now());
     schedule();
     return true;
   }
@@ -208,7 +234,7 @@ bool Timg::writeRegister(uint32_t offset, uint32_t value) {
         const uint32_t cvae = value & kCvaeMask;
         if (cvae == kCvaeLoad) baseValue_ = load_ & kCounterMask;
         if (cvae == kCvaeZero) baseValue_ = 0;
-        baseCycle_ = machine_.now();
+        baseEdge_ = edgesAt(machine_.now());
         stoppedAtZero_ = false;
       }
       checkControl();

@@ -3,8 +3,13 @@
 // 0x1804, LOAD 0x1808, CC0/1 0x1810/0x1814, CCCTL0/1 0x1830/0x1834) and their field descriptions.
 //
 // Counting (hw_gptimer.h CTRCTL descriptions; SLAU846B/SLAU847D "TIMx" chapter, counter operation):
-// - The counter clock is BUSCLK (CLKSEL.BUSCLK_SEL) / (CLKDIV.RATIO + 1) / (CPS.PCNT + 1), running only with
-//   CCLKCTL.CLKEN. Other clock sources stop the run (not modelled).
+// - The counter clock is BUSCLK (CLKSEL.BUSCLK_SEL) or LFCLK (CLKSEL.LFCLK_SEL, 32 768 Hz from LFOSC)
+//   / (CLKDIV.RATIO + 1) / (CPS.PCNT + 1), running only with CCLKCTL.CLKEN. MFCLK stops the run (not
+//   modelled). LFCLK edges are counted from power-on on one machine-wide grid (edge n at the first cycle at
+//   or after n x clockHz / 32 768), so two LFCLK timers tick together and no rounding accumulates.
+// - Low-power modes: LFCLK runs in RUN, SLEEP, STOP and STANDBY (SLAU846A / SLAU847D 2 "LFCLK"), so an LFCLK
+//   timer keeps counting and its interrupt wakes the core, where the instance keeps its clock (StandbyClock
+//   below). A BUSCLK timer does not count as configured in STOP or STANDBY (rules.hpp SLEEP-EVENT-LOST).
 // - EN 0 -> 1 sets the counter from CVAE: LOAD (0), unchanged (1) or zero (2).
 // - Up (CM = 2): 0, 1, ..., LOAD, 0, ...; the LOAD event when the counter becomes LOAD, the ZERO event
 //   when it wraps to 0, CCUn when it becomes CCn counting up. With REPEAT = 0 the counter stays at 0 after
@@ -17,26 +22,40 @@
 //   CAC/CLC/CZC (their reset value 7) on an enabled counter, or capture mode (CCCTL.COC) stops the run.
 // - Event flags (CPU_INT RIS) are exact to the timer clock: every event is scheduled on the timeline,
 //   masked or not.
-// - Tick (rules.hpp TIMER-TICK, image runs only): a counter enabled with a clock other than 1 MHz stops the
-//   run: the product's timers count the firmware's microseconds.
+// - Tick (rules.hpp TIMER-TICK, image runs only): a BUSCLK counter enabled at other than 1 MHz stops the
+//   run: the product's timers count the firmware's microseconds. An LFCLK counter is not checked: its
+//   32 768 Hz is what a deep-sleep wake timer counts (bsp/mspm0/README.md "Low-power modes").
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "periph/peripheral.hpp"
+#include "power_mode.hpp"
 #include "timeline.hpp"
 
 namespace twin {
 
+// Which deep modes still clock an instance from LFCLK (data sheets' "supported functionality in each
+// operating mode" tables: MSPM0L130x SLASEX0D table 8-1, MSPM0G350x SLAU846A table 2-14 and 2 "LFCLK").
+enum class StandbyClock : uint8_t {
+  AllModes,      // TIMG0/TIMG1: PD0 and clocked in STANDBY1 too (STOPCLKSTBY leaves them LFCLK)
+  UpToStandby0,  // other PD0 timers (L1306 TIMG2/TIMG4): STOP and STANDBY0, not STANDBY1
+  RunSleepOnly,  // PD1 timers (G3507 TIMG6/TIMG7): "forced to a disabled state" in STOP and STANDBY
+};
+
 class Timg final : public Peripheral {
  public:
-  Timg(Machine& machine, const char* name);
+  Timg(Machine& machine, const char* name, StandbyClock standby = StandbyClock::RunSleepOnly);
 
   // CPU_INT bits (hw_gptimer.h GPTIMER_CPU_INT_IMASK_*).
   static constexpr uint32_t kZero = 1U << 0, kLoad = 1U << 1, kCcd0 = 1U << 4, kCcu0 = 1U << 8;
-  // The counter counts, from BUSCLK (the only clock the model runs: TIMER-TICK), with an interrupt that can
-  // still fire: a deadline the firmware waits for (the power-mode rule, rules.hpp SLEEP-EVENT-LOST).
+  // The counter counts with an interrupt that can still fire: a deadline the firmware waits for.
   bool deadlineArmed() const { return eventsPossible() && cpuInt_.imask != 0; }
+  // Why a deadline armed now would not arrive as configured if the core slept in `mode` (empty if it would):
+  // a BUSCLK count in any deep mode, an LFCLK count on an instance `mode` does not clock (rules.hpp
+  // SLEEP-EVENT-LOST).
+  std::string deadlineLostIn(PowerMode mode) const;
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;
@@ -45,9 +64,12 @@ class Timg final : public Peripheral {
 
   bool running() const;
   bool eventsPossible() const override { return running() && !stoppedAtZero_; }
-  uint64_t tickCycles() const;
-  uint32_t counterNow() const;  // value at timeline now
-  void rebase();                // counter value at now becomes the new base
+  // The counter's source clock in edges since power-on: cycles for BUSCLK, LFCLK edges for LFCLK.
+  uint64_t edgesAt(uint64_t cycle) const;
+  uint64_t cycleOfEdge(uint64_t edge) const;  // the first cycle at which `edge` has happened
+  uint64_t tickEdges() const;                 // source edges per counter tick
+  uint32_t counterNow() const;                // value at timeline now
+  void rebase();                              // counter value at now becomes the new base
   void schedule();
   void onTick();
   void checkControl();
@@ -58,8 +80,9 @@ class Timg final : public Peripheral {
   uint32_t cclkctl_ = 0, cps_ = 0;
   uint32_t ctrctl_ = 0, load_ = 0;
   uint32_t cc_[2] = {0, 0}, ccctl_[2] = {0, 0};
-  uint32_t baseValue_ = 0;  // counter value at baseCycle_
-  uint64_t baseCycle_ = 0;
+  uint32_t baseValue_ = 0;  // counter value at source edge baseEdge_
+  uint64_t baseEdge_ = 0;
+  StandbyClock standby_;
   bool stoppedAtZero_ = false;
 };
 
