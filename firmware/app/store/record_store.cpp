@@ -2,6 +2,7 @@
 #include "app/store/record_store.hpp"
 
 #include <cstring>
+#include <memory>
 
 #include "core/bytes.hpp"
 #include "core/crc.hpp"
@@ -86,9 +87,16 @@ const uint8_t* RecordStore::at(uint32_t sector, uint32_t offset) const {
   return flash_.read().data() + sector * kSector + offset;
 }
 
+// In 32-bit loads from one read of the region: restore() checks every blank sector whole, and one word at a
+// time through at() took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to
+// move the scans' phase against the world.
 bool RecordStore::sectorErased(uint32_t sector) const {
-  for (uint32_t off = 0; off < kSector; off += kWord)
-    if (!erased(at(sector, off))) return false;
+  const uint8_t* p = std::assume_aligned<4>(at(sector, 0));  // sectors are 1 KiB aligned
+  for (uint32_t off = 0; off < kSector; off += 4) {
+    uint32_t w;
+    std::memcpy(&w, p + off, sizeof w);
+    if (w != 0xFFFFFFFFU) return false;
+  }
   return true;
 }
 
