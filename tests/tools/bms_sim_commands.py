@@ -232,6 +232,8 @@ def check_refusals(sim, dbc_dir, target, scratch, elf):
     ]
     text = "".join(f"{1000 + 50 * k} {s}\n" for k, s in enumerate(steps))
     summary, frames, _ = run_scenario(sim, target, elf, scratch, "refusals", text, 2000)
+    if elf and summary.get("twin_warnings"):  # e.g. MCAN-FILTER-OPEN at the non-command, as twin_images.py
+        fail(f"the twin noticed: {summary['twin_warnings']}")
     got = [(a["command"], a["result"]) for t, a in acks(frames)]
     want = [(0x604, "bad_crc"), (0x604, "accepted"), (0x604, "repeated_counter"), (0x605, "out_of_range"),
             (0x605, "out_of_range"), (0x606, "wrong_key")]
