@@ -194,6 +194,16 @@ def check_comm_loss(sim, dbc_dir, elf, image, scratch):
     tries = summary["comm_errors"] + summary["scan_failures"] + summary["recoveries"]
     if tries == 0:
         fail("the wire shows no failed transaction, failed scan or recovery after the monitor went silent")
+    # The BQ76952 boards open the paths through CFETOFF / DFETOFF when the link is gone (README "Protection":
+    # no I2C needed): the device's FETs go off with the detection, not never (the twin once left the pins
+    # unwired, and the FETs of a silent link stayed on).
+    if IMAGES[image].device == "bq76952":
+        for e in summary["protection_events"]:
+            if e["fets_off_ms"] is None or e["fets_off_ms"] - e["detected_ms"] > 2.0:
+                fail(f"{e['fault']} detected at {e['detected_ms']} ms: the FETs went off at {e['fets_off_ms']} ms "
+                     "(CFETOFF / DFETOFF, within 2 ms)")
+        if summary["charge_path_closed"] or summary["discharge_path_closed"]:
+            fail("a path is still closed after the link went silent")
     twin_report(summary, seconds, image, "comm-loss")
     print(f"REPORT twin.{image}.comm-loss.wire: {summary['scans']} scans ({summary['scan_failures']} failed), "
           f"{summary['comm_errors']} comm errors, {summary['recoveries']} recoveries")

@@ -10,9 +10,10 @@ namespace {
 
 // PINCM indices of the board's signals (tsv pin rows, mspm0g350x.h / mspm0l130x.h IOMUX_PINCMn).
 constexpr int kPa0 = 1, kPa1 = 2, kPf2 = 2;
-constexpr int kL1306Pa8 = 9, kL1306Pa9 = 10, kL1306Pa15 = 16;
+constexpr int kL1306Pa8 = 9, kL1306Pa9 = 10, kL1306Pa10 = 11, kL1306Pa11 = 12, kL1306Pa15 = 16;
 constexpr uint64_t kSlcanBaud = 115200;
-constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb26 = 57;
+constexpr int kG3507Pa10 = 21, kG3507Pa11 = 22, kG3507Pa13 = 35, kG3507Pb0 = 12, kG3507Pb2 = 15,
+              kG3507Pb3 = 16, kG3507Pb26 = 57;
 constexpr uint8_t kBq769xAddress = 0x08;
 
 }  // namespace
@@ -188,6 +189,22 @@ void Board::wireI2cMonitor() {
   signalPincm_ = image_.part == Part::L1306 ? kL1306Pa15 : kG3507Pb0;
   bq769x_->onAlertLine(
       [this](bool high) { chip_.pins().setExternal(signalPincm_, high ? Drive::None : Drive::Low); });
+  // CFETOFF / DFETOFF: on the BQ76952 boards they come from MCU outputs (bsp/mspm0/README.md "Connections":
+  // PA10 / PA11 on the L1306, PB2 / PB3 on the G3507, mspm0l130x.h / mspm0g350x.h PINCM11/12 and 15/16), and
+  // the device turns the gate off while a pin is asserted as its Pin Config says (SLUAAQ5: "when that pin is
+  // asserted from an external source, the corresponding gate is then disabled"; the emulator's
+  // setFetOffPins, wired as the host board wires it). A pin the MCU does not drive reads low: not asserted.
+  // The BQ7690x has no such pins.
+  if (!bq76907) {
+    const bool l1306 = image_.part == Part::L1306;
+    const int cfetoff = l1306 ? kL1306Pa10 : kG3507Pb2;
+    const int dfetoff = l1306 ? kL1306Pa11 : kG3507Pb3;
+    const auto drive = [this, cfetoff, dfetoff](bool) {
+      bq769x_->setFetOffPins(chip_.pins().level(cfetoff), chip_.pins().level(dfetoff));
+    };
+    chip_.pins().onChange(cfetoff, drive);
+    chip_.pins().onChange(dfetoff, drive);
+  }
 }
 
 void Board::wireChain(int devices) {
