@@ -44,6 +44,9 @@ ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, HERE)
 from mutants_table import MUTANTS  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(HERE))
+import image_descriptions  # noqa: E402  (tests/image_descriptions.py)
+
 SIM = os.path.join(ROOT, "build", "host", "bin", "bms-sim")
 REGMAPGEN = os.path.join(ROOT, "build", "host", "bin", "regmapgen")
 DBC = os.path.join(ROOT, "firmware", "app", "can")
@@ -62,7 +65,7 @@ RULE = re.compile(r"\[([A-Z0-9]+(?:-[A-Z0-9]+)+)\]")
 
 def checks_for(image):
     twin = ["ov-cell", "comm-loss", "agreement", "faults"]
-    twin.append("slcan" if image.startswith("lp-mspm0l1306-") else "bus-off")
+    twin.append("slcan" if image_descriptions.by_preset()[image].output == "slcan" else "bus-off")
     return [("twin", c) for c in twin] + [("commands", c) for c in ("send", "refusals")]
 
 
