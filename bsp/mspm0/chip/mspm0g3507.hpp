@@ -19,6 +19,7 @@ struct Mspm0g3507 {
   static constexpr uintptr_t kTimg0 = 0x40084000;
   static constexpr uintptr_t kTimg6 = 0x40868000;
   static constexpr uintptr_t kWwdt0 = 0x40080000;
+  static constexpr uintptr_t kFlashctl = 0x400CD000;
   static constexpr uintptr_t kCanfd0 = 0x40508000;
 
   static constexpr uint8_t kIrqGroup1 = 1;  // GPIOA (IIDX 1), GPIOB (IIDX 2), COMPx, TRNG

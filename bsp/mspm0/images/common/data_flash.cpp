@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "chip/mspm0g3507.hpp"
 #include "common/construct_once.hpp"
 #include "core/assert.hpp"
 #include "flashctl.hpp"
@@ -14,8 +15,6 @@ namespace image {
 
 namespace {
 
-// FLASHCTL_BASE (regs/flashctl.hpp; mspm0g3507.tsv "base" row).
-constexpr uintptr_t kFlashctlBase = 0x400CD000;
 // The G3507 computes and stores ECC for each flash word (SLAU846A FLASHCTL; flashctl.hpp).
 constexpr bool kEcc = true;
 
@@ -26,8 +25,9 @@ fw::hal::FlashStorage& dataFlash() {
   const auto sectors = static_cast<uint32_t>(__record_store_end__ - __record_store_start__) /
                        fw::hal::FlashStorage::kSectorBytes;
   FW_ASSERT_MODULE(fw::Module::Bsp, bsp::mspm0::FlashctlStorage::regionFits(address, sectors));
-  return constructOnce<bsp::mspm0::FlashctlStorage>(bsp::mspm0::FlashctlConfig{
-      kFlashctlBase, address, __record_store_start__, sectors, kEcc, bsp::mspm0::kBusClockHz / 1000000U});
+  return constructOnce<bsp::mspm0::FlashctlStorage>(
+      bsp::mspm0::FlashctlConfig{bsp::mspm0::chip::Mspm0g3507::kFlashctl, address, __record_store_start__,
+                                 sectors, kEcc, bsp::mspm0::kBusClockHz / 1000000U});
 }
 
 }  // namespace image
