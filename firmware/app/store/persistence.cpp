@@ -14,6 +14,13 @@ constexpr uint8_t type(RecordType t) {
 
 }  // namespace
 
+template <class Record>
+Status Persistence::write(RecordType t, const Record& r) {
+  std::array<uint8_t, Record::kBytes> b{};
+  encode(r, b);
+  return store_.write(type(t), b);
+}
+
 void Persistence::start(StartupInfo& info) {
   info.kept.logEntries = 0;
   info.kept.faultSource = FaultSource::None;
@@ -49,8 +56,9 @@ void Persistence::start(StartupInfo& info) {
   info.faultModule = fault.module;
   info.faultLine = fault.code;
   info.kept.faultSource = FaultSource::LastReset;
-  last_ = writeFault(fault);
-  if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok) last_ = writeFault(fault);
+  last_ = write(RecordType::Fault, fault);
+  if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok)
+    last_ = write(RecordType::Fault, fault);
 }
 
 void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
@@ -66,7 +74,7 @@ void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
 void Persistence::step() {
   posted_ = false;
   if (logDirty_) {
-    last_ = writeLog();
+    last_ = write(RecordType::ProtectionLog, log_);
     // Busy: a compaction is due and no sector is erased yet; erase one now and write in the next step.
     // A failed write or erase is not retried (the flash's status stays in lastStatus()): the next trip
     // writes the log again. So a failing flash costs one job a trip, never a loop.
@@ -120,18 +128,6 @@ void Persistence::addTrip(FaultId id) {
   }
   log_.entry[log_.count++] = {static_cast<uint8_t>(id), 0, value};
   logDirty_ = true;
-}
-
-Status Persistence::writeLog() {
-  std::array<uint8_t, ProtectionLogRecord::kBytes> b{};
-  encode(log_, b);
-  return store_.write(type(RecordType::ProtectionLog), b);
-}
-
-Status Persistence::writeFault(const FaultRecord& r) {
-  std::array<uint8_t, FaultRecord::kBytes> b{};
-  encode(r, b);
-  return store_.write(type(RecordType::Fault), b);
 }
 
 // Seconds since start-up from the evaluations' instants (the microsecond clock wraps every 71.6 minutes;

@@ -63,8 +63,9 @@ class Persistence final : public TripObserver, public BackgroundWork {
   bool hasWork() const { return logDirty_ || store_.needsErase(); }
   void repost();
   void addTrip(FaultId id);
-  Status writeLog();
-  Status writeFault(const FaultRecord& r);
+  // `r` written as the newest record of type `t`, through the record's encoder (records.hpp).
+  template <class Record>
+  Status write(RecordType t, const Record& r);
   uint32_t uptimeS(Instant now);
 
   RecordStore store_;
