@@ -13,10 +13,22 @@ from dataclasses import dataclass, field
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 IMAGES_DIR = ROOT / "bsp" / "mspm0" / "images"
 
-# Option defaults the checks below ask about (firmware/app/config.hpp, firmware/drivers/bq769x2/config.hpp).
-DEFAULTS = {"FW_SOC": "1", "FW_BQ769X_BALANCE": "1", "FW_CAN_TI_LAYOUT": "1"}
-# Cells a device's EVM pack connects (firmware/app/packs/*.yaml), and whether it measures the pack current.
-DEVICE_CELLS = {"bq76952": 16, "bq76907": 7, "bq79616": 16, "bq4050": 4}
+# The config headers whose `#ifndef NAME / #define NAME value` pairs are the options' defaults (the list
+# options.cmake's header names).
+CONFIG_HEADERS = ["firmware/sched/config.hpp", "firmware/core/config.hpp", "firmware/app/config.hpp",
+                  "firmware/drivers/bq769x2/config.hpp", "bsp/mspm0/config.hpp"]
+
+
+def _defaults():
+    defaults = {}
+    for header in CONFIG_HEADERS:
+        text = (ROOT / header).read_text()
+        for m in re.finditer(r"#ifndef (\w+)\s*\n#define \1 (\S+)", text):
+            defaults[m.group(1)] = m.group(2)
+    return defaults
+
+
+DEFAULTS = _defaults()
 
 
 @dataclass
@@ -27,6 +39,7 @@ class Image:
     family: str  # bq769x2 | bq79616 | bq4050
     device: str
     options: dict = field(default_factory=dict)
+    pack: str = ""  # the pack file it builds from (BMS_IMAGE_PACK: firmware/app/packs/<pack>.yaml)
 
     def option(self, name):
         return self.options.get(name, DEFAULTS.get(name))
@@ -56,7 +69,9 @@ class Image:
 
     @property
     def cells(self):
-        return DEVICE_CELLS[self.device]
+        """Cells per board, from the image's pack file (its top-level `cells:`)."""
+        text = (ROOT / "firmware" / "app" / "packs" / f"{self.pack}.yaml").read_text()
+        return int(re.search(r"^cells:\s*(\d+)", text, re.M).group(1))
 
 
 def _sets(text):
@@ -70,14 +85,10 @@ def load(images_dir=IMAGES_DIR):
     for description in sorted(pathlib.Path(images_dir).glob("*/image.cmake")):
         folder = description.parent
         d = _sets(description.read_text())
-        options = {}
-        options_file = folder / "options.cmake"
-        if options_file.exists():
-            for item in _sets(options_file.read_text()).get("BMS_IMAGE_OPTIONS", []):
-                name, _, value = item.partition("=")
-                options[name] = value
+        options_sets = _sets((folder / "options.cmake").read_text())
+        options = dict(item.partition("=")[::2] for item in options_sets.get("BMS_IMAGE_OPTIONS", []))
         images.append(Image(folder.name, d["BMS_IMAGE_CHIP"][0], d["BMS_IMAGE_BOARD"][0], d["BMS_IMAGE_FAMILY"][0],
-                            d["BMS_IMAGE_DEVICE"][0], options))
+                            d["BMS_IMAGE_DEVICE"][0], options, options_sets["BMS_IMAGE_PACK"][0]))
     return images
 
 
@@ -87,5 +98,5 @@ def by_preset(images_dir=IMAGES_DIR):
 
 if __name__ == "__main__":
     for image in load():
-        print(image.preset, image.chip, image.board, image.family, image.device, image.output,
+        print(image.preset, image.chip, image.board, image.family, image.device, image.output, image.cells,
               "soc" if image.counts_soc else "-", "balances" if image.balances else "-")
