@@ -13,9 +13,14 @@ constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,    bms::PathRequest::kDlc, b
                             bms::Identify::kDlc,       bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
                             bms::EnterBootloader::kDlc};
 static_assert(sizeof kDlc == kCommandCount, "one DLC per received message of bms.yaml");
-static_assert(bms::kReceivedIds[0] == bms::ClearFaults::kId &&
-                  bms::kReceivedIds[6] == bms::EnterBootloader::kId,
-              "kReceivedIds in catalogue order: ClearFaults .. EnterBootloader");
+// The commands' identifiers are consecutive, in catalogue order (ClearFaults .. EnterBootloader), so a
+// command's index is its identifier's distance from the first.
+constexpr bool consecutiveIds() {
+  for (uint8_t i = 0; i < kCommandCount; ++i)
+    if (bms::kReceivedIds[i] != bms::ClearFaults::kId + i) return false;
+  return bms::kReceivedIds[kCommandCount - 1] == bms::EnterBootloader::kId;
+}
+static_assert(consecutiveIds(), "kReceivedIds: consecutive, ClearFaults .. EnterBootloader");
 // Every command begins with the E2E header this handler reads: CRC in byte 0, counter in byte 1's low
 // nibble, target in byte 2.
 static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 &&
@@ -67,10 +72,8 @@ void CommandHandler::ack(Replies& out, uint32_t id, uint8_t counter, Result resu
 void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
   State& st = *state_;
   if (kStats) ++st.stats.frames;
-  uint8_t index = 0;
-  while (index < kCommandCount && (f.extended || bms::kReceivedIds[index] != f.id))
-    ++index;
-  if (index == kCommandCount) {
+  const uint32_t index = f.id - bms::ClearFaults::kId;  // wraps to a large value below the first
+  if (f.extended || index >= kCommandCount) {
     if (kStats) ++st.stats.filtered;
     return;
   }
@@ -86,7 +89,7 @@ void CommandHandler::handle(const hal::CanFrame& f, Replies& out) {
     r = Result::WrongLength;
   } else if (!crcValid(f)) {
     r = Result::BadCrc;
-  } else if (!st.counters.take(index, counter)) {
+  } else if (!st.counters.take(static_cast<uint8_t>(index), counter)) {
     r = Result::RepeatedCounter;
   } else if (st.boot != Boot::Idle) {
     r = Result::Busy;
