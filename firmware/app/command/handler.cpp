@@ -56,13 +56,13 @@ void packAnswer(hal::CanFrame& f, Values... values) {
 
 }  // namespace
 
-// The acknowledgement, always the first answer (slot 0; a command's data follows it when accepted).
+// The acknowledgement, always the first answer (slot 0; a command's data follows it when accepted). The
+// caller has counted the answers: 1, or more when an accepted command's data follows.
 void CommandHandler::ack(Replies& out, uint32_t id, uint8_t counter, Result result) {
   State& st = *state_;
   if (result != Result::Accepted) {
     if (st.stats.rejected != 0xFFFF) ++st.stats.rejected;
     if (kStats) ++st.stats.rejectedFor[static_cast<uint8_t>(result)];
-    out.count = 1;
   } else if (kStats) {
     ++st.stats.accepted;
   }

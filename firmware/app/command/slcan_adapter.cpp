@@ -63,15 +63,13 @@ bool SlcanAdapter::take(uint8_t byte) {
 void SlcanAdapter::answer(const Info& info, Line& out) {
   out.answerLength = 1;
   out.hasFrame = false;
-  if (state_.overlong || !execute(info, out)) {
-    out.answer[0] = kBel;
-    out.answerLength = 1;
-  }
+  if (state_.overlong || !execute(info, out)) out.answer[0] = kBel;  // a refusal leaves answerLength 1
   state_.length = 0;
   state_.overlong = false;
 }
 
-// False for a line to refuse (answer() answers BEL); otherwise out.answer holds the answer (CR unless set).
+// False for a line to refuse (answer() answers BEL; a refusal changes neither answerLength nor hasFrame);
+// otherwise out.answer holds the answer (CR unless set).
 bool SlcanAdapter::execute(const Info& info, Line& out) {
   const uint8_t* line = state_.line;
   const uint8_t n = state_.length;
