@@ -42,6 +42,24 @@ void answerFrame(hal::CanFrame& f, uint16_t id, const uint8_t* codes, const uint
   can::packStream(f.data, codes, raw, count);  // every byte of the payload
 }
 
+// Field `kField` of a received command M, read straight from its bytes. Every field a command carries is
+// little-endian and either whole bytes or within one byte (checked here against the generated layout), so it
+// needs no bit-by-bit walk of the generated unpack() (can::get).
+template <class M, uint8_t kField>
+uint32_t field(const hal::CanFrame& f) {
+  constexpr can::Field kAt = M::kFields[kField];
+  constexpr uint8_t kByte = kAt.start / 8, kShift = kAt.start % 8;
+  static_assert(!kAt.bigEndian && (kShift + kAt.length <= 8 || (kShift == 0 && kAt.length % 8 == 0)));
+  if constexpr (kShift + kAt.length <= 8) {
+    return (f.data[kByte] >> kShift) & ((1U << kAt.length) - 1);
+  } else {
+    uint32_t value = 0;
+    for (uint8_t i = kAt.length / 8; i-- > 0;)
+      value = value << 8 | f.data[kByte + i];
+    return value;
+  }
+}
+
 // The stream codes of answer M (can_bits.hpp).
 template <class M>
 constexpr auto kAnswerCodes = can::streamCodes<M>();
@@ -109,20 +127,23 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
     case bms::ClearFaults::kId:  // what is gone clears now; what is still there stays, and the answer says so
       return ctx_.protection.clearLatched() ? Result::Accepted : Result::ConditionPresent;
     case bms::PathRequest::kId: {
-      const auto m = bms::PathRequest::unpack(f);
-      st.hostRequest =
-          static_cast<uint8_t>((m.chargeOff ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
-                               (m.dischargeOff ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+      using M = bms::PathRequest;
+      st.hostRequest = static_cast<uint8_t>(
+          (field<M, M::kChargeOffField>(f) ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
+          (field<M, M::kDischargeOffField>(f) ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
       applyHostOff();
       return Result::Accepted;
     }
     case bms::BalancingMode::kId: {
-      const auto m = bms::BalancingMode::unpack(f);
-      if (m.mode > static_cast<uint8_t>(BalancingMode::Forced)) return Result::OutOfRange;
+      using M = bms::BalancingMode;
+      const uint32_t mode = field<M, M::kModeField>(f);
+      if (mode > static_cast<uint8_t>(BalancingMode::Forced)) return Result::OutOfRange;
       if (balancing_ == nullptr)
         return Result::Unsupported;  // this image does not balance (the BQ4050's gauge does)
       // A board the pack does not have or a mask the device does not allow: InvalidArgument, nothing changes.
-      const Status s = balancing_->setMode(static_cast<BalancingMode>(m.mode), m.board, m.cellMask,
+      const Status s = balancing_->setMode(static_cast<BalancingMode>(mode),
+                                           static_cast<uint8_t>(field<M, M::kBoardField>(f)),
+                                           static_cast<uint16_t>(field<M, M::kCellMaskField>(f)),
                                            static_cast<uint16_t>(pack_->boards.size()), pack_->cellsPerBoard);
       return s == Status::Ok ? Result::Accepted : Result::OutOfRange;
     }
@@ -135,7 +156,7 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       return Result::Accepted;
     }
     case bms::SettingRead::kId: {
-      const uint8_t id = bms::SettingRead::unpack(f).setting;
+      const auto id = static_cast<uint8_t>(field<bms::SettingRead, bms::SettingRead::kSettingField>(f));
       if (id >= kSettingCount) return Result::OutOfRange;
       const SettingSpec s = ctx_.settings.spec(id);
       packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
@@ -144,8 +165,9 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       return Result::Accepted;
     }
     case bms::SettingWrite::kId: {
-      const auto m = bms::SettingWrite::unpack(f);
-      switch (ctx_.settings.write(m.setting, m.value)) {
+      using M = bms::SettingWrite;
+      switch (ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
+                                  static_cast<int32_t>(field<M, M::kValueField>(f)))) {
         case WriteResult::Ok:
           return Result::Accepted;
         case WriteResult::Inconsistent:
@@ -157,8 +179,9 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       }
     }
     default: {  // EnterBootloader (the last of kReceivedIds)
-      const auto m = bms::EnterBootloader::unpack(f);
-      if (m.target != ctx_.node || m.key != kBootloaderKey || m.traceId != ctx_.system.identity().traceId)
+      using M = bms::EnterBootloader;
+      if (field<M, M::kTargetField>(f) != ctx_.node || field<M, M::kKeyField>(f) != kBootloaderKey ||
+          field<M, M::kTraceIdField>(f) != ctx_.system.identity().traceId)
         return Result::WrongKey;
       st.boot = Boot::WaitingForPaths;
       st.bootCounter = counterOf(f);
