@@ -62,7 +62,7 @@ uint32_t paddedLength(uint32_t length) {
   return (length + kWord - 1) / kWord * kWord;
 }
 uint16_t recordCrc(const uint8_t* header, const uint8_t* payloadWords, uint32_t length) {
-  return crc::crc16(payloadWords, paddedLength(length), crc::crc16(header, kWord));
+  return crc::crc16Compact(payloadWords, paddedLength(length), crc::crc16Compact(header, kWord));
 }
 void encodeCommit(uint8_t* w, uint16_t crc) {
   w[0] = kCommit0;
@@ -231,12 +231,12 @@ Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
   uint8_t header[kWord];
   encodeHeader(header, Header{type, static_cast<uint8_t>(length), nextSeq_});
   Status s = programWord(active_, start, header);
-  uint16_t crc = crc::crc16(header, kWord);
+  uint16_t crc = crc::crc16Compact(header, kWord);
   for (uint32_t i = 0; s == Status::Ok && i + 2 < words; ++i) {
     uint8_t word[kWord] = {};  // padding 0x00
     const uint32_t n = length - i * kWord < kWord ? length - i * kWord : kWord;
     std::memcpy(word, payload.data() + i * kWord, n);
-    crc = crc::crc16(word, kWord, crc);
+    crc = crc::crc16Compact(word, kWord, crc);
     s = programWord(active_, start + (i + 1) * kWord, word);
   }
   if (s == Status::Ok) {
