@@ -20,9 +20,17 @@ constexpr uint8_t kCommit0 = 'C';
 constexpr uint8_t kCommit1 = 'M';
 constexpr uint32_t kGenerationMask = 0xFFFFFF;
 
-bool erased(const uint8_t* word) {
-  for (uint32_t i = 0; i < kWord; ++i)
-    if (word[i] != hal::FlashStorage::kErased) return false;
+// Whether `bytes` (a multiple of 4) from `p` (word aligned: sectors are 1 KiB aligned, words 8 B) are all
+// erased, in 32-bit loads: restore() checks every blank sector whole, and a byte at a time through at()
+// took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to move the scans'
+// phase against the world.
+bool erased(const uint8_t* p, uint32_t bytes) {
+  p = std::assume_aligned<4>(p);
+  for (uint32_t off = 0; off < bytes; off += 4) {
+    uint32_t w;
+    std::memcpy(&w, p + off, sizeof w);
+    if (w != 0xFFFFFFFFU) return false;
+  }
   return true;
 }
 
@@ -87,19 +95,6 @@ const uint8_t* RecordStore::at(uint32_t sector, uint32_t offset) const {
   return flash_.read().data() + sector * kSector + offset;
 }
 
-// In 32-bit loads from one read of the region: restore() checks every blank sector whole, and one word at a
-// time through at() took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to
-// move the scans' phase against the world.
-bool RecordStore::sectorErased(uint32_t sector) const {
-  const uint8_t* p = std::assume_aligned<4>(at(sector, 0));  // sectors are 1 KiB aligned
-  for (uint32_t off = 0; off < kSector; off += 4) {
-    uint32_t w;
-    std::memcpy(&w, p + off, sizeof w);
-    if (w != 0xFFFFFFFFU) return false;
-  }
-  return true;
-}
-
 // Sector header: magic, generation (24 bits) and its complement. Written after the compaction's copies, so a
 // valid header means the sector holds the newest record of every type. The complement also rejects a sector
 // whose erase was cut (an erase only sets bits, so a bit and its complement cannot both survive as 1/0 pairs
@@ -126,7 +121,7 @@ Status RecordStore::restore() {
         state_->active = s;
       }
     } else {
-      state_->sector[s] = sectorErased(s) ? SectorState::Erased : SectorState::Dirty;
+      state_->sector[s] = erased(at(s, 0), kSector) ? SectorState::Erased : SectorState::Dirty;
     }
   }
   for (Entry& e : state_->index)
@@ -149,10 +144,8 @@ void RecordStore::scanActive() {
   state_->free = kSector;
   while (off + kWord <= kSector) {
     const uint8_t* w = at(state_->active, off);
-    if (erased(w)) {
-      for (uint32_t rest = off; rest < kSector; rest += kWord)
-        if (!erased(at(state_->active, rest))) return;
-      state_->free = off;
+    if (erased(w, kWord)) {
+      if (erased(w, kSector - off)) state_->free = off;
       return;
     }
     Header h{};
@@ -200,9 +193,7 @@ Status RecordStore::compact(uint32_t& target) {
     if (e.seq == 0) continue;
     const uint32_t words = recordWords(e.length);
     for (uint32_t i = 0; i < words; ++i) {
-      uint8_t word[kWord];
-      std::memcpy(word, at(state_->active, e.offset + i * kWord), kWord);
-      const Status s = programWord(target, off + i * kWord, word);
+      const Status s = programWord(target, off + i * kWord, at(state_->active, e.offset + i * kWord));
       if (s != Status::Ok) return s;
     }
     moved[t] = Entry{static_cast<uint16_t>(off), e.length, e.seq};

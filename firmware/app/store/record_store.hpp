@@ -71,7 +71,6 @@ class RecordStore {
     uint32_t seq;
   };
 
-  bool sectorErased(uint32_t sector) const;
   bool headerGeneration(uint32_t sector, uint32_t& generation) const;
   void scanActive();
   Status programWord(uint32_t sector, uint32_t offset, const uint8_t* word);
