@@ -21,6 +21,14 @@ Status Persistence::write(RecordType t, const Record& r) {
   return store_.write(type(t), b);
 }
 
+template <class Record>
+bool Persistence::read(RecordType t, Record& r) const {
+  std::array<uint8_t, Record::kBytes> b;
+  uint32_t length = 0;
+  return store_.read(type(t), b, length) == Status::Ok &&
+         decode(std::span<const uint8_t>(b.data(), length), r);
+}
+
 void Persistence::start(StartupInfo& info) {
   info.kept.logEntries = 0;
   info.kept.faultSource = FaultSource::None;
@@ -30,32 +38,25 @@ void Persistence::start(StartupInfo& info) {
     info.kept.faultSource = FaultSource::NotAvailable;
     return;
   }
-  std::array<uint8_t, RecordStore::kMaxPayload> buf{};
-  uint32_t length = 0;
-  if (store_.read(type(RecordType::ProtectionLog), buf, length) == Status::Ok &&
-      decode(std::span<const uint8_t>(buf.data(), length), state_->log))
-    info.kept.logEntries = state_->log.count;
+  if (read(RecordType::ProtectionLog, state_->log)) info.kept.logEntries = state_->log.count;
 
+  // The fault of this reset (recorded in SRAM by the previous run, or the watchdog's own), written to flash;
+  // else the newest one an earlier run kept.
   FaultRecord fault{};
-  if (info.faultValid) {
+  FaultSource source = FaultSource::LastReset;
+  if (info.faultValid)
     fault = {info.resetCause, info.faultLine, 0, 0, info.faultModule};
-  } else if (info.resetCause == kResetCauseWatchdog) {
+  else if (info.resetCause == kResetCauseWatchdog)
     fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
-  } else {
-    FaultRecord stored{};
-    if (store_.read(type(RecordType::Fault), buf, length) == Status::Ok &&
-        decode(std::span<const uint8_t>(buf.data(), length), stored)) {
-      info.kept.faultSource = FaultSource::Stored;
-      info.faultValid = true;
-      info.faultModule = stored.module;
-      info.faultLine = stored.code;
-    }
+  else if (read(RecordType::Fault, fault))
+    source = FaultSource::Stored;
+  else
     return;
-  }
   info.faultValid = true;
   info.faultModule = fault.module;
   info.faultLine = fault.code;
-  info.kept.faultSource = FaultSource::LastReset;
+  info.kept.faultSource = source;
+  if (source == FaultSource::Stored) return;
   state_->last = write(RecordType::Fault, fault);
   if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok)
     state_->last = write(RecordType::Fault, fault);

@@ -67,6 +67,10 @@ class Persistence final : public TripObserver, public BackgroundWork {
   // `r` written as the newest record of type `t`, through the record's encoder (records.hpp).
   template <class Record>
   Status write(RecordType t, const Record& r);
+  // The newest record of type `t` decoded into `r`; false (r unchanged) when there is none or it does not
+  // decode (another length: another format version).
+  template <class Record>
+  bool read(RecordType t, Record& r) const;
   uint32_t uptimeS(Instant now);
 
   // What changes at run time, all zero at construction (core/zeroed.hpp): no log, no time, Status::Ok.
