@@ -1,5 +1,6 @@
 #include "flashctl.hpp"
 
+#include "core/bytes.hpp"
 #include "regs/flashctl.hpp"
 
 namespace bsp::mspm0 {
@@ -66,18 +67,14 @@ fw::Status FlashctlStorage::doProgram(uint32_t offset, std::span<const uint8_t, 
   for (uint32_t i = 0; i < kWordBytes; ++i) {
     if (flashByte(offset + i) != kErased) return fw::Status::InvalidArgument;  // one program per erase
   }
-  auto le32 = [&](unsigned at) {
-    return static_cast<uint32_t>(word[at] | word[at + 1] << 8 | word[at + 2] << 16) |
-           static_cast<uint32_t>(word[at + 3]) << 24;
-  };
   const uint32_t address = config_.regionAddress + offset;
   fc::Command& command = fc::command(config_.base);
   command.cmdctl.write(0);  // ECCGENOVR clear: on the G3507 the hardware computes the ECC byte
   command.cmdtype.write(fc::kCommandProgram | fc::kSizeOneWord);
   command.cmdaddr.write(address);
   command.cmdbyten.write(fc::kByteEnableData | (config_.ecc ? fc::kByteEnableEcc : 0));
-  command.cmddata0.write(le32(0));
-  command.cmddata1.write(le32(4));
+  command.cmddata0.write(fw::bytes::loadLe32(word.data()));
+  command.cmddata1.write(fw::bytes::loadLe32(word.data() + 4));
   if (fw::Status s = execute(address, flashPollBound(kFlashProgramMaxUs, config_.cpuMhz));
       s != fw::Status::Ok)
     return s;

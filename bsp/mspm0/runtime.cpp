@@ -34,6 +34,18 @@ __attribute__((optimize("no-tree-loop-distribute-patterns"))) void* memcpy(void*
   return destination;
 }
 
+// Overlapping copies (the record store's protection log drops its oldest entry, app/store/persistence.cpp):
+// a destination below the source is copied forwards, memcpy's byte order above; otherwise backwards.
+__attribute__((optimize("no-tree-loop-distribute-patterns"))) void* memmove(void* destination,
+                                                                            const void* source, size_t size) {
+  auto* d = static_cast<uint8_t*>(destination);
+  const auto* s = static_cast<const uint8_t*>(source);
+  if (d <= s) return memcpy(destination, source, size);
+  while (size-- != 0)
+    d[size] = s[size];
+  return destination;
+}
+
 // RTABI: quotient in r0, remainder in r1, i.e. a 64-bit return value.
 uint64_t __aeabi_uidivmod(uint32_t numerator, uint32_t denominator) {
   const auto qr = bsp::mspm0::runtime::udivmod(numerator, denominator);

@@ -1,5 +1,6 @@
-// Size-optimised replacements for the few C runtime helpers the firmware links: memset and memcpy (the
-// compiler emits calls to them for aggregate initialisation and copies) and the EABI division helpers.
+// Size-optimised replacements for the few C runtime helpers the firmware links: memset, memcpy and memmove
+// (the compiler emits calls to them for aggregate initialisation and copies; memmove for the record store's
+// log, a byte loop either way: newlib's is 176 B) and the EABI division helpers.
 // newlib-nano and libgcc ship speed-optimised versions of 166, 142 and 266 bytes. memset writes whole words
 // between its unaligned ends: the scans clear their records (64 boards on a BQ79616 chain), and a byte loop
 // was 10 % of that image's busy cycles (twin profile; now 3.8 %, +52 B). memcpy stays a byte loop: whole

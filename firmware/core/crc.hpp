@@ -68,4 +68,12 @@ constexpr uint16_t crc16(const uint8_t* data, size_t length, uint16_t crc = kCrc
   return crc;
 }
 
+// The same CRC-16 without the table, eight shifts a byte: for code that runs it rarely (the record store,
+// app/store: a few hundred bytes a flash write), so an image without the BQ79616 carries no 512 B table.
+constexpr uint16_t crc16Compact(const uint8_t* data, size_t length, uint16_t crc = kCrc16Init) {
+  for (size_t i = 0; i < length; ++i)
+    crc = static_cast<uint16_t>((crc >> 8) ^ detail::crc16Byte((crc ^ data[i]) & 0xFFU));
+  return crc;
+}
+
 }  // namespace fw::crc

@@ -59,6 +59,18 @@ TEST(Crc16, CatalogueCheckValue) {
   EXPECT_EQ(fw::crc::crc16(reinterpret_cast<const uint8_t*>(text.data()), text.size()), 0x4B37);
 }
 
+TEST(Crc16, CompactIsTheSameCrcAsTheTable) {
+  constexpr uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  static_assert(fw::crc::crc16Compact(check, sizeof check) == 0x4B37);
+  uint8_t bytes[300];
+  for (size_t i = 0; i < sizeof bytes; ++i)
+    bytes[i] = static_cast<uint8_t>(i * 37 + 11);
+  for (size_t n = 0; n <= sizeof bytes; n += 13) {
+    EXPECT_EQ(fw::crc::crc16Compact(bytes, n), fw::crc::crc16(bytes, n)) << n;
+    EXPECT_EQ(fw::crc::crc16Compact(bytes, n, 0x1234), fw::crc::crc16(bytes, n, 0x1234)) << n;
+  }
+}
+
 struct Frame {
   std::vector<uint8_t> bytes;  // whole frame as TI prints it, CRC low byte first at the end
 };

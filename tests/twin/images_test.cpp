@@ -326,13 +326,27 @@ TEST(BrokenImage, AWatchdogNeverRestartedResetsTheChip) {
 // --- Startup message (bms.yaml Startup, 0x1F0)
 // ---------------------------------------------------------------
 
-// The payloads of the Startup frames the board sent, in order (CAN images).
+// The payloads of the Startup frames the board sent, in order: CAN frames on the G3507 images, SLCAN text
+// ("t1F08" and 16 hex digits) on the L1306 ones.
 std::vector<std::array<uint8_t, 8>> startupFrames(const Board& b) {
   std::vector<std::array<uint8_t, 8>> out;
   for (const auto& f : b.canFrames()) {
     if (f.frame.id == 0x1F0) out.push_back(f.frame.data);
   }
+  for (const auto& line : b.slcanLines()) {
+    if (line.text.rfind("t1F08", 0) != 0 || line.text.size() < 5 + 16) continue;
+    std::array<uint8_t, 8> d{};
+    for (size_t i = 0; i < d.size(); ++i)
+      d[i] = static_cast<uint8_t>(std::stoul(line.text.substr(5 + 2 * i, 2), nullptr, 16));
+    out.push_back(d);
+  }
   return out;
+}
+
+// Whether the image builds the record store (FW_RECORD_STORE): it then links the FLASHCTL driver
+// (bsp/mspm0/images/common/data_flash.cpp), whose vtable is in the symbol table.
+bool hasRecordStore(const ElfFile& elf) {
+  return elf.symbol("_ZTVN3bsp5mspm015FlashctlStorageE").has_value();
 }
 uint16_t faultLine(const std::array<uint8_t, 8>& d) {
   return static_cast<uint16_t>(d[5] | d[6] << 8);
@@ -389,7 +403,7 @@ TEST(Startup, AFaultRecordSurvivesTheSoftwareSysrstAndIsPublished) {
   EXPECT_NE(faultLine(frames[1]), 0xFFFF);
 }
 
-// --- records kept in flash (app/store/persistence.hpp) on the G3507 images -------------------------------
+// --- records kept in flash (app/store/persistence.hpp) on the images that build the store ----------------
 
 // A protection trip, a watchdog reset and a power cycle: every boot after them publishes what the flash kept.
 // Cell 1 stands at 4.5 V from power-on (cell_ov trips on the first scans, the BQ76952's own COV with it; the
@@ -399,6 +413,7 @@ TEST(Startup, AFaultRecordSurvivesTheSoftwareSysrstAndIsPublished) {
 void keptAcrossResets(const std::string& preset) {
   SCOPED_TRACE(preset);
   LOAD_OR_SKIP(elf, preset);
+  if (!hasRecordStore(*elf)) GTEST_SKIP() << preset << " builds the record store out (FW_RECORD_STORE=0)";
   const auto feeds = storesTo(preset, *elf, 0x40080000 + 0x1108, 600000);
   ASSERT_FALSE(feeds.empty());
   removeStores(*elf, feeds);
@@ -454,6 +469,12 @@ TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheG3507Bq79616) {
 
 TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheG3507Bq4050) {
   keptAcrossResets("lp-mspm0g3507-bq4050");
+}
+
+// The L1306 images build the store out until it fits their 16 KiB (options.cmake): this runs once an
+// L1306-BQ76952 image with FW_RECORD_STORE=1 is in build/ (no ECC on the L1306's flash, data_flash.cpp).
+TEST(KeptRecords, TripAndWatchdogSurviveResetsOnTheL1306Bq76952) {
+  keptAcrossResets("lp-mspm0l1306-bq76952");
 }
 
 // ALERT to FETs off while a sector erase of the data region is in progress (started through FLASHCTL 2 ms
@@ -512,8 +533,9 @@ TEST(Startup, TheL1306SendsItFirstAsSlcanText) {
     if (line.text.rfind("t1F0", 0) == 0) startup.push_back(line.text);
   }
   ASSERT_EQ(startup.size(), 1U);
-  // Byte 7 0x3F: ProtectionLogEntries and FaultSource not available (the L1306 images build the store out).
-  EXPECT_EQ(startup[0], "t1F0801000100FFFFFF3F\r");
+  // Byte 7: ProtectionLogEntries and FaultSource; 0x3F not available where the image builds the store out
+  // (FW_RECORD_STORE=0, the L1306 images for now), 0x00 (no entries, no fault) with the store, blank flash.
+  EXPECT_EQ(startup[0], hasRecordStore(*elf) ? "t1F0801000100FFFFFF00\r" : "t1F0801000100FFFFFF3F\r");
 }
 
 // --- broken images, one per kind of rules.hpp --------------------------------------------------------------

@@ -21,44 +21,45 @@ Status Persistence::write(RecordType t, const Record& r) {
   return store_.write(type(t), b);
 }
 
+template <class Record>
+bool Persistence::read(RecordType t, Record& r) const {
+  std::array<uint8_t, Record::kBytes> b;
+  uint32_t length = 0;
+  return store_.read(type(t), b, length) == Status::Ok &&
+         decode(std::span<const uint8_t>(b.data(), length), r);
+}
+
 void Persistence::start(StartupInfo& info) {
   info.kept.logEntries = 0;
   info.kept.faultSource = FaultSource::None;
-  last_ = store_.restore();
-  if (last_ != Status::Ok) {  // a region of fewer than two sectors: nothing kept, nothing said
+  state_->last = store_.restore();
+  if (state_->last != Status::Ok) {  // a region of fewer than two sectors: nothing kept, nothing said
     info.kept.logEntries = KeptRecordsInfo::kNotAvailable;
     info.kept.faultSource = FaultSource::NotAvailable;
     return;
   }
-  std::array<uint8_t, RecordStore::kMaxPayload> buf{};
-  uint32_t length = 0;
-  if (store_.read(type(RecordType::ProtectionLog), buf, length) == Status::Ok &&
-      decode(std::span<const uint8_t>(buf.data(), length), log_))
-    info.kept.logEntries = log_.count;
+  if (read(RecordType::ProtectionLog, state_->log)) info.kept.logEntries = state_->log.count;
 
+  // The fault of this reset (recorded in SRAM by the previous run, or the watchdog's own), written to flash;
+  // else the newest one an earlier run kept.
   FaultRecord fault{};
-  if (info.faultValid) {
+  FaultSource source = FaultSource::LastReset;
+  if (info.faultValid)
     fault = {info.resetCause, info.faultLine, 0, 0, info.faultModule};
-  } else if (info.resetCause == kResetCauseWatchdog) {
+  else if (info.resetCause == kResetCauseWatchdog)
     fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
-  } else {
-    FaultRecord stored{};
-    if (store_.read(type(RecordType::Fault), buf, length) == Status::Ok &&
-        decode(std::span<const uint8_t>(buf.data(), length), stored)) {
-      info.kept.faultSource = FaultSource::Stored;
-      info.faultValid = true;
-      info.faultModule = stored.module;
-      info.faultLine = stored.code;
-    }
+  else if (read(RecordType::Fault, fault))
+    source = FaultSource::Stored;
+  else
     return;
-  }
   info.faultValid = true;
   info.faultModule = fault.module;
   info.faultLine = fault.code;
-  info.kept.faultSource = FaultSource::LastReset;
-  last_ = write(RecordType::Fault, fault);
-  if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok)
-    last_ = write(RecordType::Fault, fault);
+  info.kept.faultSource = source;
+  if (source == FaultSource::Stored) return;
+  state_->last = write(RecordType::Fault, fault);
+  if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok)
+    state_->last = write(RecordType::Fault, fault);
 }
 
 void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
@@ -66,38 +67,38 @@ void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
   for (uint8_t i = 0; newlyTripped != 0; ++i, newlyTripped >>= 1) {
     if ((newlyTripped & 1U) == 0) continue;
     addTrip(static_cast<FaultId>(i));
-    log_.entry[log_.count - 1].uptimeS = s;
+    state_->log.entry[state_->log.count - 1].uptimeS = s;
   }
-  if (settled && !posted_ && hasWork()) repost();
+  if (settled && !state_->posted && hasWork()) repost();
 }
 
 void Persistence::step() {
-  posted_ = false;
-  if (logDirty_) {
-    last_ = write(RecordType::ProtectionLog, log_);
+  state_->posted = false;
+  if (state_->logDirty) {
+    state_->last = write(RecordType::ProtectionLog, state_->log);
     // Busy: a compaction is due and no sector is erased yet; erase one now and write in the next step.
     // A failed write or erase is not retried (the flash's status stays in lastStatus()): the next trip
     // writes the log again. So a failing flash costs one job a trip, never a loop.
-    if (last_ == Status::Busy && (last_ = store_.eraseStep()) == Status::Ok) return repost();
-    logDirty_ = false;
+    if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok) return repost();
+    state_->logDirty = false;
   } else if (store_.needsErase()) {
-    last_ = store_.eraseStep();
+    state_->last = store_.eraseStep();
   }
 }
 
 // The log waits for its write: the next step, after everything else that is ready.
 void Persistence::repost() {
-  posted_ = true;
+  state_->posted = true;
   scheduler_.post(kCommandTask, command_event::kStore);
 }
 
 // Appends `id` to the log, dropping the oldest entry when full, with the value that tripped it: the ones
 // Protection::evaluate compares (protection.cpp), read back from the pack view it evaluated.
 void Persistence::addTrip(FaultId id) {
-  if (log_.count == ProtectionLogRecord::kEntries) {
+  if (state_->log.count == ProtectionLogRecord::kEntries) {
     for (uint8_t k = 1; k < ProtectionLogRecord::kEntries; ++k)
-      log_.entry[k - 1] = log_.entry[k];
-    --log_.count;
+      state_->log.entry[k - 1] = state_->log.entry[k];
+    --state_->log.count;
   }
   const PackTotals& t = pack_.totals;
   int32_t value = 0;
@@ -126,20 +127,20 @@ void Persistence::addTrip(FaultId id) {
     default:
       break;  // the rules of counts and time: the record's rule says it all
   }
-  log_.entry[log_.count++] = {static_cast<uint8_t>(id), 0, value};
-  logDirty_ = true;
+  state_->log.entry[state_->log.count++] = {static_cast<uint8_t>(id), 0, value};
+  state_->logDirty = true;
 }
 
 // Seconds since start-up from the evaluations' instants (the microsecond clock wraps every 71.6 minutes;
 // the protection task evaluates at least every check period, so no gap spans a wrap).
 uint32_t Persistence::uptimeS(Instant now) {
-  subUs_ += now.us - lastEvaluation_.us;
-  lastEvaluation_ = now;
-  while (subUs_ >= 1'000'000U) {
-    subUs_ -= 1'000'000U;
-    ++seconds_;
+  state_->subUs += now.us - state_->lastEvaluation.us;
+  state_->lastEvaluation = now;
+  while (state_->subUs >= 1'000'000U) {
+    state_->subUs -= 1'000'000U;
+    ++state_->seconds;
   }
-  return seconds_;
+  return state_->seconds;
 }
 
 }  // namespace fw::app::store

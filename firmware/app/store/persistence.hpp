@@ -33,6 +33,7 @@
 #include "app/store/record_store.hpp"
 #include "app/store/records.hpp"
 #include "app/tasks.hpp"
+#include "core/zeroed.hpp"
 #include "hal/flash.hpp"
 #include "sched/scheduler.hpp"
 
@@ -48,36 +49,45 @@ inline constexpr uint8_t kResetCauseWatchdog = 0x0E;
 class Persistence final : public TripObserver, public BackgroundWork {
  public:
   // `pack` gives the values trips are logged with; step() runs in kCommandTask on command_event::kStore.
-  constexpr Persistence(hal::FlashStorage& flash, sched::Scheduler& scheduler, const PackView& pack)
+  Persistence(hal::FlashStorage& flash, sched::Scheduler& scheduler, const PackView& pack)
       : store_(flash), scheduler_(scheduler), pack_(pack) {}
 
   void start(StartupInfo& info);
   void evaluated(FaultMask newlyTripped, bool settled, Instant now) override;
   void step() override;
 
-  const ProtectionLogRecord& log() const { return log_; }
-  Status lastStatus() const { return last_; }
+  const ProtectionLogRecord& log() const { return state_->log; }
+  Status lastStatus() const { return state_->last; }
   const RecordStore& store() const { return store_; }
 
  private:
-  bool hasWork() const { return logDirty_ || store_.needsErase(); }
+  bool hasWork() const { return state_->logDirty || store_.needsErase(); }
   void repost();
   void addTrip(FaultId id);
   // `r` written as the newest record of type `t`, through the record's encoder (records.hpp).
   template <class Record>
   Status write(RecordType t, const Record& r);
+  // The newest record of type `t` decoded into `r`; false (r unchanged) when there is none or it does not
+  // decode (another length: another format version).
+  template <class Record>
+  bool read(RecordType t, Record& r) const;
   uint32_t uptimeS(Instant now);
+
+  // What changes at run time, all zero at construction (core/zeroed.hpp): no log, no time, Status::Ok.
+  struct State {
+    ProtectionLogRecord log;
+    uint32_t seconds;  // since start-up, counted from the evaluations' instants
+    uint32_t subUs;    // microseconds past seconds
+    Instant lastEvaluation;
+    bool logDirty;
+    bool posted;
+    Status last;
+  };
 
   RecordStore store_;
   sched::Scheduler& scheduler_;
   const PackView& pack_;
-  ProtectionLogRecord log_{};
-  uint32_t seconds_ = 0;  // since start-up, counted from the evaluations' instants
-  uint32_t subUs_ = 0;    // microseconds past seconds_
-  Instant lastEvaluation_{};
-  bool logDirty_ = false;
-  bool posted_ = false;
-  Status last_ = Status::Ok;
+  Zeroed<State> state_;
 };
 
 }  // namespace fw::app::store

@@ -20,9 +20,17 @@ constexpr uint8_t kCommit0 = 'C';
 constexpr uint8_t kCommit1 = 'M';
 constexpr uint32_t kGenerationMask = 0xFFFFFF;
 
-bool erased(const uint8_t* word) {
-  for (uint32_t i = 0; i < kWord; ++i)
-    if (word[i] != hal::FlashStorage::kErased) return false;
+// Whether `bytes` (a multiple of 4) from `p` (word aligned: sectors are 1 KiB aligned, words 8 B) are all
+// erased, in 32-bit loads: restore() checks every blank sector whole, and a byte at a time through at()
+// took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to move the scans'
+// phase against the world.
+bool erased(const uint8_t* p, uint32_t bytes) {
+  p = std::assume_aligned<4>(p);
+  for (uint32_t off = 0; off < bytes; off += 4) {
+    uint32_t w;
+    std::memcpy(&w, p + off, sizeof w);
+    if (w != 0xFFFFFFFFU) return false;
+  }
   return true;
 }
 
@@ -62,7 +70,7 @@ uint32_t paddedLength(uint32_t length) {
   return (length + kWord - 1) / kWord * kWord;
 }
 uint16_t recordCrc(const uint8_t* header, const uint8_t* payloadWords, uint32_t length) {
-  return crc::crc16(payloadWords, paddedLength(length), crc::crc16(header, kWord));
+  return crc::crc16Compact(payloadWords, paddedLength(length), crc::crc16Compact(header, kWord));
 }
 void encodeCommit(uint8_t* w, uint16_t crc) {
   w[0] = kCommit0;
@@ -87,19 +95,6 @@ const uint8_t* RecordStore::at(uint32_t sector, uint32_t offset) const {
   return flash_.read().data() + sector * kSector + offset;
 }
 
-// In 32-bit loads from one read of the region: restore() checks every blank sector whole, and one word at a
-// time through at() took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to
-// move the scans' phase against the world.
-bool RecordStore::sectorErased(uint32_t sector) const {
-  const uint8_t* p = std::assume_aligned<4>(at(sector, 0));  // sectors are 1 KiB aligned
-  for (uint32_t off = 0; off < kSector; off += 4) {
-    uint32_t w;
-    std::memcpy(&w, p + off, sizeof w);
-    if (w != 0xFFFFFFFFU) return false;
-  }
-  return true;
-}
-
 // Sector header: magic, generation (24 bits) and its complement. Written after the compaction's copies, so a
 // valid header means the sector holds the newest record of every type. The complement also rejects a sector
 // whose erase was cut (an erase only sets bits, so a bit and its complement cannot both survive as 1/0 pairs
@@ -112,32 +107,32 @@ bool RecordStore::headerGeneration(uint32_t sector, uint32_t& generation) const 
 }
 
 Status RecordStore::restore() {
-  restored_ = false;
-  sectors_ = flash_.sectorCount() < kMaxSectors ? flash_.sectorCount() : kMaxSectors;
-  if (sectors_ < 2) return Status::InvalidArgument;
-  active_ = sectors_;
-  generation_ = 0;
-  for (uint32_t s = 0; s < sectors_; ++s) {
+  state_->restored = false;
+  state_->sectors = flash_.sectorCount() < kMaxSectors ? flash_.sectorCount() : kMaxSectors;
+  if (state_->sectors < 2) return Status::InvalidArgument;
+  state_->active = state_->sectors;
+  state_->generation = 0;
+  for (uint32_t s = 0; s < state_->sectors; ++s) {
     uint32_t gen = 0;
     if (headerGeneration(s, gen)) {
-      state_[s] = SectorState::Dirty;
-      if (gen > generation_) {
-        generation_ = gen;
-        active_ = s;
+      state_->sector[s] = SectorState::Dirty;
+      if (gen > state_->generation) {
+        state_->generation = gen;
+        state_->active = s;
       }
     } else {
-      state_[s] = sectorErased(s) ? SectorState::Erased : SectorState::Dirty;
+      state_->sector[s] = erased(at(s, 0), kSector) ? SectorState::Erased : SectorState::Dirty;
     }
   }
-  for (Entry& e : index_)
+  for (Entry& e : state_->index)
     e = Entry{};
-  nextSeq_ = 1;
-  free_ = kSector;
-  if (active_ < sectors_) {
-    state_[active_] = SectorState::Active;
+  state_->nextSeq = 1;
+  state_->free = kSector;
+  if (state_->active < state_->sectors) {
+    state_->sector[state_->active] = SectorState::Active;
     scanActive();
   }
-  restored_ = true;
+  state_->restored = true;
   return Status::Ok;
 }
 
@@ -146,34 +141,32 @@ Status RecordStore::restore() {
 // header slot. A record without a valid commit word is skipped by its length.
 void RecordStore::scanActive() {
   uint32_t off = kWord;
-  free_ = kSector;
+  state_->free = kSector;
   while (off + kWord <= kSector) {
-    const uint8_t* w = at(active_, off);
-    if (erased(w)) {
-      for (uint32_t rest = off; rest < kSector; rest += kWord)
-        if (!erased(at(active_, rest))) return;
-      free_ = off;
+    const uint8_t* w = at(state_->active, off);
+    if (erased(w, kWord)) {
+      if (erased(w, kSector - off)) state_->free = off;
       return;
     }
     Header h{};
     if (!decodeHeader(w, h)) return;
     const uint32_t words = recordWords(h.length);
     if (off + words * kWord > kSector) return;
-    if (h.seq >= nextSeq_) nextSeq_ = h.seq + 1;
-    const uint8_t* commit = at(active_, off + (words - 1) * kWord);
-    if (commitMatches(commit, recordCrc(w, w + kWord, h.length)) && h.seq > index_[h.type].seq)
-      index_[h.type] = Entry{static_cast<uint16_t>(off), h.length, h.seq};
+    if (h.seq >= state_->nextSeq) state_->nextSeq = h.seq + 1;
+    const uint8_t* commit = at(state_->active, off + (words - 1) * kWord);
+    if (commitMatches(commit, recordCrc(w, w + kWord, h.length)) && h.seq > state_->index[h.type].seq)
+      state_->index[h.type] = Entry{static_cast<uint16_t>(off), h.length, h.seq};
     off += words * kWord;
   }
 }
 
 Status RecordStore::read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const {
-  if (!restored_) return Status::NotReady;
+  if (!state_->restored) return Status::NotReady;
   if (type >= kTypes) return Status::InvalidArgument;
-  const Entry& e = index_[type];
+  const Entry& e = state_->index[type];
   if (e.seq == 0) return Status::NoResponse;
   if (out.size() < e.length) return Status::InvalidArgument;
-  std::memcpy(out.data(), at(active_, e.offset + kWord), e.length);
+  std::memcpy(out.data(), at(state_->active, e.offset + kWord), e.length);
   length = e.length;
   return Status::Ok;
 }
@@ -186,63 +179,61 @@ Status RecordStore::programWord(uint32_t sector, uint32_t offset, const uint8_t*
 // ring, then writes that sector's header. A cut before the header leaves the old sector active and the new
 // one Dirty (erased before its next use), so nothing is lost.
 Status RecordStore::compact(uint32_t& target) {
-  target = active_ < sectors_ ? (active_ + 1) % sectors_ : 0;
-  if (active_ >= sectors_) {
-    for (uint32_t i = 0; i < sectors_ && state_[target] != SectorState::Erased; ++i)
-      target = (target + 1) % sectors_;
+  target = state_->active < state_->sectors ? (state_->active + 1) % state_->sectors : 0;
+  if (state_->active >= state_->sectors) {
+    for (uint32_t i = 0; i < state_->sectors && state_->sector[target] != SectorState::Erased; ++i)
+      target = (target + 1) % state_->sectors;
   }
-  if (state_[target] != SectorState::Erased) return Status::Busy;
-  state_[target] = SectorState::Dirty;  // until its header is written
+  if (state_->sector[target] != SectorState::Erased) return Status::Busy;
+  state_->sector[target] = SectorState::Dirty;  // until its header is written
   uint32_t off = kWord;
   Entry moved[kTypes]{};
   for (uint8_t t = 0; t < kTypes; ++t) {
-    const Entry& e = index_[t];
+    const Entry& e = state_->index[t];
     if (e.seq == 0) continue;
     const uint32_t words = recordWords(e.length);
     for (uint32_t i = 0; i < words; ++i) {
-      uint8_t word[kWord];
-      std::memcpy(word, at(active_, e.offset + i * kWord), kWord);
-      const Status s = programWord(target, off + i * kWord, word);
+      const Status s = programWord(target, off + i * kWord, at(state_->active, e.offset + i * kWord));
       if (s != Status::Ok) return s;
     }
     moved[t] = Entry{static_cast<uint16_t>(off), e.length, e.seq};
     off += words * kWord;
   }
-  const uint32_t gen = (generation_ + 1) & kGenerationMask;
+  const uint32_t gen = (state_->generation + 1) & kGenerationMask;
   uint8_t header[kWord] = {kSectorMagic0, kSectorMagic1};
   store24(header + 2, gen);
   store24(header + 5, ~gen & kGenerationMask);
   const Status s = programWord(target, 0, header);
   if (s != Status::Ok) return s;
-  if (active_ < sectors_) state_[active_] = SectorState::Dirty;
-  state_[target] = SectorState::Active;
-  active_ = target;
-  generation_ = gen;
-  free_ = off;
+  if (state_->active < state_->sectors) state_->sector[state_->active] = SectorState::Dirty;
+  state_->sector[target] = SectorState::Active;
+  state_->active = target;
+  state_->generation = gen;
+  state_->free = off;
   for (uint8_t t = 0; t < kTypes; ++t)
-    index_[t] = moved[t];
+    state_->index[t] = moved[t];
   return Status::Ok;
 }
 
 Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
   const uint32_t length = static_cast<uint32_t>(payload.size());
   const uint32_t words = recordWords(length);
-  const uint32_t start = free_;
+  const uint32_t start = state_->free;
   uint8_t header[kWord];
-  encodeHeader(header, Header{type, static_cast<uint8_t>(length), nextSeq_});
-  Status s = programWord(active_, start, header);
-  uint16_t crc = crc::crc16(header, kWord);
+  encodeHeader(header, Header{type, static_cast<uint8_t>(length), state_->nextSeq});
+  Status s = programWord(state_->active, start, header);
+  uint16_t crc = crc::crc16Compact(header, kWord);
   for (uint32_t i = 0; s == Status::Ok && i + 2 < words; ++i) {
     uint8_t word[kWord] = {};  // padding 0x00
     const uint32_t n = length - i * kWord < kWord ? length - i * kWord : kWord;
     std::memcpy(word, payload.data() + i * kWord, n);
-    crc = crc::crc16(word, kWord, crc);
-    s = programWord(active_, start + (i + 1) * kWord, word);
+    crc = crc::crc16Compact(word, kWord, crc);
+    s = programWord(state_->active, start + (i + 1) * kWord, word);
   }
   if (s == Status::Ok) {
     uint8_t commit[kWord];
     encodeCommit(commit, crc);
-    s = programWord(active_, start + (words - 1) * kWord, commit);
+    s = programWord(state_->active, start + (words - 1) * kWord, commit);
   }
   if (s != Status::Ok) {
     // Where the next record goes is whatever a restore would find now: a header slot the failed program
@@ -252,17 +243,17 @@ Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
     scanActive();
     return s;
   }
-  free_ = start + words * kWord;
-  index_[type] = Entry{static_cast<uint16_t>(start), static_cast<uint8_t>(length), nextSeq_};
-  ++nextSeq_;
+  state_->free = start + words * kWord;
+  state_->index[type] = Entry{static_cast<uint16_t>(start), static_cast<uint8_t>(length), state_->nextSeq};
+  ++state_->nextSeq;
   return Status::Ok;
 }
 
 Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
-  if (!restored_) return Status::NotReady;
+  if (!state_->restored) return Status::NotReady;
   if (type >= kTypes || payload.size() > kMaxPayload) return Status::InvalidArgument;
   const uint32_t need = recordWords(static_cast<uint32_t>(payload.size())) * kWord;
-  if (active_ >= sectors_ || free_ + need > kSector) {
+  if (state_->active >= state_->sectors || state_->free + need > kSector) {
     uint32_t target = 0;
     const Status s = compact(target);
     if (s != Status::Ok) return s;
@@ -271,21 +262,21 @@ Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
 }
 
 bool RecordStore::needsErase() const {
-  for (uint32_t s = 0; s < sectors_; ++s)
-    if (state_[s] == SectorState::Dirty) return true;
+  for (uint32_t s = 0; s < state_->sectors; ++s)
+    if (state_->sector[s] == SectorState::Dirty) return true;
   return false;
 }
 
 // Erases the first Dirty sector after the active one in ring order: the ring order is the order in which
 // compaction will need them, and it spreads the erases evenly.
 Status RecordStore::eraseStep() {
-  if (!restored_) return Status::NotReady;
-  const uint32_t first = active_ < sectors_ ? active_ + 1 : 0;
-  for (uint32_t i = 0; i < sectors_; ++i) {
-    const uint32_t s = (first + i) % sectors_;
-    if (state_[s] != SectorState::Dirty) continue;
+  if (!state_->restored) return Status::NotReady;
+  const uint32_t first = state_->active < state_->sectors ? state_->active + 1 : 0;
+  for (uint32_t i = 0; i < state_->sectors; ++i) {
+    const uint32_t s = (first + i) % state_->sectors;
+    if (state_->sector[s] != SectorState::Dirty) continue;
     const Status st = flash_.erase(s);
-    if (st == Status::Ok) state_[s] = SectorState::Erased;
+    if (st == Status::Ok) state_->sector[s] = SectorState::Erased;
     return st;
   }
   return Status::Busy;

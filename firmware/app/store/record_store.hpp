@@ -33,6 +33,7 @@
 #include <span>
 
 #include "core/status.hpp"
+#include "core/zeroed.hpp"
 #include "hal/flash.hpp"
 
 namespace fw::app::store {
@@ -47,8 +48,9 @@ class RecordStore {
   // Words of a record: its header, the payload, the commit word.
   static constexpr uint32_t recordWords(uint32_t length) { return 2 + (length + kWord - 1) / kWord; }
 
-  // constexpr: an image keeps the store in a constinit global (no start-up constructors on the MSPM0).
-  constexpr explicit RecordStore(hal::FlashStorage& flash) : flash_(flash) {}
+  // The state is a Zeroed block (core/zeroed.hpp): restore() sets all of it, and until then it is all zero
+  // (not restored), at no constructor code on the images.
+  explicit RecordStore(hal::FlashStorage& flash) : flash_(flash) {}
 
   [[nodiscard]] Status restore();
   [[nodiscard]] Status read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const;
@@ -58,8 +60,8 @@ class RecordStore {
 
   // For tests and diagnostics: the active sector (sectorCount() when none) and the sequence number of the
   // newest record of `type` (0 when none).
-  uint32_t activeSector() const { return active_; }
-  uint32_t sequence(uint8_t type) const { return type < kTypes ? index_[type].seq : 0; }
+  uint32_t activeSector() const { return state_->active; }
+  uint32_t sequence(uint8_t type) const { return type < kTypes ? state_->index[type].seq : 0; }
 
  private:
   enum class SectorState : uint8_t { Erased, Active, Dirty };
@@ -69,7 +71,6 @@ class RecordStore {
     uint32_t seq;
   };
 
-  bool sectorErased(uint32_t sector) const;
   bool headerGeneration(uint32_t sector, uint32_t& generation) const;
   void scanActive();
   Status programWord(uint32_t sector, uint32_t offset, const uint8_t* word);
@@ -77,15 +78,19 @@ class RecordStore {
   Status append(uint8_t type, std::span<const uint8_t> payload);
   const uint8_t* at(uint32_t sector, uint32_t offset) const;
 
+  struct State {
+    bool restored;
+    uint32_t sectors;
+    uint32_t active;      // == sectors when no sector holds records yet
+    uint32_t generation;  // of the active sector
+    uint32_t free;        // offset of the first free word in the active sector
+    uint32_t nextSeq;
+    SectorState sector[kMaxSectors];
+    Entry index[kTypes];
+  };
+
   hal::FlashStorage& flash_;
-  bool restored_ = false;
-  uint32_t sectors_ = 0;
-  uint32_t active_ = 0;      // == sectors_ when no sector holds records yet
-  uint32_t generation_ = 0;  // of the active sector
-  uint32_t free_ = 0;        // offset of the first free word in the active sector
-  uint32_t nextSeq_ = 1;
-  SectorState state_[kMaxSectors]{};
-  Entry index_[kTypes]{};
+  Zeroed<State> state_;
 };
 
 // A full compaction (every type at its largest) plus the sector header and one more record always fits.

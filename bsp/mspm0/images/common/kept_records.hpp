@@ -1,4 +1,4 @@
-// Start-up of a G3507 image's records kept in flash (app/store/persistence.hpp): restores them, writes the
+// Start-up of an image's records kept in flash (app/store/persistence.hpp): restores them, writes the
 // fault record of this reset, announces the Startup message with what was restored, and hooks the store to
 // the application's protection and command tasks. Call once from appInit(), before app.start(), instead of
 // announcing the Startup message alone.

@@ -4,11 +4,16 @@
 // whole application, as the G3507 images run it.
 #include <string_view>
 
+#include "app/config.hpp"
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#if FW_RECORD_STORE
+#include "common/kept_records.hpp"
+#else
 #include "common/startup_info.hpp"
+#endif
 #include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
 
@@ -31,7 +36,13 @@ const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
                                        fw::drivers::bq769x2::kBq76907);
-  // Startup message: the reset cause the board read, version, fault record
+  // Startup message: the reset cause the board read, version, fault record. With the record store
+  // (FW_RECORD_STORE, off in options.cmake until it fits): the records kept in flash restored first, this
+  // reset's fault record written, the protection-log entries announced too.
+#if FW_RECORD_STORE
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
+#else
   app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+#endif
   app.start();
 }

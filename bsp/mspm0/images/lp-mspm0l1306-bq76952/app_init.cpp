@@ -8,11 +8,16 @@
 // first request.
 #include <string_view>
 
+#include "app/config.hpp"
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
 #include "common/construct_once.hpp"
+#if FW_RECORD_STORE
+#include "common/kept_records.hpp"
+#else
 #include "common/startup_info.hpp"
+#endif
 #include "gpio.hpp"
 #include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
@@ -41,7 +46,13 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, config);
-  // Startup message: the reset cause the board read, version, fault record
+  // Startup message: the reset cause the board read, version, fault record. With the record store
+  // (FW_RECORD_STORE, off in options.cmake until it fits): the records kept in flash restored first, this
+  // reset's fault record written, the protection-log entries announced too.
+#if FW_RECORD_STORE
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
+#else
   app.announceStartup(image::startupInfo(board.system.identity().resetCause));
+#endif
   app.start();
 }
