@@ -198,6 +198,31 @@ TEST(BalancingPolicy, EpisodeStartsAtTheStartDeltaAndEndsAtTheStopDelta) {
   EXPECT_EQ(p.want[0], 0);
 }
 
+// A hold (here the charge stopping, then the rest time) pauses an episode and does not end it: the imbalance
+// scenario on the BQ76907 image ended its charge with the spread at 18 mV, and the policy, which had ended
+// the episode there, never started another (18 < the 20 mV start delta), leaving the pack 18 mV apart.
+TEST(BalancingPolicy, AnEpisodeGoesOnAfterAHold) {
+  Policy pol;
+  Pack p;
+  p.view.currentMa = 2000;
+  p.boards[0].cellMv[5] = 3930;  // 30 mV: an episode starts
+  p.scan(pol);
+  EXPECT_EQ(p.want[0], 1u << 5);
+  p.boards[0].cellMv[5] = 3918;  // balanced down to 18 mV while charging, then the charge stops
+  p.view.currentMa = 0;
+  p.scan(pol);
+  EXPECT_EQ(p.want[0], 0);
+  EXPECT_EQ(pol.state(), BalancingState::NotResting);
+  p.scan(pol, 60000);  // the rest time
+  p.scan(pol);
+  EXPECT_EQ(pol.state(), BalancingState::Balancing);
+  EXPECT_EQ(p.want[0], 1u << 5) << "18 mV above the lowest cell, inside the episode: balances on at rest";
+  p.boards[0].cellMv[5] = 3910;
+  p.scan(pol, 3000);
+  EXPECT_EQ(p.want[0], 0);
+  EXPECT_EQ(pol.state(), BalancingState::Balanced) << "the stop delta ends it";
+}
+
 TEST(BalancingPolicy, CellHysteresisAndDwellKeepItFromChattering) {
   Policy pol;
   Pack p;

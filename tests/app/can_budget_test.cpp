@@ -261,4 +261,74 @@ TEST(CanBudget, ASummaryLostToABusOffLeavesACounterGap) {
   }
 }
 
+// The scheduler never preempts a run, so a publisher run that queued a whole cycle (8 frames, about 0.5 ms
+// of CPU on the G3507) held up every higher task made ready meanwhile: on the twin the FET-off command's
+// echo poll waited for it (ALERT to the command complete 1 935 us, budget 2 000). A run queues one frame:
+// here the bus makes a higher task ready with every frame it takes, and that task runs before the next one.
+class Urgent final : public fw::sched::Task {
+ public:
+  static constexpr fw::sched::TaskId kId = 2;
+  explicit Urgent(fw::sched::Scheduler& s) : scheduler_(s) { s.addTask(kId, *this); }
+  void run(fw::sched::EventMask) override { ++runs; }
+  void post() { scheduler_.post(kId, 1); }
+  uint32_t runs = 0;
+
+ private:
+  fw::sched::Scheduler& scheduler_;
+};
+
+class BusThatWakesATask final : public fw::hal::CanBus {
+ public:
+  BusThatWakesATask(fw::hal::CanBus& bus, Urgent& urgent) : bus_(bus), urgent_(urgent) {}
+  // Frames the publisher queued while `urgent` was ready and had not run yet.
+  uint32_t queuedAhead = 0;
+  uint32_t accepted = 0;
+
+ private:
+  fw::Status doSend(const fw::hal::CanFrame& frame) override {
+    if (urgent_.runs != runsAtLastFrame_) pending_ = false;
+    if (pending_) ++queuedAhead;
+    const fw::Status s = bus_.send(frame);
+    if (s == fw::Status::Ok) {
+      ++accepted;
+      pending_ = true;
+      runsAtLastFrame_ = urgent_.runs;
+      urgent_.post();
+    }
+    return s;
+  }
+  bool doReceive(fw::hal::CanFrame& frame) override { return bus_.receive(frame); }
+  void doOnEvent(const fw::hal::Notify& notify) override { bus_.onEvent(notify); }
+  void doOnReceive(const fw::hal::Notify& notify) override { bus_.onReceive(notify); }
+  fw::hal::CanState doState() const override { return bus_.state(); }
+  fw::Status doRecover() override { return bus_.recover(); }
+  fw::hal::CanCounters doCounters() const override { return bus_.counters(); }
+
+  fw::hal::CanBus& bus_;
+  Urgent& urgent_;
+  bool pending_ = false;
+  uint32_t runsAtLastFrame_ = 0;
+};
+
+TEST(CanPublisher, AHigherTaskMadeReadyDuringACycleWaitsForOneFrameAtMost) {
+  bsp::host::Harness h;
+  bsp::host::SimCan can{h.clock, h.irq, bms::kBitrate, 8};
+  Urgent urgent{h.sched};
+  BusThatWakesATask bus{can, urgent};
+  std::vector<app::BoardSample> boards(4);
+  app::PackView view;
+  app::PublishStatus status;
+  app::FramePlan plan{view, status, fw::ms(300)};
+  view.boards = boards;
+  view.cellsPerBoard = 16;
+  view.tempsPerBoard = 2;
+  app::CanPublisher publisher(h.sched, 0, bus, plan, app::CanLayout::Native, fw::ms(100), 10);
+  publisher.start();
+  h.runFor(
+      fw::ms(1050));  // a slow cycle (1 s): 4 boards' cells and temperatures, more than the 8-frame queue
+  EXPECT_GT(bus.accepted, 30u);
+  EXPECT_EQ(bus.queuedAhead, 0u) << "frames queued by one run while a higher task waited";
+  EXPECT_EQ(urgent.runs, bus.accepted);
+}
+
 }  // namespace

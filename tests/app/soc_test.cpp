@@ -58,13 +58,15 @@ TEST(AccumulatedCharge, StepsAcrossTheCountersWrap) {
   // BQ769x2: 2^31 - 1 userAh to -2^31 + 9 is +10 userAh.
   const ChargeCount a{static_cast<int64_t>(0x7FFFFFFFULL << 32), 100000};
   const ChargeCount b{static_cast<int64_t>(0x80000009ULL << 32), 101000};
-  const ChargeStep s = chargeStep(CounterFamily::Bq769x2, 10, a, b, fw::ms(1000));
+  const ChargeStep s =
+      chargeStep(CounterFamily::Bq769x2, uahQ32PerCount(CounterFamily::Bq769x2, 10), a, b, fw::ms(1000));
   EXPECT_FALSE(s.restarted);
   EXPECT_EQ(s.uahQ32, (int64_t{10} << 32) * 1000) << "10 mAh in uAh x 2^32";
   // BQ7690x: 2^47 - 1 userA-s to -2^47 + 35 is +36 userA-s = 10 uAh at 1 mA.
   const ChargeCount c{(int64_t{1} << 47) - 1, 4000};
   const ChargeCount d{-(int64_t{1} << 47) + 35, 8000};
-  const ChargeStep t = chargeStep(CounterFamily::Bq7690x, 10, c, d, fw::ms(4000));
+  const ChargeStep t =
+      chargeStep(CounterFamily::Bq7690x, uahQ32PerCount(CounterFamily::Bq7690x, 10), c, d, fw::ms(4000));
   EXPECT_FALSE(t.restarted);
   EXPECT_EQ(t.uahQ32 >> 32, 9) << "36 mA-s is 10 uAh, rounded down by the fixed point";
   EXPECT_NEAR(static_cast<double>(t.uahQ32) / 4294967296.0, 10.0, 1e-6);
@@ -74,16 +76,17 @@ TEST(AccumulatedCharge, ACounterWhoseTimeDidNotFollowTheMcusRestartedAndCountsFr
   // Device time 1000 s, then 3 s: a reset in between; the charge since is the reading less half a userAh.
   const ChargeCount before = count769x2(500, 1000);
   const ChargeCount after = count769x2(-4, 3);
-  const ChargeStep s = chargeStep(CounterFamily::Bq769x2, 10, before, after, fw::ms(5000));
+  const ChargeStep s = chargeStep(CounterFamily::Bq769x2, uahQ32PerCount(CounterFamily::Bq769x2, 10), before,
+                                  after, fw::ms(5000));
   EXPECT_TRUE(s.restarted);
   EXPECT_EQ(s.uahQ32, -(int64_t{4} << 32) * 1000);
   // An outage longer than the device had been up: its time moved less than the MCU's clock.
-  const ChargeStep t =
-      chargeStep(CounterFamily::Bq769x2, 10, count769x2(0, 5), count769x2(1, 30), fw::ms(60000));
+  const ChargeStep t = chargeStep(CounterFamily::Bq769x2, uahQ32PerCount(CounterFamily::Bq769x2, 10),
+                                  count769x2(0, 5), count769x2(1, 30), fw::ms(60000));
   EXPECT_TRUE(t.restarted);
   // A counter that kept counting through an outage is no restart.
-  const ChargeStep u =
-      chargeStep(CounterFamily::Bq769x2, 10, count769x2(0, 5), count769x2(-7, 65), fw::ms(60000));
+  const ChargeStep u = chargeStep(CounterFamily::Bq769x2, uahQ32PerCount(CounterFamily::Bq769x2, 10),
+                                  count769x2(0, 5), count769x2(-7, 65), fw::ms(60000));
   EXPECT_FALSE(u.restarted);
   EXPECT_EQ(u.uahQ32, -(int64_t{7} << 32) * 1000);
 }

@@ -67,11 +67,13 @@ def check_soc_published(image, frames, where):
     """The StateOfCharge message as each image can know it: never on the BQ79616 image (no current input) nor
     the L1306 images (built out, FW_SOC=0); 0..1000 with capacities and a basis or wholly not available on
     the others; and whenever known, PackSummary.StateOfCharge of the same cycle is its whole % (+-1 for a
-    scan in between). Returns the (time, soc, remaining, full, basis) of the known ones."""
-    known, summary = [], None
+    scan in between). A scan in between can also make it known where the summary had none: the summary then
+    said its data were not valid (DataValid 0: stale, or a failed scan), or the state of charge was not known
+    yet (the run's first known one). Returns the (time, soc, remaining, full, basis) of the known ones."""
+    known, summary, summary_valid = [], None, False
     for t, ident, d in frames:
         if ident == 0x100:
-            summary = d[4]
+            summary, summary_valid = d[4], (d[7] & 0x80) != 0
         if ident != STATE_OF_CHARGE:
             continue
         soc, remaining, full, basis = soc_fields(d)
@@ -85,7 +87,8 @@ def check_soc_published(image, frames, where):
             fail(f"{where}: StateOfCharge at {t:.3f} ms: soc {soc}, {remaining}/{full} mAh, basis {basis}")
         if (basis == 5) != IMAGES[image].gauge_soc:
             fail(f"{where}: StateOfCharge at {t:.3f} ms has basis {basis} on {image}")
-        if summary is None or summary == 255 or abs(summary - (soc + 5) // 10) > 1:
+        scan_between = summary == 255 and (not summary_valid or not known)
+        if not scan_between and (summary is None or summary == 255 or abs(summary - (soc + 5) // 10) > 1):
             fail(f"{where}: StateOfCharge at {t:.3f} ms is {soc / 10} %, PackSummary's {summary}")
         known.append((t, soc, remaining, full, basis))
     return known

@@ -66,10 +66,12 @@ void BalancingPolicy::decide(const PackView& view, FaultMask faults, Instant now
   const uint16_t boards = view.boardCount();
   const BalancingState why = blocked(view, faults);
   st.state = why;
-  // Held back: nothing balances (an Auto episode ends). Forced: the forced board's mask, nothing elsewhere.
+  // Held back: nothing balances. An Auto episode goes on after the hold (README: it ends at the stop delta
+  // only): a charge that stops and the rest that follows would otherwise end it with the spread anywhere
+  // between the two thresholds, too small to start a new one. Forced: the forced board's mask, nothing
+  // elsewhere.
   const bool held = why != BalancingState::Balancing;
   if (held || mode() == BalancingMode::Forced) {
-    if (held) st.episode = false;
     const uint16_t mask = held ? 0 : st.forcedMask;
     for (uint16_t b = 0; b < boards; ++b)
       want[b] = b == st.forcedBoard ? mask : 0;

@@ -40,13 +40,16 @@ void CanPublisher::run(sched::EventMask events) {
 }
 
 inline void CanPublisher::pump(Instant now) {
-  if (!sendAnswers()) return;
+  uint8_t budget = kFramesPerRun;
+  if (!sendAnswers(budget)) return;
   hal::CanFrame frame;
   while (plan_.build(now, frame)) {
+    if (yieldFor(budget)) return;
     const Status s = can_.send(frame);
     if (s == Status::Ok) {
       ++state_->stats.frames;
       plan_.advance();
+      --budget;
       continue;
     }
     if (s == Status::Overflow) {
@@ -61,9 +64,11 @@ inline void CanPublisher::pump(Instant now) {
 
 // The waiting answers into the controller's queue; when the last has gone the outbox is the command task's
 // again. An answer the controller cannot take for good (bus-off) is dropped with the rest of its set.
-inline bool CanPublisher::sendAnswers() {
+inline bool CanPublisher::sendAnswers(uint8_t& budget) {
   CanOutbox& box = state_->outbox;
   while (box.count != 0) {
+    if (yieldFor(budget)) return false;
+    --budget;
     const Status s = can_.send(box.frames[box.next]);
     if (s == Status::Overflow) {
       ++state_->stats.refused;

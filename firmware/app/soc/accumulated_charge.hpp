@@ -82,12 +82,13 @@ static_assert(uahQ32PerCount(CounterFamily::Bq7690x, 10) == ((1000LL << 32) + 18
 inline constexpr uint32_t kRestartSlackMs = 2000;
 
 // The charge (uAh x 2^32, positive = charged) between two readings taken `mcuElapsed` apart on the MCU's
-// clock; `restarted` tells whether the device's counter restarted in between.
+// clock; `restarted` tells whether the device's counter restarted in between. `perCountQ32` is
+// uahQ32PerCount(f, the current LSB), computed once by the caller (its long division is not per reading).
 struct ChargeStep {
   int64_t uahQ32 = 0;
   bool restarted = false;
 };
-constexpr ChargeStep chargeStep(CounterFamily f, int32_t lsbTenthMa, const ChargeCount& prev,
+constexpr ChargeStep chargeStep(CounterFamily f, int64_t perCountQ32, const ChargeCount& prev,
                                 const ChargeCount& now, Duration mcuElapsed) {
   const int32_t deviceMs = static_cast<int32_t>(now.timeMs - prev.timeMs);
   const uint32_t mcuMs = mcuElapsed.toMs();
@@ -95,7 +96,7 @@ constexpr ChargeStep chargeStep(CounterFamily f, int32_t lsbTenthMa, const Charg
       deviceMs < 0 || static_cast<uint32_t>(deviceMs) + kRestartSlackMs + mcuMs / 16 < mcuMs;
   const int64_t d =
       restarted ? countDelta(f, restartCount(f), now.count) : countDelta(f, prev.count, now.count);
-  return {d * uahQ32PerCount(f, lsbTenthMa), restarted};
+  return {d * perCountQ32, restarted};
 }
 
 }  // namespace fw::app

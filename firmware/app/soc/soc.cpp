@@ -4,10 +4,16 @@ namespace fw::app {
 
 namespace {
 
-constexpr int64_t kQ32 = int64_t{1} << 32;
+// uAh to uAh x 2^32. A pack file's capacity is at most 1 048 574 mAh (regmapgen pack), so a charge up to the
+// capacity in uAh, capacityMah x 1000, fits 32 bits and only the shift is 64-bit (the Cortex-M0+ has no
+// 64-bit multiply: __aeabi_lmul).
+constexpr int64_t toQ32(uint32_t uah) {
+  return static_cast<int64_t>(uint64_t{uah} << 32);
+}
+static_assert(1048574ULL * 1000 <= 0xFFFFFFFFULL);
 
 int64_t capacityQ32(const SocConfig& c) {
-  return static_cast<int64_t>(c.capacityMah) * 1000 * kQ32;
+  return toQ32(c.capacityMah * 1000U);
 }
 
 }  // namespace
@@ -27,7 +33,7 @@ OcvEstimate ocvEstimate(const SocConfig& c, int16_t cellMv) {
 
 void StateOfCharge::set(uint32_t permille, SocBasis basis) {
   // capacity x permille / 1000 in uAh is capacityMah x permille (no division), then x 2^32.
-  state_->chargeQ32 = static_cast<int64_t>(config_.capacityMah) * permille * kQ32;
+  state_->chargeQ32 = toQ32(config_.capacityMah * permille);
   state_->basis = basis;
 }
 
@@ -44,7 +50,7 @@ void StateOfCharge::update(const SocInputs& in) {
   // Count what the device counted since its last reading.
   if (in.counted) {
     if (s.haveLast) {
-      const ChargeStep step = chargeStep(family_, lsbTenthMa_, s.last, in.count, interval);
+      const ChargeStep step = chargeStep(family_, perCountQ32_, s.last, in.count, interval);
       if (step.restarted) ++s.restarts;
       if (known()) s.chargeQ32 += step.uahQ32;
     }

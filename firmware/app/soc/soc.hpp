@@ -51,7 +51,7 @@ OcvEstimate ocvEstimate(const SocConfig& c, int16_t cellMv);
 class StateOfCharge {
  public:
   StateOfCharge(const SocConfig& config, CounterFamily family, int32_t lsbTenthMa)
-      : config_(config), family_(family), lsbTenthMa_(lsbTenthMa) {}
+      : config_(config), perCountQ32_(uahQ32PerCount(family, lsbTenthMa)), family_(family) {}
 
   void update(const SocInputs& in);
   // A value kept across a reset (the record store's SOC record): taken unless a better one is already known.
@@ -79,8 +79,8 @@ class StateOfCharge {
     bool started;  // lastAt is a scan's time
   };
   const SocConfig& config_;
+  int64_t perCountQ32_;  // uAh x 2^32 per device count (uahQ32PerCount)
   CounterFamily family_;
-  int32_t lsbTenthMa_;
   Zeroed<State> state_;
 };
 
