@@ -124,7 +124,7 @@ Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
 
 Status Monitor::startBalance(uint16_t cells) {
   const bool adjacent = facts().cbAdjacent || allowAdjacent_;
-  if (!kBalance || (cells >> variant_.cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
+  if (!kBalance || (cells >> variant().cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->yield = false;

@@ -339,7 +339,8 @@ class Monitor {
   uint16_t balanced() const { return state_->cbRead; }  // CB_ACTIVE_CELLS as startBalanceCheck read it
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
-  const Variant& variant() const { return variant_; }
+  // The variant; in a BQ769x2-family build the constant its front end passes (facts()).
+  const Variant& variant() const { return kFamily == 1 ? kBq76952 : variant_; }
   static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
     if (c.firstPoll.us < v.firstPollUs) c.firstPoll = us(v.firstPollUs);
     return c;
