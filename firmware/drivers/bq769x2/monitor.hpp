@@ -409,6 +409,7 @@ class Monitor {
   Status readStatus();
   Status readFetEn();
   Status sendFet();
+  Status startScanFromTop();
   Status startScanRead();
   void publish();
   FetIntent nextIntent() const;
@@ -432,6 +433,7 @@ class Monitor {
     bool requestCharge;    // this scan asks for the accumulated charge ...
     bool readCharge;       // ... or reads what the previous one asked for
     bool chargeRequested;  // the last scan asked for it (kept between scans)
+    bool requesting;       // the charge request is the transaction in flight (at step 0, before block 0)
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
     std::span<const Setting> settings;
