@@ -315,7 +315,7 @@ class Monitor {
         allowAdjacent_(config.allowAdjacentBalancing),
         clock_(clock),
         variant_(variant),
-        link_(bus, context, linkConfig(config.link, variant)) {}
+        link_(bus, context, config.link, us(variant.firstPollUs)) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
 
@@ -341,10 +341,6 @@ class Monitor {
   const LinkStats& stats() const { return link_.stats(); }
   // The variant; in a BQ769x2-family build the constant its front end passes (facts()).
   const Variant& variant() const { return kFamily == 1 ? kBq76952 : variant_; }
-  static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
-    if (c.firstPoll.us < v.firstPollUs) c.firstPoll = us(v.firstPollUs);
-    return c;
-  }
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
