@@ -86,9 +86,11 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* ch
   state_->charge = charge;
   // The charge alternates between scans: one writes the request, the next reads its result (the request is
   // long done by then), so no scan carries both (the BQ76952 scan's budget of 6 transactions).
-  state_->readCharge = kCharge && askCharge && state_->chargeRequested;
-  state_->requestCharge = kCharge && askCharge && !state_->chargeRequested;
-  state_->chargeRequested = false;
+  if constexpr (kCharge) {
+    state_->readCharge = askCharge && state_->chargeRequested;
+    state_->requestCharge = askCharge && !state_->chargeRequested;
+    state_->chargeRequested = false;
+  }
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
@@ -277,7 +279,7 @@ inline void Monitor::scanStep(Status r) {
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  if (state_->readCharge) {
+  if (kCharge && state_->readCharge) {
     // The charge the previous scan asked for, no earlier than the variant's wait after the request.
     state_->step = kScanCharge;
     const Duration since = elapsed(state_->chargeAsked, clock_.now());
