@@ -129,9 +129,13 @@ struct LinkStats {
 
 class Link {
  public:
-  // Inline: an image constructs it once, and the constructor is then stores only.
-  Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config)
-      : cfg_(config), bus_(bus), ctx_(context) {}
+  // Inline: an image constructs it once, and the constructor is then stores only. `firstPollAtLeast`: the
+  // device's own lower bound of LinkConfig::firstPoll (the monitor's variant).
+  Link(hal::I2cBus& bus, const DriverContext& context, const LinkConfig& config,
+       Duration firstPollAtLeast = {})
+      : cfg_(config), bus_(bus), ctx_(context) {
+    if (cfg_.firstPoll < firstPollAtLeast) cfg_.firstPoll = firstPollAtLeast;
+  }
   Link(const Link&) = delete;
   Link& operator=(const Link&) = delete;
 

@@ -72,12 +72,11 @@ Status Monitor::startConfigure(std::span<const Setting> settings) {
   return begin(Op::Configure, nextSetting(false));
 }
 
-// Scan steps: the charge request (every other scan), the variant's blocks (0..3), the charge read (the scans
-// between), the Alarm Status clear.
+// Scan steps: the variant's blocks (0..3; every other scan writes the charge request first, at step 0:
+// State::requesting), the charge read (the scans between), the Alarm Status clear.
 constexpr uint8_t kScanBlocks = sizeof(Variant::blocks) / sizeof(ScanBlock);
 constexpr uint8_t kScanCharge = kScanBlocks;
 constexpr uint8_t kScanClear = kScanBlocks + 1;
-constexpr uint8_t kScanRequest = kScanBlocks + 2;
 
 Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* charge, bool askCharge) {
   if (busy()) return Status::Busy;
@@ -87,22 +86,28 @@ Status Monitor::startScan(Instant* measurement, uint8_t bytes, ChargeCounter* ch
   state_->charge = charge;
   // The charge alternates between scans: one writes the request, the next reads its result (the request is
   // long done by then), so no scan carries both (the BQ76952 scan's budget of 6 transactions).
-  state_->readCharge = kCharge && askCharge && state_->chargeRequested;
-  state_->requestCharge = kCharge && askCharge && !state_->chargeRequested;
-  state_->chargeRequested = false;
-  state_->bytes = 0;
-  state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
-  state_->index = 0;
+  if constexpr (kCharge) {
+    state_->readCharge = askCharge && state_->chargeRequested;
+    state_->requestCharge = askCharge && !state_->chargeRequested;
+    state_->chargeRequested = false;
+  }
   state_->restarted = false;
   state_->yield = false;
   state_->scanRetries = link_.stats().retries;
-  if (state_->requestCharge) {
-    const Status s = begin(Op::Scan, link_.startSubcommand(facts().chargeCode, false));
-    state_->step = kScanRequest;
-    state_->chargeAsked = clock_.now();
-    return s;
-  }
-  return begin(Op::Scan, startScanRead());
+  return begin(Op::Scan, startScanFromTop());
+}
+
+// The scan's first transaction, also when it starts over: the charge request when this scan makes one (the
+// first block's read follows it), else the first block's read.
+Status Monitor::startScanFromTop() {
+  state_->bytes = 0;
+  state_->step = 0;  // startScanRead() reads it (begin() sets it too, after the start)
+  state_->index = 0;
+  state_->requesting = kCharge && state_->requestCharge;
+  if (!state_->requesting) return startScanRead();
+  const Status s = link_.startSubcommand(facts().chargeCode, false);
+  state_->chargeAsked = clock_.now();
+  return s;
 }
 
 Status Monitor::startFet(FetCommand command) {
@@ -124,7 +129,7 @@ Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
 
 Status Monitor::startBalance(uint16_t cells) {
   const bool adjacent = facts().cbAdjacent || allowAdjacent_;
-  if (!kBalance || (cells >> variant_.cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
+  if (!kBalance || (cells >> variant().cells) != 0 || (!adjacent && (cells & (cells >> 1)) != 0))
     return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->yield = false;
@@ -251,10 +256,9 @@ inline void Monitor::scanStep(Status r) {
   if (state_->step == kScanClear) return publish();
   if (state_->yield) return finish(Status::Aborted);  // a read never stops half-way: it ends on a boundary
   const Variant& v = facts();
-  if (state_->step == kScanRequest) {
+  if (kCharge && state_->requesting) {
+    state_->requesting = false;
     state_->chargeRequested = true;  // the next scan reads it
-    state_->step = 0;
-    state_->index = 0;
     return next(startScanRead());
   }
   if (state_->step == kScanCharge) return scanEnd();
@@ -269,21 +273,13 @@ inline void Monitor::scanStep(Status r) {
     // A read of this scan had to be repeated: the device may have reset or the bus glitched between
     // reads, so the snapshot is taken again from its first read (once), the charge asked for again.
     state_->restarted = true;
-    state_->bytes = 0;
-    if (state_->requestCharge) {
-      state_->step = kScanRequest;
-      state_->chargeAsked = clock_.now();
-      return next(link_.startSubcommand(v.chargeCode, false));
-    }
-    state_->step = 0;
-    state_->index = 0;
-    return next(startScanRead());
+    return next(startScanFromTop());
   }
   const uint8_t* raw = link_.scratch();
   for (uint8_t i = 0; i < v.checkCount; ++i) {
     if ((raw[v.checks[i].offset] & v.checks[i].mask) != 0) return finish(Status::Implausible);
   }
-  if (state_->readCharge) {
+  if (kCharge && state_->readCharge) {
     // The charge the previous scan asked for, no earlier than the variant's wait after the request.
     state_->step = kScanCharge;
     const Duration since = elapsed(state_->chargeAsked, clock_.now());

@@ -315,7 +315,7 @@ class Monitor {
         allowAdjacent_(config.allowAdjacentBalancing),
         clock_(clock),
         variant_(variant),
-        link_(bus, context, linkConfig(config.link, variant)) {}
+        link_(bus, context, config.link, us(variant.firstPollUs)) {}
   Monitor(const Monitor&) = delete;
   Monitor& operator=(const Monitor&) = delete;
 
@@ -339,11 +339,8 @@ class Monitor {
   uint16_t balanced() const { return state_->cbRead; }  // CB_ACTIVE_CELLS as startBalanceCheck read it
   Link& link() { return link_; }
   const LinkStats& stats() const { return link_.stats(); }
-  const Variant& variant() const { return variant_; }
-  static constexpr LinkConfig linkConfig(LinkConfig c, const Variant& v) {
-    if (c.firstPoll.us < v.firstPollUs) c.firstPoll = us(v.firstPollUs);
-    return c;
-  }
+  // The variant; in a BQ769x2-family build the constant its front end passes (facts()).
+  const Variant& variant() const { return kFamily == 1 ? kBq76952 : variant_; }
 
  protected:
   // `measurement`: a record that is the time stamp followed by `bytes` bytes of registers; `charge`: where
@@ -408,6 +405,7 @@ class Monitor {
   Status readStatus();
   Status readFetEn();
   Status sendFet();
+  Status startScanFromTop();
   Status startScanRead();
   void publish();
   FetIntent nextIntent() const;
@@ -431,6 +429,7 @@ class Monitor {
     bool requestCharge;    // this scan asks for the accumulated charge ...
     bool readCharge;       // ... or reads what the previous one asked for
     bool chargeRequested;  // the last scan asked for it (kept between scans)
+    bool requesting;       // the charge request is the transaction in flight (at step 0, before block 0)
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
     std::span<const Setting> settings;
