@@ -180,6 +180,14 @@
 //                     verdict is our bound, 40 times that and more than HFXTTIME's longest (255 x 64 us); a
 //                     poll is reads of CLKSTATUS no more than 1 ms apart. Only a board without a crystal
 //                     (Sysctl::removeCrystal, bms-sim --no-crystal) can reach it
+//   TIMER-COMPARE-UNSEEN (warns) a TIMG compare register the firmware wrote (CC0/CC1) reaches its value 3
+//                     times on a counter whose CPU interrupt serves other events (IMASK not 0) without its
+//                     own CCUn/CCDn bit ever set in IMASK at those times: the event the firmware set up
+//                     reaches nothing (the twin models no event route or CCP output for it), so code waiting
+//                     for it (a half-period count, an alarm) never runs (hw_gptimer.h CPU_INT IMASK
+//                     CCU0/CCU1; SLAU846B / SLAU847D TIMx interrupts: an event reaches the CPU only through
+//                     its IMASK bit). A compare written and never used is not wrong by TI's text: the safe
+//                     side, a warning
 #pragma once
 
 #include <cstdint>
@@ -227,6 +235,7 @@ enum class Rule : uint8_t {
   FaultOutReleased,
   McanFilterOpen,
   HfxtWaitUnbounded,
+  TimerCompareUnseen,
 };
 
 struct RuleInfo {
