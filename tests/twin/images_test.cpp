@@ -1165,3 +1165,22 @@ TEST(BrokenImage, AnHfxtWaitWithoutABoundIsStoppedWhenTheCrystalIsMissing) {
   EXPECT_RULE(stop, "HFXT-WAIT-UNBOUNDED");
   EXPECT_NE(stop.find("HFCLKOFF"), std::string::npos) << stop;
 }
+
+TEST(BrokenImage, AClockCompareLeftMaskedIsNamedByTheCompareRule) {
+  // TimgClock's IMASK written with LOAD only, CCU1 left out (the mutation run's timg-clock-no-ccu1): CC1 is
+  // still set to the half period, its event comes every wrap and reaches nothing, so the widened clock counts
+  // one half per wrap instead of two and jumps back. Named (a warning) at the third wrap, 197 ms; unpatched,
+  // the same run is clean (CCU0, the alarm, is masked between alarms but was seen unmasked).
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_TRUE(warningsOf(preset, *elf, 300000).empty());
+  constexpr uint32_t kLoad = 1U << 1, kCcu1 = 1U << 9;
+  const auto imask = storeSites(preset, *elf, 0x40084000 + 0x1028, 50000);
+  const StoreSite start = siteOf(imask, kLoad | kCcu1);
+  ASSERT_NE(start.pc, 0U) << "no TIMG0 IMASK write of LOAD | CCU1";
+  ASSERT_TRUE(storeValue(*elf, start, kLoad));
+  const auto caught = warningsOf(preset, *elf, 300000);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[TIMER-COMPARE-UNSEEN]"), std::string::npos) << caught[0];
+  EXPECT_NE(caught[0].find("CC1 (0x8000)"), std::string::npos) << caught[0];
+}
