@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 38> kRules = {{
+constexpr std::array<RuleInfo, 40> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -75,9 +75,15 @@ constexpr std::array<RuleInfo, 38> kRules = {{
      true},
     {"MCAN-FILTER-OPEN",
      "hw_mcan.h GFC.ANFS; Bosch M_CAN user's manual 3.4.1 acceptance filtering (SLAU846 MCAN)", false},
+    {"HFXT-WAIT-UNBOUNDED",
+     "SLAU846A 2 HFXT startup monitor (HFCLKOFF: dead at startup); SLASEX6B HFXT start-up time 0.5 ms", true},
+    {"TIMER-COMPARE-UNSEEN",
+     "hw_gptimer.h CPU_INT IMASK CCU0/CCU1; SLAU846B/SLAU847D TIMx interrupts (an event reaches the CPU only "
+     "through IMASK)",
+     false},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::McanFilterOpen) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::TimerCompareUnseen) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

@@ -171,6 +171,23 @@
 //                     commands (hw_mcan.h GFC.ANFS 0: non-matching standard frames go to RX FIFO 0; Bosch
 //                     M_CAN user's manual 3.4.1 acceptance filtering, as SLAU846 MCAN describes it). TI does
 //                     not call the combination wrong: the safe side, as a warning (bsp/twin/README.md)
+//   HFXT-WAIT-UNBOUNDED the CPU still polls CLKSTATUS 20 ms after the HFXT start-up monitor declared the
+//                     crystal dead (HFCLKOFF): "If the HFXT did not start within the specified startup time,
+//                     the HFCLKOFF bit is set, indicating that the HFXT was dead at startup" (SLAU846A 2 HFXT
+//                     startup monitor), and HFCLKGOOD never comes after that verdict, so a wait for it with
+//                     no bound hangs the part (before the watchdog starts, for good). The data sheet's
+//                     start-up time is 0.5 ms typical (SLASEX6B HFXT tstart, HFXTRSEL=11): 20 ms after the
+//                     verdict is our bound, 40 times that and more than HFXTTIME's longest (255 x 64 us); a
+//                     poll is reads of CLKSTATUS no more than 1 ms apart. Only a board without a crystal
+//                     (Sysctl::removeCrystal, bms-sim --no-crystal) can reach it
+//   TIMER-COMPARE-UNSEEN (warns) a TIMG compare register the firmware wrote (CC0/CC1) reaches its value 3
+//                     times on a counter whose CPU interrupt serves other events (IMASK not 0) without its
+//                     own CCUn/CCDn bit ever set in IMASK at those times: the event the firmware set up
+//                     reaches nothing (the twin models no event route or CCP output for it), so code waiting
+//                     for it (a half-period count, an alarm) never runs (hw_gptimer.h CPU_INT IMASK
+//                     CCU0/CCU1; SLAU846B / SLAU847D TIMx interrupts: an event reaches the CPU only through
+//                     its IMASK bit). A compare written and never used is not wrong by TI's text: the safe
+//                     side, a warning
 #pragma once
 
 #include <cstdint>
@@ -217,6 +234,8 @@ enum class Rule : uint8_t {
   FlashRegion,
   FaultOutReleased,
   McanFilterOpen,
+  HfxtWaitUnbounded,
+  TimerCompareUnseen,
 };
 
 struct RuleInfo {

@@ -1147,3 +1147,62 @@ TEST(BrokenImage, AGlobalFilterAcceptingEveryFrameIsNamedByTheFilterRule) {
   EXPECT_NE(caught[0].find("[MCAN-FILTER-OPEN]"), std::string::npos) << caught[0];
   EXPECT_NE(caught[0].find("0x104"), std::string::npos) << caught[0];
 }
+
+TEST(BrokenImage, AnHfxtWaitWithoutABoundIsStoppedWhenTheCrystalIsMissing) {
+  // startHfxt()'s poll of CLKSTATUS.HFCLKGOOD with its bound taken out (its loop's backward conditional
+  // branch made unconditional: the mutation run's hfxt-wait-unbounded). With the crystal it still leaves at
+  // HFCLKGOOD; on a board without one the start-up monitor sets HFCLKOFF after HFXTTIME and HFCLKGOOD never
+  // comes (SLAU846A 2 HFXT startup monitor): the part hangs before the watchdog starts. Unpatched, the same
+  // board gives up after ~5 ms and runs on without CAN, clean for 60 ms (at 105 ms it reads the MCAN it never
+  // powered: bsp/twin/README.md, open).
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  const auto noCrystal = [](Board& b) { b.chip().sysctl().removeCrystal(); };
+  {
+    Rig r(preset, *elf);
+    noCrystal(r.board);
+    r.board.runUntilUs(60000);
+    EXPECT_EQ(r.board.machine().stopReason(), "");
+    EXPECT_TRUE(r.board.warnings().empty()) << r.board.warnings().front();
+  }
+  // The HFXT's start (HSCLKEN.HFXTEN), then the wait: the first backward conditional branch after it whose
+  // target lies furthest back but still after the start is the poll loop's (an inner one is spin()'s delay).
+  uint32_t startPc = 0;
+  for (const auto& s : storeSites(preset, *elf, 0x400AF000 + 0x1108, 50000)) {
+    if (s.value & 1U) startPc = s.pc;
+  }
+  ASSERT_NE(startPc, 0U) << "no HSCLKEN write with HFXTEN";
+  uint32_t loopBranch = 0, loopTarget = UINT32_MAX;
+  for (uint32_t at = startPc + 2; at < startPc + 2 + 2 * 48; at += 2) {
+    const uint16_t op = twinpatch::half(*elf, at);
+    if ((op & 0xF000) != 0xD000 || (op & 0x0F00) >= 0x0E00 || (op & 0x80) == 0) continue;  // Bcc backward
+    const uint32_t target = at + 4 + static_cast<uint32_t>(static_cast<int8_t>(op & 0xFF) * 2);
+    if (target > startPc && target < loopTarget) loopBranch = at, loopTarget = target;
+  }
+  ASSERT_NE(loopBranch, 0U) << "no backward branch after the HFXT start";
+  const int32_t offset = (static_cast<int32_t>(loopTarget) - static_cast<int32_t>(loopBranch + 4)) / 2;
+  ASSERT_TRUE(elf->patch16(loopBranch, static_cast<uint16_t>(0xE000 | (offset & 0x7FF))));  // B: no bound
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");  // the crystal starts: the wait ends at HFCLKGOOD
+  const std::string stop = stopOf(preset, *elf, 60000, noCrystal);
+  EXPECT_RULE(stop, "HFXT-WAIT-UNBOUNDED");
+  EXPECT_NE(stop.find("HFCLKOFF"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, AClockCompareLeftMaskedIsNamedByTheCompareRule) {
+  // TimgClock's IMASK written with LOAD only, CCU1 left out (the mutation run's timg-clock-no-ccu1): CC1 is
+  // still set to the half period, its event comes every wrap and reaches nothing, so the widened clock counts
+  // one half per wrap instead of two and jumps back. Named (a warning) at the third wrap, 197 ms; unpatched,
+  // the same run is clean (CCU0, the alarm, is masked between alarms but was seen unmasked).
+  const std::string preset = "lp-mspm0g3507-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_TRUE(warningsOf(preset, *elf, 300000).empty());
+  constexpr uint32_t kLoad = 1U << 1, kCcu1 = 1U << 9;
+  const auto imask = storeSites(preset, *elf, 0x40084000 + 0x1028, 50000);
+  const StoreSite start = siteOf(imask, kLoad | kCcu1);
+  ASSERT_NE(start.pc, 0U) << "no TIMG0 IMASK write of LOAD | CCU1";
+  ASSERT_TRUE(storeValue(*elf, start, kLoad));
+  const auto caught = warningsOf(preset, *elf, 300000);
+  ASSERT_EQ(caught.size(), 1U);
+  EXPECT_NE(caught[0].find("[TIMER-COMPARE-UNSEEN]"), std::string::npos) << caught[0];
+  EXPECT_NE(caught[0].find("CC1 (0x8000)"), std::string::npos) << caught[0];
+}

@@ -13,7 +13,7 @@ bms-sim (build/host/bin/bms-sim, the host preset):
   - a probe: bms-sim --elf IMAGE --scenario ov-cell --duration 4000 --json --candump (how the run ended, resets
     and their causes from the Startup frames, HardFaults, the twin's warnings);
   - the twin checks of tests/twin/twin_images.py: ov-cell, comm-loss, agreement, faults, and slcan (L1306) or
-    bus-off (G3507); and tests/tools/bms_sim_commands.py send and refusals (the commands reach the image).
+    bus-off and no-crystal (G3507); and tests/tools/bms_sim_commands.py send and refusals (the commands reach the image).
 The unmutated images run the same checks first; a check that fails there is left out for that image.
 
 Verdicts:
@@ -65,7 +65,8 @@ RULE = re.compile(r"\[([A-Z0-9]+(?:-[A-Z0-9]+)+)\]")
 
 def checks_for(image):
     twin = ["ov-cell", "comm-loss", "agreement", "faults"]
-    twin.append("slcan" if image_descriptions.by_preset()[image].output == "slcan" else "bus-off")
+    can = image_descriptions.by_preset()[image].output != "slcan"
+    twin += ["bus-off", "no-crystal"] if can else ["slcan"]
     return [("twin", c) for c in twin] + [("commands", c) for c in ("send", "refusals")]
 
 

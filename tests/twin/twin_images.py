@@ -33,6 +33,12 @@ checks:
               stretch limit, SCL and SDA held, UART noise, CAN error frames), on the twin and on the host
               build: the image publishes valid data again within RECOVERY_MS of the fault's end (and PackSummary
               keeps coming, but for the bus-off error frames cause); a stretch within the limit loses nothing
+  no-crystal  (CAN images) a board without the HFXT crystal (bms-sim --no-crystal), 30 ms: the image's wait for
+              the crystal ends (bsp/mspm0 startHfxt gives up after ~5 ms; HFXT-WAIT-UNBOUNDED stops a wait still
+              polling 20 ms after the start-up monitor's verdict), no CAN frame, no reset, no rule or warning.
+              Only 30 ms: from 47 ms (BQ4050) to 105 ms (BQ76952) today's images read the MCAN they never
+              powered (McanBus::doState after
+              canStatus Timeout), which the twin stops (open, bsp/twin/README.md)
   soc-count   (G3507-BQ76952) 5 minutes of the soc-discharge scenario: StateOfCharge within 2 % of the emulator's
               true value
 Every check also finds StateOfCharge in each PackSummary and the StateOfCharge message as the image can know it:
@@ -451,6 +457,14 @@ def recovery(frames, end_ms):
     return None if good is None else max(0.0, good - end_ms)
 
 
+def check_no_crystal(sim, elf, image, scratch):
+    summary, _ = run(sim, ["--elf", elf, "--no-crystal", "--scenario", "idle", "--duration", "30", "--json"])
+    check_healthy(summary)
+    if summary["can_frames"] != 0:
+        fail(f"no crystal, no CAN clock: the image sent {summary['can_frames']} frames")
+    print(f"REPORT twin.{image}.no-crystal: the HFXT wait ended, 30 ms without a frame, a reset or a rule")
+
+
 def check_faults(sim, elf, image, scratch):
     i2c = IMAGES[image].family != "bq79616"  # the BQ79616 chain is on a UART
     can = IMAGES[image].output == "can"
@@ -587,6 +601,8 @@ def main():
         check_profile(sim, elf, image, scratch)
     elif check == "faults":
         check_faults(sim, elf, image, scratch)
+    elif check == "no-crystal":
+        check_no_crystal(sim, elf, image, scratch)
     elif check == "soc-count":
         check_soc_count(sim, image, scratch, ("--elf", elf), 300000)  # 5 minutes: the twin is slower than the host
     else:

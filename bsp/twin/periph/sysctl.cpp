@@ -1,5 +1,6 @@
 #include "periph/sysctl.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace twin {
@@ -24,6 +25,7 @@ constexpr uint32_t kHfxtTimeMask = 0xFF;                  // HFCLKCLKCFG.HFXTTIM
 constexpr uint32_t kHfclkFaultCheck = 1U << 28;           // HFCLKCLKCFG.HFCLKFLTCHK
 constexpr uint32_t kCanclkSysPll = 1U << 8;               // GENCLKCFG.CANCLKSRC
 constexpr uint32_t kHfclkGood = 1U << 8;                  // CLKSTATUS.HFCLKGOOD
+constexpr uint32_t kHfclkOff = 1U << 13;                  // CLKSTATUS.HFCLKOFF
 constexpr uint32_t kResetKey = 0xE4, kResetGo = 1U << 0;  // RESETCMD KEY 31:24, GO bit 0
 constexpr uint32_t kFclKey = 0x2A, kSetUseFcl = 1U << 0, kSetUseExRes = 1U << 1;  // SYSOSCFCLCTL
 constexpr uint32_t kFclMode = 1U << 24;                                           // CLKSTATUS.FCLMODE
@@ -57,7 +59,24 @@ void Sysctl::reset(ResetKind kind) {
 }
 
 bool Sysctl::canClockRunning() const {
-  return hasHfxt_ && (genclkcfg_ & kCanclkSysPll) == 0 && machine_.now() >= hfxtGoodAt_;
+  return hasHfxt_ && crystalFitted_ && (genclkcfg_ & kCanclkSysPll) == 0 && machine_.now() >= hfxtGoodAt_;
+}
+
+uint32_t Sysctl::hfclkStatus() {
+  const uint64_t now = machine_.now();
+  if (!hasHfxt_ || now < hfxtGoodAt_) return 0;
+  if (crystalFitted_) return kHfclkGood;
+  // HFXT-WAIT-UNBOUNDED (rules.hpp): a poll is reads no more than 1 ms apart; 20 ms of it after the
+  // monitor's verdict, 40 times the data sheet's 0.5 ms start-up (SLASEX6B) and longer than the longest
+  // HFXTTIME (255 x 64 us = 16.3 ms), is a wait without a bound.
+  const uint64_t ms = 1000 * machine_.cyclesPerUs();
+  if (now - lastPoll_ > ms) pollStart_ = now;
+  lastPoll_ = now;
+  if (now - std::max(pollStart_, hfxtGoodAt_) >= 20 * ms)
+    machine_.violate(Rule::HfxtWaitUnbounded,
+                     "SYSCTL: CLKSTATUS polled for 20 ms after the HFXT start-up monitor set HFCLKOFF (no "
+                     "crystal): HFCLKGOOD never comes, a wait for it without a bound hangs the part");
+  return kHfclkOff;
 }
 
 std::string Sysctl::canClockProblem() const {
@@ -91,7 +110,7 @@ bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
       value = resetLevel_;
       return true;
     case kClkstatus:
-      value = ((hasHfxt_ && machine_.now() >= hfxtGoodAt_) ? kHfclkGood : 0) | (fclMode_ ? kFclMode : 0);
+      value = hfclkStatus() | (fclMode_ ? kFclMode : 0);
       return true;
     case kRstcause:
       value = machine_.takeResetCause();  // read-to-clear

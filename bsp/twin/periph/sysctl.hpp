@@ -9,7 +9,12 @@
 //   of the LP-MSPM0G3507 (tsv "HFXT" example row); with the start-up monitor on (HFCLKFLTCHK),
 //   CLKSTATUS.HFCLKGOOD is set HFXTTIME x 64 us later ("HFXTTIME specifies the HFXT startup time in 64us
 //   resolution. If the HFCLK startup monitor is enabled, HFXT will be checked after this time expires",
-//   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning().
+//   hw_sysctl HFCLKCLKCFG). The MCAN model asks canClockRunning(). On a board without a crystal
+//   (removeCrystal(): bms-sim --no-crystal) the monitor sets CLKSTATUS.HFCLKOFF instead at that time and
+//   HFCLKGOOD never comes ("If the HFXT did not start within the specified startup time, the HFCLKOFF bit is
+//   set, indicating that the HFXT was dead at startup", SLAU846A 2 HFXT startup monitor; hw_sysctl
+//   CLKSTATUS.HFCLKOFF bit 13); a CPU still polling CLKSTATUS 20 ms after that stops the run (rules.hpp
+//   HFXT-WAIT-UNBOUNDED).
 // - RESETLEVEL/RESETCMD: KEY 0xE4 with GO issues the reset RESETLEVEL names (0 SYSRST "CPU plus peripherals
 //   only", 1 BOOTRST, 2 "SYSRST and enter the bootloader", 3 POR, 4 "SYSRST and exit the bootloader";
 //   hw_sysctl RESETLEVEL_LEVEL_*, the same values in mspm0-sdk dl_sysctl_mspm0{l11xx_l13xx,g1x0x_g3x0x}.h
@@ -55,6 +60,8 @@ class Sysctl final : public Device {
   // Why CANCLK cannot run (rules.hpp CLOCK-OFF): its source is off; "" when it is on or starting.
   std::string canClockProblem() const;
   void setHfxtCrystalHz(uint32_t hz) { crystalHz_ = hz; }
+  // A board fault: no crystal on HFXIN/HFXOUT (or one that never oscillates). Until the next construction.
+  void removeCrystal() { crystalFitted_ = false; }
   // The mode SCR.SLEEPDEEP enters now: PMODECFG.DSLEEP, SYSOSCCFG and MCLKCFG.STOPCLKSTBY (power_mode.hpp).
   PowerMode deepSleepMode() const;
 
@@ -75,8 +82,14 @@ class Sysctl final : public Device {
   uint32_t resetLevel_ = 0, pmodecfg_ = 0;
   BootRequest bootRequest_ = BootRequest::None;
   bool fclMode_ = false;
-  uint64_t hfxtGoodAt_ = UINT64_MAX;
+  // Reads CLKSTATUS as the start-up monitor has it: HFCLKGOOD, or HFCLKOFF on a board without a crystal.
+  uint32_t hfclkStatus();
+
+  uint64_t hfxtGoodAt_ =
+      UINT64_MAX;  // when the start-up monitor gives its verdict (HFXTTIME after the start)
   uint32_t crystalHz_ = 0;
+  bool crystalFitted_ = true;
+  uint64_t pollStart_ = 0, lastPoll_ = 0;  // the current run of CLKSTATUS reads (HFXT-WAIT-UNBOUNDED)
 };
 
 }  // namespace twin

@@ -31,6 +31,8 @@ void Timg::resetRegisters() {
   cclkctl_ = cps_ = load_ = 0;
   ctrctl_ = (7U << 7) | (7U << 10) | (7U << 13);  // CLC/CAC/CZC reset to 7 (reserved encodings)
   cc_[0] = cc_[1] = ccctl_[0] = ccctl_[1] = 0;
+  ccWritten_[0] = ccWritten_[1] = ccSeen_[0] = ccSeen_[1] = false;
+  ccUnseen_[0] = ccUnseen_[1] = 0;
   baseValue_ = 0;
   baseEdge_ = edgesAt(machine_.now());
   stoppedAtZero_ = false;
@@ -152,6 +154,25 @@ void Timg::schedule() {
   event_.at(cycleOfEdge(baseEdge_ + (ticksSoFar + d) * tickEdges()));
 }
 
+void Timg::checkCompareSeen(int n, uint32_t bit) {
+  // TIMER-COMPARE-UNSEEN (rules.hpp): the firmware set CCn up, the counter's interrupt serves other events,
+  // and this event never once reached the CPU (hw_gptimer.h CPU_INT IMASK; SLAU846B / SLAU847D TIMx
+  // interrupts). Three times, so that an alarm armed just after its compare passed is not named.
+  if (!machine_.imageRules() || !ccWritten_[n] || ccSeen_[n] || cpuInt_.imask == 0) return;
+  if (cpuInt_.imask & bit) {
+    ccSeen_[n] = true;
+    return;
+  }
+  if (++ccUnseen_[n] != 3) return;
+  char buf[240];
+  std::snprintf(buf, sizeof buf,
+                "%s: CC%d (0x%04X) reached 3 times with its event masked (IMASK 0x%X) while the timer's "
+                "interrupt serves other events: the compare the firmware set up never reaches the CPU",
+                name(), n, static_cast<unsigned>(cc_[n] & kCounterMask),
+                static_cast<unsigned>(cpuInt_.imask));
+  machine_.violate(Rule::TimerCompareUnseen, buf);
+}
+
 void Timg::onTick() {
   const uint32_t v = counterNow();
   const bool up = (ctrctl_ & kCmMask) == kCmUp;
@@ -161,7 +182,9 @@ void Timg::onTick() {
   // without a tick, so a tick that shows LOAD is always a reload).
   if (v == (load_ & kCounterMask)) bits |= kLoad;
   for (int n = 0; n < 2; ++n) {
-    if (v == (cc_[n] & kCounterMask)) bits |= (up ? kCcu0 : kCcd0) << n;
+    if (v != (cc_[n] & kCounterMask)) continue;
+    bits |= (up ? kCcu0 : kCcd0) << n;
+    checkCompareSeen(n, (up ? kCcu0 : kCcd0) << n);
   }
   // Without REPEAT the counter holds at zero after its zero event, counting down (at 0) and up (the wrap from
   // LOAD to 0) alike: hw_gptimer.h CTRCTL.REPEAT 0 "Does not automatically advance following a zero event";
@@ -246,6 +269,7 @@ bool Timg::writeRegister(uint32_t offset, uint32_t value) {
     case kCc0:
     case kCc0 + 4:
       cc_[(offset - kCc0) / 4] = value;
+      ccWritten_[(offset - kCc0) / 4] = true;
       break;
     case kCcctl0:
     case kCcctl0 + 4:

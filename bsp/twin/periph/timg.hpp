@@ -25,6 +25,8 @@
 // - Tick (rules.hpp TIMER-TICK, image runs only): a BUSCLK counter enabled at other than 1 MHz stops the
 //   run: the product's timers count the firmware's microseconds. An LFCLK counter is not checked: its
 //   32 768 Hz is what a deep-sleep wake timer counts (bsp/mspm0/README.md "Low-power modes").
+// - Compare events (rules.hpp TIMER-COMPARE-UNSEEN, image runs only): a written CCn whose event comes 3 times
+//   masked, never once unmasked, on a counter whose interrupt serves other events, is named (a warning).
 #pragma once
 
 #include <cstdint>
@@ -84,6 +86,11 @@ class Timg final : public Peripheral {
   uint64_t baseEdge_ = 0;
   StandbyClock standby_;
   bool stoppedAtZero_ = false;
+  // TIMER-COMPARE-UNSEEN (rules.hpp): per compare register, written by the firmware, its event seen unmasked
+  // once, and how often it came masked.
+  bool ccWritten_[2] = {false, false}, ccSeen_[2] = {false, false};
+  uint32_t ccUnseen_[2] = {0, 0};
+  void checkCompareSeen(int n, uint32_t bit);
 };
 
 }  // namespace twin

@@ -31,8 +31,9 @@ struct SimOptions {
   int devices = 0;  // 0 = the image's default
   bool tiLayout = false;
   uint32_t durationMs = 10000;
-  std::string elf;        // --elf: run this image on the MSPM0 twin (sim_twin.hpp)
-  std::string flashFile;  // --flash: the twin's flash data region kept in this file (twin/flash_file.hpp)
+  std::string elf;         // --elf: run this image on the MSPM0 twin (sim_twin.hpp)
+  std::string flashFile;   // --flash: the twin's flash data region kept in this file (twin/flash_file.hpp)
+  bool noCrystal = false;  // --no-crystal: the twin's board has no HFXT crystal (twin/periph/sysctl.hpp)
 };
 
 // Figures every image reports (the --json summary's keys).

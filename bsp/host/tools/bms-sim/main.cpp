@@ -68,6 +68,9 @@ constexpr OptionSpec kOptions[] = {
      "with --elf: the flash data region (bsp/mspm0/linker) is read from FILE at start and written back at "
      "the "
      "end, so a later run starts with what this one left; a missing FILE is created erased"},
+    {"--no-crystal", nullptr,
+     "with --elf: a board fault, no HFXT crystal (the G3507's CAN clock; the L1306 has none): the start-up "
+     "monitor reports it dead (bsp/twin/periph/sysctl.hpp)"},
     {"--json", nullptr, "one JSON summary on stdout (the live view goes to stderr when that is a terminal)"},
     {"--profile", "<file>",
      "with --elf: CPU cycles per function and per interrupt of the run, to a file (format: "
@@ -128,8 +131,8 @@ int run(int argc, char** argv) {
       printHelp();
       return 0;
     }
-    if (o->value == nullptr) {  // --json
-      json = true;
+    if (o->value == nullptr) {  // --json, --no-crystal
+      (name == "--json" ? json : opt.noCrystal) = true;
       continue;
     }
     const char* v = i + 1 < argc ? argv[++i] : nullptr;
@@ -164,6 +167,8 @@ int run(int argc, char** argv) {
     return usage("--can-layout applies to host runs; an image has its layout built in");
   if (!profile.empty() && opt.elf.empty())
     return usage("--profile applies to --elf runs: it counts the image's own instructions on the twin");
+  if (opt.noCrystal && opt.elf.empty())
+    return usage("--no-crystal applies to --elf runs: a fault of the twin's board");
   if (!opt.flashFile.empty() && opt.elf.empty())
     return usage("--flash applies to --elf runs: it keeps the twin's flash data region");
   if (!opt.elf.empty()) {

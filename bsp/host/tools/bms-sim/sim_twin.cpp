@@ -76,6 +76,7 @@ class TwinSim final : public ImageSim {
         board_(id, h_.clock, devices_),
         watchdog_(h_.clock) {
     board_.onWatchdogFeed([this] { watchdog_.feed(); });
+    if (o.noCrystal) board_.chip().sysctl().removeCrystal();
     if (gauge_ != nullptr) gauge_->attachClock(h_.clock);  // as the host board: the charge state is counted
     truth_.assign(static_cast<size_t>(devices_ * cellsPerBoard()), 3700);
     for (int b = 0; b < devices_; ++b) {
