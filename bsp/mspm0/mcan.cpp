@@ -113,6 +113,7 @@ Status McanBus::doSend(const CanFrame& frame) {
 
 bool McanBus::doReceive(CanFrame& frame) {
   if constexpr (!kMcanRx) return false;  // built without reception: nothing is ever received
+  if (!ready_) return false;             // never initialised: nothing to read, possibly unpowered (doState)
   mcan::Queues& q = mcan::queues(config_.base);
   const uint32_t status = q.rxf0s.read();
   if ((status & mcan::kRxf0sFillMask) == 0) return false;
@@ -158,6 +159,10 @@ void McanBus::onInterrupt() {
 }
 
 fw::hal::CanState McanBus::doState() const {
+  // Not initialised (no crystal, a handshake that timed out): the controller takes no part on the bus, and
+  // its registers may not even be powered (reading them is not allowed then: SLAU846B "Peripheral power
+  // enable control"), so answer from what init() left.
+  if (!ready_) return fw::hal::CanState::BusOff;
   const uint32_t psr = mcan::core(config_.base).psr.read();
   if (psr & mcan::kPsrBusOff) return fw::hal::CanState::BusOff;
   if (psr & mcan::kPsrErrorPassive) return fw::hal::CanState::ErrorPassive;

@@ -18,8 +18,9 @@
 // Contract (see hal/can_bus.hpp)
 // - init(): thread mode; Ok, NotReady when the message RAM or an INIT handshake (entering configuration,
 //   then leaving it for normal operation) did not complete in time (bounded polls), or InvalidArgument when
-//   Config::accept names more identifiers than the filter list holds. Until init() succeeds send() returns
-//   NotReady.
+//   Config::accept names more identifiers than the filter list holds. Until init() succeeds (or when it was
+//   never called: a board without its crystal skips it) send() and recover() return NotReady, state()
+//   BusOff (off the bus) and receive() false, without touching the peripheral, whose power may be off.
 // - send(): Ok, Overflow (TX FIFO full, counted), BusOff, InvalidArgument (dlc > 8, id out of range),
 //   NotReady. Task context (a short critical section guards the put index).
 // - receive(): task context; pops RX FIFO 0 in arrival order. Reception is built unless BSP_MCAN_RX is 0

@@ -114,6 +114,21 @@ TEST_F(McanTest, InitThatNeverLeavesInitIsNotReady) {
   EXPECT_EQ(fresh.send(frame), fw::Status::NotReady);
 }
 
+// A board without its crystal never calls init() (board_g3507_can.cpp): the publisher and the command link
+// still ask the bus for its state and for frames. The peripheral is unpowered then, and its registers may not
+// be read (the twin stopped an image at the PSR read); off the bus, nothing received, nothing touched.
+TEST_F(McanTest, AControllerNeverInitialisedIsOffTheBusAndTouchesNoRegister) {
+  McanBus never(
+      {kBase, 6, PinFunction{Pin{0, 12, 34}, 5}, PinFunction{Pin{0, 13, 35}, 6}, McanBus::kNbtp500k});
+  regs().clearLog();
+  EXPECT_EQ(never.state(), fw::hal::CanState::BusOff);
+  fw::hal::CanFrame frame;
+  EXPECT_FALSE(never.receive(frame));
+  EXPECT_EQ(never.send(frame), fw::Status::NotReady);
+  EXPECT_EQ(never.recover(), fw::Status::NotReady);
+  EXPECT_TRUE(regs().log().empty()) << regs().log().size() << " register accesses";
+}
+
 TEST_F(McanTest, TransmitWritesTheElementAtThePutIndexAndRequestsIt) {
   regs().set(kTxfqs, 2U << 16);  // TFQPI = 2, not full
   fw::hal::CanFrame frame;
