@@ -126,11 +126,13 @@ class PtyOutput final : public SlcanOutput {
   }
 
   // After the run: until the reader closes the terminal (the master hangs up once no one else holds it
-  // open) or sends C, at most 5 s.
+  // open) or sends C, at most 30 s. A reader still busy with the last frames (python-can decoding and
+  // printing them on a loaded machine) once took longer than the 5 s this was, and its close then wrote C
+  // into a terminal bms-sim had already closed: a traceback at the end of the README's recipe.
   void waitForClose() {
     if (slave_ >= 0) ::close(slave_);
     slave_ = -1;
-    const auto end = Clock::now() + std::chrono::seconds(5);
+    const auto end = Clock::now() + std::chrono::seconds(30);
     pollfd p{master_, POLLIN, 0};
     while (Clock::now() < end && !sawCommand('C')) {
       if (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0) break;
