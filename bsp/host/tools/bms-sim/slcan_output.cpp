@@ -6,6 +6,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -126,15 +127,21 @@ class PtyOutput final : public SlcanOutput {
   }
 
   // After the run: until the reader closes the terminal (the master hangs up once no one else holds it
-  // open) or sends C, at most 30 s. A reader still busy with the last frames (python-can decoding and
-  // printing them on a loaded machine) once took longer than the 5 s this was, and its close then wrote C
-  // into a terminal bms-sim had already closed: a traceback at the end of the README's recipe.
+  // open), at most 30 s, or 2 s after it sent C. Its C is not the end yet: python-can writes C and then waits
+  // for the terminal to drain it (tcdrain) before it closes, so the master stays open, and read, until the
+  // hang-up. Ending at the C closed the master under that wait, and python-can's shutdown raised an I/O error
+  // (readme.slcan_recipe, now and then).
   void waitForClose() {
     if (slave_ >= 0) ::close(slave_);
     slave_ = -1;
-    const auto end = Clock::now() + std::chrono::seconds(30);
+    auto end = Clock::now() + std::chrono::seconds(30);
+    bool closing = false;
     pollfd p{master_, POLLIN, 0};
-    while (Clock::now() < end && !sawCommand('C')) {
+    while (Clock::now() < end) {
+      if (sawCommand('C') && !closing) {
+        closing = true;
+        end = std::min(end, Clock::now() + std::chrono::seconds(2));
+      }
       if (::poll(&p, 1, 0) >= 0 && (p.revents & POLLHUP) != 0) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }

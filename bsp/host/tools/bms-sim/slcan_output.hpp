@@ -14,7 +14,8 @@
 //                 (python-can's shutdown sends C and closes it), so a reader that stops after a silence ends
 //                 cleanly instead of on a vanished port. Nothing waits without a bound: a reader that stops
 //                 reading loses the oldest text beyond 64 KiB (counted on stderr, as a PC loses what a UART
-//                 sends into a full buffer); the rest is waited for at most 5 s, the close at most 30 s more.
+//                 sends into a full buffer); the rest is waited for at most 5 s, the close at most 30 s more
+//                 (2 s once the reader sent C).
 #pragma once
 
 #include <chrono>
