@@ -41,8 +41,8 @@ void I2cController::configure() {
   clock.clksel.write(i2c::kClkselBusclk);
   clock.clkdiv.write(config_.timing.clkdivRatio);
   i2c::Controller& r = i2c::controller(config_.base);
-  // GFCTL keeps its reset value 0: no glitch filter, as TI's I2C controller and bq769x2 examples
-  // (DL_I2C_disableAnalogGlitchFilter) and TI's Zephyr driver leave it. The analog filter (AGFEN) alone
+  // GFCTL keeps its reset value 0: no glitch filter, as TI's I2C controller and bq769x2 examples (their
+  // set-up clears GFCTL.AGFEN) and TI's Zephyr driver leave it. The analog filter (AGFEN) alone
   // would not even be in the path: without GFCTL.CHAIN only the digital filter's output reaches the
   // controller (hw_i2c.h GFCTL.CHAIN), and TI documents no example that chains them (README, choices).
   r.mtpr.write(config_.timing.tpr);
@@ -174,7 +174,7 @@ void I2cController::blockCount() {
 
 // Empties both FIFOs (bytes a NACKed or aborted transfer left behind) the way the TRM asks: set the flush
 // bits, wait until MFIFOSR shows TXFIFOCNT = 8 and RXFIFOCNT = 0, then clear them (hw_i2c.h MFIFOCTL.TXFLUSH
-// and RXFLUSH; TI's DL_I2C_flushControllerTXFIFO / ...RXFIFO). The wait is bounded; a flush that has not
+// and RXFLUSH: check the counts before clearing the bit). The wait is bounded; a flush that has not
 // finished by then is finished by a controller reset, which empties the FIFOs too.
 void I2cController::flushFifos() {
   i2c::Controller& r = i2c::controller(config_.base);
@@ -190,8 +190,8 @@ void I2cController::flushFifos() {
 }
 
 // Queues as many write bytes as the TX FIFO has free entries (MFIFOSR.TXFIFOCNT), and the PEC dummy after
-// the last one. A write to a full FIFO would be lost; TI's DL_I2C_fillControllerTXFIFO likewise stops at a
-// full FIFO. One status read is enough: the FIFO only drains while we fill it.
+// the last one. A write to a full FIFO would be lost (MFIFOSR.TXFIFOCNT counts the free entries, hw_i2c.h).
+// One status read is enough: the FIFO only drains while we fill it.
 void I2cController::fillTx() {
   i2c::Controller& r = i2c::controller(config_.base);
   uint32_t room = (r.mfifosr.read() & i2c::kFifoTxFreeMask) >> i2c::kFifoTxFreeShift;

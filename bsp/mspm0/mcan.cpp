@@ -41,8 +41,8 @@ Status McanBus::init() {
   reg::resetAndPowerUp(mcan::gprcm(base));
   muxPeripheral(config_.tx);
   muxPeripheral(config_.rx, reg::iomux::kInputEnable);
-  // Request the module clock before setting its divider, as TI's set-up does (DL_MCAN_enableModuleClock, then
-  // DL_MCAN_setClockConfig): CLK_REQEN gates the MCAN functional and register clocks (hw_mcan.h MCAN_CLKEN).
+  // Request the module clock before setting its divider (TI's example set-up does it in this order):
+  // CLK_REQEN gates the MCAN functional and register clocks (hw_mcan.h MCAN_CLKEN).
   mcan::SsClock& ssClock = mcan::ssClock(base);
   ssClock.clken.write(1);   // CLK_REQEN
   ssClock.clkdiv.write(0);  // CANCLK / 1
