@@ -43,8 +43,10 @@ inline void CanPublisher::pump(Instant now) {
   uint8_t budget = kFramesPerRun;
   if (!sendAnswers(budget)) return;
   hal::CanFrame frame;
-  while (plan_.build(now, frame)) {
-    if (yieldFor(budget)) return;
+  for (;;) {
+    // The budget before build(): a frame is filled only when this run sends it, not once more next run.
+    if (plan_.active() && yieldFor(budget)) return;
+    if (!plan_.build(now, frame)) return;
     const Status s = can_.send(frame);
     if (s == Status::Ok) {
       ++state_->stats.frames;

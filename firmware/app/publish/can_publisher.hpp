@@ -8,7 +8,7 @@
 // and posts itself (kMore) for the rest: the scheduler never preempts a run, and a run that filled the whole
 // 8-frame queue (about 0.5 ms on the G3507 at 32 MHz, measured on the twin) held up every higher task that
 // became ready meanwhile: the FET-off command's echo poll (ALERT to the command complete, worst over the
-// scan, 1 935 us; 1 775 us with one frame a run). Frames still unsent when the
+// scan, 1 935 us; 1 669 us with one frame a run). Frames still unsent when the
 // next cycle drops them (frame_plan.hpp) count as an abandoned cycle: the bus is saturated, and newer data is
 // worth more than older frames. The command task's answers (outbox(), app/publish/outbox.hpp; post kReply)
 // are queued ahead of the plan's next frames, one answer set at a time. On bus-off it abandons the cycle (and
