@@ -35,10 +35,9 @@
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
-// MonitorTask checks this contract when it is built (checkDevice(): one static_assert per hook group, naming
-// it), where the device's protected hooks are visible. Each image has one Device; link-time optimisation
-// folds the hooks into the task (no hand inlining). Thread mode only (the task's run()); the fault line's
-// Notify is ISR-safe (Scheduler::post).
+// The concept MonitorDevice (below) states this contract; MonitorTask<Device> requires it. Each image has one
+// Device; link-time optimisation folds the hooks into the task (no hand inlining). Thread mode only (the
+// task's run()); the fault line's Notify is ISR-safe (Scheduler::post).
 #pragma once
 
 #include <concepts>
@@ -105,7 +104,90 @@ class MonitorBase {
   Zeroed<Loop> loop_;
 };
 
-template <class Device>
+// MonitorDevice<D>: the device contract above as a concept, one named part per group of hooks, so a device
+// that lacks a hook or gives it another type is told which part fails. The hooks and fields are D's
+// protected members (only the task reaches them), so each part is checked from DeviceHooks<D>, a class
+// derived from D: there they are visible, as they are to MonitorTask. DeviceHooks is never built.
+template <class D>
+struct DeviceHooks : D {
+  // scheduler_ (sched::Scheduler&), view_ (PackView&), records_ with stats (a ScanStats) and scanTimer, and
+  // driver_ with busy(), result() and onEvent(EventMask) -> Progress.
+  static consteval bool fieldHooks() {
+    return requires(DeviceHooks & d, sched::EventMask e) {
+      { d.scheduler_ } -> std::convertible_to<sched::Scheduler&>;
+      { d.view_ } -> std::convertible_to<PackView&>;
+      { d.records_->stats } -> std::convertible_to<ScanStats&>;
+      { d.records_->scanTimer } -> std::convertible_to<sched::Timer&>;
+      { d.driver_.busy() } -> std::same_as<bool>;
+      { d.driver_.result() } -> std::same_as<Status>;
+      { d.driver_.onEvent(e) } -> std::same_as<drivers::Progress>;
+    };
+  }
+  // kCommands, kFaultLineToo (bool), kPublisherScanDone (EventMask), scanPeriod(), firstDataBound()
+  // (Duration), driverEvents() (EventMask).
+  static consteval bool constantHooks() {
+    return requires(DeviceHooks & d) {
+      requires std::is_same_v<decltype(D::kCommands), const bool>;
+      requires std::is_same_v<decltype(D::kFaultLineToo), const bool>;
+      requires std::is_convertible_v<decltype(D::kPublisherScanDone), sched::EventMask>;
+      { d.scanPeriod() } -> std::same_as<Duration>;
+      { d.firstDataBound() } -> std::same_as<Duration>;
+      { DeviceHooks::driverEvents() } -> std::same_as<sched::EventMask>;
+    };
+  }
+  // startSetup(), setupFinished(Status), startScan(), scanFinished(Status, Instant) -> ScanVerdict,
+  // afterSummarize(), recover().
+  static consteval bool setupScanHooks() {
+    return requires(DeviceHooks & d, Status s, Instant now) {
+      { d.startSetup() } -> std::same_as<Status>;
+      { d.setupFinished(s) } -> std::same_as<void>;
+      { d.startScan() } -> std::same_as<Status>;
+      { d.scanFinished(s, now) } -> std::same_as<ScanVerdict>;
+      { d.afterSummarize() } -> std::same_as<void>;
+      { d.recover() } -> std::same_as<void>;
+    };
+  }
+  // With kCommands: commandWaiting(), startCommand(), commandFinished(Status).
+  static consteval bool commandHooks() {
+    if constexpr (D::kCommands) {
+      return requires(DeviceHooks & d, Status s) {
+        { d.commandWaiting() } -> std::same_as<bool>;
+        { d.startCommand() } -> std::same_as<Status>;
+        { d.commandFinished(s) } -> std::same_as<void>;
+      };
+    } else {
+      return true;
+    }
+  }
+  // With kFaultLineToo: faultLine().
+  static consteval bool faultLineHook() {
+    if constexpr (D::kFaultLineToo) {
+      return requires(DeviceHooks & d) {
+        d.faultLine();
+      };
+    } else {
+      return true;
+    }
+  }
+  // With kBalancing (optional) true: balanceCheck().
+  static consteval bool balancingHook() {
+    if constexpr (requires { D::kBalancing; }) {
+      if constexpr (D::kBalancing) {
+        return requires(DeviceHooks & d) {
+          d.balanceCheck();
+        };
+      }
+    }
+    return true;
+  }
+};
+
+template <class D>
+concept MonitorDevice = std::derived_from<D, MonitorBase> &&
+    DeviceHooks<D>::fieldHooks() && DeviceHooks<D>::constantHooks() && DeviceHooks<D>::setupScanHooks() &&
+    DeviceHooks<D>::commandHooks() && DeviceHooks<D>::faultLineHook() && DeviceHooks<D>::balancingHook();
+
+template <MonitorDevice Device>
 class MonitorTask final : public Device, public sched::Task {
  public:
   static constexpr sched::TaskId kId = kMonitorTask;
@@ -123,7 +205,6 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
   void start() {
-    checkDevice();
     this->view_.startupGrace = true;  // until the first scan's result, or firstDataBound()
     this->view_.firstDataDue = Instant{this->firstDataBound().us};
     this->scheduler_.addTask(kId, *this, {}, true);
@@ -162,72 +243,6 @@ class MonitorTask final : public Device, public sched::Task {
   }
 
  private:
-  // The device contract (the list at the top of this file), one assertion per group of hooks so a device
-  // that lacks one or gives it another type is told which. Checked here, where the device's protected hooks
-  // are visible.
-  static consteval void checkDevice() {
-    static_assert(std::is_base_of_v<MonitorBase, Device>, "a Device derives from MonitorBase");
-    static_assert(
-        requires(MonitorTask & t) {
-          { t.scheduler_ } -> std::convertible_to<sched::Scheduler&>;
-          { t.view_ } -> std::convertible_to<PackView&>;
-        },
-        "Device::scheduler_ (sched::Scheduler&) and view_ (PackView&)");
-    static_assert(
-        requires(MonitorTask & t) {
-          { t.records_->stats } -> std::convertible_to<ScanStats&>;
-          { t.records_->scanTimer } -> std::convertible_to<sched::Timer&>;
-        },
-        "Device::records_ with stats (a ScanStats) and scanTimer");
-    static_assert(
-        requires(MonitorTask & t, sched::EventMask e) {
-          { t.driver_.busy() } -> std::same_as<bool>;
-          { t.driver_.result() } -> std::same_as<Status>;
-          { t.driver_.onEvent(e) } -> std::same_as<drivers::Progress>;
-        },
-        "Device::driver_ with busy(), result() and onEvent(EventMask) -> Progress");
-    static_assert(std::is_same_v<decltype(Device::kCommands), const bool> &&
-                      std::is_same_v<decltype(Device::kFaultLineToo), const bool> &&
-                      std::is_convertible_v<decltype(Device::kPublisherScanDone), sched::EventMask>,
-                  "Device::kCommands, kFaultLineToo (bool) and kPublisherScanDone (EventMask)");
-    static_assert(
-        requires(MonitorTask & t) {
-          { t.scanPeriod() } -> std::same_as<Duration>;
-          { t.firstDataBound() } -> std::same_as<Duration>;
-          { Device::driverEvents() } -> std::same_as<sched::EventMask>;
-        },
-        "Device::scanPeriod(), firstDataBound() (Duration) and driverEvents() (EventMask)");
-    static_assert(
-        requires(MonitorTask & t, Status s, Instant now) {
-          { t.startSetup() } -> std::same_as<Status>;
-          { t.setupFinished(s) } -> std::same_as<void>;
-          { t.startScan() } -> std::same_as<Status>;
-          { t.scanFinished(s, now) } -> std::same_as<ScanVerdict>;
-          { t.afterSummarize() } -> std::same_as<void>;
-          { t.recover() } -> std::same_as<void>;
-        },
-        "Device set-up and scan hooks: startSetup(), setupFinished(Status), startScan(), "
-        "scanFinished(Status, Instant) -> ScanVerdict, afterSummarize(), recover()");
-    if constexpr (Device::kCommands) {
-      static_assert(
-          requires(MonitorTask & t, Status s) {
-            // Qualified: MonitorTask's own commandWaiting()/startCommand() would hide the device's.
-            { t.Device::commandWaiting() } -> std::same_as<bool>;
-            { t.Device::startCommand() } -> std::same_as<Status>;
-            { t.commandFinished(s) } -> std::same_as<void>;
-          },
-          "a Device with kCommands: commandWaiting(), startCommand(), commandFinished(Status)");
-    }
-    if constexpr (Device::kFaultLineToo) {
-      static_assert(
-          requires(MonitorTask & t) { t.faultLine(); }, "a Device with kFaultLineToo: faultLine()");
-    }
-    if constexpr (balances()) {
-      static_assert(
-          requires(MonitorTask & t) { t.balanceCheck(); }, "a Device with kBalancing: balanceCheck()");
-    }
-  }
-
   void startNext() {
     auto& loop = *this->loop_;
     Status s = Status::Busy;
