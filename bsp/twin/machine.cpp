@@ -399,6 +399,8 @@ void Machine::run(uint64_t endCycle) {
         const PowerMode mode = sleepMode();
         sleptIn_ = mode;
         const uint64_t from = now();
+        for (const auto& hook : sleepHooks_)
+          hook();
         if (isDeepSleep(mode)) checkSleep(mode);
         if (core_.halted()) break;
         timeline_.advanceTo(std::max(horizon, now()));

@@ -173,6 +173,9 @@ class Machine final : public CoreObserver {
   void addSleepCheck(std::function<std::string(PowerMode)> check) {
     sleepChecks_.push_back(std::move(check));
   }
+  // Called whenever the core is found asleep, in any mode (a model's rule about what the firmware left
+  // armed before it slept: rules.hpp TIMER-COMPARE-PASSED).
+  void onSleep(std::function<void()> hook) { sleepHooks_.push_back(std::move(hook)); }
   // The mode a sleep would enter now.
   PowerMode sleepMode() const;
   // Cycles from a wake-up event to the core's first instruction after a sleep in each mode (power.hpp): the
@@ -220,6 +223,7 @@ class Machine final : public CoreObserver {
   uint64_t busy_ = 0;
   std::function<PowerMode()> deepSleepMode_;
   std::vector<std::function<std::string(PowerMode)>> sleepChecks_;
+  std::vector<std::function<void()>> sleepHooks_;
   Residency deepCycles_{};  // cycles slept in each deep mode
   std::array<uint32_t, kPowerModes> wakeCycles_{};
   PowerMode sleptIn_ = PowerMode::Run;  // the mode of the sleep the core is in (Run: awake)

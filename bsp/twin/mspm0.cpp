@@ -257,6 +257,7 @@ void Mspm0::addSleepChecks() {
     if (!timer) continue;
     Timg* t = timer.get();
     m.addSleepCheck([t](PowerMode mode) { return t->deadlineLostIn(mode); });
+    m.onSleep([t] { t->checkArmedCompares(); });
   }
 }
 

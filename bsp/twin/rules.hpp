@@ -188,6 +188,21 @@
 //                     CCU0/CCU1; SLAU846B / SLAU847D TIMx interrupts: an event reaches the CPU only through
 //                     its IMASK bit). A compare written and never used is not wrong by TI's text: the safe
 //                     side, a warning
+//   TIMER-COMPARE-PASSED a TIMG compare written (CCn) while its counter runs is armed (its CCUn/CCDn bit set
+//   in
+//                     IMASK) and the core sleeps without the firmware having read CTR since the write and the
+//                     last ICLR of that bit, or pended the event itself (ISET), and without the event already
+//                     pending: the compare event comes only when the counter becomes CCn ("TIMx.CTR value
+//                     equals TIMx.CC", SLAU847D chapter 23 TIMx, shadow compare table 23-16; the same TIMx
+//                     text in SLAU846B; hw_gptimer.h CPU_INT CCU0 "capture or compare up event"), not when it
+//                     is already past it, and ICLR wipes a match that came before the clear. A counter that
+//                     passes CCn between the firmware's read and the arming (a deadline that close, or
+//                     already due) therefore wakes the core only after a whole wrap (65.5 ms at 1 MHz). The
+//                     twin's run is deterministic and never arms that close, so the rule checks what makes
+//                     the race harmless, a read of the counter after the arming (the re-check), not the race
+//                     itself, as IDLE-WFI does for its race. A firmware that instead never arms closer than
+//                     its arming window (and pends near deadlines itself) would be named too: none of ours
+//                     does
 #pragma once
 
 #include <cstdint>
@@ -236,6 +251,7 @@ enum class Rule : uint8_t {
   McanFilterOpen,
   HfxtWaitUnbounded,
   TimerCompareUnseen,
+  TimerComparePassed,
 };
 
 struct RuleInfo {

@@ -1206,3 +1206,30 @@ TEST(BrokenImage, AClockCompareLeftMaskedIsNamedByTheCompareRule) {
   EXPECT_NE(caught[0].find("[TIMER-COMPARE-UNSEEN]"), std::string::npos) << caught[0];
   EXPECT_NE(caught[0].find("CC1 (0x8000)"), std::string::npos) << caught[0];
 }
+
+TEST(BrokenImage, AWakeUpArmedWithoutItsRecheckIsStoppedByTheComparePassedRule) {
+  // TimgClock::doWakeAt returning right after it unmasks CCU0 (the mutation run's timg-wake-no-recheck): the
+  // re-read of the counter and the ISET for a deadline passed while arming are gone. The twin's run never
+  // arms that close, so the late wake-up itself never happens; the rule names the arming the core sleeps
+  // on without a look at the counter. Unpatched, the same run is clean.
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  LOAD_OR_SKIP(elf, preset);
+  EXPECT_EQ(stopOf(preset, *elf, 300000), "");
+  constexpr uint32_t kCcu0 = 1U << 8;
+  StoreSite arm;
+  for (const auto& s : storeSites(preset, *elf, 0x40084000 + 0x1028, 50000)) {
+    if ((s.value & kCcu0) != 0) arm = s;
+  }
+  ASSERT_NE(arm.pc, 0U) << "no TIMG0 IMASK write with CCU0";
+  // The function's epilogue (POP {..., PC}) copied to the instruction after the IMASK store: return there.
+  uint16_t pop = 0;
+  for (uint32_t at = arm.pc + 2; at < arm.pc + 2 + 2 * 16 && pop == 0; at += 2) {
+    const uint16_t op = twinpatch::half(*elf, at);
+    if ((op & 0xFF00) == 0xBD00) pop = op;
+  }
+  ASSERT_NE(pop, 0U) << "no POP {..., PC} after the arming";
+  ASSERT_TRUE(elf->patch16(arm.pc + 2, pop));
+  const std::string stop = stopOf(preset, *elf, 300000);
+  EXPECT_RULE(stop, "TIMER-COMPARE-PASSED");
+  EXPECT_NE(stop.find("TIMG0: CC0"), std::string::npos) << stop;
+}

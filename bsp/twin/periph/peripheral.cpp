@@ -164,6 +164,7 @@ bool Peripheral::write(uint32_t offset, unsigned bytes, uint32_t value) {
   if (offset - cpuIntOffset_ < kEventBlockSize) {
     const bool ok = cpuInt_.write(offset - cpuIntOffset_, value);
     updateInterrupt();
+    if (ok) onCpuIntWrite(offset - cpuIntOffset_, value);
     return ok;
   }
   return writeRegister(offset, value);

@@ -85,6 +85,9 @@ class Peripheral : public Device {
   virtual void resetRegisters() = 0;  // reset values, no event armed
   // Whether the peripheral can raise an interrupt event at all now (a timer only while it counts).
   virtual bool eventsPossible() const { return true; }
+  // The firmware wrote CPU_INT's register at `offset` (ISET +0x20, ICLR +0x28, ...) with `value`, after the
+  // block took it: for a model's rules that watch how the firmware arms its events.
+  virtual void onCpuIntWrite(uint32_t /*offset*/, uint32_t /*value*/) {}
   // CPU_INT changed (the ISR cleared or masked something, or an event set a flag): recompute the output.
   void updateInterrupt();
   void raise(uint32_t bits) {

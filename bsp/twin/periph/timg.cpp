@@ -33,6 +33,8 @@ void Timg::resetRegisters() {
   cc_[0] = cc_[1] = ccctl_[0] = ccctl_[1] = 0;
   ccWritten_[0] = ccWritten_[1] = ccSeen_[0] = ccSeen_[1] = false;
   ccUnseen_[0] = ccUnseen_[1] = 0;
+  lastRead_ = {};
+  arming_[0] = arming_[1] = {};
   baseValue_ = 0;
   baseEdge_ = edgesAt(machine_.now());
   stoppedAtZero_ = false;
@@ -197,6 +199,53 @@ void Timg::onTick() {
   schedule();
 }
 
+uint32_t Timg::compareBit(int n) const {
+  return ((ctrctl_ & kCmMask) == kCmUp ? kCcu0 : kCcd0) << n;
+}
+
+void Timg::onCpuIntWrite(uint32_t offset, uint32_t value) {
+  constexpr uint32_t kIset = 0x20, kIclr = 0x28;  // hw_gptimer.h CPU_INT ISET, ICLR
+  for (int n = 0; n < 2; ++n) {
+    if (!arming_[n].open || (value & compareBit(n)) == 0) continue;
+    // ICLR wipes a match that came before it, so the window the re-check must cover ends here; ISET pends
+    // the event: the firmware itself made sure the wake-up comes.
+    if (offset == kIclr) arming_[n].armedAt = machine_.now();
+    if (offset == kIset) arming_[n].open = false;
+  }
+}
+
+void Timg::checkArmedCompares() {
+  // TIMER-COMPARE-PASSED (rules.hpp): the compare event comes only when the counter becomes CCn (SLAU847D
+  // 23 TIMx, shadow compare table 23-16: "TIMx.CTR value equals TIMx.CC"; hw_gptimer.h CPU_INT CCU0), so
+  // an alarm armed while the counter moves needs a look at the counter after the arming. An event already
+  // pending (RIS) is not lost: the core does not sleep through it.
+  if (!machine_.imageRules() || !eventsPossible()) return;
+  for (int n = 0; n < 2; ++n) {
+    const Arming& a = arming_[n];
+    const uint32_t bit = compareBit(n);
+    if (!a.open || (cpuInt_.imask & bit) == 0 || (cpuInt_.ris & bit) != 0) continue;
+    const uint64_t wrapCycles =
+        cycleOfEdge(baseEdge_ + (static_cast<uint64_t>(load_ & kCounterMask) + 1) * tickEdges()) -
+        cycleOfEdge(baseEdge_);
+    char from[96] = "without a read of CTR before it";
+    if (a.from.valid)
+      std::snprintf(from, sizeof from, "from CTR read as 0x%04X %llu cycles before the arming",
+                    static_cast<unsigned>(a.from.value),
+                    static_cast<unsigned long long>(a.armedAt - a.from.cycle));
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "%s: CC%d (0x%04X) armed for a wake-up (IMASK 0x%X) %s, and the core sleeps with no read "
+                  "of CTR since and no ISET of the event: the compare fires only when the counter becomes "
+                  "CC%d, so a deadline the counter passes while it is armed (one that close, or already "
+                  "due) wakes the core a wrap, %.1f ms, late",
+                  name(), n, static_cast<unsigned>(cc_[n] & kCounterMask),
+                  static_cast<unsigned>(cpuInt_.imask), from, n,
+                  static_cast<double>(wrapCycles) * 1000.0 / static_cast<double>(machine_.clockHz()));
+    machine_.violate(Rule::TimerComparePassed, buf);
+    return;
+  }
+}
+
 bool Timg::readRegister(uint32_t offset, uint32_t& value) {
   if (clock_.read(offset, value)) return true;
   switch (offset) {
@@ -208,6 +257,9 @@ bool Timg::readRegister(uint32_t offset, uint32_t& value) {
       return true;
     case kCtr:
       value = counterNow();
+      // TIMER-COMPARE-PASSED: a read after an arming is the re-check that sees a compare already passed.
+      lastRead_ = {true, value, machine_.now()};
+      arming_[0].open = arming_[1].open = false;
       return true;
     case kCtrctl:
       value = ctrctl_;
@@ -270,6 +322,7 @@ bool Timg::writeRegister(uint32_t offset, uint32_t value) {
     case kCc0 + 4:
       cc_[(offset - kCc0) / 4] = value;
       ccWritten_[(offset - kCc0) / 4] = true;
+      if (running() && !stoppedAtZero_) arming_[(offset - kCc0) / 4] = {true, lastRead_, machine_.now()};
       break;
     case kCcctl0:
     case kCcctl0 + 4:

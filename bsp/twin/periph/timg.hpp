@@ -27,6 +27,10 @@
 //   32 768 Hz is what a deep-sleep wake timer counts (bsp/mspm0/README.md "Low-power modes").
 // - Compare events (rules.hpp TIMER-COMPARE-UNSEEN, image runs only): a written CCn whose event comes 3 times
 //   masked, never once unmasked, on a counter whose interrupt serves other events, is named (a warning).
+// - Arming a compare (rules.hpp TIMER-COMPARE-PASSED, image runs only): a CCn written while the counter runs,
+//   its event unmasked, must be re-checked (a CTR read after the write and after the last ICLR of the event,
+//   or an ISET of it) before the core sleeps, unless the event is already pending: a compare the counter
+//   passed while it was being armed fires only a wrap later.
 #pragma once
 
 #include <cstdint>
@@ -58,6 +62,9 @@ class Timg final : public Peripheral {
   // a BUSCLK count in any deep mode, an LFCLK count on an instance `mode` does not clock (rules.hpp
   // SLEEP-EVENT-LOST).
   std::string deadlineLostIn(PowerMode mode) const;
+  // TIMER-COMPARE-PASSED (rules.hpp): called whenever the core is asleep; stops the run for a compare armed
+  // while the counter ran and not re-checked since.
+  void checkArmedCompares();
 
  private:
   bool readRegister(uint32_t offset, uint32_t& value) override;
@@ -91,6 +98,22 @@ class Timg final : public Peripheral {
   bool ccWritten_[2] = {false, false}, ccSeen_[2] = {false, false};
   uint32_t ccUnseen_[2] = {0, 0};
   void checkCompareSeen(int n, uint32_t bit);
+  // TIMER-COMPARE-PASSED (rules.hpp): the firmware's last CTR read, and per compare register an arming (a
+  // write of CCn while counting, or an ICLR of its event after one) that no CTR read or ISET followed yet.
+  struct CounterRead {
+    bool valid = false;
+    uint32_t value = 0;
+    uint64_t cycle = 0;
+  };
+  struct Arming {
+    bool open = false;
+    CounterRead from;  // the read before the write: the value the firmware computed CCn from
+    uint64_t armedAt = 0;
+  };
+  CounterRead lastRead_;
+  Arming arming_[2];
+  uint32_t compareBit(int n) const;  // CCUn counting up, CCDn counting down
+  void onCpuIntWrite(uint32_t offset, uint32_t value) override;
 };
 
 }  // namespace twin
