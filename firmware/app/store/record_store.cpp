@@ -166,16 +166,12 @@ Status RecordStore::writeSlot(uint32_t sector, uint32_t slot, const uint8_t* ima
   return Status::Ok;
 }
 
-// Copies the newest record of each type, slot for slot (same sequence numbers), into the next sector of the
-// ring, then writes that sector's header. A cut before the header leaves the old sector active and the new
-// one Dirty (erased before its next use), so nothing is lost.
+// Copies the newest record of each type, slot for slot (same sequence numbers), into the next erased sector
+// of the ring, then writes that sector's header. A cut before the header leaves the old sector active and the
+// new one Dirty (erased before its next use), so nothing is lost.
 Status RecordStore::compact() {
-  uint32_t target = state_->active < state_->sectors ? (state_->active + 1U) % state_->sectors : 0;
-  if (state_->active >= state_->sectors) {
-    for (uint32_t i = 0; i < state_->sectors && state_->sector[target] != SectorState::Erased; ++i)
-      target = (target + 1) % state_->sectors;
-  }
-  if (state_->sector[target] != SectorState::Erased) return Status::Busy;
+  const uint32_t target = nextInRing(SectorState::Erased);
+  if (target >= state_->sectors) return Status::Busy;
   state_->sector[target] = SectorState::Dirty;  // until its header is written
   uint32_t slot = 0;
   for (uint8_t t = 0; t < kTypes; ++t) {
@@ -223,25 +219,29 @@ Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
   return Status::Ok;
 }
 
-bool RecordStore::needsErase() const {
-  for (uint32_t s = 0; s < state_->sectors; ++s)
-    if (state_->sector[s] == SectorState::Dirty) return true;
-  return false;
-}
-
-// Erases the first Dirty sector after the active one in ring order: the ring order is the order in which
-// compaction will need them, and it spreads the erases evenly.
-Status RecordStore::eraseStep() {
-  if (!state_->restored) return Status::NotReady;
+// The first sector in `state` in ring order after the active one (from sector 0 when none is active), or
+// sectors when there is none: the ring order is the order in which compaction will need them, so erasing and
+// compacting in it spreads the erases evenly.
+uint32_t RecordStore::nextInRing(SectorState state) const {
   const uint32_t first = state_->active < state_->sectors ? state_->active + 1U : 0;
   for (uint32_t i = 0; i < state_->sectors; ++i) {
     const uint32_t s = (first + i) % state_->sectors;
-    if (state_->sector[s] != SectorState::Dirty) continue;
-    const Status st = flash_.erase(s);
-    if (st == Status::Ok) state_->sector[s] = SectorState::Erased;
-    return st;
+    if (state_->sector[s] == state) return s;
   }
-  return Status::Busy;
+  return state_->sectors;
+}
+
+bool RecordStore::needsErase() const {
+  return nextInRing(SectorState::Dirty) < state_->sectors;
+}
+
+Status RecordStore::eraseStep() {
+  if (!state_->restored) return Status::NotReady;
+  const uint32_t s = nextInRing(SectorState::Dirty);
+  if (s >= state_->sectors) return Status::Busy;
+  const Status st = flash_.erase(s);
+  if (st == Status::Ok) state_->sector[s] = SectorState::Erased;
+  return st;
 }
 
 }  // namespace fw::app::store

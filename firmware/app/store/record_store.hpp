@@ -5,9 +5,10 @@
 //   newest complete record of a type; write() appends a new one and never overwrites an older one, so a
 //   power cut at any point leaves the last complete record of every type readable after restore().
 // - Two or more sectors, used as a ring: one holds the records (the active sector); when it is full, write()
-//   first carries the newest record of each type into the next sector (compaction) and only then writes the
-//   new one. The old sector is then waiting to be erased: erasing is the caller's step (needsErase() /
-//   eraseStep()), run when the scan's bus work allows it (a sector erase stalls the CPU for up to 20 ms).
+//   first carries the newest record of each type into the next erased sector of the ring (compaction) and
+//   only then writes the new one. The old sector is then waiting to be erased: erasing is the caller's step
+//   (needsErase() / eraseStep()), run when the scan's bus work allows it (a sector erase stalls the CPU for
+//   up to 20 ms).
 // - restore() must run first (at start-up); before it every call returns NotReady (read/write/eraseStep).
 // - Results, each distinct:
 //     restore:   Ok; InvalidArgument (the region has fewer than 2 sectors). It never programs or erases.
@@ -71,6 +72,7 @@ class RecordStore {
  private:
   enum class SectorState : uint8_t { Erased, Active, Dirty };
 
+  uint32_t nextInRing(SectorState state) const;
   bool headerGeneration(uint32_t sector, uint32_t& generation) const;
   void scanActive();
   Status writeSlot(uint32_t sector, uint32_t slot, const uint8_t* image);
