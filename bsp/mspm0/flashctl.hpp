@@ -62,9 +62,9 @@ class FlashctlStorage final : public fw::hal::FlashStorage {
   std::span<const uint8_t> doRead() const override { return {config_.mapped, size()}; }
   fw::Status doErase(uint32_t sector) override;
   fw::Status doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) override;
-  // Unprotects the sector of `address`, executes the command set up, waits at most `bound` iterations.
-  fw::Status execute(uint32_t address, uint32_t bound);
-  uint8_t flashByte(uint32_t offset) const;
+  // Programs `word` at `offset`, or erases the sector at `offset` when `word` is nullptr.
+  fw::Status execute(uint32_t offset, const uint8_t* word);
+  bool reads(uint32_t offset, uint32_t bytes, const uint8_t* expect) const;
 
   FlashctlConfig config_;
 };
