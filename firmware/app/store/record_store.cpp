@@ -22,8 +22,9 @@ constexpr uint8_t kCommit1 = 'M';
 constexpr uint32_t kGenerationMask = 0xFFFFFF;
 
 // Whether `bytes` (a multiple of 4) from `p` (4-byte aligned: sectors are 1 KiB aligned, slots and words
-// multiples of 8 B, the RAM images alignas(4)) are all erased, in 32-bit loads: restore() checks every blank
-// sector whole, and a byte at a time took 2.3 ms of the G3507 images' start-up on the twin (bms-sim
+// multiples of 8 B, the word being written alignas(4)) are all erased, in 32-bit loads: restore() checks
+// every blank sector whole, and a byte at a time took 2.3 ms of the G3507 images' start-up on the twin
+// (bms-sim
 // --profile), enough to move the scans' phase against the world.
 bool erased(const uint8_t* p, uint32_t bytes) {
   p = std::assume_aligned<4>(p);
@@ -44,12 +45,11 @@ uint32_t load24(const uint8_t* p) {
   return p[0] | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16);
 }
 
-// Commit word of `slot`: a mark, the CRC-16 of every other byte of the slot (header word, payload, the
-// unused payload words as they read: erased), and its complement. Written last: before it exists the record
-// does not, a change of any other byte of the slot fails the CRC, and a torn commit word fails the mark or
-// the complement (a cut program only leaves some of its 0 bits unwritten).
-void encodeCommit(uint8_t* w, const uint8_t* slot) {
-  const uint16_t crc = crc::crc16Compact(slot, kCommit);
+// Commit word: a mark, the CRC-16 of every other byte of the slot (header word, payload, the unused payload
+// words as they read: erased), and its complement. Written last: before it exists the record does not, a
+// change of any other byte of the slot fails the CRC, and a torn commit word fails the mark or the
+// complement (a cut program only leaves some of its 0 bits unwritten).
+void encodeCommit(uint8_t* w, uint16_t crc) {
   w[0] = kCommit0;
   w[1] = kCommit1;
   storeLe16(w + 2, crc);
@@ -61,7 +61,7 @@ void encodeCommit(uint8_t* w, const uint8_t* slot) {
 // Whether a written slot holds a complete record: its commit word matches and its header is in range.
 bool holdsRecord(const uint8_t* slot) {
   uint8_t expect[kWord];
-  encodeCommit(expect, slot);
+  encodeCommit(expect, crc::crc16Compact(slot, kCommit));
   // A loop, not memcmp: the images' runtime (bsp/mspm0/runtime.cpp) provides memset and memcpy only.
   for (uint32_t i = 0; i < kWord; ++i)
     if (slot[kCommit + i] != expect[i]) return false;
@@ -154,13 +154,25 @@ uint32_t RecordStore::sequence(uint8_t type) const {
   return p == nullptr ? 0 : loadLe32(p + 2);
 }
 
-// Programs the words of `image` (a slot's bytes, in RAM or another sector) into a slot, in order, the commit
-// word last. Words that read erased are left as they are: the copy reads the same.
-Status RecordStore::writeSlot(uint32_t sector, uint32_t slot, const uint8_t* image) {
-  for (uint32_t w = 0; w < kSlotBytes; w += kWord) {
-    if (erased(image + w, kWord)) continue;
-    const Status s = flash_.program(sector * kSector + kWord + slot * kSlotBytes + w,
-                                    std::span<const uint8_t, kWord>(image + w, kWord));
+// Programs a record into `slot` of `sector`, word by word in order, built as it goes (no slot image on the
+// stack): the header word, the payload from the second word on, every unused byte 0xFF, the commit word
+// last. Words that read erased (the unused ones) are not programmed: they stay so. A compaction's copy is
+// the same call with the header and payload read from the old slot, so it writes the same bytes.
+Status RecordStore::writeSlot(uint32_t sector, uint32_t slot, const uint8_t* header,
+                              std::span<const uint8_t> payload) {
+  alignas(4) uint8_t word[kWord];
+  uint16_t crc = crc::kCrc16Init;
+  for (uint32_t i = 0; i < kSlotBytes; ++i) {
+    const uint32_t at = i - kWord;  // in the payload (wraps below it)
+    word[i % kWord] = i < kWord ? header[i] : at < payload.size() ? payload[at] : hal::FlashStorage::kErased;
+    if (i % kWord != kWord - 1) continue;
+    if (i < kCommit)
+      crc = crc::crc16Compact(word, kWord, crc);
+    else
+      encodeCommit(word, crc);
+    if (erased(word, kWord)) continue;
+    const Status s = flash_.program(sector * kSector + kWord + slot * kSlotBytes + i / kWord * kWord,
+                                    std::span<const uint8_t, kWord>(word, kWord));
     if (s != Status::Ok) return s;
   }
   return Status::Ok;
@@ -177,7 +189,7 @@ Status RecordStore::compact() {
   for (uint8_t t = 0; t < kTypes; ++t) {
     const uint8_t* p = newest(t);
     if (p == nullptr) continue;
-    const Status s = writeSlot(target, slot++, p);
+    const Status s = writeSlot(target, slot++, p, std::span<const uint8_t>(p + kWord, p[1]));
     if (s != Status::Ok) return s;
   }
   const uint32_t gen = (state_->generation + 1) & kGenerationMask;
@@ -194,8 +206,7 @@ Status RecordStore::compact() {
   return Status::Ok;
 }
 
-// A record's slot: header word (type, length, sequence number, two reserved bytes 0xFF), the payload from
-// the second word on, every unused byte 0xFF (so unused words are never programmed), the commit word.
+// A record's header word: type, length, sequence number, two reserved bytes 0xFF.
 Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
   if (!state_->restored) return Status::NotReady;
   if (type >= kTypes || payload.size() > kMaxPayload) return Status::InvalidArgument;
@@ -203,16 +214,11 @@ Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
     const Status s = compact();
     if (s != Status::Ok) return s;
   }
-  alignas(4) uint8_t image[kSlotBytes];
-  std::memset(image, hal::FlashStorage::kErased, sizeof image);
-  image[0] = type;
-  image[1] = static_cast<uint8_t>(payload.size());
-  storeLe32(image + 2, state_->nextSeq);
-  if (!payload.empty()) std::memcpy(image + kWord, payload.data(), payload.size());
-  encodeCommit(image + kCommit, image);
   // The slot is used whatever happens: after a failure whatever took of it is skipped, as a restore would.
   const uint8_t slot = state_->free++;
-  const Status s = writeSlot(state_->active, slot, image);
+  uint8_t header[kWord] = {type, static_cast<uint8_t>(payload.size()), 0, 0, 0, 0, 0xFF, 0xFF};
+  storeLe32(header + 2, state_->nextSeq);
+  const Status s = writeSlot(state_->active, slot, header, payload);
   if (s != Status::Ok) return s;
   state_->newest[type] = static_cast<uint8_t>(slot + 1);
   ++state_->nextSeq;

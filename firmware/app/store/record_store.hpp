@@ -75,7 +75,7 @@ class RecordStore {
   uint32_t nextInRing(SectorState state) const;
   bool headerGeneration(uint32_t sector, uint32_t& generation) const;
   void scanActive();
-  Status writeSlot(uint32_t sector, uint32_t slot, const uint8_t* image);
+  Status writeSlot(uint32_t sector, uint32_t slot, const uint8_t* header, std::span<const uint8_t> payload);
   Status compact();
   const uint8_t* at(uint32_t sector, uint32_t offset) const;
   const uint8_t* slotAt(uint32_t slot) const;
