@@ -34,7 +34,7 @@ BSP_MSPM0_RAMFUNC uint32_t executeAndPoll(fc::Command& command, const mmio::Reg&
 // The flash changes under the compiler's feet (the controller writes it): every check reads it afresh.
 // Whether `bytes` of the region from `offset` read as `expect` (nullptr: erased).
 bool FlashctlStorage::reads(uint32_t offset, uint32_t bytes, const uint8_t* expect) const {
-  const volatile uint8_t* flash = config_.mapped + offset;
+  const volatile uint8_t* flash = read().data() + offset;
   for (uint32_t i = 0; i < bytes; ++i) {
     if (flash[i] != (expect != nullptr ? expect[i] : kErased)) return false;
   }
@@ -46,8 +46,8 @@ bool FlashctlStorage::reads(uint32_t offset, uint32_t bytes, const uint8_t* expe
 // the sector at `offset`.
 fw::Status FlashctlStorage::execute(uint32_t offset, const uint8_t* word) {
   const bool program = word != nullptr;
-  const uint32_t address = config_.regionAddress + offset;
-  fc::Command& command = fc::command(config_.base);
+  const uint32_t address = regionAddress_ + offset;
+  fc::Command& command = fc::command(base_);
   // CMDCTL 0: address translation by the hardware, MAIN region from the address; ECCGENOVR clear, so on the
   // G3507 the hardware computes the ECC byte.
   command.cmdctl.write(0);
@@ -55,24 +55,23 @@ fw::Status FlashctlStorage::execute(uint32_t offset, const uint8_t* word) {
                                 : fc::kCommandErase | fc::kSizeSector);
   command.cmdaddr.write(address);
   if (program) {
-    command.cmdbyten.write(fc::kByteEnableData | (config_.ecc ? fc::kByteEnableEcc : 0));
+    command.cmdbyten.write(fc::kByteEnableData | (ecc_ ? fc::kByteEnableEcc : 0));
     command.cmddata0.write(fw::bytes::loadLe32(word));
     command.cmddata1.write(fw::bytes::loadLe32(word + 4));
   }
   // Protection is re-armed by the controller after every command, so it is cleared here, for this one
   // sector, right before CMDEXEC (SLAU846A/SLAU847 FLASHCTL write/erase protection; CMDWEPROTA bit n =
   // sector n, hw_flashctl.h).
-  fc::protect(config_.base).cmdweprota.write(~(1U << (address / kSectorBytes)));
-  const uint32_t status =
-      executeAndPoll(command, fc::statcmd(config_.base),
-                     flashPollBound(program ? kFlashProgramMaxUs : kFlashEraseMaxUs, config_.cpuMhz));
+  fc::protect(base_).cmdweprota.write(~(1U << (address / kSectorBytes)));
+  const uint32_t status = executeAndPoll(
+      command, fc::statcmd(base_), flashPollBound(program ? kFlashProgramMaxUs : kFlashEraseMaxUs, cpuMhz_));
   if ((status & fc::kStatDone) == 0) return fw::Status::Timeout;
   if ((status & fc::kStatPass) == 0) return fw::Status::VerifyFailed;
   return reads(offset, program ? kWordBytes : kSectorBytes, word) ? fw::Status::Ok : fw::Status::VerifyFailed;
 }
 
 fw::Status FlashctlStorage::doErase(uint32_t sector) {
-  if (sector >= config_.sectors) return fw::Status::InvalidArgument;
+  if (sector >= sectorCount()) return fw::Status::InvalidArgument;
   return execute(sector * kSectorBytes, nullptr);
 }
 

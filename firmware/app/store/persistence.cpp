@@ -16,13 +16,6 @@ constexpr uint8_t type(RecordType t) {
 }  // namespace
 
 template <class Record>
-Status Persistence::write(RecordType t, const Record& r) {
-  std::array<uint8_t, Record::kBytes> b{};
-  encode(r, b);
-  return store_.write(type(t), b);
-}
-
-template <class Record>
 bool Persistence::read(RecordType t, Record& r) const {
   std::array<uint8_t, Record::kBytes> b;
   uint32_t length = 0;
@@ -48,24 +41,26 @@ void Persistence::start(StartupInfo& info) {
 
   // The fault of this reset (recorded in SRAM by the previous run, or the watchdog's own), written to flash;
   // else the newest one an earlier run kept.
-  FaultRecord fault{};
+  FaultRecord fault{info.resetCause, info.faultLine, 0, 0, info.faultModule};
   FaultSource source = FaultSource::LastReset;
-  if (info.faultValid)
-    fault = {info.resetCause, info.faultLine, 0, 0, info.faultModule};
-  else if (info.resetCause == kResetCauseWatchdog)
-    fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
-  else if (read(RecordType::Fault, fault))
-    source = FaultSource::Stored;
-  else
-    return;
+  if (!info.faultValid) {
+    if (info.resetCause == kResetCauseWatchdog)
+      fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
+    else if (read(RecordType::Fault, fault))
+      source = FaultSource::Stored;
+    else
+      return;
+  }
   info.faultValid = true;
   info.faultModule = fault.module;
   info.faultLine = fault.code;
   info.kept.faultSource = source;
   if (source == FaultSource::Stored) return;
-  state_->last = write(RecordType::Fault, fault);
+  std::array<uint8_t, FaultRecord::kBytes> b;
+  encode(fault, b);
+  state_->last = store_.write(type(RecordType::Fault), b);
   if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok)
-    state_->last = write(RecordType::Fault, fault);
+    state_->last = store_.write(type(RecordType::Fault), b);
 }
 
 void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {

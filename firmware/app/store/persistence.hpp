@@ -66,9 +66,6 @@ class Persistence final : public TripObserver, public BackgroundWork {
   bool hasWork() const { return state_->logDirty || store_.needsErase(); }
   void repost();
   void addTrip(FaultId id, uint32_t uptimeS);
-  // `r` written as the newest record of type `t`, through the record's encoder (records.hpp).
-  template <class Record>
-  Status write(RecordType t, const Record& r);
   // The newest record of type `t` decoded into `r`; false (r unchanged) when there is none or it does not
   // decode (another length: another format version).
   template <class Record>
