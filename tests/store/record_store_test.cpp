@@ -283,7 +283,7 @@ TEST(RecordStore, RandomFlashContentsNeverCrashAndCanBeErasedIntoAWorkingStore) 
       b = (x % 4 == 0) ? static_cast<uint8_t>(x >> 8) : 0xFF;
     }
     if (round % 3 == 0) {  // a valid sector header in front of random words
-      const uint8_t hdr[8] = {'S', 'T', 5, 0, 0, static_cast<uint8_t>(~5), 0xFF, 0xFF};
+      const uint8_t hdr[8] = {5, 0, 0, 0, static_cast<uint8_t>(~5), 0xFF, 0xFF, 0xFF};  // generation 5
       std::copy(hdr, hdr + 8, img.begin());
     }
     RecordStore store(flash);

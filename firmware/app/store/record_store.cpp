@@ -15,11 +15,8 @@ constexpr uint32_t kWord = RecordStore::kWord;
 constexpr uint32_t kSector = RecordStore::kSector;
 constexpr uint32_t kSlotBytes = RecordStore::kSlotBytes;
 constexpr uint32_t kCommit = kSlotBytes - kWord;  // offset of the commit word, the slot's last
-constexpr uint8_t kSectorMagic0 = 'S';
-constexpr uint8_t kSectorMagic1 = 'T';
 constexpr uint8_t kCommit0 = 'C';
 constexpr uint8_t kCommit1 = 'M';
-constexpr uint32_t kGenerationMask = 0xFFFFFF;
 
 // Whether `bytes` (a multiple of 4) from `p` (4-byte aligned: sectors are 1 KiB aligned, slots and words
 // multiples of 8 B, the word being written alignas(4)) are all erased, in 32-bit loads: restore() checks
@@ -34,15 +31,6 @@ bool erased(const uint8_t* p, uint32_t bytes) {
     if (w != 0xFFFFFFFFU) return false;
   }
   return true;
-}
-
-void store24(uint8_t* p, uint32_t v) {
-  p[0] = static_cast<uint8_t>(v);
-  p[1] = static_cast<uint8_t>(v >> 8);
-  p[2] = static_cast<uint8_t>(v >> 16);
-}
-uint32_t load24(const uint8_t* p) {
-  return p[0] | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16);
 }
 
 // Commit word: a mark, the CRC-16 of every other byte of the slot (header word, payload, the unused payload
@@ -83,15 +71,14 @@ const uint8_t* RecordStore::newest(uint8_t type) const {
   return n == 0 ? nullptr : slotAt(n - 1U);
 }
 
-// Sector header: magic, generation (24 bits) and its complement. Written after the compaction's copies, so a
-// valid header means the sector holds the newest record of every type. The complement also rejects a sector
-// whose erase was cut (an erase only sets bits, so a bit and its complement cannot both survive as 1/0 pairs
-// once either was erased).
+// Sector header: the generation (32 bit, 1 for the first sector ever written) and its complement. Written
+// after the compaction's copies, so a valid header means the sector holds the newest record of every type.
+// The complement rejects a sector whose erase was cut: an erase only sets bits, so once any bit of the
+// header was erased a bit and its complement read 1 together.
 bool RecordStore::headerGeneration(uint32_t sector, uint32_t& generation) const {
   const uint8_t* w = at(sector, 0);
-  if (w[0] != kSectorMagic0 || w[1] != kSectorMagic1) return false;
-  generation = load24(w + 2);
-  return ((generation ^ load24(w + 5)) == kGenerationMask) && generation != 0;
+  generation = loadLe32(w);
+  return (generation ^ loadLe32(w + 4)) == 0xFFFFFFFFU && generation != 0 && generation != 0xFFFFFFFFU;
 }
 
 Status RecordStore::restore() {
@@ -192,10 +179,10 @@ Status RecordStore::compact() {
     const Status s = writeSlot(target, slot++, p, std::span<const uint8_t>(p + kWord, p[1]));
     if (s != Status::Ok) return s;
   }
-  const uint32_t gen = (state_->generation + 1) & kGenerationMask;
-  uint8_t header[kWord] = {kSectorMagic0, kSectorMagic1};
-  store24(header + 2, gen);
-  store24(header + 5, ~gen & kGenerationMask);
+  const uint32_t gen = state_->generation + 1;
+  uint8_t header[kWord];
+  storeLe32(header, gen);
+  storeLe32(header + 4, ~gen);
   const Status s = flash_.program(target * kSector, header);
   if (s != Status::Ok) return s;
   if (state_->active < state_->sectors) state_->sector[state_->active] = SectorState::Dirty;
