@@ -32,56 +32,53 @@ BSP_MSPM0_RAMFUNC uint32_t executeAndPoll(fc::Command& command, const mmio::Reg&
 }  // namespace
 
 // The flash changes under the compiler's feet (the controller writes it): every check reads it afresh.
-uint8_t FlashctlStorage::flashByte(uint32_t offset) const {
-  return static_cast<const volatile uint8_t*>(config_.mapped)[offset];
+// Whether `bytes` of the region from `offset` read as `expect` (nullptr: erased).
+bool FlashctlStorage::reads(uint32_t offset, uint32_t bytes, const uint8_t* expect) const {
+  const volatile uint8_t* flash = read().data() + offset;
+  for (uint32_t i = 0; i < bytes; ++i) {
+    if (flash[i] != (expect != nullptr ? expect[i] : kErased)) return false;
+  }
+  return true;
 }
 
-fw::Status FlashctlStorage::execute(uint32_t address, uint32_t bound) {
+// One command on the region, erase and program alike: set up, unprotect the one sector, execute, wait at
+// most the data sheet's bound, then read back. `word` is the word to program at `offset`; nullptr erases
+// the sector at `offset`.
+fw::Status FlashctlStorage::execute(uint32_t offset, const uint8_t* word) {
+  const bool program = word != nullptr;
+  const uint32_t address = regionAddress_ + offset;
+  fc::Command& command = fc::command(base_);
+  // CMDCTL 0: address translation by the hardware, MAIN region from the address; ECCGENOVR clear, so on the
+  // G3507 the hardware computes the ECC byte.
+  command.cmdctl.write(0);
+  command.cmdtype.write(program ? fc::kCommandProgram | fc::kSizeOneWord
+                                : fc::kCommandErase | fc::kSizeSector);
+  command.cmdaddr.write(address);
+  if (program) {
+    command.cmdbyten.write(fc::kByteEnableData | (ecc_ ? fc::kByteEnableEcc : 0));
+    command.cmddata0.write(fw::bytes::loadLe32(word));
+    command.cmddata1.write(fw::bytes::loadLe32(word + 4));
+  }
   // Protection is re-armed by the controller after every command, so it is cleared here, for this one
   // sector, right before CMDEXEC (SLAU846A/SLAU847 FLASHCTL write/erase protection; CMDWEPROTA bit n =
   // sector n, hw_flashctl.h).
-  fc::protect(config_.base).cmdweprota.write(~(1U << (address / kSectorBytes)));
-  const uint32_t status = executeAndPoll(fc::command(config_.base), fc::statcmd(config_.base), bound);
+  fc::protect(base_).cmdweprota.write(~(1U << (address / kSectorBytes)));
+  const uint32_t status = executeAndPoll(
+      command, fc::statcmd(base_), flashPollBound(program ? kFlashProgramMaxUs : kFlashEraseMaxUs, cpuMhz_));
   if ((status & fc::kStatDone) == 0) return fw::Status::Timeout;
   if ((status & fc::kStatPass) == 0) return fw::Status::VerifyFailed;
-  return fw::Status::Ok;
+  return reads(offset, program ? kWordBytes : kSectorBytes, word) ? fw::Status::Ok : fw::Status::VerifyFailed;
 }
 
 fw::Status FlashctlStorage::doErase(uint32_t sector) {
-  if (sector >= config_.sectors) return fw::Status::InvalidArgument;
-  const uint32_t address = config_.regionAddress + sector * kSectorBytes;
-  fc::Command& command = fc::command(config_.base);
-  command.cmdctl.write(0);  // address translation by the hardware, MAIN region from the address
-  command.cmdtype.write(fc::kCommandErase | fc::kSizeSector);
-  command.cmdaddr.write(address);
-  if (fw::Status s = execute(address, flashPollBound(kFlashEraseMaxUs, config_.cpuMhz)); s != fw::Status::Ok)
-    return s;
-  for (uint32_t i = 0; i < kSectorBytes; ++i) {
-    if (flashByte(sector * kSectorBytes + i) != kErased) return fw::Status::VerifyFailed;
-  }
-  return fw::Status::Ok;
+  if (sector >= sectorCount()) return fw::Status::InvalidArgument;
+  return execute(sector * kSectorBytes, nullptr);
 }
 
 fw::Status FlashctlStorage::doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) {
   if (offset % kWordBytes != 0 || offset >= size()) return fw::Status::InvalidArgument;
-  for (uint32_t i = 0; i < kWordBytes; ++i) {
-    if (flashByte(offset + i) != kErased) return fw::Status::InvalidArgument;  // one program per erase
-  }
-  const uint32_t address = config_.regionAddress + offset;
-  fc::Command& command = fc::command(config_.base);
-  command.cmdctl.write(0);  // ECCGENOVR clear: on the G3507 the hardware computes the ECC byte
-  command.cmdtype.write(fc::kCommandProgram | fc::kSizeOneWord);
-  command.cmdaddr.write(address);
-  command.cmdbyten.write(fc::kByteEnableData | (config_.ecc ? fc::kByteEnableEcc : 0));
-  command.cmddata0.write(fw::bytes::loadLe32(word.data()));
-  command.cmddata1.write(fw::bytes::loadLe32(word.data() + 4));
-  if (fw::Status s = execute(address, flashPollBound(kFlashProgramMaxUs, config_.cpuMhz));
-      s != fw::Status::Ok)
-    return s;
-  for (unsigned i = 0; i < kWordBytes; ++i) {
-    if (flashByte(offset + i) != word[i]) return fw::Status::VerifyFailed;
-  }
-  return fw::Status::Ok;
+  if (!reads(offset, kWordBytes, nullptr)) return fw::Status::InvalidArgument;  // one program per erase
+  return execute(offset, word.data());
 }
 
 }  // namespace bsp::mspm0

@@ -51,22 +51,29 @@ constexpr uint32_t flashPollBound(uint32_t us, uint32_t cpuMhz) {
 
 class FlashctlStorage final : public fw::hal::FlashStorage {
  public:
-  explicit constexpr FlashctlStorage(const FlashctlConfig& config) : config_(config) {}
+  explicit constexpr FlashctlStorage(const FlashctlConfig& config)
+      : FlashStorage(config.mapped, config.sectors),
+        base_(config.base),
+        regionAddress_(config.regionAddress),
+        cpuMhz_(config.cpuMhz),
+        ecc_(config.ecc) {}
   // The region is sector aligned and within sectors 0..31.
   static constexpr bool regionFits(uint32_t address, uint32_t sectors) {
     return address % kSectorBytes == 0 && sectors > 0 && address / kSectorBytes + sectors <= 32;
   }
 
  private:
-  uint32_t doSectorCount() const override { return config_.sectors; }
-  std::span<const uint8_t> doRead() const override { return {config_.mapped, size()}; }
   fw::Status doErase(uint32_t sector) override;
   fw::Status doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) override;
-  // Unprotects the sector of `address`, executes the command set up, waits at most `bound` iterations.
-  fw::Status execute(uint32_t address, uint32_t bound);
-  uint8_t flashByte(uint32_t offset) const;
+  // Programs `word` at `offset`, or erases the sector at `offset` when `word` is nullptr.
+  fw::Status execute(uint32_t offset, const uint8_t* word);
+  bool reads(uint32_t offset, uint32_t bytes, const uint8_t* expect) const;
 
-  FlashctlConfig config_;
+  // The configuration beyond the region FlashStorage keeps (FlashctlConfig).
+  uintptr_t base_;
+  uint32_t regionAddress_;
+  uint32_t cpuMhz_;
+  bool ecc_;
 };
 
 }  // namespace bsp::mspm0

@@ -35,9 +35,9 @@ class FlashStorage {
   static constexpr uint32_t kWordBytes = 8;       // one flash word: 64 data bits (SLAU846A NVM terms)
   static constexpr uint8_t kErased = 0xFF;
 
-  uint32_t sectorCount() const { return doSectorCount(); }
-  uint32_t size() const { return sectorCount() * kSectorBytes; }
-  std::span<const uint8_t> read() const { return doRead(); }
+  uint32_t sectorCount() const { return sectors_; }
+  uint32_t size() const { return sectors_ * kSectorBytes; }
+  std::span<const uint8_t> read() const { return {region_, size()}; }
 
   [[nodiscard]] Status erase(uint32_t sector) { return doErase(sector); }
   [[nodiscard]] Status program(uint32_t offset, std::span<const uint8_t, kWordBytes> word) {
@@ -45,13 +45,17 @@ class FlashStorage {
   }
 
  protected:
+  // `region`: where the CPU reads the region (memory-mapped), `sectors` of it; both fixed for the object's
+  // life (plain data, not virtual calls: the store reads through them on every access).
+  constexpr FlashStorage(const uint8_t* region, uint32_t sectors) : region_(region), sectors_(sectors) {}
   ~FlashStorage() = default;
 
  private:
-  virtual uint32_t doSectorCount() const = 0;
-  virtual std::span<const uint8_t> doRead() const = 0;
   virtual Status doErase(uint32_t sector) = 0;
   virtual Status doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) = 0;
+
+  const uint8_t* region_;
+  uint32_t sectors_;
 };
 
 }  // namespace fw::hal

@@ -1,13 +1,18 @@
 // The host flash model: contract checks of hal/flash.hpp and the torn states a power cut can leave.
 #include "sim/sim_flash.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
 namespace bsp::host {
 
 SimFlash::SimFlash(uint32_t sectors, uint64_t seed)
-    : sectors_(sectors), image_(sectors * kSectorBytes, kErased), sectorErases_(sectors, 0), rng_(seed | 1) {}
+    : SimFlashImage{std::vector<uint8_t>(sectors * kSectorBytes, kErased)},
+      FlashStorage(image_.data(), sectors),
+      sectors_(sectors),
+      sectorErases_(sectors, 0),
+      rng_(seed | 1) {}
 
 uint64_t SimFlash::random() {
   // xorshift64: reproducible and good enough to pick torn bits.
@@ -104,7 +109,7 @@ bool SimFlash::load(const std::string& path) {
   if (!in) return false;
   std::vector<uint8_t> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (data.size() != image_.size()) return false;
-  image_ = std::move(data);
+  std::copy(data.begin(), data.end(), image_.begin());  // in place: FlashStorage reads at its address
   return true;
 }
 

@@ -22,7 +22,12 @@
 
 namespace bsp::host {
 
-class SimFlash final : public fw::hal::FlashStorage {
+// The image is a base, built before FlashStorage, which is given its address (base-from-member).
+struct SimFlashImage {
+  std::vector<uint8_t> image_;
+};
+
+class SimFlash final : private SimFlashImage, public fw::hal::FlashStorage {
  public:
   // How the word being programmed reads after the cut.
   enum class Tear : uint8_t {
@@ -52,15 +57,12 @@ class SimFlash final : public fw::hal::FlashStorage {
   bool save(const std::string& path) const;
 
  private:
-  uint32_t doSectorCount() const override { return sectors_; }
-  std::span<const uint8_t> doRead() const override { return image_; }
   fw::Status doErase(uint32_t sector) override;
   fw::Status doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) override;
   uint64_t random();
 
   static constexpr uint32_t kNever = 0xFFFFFFFF;
   uint32_t sectors_;
-  std::vector<uint8_t> image_;
   std::vector<uint32_t> sectorErases_;
   uint64_t rng_;
   uint32_t programs_ = 0;

@@ -1,6 +1,7 @@
 #include "app/store/persistence.hpp"
 
 #include <array>
+#include <cstring>
 
 #include "core/assert.hpp"
 
@@ -13,13 +14,6 @@ constexpr uint8_t type(RecordType t) {
 }
 
 }  // namespace
-
-template <class Record>
-Status Persistence::write(RecordType t, const Record& r) {
-  std::array<uint8_t, Record::kBytes> b{};
-  encode(r, b);
-  return store_.write(type(t), b);
-}
 
 template <class Record>
 bool Persistence::read(RecordType t, Record& r) const {
@@ -38,44 +32,48 @@ void Persistence::start(StartupInfo& info) {
     info.kept.faultSource = FaultSource::NotAvailable;
     return;
   }
-  if (read(RecordType::ProtectionLog, state_->log)) info.kept.logEntries = state_->log.count;
+  uint32_t length = 0;
+  if (store_.read(type(RecordType::ProtectionLog), state_->log, length) == Status::Ok &&
+      length == ProtectionLogRecord::kBytes && state_->log[0] <= ProtectionLogRecord::kEntries)
+    info.kept.logEntries = state_->log[0];
+  else
+    state_->log = {};  // none, or another format version's: start a new one
 
   // The fault of this reset (recorded in SRAM by the previous run, or the watchdog's own), written to flash;
   // else the newest one an earlier run kept.
-  FaultRecord fault{};
+  FaultRecord fault{info.resetCause, info.faultLine, 0, 0, info.faultModule};
   FaultSource source = FaultSource::LastReset;
-  if (info.faultValid)
-    fault = {info.resetCause, info.faultLine, 0, 0, info.faultModule};
-  else if (info.resetCause == kResetCauseWatchdog)
-    fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
-  else if (read(RecordType::Fault, fault))
-    source = FaultSource::Stored;
-  else
-    return;
+  if (!info.faultValid) {
+    if (info.resetCause == kResetCauseWatchdog)
+      fault = {info.resetCause, kWatchdogCode, 0, 0, static_cast<uint8_t>(fw::Module::Bsp)};
+    else if (read(RecordType::Fault, fault))
+      source = FaultSource::Stored;
+    else
+      return;
+  }
   info.faultValid = true;
   info.faultModule = fault.module;
   info.faultLine = fault.code;
   info.kept.faultSource = source;
   if (source == FaultSource::Stored) return;
-  state_->last = write(RecordType::Fault, fault);
+  std::array<uint8_t, FaultRecord::kBytes> b;
+  encode(fault, b);
+  state_->last = store_.write(type(RecordType::Fault), b);
   if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok)
-    state_->last = write(RecordType::Fault, fault);
+    state_->last = store_.write(type(RecordType::Fault), b);
 }
 
 void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
   const uint32_t s = uptimeS(now);
-  for (uint8_t i = 0; newlyTripped != 0; ++i, newlyTripped >>= 1) {
-    if ((newlyTripped & 1U) == 0) continue;
-    addTrip(static_cast<FaultId>(i));
-    state_->log.entry[state_->log.count - 1].uptimeS = s;
-  }
+  for (uint8_t i = 0; newlyTripped != 0; ++i, newlyTripped >>= 1)
+    if ((newlyTripped & 1U) != 0) addTrip(static_cast<FaultId>(i), s);
   if (settled && !state_->posted && hasWork()) repost();
 }
 
 void Persistence::step() {
   state_->posted = false;
   if (state_->logDirty) {
-    state_->last = write(RecordType::ProtectionLog, state_->log);
+    state_->last = store_.write(type(RecordType::ProtectionLog), state_->log);
     // Busy: a compaction is due and no sector is erased yet; erase one now and write in the next step.
     // A failed write or erase is not retried (the flash's status stays in lastStatus()): the next trip
     // writes the log again. So a failing flash costs one job a trip, never a loop.
@@ -92,13 +90,21 @@ void Persistence::repost() {
   scheduler_.post(kCommandTask, command_event::kStore);
 }
 
+ProtectionLogRecord Persistence::log() const {
+  ProtectionLogRecord r;
+  decode(state_->log, r);
+  return r;
+}
+
 // Appends `id` to the log, dropping the oldest entry when full, with the value that tripped it: the ones
 // Protection::evaluate compares (protection.cpp), read back from the pack view it evaluated.
-void Persistence::addTrip(FaultId id) {
-  if (state_->log.count == ProtectionLogRecord::kEntries) {
-    for (uint8_t k = 1; k < ProtectionLogRecord::kEntries; ++k)
-      state_->log.entry[k - 1] = state_->log.entry[k];
-    --state_->log.count;
+void Persistence::addTrip(FaultId id, uint32_t uptimeS) {
+  using Log = ProtectionLogRecord;
+  uint8_t* log = state_->log.data();  // byte 0: the count
+  if (log[0] == Log::kEntries) {
+    std::memmove(log + Log::entryOffset(0), log + Log::entryOffset(1),
+                 (Log::kEntries - 1) * Log::kEntryBytes);
+    --log[0];
   }
   const PackTotals& t = pack_.totals;
   int32_t value = 0;
@@ -127,7 +133,8 @@ void Persistence::addTrip(FaultId id) {
     default:
       break;  // the rules of counts and time: the record's rule says it all
   }
-  state_->log.entry[state_->log.count++] = {static_cast<uint8_t>(id), 0, value};
+  encode(Log::Entry{static_cast<uint8_t>(id), uptimeS, value},
+         std::span<uint8_t, Log::kEntryBytes>(log + Log::entryOffset(log[0]++), Log::kEntryBytes));
   state_->logDirty = true;
 }
 

@@ -25,6 +25,7 @@
 // - Thread mode only; not reentrant.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "app/pack/pack_view.hpp"
@@ -56,17 +57,15 @@ class Persistence final : public TripObserver, public BackgroundWork {
   void evaluated(FaultMask newlyTripped, bool settled, Instant now) override;
   void step() override;
 
-  const ProtectionLogRecord& log() const { return state_->log; }
+  // The protection log as it is kept (decoded from its stored form): for tests and tools.
+  ProtectionLogRecord log() const;
   Status lastStatus() const { return state_->last; }
   const RecordStore& store() const { return store_; }
 
  private:
   bool hasWork() const { return state_->logDirty || store_.needsErase(); }
   void repost();
-  void addTrip(FaultId id);
-  // `r` written as the newest record of type `t`, through the record's encoder (records.hpp).
-  template <class Record>
-  Status write(RecordType t, const Record& r);
+  void addTrip(FaultId id, uint32_t uptimeS);
   // The newest record of type `t` decoded into `r`; false (r unchanged) when there is none or it does not
   // decode (another length: another format version).
   template <class Record>
@@ -75,7 +74,8 @@ class Persistence final : public TripObserver, public BackgroundWork {
 
   // What changes at run time, all zero at construction (core/zeroed.hpp): no log, no time, Status::Ok.
   struct State {
-    ProtectionLogRecord log;
+    // The log in its stored form (records.hpp): written as it is, no encoding on the way to the flash.
+    std::array<uint8_t, ProtectionLogRecord::kBytes> log;
     uint32_t seconds;  // since start-up, counted from the evaluations' instants
     uint32_t subUs;    // microseconds past seconds
     Instant lastEvaluation;

@@ -13,17 +13,16 @@ namespace {
 
 constexpr uint32_t kWord = RecordStore::kWord;
 constexpr uint32_t kSector = RecordStore::kSector;
-constexpr uint8_t kSectorMagic0 = 'S';
-constexpr uint8_t kSectorMagic1 = 'T';
-constexpr uint8_t kHeaderMark = 0x5A;
+constexpr uint32_t kSlotBytes = RecordStore::kSlotBytes;
+constexpr uint32_t kCommit = kSlotBytes - kWord;  // offset of the commit word, the slot's last
 constexpr uint8_t kCommit0 = 'C';
 constexpr uint8_t kCommit1 = 'M';
-constexpr uint32_t kGenerationMask = 0xFFFFFF;
 
-// Whether `bytes` (a multiple of 4) from `p` (word aligned: sectors are 1 KiB aligned, words 8 B) are all
-// erased, in 32-bit loads: restore() checks every blank sector whole, and a byte at a time through at()
-// took 2.3 ms of the G3507 images' start-up on the twin (bms-sim --profile), enough to move the scans'
-// phase against the world.
+// Whether `bytes` (a multiple of 4) from `p` (4-byte aligned: sectors are 1 KiB aligned, slots and words
+// multiples of 8 B, the word being written alignas(4)) are all erased, in 32-bit loads: restore() checks
+// every blank sector whole, and a byte at a time took 2.3 ms of the G3507 images' start-up on the twin
+// (bms-sim
+// --profile), enough to move the scans' phase against the world.
 bool erased(const uint8_t* p, uint32_t bytes) {
   p = std::assume_aligned<4>(p);
   for (uint32_t off = 0; off < bytes; off += 4) {
@@ -34,44 +33,10 @@ bool erased(const uint8_t* p, uint32_t bytes) {
   return true;
 }
 
-void store24(uint8_t* p, uint32_t v) {
-  p[0] = static_cast<uint8_t>(v);
-  p[1] = static_cast<uint8_t>(v >> 8);
-  p[2] = static_cast<uint8_t>(v >> 16);
-}
-uint32_t load24(const uint8_t* p) {
-  return p[0] | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16);
-}
-
-// Record header word: type, length, sequence (LE), a mark, CRC-8 of the first seven bytes. Its own CRC lets a
-// scan trust the length to find the next record even when the record's commit word never got written.
-struct Header {
-  uint8_t type;
-  uint8_t length;
-  uint32_t seq;
-};
-void encodeHeader(uint8_t* w, const Header& h) {
-  w[0] = h.type;
-  w[1] = h.length;
-  storeLe32(w + 2, h.seq);
-  w[6] = kHeaderMark;
-  w[7] = crc::crc8(w, 7);
-}
-bool decodeHeader(const uint8_t* w, Header& h) {
-  if (w[6] != kHeaderMark || crc::crc8(w, 7) != w[7]) return false;
-  h = Header{w[0], w[1], loadLe32(w + 2)};
-  return h.type < RecordStore::kTypes && h.length <= RecordStore::kMaxPayload && h.seq != 0;
-}
-
-// Commit word: a mark, the CRC-16 over the header word and the payload words (padding included, so any
-// changed bit of the record fails it), and its complement. Written last: before it
-// exists the record does not, and a torn commit word fails the mark, the CRC or the complement.
-uint32_t paddedLength(uint32_t length) {
-  return (length + kWord - 1) / kWord * kWord;
-}
-uint16_t recordCrc(const uint8_t* header, const uint8_t* payloadWords, uint32_t length) {
-  return crc::crc16Compact(payloadWords, paddedLength(length), crc::crc16Compact(header, kWord));
-}
+// Commit word: a mark, the CRC-16 of every other byte of the slot (header word, payload, the unused payload
+// words as they read: erased), and its complement. Written last: before it exists the record does not, a
+// change of any other byte of the slot fails the CRC, and a torn commit word fails the mark or the
+// complement (a cut program only leaves some of its 0 bits unwritten).
 void encodeCommit(uint8_t* w, uint16_t crc) {
   w[0] = kCommit0;
   w[1] = kCommit1;
@@ -80,13 +45,15 @@ void encodeCommit(uint8_t* w, uint16_t crc) {
   w[6] = 0;
   w[7] = 0;
 }
-bool commitMatches(const uint8_t* w, uint16_t crc) {
+
+// Whether a written slot holds a complete record: its commit word matches and its header is in range.
+bool holdsRecord(const uint8_t* slot) {
   uint8_t expect[kWord];
-  encodeCommit(expect, crc);
+  encodeCommit(expect, crc::crc16Compact(slot, kCommit));
   // A loop, not memcmp: the images' runtime (bsp/mspm0/runtime.cpp) provides memset and memcpy only.
   for (uint32_t i = 0; i < kWord; ++i)
-    if (w[i] != expect[i]) return false;
-  return true;
+    if (slot[kCommit + i] != expect[i]) return false;
+  return slot[0] < RecordStore::kTypes && slot[1] <= RecordStore::kMaxPayload && loadLe32(slot + 2) != 0;
 }
 
 }  // namespace
@@ -95,39 +62,44 @@ const uint8_t* RecordStore::at(uint32_t sector, uint32_t offset) const {
   return flash_.read().data() + sector * kSector + offset;
 }
 
-// Sector header: magic, generation (24 bits) and its complement. Written after the compaction's copies, so a
-// valid header means the sector holds the newest record of every type. The complement also rejects a sector
-// whose erase was cut (an erase only sets bits, so a bit and its complement cannot both survive as 1/0 pairs
-// once either was erased).
+const uint8_t* RecordStore::slotAt(uint32_t slot) const {
+  return at(state_->active, kWord + slot * kSlotBytes);
+}
+
+const uint8_t* RecordStore::newest(uint8_t type) const {
+  const uint8_t n = state_->newest[type];
+  return n == 0 ? nullptr : slotAt(n - 1U);
+}
+
+// Sector header: the generation (32 bit, 1 for the first sector ever written) and its complement. Written
+// after the compaction's copies, so a valid header means the sector holds the newest record of every type.
+// The complement rejects a sector whose erase was cut: an erase only sets bits, so once any bit of the
+// header was erased a bit and its complement read 1 together.
 bool RecordStore::headerGeneration(uint32_t sector, uint32_t& generation) const {
   const uint8_t* w = at(sector, 0);
-  if (w[0] != kSectorMagic0 || w[1] != kSectorMagic1) return false;
-  generation = load24(w + 2);
-  return ((generation ^ load24(w + 5)) == kGenerationMask) && generation != 0;
+  generation = loadLe32(w);
+  return (generation ^ loadLe32(w + 4)) == 0xFFFFFFFFU && generation != 0 && generation != 0xFFFFFFFFU;
 }
 
 Status RecordStore::restore() {
-  state_->restored = false;
-  state_->sectors = flash_.sectorCount() < kMaxSectors ? flash_.sectorCount() : kMaxSectors;
+  *state_ = State{};
+  const uint32_t count = flash_.sectorCount();
+  state_->sectors = static_cast<uint8_t>(count < kMaxSectors ? count : kMaxSectors);
   if (state_->sectors < 2) return Status::InvalidArgument;
   state_->active = state_->sectors;
-  state_->generation = 0;
   for (uint32_t s = 0; s < state_->sectors; ++s) {
     uint32_t gen = 0;
     if (headerGeneration(s, gen)) {
       state_->sector[s] = SectorState::Dirty;
       if (gen > state_->generation) {
         state_->generation = gen;
-        state_->active = s;
+        state_->active = static_cast<uint8_t>(s);
       }
     } else {
       state_->sector[s] = erased(at(s, 0), kSector) ? SectorState::Erased : SectorState::Dirty;
     }
   }
-  for (Entry& e : state_->index)
-    e = Entry{};
   state_->nextSeq = 1;
-  state_->free = kSector;
   if (state_->active < state_->sectors) {
     state_->sector[state_->active] = SectorState::Active;
     scanActive();
@@ -136,150 +108,133 @@ Status RecordStore::restore() {
   return Status::Ok;
 }
 
-// Walks the active sector's records (at most W - 1 of them). A header that fails its check ends the walk and
-// closes the sector to appends (its length cannot be trusted); so does a written word after the first erased
-// header slot. A record without a valid commit word is skipped by its length.
+// The one walk of the active sector, after a restore and after a compaction: slots are written in order, so
+// a later slot holds a newer record; the next record goes after the last written slot, whatever it holds
+// (a record, or what a cut or failed write left of one: never read, never written again).
 void RecordStore::scanActive() {
-  uint32_t off = kWord;
-  state_->free = kSector;
-  while (off + kWord <= kSector) {
-    const uint8_t* w = at(state_->active, off);
-    if (erased(w, kWord)) {
-      if (erased(w, kSector - off)) state_->free = off;
-      return;
-    }
-    Header h{};
-    if (!decodeHeader(w, h)) return;
-    const uint32_t words = recordWords(h.length);
-    if (off + words * kWord > kSector) return;
-    if (h.seq >= state_->nextSeq) state_->nextSeq = h.seq + 1;
-    const uint8_t* commit = at(state_->active, off + (words - 1) * kWord);
-    if (commitMatches(commit, recordCrc(w, w + kWord, h.length)) && h.seq > state_->index[h.type].seq)
-      state_->index[h.type] = Entry{static_cast<uint16_t>(off), h.length, h.seq};
-    off += words * kWord;
+  state_->free = 0;
+  std::memset(state_->newest, 0, sizeof state_->newest);
+  for (uint8_t slot = 0; slot < kSlots; ++slot) {
+    const uint8_t* p = slotAt(slot);
+    if (erased(p, kSlotBytes)) continue;
+    state_->free = static_cast<uint8_t>(slot + 1);
+    if (!holdsRecord(p)) continue;
+    state_->newest[p[0]] = static_cast<uint8_t>(slot + 1);
+    const uint32_t seq = loadLe32(p + 2);
+    if (seq >= state_->nextSeq) state_->nextSeq = seq + 1;
   }
 }
 
 Status RecordStore::read(uint8_t type, std::span<uint8_t> out, uint32_t& length) const {
   if (!state_->restored) return Status::NotReady;
   if (type >= kTypes) return Status::InvalidArgument;
-  const Entry& e = state_->index[type];
-  if (e.seq == 0) return Status::NoResponse;
-  if (out.size() < e.length) return Status::InvalidArgument;
-  std::memcpy(out.data(), at(state_->active, e.offset + kWord), e.length);
-  length = e.length;
+  const uint8_t* p = newest(type);
+  if (p == nullptr) return Status::NoResponse;
+  if (out.size() < p[1]) return Status::InvalidArgument;
+  std::memcpy(out.data(), p + kWord, p[1]);
+  length = p[1];
   return Status::Ok;
 }
 
-Status RecordStore::programWord(uint32_t sector, uint32_t offset, const uint8_t* word) {
-  return flash_.program(sector * kSector + offset, std::span<const uint8_t, kWord>(word, kWord));
+uint32_t RecordStore::sequence(uint8_t type) const {
+  const uint8_t* p = type < kTypes ? newest(type) : nullptr;
+  return p == nullptr ? 0 : loadLe32(p + 2);
 }
 
-// Copies the newest record of each type, word for word (same sequence numbers), into the next sector of the
-// ring, then writes that sector's header. A cut before the header leaves the old sector active and the new
-// one Dirty (erased before its next use), so nothing is lost.
-Status RecordStore::compact(uint32_t& target) {
-  target = state_->active < state_->sectors ? (state_->active + 1) % state_->sectors : 0;
-  if (state_->active >= state_->sectors) {
-    for (uint32_t i = 0; i < state_->sectors && state_->sector[target] != SectorState::Erased; ++i)
-      target = (target + 1) % state_->sectors;
+// Programs a record into `slot` of `sector`, word by word in order, built as it goes (no slot image on the
+// stack): the header word, the payload from the second word on, every unused byte 0xFF, the commit word
+// last. Words that read erased (the unused ones) are not programmed: they stay so. A compaction's copy is
+// the same call with the header and payload read from the old slot, so it writes the same bytes.
+Status RecordStore::writeSlot(uint32_t sector, uint32_t slot, const uint8_t* header,
+                              std::span<const uint8_t> payload) {
+  alignas(4) uint8_t word[kWord];
+  uint16_t crc = crc::kCrc16Init;
+  for (uint32_t i = 0; i < kSlotBytes; ++i) {
+    const uint32_t at = i - kWord;  // in the payload (wraps below it)
+    word[i % kWord] = i < kWord ? header[i] : at < payload.size() ? payload[at] : hal::FlashStorage::kErased;
+    if (i % kWord != kWord - 1) continue;
+    if (i < kCommit)
+      crc = crc::crc16Compact(word, kWord, crc);
+    else
+      encodeCommit(word, crc);
+    if (erased(word, kWord)) continue;
+    const Status s = flash_.program(sector * kSector + kWord + slot * kSlotBytes + i / kWord * kWord,
+                                    std::span<const uint8_t, kWord>(word, kWord));
+    if (s != Status::Ok) return s;
   }
-  if (state_->sector[target] != SectorState::Erased) return Status::Busy;
+  return Status::Ok;
+}
+
+// Copies the newest record of each type, slot for slot (same sequence numbers), into the next erased sector
+// of the ring, then writes that sector's header. A cut before the header leaves the old sector active and the
+// new one Dirty (erased before its next use), so nothing is lost.
+Status RecordStore::compact() {
+  const uint32_t target = nextInRing(SectorState::Erased);
+  if (target >= state_->sectors) return Status::Busy;
   state_->sector[target] = SectorState::Dirty;  // until its header is written
-  uint32_t off = kWord;
-  Entry moved[kTypes]{};
+  uint32_t slot = 0;
   for (uint8_t t = 0; t < kTypes; ++t) {
-    const Entry& e = state_->index[t];
-    if (e.seq == 0) continue;
-    const uint32_t words = recordWords(e.length);
-    for (uint32_t i = 0; i < words; ++i) {
-      const Status s = programWord(target, off + i * kWord, at(state_->active, e.offset + i * kWord));
-      if (s != Status::Ok) return s;
-    }
-    moved[t] = Entry{static_cast<uint16_t>(off), e.length, e.seq};
-    off += words * kWord;
+    const uint8_t* p = newest(t);
+    if (p == nullptr) continue;
+    const Status s = writeSlot(target, slot++, p, std::span<const uint8_t>(p + kWord, p[1]));
+    if (s != Status::Ok) return s;
   }
-  const uint32_t gen = (state_->generation + 1) & kGenerationMask;
-  uint8_t header[kWord] = {kSectorMagic0, kSectorMagic1};
-  store24(header + 2, gen);
-  store24(header + 5, ~gen & kGenerationMask);
-  const Status s = programWord(target, 0, header);
+  const uint32_t gen = state_->generation + 1;
+  uint8_t header[kWord];
+  storeLe32(header, gen);
+  storeLe32(header + 4, ~gen);
+  const Status s = flash_.program(target * kSector, header);
   if (s != Status::Ok) return s;
   if (state_->active < state_->sectors) state_->sector[state_->active] = SectorState::Dirty;
   state_->sector[target] = SectorState::Active;
-  state_->active = target;
+  state_->active = static_cast<uint8_t>(target);
   state_->generation = gen;
-  state_->free = off;
-  for (uint8_t t = 0; t < kTypes; ++t)
-    state_->index[t] = moved[t];
+  scanActive();
   return Status::Ok;
 }
 
-Status RecordStore::append(uint8_t type, std::span<const uint8_t> payload) {
-  const uint32_t length = static_cast<uint32_t>(payload.size());
-  const uint32_t words = recordWords(length);
-  const uint32_t start = state_->free;
-  uint8_t header[kWord];
-  encodeHeader(header, Header{type, static_cast<uint8_t>(length), state_->nextSeq});
-  Status s = programWord(state_->active, start, header);
-  uint16_t crc = crc::crc16Compact(header, kWord);
-  for (uint32_t i = 0; s == Status::Ok && i + 2 < words; ++i) {
-    uint8_t word[kWord] = {};  // padding 0x00
-    const uint32_t n = length - i * kWord < kWord ? length - i * kWord : kWord;
-    std::memcpy(word, payload.data() + i * kWord, n);
-    crc = crc::crc16Compact(word, kWord, crc);
-    s = programWord(state_->active, start + (i + 1) * kWord, word);
+// A record's header word: type, length, sequence number, two reserved bytes 0xFF.
+Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
+  if (!state_->restored) return Status::NotReady;
+  if (type >= kTypes || payload.size() > kMaxPayload) return Status::InvalidArgument;
+  if (state_->active >= state_->sectors || state_->free >= kSlots) {
+    const Status s = compact();
+    if (s != Status::Ok) return s;
   }
-  if (s == Status::Ok) {
-    uint8_t commit[kWord];
-    encodeCommit(commit, crc);
-    s = programWord(state_->active, start + (words - 1) * kWord, commit);
-  }
-  if (s != Status::Ok) {
-    // Where the next record goes is whatever a restore would find now: a header slot the failed program
-    // left erased is used again, a header that took makes the scan skip the record by its length, a header
-    // left unreadable closes the sector (the next write compacts). Otherwise an erased gap would end a later
-    // restore's scan and hide the records written after it.
-    scanActive();
-    return s;
-  }
-  state_->free = start + words * kWord;
-  state_->index[type] = Entry{static_cast<uint16_t>(start), static_cast<uint8_t>(length), state_->nextSeq};
+  // The slot is used whatever happens: after a failure whatever took of it is skipped, as a restore would.
+  const uint8_t slot = state_->free++;
+  uint8_t header[kWord] = {type, static_cast<uint8_t>(payload.size()), 0, 0, 0, 0, 0xFF, 0xFF};
+  storeLe32(header + 2, state_->nextSeq);
+  const Status s = writeSlot(state_->active, slot, header, payload);
+  if (s != Status::Ok) return s;
+  state_->newest[type] = static_cast<uint8_t>(slot + 1);
   ++state_->nextSeq;
   return Status::Ok;
 }
 
-Status RecordStore::write(uint8_t type, std::span<const uint8_t> payload) {
-  if (!state_->restored) return Status::NotReady;
-  if (type >= kTypes || payload.size() > kMaxPayload) return Status::InvalidArgument;
-  const uint32_t need = recordWords(static_cast<uint32_t>(payload.size())) * kWord;
-  if (state_->active >= state_->sectors || state_->free + need > kSector) {
-    uint32_t target = 0;
-    const Status s = compact(target);
-    if (s != Status::Ok) return s;
+// The first sector in `state` in ring order after the active one (from sector 0 when none is active), or
+// sectors when there is none: the ring order is the order in which compaction will need them, so erasing and
+// compacting in it spreads the erases evenly.
+uint32_t RecordStore::nextInRing(SectorState state) const {
+  const uint32_t first = state_->active < state_->sectors ? state_->active + 1U : 0;
+  for (uint32_t i = 0; i < state_->sectors; ++i) {
+    const uint32_t s = (first + i) % state_->sectors;
+    if (state_->sector[s] == state) return s;
   }
-  return append(type, payload);
+  return state_->sectors;
 }
 
 bool RecordStore::needsErase() const {
-  for (uint32_t s = 0; s < state_->sectors; ++s)
-    if (state_->sector[s] == SectorState::Dirty) return true;
-  return false;
+  return nextInRing(SectorState::Dirty) < state_->sectors;
 }
 
-// Erases the first Dirty sector after the active one in ring order: the ring order is the order in which
-// compaction will need them, and it spreads the erases evenly.
 Status RecordStore::eraseStep() {
   if (!state_->restored) return Status::NotReady;
-  const uint32_t first = state_->active < state_->sectors ? state_->active + 1 : 0;
-  for (uint32_t i = 0; i < state_->sectors; ++i) {
-    const uint32_t s = (first + i) % state_->sectors;
-    if (state_->sector[s] != SectorState::Dirty) continue;
-    const Status st = flash_.erase(s);
-    if (st == Status::Ok) state_->sector[s] = SectorState::Erased;
-    return st;
-  }
-  return Status::Busy;
+  const uint32_t s = nextInRing(SectorState::Dirty);
+  if (s >= state_->sectors) return Status::Busy;
+  const Status st = flash_.erase(s);
+  if (st == Status::Ok) state_->sector[s] = SectorState::Erased;
+  return st;
 }
 
 }  // namespace fw::app::store

@@ -17,22 +17,25 @@ bool decode(std::span<const uint8_t> in, SettingsRecord& r) {
   return true;
 }
 
+void encode(const ProtectionLogRecord::Entry& e, std::span<uint8_t, ProtectionLogRecord::kEntryBytes> out) {
+  out[0] = e.rule;
+  out[1] = out[2] = out[3] = 0;
+  storeLe32(out.data() + 4, e.uptimeS);
+  storeLe32(out.data() + 8, static_cast<uint32_t>(e.value));
+}
 void encode(const ProtectionLogRecord& r, std::span<uint8_t, ProtectionLogRecord::kBytes> out) {
   out[0] = r.count;
   out[1] = out[2] = out[3] = 0;
-  for (uint32_t i = 0; i < r.entry.size(); ++i) {
-    uint8_t* p = out.data() + 4 + 12 * i;
-    p[0] = r.entry[i].rule;
-    p[1] = p[2] = p[3] = 0;
-    storeLe32(p + 4, r.entry[i].uptimeS);
-    storeLe32(p + 8, static_cast<uint32_t>(r.entry[i].value));
-  }
+  for (uint32_t i = 0; i < r.entry.size(); ++i)
+    encode(r.entry[i],
+           std::span<uint8_t, ProtectionLogRecord::kEntryBytes>(
+               out.data() + ProtectionLogRecord::entryOffset(i), ProtectionLogRecord::kEntryBytes));
 }
 bool decode(std::span<const uint8_t> in, ProtectionLogRecord& r) {
   if (in.size() != ProtectionLogRecord::kBytes || in[0] > ProtectionLogRecord::kEntries) return false;
   r.count = in[0];
   for (uint32_t i = 0; i < r.entry.size(); ++i) {
-    const uint8_t* p = in.data() + 4 + 12 * i;
+    const uint8_t* p = in.data() + ProtectionLogRecord::entryOffset(i);
     r.entry[i] = ProtectionLogRecord::Entry{p[0], loadLe32(p + 4), loadLeI32(p + 8)};
   }
   return true;

@@ -33,6 +33,9 @@ struct ProtectionLogRecord {
   };
   uint8_t count = 0;
   std::array<Entry, kEntries> entry{};
+  // Encoded: byte 0 the count, three bytes 0, then entry i at entryOffset(i), kEntryBytes each.
+  static constexpr uint32_t kEntryBytes = 12;
+  static constexpr uint32_t entryOffset(uint32_t i) { return 4 + kEntryBytes * i; }
 };
 
 // The last fault: the reset cause (hal::SystemControl identity's resetCause), the fault's code (the line of
@@ -55,6 +58,8 @@ struct SocRecord {
 
 void encode(const SettingsRecord& r, std::span<uint8_t, SettingsRecord::kBytes> out);
 void encode(const ProtectionLogRecord& r, std::span<uint8_t, ProtectionLogRecord::kBytes> out);
+// One entry of the encoded log, at ProtectionLogRecord::entryOffset(i) (Persistence keeps the log encoded).
+void encode(const ProtectionLogRecord::Entry& e, std::span<uint8_t, ProtectionLogRecord::kEntryBytes> out);
 void encode(const FaultRecord& r, std::span<uint8_t, FaultRecord::kBytes> out);
 void encode(const SocRecord& r, std::span<uint8_t, SocRecord::kBytes> out);
 bool decode(std::span<const uint8_t> in, SettingsRecord& r);
