@@ -28,6 +28,10 @@ static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 
               bms::ClearFaults::kFields[bms::ClearFaults::kTargetField].start == 16);
 
 constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
+static_assert(bms::PathRequest::kFields[bms::PathRequest::kChargeOffField].start == 24 &&
+              bms::PathRequest::kFields[bms::PathRequest::kDischargeOffField].start == 25 &&
+              static_cast<uint8_t>(Action::ChargeOff) == 1 &&
+              static_cast<uint8_t>(Action::DischargeOff) == 2);
 
 // Every answer is a standard 8-byte frame (one SLCAN line each, slcan_link.cpp).
 static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && bms::IdentifyChip::kDlc == 8 &&
@@ -126,14 +130,10 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
   switch (f.id) {
     case bms::ClearFaults::kId:  // what is gone clears now; what is still there stays, and the answer says so
       return ctx_.protection.clearLatched() ? Result::Accepted : Result::ConditionPresent;
-    case bms::PathRequest::kId: {
-      using M = bms::PathRequest;
-      st.hostRequest = static_cast<uint8_t>(
-          (field<M, M::kChargeOffField>(f) ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
-          (field<M, M::kDischargeOffField>(f) ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+    case bms::PathRequest::kId:  // ChargeOff and DischargeOff are bits 0 and 1 of byte 3, as in Action
+      st.hostRequest = f.data[3] & kBothPaths;
       applyHostOff();
       return Result::Accepted;
-    }
     case bms::BalancingMode::kId: {
       using M = bms::BalancingMode;
       const uint32_t mode = field<M, M::kModeField>(f);
@@ -166,17 +166,8 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
     }
     case bms::SettingWrite::kId: {
       using M = bms::SettingWrite;
-      switch (ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
-                                  static_cast<int32_t>(field<M, M::kValueField>(f)))) {
-        case WriteResult::Ok:
-          return Result::Accepted;
-        case WriteResult::Inconsistent:
-          return Result::Inconsistent;
-        case WriteResult::Busy:
-          return Result::Busy;
-        default:
-          return Result::OutOfRange;
-      }
+      return ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
+                                 static_cast<int32_t>(field<M, M::kValueField>(f)));
     }
     default: {  // EnterBootloader (the last of kReceivedIds)
       using M = bms::EnterBootloader;
