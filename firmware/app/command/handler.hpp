@@ -48,10 +48,11 @@ inline constexpr uint8_t kBroadcast = 255;
 inline constexpr uint8_t kBootloaderKey = 0xA5;
 
 // Up to three answer frames: CommandAck in frame[0], then a command's data (Identify, SettingRead).
+// The count first: Thumb's byte stores reach it without an address computation.
 struct Replies {
   static constexpr uint8_t kMax = 3;
-  hal::CanFrame frame[kMax];
   uint8_t count;
+  hal::CanFrame frame[kMax];
 };
 
 struct CommandStats {
