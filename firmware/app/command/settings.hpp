@@ -6,9 +6,9 @@
 //
 // Safety rules (tests/app/command_settings_test.cpp):
 // - A write outside its setting's range is refused (OutOfRange, as is a setting that does not exist). Every
-// range stops at the image's default on
-//   the side that loosens protection: no upper limit can be raised, and no lower limit lowered, past the
-//   pack's hard bound (the defaults until the pack file sets them); the other end is a plausibility bound.
+//   range stops at the image's default on the side that loosens protection: no upper limit can be raised,
+//   and no lower limit lowered, past the pack's hard bound (the defaults until the pack file sets them); the
+//   other end is a plausibility bound.
 // - A write that would put a limit's clear value on the unsafe side of its trip value (above it for an upper
 //   limit, below it for a lower one) is refused (Inconsistent), judged against the writes already waiting.
 // - A write takes effect only at a scan boundary: it waits (at most kPending of them, in order; a further one
