@@ -20,14 +20,14 @@ constexpr uint8_t id(FaultId f, bool clear) {
 TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
   LimitSettings s(kDefaultLimits);
   // Upper limits: the default trip value is the highest allowed; lower limits: the lowest.
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4251), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::ChargeOvercurrent, false), 20001), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::OvertempDischarge, false), 3333), WriteResult::OutOfRange);  // 60 degC
-  EXPECT_EQ(s.write(id(FaultId::OvertempCharge, false), 3183), WriteResult::OutOfRange);     // 45 degC
-  EXPECT_EQ(s.write(id(FaultId::UndertempCharge, false), 2731), WriteResult::OutOfRange);    // 0 degC
-  EXPECT_EQ(s.write(id(FaultId::CellUndervoltage, false), 2699), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::DischargeOvercurrent, false), -30001), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::UndertempDischarge, false), 2531), WriteResult::OutOfRange);  // -20 degC
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4251), Result::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::ChargeOvercurrent, false), 20001), Result::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::OvertempDischarge, false), 3333), Result::OutOfRange);  // 60 degC
+  EXPECT_EQ(s.write(id(FaultId::OvertempCharge, false), 3183), Result::OutOfRange);     // 45 degC
+  EXPECT_EQ(s.write(id(FaultId::UndertempCharge, false), 2731), Result::OutOfRange);    // 0 degC
+  EXPECT_EQ(s.write(id(FaultId::CellUndervoltage, false), 2699), Result::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::DischargeOvercurrent, false), -30001), Result::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::UndertempDischarge, false), 2531), Result::OutOfRange);  // -20 degC
   for (uint8_t k = 0; k < kSettingCount; ++k) {
     const SettingSpec spec = s.spec(k);
     const Rule& r = kDefaultLimits.rules[spec.rule];
@@ -46,7 +46,7 @@ TEST(LimitSettings, NoLimitCanBeLoosenedPastTheDefault) {
       seen += s.spec(k).rule == rule ? 1 : 0;
     EXPECT_EQ(seen, 2) << "rule " << int(rule);
   }
-  EXPECT_EQ(s.write(kSettingCount, 0), WriteResult::UnknownSetting);
+  EXPECT_EQ(s.write(kSettingCount, 0), Result::OutOfRange);
   s.apply();
   EXPECT_EQ(s.limits().rules[0].trip, 4250);  // nothing refused reached the limits
 }
@@ -57,25 +57,25 @@ TEST(LimitSettings, AWriteWaitsForTheScanBoundaryAndThenTakesEffectWhole) {
                 ocdClear = id(FaultId::DischargeOvercurrent, true);
   // Lower limit: the clear value must stay at or above the trip value. A clear value of -25 A (clearing while
   // 25 A still flow) with the trip left at -20 A would lie below it.
-  EXPECT_EQ(s.write(ocdClear, -25000), WriteResult::Ok);
-  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Inconsistent);  // judged against the waiting clear value
-  EXPECT_EQ(s.write(ocdClear, -15000), WriteResult::Ok);
-  EXPECT_EQ(s.write(ocdTrip, -20000), WriteResult::Ok);
+  EXPECT_EQ(s.write(ocdClear, -25000), Result::Accepted);
+  EXPECT_EQ(s.write(ocdTrip, -20000), Result::Inconsistent);  // judged against the waiting clear value
+  EXPECT_EQ(s.write(ocdClear, -15000), Result::Accepted);
+  EXPECT_EQ(s.write(ocdTrip, -20000), Result::Accepted);
   EXPECT_EQ(s.read(ocdTrip), -30000);  // nothing changed before the boundary
   EXPECT_EQ(s.limits().rules[3].clear, 200);
   s.apply();
   EXPECT_EQ(s.limits().rules[3].trip, -20000);
   EXPECT_EQ(s.limits().rules[3].clear, -15000);
   // Upper limit: the clear value may not rise above the trip value.
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4251), WriteResult::OutOfRange);
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Inconsistent);  // clear 4150
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4000), WriteResult::Ok);
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4251), Result::OutOfRange);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Inconsistent);  // clear 4150
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, true), 4000), Result::Accepted);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Accepted);
   for (int k = 0; k < 2; ++k)
-    EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Busy);  // four waiting at most
+    EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Accepted);
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Busy);  // four waiting at most
   s.apply();
-  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), WriteResult::Ok);  // room again
+  EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Accepted);  // room again
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ class CommandTask final : public sched::Task {
 
   template <class... LinkArgs>
   explicit CommandTask(const CommandHandler::Context& context, LinkArgs&&... linkArgs)
-      : handler_(context), link_(static_cast<LinkArgs&&>(linkArgs)...) {}
+      : link_(static_cast<LinkArgs&&>(linkArgs)...), handler_(context) {}
 
   void start() {
     scheduler().addTask(kCommandTask, *this);
@@ -65,8 +65,10 @@ class CommandTask final : public sched::Task {
     }
   }
 
-  CommandHandler handler_;
+  // The link first: the line's bytes the run loop touches most sit within Thumb's short reach of `this`
+  // (-8 B on the full L1306-BQ76952 build against the handler first).
   Link link_;
+  CommandHandler handler_;
   uint8_t drained_ = 0;
   [[no_unique_address]] StoreHook<BackgroundWork> background_{};
 };

@@ -28,18 +28,41 @@ static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 
               bms::ClearFaults::kFields[bms::ClearFaults::kTargetField].start == 16);
 
 constexpr uint8_t kBothPaths = static_cast<uint8_t>(Action::AllOff);
+static_assert(bms::PathRequest::kFields[bms::PathRequest::kChargeOffField].start == 24 &&
+              bms::PathRequest::kFields[bms::PathRequest::kDischargeOffField].start == 25 &&
+              static_cast<uint8_t>(Action::ChargeOff) == 1 &&
+              static_cast<uint8_t>(Action::DischargeOff) == 2);
 
 // Every answer is a standard 8-byte frame (one SLCAN line each, slcan_link.cpp).
 static_assert(bms::CommandAck::kDlc == 8 && bms::IdentifyVersion::kDlc == 8 && bms::IdentifyChip::kDlc == 8 &&
               bms::SettingValue::kDlc == 8 && bms::SettingRange::kDlc == 8);
 
-// An answer frame: every answer is a standard 8-byte frame (checked above), so only its identifier and
-// payload differ. One out-of-line copy for every answer, packed by the loop that packs the published frames.
-void answerFrame(hal::CanFrame& f, uint16_t id, const uint8_t* codes, const uint32_t* raw, uint8_t count) {
-  f.id = id;
+// What differs between answer frames: every answer is a standard 8-byte frame (checked above), so only its
+// identifier and payload layout (stream codes, can_bits.hpp). One constant per answer message, so a call
+// passes one address.
+struct AnswerLayout {
+  uint16_t id;
+  uint8_t count;
+  uint8_t codes[6];  // the most fields an answer has (IdentifyVersion)
+};
+template <class M>
+constexpr AnswerLayout layoutOf() {
+  static_assert(M::kFieldCount <= sizeof AnswerLayout::codes && !M::kExtended && M::kDlc == 8);
+  AnswerLayout l{M::kId, M::kFieldCount, {}};
+  const auto codes = can::streamCodes<M>();
+  for (uint8_t i = 0; i < M::kFieldCount; ++i)
+    l.codes[i] = codes[i];
+  return l;
+}
+template <class M>
+constexpr AnswerLayout kAnswerLayout = layoutOf<M>();
+
+// One out-of-line copy for every answer, packed by the loop that packs the published frames.
+void answerFrame(hal::CanFrame& f, const AnswerLayout& layout, const uint32_t* raw) {
+  f.id = layout.id;
   f.extended = false;
   f.dlc = 8;
-  can::packStream(f.data, codes, raw, count);  // every byte of the payload
+  can::packStream(f.data, layout.codes, raw, layout.count);  // every byte of the payload
 }
 
 // Field `kField` of a received command M, read straight from its bytes. Every field a command carries is
@@ -60,16 +83,12 @@ uint32_t field(const hal::CanFrame& f) {
   }
 }
 
-// The stream codes of answer M (can_bits.hpp).
-template <class M>
-constexpr auto kAnswerCodes = can::streamCodes<M>();
-
 // Answer frame `f` of message M from its raw values in the order of M's signals.
 template <class M, class... Values>
 void packAnswer(hal::CanFrame& f, Values... values) {
-  static_assert(sizeof...(Values) == M::kFieldCount && !M::kExtended && M::kDlc == 8);
+  static_assert(sizeof...(Values) == M::kFieldCount);
   const uint32_t raw[] = {static_cast<uint32_t>(values)...};
-  answerFrame(f, M::kId, kAnswerCodes<M>.data(), raw, M::kFieldCount);
+  answerFrame(f, kAnswerLayout<M>, raw);
 }
 
 }  // namespace
@@ -126,14 +145,10 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
   switch (f.id) {
     case bms::ClearFaults::kId:  // what is gone clears now; what is still there stays, and the answer says so
       return ctx_.protection.clearLatched() ? Result::Accepted : Result::ConditionPresent;
-    case bms::PathRequest::kId: {
-      using M = bms::PathRequest;
-      st.hostRequest = static_cast<uint8_t>(
-          (field<M, M::kChargeOffField>(f) ? static_cast<uint8_t>(Action::ChargeOff) : 0U) |
-          (field<M, M::kDischargeOffField>(f) ? static_cast<uint8_t>(Action::DischargeOff) : 0U));
+    case bms::PathRequest::kId:  // ChargeOff and DischargeOff are bits 0 and 1 of byte 3, as in Action
+      st.hostRequest = f.data[3] & kBothPaths;
       applyHostOff();
       return Result::Accepted;
-    }
     case bms::BalancingMode::kId: {
       using M = bms::BalancingMode;
       const uint32_t mode = field<M, M::kModeField>(f);
@@ -166,17 +181,8 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
     }
     case bms::SettingWrite::kId: {
       using M = bms::SettingWrite;
-      switch (ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
-                                  static_cast<int32_t>(field<M, M::kValueField>(f)))) {
-        case WriteResult::Ok:
-          return Result::Accepted;
-        case WriteResult::Inconsistent:
-          return Result::Inconsistent;
-        case WriteResult::Busy:
-          return Result::Busy;
-        default:
-          return Result::OutOfRange;
-      }
+      return ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
+                                 static_cast<int32_t>(field<M, M::kValueField>(f)));
     }
     default: {  // EnterBootloader (the last of kReceivedIds)
       using M = bms::EnterBootloader;

@@ -30,6 +30,7 @@
 
 #include "app/balancing/balancing_policy.hpp"
 #include "app/command/e2e.hpp"
+#include "app/command/result.hpp"
 #include "app/command/settings.hpp"
 #include "app/protection/protection_task.hpp"
 #include "app/tasks.hpp"
@@ -42,31 +43,16 @@
 
 namespace fw::app::command {
 
-// CommandAck.Result.
-enum class Result : uint8_t {
-  Accepted = 0,
-  BadCrc,
-  RepeatedCounter,
-  WrongLength,
-  OutOfRange,
-  Inconsistent,
-  Unsupported,
-  WrongKey,
-  PathsNotOff,
-  Busy,
-  ConditionPresent,
-};
-inline constexpr uint8_t kResultCount = 11;
-
 inline constexpr uint8_t kCommandCount = static_cast<uint8_t>(can::bms::kReceivedIds.size());
 inline constexpr uint8_t kBroadcast = 255;
 inline constexpr uint8_t kBootloaderKey = 0xA5;
 
 // Up to three answer frames: CommandAck in frame[0], then a command's data (Identify, SettingRead).
+// The count first: Thumb's byte stores reach it without an address computation.
 struct Replies {
   static constexpr uint8_t kMax = 3;
-  hal::CanFrame frame[kMax];
   uint8_t count;
+  hal::CanFrame frame[kMax];
 };
 
 struct CommandStats {
@@ -119,12 +105,13 @@ class CommandHandler {
   void ack(Replies& out, uint32_t id, uint8_t counter, Result result);
   void applyHostOff();
 
+  // The bytes first: Thumb's byte loads and stores reach 31 bytes past their base, word ones 124.
   struct State {
-    CommandStats stats;
-    CounterWindow<kCommandCount> counters;
     uint8_t hostRequest;  // Action bits PathRequest holds off
     Boot boot;
     uint8_t bootCounter;
+    CounterWindow<kCommandCount> counters;
+    CommandStats stats;
     Instant bootDeadline;
     sched::Timer bootTimer;  // posts command_event::kTimer every kPoll while entering
   };

@@ -49,18 +49,18 @@ int32_t LimitSettings::upcoming(uint8_t id) const {
   return v;
 }
 
-WriteResult LimitSettings::write(uint8_t id, int32_t value) {
-  if (id >= kSettingCount) return WriteResult::UnknownSetting;
+Result LimitSettings::write(uint8_t id, int32_t value) {
+  if (id >= kSettingCount) return Result::OutOfRange;
   const SettingSpec s = spec(id);
-  if (value < s.min || value > s.max) return WriteResult::OutOfRange;
+  if (value < s.min || value > s.max) return Result::OutOfRange;
   // The pair as it will be: an upper limit clears below its trip value, a lower limit above it.
   const int32_t trip = s.clear ? upcoming(static_cast<uint8_t>(id & ~1U)) : value;
   const int32_t clear = s.clear ? value : upcoming(static_cast<uint8_t>(id | 1U));
-  if (isUpperLimit(s.rule) ? clear > trip : clear < trip) return WriteResult::Inconsistent;
-  if (pending_->count == kPending) return WriteResult::Busy;
+  if (isUpperLimit(s.rule) ? clear > trip : clear < trip) return Result::Inconsistent;
+  if (pending_->count == kPending) return Result::Busy;
   pending_->id[pending_->count] = id;
   pending_->value[pending_->count++] = value;
-  return WriteResult::Ok;
+  return Result::Accepted;
 }
 
 void LimitSettings::apply() {

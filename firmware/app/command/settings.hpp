@@ -5,9 +5,10 @@
 // limits (firmware/app/can/bms.yaml, SettingRead.Setting), in mV, mA or 0.1 K.
 //
 // Safety rules (tests/app/command_settings_test.cpp):
-// - A write outside its setting's range is refused (OutOfRange). Every range stops at the image's default on
-//   the side that loosens protection: no upper limit can be raised, and no lower limit lowered, past the
-//   pack's hard bound (the defaults until the pack file sets them); the other end is a plausibility bound.
+// - A write outside its setting's range is refused (OutOfRange, as is a setting that does not exist). Every
+//   range stops at the image's default on the side that loosens protection: no upper limit can be raised,
+//   and no lower limit lowered, past the pack's hard bound (the defaults until the pack file sets them); the
+//   other end is a plausibility bound.
 // - A write that would put a limit's clear value on the unsafe side of its trip value (above it for an upper
 //   limit, below it for a lower one) is refused (Inconsistent), judged against the writes already waiting.
 // - A write takes effect only at a scan boundary: it waits (at most kPending of them, in order; a further one
@@ -18,6 +19,7 @@
 
 #include <cstdint>
 
+#include "app/command/result.hpp"
 #include "app/protection/protection.hpp"
 #include "app/protection/protection_task.hpp"
 #include "core/zeroed.hpp"
@@ -39,8 +41,6 @@ inline constexpr uint8_t kSettingCount = 16;
 // OvertempCharge / UndertempCharge (12..15); the range from `defaults`.
 SettingSpec settingSpec(uint8_t id, const ProtectionConfig& defaults);
 
-enum class WriteResult : uint8_t { Ok, UnknownSetting, OutOfRange, Inconsistent, Busy };
-
 class LimitSettings final : public LimitUpdate {
  public:
   static constexpr uint8_t kPending = 4;
@@ -52,7 +52,9 @@ class LimitSettings final : public LimitUpdate {
   SettingSpec spec(uint8_t id) const { return settingSpec(id, defaults_); }
   // The value in effect (a write waiting for the next scan is not).
   int32_t read(uint8_t id) const { return valueOf(limits_, id); }
-  WriteResult write(uint8_t id, int32_t value);
+  // Accepted (waiting for the next scan), OutOfRange (no such setting, or outside its range), Inconsistent
+  // or Busy (kPending writes already waiting).
+  Result write(uint8_t id, int32_t value);
   void apply() override;
 
  private:

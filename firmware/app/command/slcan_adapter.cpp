@@ -21,29 +21,23 @@ uint32_t hexValue(uint32_t c) {
   return 16;
 }
 
-// A t or T line: identifier, DLC digit, exactly DLC data bytes, every character after the letter a hex digit.
-bool parseFrame(const uint8_t* line, uint8_t length, hal::CanFrame& f) {
+// A t or T line (its characters after the letter already hex digit values, execute()): identifier, DLC
+// digit, exactly DLC data bytes. (Word-sized counters: Thumb masks a byte-sized one after every step.)
+bool parseFrame(const uint8_t* line, uint32_t length, hal::CanFrame& f) {
   const bool extended = line[0] == 'T';
-  const uint8_t idDigits = extended ? 8 : 3;
-  uint8_t nibble[SlcanAdapter::kMaxLine];
-  for (uint8_t i = 1; i < length; ++i) {
-    const uint32_t v = hexValue(line[i]);
-    if (v > 15) return false;
-    nibble[i] = static_cast<uint8_t>(v);
-  }
+  const uint32_t idDigits = extended ? 8 : 3;
   if (length < 2 + idDigits) return false;
   uint32_t id = 0;
-  for (uint8_t i = 1; i <= idDigits; ++i)
-    id = id << 4 | nibble[i];
-  const uint8_t dlc = nibble[1 + idDigits];
+  for (uint32_t i = 1; i <= idDigits; ++i)
+    id = id << 4 | line[i];
+  const uint32_t dlc = line[1 + idDigits];
   if (dlc > 8 || id > (extended ? 0x1FFFFFFFU : 0x7FFU) || length != 2 + idDigits + 2 * dlc) return false;
   f.id = id;
   f.extended = extended;
-  f.dlc = dlc;
-  for (uint8_t i = 0; i < 8; ++i) {
-    const uint8_t at = static_cast<uint8_t>(2 + idDigits + 2 * i);
-    f.data[i] = i < dlc ? static_cast<uint8_t>(nibble[at] << 4 | nibble[at + 1]) : 0;
-  }
+  f.dlc = static_cast<uint8_t>(dlc);
+  const uint8_t* digit = line + 2 + idDigits;
+  for (uint32_t i = 0; i < 8; ++i, digit += 2)
+    f.data[i] = i < dlc ? static_cast<uint8_t>(digit[0] << 4 | digit[1]) : 0;
   return true;
 }
 
@@ -71,8 +65,15 @@ void SlcanAdapter::answer(const Info& info, Line& out) {
 // False for a line to refuse (answer() answers BEL; a refusal changes neither answerLength nor hasFrame);
 // otherwise out.answer holds the answer (CR unless set).
 bool SlcanAdapter::execute(const Info& info, Line& out) {
-  const uint8_t* line = state_.line;
-  const uint8_t n = state_.length;
+  uint8_t* line = state_.line;
+  const uint32_t n = state_.length;
+  // Every valid line is a letter and hex digits alone (or nothing): the digits become their values here, once
+  // for every command that has any.
+  for (uint32_t i = 1; i < n; ++i) {
+    const uint32_t v = hexValue(line[i]);
+    if (v > 15) return false;
+    line[i] = static_cast<uint8_t>(v);
+  }
   uint8_t* a = out.answer;
   a[0] = kCr;
   if (n == 0) return true;
@@ -85,8 +86,8 @@ bool SlcanAdapter::execute(const Info& info, Line& out) {
     return true;
   }
   if (c == 'S') {
-    if (n != 2 || state_.open || line[1] < '0' || line[1] > '8') return false;
-    state_.bitrate = static_cast<uint8_t>(line[1] - '0');
+    if (n != 2 || state_.open || line[1] > 8) return false;
+    state_.bitrate = line[1];
     return true;
   }
   if (n != 1) return false;

@@ -58,8 +58,8 @@ class SlcanAdapter {
  private:
   bool execute(const Info& info, Line& out);
 
-  struct State {  // all-zero: closed, no line
-    uint8_t line[kMaxLine];
+  struct State {             // all-zero: closed, no line
+    uint8_t line[kMaxLine];  // as received (execute() turns the hex digits after the letter into values)
     uint8_t length;
     bool overlong;  // more than kMaxLine bytes before the CR: the line is refused
     bool open;

@@ -1,5 +1,7 @@
 #include "app/command/slcan_link.hpp"
 
+#include <span>
+
 #include "app/publish/slcan.hpp"
 #include "app/publish/slcan_publisher.hpp"
 
@@ -28,15 +30,15 @@ bool SlcanLink::step(CommandHandler& handler, sched::Scheduler& s) {
 // slcan::kStandardLength bytes.
 static_assert(SlcanAdapter::kMaxAnswer + Replies::kMax * app::slcan::kStandardLength <= SlcanOutbox::kBytes);
 void SlcanLink::send(const uint8_t* answer, uint8_t length, const Replies& r, sched::Scheduler& s) {
-  uint8_t n = 0;
-  for (uint8_t i = 0; i < length; ++i)
-    outbox_.text[n++] = answer[i];
-  for (uint8_t k = 0; k < r.count; ++k) {
-    app::slcan::encodeStandard(static_cast<uint16_t>(r.frame[k].id), r.frame[k].data, outbox_.text + n);
-    n = static_cast<uint8_t>(n + app::slcan::kStandardLength);
+  uint8_t* text = outbox_.text;
+  for (uint32_t i = 0; i < length; ++i)
+    *text++ = answer[i];
+  for (const hal::CanFrame& f : std::span(r.frame, r.count)) {
+    app::slcan::encodeStandard(static_cast<uint16_t>(f.id), f.data, text);
+    text += app::slcan::kStandardLength;
   }
-  if (n == 0) return;
-  outbox_.length = n;
+  if (text == outbox_.text) return;
+  outbox_.length = static_cast<uint8_t>(text - outbox_.text);
   s.post(kPublisherTask, SlcanPublisher::kReply);
 }
 
