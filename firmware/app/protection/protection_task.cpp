@@ -30,11 +30,12 @@ void ProtectionTask::run(sched::EventMask events) {
     // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
     if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
+    // Settled: a scan ended and no path request is pending (taken once, before the read-back, which changes
+    // neither: one call of the observer below, not one per way through readBack()).
+    const bool settled = (events & (kNewData | kScanFailed)) != 0 && !state_->pendingAction;
     if (pack_.hasFetStatus) readBack(in, now);
     if constexpr (FW_RECORD_STORE != 0) {
-      if (state_->observer.to != nullptr)
-        state_->observer.to->evaluated(st.newlyTripped, (in.fresh || in.scanFailed) && !state_->pendingAction,
-                                       now);
+      if (state_->observer.to != nullptr) state_->observer.to->evaluated(st.newlyTripped, settled, now);
     }
   }
   scheduler_.checkIn(id_);
