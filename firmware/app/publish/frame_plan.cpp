@@ -356,20 +356,23 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const uint16_t board = kMaxBoards > 1 ? boardOf(index_, perBoard) : 0;
       const auto frame = static_cast<uint16_t>(index_ - board * perBoard);
       const BoardSample& s = pack_.boards[board];
-      const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
       using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
-      v[C::kBoardField] = board, v[C::kFrameIndexField] = frame,
-      v[C::kStatusField] = static_cast<uint8_t>(st);
-      if (st != BoardStatus::Valid) break;
-      // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole board's.
-      const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
-      const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
-      if ((open & 7U) != 0) v[C::kStatusField] = kOpenWireStatus;
-      for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
-        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
-          v[C::kCellField + j] = reading(values[i]);
+      auto status = static_cast<uint8_t>(boardStatus(s, now, staleAfter_));
+      if (status == static_cast<uint8_t>(BoardStatus::Valid)) {
+        // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole
+        // board's.
+        const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
+        const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
+        if ((open & 7U) != 0) status = kOpenWireStatus;
+        for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
+          if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
+            v[C::kCellField + j] = reading(values[i]);
+        }
       }
+      // Stored once, after the status is known (stored first, GCC copied these stores into every way
+      // through boardStatus()).
+      v[C::kBoardField] = board, v[C::kFrameIndexField] = frame, v[C::kStatusField] = status;
       break;
     }
     case kStateOfCharge: {
