@@ -229,7 +229,7 @@ void FramePlan::settle() {
   while (step_ != kDone && index_ >= framesIn(step_)) {
     index_ = 0;
     if (step_ == kStartup) {  // the end of the fast part (or the start of a TI set)
-      if (tiStartup_) {
+      if (kTiLayout && tiStartup_) {
         step_ = kTiCells;
         tiStartup_ = false;
       } else {
