@@ -85,8 +85,7 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
     actions |= action;
   }
   out.active = state_->active;
-  out.chargeOff = (actions & static_cast<uint8_t>(Action::ChargeOff)) != 0;
-  out.dischargeOff = (actions & static_cast<uint8_t>(Action::DischargeOff)) != 0;
+  out.off = actions;
   return out;
 }
 
