@@ -103,13 +103,12 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   // What clearLatched() asks of a latched fault: the value past the clear threshold; for a current limit,
   // whose clear threshold lies on the relieving side of zero, no more than its magnitude flowing the tripped
   // way: the over-current is gone, and the path it holds off carries none of the relieving current.
+  // Compared like the rest in the complemented order: the clear threshold, or for a current limit its
+  // magnitude m on the tripped side (m for an upper limit; -m for a lower one, whose complement is m - 1).
   constexpr FaultMask kCurrentLimits = bit(FaultId::ChargeOvercurrent) | bit(FaultId::DischargeOvercurrent);
-  int32_t release = rule.clear;
-  if ((kCurrentLimits & b) != 0) {
-    const int32_t magnitude = release < 0 ? -release : release;
-    release = flip != 0 ? -magnitude : magnitude;
-  }
-  state_->goneNow = static_cast<FaultMask>(x < (release ^ flip) ? state_->goneNow | b : state_->goneNow & ~b);
+  int32_t release = rule.clear ^ flip;
+  if ((kCurrentLimits & b) != 0) release = (rule.clear < 0 ? -rule.clear : rule.clear) + flip;
+  state_->goneNow = static_cast<FaultMask>(x < release ? state_->goneNow | b : state_->goneNow & ~b);
   if (state_->trips[i] != 0) forgive(i, now);
 
   // Count consecutive sightings of the condition (while not tripped) or of its absence (while tripped); a
