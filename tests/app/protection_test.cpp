@@ -117,8 +117,8 @@ TEST(Protection, OvervoltageNeedsDebounceCountAndDelay) {
   const auto st = p.evaluate(s.fresh(200), at(200));
   EXPECT_EQ(st.active, bit(FaultId::CellOvervoltage));
   EXPECT_EQ(st.newlyTripped, bit(FaultId::CellOvervoltage));
-  EXPECT_TRUE(st.chargeOff);
-  EXPECT_FALSE(st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff());
+  EXPECT_FALSE(st.dischargeOff());
   EXPECT_EQ(p.trippedAt(FaultId::CellOvervoltage), at(200));
 }
 
@@ -161,7 +161,7 @@ TEST(Protection, HysteresisKeepsTheFaultUntilBelowTheClearThreshold) {
   const auto st = p.evaluate(s.fresh(1800), at(1800));
   EXPECT_EQ(st.active, 0);
   EXPECT_EQ(st.newlyCleared, bit(FaultId::CellOvervoltage));
-  EXPECT_FALSE(st.chargeOff);
+  EXPECT_FALSE(st.chargeOff());
 }
 
 TEST(Protection, MissingDataNeverClearsOrAdvancesAFault) {
@@ -184,7 +184,7 @@ TEST(Protection, LatchedFaultStaysUntilClearedAndOnlyIfTheConditionIsGone) {
   p.evaluate(s.fresh(0), at(0));
   auto st = p.evaluate(s.fresh(10), at(10));
   ASSERT_EQ(st.active, bit(FaultId::DischargeOvercurrent));
-  EXPECT_TRUE(st.dischargeOff);
+  EXPECT_TRUE(st.dischargeOff());
   EXPECT_EQ(p.clearLatched(), 0) << "condition still present";
   s.current = -1000;
   for (uint32_t t = 20; t < 200; t += 10)
@@ -202,7 +202,7 @@ TEST(Protection, StaleDataIsAFaultAndFreshDataClearsIt) {
   EXPECT_EQ(p.evaluate(s.tick(), at(500)).active, 0) << "exactly the limit is still fresh";
   const auto st = p.evaluate(s.tick(), at(501));
   EXPECT_EQ(st.active, bit(FaultId::StaleData));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
   EXPECT_EQ(p.evaluate(s.fresh(600), at(600)).active, 0);
 }
 
@@ -302,14 +302,14 @@ TEST(Protection, ActionsAreTheUnionOfActiveFaults) {
   p.evaluate(s.fresh(0), at(0));
   auto st = p.evaluate(s.fresh(10), at(10));
   EXPECT_EQ(st.active, bit(FaultId::UndertempCharge));
-  EXPECT_TRUE(st.chargeOff);
-  EXPECT_FALSE(st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff());
+  EXPECT_FALSE(st.dischargeOff());
   s.cells[2] = 2600;  // under-voltage (3 sightings over 200 ms): discharge off too
   p.evaluate(s.fresh(100), at(100));
   p.evaluate(s.fresh(200), at(200));
   st = p.evaluate(s.fresh(300), at(300));
   EXPECT_EQ(st.active, bit(FaultId::UndertempCharge) | bit(FaultId::CellUndervoltage));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
   EXPECT_TRUE(st.faultOutput());
 }
 
@@ -339,8 +339,8 @@ TEST(Protection, EachFaultOpensThePathItEndangers) {
     for (uint32_t t = 0; t <= 600; t += 100)
       st = p.evaluate(s.fresh(t), at(t));
     EXPECT_EQ(st.active, bit(c.fault)) << c.what;
-    EXPECT_EQ(st.chargeOff, c.chargeOff) << c.what;
-    EXPECT_EQ(st.dischargeOff, c.dischargeOff) << c.what;
+    EXPECT_EQ(st.chargeOff(), c.chargeOff) << c.what;
+    EXPECT_EQ(st.dischargeOff(), c.dischargeOff) << c.what;
   }
   // The discharge temperature limits lie outside the charge ones: both trip, both paths open.
   const auto cfg = baseConfig();
@@ -351,7 +351,7 @@ TEST(Protection, EachFaultOpensThePathItEndangers) {
   for (uint32_t t = 0; t <= 200; t += 100)
     st = p.evaluate(s.fresh(t), at(t));
   EXPECT_EQ(st.active, bit(FaultId::OvertempCharge) | bit(FaultId::OvertempDischarge));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
 }
 
 // A current limit clears only while current flows the way that relieves it (TI's OCC/OCD recovery): with
@@ -432,8 +432,8 @@ TEST(ProtectionLatch, TheThirdDischargeOvercurrentWithinTheWindowLatchesTheDisch
   EXPECT_TRUE(c.latched());
   c.scans(300);  // 30 s more of charge
   EXPECT_TRUE(c.ocd());
-  EXPECT_TRUE(c.st.dischargeOff);
-  EXPECT_FALSE(c.st.chargeOff) << "the charge path stays available";
+  EXPECT_TRUE(c.st.dischargeOff());
+  EXPECT_FALSE(c.st.chargeOff()) << "the charge path stays available";
   EXPECT_EQ(c.st.newlyCleared, 0);
 }
 
@@ -444,7 +444,7 @@ TEST(ProtectionLatch, TwoTripsDoNotLatch) {
   EXPECT_FALSE(c.ocd());
   EXPECT_EQ(c.p.latched(), 0);
   EXPECT_EQ(c.p.trips(FaultId::DischargeOvercurrent), 2);
-  EXPECT_FALSE(c.st.dischargeOff);
+  EXPECT_FALSE(c.st.dischargeOff());
 }
 
 // One counted trip is forgiven every 10 s after the latest (TI's Counter Dec Delay): trips 10 s apart never
@@ -494,7 +494,7 @@ TEST(ProtectionLatch, ClearLatchedClearsOnlyOnceTheCurrentIsGone) {
   EXPECT_FALSE(c.latched());
   c.scan();
   EXPECT_FALSE(c.ocd());
-  EXPECT_FALSE(c.st.dischargeOff);
+  EXPECT_FALSE(c.st.dischargeOff());
   c.s.current = -35000;  // within 10 s: the count (3) is not forgiven yet
   c.scans(2);
   EXPECT_TRUE(c.latched()) << "a fault that came back latches on its first trip";
@@ -518,7 +518,7 @@ TEST(ProtectionLatch, BehindOneFaultOutputTheLatchHoldsUntilCleared) {
       p.evaluate(s.fresh(t), at(t));
   }
   EXPECT_EQ(p.latched(), bit(FaultId::DischargeOvercurrent));
-  EXPECT_TRUE(p.evaluate(s.fresh(t), at(t)).dischargeOff);
+  EXPECT_TRUE(p.evaluate(s.fresh(t), at(t)).dischargeOff());
   EXPECT_EQ(p.clearLatched(), bit(FaultId::DischargeOvercurrent));
   EXPECT_EQ(p.evaluate(s.fresh(t + 100), at(t + 100)).active, 0);
 }
@@ -534,16 +534,16 @@ TEST(Protection, DeviceFlagsOpenOnlyThePathsTheyConcern) {
   line.faultLine = true;
   auto st = p.evaluate(line, at(5));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff) << "the line says nothing about which flag";
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff()) << "the line says nothing about which flag";
   s.deviceBlocks = 1;  // the scan after it: a charge-side flag (COV)
   st = p.evaluate(s.fresh(8), at(8));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
-  EXPECT_TRUE(st.chargeOff);
-  EXPECT_FALSE(st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff());
+  EXPECT_FALSE(st.dischargeOff());
   s.deviceBlocks = 2;  // CUV
   st = p.evaluate(s.fresh(100), at(100));
-  EXPECT_FALSE(st.chargeOff);
-  EXPECT_TRUE(st.dischargeOff);
+  EXPECT_FALSE(st.chargeOff());
+  EXPECT_TRUE(st.dischargeOff());
   EXPECT_EQ(st.newlyTripped | st.newlyCleared, 0) << "one fault all along: no flapping";
 }
 
@@ -567,7 +567,7 @@ TEST(Protection, DeviceSafetyTripsAtOnce) {
   s.deviceBlocks = 3;
   const auto st = p.evaluate(s.fresh(0), at(0));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
 }
 
 TEST(Protection, FaultLineTripsDeviceSafetyWithoutWaitingForAScan) {
@@ -579,7 +579,7 @@ TEST(Protection, FaultLineTripsDeviceSafetyWithoutWaitingForAScan) {
   line.faultLine = true;  // ALERT/nFAULT edge: no new measurement yet
   const auto st = p.evaluate(line, at(5));
   EXPECT_EQ(st.active, bit(FaultId::DeviceSafety));
-  EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+  EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
   EXPECT_EQ(p.evaluate(s.fresh(100), at(100)).active, 0) << "the next scan shows no device fault";
 }
 
@@ -624,7 +624,7 @@ TEST(Protection, AnOpenSenseWireIsAFaultOfItsOwnNotAnOvervoltage) {
   for (uint32_t t = 100; t <= 500; t += 100) {
     const auto st = p.evaluate(s.fresh(t), at(t));
     EXPECT_EQ(st.active, bit(FaultId::OpenWire)) << t;
-    EXPECT_TRUE(st.chargeOff && st.dischargeOff);
+    EXPECT_TRUE(st.chargeOff() && st.dischargeOff());
   }
   s.cells[1] = s.cells[2] = 3700;  // the wire is back
   EXPECT_EQ(p.evaluate(s.fresh(600), at(600)).newlyCleared, bit(FaultId::OpenWire));

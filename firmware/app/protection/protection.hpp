@@ -123,8 +123,9 @@ struct ProtectionState {
   FaultMask active = 0;        // tripped now
   FaultMask newlyTripped = 0;  // tripped in this evaluation
   FaultMask newlyCleared = 0;  // cleared in this evaluation
-  bool chargeOff = false;      // union of the actions of every active fault
-  bool dischargeOff = false;
+  uint8_t off = 0;             // the paths to open (Action bits): the union of every active fault's action
+  bool chargeOff() const { return (off & static_cast<uint8_t>(Action::ChargeOff)) != 0; }
+  bool dischargeOff() const { return (off & static_cast<uint8_t>(Action::DischargeOff)) != 0; }
   bool faultOutput() const { return active != 0; }
 };
 

@@ -30,11 +30,12 @@ void ProtectionTask::run(sched::EventMask events) {
     // the rest of that run()). Recorded before apply(), which may log new trips and ask for the next one.
     if ((events & kActuated) != 0) actuated(now);
     apply(st, in.fresh, now);
+    // Settled: a scan ended and no path request is pending (taken once, before the read-back, which changes
+    // neither: one call of the observer below, not one per way through readBack()).
+    const bool settled = (events & (kNewData | kScanFailed)) != 0 && !state_->pendingAction;
     if (pack_.hasFetStatus) readBack(in, now);
     if constexpr (FW_RECORD_STORE != 0) {
-      if (state_->observer.to != nullptr)
-        state_->observer.to->evaluated(st.newlyTripped, (in.fresh || in.scanFailed) && !state_->pendingAction,
-                                       now);
+      if (state_->observer.to != nullptr) state_->observer.to->evaluated(st.newlyTripped, settled, now);
     }
   }
   scheduler_.checkIn(id_);
@@ -57,19 +58,19 @@ inline void ProtectionTask::apply(const ProtectionState& st, bool fresh, Instant
   status_.faultOutput = st.faultOutput();
   if constexpr (kLogSize != 0) record(st, now);
 
+  // The paths are Action bits from the faults to the actuator: what the faults open and what the host holds
+  // off, one mask compared and kept (not a pair of flags each way).
   const uint8_t hostOff = state_->hostOff;
-  const bool chargeOn = !st.chargeOff && (hostOff & static_cast<uint8_t>(Action::ChargeOff)) == 0;
-  const bool dischargeOn = !st.dischargeOff && (hostOff & static_cast<uint8_t>(Action::DischargeOff)) == 0;
+  const auto off = static_cast<uint8_t>((st.off | hostOff) & static_cast<uint8_t>(Action::AllOff));
   if (!state_->requested && !fresh && st.active == 0 && hostOff == 0)
     return;  // nothing measured, nothing wrong and nothing asked yet
-  if (state_->requested && chargeOn == state_->chargeOn && dischargeOn == state_->dischargeOn &&
-      st.newlyTripped == 0)
-    return;
+  if (state_->requested && off == state_->off && st.newlyTripped == 0) return;
   state_->requested = true;
-  state_->chargeOn = chargeOn;
-  state_->dischargeOn = dischargeOn;
+  state_->off = off;
   state_->pendingAction = true;
-  if (actuator_.request(chargeOn, dischargeOn)) actuated(now);
+  if (actuator_.request((off & static_cast<uint8_t>(Action::ChargeOff)) == 0,
+                        (off & static_cast<uint8_t>(Action::DischargeOff)) == 0))
+    actuated(now);
 }
 
 // FET images: the paths as the device reports them with each fresh scan; unknown from a failed scan or stale
@@ -124,7 +125,7 @@ void ProtectionTask::actuated(Instant at) {
   // A pin is what it was driven to: confirmed now, and one signal for both paths (released only while both
   // may be on). FET images wait for the device's read-back (readBack()).
   const bool pin = !pack_.hasFetStatus;
-  const bool released = state_->chargeOn && state_->dischargeOn;
+  const bool released = state_->off == 0;
   if (pin) {
     status_.chargeOn = status_.dischargeOn = released;
     status_.pathsKnown = true;
@@ -136,7 +137,7 @@ void ProtectionTask::actuated(Instant at) {
       state_->log[k].actionDone = true;
     }
   }
-  if (pin) confirm(static_cast<uint8_t>((state_->chargeOn ? 0 : 1) | (state_->dischargeOn ? 0 : 2)), at);
+  if (pin) confirm(state_->off, at);
 }
 
 }  // namespace fw::app

@@ -147,7 +147,7 @@ class ProtectionTask final : public sched::Task {
   void setTripObserver(TripObserver& observer) { state_->observer.set(observer); }
   // Both paths off, and the actuator has confirmed it (FETs commanded off / fault output asserted).
   bool pathsOffConfirmed() const {
-    return state_->requested && !state_->pendingAction && !state_->chargeOn && !state_->dischargeOn;
+    return state_->requested && !state_->pendingAction && state_->off == static_cast<uint8_t>(Action::AllOff);
   }
 
   sched::TaskId id() const { return id_; }
@@ -167,8 +167,7 @@ class ProtectionTask final : public sched::Task {
   // Everything that changes, zero at construction (one block: no per-member start-up code). Byte fields
   // first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
   struct State {
-    bool chargeOn;
-    bool dischargeOn;
+    uint8_t off;     // the paths last requested off (Action bits); read only once `requested`
     bool requested;  // a request has been made since start()
     bool pendingAction;
     bool resultSinceTick;  // run() evaluated for something else than the periodic tick alone since the last

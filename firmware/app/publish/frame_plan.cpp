@@ -229,7 +229,7 @@ void FramePlan::settle() {
   while (step_ != kDone && index_ >= framesIn(step_)) {
     index_ = 0;
     if (step_ == kStartup) {  // the end of the fast part (or the start of a TI set)
-      if (tiStartup_) {
+      if (kTiLayout && tiStartup_) {
         step_ = kTiCells;
         tiStartup_ = false;
       } else {
@@ -276,9 +276,11 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
     x = kNotAvailable;
   const PackTotals& t = pack_.totals;
   // Totals of the last scan go out only while that scan is fresh: never an old value as a current one.
-  const bool fresh = elapsed(t.takenAt, now) <= staleAfter_;
-  const bool cells = fresh && t.cells;
-  const bool temps = fresh && t.temps;
+  // Fresh: the age is no more than staleAfter_ (no borrow from staleAfter_ - age). Computed, not tested: GCC
+  // threaded a test of it into a second copy of the dispatch below (16 B, and the Duration compare call).
+  const auto fresh = static_cast<bool>(1U ^ ((uint64_t{staleAfter_.us} - elapsed(t.takenAt, now).us) >> 63));
+  const bool cells = fresh & (t.cells != 0);
+  const bool temps = fresh & (t.temps != 0);
   switch (step_) {
     case kDone:
       return 0;
@@ -354,20 +356,23 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const uint16_t board = kMaxBoards > 1 ? boardOf(index_, perBoard) : 0;
       const auto frame = static_cast<uint16_t>(index_ - board * perBoard);
       const BoardSample& s = pack_.boards[board];
-      const BoardStatus st = boardStatus(s, now, staleAfter_);
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
       using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
-      v[C::kBoardField] = board, v[C::kFrameIndexField] = frame,
-      v[C::kStatusField] = static_cast<uint8_t>(st);
-      if (st != BoardStatus::Valid) break;
-      // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole board's.
-      const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
-      const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
-      if ((open & 7U) != 0) v[C::kStatusField] = kOpenWireStatus;
-      for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
-        if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
-          v[C::kCellField + j] = reading(values[i]);
+      auto status = static_cast<uint8_t>(boardStatus(s, now, staleAfter_));
+      if (status == static_cast<uint8_t>(BoardStatus::Valid)) {
+        // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole
+        // board's.
+        const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
+        const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
+        if ((open & 7U) != 0) status = kOpenWireStatus;
+        for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
+          if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)
+            v[C::kCellField + j] = reading(values[i]);
+        }
       }
+      // Stored once, after the status is known (stored first, GCC copied these stores into every way
+      // through boardStatus()).
+      v[C::kBoardField] = board, v[C::kFrameIndexField] = frame, v[C::kStatusField] = status;
       break;
     }
     case kStateOfCharge: {

@@ -125,7 +125,7 @@ class FramePlan {
     const bool dropped = step_ <= kEvent;
     if (kCoreMessages && step_ >= kCells && step_ <= kBalancing) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
-    tiStartup_ = false;
+    if (kTiLayout) tiStartup_ = false;  // never set without the TI layout
     step_ = kSummary;
     index_ = 0;
     // Each cycle's PackSummary carries the next Counter value whether it goes out or not, so one that never
