@@ -27,8 +27,11 @@ static_assert(regmap::code16(sub::SleepDisable) == regmap::code16(map7690x::sub:
 using Fc = map::bits::FetControl;
 constexpr uint8_t kChargeOff = Fc::pchg_off_mask | Fc::chg_off_mask;
 constexpr uint8_t kDischargeOff = Fc::pdsg_off_mask | Fc::dsg_off_mask;
-// BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET.
+// BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET. The host's intent is kept in these
+// bits for both families (Monitor::kChargePathOff / kDischargePathOff, monitor.hpp).
 using Fc7 = map7690x::bits::FetControl;
+static_assert(Monitor::kChargePathOff == Fc7::chg_off_mask &&
+              Monitor::kDischargePathOff == Fc7::dsg_off_mask);
 
 constexpr uint8_t kAlarmStatus = regmap::code8(map::cmd::AlarmStatus);
 constexpr uint8_t kAlarmEnable = regmap::code8(map::cmd::AlarmEnable);
@@ -112,7 +115,11 @@ Status Monitor::startScanFromTop() {
 
 Status Monitor::startFet(FetCommand command) {
   if (busy()) return Status::Busy;
-  state_->command = command;
+  // Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off); a value
+  // outside the enum turns nothing off, as AllOn.
+  constexpr uint8_t kPathsOff[] = {0, kBothPathsOff, kDischargePathOff, kChargePathOff};
+  const auto c = static_cast<uint8_t>(command);
+  state_->pendingOff = c < sizeof kPathsOff ? kPathsOff[c] : 0;
   return begin(Op::Fet, sendFet());
 }
 
@@ -164,26 +171,15 @@ Status Monitor::readFetEn() {
 
 Status Monitor::sendFet() {
   // Written from the intent alone (never from what the FETs report).
-  const FetIntent next = nextIntent();
-  if (facts().fetControlCmd != 0) {
-    const uint8_t value = static_cast<uint8_t>((next.chargeOff ? Fc7::chg_off_mask : 0) |
-                                               (next.dischargeOff ? Fc7::dsg_off_mask : 0));
-    return link_.startWrite(facts().fetControlCmd, {&value, 1});
-  }
+  const uint8_t off = state_->pendingOff;
+  if (facts().fetControlCmd != 0)
+    return link_.startWrite(facts().fetControlCmd, {&off, 1});  // FET Control's bits
   // BQ769x2: both paths the same way is one command-only subcommand (ALL_FETS_OFF is the ALERT fast path);
   // one path off is FET_CONTROL, which also re-allows the other path after ALL_FETS_OFF.
-  if (next.chargeOff == next.dischargeOff)
-    return link_.startSubcommand(next.chargeOff ? regmap::code16(sub::AllFetsOff)
-                                                : regmap::code16(sub::AllFetsOn));
-  const uint8_t value = next.chargeOff ? kChargeOff : kDischargeOff;
+  if (off == 0) return link_.startSubcommand(regmap::code16(sub::AllFetsOn));
+  if (off == kBothPathsOff) return link_.startSubcommand(regmap::code16(sub::AllFetsOff));
+  const uint8_t value = off == kChargePathOff ? kChargeOff : kDischargeOff;
   return link_.startSubcommandWrite(regmap::code16(sub::FetControl), {&value, 1});
-}
-
-// Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off).
-FetIntent Monitor::nextIntent() const {
-  const FetCommand c = state_->command;
-  return {c == FetCommand::AllOff || c == FetCommand::ChargeOff,
-          c == FetCommand::AllOff || c == FetCommand::DischargeOff};
 }
 
 void Monitor::step(Status r) {
@@ -318,7 +314,7 @@ void Monitor::publish() {
 }
 
 inline void Monitor::fetStep(Status r) {
-  if (r == Status::Ok) state_->intent = nextIntent();
+  if (r == Status::Ok) state_->intentOff = state_->pendingOff;
   finish(r);
 }
 

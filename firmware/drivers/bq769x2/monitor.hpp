@@ -307,6 +307,12 @@ struct FetIntent {
 
 class Monitor {
  public:
+  // The host's FET intent as bits, those of the BQ7690x FET Control (CHG_OFF bit 3, DSG_OFF bit 2, SLUUCJ0),
+  // which that family writes as they are.
+  static constexpr uint8_t kChargePathOff = 0x08;
+  static constexpr uint8_t kDischargePathOff = 0x04;
+  static constexpr uint8_t kBothPathsOff = kChargePathOff | kDischargePathOff;
+
   // Inline: an image constructs it once, and the constructor is then stores only.
   Monitor(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
           const MonitorConfig& config)
@@ -334,7 +340,9 @@ class Monitor {
   // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
   void yieldScan() { state_->yield = true; }
   Status result() const { return state_->result; }
-  FetIntent fetIntent() const { return state_->intent; }
+  FetIntent fetIntent() const {
+    return {(state_->intentOff & kChargePathOff) != 0, (state_->intentOff & kDischargePathOff) != 0};
+  }
   uint8_t written() const { return state_->written; }   // settings the last startConfigure wrote
   uint16_t balanced() const { return state_->cbRead; }  // CB_ACTIVE_CELLS as startBalanceCheck read it
   Link& link() { return link_; }
@@ -408,7 +416,6 @@ class Monitor {
   Status startScanFromTop();
   Status startScanRead();
   void publish();
-  FetIntent nextIntent() const;
   void finish(Status s);
 
   // The operation in progress, zero at construction (one block, no per-member start-up code). Small fields
@@ -422,8 +429,8 @@ class Monitor {
     uint8_t polls;
     uint8_t bytes;
     uint8_t written;
-    FetCommand command;
-    FetIntent intent;
+    uint8_t pendingOff;  // the paths the FET command in flight turns off (k*PathOff bits)
+    uint8_t intentOff;   // ... and those of the last accepted one: fetIntent()
     bool restarted;
     bool yield;            // the scan ends at its next read boundary
     bool requestCharge;    // this scan asks for the accumulated charge ...
