@@ -63,13 +63,14 @@ Status Monitor::startProbe(Identity& out) {
   return begin(Op::Probe, link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2));
 }
 
-Status Monitor::startConfigure(std::span<const Setting> settings) {
-  if (!kConfigPaths || settings.empty() || settings.size() > kMaxSettings) return Status::InvalidArgument;
+Status Monitor::startConfigure(SettingsTable settings) {
+  if (!kConfigPaths || settings.bytes().empty()) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->settings = settings;
   for (uint8_t& d : state_->diff)
     d = 0;
   state_->index = 0;
+  state_->at = 0;
   state_->written = 0;
   state_->error = Status::Ok;
   return begin(Op::Configure, nextSetting(false));
@@ -128,7 +129,7 @@ Status Monitor::startFetEnable() {
   return begin(Op::FetEnable, readFetEn());
 }
 
-Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
+Status Monitor::startRuntimeSetup(SettingsTable settings) {
   if (busy()) return Status::Busy;
   state_->settings = settings;
   return begin(Op::RuntimeSetup, link_.startSubcommand(regmap::code16(sub::SleepDisable)));
@@ -332,7 +333,7 @@ inline void Monitor::fetEnableStep(Status r) {
   }
 }
 
-inline void Monitor::runtimeSetupStep(Status r) {
+[[gnu::always_inline]] inline void Monitor::runtimeSetupStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t* d = link_.data();
   const uint8_t step = state_->step++;
@@ -343,9 +344,11 @@ inline void Monitor::runtimeSetupStep(Status r) {
   if constexpr (kConfigPaths) {
     if (step == 2) return next(link_.startRead(kAlarmEnable, 2));  // written: read it back
     if (step == 3) return finish(bytes::loadLe16(d) == state_->tmp ? Status::Ok : Status::VerifyFailed);
-    for (const Setting& m : state_->settings) {
-      if (m.address != facts().alarmMaskAddress) continue;
-      state_->tmp = static_cast<uint16_t>(m.value);
+    const std::span<const uint8_t> t = state_->settings.bytes();
+    for (size_t at = 0; at < t.size(); at += kSettingHeader + t[at]) {
+      const uint8_t* r = &t[at];
+      if ((r[1] | r[2] << 8) != facts().alarmMaskAddress) continue;
+      state_->tmp = static_cast<uint16_t>(r[kSettingHeader] | (r[0] > 1 ? r[kSettingHeader + 1] << 8 : 0));
       uint8_t mask[2];
       bytes::storeLe16(mask, state_->tmp);
       return next(link_.startWrite(kAlarmEnable, mask));
@@ -382,20 +385,25 @@ inline void Monitor::balanceCheckStep(Status r) {
 enum : uint8_t { kCompare, kEnter, kEnterPoll, kWrite, kVerify, kExit, kExitPoll };
 
 bool Monitor::matches() const {
-  const Setting& s = state_->settings[state_->index];
+  const uint8_t* r = row();
   const uint8_t* d = link_.data();
-  for (uint8_t i = 0; i < s.size; ++i) {
-    if (d[i] != static_cast<uint8_t>(s.value >> (8 * i))) return false;
+  for (uint8_t i = 0; i < r[0]; ++i) {
+    if (d[i] != r[kSettingHeader + i]) return false;
   }
   return true;
 }
 
+// The current row's read, or its write: the value straight from the table.
 Status Monitor::nextSetting(bool write) {
-  const Setting& s = state_->settings[state_->index];
-  if (!write) return link_.startSubcommandRead(s.address, s.size);
-  uint8_t value[4];
-  bytes::storeLe32(value, s.value);
-  return link_.startSubcommandWrite(s.address, {value, s.size});
+  const uint8_t* r = row();
+  const auto address = static_cast<uint16_t>(r[1] | r[2] << 8);
+  if (!write) return link_.startSubcommandRead(address, r[0]);
+  return link_.startSubcommandWrite(address, {r + kSettingHeader, r[0]});
+}
+
+void Monitor::nextRow() {
+  state_->at = static_cast<uint16_t>(state_->at + kSettingHeader + row()[0]);
+  ++state_->index;
 }
 
 inline void Monitor::configStep(Status r) {
@@ -412,7 +420,8 @@ inline void Monitor::configStep(Status r) {
   switch (state_->step) {
     case kCompare:
       if (!matches()) state_->diff[state_->index >> 3] |= static_cast<uint8_t>(1U << (state_->index & 7));
-      if (++state_->index < state_->settings.size()) return next(nextSetting(false));
+      nextRow();
+      if (state_->at < state_->settings.bytes().size()) return next(nextSetting(false));
       if (!differs()) return finish(Status::Ok);
       state_->step = kEnter;
       return next(link_.startSubcommand(regmap::code16(sub::SetCfgupdate)));
@@ -426,6 +435,7 @@ inline void Monitor::configStep(Status r) {
     case kEnterPoll:
       if (!flag) return pollStatus();
       state_->index = 0;
+      state_->at = 0;
       return writeNext();
     case kWrite:
       ++state_->written;
@@ -436,7 +446,7 @@ inline void Monitor::configStep(Status r) {
         state_->error = Status::VerifyFailed;
         return exitUpdate();
       }
-      ++state_->index;
+      nextRow();
       return writeNext();
     default:  // kExitPoll
       if (flag) return pollStatus();
@@ -459,10 +469,10 @@ bool Monitor::differs() const {
 }
 
 void Monitor::writeNext() {
-  while (state_->index < state_->settings.size() &&
+  while (state_->at < state_->settings.bytes().size() &&
          (state_->diff[state_->index >> 3] & (1U << (state_->index & 7))) == 0)
-    ++state_->index;
-  if (state_->index == state_->settings.size()) return exitUpdate();
+    nextRow();
+  if (state_->at == state_->settings.bytes().size()) return exitUpdate();
   state_->step = kWrite;
   next(nextSetting(true));
 }
