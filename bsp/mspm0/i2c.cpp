@@ -287,47 +287,51 @@ Status I2cController::doRecover() {
 
 namespace {
 
-// One step of the bit-banged recovery: drive an open-drain line (set = released), then wait half a period.
-void drive(reg::gpio::Data& port, uint32_t mask, bool high) {
-  (high ? port.doutset : port.doutclr).write(mask);
-  mmio::spin(kRecoveryHalfPeriodSpins);
-}
+// One line of the bus as an open-drain GPIO during recovery: DOUT 1 releases it (the pull-up raises it),
+// DOUT 0 pulls it low. Each change is followed by half a recovery clock period.
+struct RecoveryLine {
+  const Pin& pin;
+
+  reg::gpio::Data& port() const { return reg::gpio::data(pin.portBase()); }
+  void drive(bool high) const {
+    (high ? port().doutset : port().doutclr).write(pin.mask());
+    mmio::spin(kRecoveryHalfPeriodSpins);
+  }
+  bool high() const { return (reg::gpio::input(pin.portBase()).din.read() & pin.mask()) != 0; }
+  // Released high first, then the output driver on and the pin muxed to GPIO, so it never glitches low.
+  void takeAsGpio() const {
+    port().doutset.write(pin.mask());
+    port().doeset.write(pin.mask());
+    reg::iomux::pincm(pin.pincm).write(reg::iomux::kPc | reg::iomux::kPfGpio | kOpenDrainInput);
+  }
+  void giveBack(const PinFunction& function) const {
+    port().doeclr.write(pin.mask());
+    muxPeripheral(function, kOpenDrainInput);
+  }
+};
 
 }  // namespace
 
 bool I2cController::recoverBus() {
-  namespace gpio = reg::gpio;
-  const Pin& sdaPin = config_.sda.pin;
-  const Pin& sclPin = config_.scl.pin;
-  gpio::Data& sda = gpio::data(sdaPin.portBase());
-  gpio::Data& scl = gpio::data(sclPin.portBase());
-  const uint32_t sdaMask = sdaPin.mask();
-  const uint32_t sclMask = sclPin.mask();
-  auto sdaHigh = [&] { return (gpio::input(sdaPin.portBase()).din.read() & sdaMask) != 0; };
+  const RecoveryLine sda{config_.sda.pin};
+  const RecoveryLine scl{config_.scl.pin};
   // Stop the controller from driving the lines, then take both pins as open-drain GPIOs released high.
   reg::resetAndPowerUp(reg::gprcm(config_.base));
-  sda.doutset.write(sdaMask);
-  scl.doutset.write(sclMask);
-  sda.doeset.write(sdaMask);
-  scl.doeset.write(sclMask);
-  constexpr uint32_t kGpioOpenDrain = reg::iomux::kPc | reg::iomux::kPfGpio | kOpenDrainInput;
-  reg::iomux::pincm(sdaPin.pincm).write(kGpioOpenDrain);
-  reg::iomux::pincm(sclPin.pincm).write(kGpioOpenDrain);
+  sda.takeAsGpio();
+  scl.takeAsGpio();
   // Up to 9 clocks: a target stuck mid-byte releases SDA at the latest after its last bit and ACK slot.
-  for (int clock = 0; clock < 9 && !sdaHigh(); ++clock) {
-    drive(scl, sclMask, false);
-    drive(scl, sclMask, true);
+  for (int clock = 0; clock < 9 && !sda.high(); ++clock) {
+    scl.drive(false);
+    scl.drive(true);
   }
   // STOP: SDA rises while SCL is high.
-  drive(scl, sclMask, false);
-  drive(sda, sdaMask, false);
-  drive(scl, sclMask, true);
-  drive(sda, sdaMask, true);
-  const bool free = sdaHigh() && (gpio::input(sclPin.portBase()).din.read() & sclMask) != 0;
-  sda.doeclr.write(sdaMask);
-  scl.doeclr.write(sclMask);
-  muxPeripheral(config_.sda, kOpenDrainInput);
-  muxPeripheral(config_.scl, kOpenDrainInput);
+  scl.drive(false);
+  sda.drive(false);
+  scl.drive(true);
+  sda.drive(true);
+  const bool free = sda.high() && scl.high();
+  sda.giveBack(config_.sda);
+  scl.giveBack(config_.scl);
   configure();
   return free;
 }

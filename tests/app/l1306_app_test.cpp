@@ -95,7 +95,7 @@ TEST(L1306App, ConfiguresTheDeviceEnablesTheFetsAndScans) {
   EXPECT_GT(b.app.monitor().stats().configWrites, 0u);
   EXPECT_FALSE(b.emu.inConfigUpdate()) << "left CONFIG_UPDATE";
   // The settings took: each reads back as the table says.
-  for (const auto& s : b.config.settings) {
+  for (const auto& s : b.board->rows) {
     uint32_t want = s.value;
     EXPECT_EQ(b.emu.dataMemory(s.address, s.size), want) << std::hex << s.address;
   }

@@ -86,8 +86,8 @@ struct NoStateOfCharge {
 using SocState = std::conditional_t<kSoc, StateOfCharge, NoStateOfCharge>;
 
 struct Bq769xAppConfig {
-  std::span<const drivers::bq769x2::Setting> settings{};  // the CONFIG_UPDATE table applied at start-up
-  uint8_t cells = 16;                                     // cells connected
+  drivers::bq769x2::SettingsTable settings{};  // the CONFIG_UPDATE table applied at start-up (packed)
+  uint8_t cells = 16;                          // cells connected
   drivers::bq769x2::MonitorConfig monitor{};
   Duration scanPeriod = kScanPeriod;  // the default limits' debounce counts assume it (default_limits.hpp)
   // After a set-up step past the probe failed (the device answers but refuses its configuration): the wait

@@ -27,8 +27,11 @@ static_assert(regmap::code16(sub::SleepDisable) == regmap::code16(map7690x::sub:
 using Fc = map::bits::FetControl;
 constexpr uint8_t kChargeOff = Fc::pchg_off_mask | Fc::chg_off_mask;
 constexpr uint8_t kDischargeOff = Fc::pdsg_off_mask | Fc::dsg_off_mask;
-// BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET.
+// BQ7690x FET Control (SLUUCJ0): the same meaning, one bit per FET. The host's intent is kept in these
+// bits for both families (Monitor::kChargePathOff / kDischargePathOff, monitor.hpp).
 using Fc7 = map7690x::bits::FetControl;
+static_assert(Monitor::kChargePathOff == Fc7::chg_off_mask &&
+              Monitor::kDischargePathOff == Fc7::dsg_off_mask);
 
 constexpr uint8_t kAlarmStatus = regmap::code8(map::cmd::AlarmStatus);
 constexpr uint8_t kAlarmEnable = regmap::code8(map::cmd::AlarmEnable);
@@ -60,13 +63,14 @@ Status Monitor::startProbe(Identity& out) {
   return begin(Op::Probe, link_.startSubcommandRead(regmap::code16(sub::DeviceNumber), 2));
 }
 
-Status Monitor::startConfigure(std::span<const Setting> settings) {
-  if (!kConfigPaths || settings.empty() || settings.size() > kMaxSettings) return Status::InvalidArgument;
+Status Monitor::startConfigure(SettingsTable settings) {
+  if (!kConfigPaths || settings.bytes().empty()) return Status::InvalidArgument;
   if (busy()) return Status::Busy;
   state_->settings = settings;
   for (uint8_t& d : state_->diff)
     d = 0;
   state_->index = 0;
+  state_->at = 0;
   state_->written = 0;
   state_->error = Status::Ok;
   return begin(Op::Configure, nextSetting(false));
@@ -112,7 +116,11 @@ Status Monitor::startScanFromTop() {
 
 Status Monitor::startFet(FetCommand command) {
   if (busy()) return Status::Busy;
-  state_->command = command;
+  // Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off); a value
+  // outside the enum turns nothing off, as AllOn.
+  constexpr uint8_t kPathsOff[] = {0, kBothPathsOff, kDischargePathOff, kChargePathOff};
+  const auto c = static_cast<uint8_t>(command);
+  state_->pendingOff = c < sizeof kPathsOff ? kPathsOff[c] : 0;
   return begin(Op::Fet, sendFet());
 }
 
@@ -121,7 +129,7 @@ Status Monitor::startFetEnable() {
   return begin(Op::FetEnable, readFetEn());
 }
 
-Status Monitor::startRuntimeSetup(std::span<const Setting> settings) {
+Status Monitor::startRuntimeSetup(SettingsTable settings) {
   if (busy()) return Status::Busy;
   state_->settings = settings;
   return begin(Op::RuntimeSetup, link_.startSubcommand(regmap::code16(sub::SleepDisable)));
@@ -164,26 +172,15 @@ Status Monitor::readFetEn() {
 
 Status Monitor::sendFet() {
   // Written from the intent alone (never from what the FETs report).
-  const FetIntent next = nextIntent();
-  if (facts().fetControlCmd != 0) {
-    const uint8_t value = static_cast<uint8_t>((next.chargeOff ? Fc7::chg_off_mask : 0) |
-                                               (next.dischargeOff ? Fc7::dsg_off_mask : 0));
-    return link_.startWrite(facts().fetControlCmd, {&value, 1});
-  }
+  const uint8_t off = state_->pendingOff;
+  if (facts().fetControlCmd != 0)
+    return link_.startWrite(facts().fetControlCmd, {&off, 1});  // FET Control's bits
   // BQ769x2: both paths the same way is one command-only subcommand (ALL_FETS_OFF is the ALERT fast path);
   // one path off is FET_CONTROL, which also re-allows the other path after ALL_FETS_OFF.
-  if (next.chargeOff == next.dischargeOff)
-    return link_.startSubcommand(next.chargeOff ? regmap::code16(sub::AllFetsOff)
-                                                : regmap::code16(sub::AllFetsOn));
-  const uint8_t value = next.chargeOff ? kChargeOff : kDischargeOff;
+  if (off == 0) return link_.startSubcommand(regmap::code16(sub::AllFetsOn));
+  if (off == kBothPathsOff) return link_.startSubcommand(regmap::code16(sub::AllFetsOff));
+  const uint8_t value = off == kChargePathOff ? kChargeOff : kDischargeOff;
   return link_.startSubcommandWrite(regmap::code16(sub::FetControl), {&value, 1});
-}
-
-// Each command is the whole state of both paths (DischargeOff: charge allowed, discharge off).
-FetIntent Monitor::nextIntent() const {
-  const FetCommand c = state_->command;
-  return {c == FetCommand::AllOff || c == FetCommand::ChargeOff,
-          c == FetCommand::AllOff || c == FetCommand::DischargeOff};
 }
 
 void Monitor::step(Status r) {
@@ -318,7 +315,7 @@ void Monitor::publish() {
 }
 
 inline void Monitor::fetStep(Status r) {
-  if (r == Status::Ok) state_->intent = nextIntent();
+  if (r == Status::Ok) state_->intentOff = state_->pendingOff;
   finish(r);
 }
 
@@ -336,7 +333,7 @@ inline void Monitor::fetEnableStep(Status r) {
   }
 }
 
-inline void Monitor::runtimeSetupStep(Status r) {
+[[gnu::always_inline]] inline void Monitor::runtimeSetupStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t* d = link_.data();
   const uint8_t step = state_->step++;
@@ -347,9 +344,11 @@ inline void Monitor::runtimeSetupStep(Status r) {
   if constexpr (kConfigPaths) {
     if (step == 2) return next(link_.startRead(kAlarmEnable, 2));  // written: read it back
     if (step == 3) return finish(bytes::loadLe16(d) == state_->tmp ? Status::Ok : Status::VerifyFailed);
-    for (const Setting& m : state_->settings) {
-      if (m.address != facts().alarmMaskAddress) continue;
-      state_->tmp = static_cast<uint16_t>(m.value);
+    const std::span<const uint8_t> t = state_->settings.bytes();
+    for (size_t at = 0; at < t.size(); at += kSettingHeader + t[at]) {
+      const uint8_t* r = &t[at];
+      if ((r[1] | r[2] << 8) != facts().alarmMaskAddress) continue;
+      state_->tmp = static_cast<uint16_t>(r[kSettingHeader] | (r[0] > 1 ? r[kSettingHeader + 1] << 8 : 0));
       uint8_t mask[2];
       bytes::storeLe16(mask, state_->tmp);
       return next(link_.startWrite(kAlarmEnable, mask));
@@ -386,20 +385,25 @@ inline void Monitor::balanceCheckStep(Status r) {
 enum : uint8_t { kCompare, kEnter, kEnterPoll, kWrite, kVerify, kExit, kExitPoll };
 
 bool Monitor::matches() const {
-  const Setting& s = state_->settings[state_->index];
+  const uint8_t* r = row();
   const uint8_t* d = link_.data();
-  for (uint8_t i = 0; i < s.size; ++i) {
-    if (d[i] != static_cast<uint8_t>(s.value >> (8 * i))) return false;
+  for (uint8_t i = 0; i < r[0]; ++i) {
+    if (d[i] != r[kSettingHeader + i]) return false;
   }
   return true;
 }
 
+// The current row's read, or its write: the value straight from the table.
 Status Monitor::nextSetting(bool write) {
-  const Setting& s = state_->settings[state_->index];
-  if (!write) return link_.startSubcommandRead(s.address, s.size);
-  uint8_t value[4];
-  bytes::storeLe32(value, s.value);
-  return link_.startSubcommandWrite(s.address, {value, s.size});
+  const uint8_t* r = row();
+  const auto address = static_cast<uint16_t>(r[1] | r[2] << 8);
+  if (!write) return link_.startSubcommandRead(address, r[0]);
+  return link_.startSubcommandWrite(address, {r + kSettingHeader, r[0]});
+}
+
+void Monitor::nextRow() {
+  state_->at = static_cast<uint16_t>(state_->at + kSettingHeader + row()[0]);
+  ++state_->index;
 }
 
 inline void Monitor::configStep(Status r) {
@@ -416,7 +420,8 @@ inline void Monitor::configStep(Status r) {
   switch (state_->step) {
     case kCompare:
       if (!matches()) state_->diff[state_->index >> 3] |= static_cast<uint8_t>(1U << (state_->index & 7));
-      if (++state_->index < state_->settings.size()) return next(nextSetting(false));
+      nextRow();
+      if (state_->at < state_->settings.bytes().size()) return next(nextSetting(false));
       if (!differs()) return finish(Status::Ok);
       state_->step = kEnter;
       return next(link_.startSubcommand(regmap::code16(sub::SetCfgupdate)));
@@ -430,6 +435,7 @@ inline void Monitor::configStep(Status r) {
     case kEnterPoll:
       if (!flag) return pollStatus();
       state_->index = 0;
+      state_->at = 0;
       return writeNext();
     case kWrite:
       ++state_->written;
@@ -440,7 +446,7 @@ inline void Monitor::configStep(Status r) {
         state_->error = Status::VerifyFailed;
         return exitUpdate();
       }
-      ++state_->index;
+      nextRow();
       return writeNext();
     default:  // kExitPoll
       if (flag) return pollStatus();
@@ -463,10 +469,10 @@ bool Monitor::differs() const {
 }
 
 void Monitor::writeNext() {
-  while (state_->index < state_->settings.size() &&
+  while (state_->at < state_->settings.bytes().size() &&
          (state_->diff[state_->index >> 3] & (1U << (state_->index & 7))) == 0)
-    ++state_->index;
-  if (state_->index == state_->settings.size()) return exitUpdate();
+    nextRow();
+  if (state_->at == state_->settings.bytes().size()) return exitUpdate();
   state_->step = kWrite;
   next(nextSetting(true));
 }

@@ -23,6 +23,8 @@
 //                         (VerifyFailed), EXIT_CFGUPDATE (0x0092), poll until CFGUPDATE is clear (Timeout).
 //                         A failure after entering still exits CONFIG_UPDATE before the operation ends with
 //                         the first failure. At most kMaxSettings (64) settings; written() counts the writes.
+//                         `set` is a SettingsTable (the rows packed as the device takes them, below); an
+//                         empty one is InvalidArgument.
 //   startScan(m)          (typed front ends) the measurement set in 4 block reads: the `blocks:` of
 //                         regmaps/bq769x2 (bq7690x) commands.yaml in their order (<family>::blocks).
 //                         A read that needed a retry makes the whole scan start over once (a snapshot is
@@ -115,10 +117,11 @@
 
 namespace fw::drivers::bq769x2 {
 
-// One data-memory setting of a configuration table. Build it with setting() from a generated descriptor.
+// One data-memory setting of a configuration table, as tables are written (setting() builds one from a
+// generated descriptor); the Monitor walks them packed (SettingsTable below).
 struct Setting {
   uint16_t address;
-  uint8_t size;  // 1, 2 or 4
+  uint8_t size;  // 1..4 (data memory: 1, 2 or 4)
   uint32_t value;
 };
 
@@ -135,6 +138,67 @@ requires regmap::FixedSize<D> &&(D::size <= 4) constexpr Setting setting(D d, ty
   }
   return Setting{regmap::code16(d), static_cast<uint8_t>(D::size), raw};
 }
+
+// The settings table the Monitor walks (startConfigure, startRuntimeSetup): Setting rows packed back to back,
+// each as its size, the address (low byte first) and the value's bytes as the device stores them
+// (little-endian), which are the bytes a data-memory write sends after the address (SLUAA11B section 3): a
+// row is compared and written straight from the table. 3 + size bytes a row: the BQ76952 image's 50 rows
+// take 213 bytes where Setting rows take 400. Only PackedSettings makes one (packedSettings<rows> for a
+// constant table, SettingsBuffer for rows made at run time), so a table is well formed by construction.
+inline constexpr uint8_t kSettingHeader = 3;  // size, address low, address high
+
+// The most settings a CONFIG_UPDATE table may hold.
+inline constexpr uint8_t kMaxSettings = 64;
+
+class SettingsTable {
+ public:
+  constexpr SettingsTable() = default;  // no settings
+  constexpr std::span<const uint8_t> bytes() const { return {bytes_, size_}; }
+
+ private:
+  template <size_t>
+  friend class PackedSettings;
+  constexpr SettingsTable(const uint8_t* bytes, uint16_t size) : bytes_(bytes), size_(size) {}
+  const uint8_t* bytes_ = nullptr;
+  uint16_t size_ = 0;
+};
+
+constexpr size_t packedSize(std::span<const Setting> rows) {
+  size_t n = 0;
+  for (const Setting& r : rows)
+    n += kSettingHeader + r.size;
+  return n;
+}
+
+// Setting rows packed into at most Capacity bytes. More than kMaxSettings rows, a row that does not fit or
+// one whose size is not 1..4 is a compile error in a constexpr table (an assert at run time).
+template <size_t Capacity>
+class PackedSettings {
+ public:
+  constexpr PackedSettings() = default;
+  constexpr PackedSettings(std::span<const Setting> rows) {  // NOLINT: implicit, as the rows it packs
+    FW_ASSERT_MODULE(::fw::Module::DriverBq769x2, rows.size() <= kMaxSettings);
+    for (const Setting& r : rows) {
+      FW_ASSERT_MODULE(::fw::Module::DriverBq769x2,
+                       r.size >= 1 && r.size <= 4 && size_t{used_} + kSettingHeader + r.size <= Capacity);
+      bytes_[used_++] = r.size;
+      bytes_[used_++] = static_cast<uint8_t>(r.address);
+      bytes_[used_++] = static_cast<uint8_t>(r.address >> 8);
+      for (uint8_t i = 0; i < r.size; ++i)
+        bytes_[used_++] = static_cast<uint8_t>(r.value >> (8 * i));
+    }
+  }
+  constexpr operator SettingsTable() const { return {bytes_, used_}; }  // NOLINT: a view of it
+
+ private:
+  uint8_t bytes_[Capacity]{};
+  uint16_t used_ = 0;
+};
+// A constant table packed to its exact size (an image's: the rows themselves stay out of the image).
+template <const auto& Rows>
+inline constexpr PackedSettings<packedSize(Rows)> packedSettings{Rows};
+// Room for any table the Monitor accepts (host tools and tests).
+using SettingsBuffer = PackedSettings<kMaxSettings*(kSettingHeader + 4)>;
 
 struct ScanBlock {
   uint8_t cmd;
@@ -278,9 +342,6 @@ inline constexpr uint8_t kScanReadBytesCrc = 12;
 inline constexpr uint8_t kFamily = FW_BQ769X_FAMILY;
 inline constexpr bool kProbeCrc = FW_BQ769X_PROBE_CRC != 0;
 
-// The most settings a CONFIG_UPDATE table may hold.
-inline constexpr uint8_t kMaxSettings = 64;
-
 struct MonitorConfig {
   LinkConfig link{};
   bool probeCrc = false;                // startProbe tries both CRC modes
@@ -307,6 +368,12 @@ struct FetIntent {
 
 class Monitor {
  public:
+  // The host's FET intent as bits, those of the BQ7690x FET Control (CHG_OFF bit 3, DSG_OFF bit 2, SLUUCJ0),
+  // which that family writes as they are.
+  static constexpr uint8_t kChargePathOff = 0x08;
+  static constexpr uint8_t kDischargePathOff = 0x04;
+  static constexpr uint8_t kBothPathsOff = kChargePathOff | kDischargePathOff;
+
   // Inline: an image constructs it once, and the constructor is then stores only.
   Monitor(hal::I2cBus& bus, const hal::Clock& clock, const DriverContext& context, const Variant& variant,
           const MonitorConfig& config)
@@ -320,10 +387,10 @@ class Monitor {
   Monitor& operator=(const Monitor&) = delete;
 
   Status startProbe(Identity& out);
-  Status startConfigure(std::span<const Setting> settings);
+  Status startConfigure(SettingsTable settings);
   Status startFet(FetCommand command);
   Status startFetEnable();
-  Status startRuntimeSetup(std::span<const Setting> settings);
+  Status startRuntimeSetup(SettingsTable settings);
   Status startBalance(uint16_t cells);
   Status startBalanceCheck();
 
@@ -334,7 +401,9 @@ class Monitor {
   // Task context. A running scan ends (Aborted) when its current read completes; otherwise nothing.
   void yieldScan() { state_->yield = true; }
   Status result() const { return state_->result; }
-  FetIntent fetIntent() const { return state_->intent; }
+  FetIntent fetIntent() const {
+    return {(state_->intentOff & kChargePathOff) != 0, (state_->intentOff & kDischargePathOff) != 0};
+  }
   uint8_t written() const { return state_->written; }   // settings the last startConfigure wrote
   uint16_t balanced() const { return state_->cbRead; }  // CB_ACTIVE_CELLS as startBalanceCheck read it
   Link& link() { return link_; }
@@ -396,6 +465,8 @@ class Monitor {
   inline void runtimeSetupStep(Status r);
   inline void balanceStep(Status r);
   inline void balanceCheckStep(Status r);
+  const uint8_t* row() const { return state_->settings.bytes().data() + state_->at; }
+  void nextRow();
   bool matches() const;
   bool differs() const;
   Status nextSetting(bool write);
@@ -408,7 +479,6 @@ class Monitor {
   Status startScanFromTop();
   Status startScanRead();
   void publish();
-  FetIntent nextIntent() const;
   void finish(Status s);
 
   // The operation in progress, zero at construction (one block, no per-member start-up code). Small fields
@@ -422,8 +492,8 @@ class Monitor {
     uint8_t polls;
     uint8_t bytes;
     uint8_t written;
-    FetCommand command;
-    FetIntent intent;
+    uint8_t pendingOff;  // the paths the FET command in flight turns off (k*PathOff bits)
+    uint8_t intentOff;   // ... and those of the last accepted one: fetIntent()
     bool restarted;
     bool yield;            // the scan ends at its next read boundary
     bool requestCharge;    // this scan asks for the accumulated charge ...
@@ -432,7 +502,8 @@ class Monitor {
     bool requesting;       // the charge request is the transaction in flight (at step 0, before block 0)
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
-    std::span<const Setting> settings;
+    SettingsTable settings;
+    uint16_t at;  // configure: the byte of the current setting's row (state_->index counts the rows)
     union {
       Identity* identity;  // startProbe
       Instant* record;     // startScan: the time stamp, followed by the registers (the front ends' layout)

@@ -48,7 +48,7 @@ constexpr size_t kDefaults = 3;  // Ts1Config, HdqPinConfig and CovRecoveryHyste
 TEST(Bq769x2Config, AppliedAsOneConfigUpdateTransactionAndVerified) {
   static_assert(std::size(kPackConfig) >= 20);
   Rig r;
-  ASSERT_EQ(r.run(r.driver.startConfigure(kPackConfig)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(kPackConfig))), Status::Ok);
   EXPECT_EQ(r.driver.written(), std::size(kPackConfig) - kDefaults);
   EXPECT_EQ(r.count("S 10 3E 90 00 P"), 1u);                           // entered once
   EXPECT_EQ(r.count("S 10 3E 92 00 P"), 1u);                           // and left once
@@ -77,9 +77,9 @@ TEST(Bq769x2Config, AppliedAsOneConfigUpdateTransactionAndVerified) {
 
 TEST(Bq769x2Config, ApplyingItAgainDoesNotEnterConfigUpdate) {
   Rig r;
-  ASSERT_EQ(r.run(r.driver.startConfigure(kPackConfig)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(kPackConfig))), Status::Ok);
   r.clearWire();
-  ASSERT_EQ(r.run(r.driver.startConfigure(kPackConfig)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(kPackConfig))), Status::Ok);
   EXPECT_EQ(r.driver.written(), 0u);
   EXPECT_EQ(r.count("S 10 3E 90 00 P"), 0u) << "no SET_CFGUPDATE (0x0090) on the wire:\n" << r.wireText();
   EXPECT_EQ(r.count("S 10 3E 92 00 P"), 0u);
@@ -92,10 +92,10 @@ TEST(Bq769x2Config, ApplyingItAgainDoesNotEnterConfigUpdate) {
 
 TEST(Bq769x2Config, OneChangedSettingIsTheOnlyWrite) {
   Rig r;
-  ASSERT_EQ(r.run(r.driver.startConfigure(kPackConfig)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(kPackConfig))), Status::Ok);
   r.emu.setDataMemory(dm::CovThreshold.address, 86, 1);  // someone changed it behind our back
   r.clearWire();
-  ASSERT_EQ(r.run(r.driver.startConfigure(kPackConfig)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(kPackConfig))), Status::Ok);
   EXPECT_EQ(r.driver.written(), 1u);
   EXPECT_TRUE(r.sawLine("S 10 3E 78 92 53 P"));  // CovThreshold 0x9278 <- 83
   EXPECT_EQ(r.count("S 10 3E 90 00 P"), 1u);
@@ -114,8 +114,9 @@ TEST(Bq769x2Config, FailureAfterEnteringStillLeavesConfigUpdate) {
   config.link.retries = 1;
   Rig r(config);
   const drv::Setting one[] = {drv::setting(dm::CovThreshold, 83)};
+  const drv::SettingsBuffer table(one);
   // Enter normally, then make the data write fail for good (every attempt refused).
-  ASSERT_EQ(r.driver.startConfigure(one), Status::Ok);
+  ASSERT_EQ(r.driver.startConfigure(table), Status::Ok);
   ASSERT_TRUE(r.harness.runUntil([&] { return r.emu.inConfigUpdate(); }, fw::ms(50)));
   r.emu.nackNext(2);  // the write and its retry
   const Status s = r.finish(Status::Ok);
@@ -124,7 +125,7 @@ TEST(Bq769x2Config, FailureAfterEnteringStillLeavesConfigUpdate) {
   EXPECT_EQ(r.count("S 10 3E 92 00 P"), 1u);
   EXPECT_EQ(r.emu.dataMemory(dm::CovThreshold.address, 1), 86u);  // unchanged
   // Once the fault is gone the same configuration goes through.
-  EXPECT_EQ(r.run(r.driver.startConfigure(one)), Status::Ok);
+  EXPECT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(one))), Status::Ok);
   EXPECT_EQ(r.emu.dataMemory(dm::CovThreshold.address, 1), 83u);
 }
 
@@ -134,7 +135,7 @@ TEST(Bq769x2Config, CfgUpdateFlagThatNeverSetsIsATimeoutAndTheDeviceIsAskedToExi
   Rig r({}, slow);
   const drv::Setting one[] = {drv::setting(dm::CovThreshold, 83)};
   const uint64_t t0 = r.harness.nowUs();
-  EXPECT_EQ(r.run(r.driver.startConfigure(one), fw::ms(500)), Status::Timeout);
+  EXPECT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(one)), fw::ms(500)), Status::Timeout);
   EXPECT_LT(r.harness.nowUs() - t0, 60000u) << "bounded by the poll budget, not by the device";
   EXPECT_EQ(r.count("S 10 3E 92 00 P"), 1u);
   EXPECT_EQ(r.count("S 10 60 "), 0u) << "nothing is written while CONFIG_UPDATE is not confirmed";
@@ -146,14 +147,15 @@ TEST(Bq769x2Config, ReadBackMismatchIsVerifyFailed) {
   Rig r({}, instantBoot);
   // The device resets right after the write commit: its data memory is back at the defaults.
   const drv::Setting one[] = {drv::setting(dm::CovThreshold, 83)};
-  ASSERT_EQ(r.driver.startConfigure(one), Status::Ok);
+  const drv::SettingsBuffer table(one);
+  ASSERT_EQ(r.driver.startConfigure(table), Status::Ok);
   ASSERT_TRUE(
       r.harness.runUntil([&] { return r.emu.dataMemory(dm::CovThreshold.address, 1) == 83; }, fw::ms(50)));
   r.emu.reset();
   EXPECT_EQ(r.finish(Status::Ok), Status::VerifyFailed);
   EXPECT_FALSE(r.emu.inConfigUpdate());
   r.harness.runFor(fw::ms(5));
-  EXPECT_EQ(r.run(r.driver.startConfigure(one)), Status::Ok);  // recovers
+  EXPECT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(one))), Status::Ok);  // recovers
 }
 
 TEST(Bq7690xConfig, SeedWritesThenNoConfigUpdateOnTheSecondPass) {
@@ -163,11 +165,46 @@ TEST(Bq7690xConfig, SeedWritesThenNoConfigUpdateOnTheSecondPass) {
       drv::setting(m7::dm::EnabledProtectionsA, m7::bits::EnabledProtectionsA::fromRaw(0xE1)),
       drv::setting(m7::dm::VcellMode, uint8_t{0x04}),
   };
-  ASSERT_EQ(r.run(r.driver.startConfigure(settings)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(settings))), Status::Ok);
   EXPECT_EQ(r.driver.written(), 2u);
   r.clearWire();
-  ASSERT_EQ(r.run(r.driver.startConfigure(settings)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(settings))), Status::Ok);
   EXPECT_EQ(r.count("S 10 3E 90 00 P"), 0u);
+}
+
+// The packed table (drivers/bq769x2 SettingsTable): each row is its size, the address low byte first and the
+// value's bytes little-endian, back to back; a constant table packs to exactly those bytes.
+constexpr drv::Setting kTwoRows[] = {drv::setting(dm::CovThreshold, 85), drv::setting(dm::VCellMode, 0xFFFF)};
+static_assert(drv::packedSize(kTwoRows) == 4 + 5);
+constexpr auto& kTwoRowsPacked = drv::packedSettings<kTwoRows>;
+static_assert(drv::SettingsTable(kTwoRowsPacked).bytes().size() == 9);
+static_assert(drv::SettingsTable(kTwoRowsPacked).bytes()[0] == 1 &&
+              drv::SettingsTable(kTwoRowsPacked).bytes()[3] == 85);
+static_assert(drv::SettingsTable(kTwoRowsPacked).bytes()[4] == 2 &&
+              drv::SettingsTable(kTwoRowsPacked).bytes()[7] == 0xFF);
+
+TEST(Bq769x2Config, PackedRowsAreTheBytesTheDeviceGets) {
+  const uint8_t want[] = {1,
+                          static_cast<uint8_t>(dm::CovThreshold.address),
+                          static_cast<uint8_t>(dm::CovThreshold.address >> 8),
+                          85,
+                          2,
+                          static_cast<uint8_t>(dm::VCellMode.address),
+                          static_cast<uint8_t>(dm::VCellMode.address >> 8),
+                          0xFF,
+                          0xFF};
+  const auto packed = drv::SettingsTable(kTwoRowsPacked).bytes();
+  EXPECT_TRUE(std::equal(packed.begin(), packed.end(), std::begin(want), std::end(want)));
+  const drv::SettingsBuffer atRunTime(kTwoRows);
+  const auto table = drv::SettingsTable(atRunTime).bytes();
+  EXPECT_TRUE(std::equal(table.begin(), table.end(), std::begin(want), std::end(want)));
+  // Compared and written from the table as it stands: the value bytes follow the address on the wire.
+  Rig r;
+  ASSERT_EQ(r.run(r.driver.startConfigure(atRunTime)), Status::Ok);
+  EXPECT_EQ(r.count("S 10 3E 78 92 55 P"), 1u) << r.wireText();  // COV Threshold (0x9278) 85
+  EXPECT_EQ(r.emu.dataMemory(dm::CovThreshold.address, 1), 85u);
+  EXPECT_EQ(r.emu.dataMemory(dm::VCellMode.address, 2), 0xFFFFu);
+  EXPECT_EQ(r.driver.written(), 2u);
 }
 
 }  // namespace

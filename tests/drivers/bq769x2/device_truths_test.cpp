@@ -96,7 +96,7 @@ TEST(Bq769x2Fet, DischargeOffAfterBothOffReallowsCharge) {
 TEST(Bq769x2RuntimeSetup, DisablesSleepAndWritesAlarmEnable) {
   Rig r;
   const drv::Setting table[] = {drv::setting(map::dm::DefaultAlarmMask, 0xF800)};
-  ASSERT_EQ(r.run(r.driver.startRuntimeSetup(table)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startRuntimeSetup(drv::SettingsBuffer(table))), Status::Ok);
   EXPECT_EQ(r.wire(), (std::vector<std::string>{"S 10 3E 9A 00 P", "S 10 3E Sr 11 [FF FF] P",
                                                 "S 10 3E Sr 11 [9A 00] P", "S 10 12 Sr 11 [08 01] P",
                                                 "S 10 66 00 F8 P", "S 10 66 Sr 11 [00 F8] P"}));

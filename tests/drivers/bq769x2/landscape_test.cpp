@@ -127,7 +127,7 @@ TEST(Bq769x2Landscape, DataMemoryWriteOutsideConfigUpdateHasNoEffect) {
   EXPECT_EQ(r.emu.rejectedWrites(), 2u);
   // The driver's configure transaction does it right.
   const drv::Setting s[] = {drv::setting(map::dm::EnabledProtectionsA, map::bits::SafetyA::fromRaw(0x8C))};
-  ASSERT_EQ(r.run(r.driver.startConfigure(s)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(s))), Status::Ok);
   EXPECT_EQ(r.emu.dataMemory(0x9261, 1), 0x8Cu);
 }
 
@@ -198,7 +198,7 @@ TEST(Bq769x2Landscape, SignedCurrentAndCellVoltages) {
   const drv::Setting tenMilliamps[] = {drv::setting(
       map::dm::DaConfiguration,
       map::bits::DaConfiguration::fromRaw(0x05).with_user_amps(map::enums::UserAmps::TenMilliAmp))};
-  ASSERT_EQ(r.run(r.driver.startConfigure(tenMilliamps)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(tenMilliamps))), Status::Ok);
   ASSERT_EQ(r.scan(m), Status::Ok);
   EXPECT_EQ(m.reg.current, 5000);
   EXPECT_EQ(drv::currentMa(m.reg.current, 100), 50000);

@@ -122,7 +122,7 @@ TEST(Bq769x2Seeds, RamWritesInsideConfigUpdate) {
       drv::setting(map::dm::EnabledProtectionsA, map::bits::SafetyA::fromRaw(0x8C)),  // 3.3
       drv::setting(map::dm::VCellMode, uint16_t{0x037F}),                             // 3.4
   };
-  ASSERT_EQ(r.run(r.driver.startConfigure(settings), fw::s(1)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(settings)), fw::s(1)), Status::Ok);
   EXPECT_TRUE(r.sawLine("S 10 3E 90 00 P"));        // 3.2 SET_CFGUPDATE
   EXPECT_TRUE(r.sawLine("S 10 3E 61 92 8C P"));     // 3.3 data after the address
   EXPECT_TRUE(r.sawLine("S 10 60 80 05 P"));        //     checksum ~(0x61+0x92+0x8C), length 5
@@ -199,7 +199,7 @@ TEST(Bq7690xSeeds, RamRegisterReadAndWrites) {
       drv::setting(map7::dm::EnabledProtectionsA, map7::bits::EnabledProtectionsA::fromRaw(0xE1)),  // 3.3
       drv::setting(map7::dm::VcellMode, uint8_t{0x04}),                                             // 3.4
   };
-  ASSERT_EQ(r.run(r.driver.startConfigure(settings)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(settings))), Status::Ok);
   EXPECT_TRUE(r.sawLine("S 10 3E 90 00 P"));     // 3.2
   EXPECT_TRUE(r.sawLine("S 10 3E 24 90 E1 P"));  // 3.3
   EXPECT_TRUE(r.sawLine("S 10 60 6A 05 P"));
@@ -234,7 +234,7 @@ TEST(Bq769x2Seeds, Slaaeb3ReadingsDecodeThroughTheTypedRecord) {
   ASSERT_EQ(r.runLink(r.driver.link().startWrite(0x66, enable)), Status::Ok);
   const drv::Setting cuvOn[] = {
       drv::setting(map::dm::EnabledProtectionsA, map::bits::SafetyA::fromRaw(0x8C))};
-  ASSERT_EQ(r.run(r.driver.startConfigure(cuvOn)), Status::Ok);
+  ASSERT_EQ(r.run(r.driver.startConfigure(drv::SettingsBuffer(cuvOn))), Status::Ok);
   r.harness.runFor(fw::ms(300));  // CUV Delay default 74 x 3.3 ms
   r.emu.completeScan();
   drv::Bq769x2Measurement m;

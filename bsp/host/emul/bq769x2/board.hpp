@@ -53,7 +53,9 @@ struct Bq769xBoard {
   Bq769xBoard(Bq769xEmulator::Model model, std::span<const fw::drivers::bq769x2::Setting> settings,
               uint8_t cells, bool faultOutput, const DriverArgs&... driverArgs)
       : emu(h.clock, model),
-        config(makeConfig(model, settings, cells, faultOutput ? &faultOut : nullptr,
+        rows(settings),
+        packedSettings(settings),
+        config(makeConfig(model, packedSettings, cells, faultOutput ? &faultOut : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &cfetoff : nullptr,
                           model == Bq769xEmulator::Model::Bq76952 ? &dfetoff : nullptr)),
         app(h.sched, bus, alert, output, system, config, driverArgs...) {
@@ -76,8 +78,8 @@ struct Bq769xBoard {
 
   // The state of charge as the images compute it, with their EVM packs' parameters.
   static fw::app::Bq769xAppConfig makeConfig(Bq769xEmulator::Model model,
-                                             std::span<const fw::drivers::bq769x2::Setting> settings,
-                                             uint8_t cells, fw::hal::DigitalOut* faultIndicator,
+                                             fw::drivers::bq769x2::SettingsTable settings, uint8_t cells,
+                                             fw::hal::DigitalOut* faultIndicator,
                                              fw::hal::DigitalOut* chargeOff,
                                              fw::hal::DigitalOut* dischargeOff) {
     fw::app::Bq769xAppConfig c{settings, cells};
@@ -103,6 +105,8 @@ struct Bq769xBoard {
   FetOffWire dfetoff{emu, dfetoffLevel, cfetoffLevel, false};
   Output output{h.clock, h.irq};
   SimSystem system{h.clock};
+  std::span<const fw::drivers::bq769x2::Setting> rows;  // the settings table as given
+  fw::drivers::bq769x2::SettingsBuffer packedSettings;  // ... and packed, as the application takes it
   fw::app::Bq769xAppConfig config;
   App app;
 };

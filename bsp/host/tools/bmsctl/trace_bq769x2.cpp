@@ -281,7 +281,7 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
 
   drv::Link& link = monitor.link();
   Status started = Status::Ok;
-  drv::Setting setting{};
+  drv::SettingsBuffer dmWrite;  // a dm-write's one setting, packed as the monitor walks it
   if (op == "read") {
     started = link.startRead(static_cast<uint8_t>(target), static_cast<uint8_t>(length));
   } else if (op == "write") {
@@ -298,8 +298,14 @@ int run(const bmsctl::TraceRequest& req, Bq769xEmulator::Model model) {
     uint32_t value = 0;
     for (size_t i = 0; i < bytes.size(); ++i)
       value |= static_cast<uint32_t>(bytes[i]) << (8 * i);
-    setting = {static_cast<uint16_t>(target), static_cast<uint8_t>(bytes.size()), value};
-    started = monitor.startConfigure({&setting, 1});
+    const drv::Setting setting{static_cast<uint16_t>(target), static_cast<uint8_t>(bytes.size()), value};
+    // A data-memory value is 1..4 bytes; anything else is refused as the monitor refuses a malformed table.
+    if (bytes.empty() || bytes.size() > 4) {
+      started = Status::InvalidArgument;
+    } else {
+      dmWrite = drv::SettingsBuffer({&setting, 1});
+      started = monitor.startConfigure(dmWrite);
+    }
   }
   Status result = started;
   if (started == Status::Ok) {

@@ -20,7 +20,9 @@ namespace {
 
 // The device settings of the pack this image is built from (BMS_PACK: regmaps/CMakeLists.txt).
 static_assert(std::string_view(fw::pack::kDevice) == "bq76952", "BMS_PACK names a pack for another device");
-constexpr auto kSettings = fw::app::bq76952Settings(fw::pack::kDeviceSettings);
+constexpr auto kSettingRows = fw::app::bq76952Settings(fw::pack::kDeviceSettings);
+// Packed as the driver walks it (drivers/bq769x2 SettingsTable): only the packed bytes are in the image.
+constexpr auto& kSettings = fw::drivers::bq769x2::packedSettings<kSettingRows>;
 
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::CanPublisher>;
