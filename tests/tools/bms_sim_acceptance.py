@@ -65,7 +65,7 @@ def soc_fields(d):
 
 def check_soc_published(image, frames, where):
     """The StateOfCharge message as each image can know it: never on the BQ79616 image (no current input) nor
-    the L1306 images (built out, FW_SOC=0); 0..1000 with capacities and a basis or wholly not available on
+    an image that builds it out (FW_SOC=0: L1306-BQ76952); 0..1000 with capacities and a basis or wholly not available on
     the others; and whenever known, PackSummary.StateOfCharge of the same cycle is its whole % (+-1 for a
     scan in between). A scan in between can also make it known where the summary had none: the summary then
     said its data were not valid (DataValid 0: stale, or a failed scan), or the state of charge was not known

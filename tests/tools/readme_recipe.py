@@ -85,7 +85,7 @@ def main():
         fail(f"a line arrived {ahead:.2f} s ahead of the board's timing: a burst")
     # The first summary with data (the BQ76952's start-up, 130 ms, may outlast the first publish cycle).
     summary = next((l for _, l in lines if l.startswith("PackSummary") and "DataValid=1" in l), "none valid")
-    # The L1306 images build the state of charge out (FW_SOC=0, README "Open questions").
+    # The recipe's image, L1306-BQ76952, builds the state of charge out (FW_SOC=0, README "Open questions").
     if "StateOfCharge=not_available" not in summary or "PackVoltage=59.2" not in summary:
         fail(f"PackSummary decodes as {summary!r}")
     print(f"REPORT readme.slcan_recipe: {len(lines)} frames printed, at most {max(ahead, 0) * 1000:.0f} ms ahead "

@@ -38,11 +38,11 @@ checks:
               polling 20 ms after the start-up monitor's verdict), no CAN frame, no reset, no rule or warning,
               and the monitor goes on scanning (protection does not need the CAN bus). The MCAN is never
               powered then, and nothing reads it (McanBus answers off the bus without a register access)
-  soc-count   (G3507-BQ76952) 5 minutes of the soc-discharge scenario: StateOfCharge within 2 % of the emulator's
+  soc-count   (the BQ769x images with FW_SOC) 5 minutes of the soc-discharge scenario: StateOfCharge within 2 % of the emulator's
               true value
 Every check also finds StateOfCharge in each PackSummary and the StateOfCharge message as the image can know it:
-always from the BQ4050's gauge, never on the BQ79616 image (no current input; it was 0 %) nor on the L1306 images
-(built out, FW_SOC=0), 0..100 % or not available (until known) on G3507-BQ76952, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
+always from the BQ4050's gauge, never on the BQ79616 image (no current input; it was 0 %) nor on an image that
+builds it out (FW_SOC=0: L1306-BQ76952), 0..100 % or not available (until known) on the other BQ769x images, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
 Prints REPORT lines (CPU load, interrupt latency, longest ISR, the twin's speed).
 Exit 77 (skipped) when the ELF has not been built (./ci/test builds every image before it tests)."""
 import json

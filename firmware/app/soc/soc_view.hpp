@@ -4,8 +4,8 @@
 // Written by the monitor task only: the BQ769x2/BQ7690x applications from app/soc's count after each
 // validated scan, the BQ4050 application from the gauge's own RelativeStateOfCharge, RemainingCapacity and
 // FullChargeCapacity. Basis Unknown (zero, the state the images start from) means nothing is known: every
-// output goes out not available. Builds without the state of charge (FW_SOC=0: the L1306 images) keep an
-// empty SocView, so the view costs them no RAM and the messages go out not available.
+// output goes out not available. Builds without the state of charge (FW_SOC=0: L1306-BQ76952, BQ79616) keep
+// an empty SocView, so the view costs them no RAM and the messages go out not available.
 #pragma once
 
 #include <cstdint>
