@@ -308,13 +308,14 @@ class Bq769xDevice : public MonitorBase {
     flags_->socDue = false;
     const PackTotals& t = view_.totals;
     const drivers::bq769x2::ChargeCounter& c = records_->measurement.charge;
-    SocInputs in{.now = t.takenAt,
-                 .currentMa = view_.currentMa,
-                 .maxCellMv = t.extreme[kMaxCell],
-                 .minCellMv = t.extreme[kMinCell],
-                 .avgCellMv = static_cast<int16_t>(t.packMv / config_.cells),
-                 .cells = t.complete && !t.openWire,
-                 .counted = c.valid};
+    SocInputs in{
+        .now = t.takenAt,
+        .currentMa = view_.currentMa,
+        .maxCellMv = t.extreme[kMaxCell],
+        .minCellMv = t.extreme[kMinCell],
+        .avgCellMv = static_cast<int16_t>(t.packMv > 0 ? static_cast<uint32_t>(t.packMv) / config_.cells : 0),
+        .cells = t.complete && !t.openWire,
+        .counted = c.valid};
     if (c.valid)
       in.count = kCounterFamily == CounterFamily::Bq769x2 ? bq769x2Count(c.raw) : bq7690xCount(c.raw);
     soc_.update(in);
