@@ -126,7 +126,7 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
   if (count < 0xFF) ++count;
   if (count < (tripped ? rule.recover : rule.debounce)) return;
 #if FW_PROTECTION_DELAYS
-  if (elapsed(state_->since[i], now).us < rule.delay.us) return;
+  if (elapsed(state_->since[i], now) < rule.delay) return;
 #endif
 
   count = 0;
@@ -145,15 +145,13 @@ void Protection::track(uint8_t i, int32_t v, Instant now, ProtectionState& out) 
 }
 
 // Called with every fresh value while trips are counted, so tripsSince stays within one decay of now (an
-// Instant compares correctly only within half the clock's 71-minute wrap). Durations are compared by their
-// microseconds here and in track(): Duration's defaulted three-way compare is a call under -Os (36 B of
-// track() on the L1306 image).
+// Instant compares correctly only within half the clock's 71-minute wrap).
 void Protection::forgive(uint8_t i, Instant now) {
   const Duration decay = s(config_.rules[i].tripDecayS);
   if (decay.us == 0) return;  // never forgiven
   uint8_t& trips = state_->trips[i];
   Instant& since = state_->tripsSince[i];
-  while (trips != 0 && elapsed(since, now).us >= decay.us) {
+  while (trips != 0 && elapsed(since, now) >= decay) {
     --trips;
     since = since + decay;
   }

@@ -277,7 +277,8 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   const PackTotals& t = pack_.totals;
   // Totals of the last scan go out only while that scan is fresh: never an old value as a current one.
   // Fresh: the age is no more than staleAfter_ (no borrow from staleAfter_ - age). Computed, not tested: GCC
-  // threaded a test of it into a second copy of the dispatch below (16 B, and the Duration compare call).
+  // threads a test of it (`elapsed(...) <= staleAfter_`) into a second copy of the dispatch below (measured
+  // 2026-11-29: +80 B on L1306-BQ76952, +40 B on the other images).
   const auto fresh = static_cast<bool>(1U ^ ((uint64_t{staleAfter_.us} - elapsed(t.takenAt, now).us) >> 63));
   const bool cells = fresh & (t.cells != 0);
   const bool temps = fresh & (t.temps != 0);

@@ -347,7 +347,7 @@ inline void Monitor::fetEnableStep(Status r) {
     const std::span<const uint8_t> t = state_->settings.bytes();
     for (size_t at = 0; at < t.size(); at += kSettingHeader + t[at]) {
       const uint8_t* r = &t[at];
-      if ((r[1] | r[2] << 8) != facts().alarmMaskAddress) continue;
+      if (bytes::loadLe16(r + 1) != facts().alarmMaskAddress) continue;
       state_->tmp = static_cast<uint16_t>(r[kSettingHeader] | (r[0] > 1 ? r[kSettingHeader + 1] << 8 : 0));
       uint8_t mask[2];
       bytes::storeLe16(mask, state_->tmp);
@@ -396,7 +396,7 @@ bool Monitor::matches() const {
 // The current row's read, or its write: the value straight from the table.
 Status Monitor::nextSetting(bool write) {
   const uint8_t* r = row();
-  const auto address = static_cast<uint16_t>(r[1] | r[2] << 8);
+  const uint16_t address = bytes::loadLe16(r + 1);
   if (!write) return link_.startSubcommandRead(address, r[0]);
   return link_.startSubcommandWrite(address, {r + kSettingHeader, r[0]});
 }
