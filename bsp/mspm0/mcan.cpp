@@ -81,7 +81,7 @@ Status McanBus::init() {
   events.imask.write(mcan::kIntLine0);
   // Leave INIT; the controller joins the bus after 11 recessive bits. INIT reads back only once it has
   // crossed into the CAN clock domain, and must be seen before INIT is written again (hw_mcan.h MCAN_CCCR):
-  // wait for it, as TI's set-up polls DL_MCAN_getOpMode for normal operation.
+  // wait for it, as TI's example set-up polls the operation mode until it reads normal operation.
   core.cccr.write(0);
   if (!waitFor(core.cccr, mcan::kCccrInit, 0)) return Status::NotReady;
   ready_ = true;
@@ -141,8 +141,8 @@ void McanBus::onInterrupt() {
   const uint32_t ir = core.ir.read() & kIrqs;
   core.ir.write(ir);  // write 1 to clear, only what we handle
   // End of interrupt: the MCAN subsystem holds its line-0 interrupt until EOI is written with 0x01, and
-  // asserts it again at once if a source is still pending (hw_mcan.h MCAN_EOI). TI's DL_MCAN_clearIntrStatus
-  // writes it right after IR, as here; the wrapper flag was cleared first, so a re-assertion is not lost.
+  // asserts it again at once if a source is still pending (hw_mcan.h MCAN_EOI). TI's example ISR writes it
+  // right after clearing IR, as here; the wrapper flag was cleared first, so a re-assertion is not lost.
   mcan::ssEoi(base).write(mcan::kSsEoiLine0);
   if (ir & mcan::kIrTc) {
     const uint32_t sent = mcan::queues(base).txbto.read() & inFlight_;

@@ -5,9 +5,9 @@
 // element (SFT 1, SFEC 1: store in RX FIFO 0) per two identifiers of Config::accept (the last one repeats its
 // identifier when the count is odd). The global filter rejects every frame no element matches and every
 // remote frame (GFC ANFS = ANFE = 2, RRFS = RRFE = 1), so only the accepted identifiers ever raise RF0N. This
-// is the set-up of TI's mcan_message_rx example (dl_mcan.h DL_MCAN_addStdMsgIDFilter, two dual-ID elements
-// storing to FIFO 0; there the non-matching frames go to FIFO 1). The TX FIFO (TXBC.TFQM = 0) sends frames in
-// the order they were queued, which is what the contract asks of frames of equal priority.
+// is the set-up of TI's mcan_message_rx example (two standard dual-ID filter elements, M_CAN user manual
+// 2.4.5, storing to FIFO 0; there the non-matching frames go to FIFO 1). The TX FIFO (TXBC.TFQM = 0) sends
+// frames in the order they were queued, which is what the contract asks of frames of equal priority.
 //
 // Bit timing (TI's bq79616_uart_to_can example, MSPM0 SDK 2.09, ti_msp_dl_config.c): CANCLK = HFXT 40 MHz,
 // prescaler 1, 1 + 69 + 10 = 80 tq of 25 ns = 500 kbit/s, sample point 70/80 = 87.5 %, SJW 10 tq. kNbtp500k
@@ -32,8 +32,8 @@
 // - onInterrupt(): body of CANFD0_IRQHandler: reads the wrapper MIS and clears it, reads the MCAN IR and
 //   clears exactly those bits (IR is write-1-to-clear), ends the interrupt at the subsystem (MCANSS_EOI),
 //   updates counters, calls the receive Notify on RF0N and the other one on TC/EP/BO, returns (TI's
-//   mcan_message_rx ISR order: the line's status, DL_MCAN_clearIntrStatus (IR, then EOI), then the FIFO is
-//   read, here by the task the Notify wakes).
+//   mcan_message_rx ISR order: the line's status, the interrupt flags cleared (IR, then EOI), then the FIFO
+//   is read, here by the task the Notify wakes).
 #pragma once
 
 #include <cstdint>

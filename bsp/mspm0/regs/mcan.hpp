@@ -140,8 +140,8 @@ inline constexpr uint32_t kGfcRejectAll = (2U << 4) | (2U << 2) | kGfcAcceptAllR
 constexpr uint32_t sidfc(uint32_t startByte, uint32_t elements) {
   return startByte | (elements << 16);
 }
-// Standard ID filter element (one word): SFT 31:30, SFEC 29:27, SFID1 26:16, SFID2 10:0 (hw_mcan.h /
-// dl_mcan.h DL_MCAN_StdMsgIDFilterElement; M_CAN user manual 2.4.5). SFT 1 = dual ID (SFID1 or SFID2), SFEC 1
+// Standard ID filter element (one word): SFT 31:30, SFEC 29:27, SFID1 26:16, SFID2 10:0 (M_CAN user manual
+// 2.4.5, the standard message ID filter element). SFT 1 = dual ID (SFID1 or SFID2), SFEC 1
 // = store in RX FIFO 0, as TI's mcan_message_rx example sets its two filters.
 constexpr uint32_t stdFilterDual(uint32_t id1, uint32_t id2) {
   return (1U << 30) | (1U << 27) | ((id1 & 0x7FF) << 16) | (id2 & 0x7FF);

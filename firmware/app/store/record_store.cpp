@@ -21,8 +21,7 @@ constexpr uint8_t kCommit1 = 'M';
 // Whether `bytes` (a multiple of 4) from `p` (4-byte aligned: sectors are 1 KiB aligned, slots and words
 // multiples of 8 B, the word being written alignas(4)) are all erased, in 32-bit loads: restore() checks
 // every blank sector whole, and a byte at a time took 2.3 ms of the G3507 images' start-up on the twin
-// (bms-sim
-// --profile), enough to move the scans' phase against the world.
+// (bms-sim --profile), enough to move the scans' phase against the world.
 bool erased(const uint8_t* p, uint32_t bytes) {
   p = std::assume_aligned<4>(p);
   for (uint32_t off = 0; off < bytes; off += 4) {
