@@ -1,11 +1,17 @@
 // The FLASHCTL model (bsp/twin/periph/flashctl.hpp) against TI's description: commands, protection, the
 // stall, timing, the misuse rules and the power cut. Registers are driven through the address map as the
 // CPU's stores would; the CPU meanwhile runs a counting loop in flash (or in SRAM), so the stall shows.
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <fstream>
+#include <memory>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "app/store/record_store.hpp"
 #include "chip_rig.hpp"
 #include "core/status.hpp"
 #include "elf_file.hpp"
@@ -281,6 +287,193 @@ TEST_P(Driver, APowerCutInTheFirstProgramLeavesATornWordAndTheRestartRecovers) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Parts, Driver, ::testing::Values(Part::L1306, Part::G3507));
+
+// The record store (firmware/app/store) on the driver, programs/record_store_cuts.cpp: power is cut after
+// every instruction of one record write, and after each cut the restarted store must give, for every type,
+// the last record whose write returned Ok or the one being written, never a torn one (the program counts a
+// record whose bytes are not the ones written in kBad) and never an older one; then both of the next boot's
+// writes must succeed. Two writes are swept: one into a sector with free slots (four records before it), and
+// one that finds the sector full (twelve before it) and so compacts the newest of every type into the next
+// sector first. The state before the write is made by running the program itself, boot after boot.
+class RecordCuts : public ::testing::TestWithParam<Part> {
+ protected:
+  static constexpr uint32_t kRegion = 0x7000, kRegionEnd = 0x8000;  // the data region (bsp/mspm0/linker)
+  static constexpr int kTypes = 3;
+  static constexpr uint32_t kMark = 0xC0DE0000;  // kPhase and kSweeping are kMark + n (the program says why)
+
+  RecordCuts() {
+    const std::string chip = GetParam() == Part::G3507 ? "mspm0g3507" : "mspm0l1306";
+    EXPECT_TRUE(elf_.load(std::string(TWIN_PROGRAMS) + "/record_store_cuts_" + chip + ".elf"))
+        << elf_.error();
+  }
+  // A chip with the program loaded and `region` in the data region, before its first instruction.
+  std::unique_ptr<Mspm0> boot(const std::vector<uint8_t>& region) {
+    auto chip = std::make_unique<Mspm0>(GetParam());
+    EXPECT_TRUE(chip->load(elf_)) << chip->error();
+    std::copy(region.begin(), region.end(), chip->machine().flash().begin() + kRegion);
+    return chip;
+  }
+  uint32_t word(Mspm0& chip, const char* symbol, uint32_t index = 0) {
+    const auto s = elf_.symbol(symbol);
+    EXPECT_TRUE(s.has_value()) << symbol;
+    return s ? chip.machine().readSram32(s->value + 4 * index) : 0;
+  }
+  // Runs until kPhase reaches `phase` (at most 200 ms of the chip's time); false if it did not.
+  bool runToPhase(Mspm0& chip, uint32_t phase) {
+    twin::Machine& m = chip.machine();
+    const uint64_t end = m.now() + 200000ULL * 32;
+    auto reached = [&] { return word(chip, "kPhase") - kMark - phase <= 2 - phase; };
+    while (!reached() && !m.stopped() && m.now() < end)
+      m.run(m.now() + 32 * 20);
+    return reached();
+  }
+  std::vector<uint8_t> regionOf(Mspm0& chip) {
+    const auto& flash = chip.machine().flash();
+    return {flash.begin() + kRegion, flash.begin() + kRegionEnd};
+  }
+  // The data region after `boots` boots of the program from an erased region (two records each).
+  std::vector<uint8_t> after(int boots) {
+    std::vector<uint8_t> region(kRegionEnd - kRegion, 0xFF);
+    for (int i = 0; i < boots; ++i) {
+      auto chip = boot(region);
+      EXPECT_TRUE(runToPhase(*chip, 2)) << chip->machine().stopReason();
+      region = regionOf(*chip);
+    }
+    return region;
+  }
+  // What a cut after one instruction leaves for the next boot: the data region as the cut leaves it, and
+  // which records the program had written (kCommitted) and was writing (kInFlight) at that moment.
+  struct CutState {
+    std::vector<uint8_t> region;
+    std::array<uint32_t, 2 * kTypes> written;
+    bool operator<(const CutState& o) const {
+      return std::tie(region, written) < std::tie(o.region, o.written);
+    }
+  };
+  // `scratch`: a flash-sized buffer, of which only the data region is used (a cut's effect lies there).
+  CutState cutStateOf(Mspm0& chip, std::vector<uint8_t>& scratch) {
+    const auto& flash = chip.machine().flash();
+    std::copy(flash.begin() + kRegion, flash.begin() + kRegionEnd, scratch.begin() + kRegion);
+    chip.flashctl().leaveCut(scratch);
+    CutState state{{scratch.begin() + kRegion, scratch.begin() + kRegionEnd}, {}};
+    for (int t = 0; t < kTypes; ++t) {
+      state.written[t] = chip.machine().readSram32(committed_ + 4 * t);
+      state.written[kTypes + t] = chip.machine().readSram32(inFlight_ + 4 * t);
+    }
+    return state;
+  }
+  // Boots on what the cut left and checks the restore and the two writes after it; false with a message.
+  bool restartsWell(const CutState& cut, std::string& why) {
+    auto chip = boot(cut.region);
+    twin::Machine& m = chip->machine();
+    bool good = runToPhase(*chip, 1) && word(*chip, "kRestore") == static_cast<uint32_t>(fw::Status::Ok) &&
+                word(*chip, "kBad") == 0;
+    for (int t = 0; t < kTypes && good; ++t) {
+      const uint32_t found = word(*chip, "kFound", t);
+      good = found == cut.written[t] || (cut.written[kTypes + t] != 0 && found == cut.written[kTypes + t]);
+    }
+    good = good && runToPhase(*chip, 2) &&
+           word(*chip, "kWrites", 0) == static_cast<uint32_t>(fw::Status::Ok) &&
+           word(*chip, "kWrites", 1) == static_cast<uint32_t>(fw::Status::Ok);
+    if (!good) {
+      why = "restore " + std::to_string(word(*chip, "kRestore")) + ", bad " +
+            std::to_string(word(*chip, "kBad")) + ", found";
+      for (int t = 0; t < kTypes; ++t)
+        why += " " + std::to_string(word(*chip, "kFound", t));
+      why += ", written";
+      for (const uint32_t w : cut.written)
+        why += " " + std::to_string(w);
+      why += ", writes " + std::to_string(word(*chip, "kWrites", 0)) + " " +
+             std::to_string(word(*chip, "kWrites", 1)) + (m.stopped() ? ", stopped: " + m.stopReason() : "");
+    }
+    return good;
+  }
+  struct Sweep {
+    uint64_t cuts = 0;      // instructions of the write, each one a cut
+    uint64_t distinct = 0;  // distinct states those cuts leave, each booted and checked
+    uint64_t programs = 0;  // word programs of the write
+  };
+  // Cuts power after every instruction of the first write of a boot on `before`.
+  //
+  // After a cut the chip is powered on again (POR: SRAM, the core and every peripheral start afresh) and
+  // only the flash is kept, as Flashctl::leaveCut() leaves it; the twin is deterministic, so cuts that leave
+  // the same flash (most instructions of a write are the SRAM loop waiting for the controller) restart the
+  // same way. The reference run therefore takes the state each instruction's cut would leave, and each
+  // distinct state is booted and checked once. That this is what a real cut leaves is checked too: every
+  // 499th instruction is also cut for real, from power-on, and must leave the same flash.
+  Sweep sweep(const std::vector<uint8_t>& before) {
+    Sweep result;
+    std::set<CutState> states;
+    std::vector<std::pair<uint64_t, std::vector<uint8_t>>> samples;  // cycle, the region a cut leaves
+    {
+      auto chip = boot(before);
+      twin::Machine& m = chip->machine();
+      committed_ = elf_.symbol("kCommitted")->value;
+      inFlight_ = elf_.symbol("kInFlight")->value;
+      const uint32_t sweeping = elf_.symbol("kSweeping")->value;
+      std::vector<uint8_t> scratch(m.flash().size());
+      while (m.readSram32(sweeping) != kMark + 1 && !m.stopped())
+        m.run(m.now() + 1);
+      const uint64_t started = chip->flashctl().commandsStarted();
+      CutState last;
+      while (m.readSram32(sweeping) == kMark + 1 && !m.stopped()) {
+        m.run(m.now() + 1);
+        CutState state = cutStateOf(*chip, scratch);
+        if (result.cuts++ % 499 == 0) samples.emplace_back(m.now(), state.region);
+        // Most instructions leave what the one before left: only a change can be a new state.
+        if (state.written != last.written || state.region != last.region) {
+          last = state;
+          states.insert(std::move(state));
+        }
+      }
+      EXPECT_FALSE(m.stopped()) << m.stopReason();
+      EXPECT_EQ(word(*chip, "kWrites", 0), static_cast<uint32_t>(fw::Status::Ok));
+      result.programs = chip->flashctl().commandsStarted() - started;
+    }
+    result.distinct = states.size();
+    for (const auto& [cycle, region] : samples) {
+      auto chip = boot(before);
+      chip->machine().run(cycle);
+      EXPECT_EQ(chip->machine().now(), cycle) << "the run is not deterministic";
+      chip->cutPower();
+      EXPECT_TRUE(regionOf(*chip) == region) << "a real cut at cycle " << cycle << " left other flash";
+    }
+    int failures = 0;
+    for (const CutState& state : states) {
+      std::string why;
+      if (!restartsWell(state, why) && failures++ < 5) ADD_FAILURE() << why;
+    }
+    EXPECT_EQ(failures, 0) << "of " << states.size() << " states";
+    return result;
+  }
+
+  twin::ElfFile elf_;
+  uint32_t committed_ = 0, inFlight_ = 0;  // the program's kCommitted and kInFlight
+};
+
+TEST_P(RecordCuts, EveryInstructionOfARecordWriteLeavesTheLastCompleteRecord) {
+  const Sweep s = sweep(after(2));
+  EXPECT_LE(s.programs, fw::app::store::RecordStore::kSlotWords) << "a plain write: one slot";
+  EXPECT_GT(s.distinct, s.programs * 8) << "every word's torn states";
+  std::printf(
+      "REPORT twin.record_store_cuts.%s.write: %llu cuts (every instruction), %llu distinct states "
+      "booted, %llu word programs\n",
+      GetParam() == Part::G3507 ? "g3507" : "l1306", static_cast<unsigned long long>(s.cuts),
+      static_cast<unsigned long long>(s.distinct), static_cast<unsigned long long>(s.programs));
+}
+
+TEST_P(RecordCuts, EveryInstructionOfACompactingWriteLeavesTheLastCompleteRecord) {
+  const Sweep s = sweep(after(6));
+  // The newest record of each type copied (the words that are not all 0xFF), then the new one.
+  EXPECT_GT(s.programs, fw::app::store::RecordStore::kSlotWords * 2) << "the copies, then the record";
+  std::printf(
+      "REPORT twin.record_store_cuts.%s.compacting_write: %llu cuts (every instruction), %llu distinct "
+      "states booted, %llu word programs\n",
+      GetParam() == Part::G3507 ? "g3507" : "l1306", static_cast<unsigned long long>(s.cuts),
+      static_cast<unsigned long long>(s.distinct), static_cast<unsigned long long>(s.programs));
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, RecordCuts, ::testing::Values(Part::L1306, Part::G3507));
 #endif
 
 }  // namespace

@@ -207,9 +207,17 @@ void Flashctl::finish() {
 
 void Flashctl::cutPower() {
   if (op_ == Op::None) return;
+  leaveCut(machine_.flash());
+  done_.cancel();
+  machine_.stallFlashUntil(0);
+  op_ = Op::None;
+  statcmd_ = 0;
+}
+
+void Flashctl::leaveCut(std::vector<uint8_t>& flash) const {
+  if (op_ == Op::None) return;
   const uint64_t total = done_.when() - opStart_;
   const uint64_t elapsed = std::min(machine_.now() - opStart_, total);
-  auto& flash = machine_.flash();
   if (op_ == Op::Program) {
     const unsigned bytes = static_cast<unsigned>(8 * elapsed / total);
     for (unsigned i = 0; i < bytes; ++i)
@@ -225,10 +233,6 @@ void Flashctl::cutPower() {
     const uint32_t bytes = static_cast<uint32_t>(kSectorBytes * elapsed / total);
     std::fill(flash.begin() + first, flash.begin() + first + bytes, 0xFF);
   }
-  done_.cancel();
-  machine_.stallFlashUntil(0);
-  op_ = Op::None;
-  statcmd_ = 0;
 }
 
 }  // namespace twin

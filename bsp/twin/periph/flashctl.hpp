@@ -35,6 +35,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "address_map.hpp"
 #include "timeline.hpp"
@@ -66,6 +67,9 @@ class Flashctl final : public Device {
   uint64_t commandsStarted() const { return started_; }
   // Power fails now: an operation in progress is left half done (see above) and abandoned.
   void cutPower();
+  // What cutPower() now would leave in `flash` (the machine's flash, or a copy of it, to know a cut's result
+  // without making it); nothing else changes.
+  void leaveCut(std::vector<uint8_t>& flash) const;
 
  private:
   void execute();
