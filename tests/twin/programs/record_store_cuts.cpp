@@ -14,13 +14,11 @@
 #include <span>
 
 #include "app/store/record_store.hpp"
-#include "core/assert.hpp"
+#include "bare_program.hpp"
 #include "flashctl.hpp"
 
 extern "C" {
 extern const uint8_t __record_store_start__[], __record_store_end__[];
-[[noreturn]] void Reset_Handler();
-extern uint32_t __stack_top__[];
 }
 
 constexpr uint8_t kTypes = 3;
@@ -35,21 +33,6 @@ volatile uint32_t kSweeping;
 volatile uint32_t kCommitted[kTypes];
 volatile uint32_t kInFlight[kTypes];
 volatile uint32_t kWrites[2];  // the two writes' results (fw::Status values)
-
-namespace fw {
-[[noreturn]] void onFault(Module, uint16_t) {
-  for (;;) {
-  }
-}
-}  // namespace fw
-extern "C" void __cxa_pure_virtual() {
-  for (;;) {
-  }
-}
-
-using Vector = void (*)();
-__attribute__((section(".isr_vector"), used))
-const Vector kVectors[2] = {reinterpret_cast<Vector>(__stack_top__), Reset_Handler};
 
 namespace {
 
@@ -99,7 +82,7 @@ int main() {
   const auto start = reinterpret_cast<uintptr_t>(__record_store_start__);
   const auto sectors = static_cast<uint32_t>(__record_store_end__ - __record_store_start__) / 1024;
   bsp::mspm0::FlashctlStorage flash(
-      {0x400CD000, static_cast<uint32_t>(start), __record_store_start__, sectors, RECORD_STORE_ECC != 0, 32});
+      {0x400CD000, static_cast<uint32_t>(start), __record_store_start__, sectors, FLASH_ECC != 0, 32});
   RecordStore store(flash);
   kRestore = static_cast<uint32_t>(store.restore());
   uint32_t newest = 0;
