@@ -27,6 +27,7 @@
 #include "core/time.hpp"
 #include "hal/clock.hpp"
 #include "hal/notify.hpp"
+#include "hal/power.hpp"
 #include "hal/watchdog.hpp"
 #include "sched/config.hpp"
 #include "sched/task.hpp"
@@ -80,8 +81,11 @@ class Scheduler {
   // Thread mode. Fires due timers, then runs the highest-priority ready task. False if no task ran.
   bool dispatchOne();
   // Thread mode. Sleeps until an interrupt unless work is pending; never loses a wake-up (see irq.hpp).
-  // True if it slept, false if work was pending (a ready task or a due timer).
+  // True if it slept, false if work was pending (a ready task or a due timer). With a power policy, the
+  // policy may choose a deeper sleep (hal/power.hpp); without one, the core's plain sleep.
   bool idle();
+  // Thread mode, before run(). The board's power policy, asked at every idle (none: the plain sleep).
+  void setPowerPolicy(hal::PowerPolicy& policy) { state_.power = &policy; }
   // The firmware main loop: dispatch, and idle when there is nothing to do.
   [[noreturn]] void run();
 
@@ -139,6 +143,7 @@ class Scheduler {
     TaskStats stats[kMaxTasks];
     Timer* timers;  // armed timers sorted by deadline
     hal::Watchdog* watchdog;
+    hal::PowerPolicy* power;  // null: the plain sleep
     Timer supervisor;
 #if FW_SCHED_TRACE
     TraceSink* sink;
