@@ -202,9 +202,14 @@ bool Scheduler::idle() {
     FW_IDLE_WINDOW();
     // The board's policy may sleep deeper itself (hal/power.hpp); it then leaves sleep-on-exit clear, so the
     // next idle chooses again after whatever woke the core.
-    hal::PowerPolicy* const power = state_.power;
-    if (power == nullptr || !power->sleep(state_.timers != nullptr,
-                                          state_.timers != nullptr ? state_.timers->deadline_ : Instant{})) {
+    bool slept = false;
+#if FW_SCHED_POWER_POLICY
+    if (state_.power != nullptr) {
+      const Timer* const first = state_.timers;
+      slept = state_.power->sleep(first != nullptr, first != nullptr ? first->deadline_ : Instant{});
+    }
+#endif
+    if (!slept) {
       // Handlers that post nothing (each byte of an I2C transfer, the clock's half-period counts) return
       // straight to sleep: only post() and the clock's alarm resume the Thread (resumeOnExit).
       port::sleepOnExit();
