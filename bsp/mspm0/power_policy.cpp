@@ -63,10 +63,10 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
     if (static_cast<uint32_t>(left) - kMarginUs < sleepUs) sleepUs = static_cast<uint32_t>(left) - kMarginUs;
   }
 
-  const fw::Instant halted = clock_.halt();
   timg::Counter& lf = timg::counter(config_.lfTimer);
   reg::EventBlock& lfEvents = reg::cpuInt(config_.lfTimer);
   const uint32_t start = lf.ctr.read();
+  const fw::Instant halted = clock_.halt();
   const uint32_t ticks = ticksFor(sleepUs);
   lf.cc[0].write((start + ticks) & 0xFFFF);
   lfEvents.iclr.write(timg::kIntCcu0);
@@ -79,13 +79,38 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   fw::port::waitForInterrupt();
   writeScr(0);
 
-  const uint32_t slept = (lf.ctr.read() - start) & 0xFFFF;
+  const uint32_t woke = lf.ctr.read();
   // The compare's request is consumed here, never by a handler: mask it, clear it, drop its NVIC pending.
   lfEvents.imask.write(0);
   lfEvents.iclr.write(timg::kIntCcu0);
   nvic::regs().icpr.write(1U << config_.lfIrq);
-  clock_.resume(halted + fw::Duration{(slept * 15625U) >> 9}, timed, deadline);
+  clock_.resume(timeAt(halted, start, woke), timed, deadline);
   return true;
+}
+
+fw::Instant StandbyIdle::timeAt(fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow) {
+  // The time is the LFCLK count since an anchor (a microsecond value and an LFCLK count of one instant), not
+  // the halted time plus this sleep: each sleep's correction then errs by less than one tick (30.5 us)
+  // without adding up. Adding up it did: the scans start at the same 1 MHz offset from the previous wake,
+  // so the halt falls at the same phase of the LFCLK tick every time and the truncation is the same each
+  // sleep (the twin: 61 us/s slow). The anchor starts as (0, 0): TIMG1 starts from zero right after
+  // TimgClock (bringUp()); it is moved on in steps of 512 ticks, exactly 15 625 us. A count since the
+  // anchor is found from its low 16 bits (the counter) and the estimate by the 1 MHz clock, which is good
+  // to far better than the half wrap (1 s) for up to kMaxAnchorUs; an anchor older than that (no deep
+  // sleep for that long) is replaced by this sleep's start.
+  if (halted.us - anchorUs_ > kMaxAnchorUs) {
+    anchorUs_ = halted.us;
+    anchorLf_ = lfAtHalt;
+  }
+  const uint32_t estimate = ticksFor(halted.us - anchorUs_) + ((lfNow - lfAtHalt) & 0xFFFF);
+  const uint32_t ticks = estimate + static_cast<uint32_t>(static_cast<int16_t>(lfNow - anchorLf_ - estimate));
+  // The count's last edge came before the read: by tWAKE (15 us, SLASEX0D 7.8) when the compare woke the
+  // core (the usual case), by half a tick (15.3 us) on average for any other wake-up.
+  const fw::Instant now{anchorUs_ + ((ticks * 15625U) >> 9) + kWakeUs};
+  const uint32_t blocks = ticks >> 9;
+  anchorLf_ = (anchorLf_ + (blocks << 9)) & 0xFFFF;
+  anchorUs_ += blocks * 15625U;
+  return fw::isBefore(now, halted) ? halted : now;  // monotonic: the tick's rounding never steps back
 }
 
 }  // namespace bsp::mspm0

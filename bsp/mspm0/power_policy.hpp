@@ -11,11 +11,12 @@
 //   SLAU847D 2 "LFCLK") armed for the deadline minus kMarginUs (at most kMaxSleepUs: its 16-bit count wraps
 //   in 2 s), SCR.SLEEPDEEP set for this one WFI. After the WFI, interrupts still masked: SLEEPDEEP cleared,
 //   the LFCLK ticks elapsed added to the halted time (x 1e6 / 32 768 = x 15 625 / 512), TimgClock restarted
-//   and its wake-up re-armed. So no handler ever reads a clock that is behind, and the time lost per sleep
-//   is below one LFCLK tick (30.5 us). What else wakes the core from STANDBY1: the ALERT edge (GPIOA) and a
-//   start bit on the UART's RX line, by the asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h
-//   STANDBY1 doc comment; SLAU847D 2 "LFCLK": "asynchronous fast wake from GPIO, ... or a serial
-//   interface"; the twin models this, bsp/twin/README.md "Power").
+//   and its wake-up re-armed. So no handler ever reads a clock that is behind, and the time is off by less
+//   than one LFCLK tick (30.5 us) after a sleep, without adding up (timeAt(): an anchor, not a sum). What
+//   else wakes the core from STANDBY1: the ALERT edge (GPIOA) and a start bit on the UART's RX line, by the
+//   asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 doc comment; SLAU847D 2 "LFCLK":
+//   "asynchronous fast wake from GPIO, ... or a serial interface"; the twin models this, bsp/twin/README.md
+//   "Power").
 //
 // Contract
 // - init(config): thread mode, once, after the clocks (initSysosc): powers the LFCLK timer and starts its
@@ -49,6 +50,13 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
   static constexpr uint32_t kMarginUs = 200;
   // The LFCLK timer counts 16 bits at 32 768 Hz: a sleep ends before the count wraps (2.0 s).
   static constexpr uint32_t kMaxSleepUs = 1875000;
+  // The anchor of the time across sleeps (power_policy.cpp timeAt) is at most this old: its count of LFCLK
+  // ticks, up to (6 s x 1.03 + kMaxSleepUs) x 32 768 / 1e6, times 15 625 fits 32 bits, and the 1 MHz
+  // estimate that resolves the counter's wraps stays within the half wrap even with a 3 % SYSOSC error.
+  static constexpr uint32_t kMaxAnchorUs = 6000000;
+  // From the LFCLK edge the count last took to the read after the wake-up: tWAKE from STANDBY (SLASEX0D
+  // 7.8), which is also about half a tick, the average for a wake-up at any other phase.
+  static constexpr uint32_t kWakeUs = 15;
 
   constexpr StandbyIdle(TimgClock& clock, const Config& config) : clock_(clock), config_(config) {}
 
@@ -56,9 +64,12 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
 
  private:
   bool doSleep(bool timed, fw::Instant deadline) override;
+  fw::Instant timeAt(fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow);
 
   TimgClock& clock_;
   Config config_;
+  uint32_t anchorUs_ = 0;  // the anchor: a TimgClock time and the LFCLK count at the same instant
+  uint32_t anchorLf_ = 0;
 };
 
 }  // namespace bsp::mspm0
