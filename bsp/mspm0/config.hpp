@@ -21,6 +21,12 @@
 #define BSP_MCAN_RX 1
 #endif
 
+// The idle's power policy (power_policy.hpp, L1306 boards): 1 sleeps in STANDBY1 between scans, with the
+// scheduler's clock corrected from an LFCLK timer (TIMG1); 0 keeps the plain SLEEP0 of every idle.
+#ifndef BSP_DEEP_IDLE
+#define BSP_DEEP_IDLE 0
+#endif
+
 // The LaunchPad's LED and button S2 (images/common/board_*.hpp): built only for an application that uses them
 // (none does yet; 1 builds both drivers into the board).
 #ifndef BMS_BOARD_LED_BUTTON

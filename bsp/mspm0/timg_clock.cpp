@@ -45,6 +45,26 @@ void TimgClock::doWakeAt(fw::Instant deadline) {
   if (fw::isDue(deadline, doNow())) events.iset.write(timg::kIntCcu0);
 }
 
+fw::Instant TimgClock::halt() {
+  mmio::clearBits(timg::counter(config_.base).ctrctl, timg::kCtrEnable);
+  // Read after the stop: the counter holds its value, and widen() accounts for a half-period event that is
+  // pending but not counted yet.
+  return doNow();
+}
+
+void TimgClock::resume(fw::Instant at, bool timed, fw::Instant deadline) {
+  timg::Counter& counter = timg::counter(config_.base);
+  // A half-period event of before the stop would be counted again on top of the new count: drop it (a
+  // handler that still runs for its NVIC request finds MIS 0 and counts nothing).
+  reg::cpuInt(config_.base).iclr.write(timg::kIntLoad | timg::kIntCcu1);
+  halves_ = at.us >> 15;  // bit 0 of the half count and bit 15 of the counter name the same half (widen())
+  counter.ctr.write(at.us & 0xFFFF);
+  // CVAE NOCHANGE: the count goes on from the CTR just written (hw_gptimer.h CTRCTL.CVAE_NOCHANGE; the
+  // start-up's ZEROVAL would clear it).
+  counter.ctrctl.write(timg::kCtrEnable | timg::kCtrRepeat | timg::kCtrCountUp | timg::kCtrKeepValue);
+  if (timed) wakeAt(deadline);
+}
+
 void TimgClock::onInterrupt() {
   reg::EventBlock& events = reg::cpuInt(config_.base);
   const uint32_t pending = events.mis.read();

@@ -15,6 +15,12 @@
 //   wake-up is never lost.
 // - wakeArmed() (hal::Clock): cleared by onInterrupt() when CCU0 fires; an intermediate alarm of a far
 //   deadline fires before the deadline, never after.
+// - halt() / resume(at): for a deep sleep (power_policy.hpp), interrupts masked, in that order. halt() stops
+//   the 1 MHz count (CTRCTL.EN 0: no BUSCLK deadline stays armed in STOP or STANDBY, where BUSCLK stops) and
+//   returns the time it stopped at; now() returns that time until resume(). resume(at) drops the half-period
+//   events of before, restarts the count at `at` (the time the sleep lasted added by the caller) and re-arms
+//   the wake-up for `deadline` if `timed` (wakeAt(): an intermediate target the sleep went past, or a
+//   deadline now due, is armed afresh or pended).
 // - onInterrupt(): body of the timer's IRQ handler. Reads MIS, clears exactly those bits, counts
 //   half-periods, disarms a fired alarm and resumes the Thread for it (fw::port::resumeOnExit: the scheduler
 //   re-checks its timers); the half-period counts alone let the core sleep on.
@@ -58,6 +64,8 @@ class TimgClock final : public fw::hal::Clock {
     nvic::enable(config.irq);
   }
   void onInterrupt();
+  fw::Instant halt();
+  void resume(fw::Instant at, bool timed, fw::Instant deadline);
 
   // Combines a half-period count and a raw counter value into microseconds (exposed for tests).
   static uint32_t widen(uint32_t halves, uint32_t counter) {

@@ -22,3 +22,10 @@ static_assert(FW_SCHED_MAX_TASKS >= 1 && FW_SCHED_MAX_TASKS <= 8, "FW_SCHED_MAX_
 #ifndef FW_SCHED_TRACE
 #define FW_SCHED_TRACE 0
 #endif
+
+// The board's power policy at each idle (hal/power.hpp, Scheduler::setPowerPolicy): 1 builds the hook (the
+// host tests; the images whose board has a policy); 0 saves its 40 B where the board has none: the idle
+// always sleeps the plain way (WFI with sleep-on-exit) and setPowerPolicy() does not exist.
+#ifndef FW_SCHED_POWER_POLICY
+#define FW_SCHED_POWER_POLICY 1
+#endif

@@ -200,10 +200,21 @@ bool Scheduler::idle() {
     }
     trace(TraceKind::Idle, kNoTask, 0);
     FW_IDLE_WINDOW();
-    // Handlers that post nothing (each byte of an I2C transfer, the clock's half-period counts) return
-    // straight to sleep: only post() and the clock's alarm resume the Thread (resumeOnExit).
-    port::sleepOnExit();
-    port::waitForInterrupt();
+    // The board's policy may sleep deeper itself (hal/power.hpp); it then leaves sleep-on-exit clear, so the
+    // next idle chooses again after whatever woke the core.
+    bool slept = false;
+#if FW_SCHED_POWER_POLICY
+    if (state_.power != nullptr) {
+      const Timer* const first = state_.timers;
+      slept = state_.power->sleep(first != nullptr, first != nullptr ? first->deadline_ : Instant{});
+    }
+#endif
+    if (!slept) {
+      // Handlers that post nothing (each byte of an I2C transfer, the clock's half-period counts) return
+      // straight to sleep: only post() and the clock's alarm resume the Thread (resumeOnExit).
+      port::sleepOnExit();
+      port::waitForInterrupt();
+    }
   }
   port::irqRestore(saved);
   // Here a handler resumed the Thread, or the WFI ended with none taken (ARMv6-M allows a wake-up for no

@@ -27,6 +27,7 @@
 #include "core/time.hpp"
 #include "hal/clock.hpp"
 #include "hal/notify.hpp"
+#include "hal/power.hpp"
 #include "hal/watchdog.hpp"
 #include "sched/config.hpp"
 #include "sched/task.hpp"
@@ -80,8 +81,16 @@ class Scheduler {
   // Thread mode. Fires due timers, then runs the highest-priority ready task. False if no task ran.
   bool dispatchOne();
   // Thread mode. Sleeps until an interrupt unless work is pending; never loses a wake-up (see irq.hpp).
-  // True if it slept, false if work was pending (a ready task or a due timer).
+  // True if it slept, false if work was pending (a ready task or a due timer). With a power policy, the
+  // policy may choose a deeper sleep (hal/power.hpp, FW_SCHED_POWER_POLICY); without one, the core's plain
+  // sleep.
   bool idle();
+#if FW_SCHED_POWER_POLICY
+  // Thread mode, before run(). The board's power policy, asked at every idle (none: the plain sleep).
+  void setPowerPolicy(hal::PowerPolicy& policy) {
+    state_.power = &policy;
+  }
+#endif
   // The firmware main loop: dispatch, and idle when there is nothing to do.
   [[noreturn]] void run();
 
@@ -92,8 +101,12 @@ class Scheduler {
 
   // Earliest armed timer deadline, if any timer is armed.
   bool nextDeadline(Instant& deadline) const;
-  const TaskStats& stats(TaskId id) const { return state_.stats[id]; }
-  hal::Clock& clock() const { return clock_; }
+  const TaskStats& stats(TaskId id) const {
+    return state_.stats[id];
+  }
+  hal::Clock& clock() const {
+    return clock_;
+  }
   // clock().now() as one direct call, for the tasks (out of line: they share it instead of each expanding
   // the virtual call; the scheduler's own hot paths keep the direct virtual call).
   Instant now() const;
@@ -117,7 +130,9 @@ class Scheduler {
   void trace(TraceKind kind, uint8_t task, uint32_t arg);
   static void postThunk(void* self, uint32_t arg);
   // postThunk's argument: the task id in the top byte, a 24-bit event mask below it.
-  static constexpr uint32_t postArg(TaskId id, EventMask events) { return (uint32_t{id} << 24) | events; }
+  static constexpr uint32_t postArg(TaskId id, EventMask events) {
+    return (uint32_t{id} << 24) | events;
+  }
   template <TaskId a, EventMask eventsA, TaskId b, EventMask eventsB>
   static void postTwoThunk(void* self, uint32_t) {
     static_cast<Scheduler*>(self)->post(a, eventsA);
@@ -139,6 +154,9 @@ class Scheduler {
     TaskStats stats[kMaxTasks];
     Timer* timers;  // armed timers sorted by deadline
     hal::Watchdog* watchdog;
+#if FW_SCHED_POWER_POLICY
+    hal::PowerPolicy* power;  // null: the plain sleep
+#endif
     Timer supervisor;
 #if FW_SCHED_TRACE
     TraceSink* sink;

@@ -140,3 +140,83 @@ TEST(SchedIdle, OnlyAHandlerThatPostsResumesTheThread) {
 }
 
 }  // namespace
+
+namespace {
+// A board policy that records what the scheduler asked and, when `deep`, sleeps itself (as the MSPM0
+// StandbyIdle does: its own WFI, with interrupts masked and without sleep-on-exit).
+class RecordingPolicy final : public fw::hal::PowerPolicy {
+ public:
+  explicit RecordingPolicy(bsp::host::SimIrq& irq) : irq_(irq) {}
+  bool deep = false;
+  int calls = 0;
+  bool lastTimed = false;
+  uint32_t lastDeadline = 0;
+  bool maskedWhenAsked = false;
+  bool sleepOnExitAtItsWfi = false;
+
+ private:
+  bool doSleep(bool timed, fw::Instant deadline) override {
+    ++calls;
+    lastTimed = timed;
+    lastDeadline = deadline.us;
+    maskedWhenAsked = irq_.masked();
+    if (deep) {
+      sleepOnExitAtItsWfi = irq_.sleepingOnExit();
+      irq_.waitForInterrupt();
+    }
+    return deep;
+  }
+  bsp::host::SimIrq& irq_;
+};
+}  // namespace
+
+TEST(SchedIdle, ThePowerPolicyIsAskedWithTheEarliestDeadlineAndInterruptsMasked) {
+  bsp::host::Harness h;
+  RecordingPolicy policy(h.irq);
+  FnTask task;
+  fw::sched::Timer later, sooner;
+  h.sched.addTask(1, task);
+  h.sched.setPowerPolicy(policy);
+  const uint64_t start = h.clock.nowUs();
+  h.sched.startTimer(later, 1, 0x1, ms(9));
+  h.sched.startTimer(sooner, 1, 0x2, ms(4));
+  const uint64_t sleepsBefore = h.irq.sleeps();
+  ASSERT_TRUE(h.sched.idle());
+  EXPECT_EQ(policy.calls, 1);
+  EXPECT_TRUE(policy.maskedWhenAsked) << "chosen with interrupts masked, like the plain WFI";
+  EXPECT_TRUE(policy.lastTimed);
+  EXPECT_EQ(policy.lastDeadline, start + 4000) << "the earliest deadline";
+  EXPECT_EQ(h.irq.sleeps(), sleepsBefore + 1) << "declined: the scheduler's own WFI";
+}
+
+TEST(SchedIdle, APolicyThatSleptItselfLeavesNoPlainSleepAndNoSleepOnExit) {
+  bsp::host::Harness h;
+  RecordingPolicy policy(h.irq);
+  policy.deep = true;
+  FnTask task;
+  fw::sched::Timer timer;
+  h.sched.addTask(1, task);
+  h.sched.setPowerPolicy(policy);
+  const uint64_t sleepsBefore = h.irq.sleeps();
+  ASSERT_TRUE(h.sched.idle());
+  EXPECT_EQ(policy.calls, 1);
+  EXPECT_FALSE(policy.lastTimed) << "no timer armed: no deadline";
+  EXPECT_EQ(h.irq.sleeps(), sleepsBefore + 1) << "one WFI, the policy's";
+  EXPECT_FALSE(policy.sleepOnExitAtItsWfi) << "the Thread looks again after whatever woke the core";
+  // The timers still fire: the policy only chooses how the core sleeps.
+  h.sched.startTimer(timer, 1, 0x1, ms(3));
+  h.runFor(ms(5));
+  EXPECT_EQ(task.received.size(), 1u);
+  EXPECT_GE(policy.calls, 2);
+}
+
+TEST(SchedIdle, NoPolicyIsAskedWhileWorkIsPending) {
+  bsp::host::Harness h;
+  RecordingPolicy policy(h.irq);
+  FnTask task;
+  h.sched.addTask(1, task);
+  h.sched.setPowerPolicy(policy);
+  h.sched.post(1, 0x1);
+  EXPECT_FALSE(h.sched.idle());
+  EXPECT_EQ(policy.calls, 0);
+}

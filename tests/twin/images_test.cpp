@@ -1099,6 +1099,52 @@ TEST(BrokenImage, StandbyWithAScanPendingIsStoppedByTheSleepEventRule) {
       << stop;
 }
 
+// The power policy of the L1306-BQ76952 image (bsp/mspm0/power_policy.cpp, BSP_DEEP_IDLE) with one of its
+// checks taken out: its first conditional branch (the I2C controller's MSR.BUSY: SLEEP0 while a transfer is
+// in flight) made unconditional, or its second (the UART's STAT.BUSY) made a NOP. The policy then picks
+// STANDBY1 with the transfer still running, whose bit timing needs the BUSCLK that mode stops: the twin
+// names the transfer (SLEEP-EVENT-LOST). Unpatched, the same run is clean (it sleeps in STANDBY1 between
+// the scans: twin.*.lp-mspm0l1306-bq76952).
+std::string stopWithPolicyBranchPatched(int branch, uint16_t (*patch)(uint16_t)) {
+  const std::string preset = "lp-mspm0l1306-bq76952";
+  auto elf = loadElf(preset);
+  if (!elf) return "not built";
+  if (stopOf(preset, *elf, 400000) != "") return "the unpatched image stopped";
+  int seen = 0;
+  for (const auto& s : elf->symbols()) {
+    if (!s.function || elf->symbolAt(s.value & ~1U).find("StandbyIdle::doSleep") == std::string::npos)
+      continue;
+    for (uint32_t at = s.value & ~1U; at < (s.value & ~1U) + s.size; at += 2) {
+      const uint16_t op = twinpatch::half(*elf, at);
+      if ((op & 0xF000) != 0xD000 || (op & 0x0F00) >= 0x0E00) continue;  // B<cond> (A6.7.10 T1)
+      if (++seen == branch) {
+        if (!elf->patch16(at, patch(op))) return "patch failed";
+        return stopOf(preset, *elf, 400000);
+      }
+    }
+  }
+  return "no such branch in StandbyIdle::doSleep";
+}
+
+TEST(BrokenImage, StandbyChosenWithAnI2cTransferInFlightIsStoppedByTheSleepEventRule) {
+  LOAD_OR_SKIP(elf, "lp-mspm0l1306-bq76952");
+  // BEQ (skip the return) becomes B with the same offset: the busy controller no longer keeps SLEEP0.
+  const std::string stop = stopWithPolicyBranchPatched(
+      1, [](uint16_t op) { return static_cast<uint16_t>(0xE000 | (op & 0x00FF)); });
+  EXPECT_RULE(stop, "SLEEP-EVENT-LOST");
+  EXPECT_NE(stop.find("STANDBY1"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("I2C0 has a transfer in flight"), std::string::npos) << stop;
+}
+
+TEST(BrokenImage, StandbyChosenWhileTheUartTransmitsIsStoppedByTheSleepEventRule) {
+  LOAD_OR_SKIP(elf, "lp-mspm0l1306-bq76952");
+  // BNE (to the return) becomes a NOP: a transmitting UART no longer keeps SLEEP0.
+  const std::string stop = stopWithPolicyBranchPatched(2, [](uint16_t) { return uint16_t{0xBF00}; });
+  EXPECT_RULE(stop, "SLEEP-EVENT-LOST");
+  EXPECT_NE(stop.find("STANDBY1"), std::string::npos) << stop;
+  EXPECT_NE(stop.find("UART0 is transmitting"), std::string::npos) << stop;
+}
+
 TEST(BrokenImage, AFaultOutputReleasedAtBootIsStoppedByTheFaultOutputRule) {
   // The DOUTSET31_0 store that asserts PB26 before its driver is enabled taken out (GpioOut::init(true)
   // become init(false), the mutation run's gpio-fault-output-released-at-boot): the output is driven low from

@@ -15,12 +15,14 @@ struct Mspm0l1306 {
   static constexpr uintptr_t kI2c0 = 0x400F0000;
   static constexpr uintptr_t kUart0 = 0x40108000;
   static constexpr uintptr_t kTimg0 = 0x40084000;
+  static constexpr uintptr_t kTimg1 = 0x40086000;
   static constexpr uintptr_t kWwdt0 = 0x40080000;
   static constexpr uintptr_t kFlashctl = 0x400CD000;
 
   static constexpr uint8_t kIrqGroup1 = 1;  // GPIOA (IIDX 1), COMP0
   static constexpr uint8_t kIrqUart0 = 15;
   static constexpr uint8_t kIrqTimg0 = 16;
+  static constexpr uint8_t kIrqTimg1 = 2;
   static constexpr uint8_t kIrqI2c0 = 24;
 
   static constexpr uint8_t kDmaTrigUart0Tx = 11;

@@ -43,6 +43,10 @@ inline Reset& reset() {
 inline Reg& sysoscFclCtl() {
   return mmio::block<Reg>(kBase + 0x1310);
 }
+// PMODECFG (SOCLOCK 0x1140, hw_sysctl_mspm0l11xx_l13xx.h and _g1x0x_g3x0x.h): the mode SCR.SLEEPDEEP enters.
+inline Reg& pmodecfg() {
+  return mmio::block<Reg>(kBase + 0x1140);
+}
 inline Reg& rstcause() {
   return mmio::block<Reg>(kBase + 0x1220);
 }
@@ -50,6 +54,12 @@ inline Reg& rstcause() {
 inline constexpr uint32_t kSysoscFreqMask = 0x3;  // FREQ 1:0, 0 = base (32 MHz)
 inline constexpr uint32_t kMclkMdivMask = 0xF;    // MDIV 3:0, 0 = /1
 inline constexpr uint32_t kMclkUdivMask = 0x30;   // UDIV 5:4 (G350x), 0 = ULPCLK not divided
+// MCLKCFG.STOPCLKSTBY (bit 21): in STANDBY only TIMG0/TIMG1 (and the RTC) keep ULPCLK/LFCLK: STANDBY1; clear,
+// every PD0 peripheral keeps LFCLK: STANDBY0 (hw_sysctl_mspm0l11xx_l13xx.h MCLKCFG_STOPCLKSTBY_ENABLE
+// 0x00200000; TI's DL_SYSCTL_setPowerPolicySTANDBY1 sets it, ..STANDBY0 clears it).
+inline constexpr uint32_t kMclkStopClkStandby = 1U << 21;
+// PMODECFG.DSLEEP 1:0: 0 STOP, 1 STANDBY, 2 SHUTDOWN (hw_sysctl PMODECFG_DSLEEP_STANDBY 0x1).
+inline constexpr uint32_t kPmodeStandby = 1;
 
 // HFCLKCLKCFG: HFXTTIME 7:0 in 64 us units, HFXTRSEL 13:12 (3 = 32..48 MHz), HFCLKFLTCHK bit 28.
 inline constexpr uint32_t kHfxtRange32To48 = 0x3000;

@@ -54,6 +54,7 @@ inline Counter& counter(uintptr_t base) {
 }
 
 inline constexpr uint32_t kClkselBusclk = 1U << 3;
+inline constexpr uint32_t kClkselLfclk = 1U << 1;  // LFCLK_SEL: 32 768 Hz, counts on in STOP and STANDBY
 inline constexpr uint32_t kClockEnable = 1U << 0;
 
 // Power-cycles the timer at `base` and starts its counter clock from BUSCLK /1 with CPS = `prescaler`, in
@@ -70,12 +71,14 @@ inline void powerUpClock(uintptr_t base, uint32_t prescaler) {
 }
 
 // CTRCTL: EN bit 0, REPEAT 3:1, CM 5:4 (0 down, 2 up), CLC/CAC/CZC 9:7/12:10/15:13 must be written 0 (their
-// reset value 7 is reserved), CVAE 29:28 (2 = start from zero, 0 = start from LOAD).
+// reset value 7 is reserved), CVAE 29:28 (2 = start from zero, 0 = start from LOAD, 1 = no change:
+// hw_gptimer.h CTRCTL_CVAE_ZEROVAL / _LDVAL / _NOCHANGE).
 inline constexpr uint32_t kCtrEnable = 1U << 0;
 inline constexpr uint32_t kCtrRepeat = 1U << 1;  // REPEAT_1: keep counting after a zero event
 inline constexpr uint32_t kCtrCountUp = 0x2U << 4;
 inline constexpr uint32_t kCtrCountDown = 0x0U << 4;
 inline constexpr uint32_t kCtrStartAtZero = 0x2U << 28;
+inline constexpr uint32_t kCtrKeepValue = 0x1U << 28;  // CVAE NOCHANGE: counts on from CTR as written
 inline constexpr uint32_t kCtrStartAtLoad = 0x0U << 28;
 
 // CPU_INT bits.

@@ -5,6 +5,7 @@
 #include "chip/mspm0l1306.hpp"
 #include "gpio.hpp"
 #include "i2c.hpp"
+#include "power_policy.hpp"
 #include "regs/cpuss.hpp"
 #include "regs/timg.hpp"
 #include "regs/uart.hpp"
@@ -54,15 +55,26 @@ constexpr UartSerial::Config kSerialConfig{
 constinit UartSerial::RxBuffer serialReceived;  // zero: in .bss
 constinit UartSerial serial(kSerialConfig, &serialReceived);
 constinit Mspm0System system(Chip::kCpuss);
+#if BSP_DEEP_IDLE
+constexpr StandbyIdle::Config kIdleConfig{Chip::kTimg1, Chip::kIrqTimg1, Chip::kI2c0, Chip::kUart0};
+constinit StandbyIdle power(clock, kIdleConfig);
+#endif
 
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
-constinit Board instance{clock, watchdog, i2c, alert, serial, system, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
-constinit Board instance{clock, watchdog, i2c, alert, serial, system};
 #endif
+constinit Board instance {
+  clock, watchdog, i2c, alert, serial, system,
+#if BSP_DEEP_IDLE
+      power,
+#endif
+#if BMS_BOARD_LED_BUTTON
+      button, led
+#endif
+};
 
 }  // namespace
 
@@ -77,6 +89,9 @@ void bringUp() {
   initSysosc(false, reg::sysctl::kFclKey | reg::sysctl::kFclSetUseFcl);
   powerGpioPort(kGpioaBase);
   TimgClock::start(kClockConfig);
+#if BSP_DEEP_IDLE
+  StandbyIdle::init(kIdleConfig);
+#endif
   i2c.init();
   kAlert.init();
   UartSerial::init(kSerialConfig);

@@ -8,7 +8,8 @@
 //   UART0 TX PA8 -> XDS110 back-channel (SLCAN text; jumpers J16 1:2 and J101 9:10), DMA channel 0;
 //   UART0 RX PA9 <- XDS110 back-channel (SLCAN commands; J17 1:2 and J101 7:8), by interrupt
 //   button S2 PA14 (falling edge, pull-up), LED PA26: built only with BMS_BOARD_LED_BUTTON=1
-//   (mspm0/config.hpp) TIMG0 = scheduler clock (IRQ 16), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15,
+//   (mspm0/config.hpp) TIMG0 = scheduler clock (IRQ 16), TIMG1 = its LFCLK reference in STANDBY1
+//   (BSP_DEEP_IDLE, IRQ 2, never taken), WWDT0 = watchdog, I2C0 IRQ 24, UART0 IRQ 15,
 //   INT_GROUP1 IRQ 1 (GPIOA)
 //
 // Contract: bringUp() runs once in thread mode, before interrupts are expected: it captures the chip's
@@ -21,6 +22,7 @@
 #include "hal/clock.hpp"
 #include "hal/gpio.hpp"
 #include "hal/i2c_bus.hpp"
+#include "hal/power.hpp"
 #include "hal/serial.hpp"
 #include "hal/system.hpp"
 #include "hal/watchdog.hpp"
@@ -35,6 +37,9 @@ struct Board {
   fw::hal::EdgeInput& alert;       // the monitor's ALERT pin
   fw::hal::SerialPort& serial;     // SLCAN text to the PC, SLCAN commands from it
   fw::hal::SystemControl& system;  // chip identity, reset cause, bootloader entry
+#if BSP_DEEP_IDLE
+  fw::hal::PowerPolicy& power;  // STANDBY1 between scans (power_policy.hpp), for the scheduler
+#endif
 #if BMS_BOARD_LED_BUTTON
   fw::hal::EdgeInput& button;  // LaunchPad S2
   fw::hal::DigitalOut& led;    // LaunchPad LED

@@ -36,6 +36,9 @@ const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
+#if BSP_DEEP_IDLE
+  scheduler.setPowerPolicy(board.power);  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE)
+#endif
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
                                        fw::drivers::bq769x2::kBq76907);
   // Startup message: the reset cause the board read, version, fault record. With the record store

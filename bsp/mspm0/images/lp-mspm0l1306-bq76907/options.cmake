@@ -8,6 +8,7 @@ set(BMS_IMAGE_OPTIONS
   FW_BQ769X_FAMILY=2              # the BQ7690x family only (BQ76907): the BQ769x2 paths compile away
   FW_SCHED_MAX_TASKS=4            # protection, monitor, publisher and commands: the only tasks
   FW_SCHED_BUDGETS=0              # saves two clock reads per dispatch: no task has a run-time budget and no output carries the figures
+  FW_SCHED_POWER_POLICY=0         # saves 40 B: no power policy on this image (STANDBY1 between scans would make it 16 792 B, past its 16 KiB; bsp/mspm0/README.md "Low-power modes")
   FW_PROTECTION_DELAYS=0          # removes nothing: the default limits use no delays (they trip on their debounce count)
   FW_PACK_MAX_BOARDS=1            # one monitor: a pack of one board
   FW_CAN_TI_LAYOUT=0              # SLCAN carries the native messages; the TI layout is the BQ79616 image's

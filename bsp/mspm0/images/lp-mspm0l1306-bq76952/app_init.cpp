@@ -39,6 +39,9 @@ constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{0, 11, 12});  // PA11
 }  // namespace
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
+#if BSP_DEEP_IDLE
+  scheduler.setPowerPolicy(board.power);  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE)
+#endif
   chargeOff.init(true);
   dischargeOff.init(true);
   static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,

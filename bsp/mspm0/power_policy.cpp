@@ -1,0 +1,116 @@
+#include "power_policy.hpp"
+
+#include "hal/irq.hpp"
+#include "mmio.hpp"
+#include "regs/cpuss.hpp"
+#include "regs/i2c.hpp"
+#include "regs/sysctl.hpp"
+#include "regs/timg.hpp"
+#include "regs/uart.hpp"
+
+namespace bsp::mspm0 {
+
+namespace timg = reg::timg;
+
+namespace {
+// SCR.SLEEPDEEP (ARMv6-M ARM B3.2.7, bit 2; core_cm0plus.h SCB_SCR_SLEEPDEEP): the WFI enters the mode
+// PMODECFG selects. Written whole, as the port writes SCR (cortex_m/port/irq_port.hpp): SLEEPONEXIT stays
+// clear for this sleep, so the Thread runs after the handler that woke the core and the next idle chooses
+// again.
+constexpr uint32_t kScrSleepDeep = 1U << 2;
+
+inline void writeScr(uint32_t value) {
+  *reinterpret_cast<volatile uint32_t*>(fw::port::kScr) = value;
+}
+
+// Microseconds to LFCLK ticks, rounded down (x 67 / 2048 = 0.032715 ticks/us, 0.16 % under 32 768 / 1e6):
+// the wake-up comes early, never late; the rest is slept on the exact clock. kMaxSleepUs x 67 fits 32 bits.
+constexpr uint32_t ticksFor(uint32_t us) {
+  return (us * 67U) >> 11;
+}
+static_assert(ticksFor(StandbyIdle::kMaxSleepUs) < 0xF000 && ticksFor(1000000) <= 32768);
+}  // namespace
+
+void StandbyIdle::init(const Config& config) {
+  // The LFCLK timer, in the TIMCLK set-up order of the TRM (SLAU847D TIMx: source, divider, prescaler,
+  // enable): LFCLK /1, free-running up-count over 16 bits, compare 0 for the wake-up (hw_gptimer.h CLKSEL
+  // LFCLK_SEL, bit 1).
+  const uintptr_t base = config.lfTimer;
+  reg::resetAndPowerUp(reg::gprcm(base));
+  timg::Clock& clk = timg::clock(base);
+  clk.clksel.write(timg::kClkselLfclk);
+  clk.clkdiv.write(0);
+  timg::Common& com = timg::common(base);
+  com.cps.write(0);
+  com.cclkctl.write(timg::kClockEnable);
+  timg::Counter& counter = timg::counter(base);
+  counter.load.write(0xFFFF);
+  counter.ccctl[0].write(0);
+  counter.ctrctl.write(timg::kCtrEnable | timg::kCtrRepeat | timg::kCtrCountUp | timg::kCtrStartAtZero);
+  nvic::enable(config.lfIrq);
+  reg::sysctl::pmodecfg().write(reg::sysctl::kPmodeStandby);
+  mmio::setBits(reg::sysctl::clocks().mclkcfg, reg::sysctl::kMclkStopClkStandby);
+}
+
+bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
+  if ((reg::i2c::controller(config_.i2c).msr.read() & reg::i2c::kMsrBusy) != 0 ||
+      (reg::uart::line(config_.uart).stat.read() & reg::uart::kStatBusy) != 0)
+    return false;
+  uint32_t sleepUs = kMaxSleepUs;
+  if (timed) {
+    const int32_t left = static_cast<int32_t>(deadline.us - clock_.now().us);
+    if (left < static_cast<int32_t>(2 * kMarginUs)) return false;
+    if (static_cast<uint32_t>(left) - kMarginUs < sleepUs) sleepUs = static_cast<uint32_t>(left) - kMarginUs;
+  }
+
+  timg::Counter& lf = timg::counter(config_.lfTimer);
+  reg::EventBlock& lfEvents = reg::cpuInt(config_.lfTimer);
+  const uint32_t start = lf.ctr.read();
+  const fw::Instant halted = clock_.halt();
+  const uint32_t ticks = ticksFor(sleepUs);
+  lf.cc[0].write((start + ticks) & 0xFFFF);
+  lfEvents.iclr.write(timg::kIntCcu0);
+  lfEvents.imask.write(timg::kIntCcu0);
+  // The compare fires only when the count becomes CC0 (SLAU847D TIMx compare): if it got there while this
+  // was armed, pend the wake-up ourselves.
+  if (((lf.ctr.read() - start) & 0xFFFF) >= ticks) lfEvents.iset.write(timg::kIntCcu0);
+
+  writeScr(kScrSleepDeep);
+  fw::port::waitForInterrupt();
+  writeScr(0);
+
+  const uint32_t woke = lf.ctr.read();
+  // The compare's request is consumed here, never by a handler: mask it, clear it, drop its NVIC pending.
+  lfEvents.imask.write(0);
+  lfEvents.iclr.write(timg::kIntCcu0);
+  nvic::regs().icpr.write(1U << config_.lfIrq);
+  clock_.resume(timeAt(halted, start, woke), timed, deadline);
+  return true;
+}
+
+fw::Instant StandbyIdle::timeAt(fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow) {
+  // The time is the LFCLK count since an anchor (a microsecond value and an LFCLK count of one instant), not
+  // the halted time plus this sleep: each sleep's correction then errs by less than one tick (30.5 us)
+  // without adding up. Adding up it did: the scans start at the same 1 MHz offset from the previous wake,
+  // so the halt falls at the same phase of the LFCLK tick every time and the truncation is the same each
+  // sleep (the twin: 61 us/s slow). The anchor starts as (0, 0): TIMG1 starts from zero right after
+  // TimgClock (bringUp()); it is moved on in steps of 512 ticks, exactly 15 625 us. A count since the
+  // anchor is found from its low 16 bits (the counter) and the estimate by the 1 MHz clock, which is good
+  // to far better than the half wrap (1 s) for up to kMaxAnchorUs; an anchor older than that (no deep
+  // sleep for that long) is replaced by this sleep's start.
+  if (halted.us - anchorUs_ > kMaxAnchorUs) {
+    anchorUs_ = halted.us;
+    anchorLf_ = lfAtHalt;
+  }
+  const uint32_t estimate = ticksFor(halted.us - anchorUs_) + ((lfNow - lfAtHalt) & 0xFFFF);
+  const uint32_t ticks = estimate + static_cast<uint32_t>(static_cast<int16_t>(lfNow - anchorLf_ - estimate));
+  // The count's last edge came before the read: by tWAKE (15 us, SLASEX0D 7.8) when the compare woke the
+  // core (the usual case), by half a tick (15.3 us) on average for any other wake-up.
+  const fw::Instant now{anchorUs_ + ((ticks * 15625U) >> 9) + kWakeUs};
+  const uint32_t blocks = ticks >> 9;
+  anchorLf_ = (anchorLf_ + (blocks << 9)) & 0xFFFF;
+  anchorUs_ += blocks * 15625U;
+  return fw::isBefore(now, halted) ? halted : now;  // monotonic: the tick's rounding never steps back
+}
+
+}  // namespace bsp::mspm0
