@@ -13,14 +13,15 @@ namespace bsp::mspm0 {
 namespace timg = reg::timg;
 
 namespace {
-// SCR.SLEEPDEEP (ARMv6-M ARM B3.2.7, bit 2; core_cm0plus.h SCB_SCR_SLEEPDEEP): the WFI enters the mode
-// PMODECFG selects. Written whole, as the port writes SCR (cortex_m/port/irq_port.hpp): SLEEPONEXIT stays
-// clear for this sleep, so the Thread runs after the handler that woke the core and the next idle chooses
-// again.
+// SCR (0xE000ED10) and its SLEEPDEEP bit 2 (ARMv6-M ARM B3.2.7; CMSIS core_cm0plus.h SCB_SCR_SLEEPDEEP): the
+// WFI enters the mode PMODECFG selects. Written whole, as the port writes SCR (cortex_m/port/irq_port.hpp):
+// SLEEPONEXIT stays clear for this sleep, so the Thread runs after the handler that woke the core and the
+// next idle chooses again. Through mmio, so that the register model of the host tests sees it.
+constexpr uintptr_t kScr = 0xE000ED10;
 constexpr uint32_t kScrSleepDeep = 1U << 2;
 
 inline void writeScr(uint32_t value) {
-  *reinterpret_cast<volatile uint32_t*>(fw::port::kScr) = value;
+  mmio::block<mmio::Reg>(kScr).write(value);
 }
 
 // Microseconds to LFCLK ticks, rounded down (x 67 / 2048 = 0.032715 ticks/us, 0.16 % under 32 768 / 1e6):
@@ -84,32 +85,34 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   lfEvents.imask.write(0);
   lfEvents.iclr.write(timg::kIntCcu0);
   nvic::regs().icpr.write(1U << config_.lfIrq);
-  clock_.resume(timeAt(halted, start, woke), timed, deadline);
+  clock_.resume(timeAfterSleep(anchor_, halted, start, woke), timed, deadline);
   return true;
 }
 
-fw::Instant StandbyIdle::timeAt(fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow) {
-  // The time is the LFCLK count since an anchor (a microsecond value and an LFCLK count of one instant), not
-  // the halted time plus this sleep: each sleep's correction then errs by less than one tick (30.5 us)
-  // without adding up. Adding up it did: the scans start at the same 1 MHz offset from the previous wake,
-  // so the halt falls at the same phase of the LFCLK tick every time and the truncation is the same each
-  // sleep (the twin: 61 us/s slow). The anchor starts as (0, 0): TIMG1 starts from zero right after
-  // TimgClock (bringUp()); it is moved on in steps of 512 ticks, exactly 15 625 us. A count since the
-  // anchor is found from its low 16 bits (the counter) and the estimate by the 1 MHz clock, which is good
-  // to far better than the half wrap (1 s) for up to kMaxAnchorUs; an anchor older than that (no deep
-  // sleep for that long) is replaced by this sleep's start.
-  if (halted.us - anchorUs_ > kMaxAnchorUs) {
-    anchorUs_ = halted.us;
-    anchorLf_ = lfAtHalt;
-  }
-  const uint32_t estimate = ticksFor(halted.us - anchorUs_) + ((lfNow - lfAtHalt) & 0xFFFF);
-  const uint32_t ticks = estimate + static_cast<uint32_t>(static_cast<int16_t>(lfNow - anchorLf_ - estimate));
+fw::Instant StandbyIdle::timeAfterSleep(Anchor& anchor, fw::Instant halted, uint32_t lfAtHalt,
+                                        uint32_t lfNow) {
+  // The time is the LFCLK count since an anchor, not the halted time plus this sleep: each sleep's time then
+  // errs by less than one tick (30.5 us) without adding up. Adding up it did: the scans start at the same
+  // 1 MHz offset from the previous wake, so the halt falls at the same phase of the LFCLK tick every time
+  // and the truncation is the same each sleep (the twin: 61 us/s slow). A count since the anchor is found
+  // from its low 16 bits (the counter) and the estimate by the 1 MHz clock, good to far better than the half
+  // wrap (1 s) for up to kMaxAnchorUs. The anchor is moved on in steps of 512 ticks, exactly 15 625 us, at
+  // the halt (so that it stays fresh however long the core was awake) and after the wake-up; only an anchor
+  // older than kMaxAnchorUs at the halt (no deep sleep for that long) is replaced by this sleep's start,
+  // and that sleep errs by up to a tick.
+  if (halted.us - anchor.us > kMaxAnchorUs) anchor = {halted.us, lfAtHalt};
+  const uint32_t sinceAnchor = ticksFor(halted.us - anchor.us);
+  const uint32_t atHalt =
+      sinceAnchor + static_cast<uint32_t>(static_cast<int16_t>(lfAtHalt - anchor.lf - sinceAnchor));
+  anchor.lf = (anchor.lf + (atHalt & ~0x1FFU)) & 0xFFFF;
+  anchor.us += (atHalt >> 9) * 15625U;
+  const uint32_t ticks = (atHalt & 0x1FFU) + ((lfNow - lfAtHalt) & 0xFFFF);
   // The count's last edge came before the read: by tWAKE (15 us, SLASEX0D 7.8) when the compare woke the
   // core (the usual case), by half a tick (15.3 us) on average for any other wake-up.
-  const fw::Instant now{anchorUs_ + ((ticks * 15625U) >> 9) + kWakeUs};
+  const fw::Instant now{anchor.us + ((ticks * 15625U) >> 9) + kWakeUs};
   const uint32_t blocks = ticks >> 9;
-  anchorLf_ = (anchorLf_ + (blocks << 9)) & 0xFFFF;
-  anchorUs_ += blocks * 15625U;
+  anchor.lf = (anchor.lf + (blocks << 9)) & 0xFFFF;
+  anchor.us += blocks * 15625U;
   return fw::isBefore(now, halted) ? halted : now;  // monotonic: the tick's rounding never steps back
 }
 

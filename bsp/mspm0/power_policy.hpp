@@ -6,17 +6,16 @@
 //   before it drains), whose bit timing needs the 32 MHz BUSCLK that STOP and STANDBY stop (SLAU847D 2 PMCU
 //   operating modes), and while the earliest deadline is nearer than 2 x kMarginUs: the 1 MHz TimgClock
 //   then gives it exactly.
-// - Otherwise STANDBY1: TimgClock halted, an LFCLK timer (TIMG1: clocked through STANDBY1, SLASEX0D table
-// 8-1;
-//   SLAU847D 2 "LFCLK") armed for the deadline minus kMarginUs (at most kMaxSleepUs: its 16-bit count wraps
-//   in 2 s), SCR.SLEEPDEEP set for this one WFI. After the WFI, interrupts still masked: SLEEPDEEP cleared,
-//   the LFCLK ticks elapsed added to the halted time (x 1e6 / 32 768 = x 15 625 / 512), TimgClock restarted
-//   and its wake-up re-armed. So no handler ever reads a clock that is behind, and the time is off by less
-//   than one LFCLK tick (30.5 us) after a sleep, without adding up (timeAt(): an anchor, not a sum). What
-//   else wakes the core from STANDBY1: the ALERT edge (GPIOA) and a start bit on the UART's RX line, by the
-//   asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 doc comment; SLAU847D 2 "LFCLK":
-//   "asynchronous fast wake from GPIO, ... or a serial interface"; the twin models this, bsp/twin/README.md
-//   "Power").
+// - Otherwise STANDBY1: TimgClock halted, an LFCLK timer (TIMG1, clocked through STANDBY1: SLASEX0D table
+//   8-1, SLAU847D 2 "LFCLK") armed for the deadline minus kMarginUs (at most kMaxSleepUs: its 16-bit count
+//   wraps in 2 s), SCR.SLEEPDEEP set for this one WFI. After the WFI, interrupts still masked: SLEEPDEEP
+//   cleared, the time taken from the LFCLK count (x 1e6 / 32 768 = x 15 625 / 512 us a tick,
+//   timeAfterSleep()), TimgClock restarted there and its wake-up re-armed. So no handler ever reads a clock
+//   that is behind, and the time is off by less than one LFCLK tick (30.5 us) after a sleep, without adding
+//   up (an anchor, not a sum of corrections). What else wakes the core from STANDBY1: the ALERT edge (GPIOA)
+//   and a start bit on the UART's RX line, by the asynchronous fast-clock request
+//   (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 doc comment; SLAU847D 2 "LFCLK": "asynchronous fast wake from
+//   GPIO, ... or a serial interface"; the twin models this, bsp/twin/README.md "Power").
 //
 // Contract
 // - init(config): thread mode, once, after the clocks (initSysosc): powers the LFCLK timer and starts its
@@ -50,10 +49,10 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
   static constexpr uint32_t kMarginUs = 200;
   // The LFCLK timer counts 16 bits at 32 768 Hz: a sleep ends before the count wraps (2.0 s).
   static constexpr uint32_t kMaxSleepUs = 1875000;
-  // The anchor of the time across sleeps (power_policy.cpp timeAt) is at most this old: its count of LFCLK
-  // ticks, up to (6 s x 1.03 + kMaxSleepUs) x 32 768 / 1e6, times 15 625 fits 32 bits, and the 1 MHz
-  // estimate that resolves the counter's wraps stays within the half wrap even with a 3 % SYSOSC error.
-  static constexpr uint32_t kMaxAnchorUs = 6000000;
+  // The anchor of the time across sleeps (timeAfterSleep) may be this old at a halt: the 1 MHz estimate that
+  // resolves the LFCLK counter's wraps is then off by at most 3 % (a SYSOSC far off) x 20 s = 0.6 s, within
+  // the half wrap (1 s), and its tick count x 67 fits 32 bits.
+  static constexpr uint32_t kMaxAnchorUs = 20000000;
   // From the LFCLK edge the count last took to the read after the wake-up: tWAKE from STANDBY (SLASEX0D
   // 7.8), which is also about half a tick, the average for a wake-up at any other phase.
   static constexpr uint32_t kWakeUs = 15;
@@ -62,14 +61,21 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
 
   static void init(const Config& config);
 
+  // A TimgClock time and the LFCLK count (16 bits) of the same instant.
+  struct Anchor {
+    uint32_t us = 0;
+    uint32_t lf = 0;
+  };
+  // The time after a sleep: the clock stopped at `halted` with the LFCLK count at `lfAtHalt` and reads
+  // `lfNow` after the wake-up; moves `anchor` on (power_policy.cpp; exposed for tests).
+  static fw::Instant timeAfterSleep(Anchor& anchor, fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow);
+
  private:
   bool doSleep(bool timed, fw::Instant deadline) override;
-  fw::Instant timeAt(fw::Instant halted, uint32_t lfAtHalt, uint32_t lfNow);
 
   TimgClock& clock_;
   Config config_;
-  uint32_t anchorUs_ = 0;  // the anchor: a TimgClock time and the LFCLK count at the same instant
-  uint32_t anchorLf_ = 0;
+  Anchor anchor_{};  // (0, 0): TIMG1 starts from zero right after TimgClock, in bringUp()
 };
 
 }  // namespace bsp::mspm0

@@ -3,6 +3,7 @@
 // checked against TI's LaunchPad facts and the model's rules (i2c_model, uart_dma_model, pin_model).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -103,6 +104,29 @@ TEST_F(L1306BoardTest, I2cTimeoutIsTheStretchLimitWithinOneCount) {
   // old 247 counts were 11.9 ms).
   EXPECT_GE(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs);
   EXPECT_LT(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs + 48);
+}
+
+TEST_F(L1306BoardTest, TheStandbyIdleCountsTimg1OnLfclkAndSelectsStandby1) {
+  // BSP_DEEP_IDLE=1 (the image's options.cmake): TIMG1 (0x40086000, IRQ 2: mspm0l130x.h) counts LFCLK
+  // (CLKSEL.LFCLK_SEL bit 1, hw_gptimer.h) up from zero, free-running over 16 bits; its NVIC line is enabled
+  // (ISER bit 2) so that its compare wakes the core; SCR.SLEEPDEEP is to enter STANDBY1: PMODECFG (0x1140)
+  // DSLEEP = STANDBY (1) and MCLKCFG (0x1104) STOPCLKSTBY (bit 21) (hw_sysctl_mspm0l11xx_l13xx.h); the
+  // scheduler gets the policy from the board.
+  static_assert(BSP_DEEP_IDLE == 1, "the lp-mspm0l1306-bq76952 options turn the policy on");
+  constexpr uintptr_t kTimg1 = 0x40086000;
+  EXPECT_EQ(regs().lastWrite(kTimg1 + 0x1008), 1U << 1);
+  EXPECT_EQ(regs().lastWrite(kTimg1 + 0x1808), 0xFFFFU);
+  const auto ctrctl = regs().lastWrite(kTimg1 + 0x1804);
+  ASSERT_TRUE(ctrctl.has_value());
+  EXPECT_EQ(*ctrctl & 0x1U, 1U) << "counting";
+  EXPECT_EQ(*ctrctl & 0x30U, 0x20U) << "up";
+  const auto iser = regs().writes(0xE000E100);
+  EXPECT_NE(std::find(iser.begin(), iser.end(), 1U << 2), iser.end()) << "TIMG1's NVIC line enabled";
+  EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1140), 1U);
+  const auto mclkcfg = regs().lastWrite(0x400AF000 + 0x1104);
+  ASSERT_TRUE(mclkcfg.has_value());
+  EXPECT_NE(*mclkcfg & (1U << 21), 0U);
+  EXPECT_NE(image::board().power, nullptr);
 }
 
 }  // namespace

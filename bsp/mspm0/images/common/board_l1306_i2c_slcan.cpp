@@ -63,18 +63,11 @@ constinit StandbyIdle power(clock, kIdleConfig);
 // The L1306 has one GPIO port, GPIOA: INT_GROUP1 needs no port look-up (GROUP1_IRQHandler below).
 #if BMS_BOARD_LED_BUTTON
 GpioEdgeInput* const kEdgeInputs[] = {&alert, &button};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system, button, led};
 #else
 GpioEdgeInput* const kEdgeInputs[] = {&alert};
+constinit Board instance{clock, watchdog, i2c, alert, serial, system};
 #endif
-constinit Board instance {
-  clock, watchdog, i2c, alert, serial, system,
-#if BSP_DEEP_IDLE
-      power,
-#endif
-#if BMS_BOARD_LED_BUTTON
-      button, led
-#endif
-};
 
 }  // namespace
 
@@ -91,6 +84,7 @@ void bringUp() {
   TimgClock::start(kClockConfig);
 #if BSP_DEEP_IDLE
   StandbyIdle::init(kIdleConfig);
+  instance.power = &power;
 #endif
   i2c.init();
   kAlert.init();

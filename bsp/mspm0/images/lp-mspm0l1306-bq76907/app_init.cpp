@@ -37,7 +37,8 @@ const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
 #if BSP_DEEP_IDLE
-  scheduler.setPowerPolicy(board.power);  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE)
+  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE; a board without the policy leaves it null).
+  if (board.power != nullptr) scheduler.setPowerPolicy(*board.power);
 #endif
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.serial, board.system, kConfig,
                                        fw::drivers::bq769x2::kBq76907);

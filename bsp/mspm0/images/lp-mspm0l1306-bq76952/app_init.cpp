@@ -40,7 +40,8 @@ constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{0, 11, 12});  // PA11
 
 void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
 #if BSP_DEEP_IDLE
-  scheduler.setPowerPolicy(board.power);  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE)
+  // STANDBY1 between scans (options.cmake BSP_DEEP_IDLE; a board without the policy leaves it null).
+  if (board.power != nullptr) scheduler.setPowerPolicy(*board.power);
 #endif
   chargeOff.init(true);
   dischargeOff.init(true);

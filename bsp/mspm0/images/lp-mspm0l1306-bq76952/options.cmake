@@ -19,7 +19,7 @@ set(BMS_IMAGE_OPTIONS
   FW_BQ769X_CHARGE=0              # nothing counts the accumulated charge without the state of charge: the scan leaves its request and read out
   FW_RECORD_STORE=0               # the record store (app/store) does not fit the 16 KiB yet (20 512 B for the full L1306-BQ76952 with it, balancing and SOC, app/store/README.md "Figures"): its hooks are built out, nothing kept across a reset; app_init.cpp and data_flash.cpp are ready for 1
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
-  BSP_DEEP_IDLE=1                 # STANDBY1 between scans (bsp/mspm0/power_policy.hpp): the MCU's average current, computed on the twin, from 993 to 92 uA; 524 B of flash (bsp/mspm0/README.md "Low-power modes")
+  BSP_DEEP_IDLE=1                 # STANDBY1 between scans (bsp/mspm0/power_policy.hpp): the MCU's average current, computed on the twin, from 993 to 92 uA; 572 B of flash (bsp/mspm0/README.md "Low-power modes")
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
 )
 
