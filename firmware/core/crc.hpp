@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 namespace fw::crc {
 
@@ -69,7 +70,10 @@ namespace detail {
 // test, the branch back and the table's address every byte; 14 % of the busy cycles of the 64-device BQ79616
 // image, where this checks every byte received, twin profile), two take 24.
 constexpr uint16_t crc16(const uint8_t* data, size_t length, uint16_t crc = kCrc16Init) {
-  const uint16_t* const table = detail::kCrc16Table.entry;
+  const uint16_t* table = detail::kCrc16Table.entry;
+  // At run time the table's address comes out of an empty asm, so GCC keeps it in a register instead of
+  // loading it again from the literal pool every two bytes (-Os rematerialises constants inside loops).
+  if (!std::is_constant_evaluated()) asm("" : "+r"(table));
   uint32_t c = crc;
   if ((length & 1U) != 0) c = detail::crc16Step(c, table, *data++);
   if (length >= 2) {
