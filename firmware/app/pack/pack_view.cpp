@@ -36,11 +36,14 @@ struct CellRange {
   int32_t sum = 0;
   int32_t max = INT16_MIN;
   int32_t min = INT16_MAX;
-  for (const int16_t* const end = cellMv + cells; cellMv != end; ++cellMv) {
-    const int32_t v = *cellMv;
-    sum += v;
-    if (v > max) max = v;
-    if (v < min) min = v;
+  if (cells != 0) {  // the loop test at the bottom: 14 cycles a cell, 18 with it at the top
+    const int16_t* const end = cellMv + cells;
+    do {
+      const int32_t v = *cellMv;
+      sum += v;
+      if (v > max) max = v;
+      if (v < min) min = v;
+    } while (++cellMv != end);
   }
   return {sum, max, min};
 }
