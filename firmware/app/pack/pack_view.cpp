@@ -72,6 +72,18 @@ bool foldCells(PackTotals& t, const int16_t* cellMv, uint8_t cells, uint16_t boa
   }
 }
 
+// Folds a board's temperatures into the totals.
+void foldTemps(PackTotals& t, const int16_t* tempDeciK, uint8_t temps, uint16_t board) {
+  if constexpr (kMaxBoards > 1) {
+    // As with the cells, only a board that could hold a new extreme is folded: a kNoReading slot reads as
+    // the lowest value, so a board with one is always folded (the fold leaves it out).
+    const CellRange r = cellRange(tempDeciK, temps);
+    if (t.temps && r.max <= t.extreme[kMaxTemp] && r.min >= t.extreme[kMinTemp]) return;
+  }
+  fold(&t.extreme[kMaxTemp], &t.at[kMaxTemp], t.temps, tempDeciK, temps,
+       static_cast<uint16_t>(board * kMaxTempsPerBoard));
+}
+
 }  // namespace
 
 uint16_t openWireCells(const int16_t* cellMv, uint8_t cells) {
@@ -111,8 +123,7 @@ void summarize(PackView& view, Instant scanEnd) {
     } else {
       t.openWire = true;
     }
-    fold(&t.extreme[kMaxTemp], &t.at[kMaxTemp], t.temps, s.tempDeciK, view.tempsPerBoard,
-         static_cast<uint16_t>(b * kMaxTempsPerBoard));
+    foldTemps(t, s.tempDeciK, view.tempsPerBoard, b);
   }
   t.complete = whole == view.boardCount();
 }
