@@ -653,7 +653,11 @@ inline void Chain::onRead(const Step& s) {
   const size_t size = responseSize(count_);
   size_t left = exchange_.received;
   const uint8_t* f = rx_;
-  for (uint8_t i = 0; i < frames_; ++i, --dev, f += size, left -= size) {
+  // The end of the exchange, for the records of a scan's cells: read once, not once a device.
+  const Instant exchangeEnd =
+      s.code == code(Op::Frame, kRScan) && s.value == kValidCells ? clock_.now() : Instant{};
+  uint8_t i = 0;
+  for (; i < frames_; ++i, --dev, f += size, left -= size) {
     // Frame i of the response (top of stack first), checked against the device that must send it.
     if (left < size) {
       // The UART ended early: its status says how (NoResponse, Truncated, CommFault).
@@ -665,7 +669,7 @@ inline void Chain::onRead(const Step& s) {
     if (r == Status::Ok && s.code == code(Op::Frame, kRScan)) {
       // Ahead of the switch: a scan's frames are nearly all the frames read, and the switch's table lookup
       // cost each of them a call (twin profile, 64 devices).
-      store(s.value, dev, f + 4);
+      store(s.value, dev, f + 4, exchangeEnd);
     } else if (r == Status::Ok) {
       const uint8_t v = f[4];
       switch (s.code) {
@@ -696,8 +700,8 @@ inline void Chain::onRead(const Step& s) {
     }
     // Nothing after a bad frame can be trusted: the frames below it are not looked at.
     if (r != Status::Ok) break;
-    ++stats_.responseFrames;
   }
+  stats_.responseFrames += i;  // the frames before the first bad one
   // DLL-sync dummies: TI ignores their responses, and so does the driver.
   if (s.code == code(Op::Frame, kRDllSync)) r = Status::Ok;
   if (r == Status::Ok) {
@@ -819,7 +823,7 @@ namespace {
 }
 }  // namespace
 
-void Chain::store(uint8_t part, uint8_t device, const uint8_t* p) {
+void Chain::store(uint8_t part, uint8_t device, const uint8_t* p, Instant exchangeEnd) {
   DeviceRecord& r = records_[device];
   if (part == kValidFaults) {
     r.faultSummary = p[0];
@@ -846,7 +850,7 @@ void Chain::store(uint8_t part, uint8_t device, const uint8_t* p) {
       r.valid = static_cast<uint8_t>(r.valid & ~part);
       return markFailed(device, Status::NotReady);
     }
-    if (cells) r.takenAt = clock_.now();
+    if (cells) r.takenAt = exchangeEnd;
   }
   r.valid = static_cast<uint8_t>(r.valid | part);
 }
