@@ -218,6 +218,20 @@ TEST(CanBudget, EveryNativeMessageGoesOutAtItsStatedPeriodUpTo64Boards) {
   }
 }
 
+// A frame is built only when the controller's queue has room for it: once the queue refused one, the
+// publisher counts the frames that left against the ones it queued (it is the only sender) and waits for the
+// next to leave instead of filling a frame the queue refuses again. Before, every frame of a 64-board slow
+// cycle was filled twice, once into the full queue.
+TEST(CanPublisher, AFullQueueGetsNoFrameBuiltUntilOneHasLeft) {
+  Rig r(64, app::CanLayout::Native);
+  r.h.runFor(fw::ms(2050));
+  const app::PublishStats& st = r.publisher.stats();
+  EXPECT_GT(st.frames, 1000u);  // two slow cycles of 64 boards went out
+  EXPECT_EQ(st.frames, r.can.sent().size());
+  EXPECT_LE(st.refused, 1u) << "only the refusal that starts the count";
+  EXPECT_EQ(st.abandoned, 0u);
+}
+
 TEST(CanBudget, EveryScanGetsACompleteTiSetUpTo64Boards) {
   for (int n : {1, 2, 16, 64}) {
     Rig r(n, app::CanLayout::Ti);

@@ -38,16 +38,22 @@ inline void Bq79616Device::setupFinished(Status result) {
 
 namespace {
 // A device's cell codes as mV and as the codes kept for the TI layout, the `suspect` cells (bit c = cell c)
-// as the no-reading 0. Its own function: inside scanFinished()'s device loop the compiler ran out of
-// registers and kept the loop's values on the stack (twin profile, 64 devices).
+// as the no-reading 0 (a code of 0 is 0 mV). Its own function: inside scanFinished()'s device loop the
+// compiler ran out of registers and kept the loop's values on the stack (twin profile, 64 devices). The
+// suspect cells are cleared after the conversion, in a loop that runs only when there are any: tested in the
+// conversion loop they cost 6 of its 24 cycles a cell.
 [[gnu::noinline]] void convertCells(int16_t* mv, int16_t* raw, const int16_t* codes, uint8_t cells,
                                     uint32_t suspect) {
-  for (uint8_t c = 0; c < cells; ++c, suspect >>= 1) {
+  for (uint8_t c = 0; c < cells; ++c) {
     // 190.73 uV per code = 12 500 / 65 536 mV within 0.003 %: a multiply and a shift instead of a division
     // per cell, exact to the millivolt over the whole range (+-1 mV rounding).
-    const int16_t code = (suspect & 1U) != 0 ? int16_t{0} : codes[c];
+    const int32_t code = codes[c];
     mv[c] = static_cast<int16_t>((code * 12500 + 32768) >> 16);
-    raw[c] = code;
+    raw[c] = static_cast<int16_t>(code);
+  }
+  suspect &= (1U << cells) - 1U;  // cells <= 16: the bit above the top cell is no cell of the device
+  for (uint8_t c = 0; suspect != 0; ++c, suspect >>= 1) {
+    if ((suspect & 1U) != 0) mv[c] = raw[c] = 0;
   }
 }
 }  // namespace

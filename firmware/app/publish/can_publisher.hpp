@@ -75,6 +75,26 @@ class CanPublisher final : public sched::Task {
   // Queues the waiting answers within `budget` frames; false when it stopped: the controller refused one
   // (queue full) or the budget ran out.
   inline bool sendAnswers(uint8_t& budget);
+  // The queue is still full: it refused a frame, and since then no more frames have left it (the controller's
+  // txFrames) than this task queued. This task is the controller's only sender, so the count is exact; a
+  // frame built now would only be refused, and built again once one has left (kCan).
+  bool queueFull() const {
+    const State& st = *state_;
+    return st.counting && can_.counters().txFrames - st.leftAtFull <= st.queuedSince;
+  }
+  // A send's result for the count above: Overflow starts it afresh (the queue is full now), Ok counts a
+  // frame.
+  Status counted(Status s) {
+    State& st = *state_;
+    if (s == Status::Ok) {
+      ++st.queuedSince;
+    } else if (s == Status::Overflow) {
+      st.counting = true;
+      st.leftAtFull = can_.counters().txFrames;
+      st.queuedSince = 0;
+    }
+    return s;
+  }
   // The run's frame budget is spent and there is more: continue in a new run (after any higher task).
   bool yieldFor(uint8_t budget) {
     if (budget != 0) return false;
@@ -87,7 +107,10 @@ class CanPublisher final : public sched::Task {
   struct State {
     uint8_t tick;
     bool recovering;
+    bool counting;  // the queue refused a frame since the last bus-off: its room is counted (queueFull())
     uint32_t busOffsSeen;  // the controller's bus-off count when recovery was last asked for
+    uint32_t leftAtFull;   // the controller's txFrames when the queue last refused a frame
+    uint32_t queuedSince;  // frames this task queued since then
     sched::Timer timer;
     PublishStats stats;
     CanOutbox outbox;

@@ -362,9 +362,13 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       auto status = static_cast<uint8_t>(boardStatus(s, now, staleAfter_));
       if (status == static_cast<uint8_t>(BoardStatus::Valid)) {
         // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole
-        // board's.
+        // board's. Only after a scan whose totals show an open wire: summarize() walked every board that
+        // validated (each Valid board among them) after the monitor wrote them, so without one no frame's
+        // cells are beside one either (the walk per frame was 2 % of the 64-device BQ79616 image's busy
+        // cycles, twin profile). A single-board build walks every time: the test cost it 44 B (L1306).
         const auto first = static_cast<uint8_t>(frame * C::kCellPerFrame);
-        const uint32_t open = isCells ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
+        const bool walk = isCells && (kMaxBoards == 1 || t.openWire);
+        const uint32_t open = walk ? openWireCells(s.cellMv, items, first, C::kCellPerFrame) : 0;
         if ((open & 7U) != 0) status = kOpenWireStatus;
         for (uint8_t j = 0, i = first; j < C::kCellPerFrame; ++j, ++i) {
           if (i < items && ((open >> j) & 1U) == 0 && values[i] != kNoReading)

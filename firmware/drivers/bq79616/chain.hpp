@@ -232,7 +232,7 @@ class Chain : private detail::ChainState {
   void onRead(const Step& s);
   void endDiscovery(Status r);
   void crcPolled();
-  void store(uint8_t part, uint8_t device, const uint8_t* data);
+  void store(uint8_t part, uint8_t device, const uint8_t* data, Instant exchangeEnd);
   void markFailed(uint8_t device, Status status);
   void endScan();
 

@@ -47,6 +47,24 @@ TEST(Bq79616Scan, RecordsHoldWhatTheChipsMeasure) {
   EXPECT_EQ(rig.records[1].gpioRaw[0], bq::regs::kNotReady) << "GPIOs not set up as ADC inputs read 0x8000";
 }
 
+// One unconverted reading (0x8000) in either die temperature makes that part NotReady, the other parts of the
+// device still validate. (The emulator clamps a cell code set directly to +-32767, so cells reach 0x8000 only
+// before the ADC settled: ReadingsBeforeTheAdcSettledAreNotReadyNotValues.)
+TEST(Bq79616Scan, EitherDieTemperatureNotConvertedMakesThatPartNotReady) {
+  ChainRig rig(2);
+  ASSERT_EQ(rig.bringUp(), Status::Ok);
+  ASSERT_EQ(rig.scan(), Status::Ok);
+  for (int t = 1; t <= 2; ++t) {
+    rig.emulator.setDieTempRaw(1, t, bq::regs::kNotReady);
+    EXPECT_EQ(rig.scan(), Status::NotReady) << "die temperature " << t;
+    EXPECT_EQ(rig.records[1].valid & bq::kValidDieTemp, 0) << "die temperature " << t;
+    EXPECT_NE(rig.records[1].valid & bq::kValidCells, 0) << "die temperature " << t;
+    EXPECT_NE(rig.records[0].valid & bq::kValidDieTemp, 0) << "die temperature " << t;
+    rig.emulator.setDieTempRaw(1, t, 1000);
+  }
+  EXPECT_EQ(rig.scan(), Status::Ok);
+}
+
 TEST(Bq79616Scan, UnitConversionsAreExactIntegers) {
   EXPECT_EQ(bq::cellMicrovolts(0), 0);
   EXPECT_EQ(bq::cellMicrovolts(1), 191);  // 190.73 rounds up
