@@ -174,7 +174,8 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       const auto id = static_cast<uint8_t>(field<bms::SettingRead, bms::SettingRead::kSettingField>(f));
       if (id >= kSettingCount) return Result::OutOfRange;
       const SettingSpec s = ctx_.settings.spec(id);
-      packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
+      packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id),
+                                    ctx_.settings.source(id));
       packAnswer<bms::SettingRange>(out.frame[2], ctx_.node, id, s.min, s.max);
       out.count = 3;
       return Result::Accepted;
