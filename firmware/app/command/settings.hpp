@@ -94,14 +94,15 @@ class LimitSettings final : public LimitUpdate {
   Result check(uint8_t id, int32_t value, int32_t partner) const;
   SettingSource keptSource(uint8_t id) const;
 
+  // The waiting writes first: where they were before the kept settings' fields (no new offsets to reach).
   struct Pending {
     uint8_t count;
+    uint8_t id[kPending];
+    int32_t value[kPending];
     uint8_t changes;     // applications that changed a value (wraps)
     uint16_t fromFlash;  // bit n: setting n was restored from flash
     uint16_t refused;    // bit n: setting n's kept value was refused at restore
     uint16_t written;    // bit n: setting n was written by a command since start-up
-    uint8_t id[kPending];
-    int32_t value[kPending];
   };
   const ProtectionConfig& defaults_;
   ProtectionConfig limits_;
