@@ -150,12 +150,11 @@ void Persistence::step() {
 }
 
 void Persistence::beforeReset() {
-  State& st = *state_;
-  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge && socMoved(1)) st.socDirty = true;
-  // Every job waiting (at most three), each with at most one erase before it.
-  for (Job job; (job = nextJob()) != Job::None; done(job))
-    if ((st.last = write(job)) == Status::Busy && (st.last = store_.eraseStep()) == Status::Ok)
-      st.last = write(job);
+  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge && socMoved(1)) state_->socDirty = true;
+  // The steps the lowest task would run, now: at most three jobs, each a write or an erase and the write
+  // (the step's own post is harmless: the reset comes first).
+  for (uint8_t n = 0; n < 6 && nextJob() != Job::None; ++n)
+    step();
 }
 
 bool Persistence::restoredSoc(uint16_t& permille) const {

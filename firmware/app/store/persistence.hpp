@@ -29,8 +29,8 @@
 //   the monitor and the publisher have nothing to do (the CPU still stalls for the flash: a fault-line
 //   interrupt that comes during an erase waits for it, measured in tests/twin, store/README.md).
 // - beforeReset() (BackgroundWork, from the command task just before a commanded reset, the paths off):
-//   writes at once what is waiting and a state of charge that moved at all since it was stored, erasing a
-//   sector first where one is needed (at most one erase and three record writes).
+//   writes at once what is waiting and a state of charge that moved at all since it was stored, through
+//   the steps the lowest task would run (at most six: three record writes, each possibly after an erase).
 // - Results: lastStatus() is the store's status of the last write or erase (Ok before any).
 // - Thread mode only; not reentrant.
 #pragma once
