@@ -23,6 +23,20 @@ bool Persistence::read(RecordType t, Record& r) const {
          decode(std::span<const uint8_t>(b.data(), length), r);
 }
 
+// The settings written by command before the reset, each limit checked as a write is (settings.hpp); the
+// state of charge, for restoredSoc() and as the value the next one is compared with. Apart from start(): its
+// 128 B of record and bytes are off the stack before start() writes the fault record (the deepest path).
+[[gnu::noinline]] void Persistence::restoreSettingsAndSoc() {
+  SettingsRecord settings;
+  if (read(RecordType::Settings, settings)) state_->settingsRefused = settings_.restore(settings.value);
+  state_->settingsSeen = settings_.changes();
+  SocRecord soc;
+  if (read(RecordType::StateOfCharge, soc)) {
+    state_->socKept = true;
+    state_->socStored = soc.permille;
+  }
+}
+
 void Persistence::start(StartupInfo& info) {
   info.kept.logEntries = 0;
   info.kept.faultSource = FaultSource::None;
@@ -32,16 +46,7 @@ void Persistence::start(StartupInfo& info) {
     info.kept.faultSource = FaultSource::NotAvailable;
     return;
   }
-  // The settings written by command before the reset, each limit checked as a write is (settings.hpp); the
-  // state of charge, for restoredSoc() and as the value the next one is compared with.
-  SettingsRecord settings;
-  if (read(RecordType::Settings, settings)) state_->settingsRefused = settings_.restore(settings.value);
-  state_->settingsSeen = settings_.changes();
-  SocRecord soc;
-  if (read(RecordType::StateOfCharge, soc)) {
-    state_->socKept = true;
-    state_->socStored = soc.permille;
-  }
+  restoreSettingsAndSoc();
   uint32_t length = 0;
   if (store_.read(type(RecordType::ProtectionLog), state_->log, length) == Status::Ok &&
       length == ProtectionLogRecord::kBytes && state_->log[0] <= ProtectionLogRecord::kEntries)

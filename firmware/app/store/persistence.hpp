@@ -86,6 +86,7 @@ class Persistence final : public TripObserver, public BackgroundWork {
   const RecordStore& store() const { return store_; }
 
  private:
+  void restoreSettingsAndSoc();
   enum class Job : uint8_t { None, Log, Settings, Soc };
   bool hasWork() const { return nextJob() != Job::None || store_.needsErase(); }
   Job nextJob() const;
