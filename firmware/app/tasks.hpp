@@ -29,6 +29,8 @@ inline constexpr sched::EventMask kStore = 0x8;       // the record store has a 
 class BackgroundWork {
  public:
   virtual void step() = 0;
+  // Just before a commanded reset (bootloader entry, the paths off): what must not be lost, written now.
+  virtual void beforeReset() = 0;
 
  protected:
   ~BackgroundWork() = default;

@@ -64,6 +64,7 @@ std::map<std::string, Need> commandNeeds() {
   t["SettingWrite.Value"] = t["SettingValue.Value"] = {kSettingLo, kSettingHi, false};
   t["SettingRange.Min"] = t["SettingRange.Max"] = {kSettingLo, kSettingHi, false};
   t["SettingValue.Unit"] = {0, 2, false};
+  t["SettingValue.Source"] = {0, 3, false};  // app/command/settings.hpp SettingSource
   t["EnterBootloader.TraceId"] = t["IdentifyChip.TraceId"] = {0, 4294967295.0, false};
   t["EnterBootloader.Key"] = {0, 255, false};
   t["CommandAck.Command"] = {0, 0x7FF, false};

@@ -282,9 +282,60 @@ TEST(Commands, SettingReadAnswersValueUnitAndRange) {
   EXPECT_EQ(v.setting, 11);
   EXPECT_EQ(v.unit, 2);  // 0.1 K
   EXPECT_EQ(v.value, 2582);
+  EXPECT_EQ(v.source, 0) << "the image's default";
   const auto g = bms::SettingRange::unpack(a[2]);
   EXPECT_EQ(g.min, 2532);
   EXPECT_EQ(g.max, 3032);
+}
+
+// SettingValue.Source: the default until a command's write takes effect at a scan boundary, then command.
+TEST(Commands, SettingReadAnswersWhereTheValueCameFrom) {
+  Rig r;
+  r.answers();
+  ASSERT_EQ(r.ack("SettingWrite", {"Setting=ocd_trip", "Value=-20000"}).result, kAccepted);
+  r.b.h.runFor(fw::ms(250));  // the next scan's evaluation applies it
+  r.answers();
+  r.send("SettingRead", {"Setting=ocd_trip"});
+  r.b.h.runFor(fw::ms(20));
+  auto a = r.answers();
+  ASSERT_EQ(a.size(), 3U);
+  auto v = bms::SettingValue::unpack(a[1]);
+  EXPECT_EQ(v.value, -20000);
+  EXPECT_EQ(v.source, 2) << "command";
+  r.send("SettingRead", {"Setting=ocd_clear"});
+  r.b.h.runFor(fw::ms(20));
+  a = r.answers();
+  ASSERT_EQ(a.size(), 3U);
+  v = bms::SettingValue::unpack(a[1]);
+  EXPECT_EQ(v.source, 0) << "its pair partner was not written: still the default";
+}
+
+// The record store (where built) writes what must survive just before the commanded reset: after the paths
+// are off and the answer has left, before the restart (app/store/persistence.hpp beforeReset).
+TEST(Commands, BootloaderEntryLetsTheRecordStoreWriteBeforeTheReset) {
+  struct Store final : fw::app::BackgroundWork, fw::app::TripObserver {
+    explicit Store(const Rig& r) : rig(r) {}
+    void step() override {}
+    void evaluated(fw::app::FaultMask, bool, fw::Instant) override {}
+    void beforeReset() override {
+      ++calls;
+      resetsBefore = rig.b.system.bootloaderEntries().size();
+      fetsOn = rig.b.emu.chgFet() || rig.b.emu.dsgFet();
+    }
+    const Rig& rig;
+    int calls = 0;
+    size_t resetsBefore = 99;
+    bool fetsOn = true;
+  };
+  Rig r;
+  Store store(r);
+  r.b.app.attachStore(store, store);
+  r.answers();
+  r.send("EnterBootloader", {"TraceId=0x5A5A1306", "Key=key"});
+  ASSERT_TRUE(r.b.h.runUntil([&] { return !r.b.system.bootloaderEntries().empty(); }, fw::ms(500)));
+  EXPECT_EQ(store.calls, 1);
+  EXPECT_EQ(store.resetsBefore, 0U) << "before the reset";
+  EXPECT_FALSE(store.fetsOn) << "with the paths off";
 }
 
 TEST(Commands, BootloaderEntryOpensThePathsThenAnswersThenResets) {

@@ -3,6 +3,8 @@
 // next scan boundary, where they take effect together.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "app/command/settings.hpp"
 #include "app/protection/default_limits.hpp"
 
@@ -76,6 +78,54 @@ TEST(LimitSettings, AWriteWaitsForTheScanBoundaryAndThenTakesEffectWhole) {
   EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Busy);  // four waiting at most
   s.apply();
   EXPECT_EQ(s.write(id(FaultId::CellOvervoltage, false), 4100), Result::Accepted);  // room again
+}
+
+// Kept values (app/store/persistence.hpp) pass the checks a write passes, pair by pair, before protection
+// runs; where each value in effect came from is what SettingValue.Source answers.
+TEST(LimitSettings, RestoreChecksEachPairAsAWriteAndTellsWhereEachValueCameFrom) {
+  LimitSettings s(kDefaultLimits);
+  std::array<int32_t, kSettingCount> kept{};
+  for (uint8_t k = 0; k < kSettingCount; ++k)
+    kept[k] = s.read(k);
+  const uint8_t ovTrip = id(FaultId::CellOvervoltage, false), ovClear = id(FaultId::CellOvervoltage, true);
+  const uint8_t uvTrip = id(FaultId::CellUndervoltage, false), uvClear = id(FaultId::CellUndervoltage, true);
+  const uint8_t ocdTrip = id(FaultId::DischargeOvercurrent, false);
+  // A pair a single write could not reach (the trip below the default clear value) but whole is consistent.
+  kept[ovTrip] = 4000;
+  kept[ovClear] = 3900;
+  kept[uvTrip] = 2600;  // below the default 2700 mV: loosens protection, refused with its clear value
+  kept[uvClear] = 3000;
+  kept[ocdTrip] = -20000;
+  EXPECT_EQ(s.write(uvTrip, 2600), Result::OutOfRange) << "what a command could not write";
+  EXPECT_EQ(s.restore(kept), 2);
+  EXPECT_EQ(s.read(ovTrip), 4000);
+  EXPECT_EQ(s.read(ovClear), 3900);
+  EXPECT_EQ(s.limits().rules[0].trip, 4000) << "in effect at once: protection has not run yet";
+  EXPECT_EQ(s.read(uvTrip), kDefaultLimits.rules[1].trip);
+  EXPECT_EQ(s.read(uvClear), kDefaultLimits.rules[1].clear);
+  EXPECT_EQ(s.read(ocdTrip), -20000);
+  EXPECT_EQ(s.source(ovTrip), SettingSource::Flash);
+  EXPECT_EQ(s.source(uvTrip), SettingSource::FlashRefused);
+  EXPECT_EQ(s.source(uvClear), SettingSource::FlashRefused);
+  const uint8_t before = s.changes();
+  EXPECT_EQ(s.write(ocdTrip, -25000), Result::Accepted);
+  EXPECT_EQ(s.source(ocdTrip), SettingSource::Flash) << "a waiting write is not in effect";
+  s.apply();
+  EXPECT_EQ(s.source(ocdTrip), SettingSource::Command);
+  EXPECT_EQ(s.changes(), static_cast<uint8_t>(before + 1));
+  s.apply();
+  EXPECT_EQ(s.changes(), static_cast<uint8_t>(before + 1)) << "nothing waited: nothing changed";
+  // A clear value crossing its trip value, each in range: refused too.
+  LimitSettings t(kDefaultLimits);
+  kept[ovTrip] = 4000;
+  kept[ovClear] = 4100;
+  kept[uvTrip] = kDefaultLimits.rules[1].trip;
+  kept[uvClear] = kDefaultLimits.rules[1].clear;
+  EXPECT_EQ(t.restore(kept), 2);
+  EXPECT_EQ(t.read(ovTrip), kDefaultLimits.rules[0].trip);
+  EXPECT_EQ(t.source(id(FaultId::UndertempCharge, true)), SettingSource::Flash);
+  LimitSettings fresh(kDefaultLimits);
+  EXPECT_EQ(fresh.source(ovTrip), SettingSource::Default);
 }
 
 }  // namespace

@@ -22,6 +22,9 @@ checks:
               (exit 3) or none at all (exit 4)
   flood       ov-cell with the bus (or line) full of valid commands from 1 s on: the protection latency, the
               PackSummary period and, on the twin, the CPU load; REPORT lines
+  persist     (--elf, images with the record store) two runs on one `--flash FILE`: the first writes a
+              setting and discharges 1.7 % from the open-circuit value; the second answers the setting from
+              flash (SettingValue.Source flash) and starts from the kept state of charge (basis restored)
 With --elf the fourth argument is the image's ELF (run on the MSPM0 twin); exit 77 when it is not built."""
 import json
 import os
@@ -417,6 +420,49 @@ def check_bmsctl(sim, image, scratch, bmsctl):
           f"exit 3 on a silent port, 4 on a missing one")
 
 
+SETTING_VALUE = 0x583
+SOURCES = {0: "default", 1: "flash", 2: "command", 3: "flash_refused"}
+
+
+def setting_values(frames):
+    """(setting, value, source) of every SettingValue answer."""
+    return [(d[1], int.from_bytes(d[3:7], "little", signed=True), SOURCES[d[7]])
+            for t, i, d in frames if i == SETTING_VALUE]
+
+
+def check_persist(sim, dbc_dir, target, scratch, elf):
+    if not elf:
+        fail("persist: the host boards build no record store; run it on the twin (--elf)")
+    flash = os.path.join(scratch, "flash.bin")
+    if os.path.exists(flash):
+        os.remove(flash)  # a blank region: created erased by the first run
+    # Run 1: the open-circuit value at the first scans, then a command's write, then 15 A for 6 s: 25 mAh,
+    # 1 % of the EVM pack's 2 500 mAh (firmware/app/packs/bq76952-evm.yaml), so the kept value moves on.
+    text = ("0 current 0\n1000 send SettingWrite Setting=ocd_trip Value=-20000\n1500 current -15000\n"
+            "8000 current 0\n8500 send SettingRead Setting=ocd_trip\n")
+    first, frames, _ = run_scenario(sim, target, elf, scratch, "persist-1", text, 9000, ("--flash", flash))
+    got = setting_values(frames)
+    if got != [(6, -20000, "command")]:
+        fail(f"persist: the first run answered {got}, expected ocd_trip -20000 from the command")
+    if first["soc_basis"] != "ocv" or first["state_of_charge_permille"] is None:
+        fail(f"persist: the first run's state of charge: {first['state_of_charge_permille']} "
+             f"({first['soc_basis']}), expected a counted one from the open-circuit table")
+    # Run 2, a power-on with the same flash: the setting from flash, the state of charge from the last record
+    # (written at each 1 % step: within 1 % of where the first run ended).
+    text = "500 send SettingRead Setting=ocd_trip\n500 send SettingRead Setting=ocd_clear\n"
+    second, frames, _ = run_scenario(sim, target, elf, scratch, "persist-2", text, 1500, ("--flash", flash))
+    got = setting_values(frames)
+    if len(got) != 2 or got[0] != (6, -20000, "flash") or got[1][2] != "flash":
+        fail(f"persist: the second run answered {got}, expected ocd_trip -20000 and ocd_clear from flash")
+    p1, p2 = first["state_of_charge_permille"], second["state_of_charge_permille"]
+    if second["soc_basis"] != "restored" or p2 is None or abs(p2 - p1) >= 10:
+        fail(f"persist: the second run starts from {p2} permille ({second['soc_basis']}), expected the first "
+             f"run's {p1} restored (within the 1 % step)")
+    print(f"REPORT commands.{first['image']}.twin.persist: run 1 ocd_trip -20000 by command, state of charge "
+          f"{p1} permille (ocv, counted); run 2 on the same --flash: ocd_trip {got[0][1]} from {got[0][2]}, "
+          f"state of charge {p2} permille ({second['soc_basis']})")
+
+
 def main():
     if len(sys.argv) < 6:
         print(__doc__)
@@ -440,6 +486,8 @@ def main():
         check_flood(sim, dbc_dir, target, scratch, elf)
     elif check == "bmsctl":
         check_bmsctl(sim, target, scratch, sys.argv[6])
+    elif check == "persist":
+        check_persist(sim, dbc_dir, target, scratch, elf)
     else:
         print(__doc__)
         return 2

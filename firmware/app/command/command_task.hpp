@@ -8,7 +8,8 @@
 // a time): a flood that produces answers faster than the publisher sends them waits in the controller's
 // receive FIFO or the UART's buffer, which drop (and count) what does not fit.
 // Bootloader entry: the handler's timer polls every CommandHandler::kPoll until the paths are confirmed off,
-// then until the answer has left the outbox and kDrainPolls more, then the MCU restarts (handler.hpp).
+// then until the answer has left the outbox and kDrainPolls more, then the record store writes what must
+// survive (BackgroundWork::beforeReset) and the MCU restarts (handler.hpp).
 // Events: command_event::kInput (the receive Notify), kOutboxFree (the publisher), kTimer. Thread mode.
 #pragma once
 
@@ -61,6 +62,10 @@ class CommandTask final : public sched::Task {
       handler_.poll(r);
       link_.send(r, scheduler());
     } else if (handler_.boot() == CommandHandler::Boot::Answered && ++drained_ >= kDrainPolls) {
+      // The record store keeps what is waiting and the state of charge before the reset (the paths are off).
+      if constexpr (FW_RECORD_STORE != 0) {
+        if (background_.to != nullptr) background_.to->beforeReset();
+      }
       handler_.answerSent();
     }
   }

@@ -45,17 +45,18 @@ struct AnswerLayout {
   uint8_t count;
   uint8_t codes[6];  // the most fields an answer has (IdentifyVersion)
 };
-template <class M>
+// The first kCount fields of M (every field after them goes out 0: packStream writes the whole payload).
+template <class M, uint8_t kCount>
 constexpr AnswerLayout layoutOf() {
-  static_assert(M::kFieldCount <= sizeof AnswerLayout::codes && !M::kExtended && M::kDlc == 8);
-  AnswerLayout l{M::kId, M::kFieldCount, {}};
+  static_assert(kCount <= sizeof AnswerLayout::codes && !M::kExtended && M::kDlc == 8);
+  AnswerLayout l{M::kId, kCount, {}};
   const auto codes = can::streamCodes<M>();
-  for (uint8_t i = 0; i < M::kFieldCount; ++i)
+  for (uint8_t i = 0; i < kCount; ++i)
     l.codes[i] = codes[i];
   return l;
 }
-template <class M>
-constexpr AnswerLayout kAnswerLayout = layoutOf<M>();
+template <class M, uint8_t kCount>
+constexpr AnswerLayout kAnswerLayout = layoutOf<M, kCount>();
 
 // One out-of-line copy for every answer, packed by the loop that packs the published frames.
 void answerFrame(hal::CanFrame& f, const AnswerLayout& layout, const uint32_t* raw) {
@@ -83,12 +84,13 @@ uint32_t field(const hal::CanFrame& f) {
   }
 }
 
-// Answer frame `f` of message M from its raw values in the order of M's signals.
-template <class M, class... Values>
+// Answer frame `f` of message M from its raw values in the order of M's signals: all of them, or the first
+// kCount where the ones after them are 0 in this build.
+template <class M, uint8_t kCount = M::kFieldCount, class... Values>
 void packAnswer(hal::CanFrame& f, Values... values) {
-  static_assert(sizeof...(Values) == M::kFieldCount);
+  static_assert(sizeof...(Values) == kCount);
   const uint32_t raw[] = {static_cast<uint32_t>(values)...};
-  answerFrame(f, kAnswerLayout<M>, raw);
+  answerFrame(f, kAnswerLayout<M, kCount>, raw);
 }
 
 }  // namespace
@@ -174,7 +176,12 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       const auto id = static_cast<uint8_t>(field<bms::SettingRead, bms::SettingRead::kSettingField>(f));
       if (id >= kSettingCount) return Result::OutOfRange;
       const SettingSpec s = ctx_.settings.spec(id);
-      packAnswer<bms::SettingValue>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
+      using V = bms::SettingValue;
+      if constexpr (kKeptSettings)
+        packAnswer<V>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id), ctx_.settings.source(id));
+      else  // no record store: Source, the last field, is always 0 (default) and costs nothing
+        packAnswer<V, V::kSourceField>(out.frame[1], ctx_.node, id, s.unit, ctx_.settings.read(id));
+      static_assert(V::kSourceField == V::kFieldCount - 1);
       packAnswer<bms::SettingRange>(out.frame[2], ctx_.node, id, s.min, s.max);
       out.count = 3;
       return Result::Accepted;

@@ -49,14 +49,19 @@ int32_t LimitSettings::upcoming(uint8_t id) const {
   return v;
 }
 
-Result LimitSettings::write(uint8_t id, int32_t value) {
-  if (id >= kSettingCount) return Result::OutOfRange;
+Result LimitSettings::check(uint8_t id, int32_t value, int32_t partner) const {
   const SettingSpec s = spec(id);
   if (value < s.min || value > s.max) return Result::OutOfRange;
   // The pair as it will be: an upper limit clears below its trip value, a lower limit above it.
-  const int32_t trip = s.clear ? upcoming(static_cast<uint8_t>(id & ~1U)) : value;
-  const int32_t clear = s.clear ? value : upcoming(static_cast<uint8_t>(id | 1U));
-  if (isUpperLimit(s.rule) ? clear > trip : clear < trip) return Result::Inconsistent;
+  const int32_t trip = s.clear ? partner : value;
+  const int32_t clear = s.clear ? value : partner;
+  return (isUpperLimit(s.rule) ? clear > trip : clear < trip) ? Result::Inconsistent : Result::Accepted;
+}
+
+Result LimitSettings::write(uint8_t id, int32_t value) {
+  if (id >= kSettingCount) return Result::OutOfRange;
+  const Result r = check(id, value, upcoming(static_cast<uint8_t>(id ^ 1U)));
+  if (r != Result::Accepted) return r;
   if (pending_->count == kPending) return Result::Busy;
   pending_->id[pending_->count] = id;
   pending_->value[pending_->count++] = value;
@@ -64,9 +69,40 @@ Result LimitSettings::write(uint8_t id, int32_t value) {
 }
 
 void LimitSettings::apply() {
-  for (uint8_t k = 0; k < pending_->count; ++k)
-    valueOf(limits_, pending_->id[k]) = pending_->value[k];
-  pending_->count = 0;
+  Pending& p = *pending_;
+  if (kKeptSettings && p.count != 0) ++p.changes;
+  for (uint8_t k = 0; k < p.count; ++k) {
+    valueOf(limits_, p.id[k]) = p.value[k];
+    if (kKeptSettings) p.written = static_cast<uint16_t>(p.written | 1U << p.id[k]);
+  }
+  p.count = 0;
+}
+
+uint8_t LimitSettings::restore(std::span<const int32_t, kSettingCount> values) {
+  Pending& p = *pending_;
+  uint8_t refused = 0;
+  for (uint8_t trip = 0; trip < kSettingCount; trip += 2) {
+    const auto clear = static_cast<uint8_t>(trip + 1);
+    const uint16_t pair = static_cast<uint16_t>(3U << trip);
+    if (check(trip, values[trip], values[clear]) == Result::Accepted &&
+        check(clear, values[clear], values[trip]) == Result::Accepted) {
+      valueOf(limits_, trip) = values[trip];
+      valueOf(limits_, clear) = values[clear];
+      p.fromFlash = static_cast<uint16_t>(p.fromFlash | pair);
+    } else {
+      p.refused = static_cast<uint16_t>(p.refused | pair);
+      refused = static_cast<uint8_t>(refused + 2);
+    }
+  }
+  return refused;
+}
+
+SettingSource LimitSettings::keptSource(uint8_t id) const {
+  const Pending& p = *pending_;
+  const uint16_t bit = static_cast<uint16_t>(1U << id);
+  if ((p.written & bit) != 0) return SettingSource::Command;
+  if ((p.fromFlash & bit) != 0) return SettingSource::Flash;
+  return (p.refused & bit) != 0 ? SettingSource::FlashRefused : SettingSource::Default;
 }
 
 }  // namespace fw::app::command

@@ -57,6 +57,7 @@ class AppCore {
   const PublishStatus& status() const { return *status_; }
   const ProtectionTask& protection() const { return protection_; }
   const command::LimitSettings& settings() const { return settings_; }
+  command::LimitSettings& settings() { return settings_; }  // the record store restores and keeps them
   const Publisher& publisher() const { return publisher_; }
   const Commands& commands() const { return command_; }
   // The Startup message (reset cause, version, surviving fault record), once, first in the next cycle.

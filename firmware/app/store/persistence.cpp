@@ -23,6 +23,20 @@ bool Persistence::read(RecordType t, Record& r) const {
          decode(std::span<const uint8_t>(b.data(), length), r);
 }
 
+// The settings written by command before the reset, each limit checked as a write is (settings.hpp); the
+// state of charge, for restoredSoc() and as the value the next one is compared with. Apart from start(): its
+// 128 B of record and bytes are off the stack before start() writes the fault record (the deepest path).
+[[gnu::noinline]] void Persistence::restoreSettingsAndSoc() {
+  SettingsRecord settings;
+  if (read(RecordType::Settings, settings)) state_->settingsRefused = settings_.restore(settings.value);
+  state_->settingsSeen = settings_.changes();
+  SocRecord soc;
+  if (read(RecordType::StateOfCharge, soc)) {
+    state_->socKept = true;
+    state_->socStored = soc.permille;
+  }
+}
+
 void Persistence::start(StartupInfo& info) {
   info.kept.logEntries = 0;
   info.kept.faultSource = FaultSource::None;
@@ -32,6 +46,7 @@ void Persistence::start(StartupInfo& info) {
     info.kept.faultSource = FaultSource::NotAvailable;
     return;
   }
+  restoreSettingsAndSoc();
   uint32_t length = 0;
   if (store_.read(type(RecordType::ProtectionLog), state_->log, length) == Status::Ok &&
       length == ProtectionLogRecord::kBytes && state_->log[0] <= ProtectionLogRecord::kEntries)
@@ -67,21 +82,89 @@ void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
   const uint32_t s = uptimeS(now);
   for (uint8_t i = 0; newlyTripped != 0; ++i, newlyTripped >>= 1)
     if ((newlyTripped & 1U) != 0) addTrip(static_cast<FaultId>(i), s);
-  if (settled && !state_->posted && hasWork()) repost();
+  State& st = *state_;
+  if (settings_.changes() != st.settingsSeen) {  // a command's write took effect at this scan
+    st.settingsSeen = settings_.changes();
+    st.settingsDirty = true;
+  }
+  // A counted state of charge (the gauge keeps its own); Restored moves nothing until the count does.
+  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge &&
+      socMoved(s - st.socStoredAtS >= kSocMaxAgeS ? 1 : kSocStep))
+    st.socDirty = true;
+  if (settled && !st.posted && hasWork()) repost();
+}
+
+// Whether the published state of charge is at least `step` from the stored one (any, when none is stored).
+bool Persistence::socMoved(uint16_t step) const {
+  const uint16_t now = pack_.soc.permille, kept = state_->socStored;
+  return !state_->socKept || (now > kept ? now - kept : kept - now) >= step;
+}
+
+Persistence::Job Persistence::nextJob() const {
+  const State& st = *state_;
+  return st.logDirty ? Job::Log : st.settingsDirty ? Job::Settings : st.socDirty ? Job::Soc : Job::None;
+}
+
+Status Persistence::write(Job job) {
+  std::array<uint8_t, SettingsRecord::kBytes> b;  // the longest record
+  std::span<const uint8_t> payload = state_->log;
+  RecordType t = RecordType::ProtectionLog;
+  if (job == Job::Settings) {
+    SettingsRecord r;
+    for (uint8_t id = 0; id < command::kSettingCount; ++id)
+      r.value[id] = settings_.read(id);
+    encode(r, b);
+    payload = b;
+    t = RecordType::Settings;
+  } else if (job == Job::Soc) {
+    const auto soc = std::span<uint8_t, SocRecord::kBytes>(b.data(), SocRecord::kBytes);
+    encode(SocRecord{pack_.soc.permille, pack_.soc.remainingMah}, soc);
+    payload = soc;
+    t = RecordType::StateOfCharge;
+  }
+  return store_.write(type(t), payload);
+}
+
+// The job is over, written or failed: a failed write is not retried (the flash's status stays in
+// lastStatus()); the next trip, settings change or state-of-charge step writes again. So a failing flash
+// costs one job an event, never a loop (the state of charge counts as stored either way, or every scan would
+// try again).
+void Persistence::done(Job job) {
+  State& st = *state_;
+  if (job == Job::Log) st.logDirty = false;
+  if (job == Job::Settings) st.settingsDirty = false;
+  if (job == Job::Soc) {
+    st.socDirty = false;
+    st.socKept = true;
+    st.socStored = pack_.soc.permille;
+    st.socStoredAtS = st.seconds;
+  }
 }
 
 void Persistence::step() {
-  state_->posted = false;
-  if (state_->logDirty) {
-    state_->last = store_.write(type(RecordType::ProtectionLog), state_->log);
+  State& st = *state_;
+  st.posted = false;
+  if (const Job job = nextJob(); job != Job::None) {
     // Busy: a compaction is due and no sector is erased yet; erase one now and write in the next step.
-    // A failed write or erase is not retried (the flash's status stays in lastStatus()): the next trip
-    // writes the log again. So a failing flash costs one job a trip, never a loop.
-    if (state_->last == Status::Busy && (state_->last = store_.eraseStep()) == Status::Ok) return repost();
-    state_->logDirty = false;
+    if ((st.last = write(job)) == Status::Busy && (st.last = store_.eraseStep()) == Status::Ok)
+      return repost();
+    done(job);
   } else if (store_.needsErase()) {
-    state_->last = store_.eraseStep();
+    st.last = store_.eraseStep();
   }
+}
+
+void Persistence::beforeReset() {
+  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge && socMoved(1)) state_->socDirty = true;
+  // The steps the lowest task would run, now: at most three jobs, each a write or an erase and the write
+  // (the step's own post is harmless: the reset comes first).
+  for (uint8_t n = 0; n < 6 && nextJob() != Job::None; ++n)
+    step();
+}
+
+bool Persistence::restoredSoc(uint16_t& permille) const {
+  permille = state_->socStored;
+  return state_->socKept;
 }
 
 // The log waits for its write: the next step, after everything else that is ready.

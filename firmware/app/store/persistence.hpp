@@ -1,5 +1,6 @@
-// Persistence: what an image keeps across a reset in the RecordStore (records.hpp), the protection log and
-// the fault record, with the start-up restore and the scheduling of every flash write and erase.
+// Persistence: what an image keeps across a reset in the RecordStore (records.hpp): the protection log, the
+// fault record, the settings written by command and the state of charge, with the start-up restore and the
+// scheduling of every flash write and erase.
 //
 // Contract
 // - start(info), once at start-up before the tasks start (thread mode, interrupts may be on): restores the
@@ -9,18 +10,27 @@
 //   faultSource (LastReset: the fault of this reset, now in flash; Stored: no fault this reset, the newest
 //   Fault record of an earlier run, whose module and code it puts in faultModule / faultLine; None), so the
 //   Startup message publishes them. A write that finds no erased sector erases one first (at start-up only:
-//   at most one sector erase, <= 20 ms, SLASEX5C section 7.7, before protection runs).
+//   at most one sector erase, <= 20 ms, SLASEX5C section 7.7, before protection runs). It also restores the
+//   settings (LimitSettings::restore: each limit checked as a command's write is; a refused one is counted,
+//   settingsRefused(), and keeps its default) and keeps the newest state-of-charge record for
+//   restoredSoc(), which the image hands to its state of charge before the monitor starts.
 // - evaluated() (TripObserver, from the protection task after each evaluation): a newly tripped fault is
 //   added to the log in RAM (the oldest entry dropped when full) with the seconds since start-up and the
 //   value that tripped it (PackView: the extreme, the current, the device's blocks). Nothing is written
 //   there: when the protection task reports `settled` (a scan ended, no path request pending) and the store
 //   has work (a log to write, a sector to erase), it posts the lowest-priority task, which calls step().
-// - step() (BackgroundWork, from that task): one flash job per call, the log write first, else one sector
-//   erase; it posts itself again if work is left. A log write that finds no erased sector (Busy) erases one
-//   and writes in the next step. So every program and erase runs after the scan's bus work and the FET
-//   request, from the task that runs only when protection, the monitor and the publisher have nothing to
-//   do (the CPU still stalls for the flash: a fault-line interrupt that comes during an erase waits for it,
-//   measured in tests/twin, store/README.md).
+//   The same evaluation notes new settings (LimitSettings::changes(): a command's write applied) and a state
+//   of charge to keep: a counted one (not the gauge's, which keeps its own) that moved kSocStep from the
+//   stored value, or moved at all and the stored one is kSocMaxAgeS old.
+// - step() (BackgroundWork, from that task): one flash job per call: the log, else the settings, else the
+//   state of charge, else one sector erase; the next settled evaluation posts it again if work is left. A
+//   write that finds no erased sector (Busy) erases one and writes in the next step. So every program and
+//   erase runs after the scan's bus work and the FET request, from the task that runs only when protection,
+//   the monitor and the publisher have nothing to do (the CPU still stalls for the flash: a fault-line
+//   interrupt that comes during an erase waits for it, measured in tests/twin, store/README.md).
+// - beforeReset() (BackgroundWork, from the command task just before a commanded reset, the paths off):
+//   writes at once what is waiting and a state of charge that moved at all since it was stored, through
+//   the steps the lowest task would run (at most six: three record writes, each possibly after an erase).
 // - Results: lastStatus() is the store's status of the last write or erase (Ok before any).
 // - Thread mode only; not reentrant.
 #pragma once
@@ -28,6 +38,7 @@
 #include <array>
 #include <cstdint>
 
+#include "app/command/settings.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
 #include "app/publish/publish_status.hpp"
@@ -49,13 +60,25 @@ inline constexpr uint8_t kResetCauseWatchdog = 0x0E;
 
 class Persistence final : public TripObserver, public BackgroundWork {
  public:
-  // `pack` gives the values trips are logged with; step() runs in kCommandTask on command_event::kStore.
-  Persistence(hal::FlashStorage& flash, sched::Scheduler& scheduler, const PackView& pack)
-      : store_(flash), scheduler_(scheduler), pack_(pack) {}
+  // A state-of-charge record when the value moved this far from the stored one (0.1 %)...
+  static constexpr uint16_t kSocStep = 10;
+  // ... or moved at all and the stored one is this old (s).
+  static constexpr uint32_t kSocMaxAgeS = 600;
+
+  // `pack` gives the values trips are logged with and the state of charge; `settings` the limits restored
+  // and kept; step() runs in kCommandTask on command_event::kStore.
+  Persistence(hal::FlashStorage& flash, sched::Scheduler& scheduler, const PackView& pack,
+              command::LimitSettings& settings)
+      : store_(flash), scheduler_(scheduler), pack_(pack), settings_(settings) {}
 
   void start(StartupInfo& info);
   void evaluated(FaultMask newlyTripped, bool settled, Instant now) override;
   void step() override;
+  void beforeReset() override;
+
+  // After start(): the kept state of charge (false: none), and how many kept settings were refused.
+  bool restoredSoc(uint16_t& permille) const;
+  uint8_t settingsRefused() const { return state_->settingsRefused; }
 
   // The protection log as it is kept (decoded from its stored form): for tests and tools.
   ProtectionLogRecord log() const;
@@ -63,7 +86,14 @@ class Persistence final : public TripObserver, public BackgroundWork {
   const RecordStore& store() const { return store_; }
 
  private:
-  bool hasWork() const { return state_->logDirty || store_.needsErase(); }
+  void restoreSettingsAndSoc();
+  enum class Job : uint8_t { None, Log, Settings, Soc };
+  bool hasWork() const { return nextJob() != Job::None || store_.needsErase(); }
+  Job nextJob() const;
+  // Writes the record of `job` (the store's status); done() ends the job, written or failed.
+  Status write(Job job);
+  void done(Job job);
+  bool socMoved(uint16_t step) const;
   void repost();
   void addTrip(FaultId id, uint32_t uptimeS);
   // The newest record of type `t` decoded into `r`; false (r unchanged) when there is none or it does not
@@ -79,7 +109,14 @@ class Persistence final : public TripObserver, public BackgroundWork {
     uint32_t seconds;  // since start-up, counted from the evaluations' instants
     uint32_t subUs;    // microseconds past seconds
     Instant lastEvaluation;
+    uint32_t socStoredAtS;  // when the stored state of charge was written (0: before this start-up)
+    uint16_t socStored;     // the stored state of charge (0.1 %), valid with socKept
+    bool socKept;
+    bool socDirty;
     bool logDirty;
+    bool settingsDirty;
+    uint8_t settingsSeen;  // LimitSettings::changes() when the settings were last noted
+    uint8_t settingsRefused;
     bool posted;
     Status last;
   };
@@ -87,6 +124,7 @@ class Persistence final : public TripObserver, public BackgroundWork {
   RecordStore store_;
   sched::Scheduler& scheduler_;
   const PackView& pack_;
+  command::LimitSettings& settings_;
   Zeroed<State> state_;
 };
 

@@ -1,4 +1,5 @@
-// Start-up of an image's records kept in flash (app/store/persistence.hpp): restores them, writes the
+// Start-up of an image's records kept in flash (app/store/persistence.hpp): restores them (the settings
+// written by command, the state of charge where the image counts it), writes the
 // fault record of this reset, announces the Startup message with what was restored, and hooks the store to
 // the application's protection and command tasks. Call once from appInit(), before app.start(), instead of
 // announcing the Startup message alone.
@@ -16,9 +17,15 @@ namespace image {
 
 template <class App>
 fw::app::store::Persistence& startKeptRecords(App& app, fw::sched::Scheduler& scheduler, uint8_t resetCause) {
-  auto& records = constructOnce<fw::app::store::Persistence>(dataFlash(), scheduler, app.pack());
+  auto& records =
+      constructOnce<fw::app::store::Persistence>(dataFlash(), scheduler, app.pack(), app.settings());
   fw::app::StartupInfo info = startupInfo(resetCause);
   records.start(info);
+  // The kept state of charge is the counted one's starting value (the BQ4050's gauge keeps its own).
+  if constexpr (requires { app.stateOfCharge().restore(uint16_t{}); }) {
+    uint16_t permille = 0;
+    if (records.restoredSoc(permille)) app.stateOfCharge().restore(permille);
+  }
   app.attachStore(records, records);
   app.announceStartup(info);
   return records;
