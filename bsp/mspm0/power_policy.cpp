@@ -3,6 +3,7 @@
 #include "hal/irq.hpp"
 #include "mmio.hpp"
 #include "regs/cpuss.hpp"
+#include "regs/gpio.hpp"
 #include "regs/i2c.hpp"
 #include "regs/sysctl.hpp"
 #include "regs/timg.hpp"
@@ -22,6 +23,13 @@ constexpr uint32_t kScrSleepDeep = 1U << 2;
 
 inline void writeScr(uint32_t value) {
   mmio::block<mmio::Reg>(kScr).write(value);
+}
+
+// SYSCTL SHUTDNSTORE0 (0x1400, hw_sysctl_mspm0l11xx_l13xx.h and _g1x0x_g3x0x.h): read after clearing
+// CTL.PREFETCH, because a prefetch disable takes effect only once a SHUTDNSTORE access completes
+// (CPU_ERR_02, SLAZ742G; also listed in SLAZ741D/E for the L130x).
+inline void settlePrefetchOff() {
+  static_cast<void>(mmio::block<mmio::Reg>(reg::sysctl::kBase + 0x1400).read());
 }
 
 // Microseconds to LFCLK ticks, rounded down (x 67 / 2048 = 0.032715 ticks/us, 0.16 % under 32 768 / 1e6):
@@ -57,6 +65,11 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   if ((reg::i2c::controller(config_.i2c).msr.read() & reg::i2c::kMsrBusy) != 0 ||
       (reg::uart::line(config_.uart).stat.read() & reg::uart::kStatBusy) != 0)
     return false;
+  // GPIO_ERR_01 case 2 (SLAZ741A 6.4, L130x rev C; SLAZ742A for the G350x): when a GPIO edge woke the device
+  // and the pulse is still active as it goes back to STANDBY1, no later wake edge is detected. So STANDBY1
+  // waits until every falling-edge wake pin (ALERT, active low) reads high again; SLEEP0, not a STANDBY
+  // mode, keeps catching edges meanwhile.
+  if ((reg::gpio::input(config_.wakePort).din.read() & config_.wakePins) != config_.wakePins) return false;
   uint32_t sleepUs = kMaxSleepUs;
   if (timed) {
     const int32_t left = static_cast<int32_t>(deadline.us - clock_.now().us);
@@ -76,6 +89,14 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   // was armed, pend the wake-up ourselves.
   if (((lf.ctr.read() - start) & 0xFFFF) >= ticks) lfEvents.iset.write(timg::kIntCcu0);
 
+  // CPU_ERR_03 (listed for the L130x in SLAZ741D/E and the G350x in SLAZ742E; its text read in SLAZ763 6.3,
+  // the same advisory ID): entering SLEEP0 the prefetcher can fetch all zeros, and flash code run after the
+  // wake-up before an ISR has refilled the prefetcher and cache can be corrupted. Here the Thread code after
+  // the WFI runs first (PRIMASK set), so the prefetcher is off from before the WFI until that code has run.
+  mmio::Reg& cpuCtl = reg::cpuss::ctl(config_.cpuss);
+  const uint32_t cpuCtlSaved = cpuCtl.read();
+  cpuCtl.write(cpuCtlSaved & ~reg::cpuss::kCtlPrefetch);
+  settlePrefetchOff();
   writeScr(kScrSleepDeep);
   fw::port::waitForInterrupt();
   writeScr(0);
@@ -86,6 +107,7 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   lfEvents.iclr.write(timg::kIntCcu0);
   nvic::regs().icpr.write(1U << config_.lfIrq);
   clock_.resume(timeAfterSleep(anchor_, halted, start, woke), timed, deadline);
+  cpuCtl.write(cpuCtlSaved);
   return true;
 }
 

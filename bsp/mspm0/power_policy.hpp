@@ -4,11 +4,15 @@
 // - SLEEP0 (returns false: the scheduler's plain WFI) while the I2C controller runs a transfer (MSR.BUSY) or
 //   the UART transmits (STAT.BUSY: a byte in the TX FIFO or the shift register; its DMA refills the FIFO
 //   before it drains), whose bit timing needs the 32 MHz BUSCLK that STOP and STANDBY stop (SLAU847D 2 PMCU
-//   operating modes), and while the earliest deadline is nearer than 2 x kMarginUs: the 1 MHz TimgClock
-//   then gives it exactly.
+//   operating modes), while the earliest deadline is nearer than 2 x kMarginUs (the 1 MHz TimgClock then
+//   gives it exactly), and while a falling-edge wake pin (Config::wakePins: ALERT, active low) still reads
+//   low: GPIO_ERR_01 case 2 (SLAZ741A 6.4, SLAZ742A): a GPIO pulse still active when the device returns to
+//   STANDBY1 after waking it makes the device miss every later wake edge.
 // - Otherwise STANDBY1: TimgClock halted, an LFCLK timer (TIMG1, clocked through STANDBY1: SLASEX0D table
 //   8-1, SLAU847D 2 "LFCLK") armed for the deadline minus kMarginUs (at most kMaxSleepUs: its 16-bit count
-//   wraps in 2 s), SCR.SLEEPDEEP set for this one WFI. After the WFI, interrupts still masked: SLEEPDEEP
+//   wraps in 2 s), SCR.SLEEPDEEP set for this one WFI, with the instruction prefetcher off across it
+//   (CPU_ERR_03: the prefetcher can fetch all zeros entering a low-power mode, and the Thread code after this
+//   WFI runs before any handler). After the WFI, interrupts still masked: SLEEPDEEP
 //   cleared, the time taken from the LFCLK count (x 1e6 / 32 768 = x 15 625 / 512 us a tick,
 //   timeAfterSleep()), TimgClock restarted there and its wake-up re-armed. So no handler ever reads a clock
 //   that is behind, and the time is off by less than one LFCLK tick (30.5 us) after a sleep, without adding
@@ -38,8 +42,11 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
   struct Config {
     uintptr_t lfTimer = 0;  // a TIMG clocked in STANDBY1 (L1306: TIMG1)
     uint8_t lfIrq = 0;
-    uintptr_t i2c = 0;   // the I2C controller whose transfers need BUSCLK
-    uintptr_t uart = 0;  // the UART whose transmission needs BUSCLK
+    uintptr_t i2c = 0;       // the I2C controller whose transfers need BUSCLK
+    uintptr_t uart = 0;      // the UART whose transmission needs BUSCLK
+    uintptr_t cpuss = 0;     // CPUSS, whose CTL.PREFETCH is cleared across the WFI (CPU_ERR_03)
+    uintptr_t wakePort = 0;  // the GPIO port of the falling-edge wake inputs ...
+    uint32_t wakePins = 0;   // ... and their DIN bits: STANDBY1 only while all read high (GPIO_ERR_01)
   };
 
   // What the wake-up needs before the deadline: tWAKE from STANDBY (15 us, SLASEX0D 7.8), one LFCLK tick of

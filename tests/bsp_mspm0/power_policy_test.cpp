@@ -7,11 +7,15 @@
 
 #include <cstdint>
 
+#include "fixture.hpp"
+#include "hal/irq.hpp"
 #include "power_policy.hpp"
+#include "timg_clock.hpp"
 
 namespace {
 
 using bsp::mspm0::StandbyIdle;
+using bsp::mspm0::TimgClock;
 
 constexpr uint64_t kNsPerSecond = 1000000000;
 constexpr uint64_t kWakeNs = 15000;
@@ -98,6 +102,79 @@ TEST(StandbyTime, NeverStepsBackBehindTheHaltedTime) {
   const fw::Instant halted{1000 + 50};  // 1.6 ticks after the anchor: the count says 1 tick + tWAKE, 45 us
   const fw::Instant now = StandbyIdle::timeAfterSleep(anchor, halted, 1, 1);
   EXPECT_EQ(now.us, halted.us);
+}
+
+// doSleep on the register model, with the L1306's addresses (mspm0l130x.h): TIMG0 the 1 MHz clock, TIMG1 on
+// LFCLK (IRQ 2), I2C0, UART0, CPUSS CTL at 0x40401300 (hw_cpuss.h), GPIOA DIN at 0x400A1380 (hw_gpio.h),
+// ALERT on PA15, SCR at 0xE000ED10 (ARMv6-M ARM B3.2.7), SYSCTL SHUTDNSTORE0 at 0x400AF000 + 0x1400
+// (hw_sysctl_mspm0l11xx_l13xx.h).
+constexpr uintptr_t kCpussCtl = 0x40401300;
+constexpr uintptr_t kGpioaDin = 0x400A1380;
+constexpr uint32_t kAlertPin = 1U << 15;
+constexpr uintptr_t kScr = 0xE000ED10;
+constexpr uintptr_t kShutdnStore0 = 0x400AF000 + 0x1400;
+constexpr uint32_t kPrefetch = 1U << 0;  // CPUSS CTL.PREFETCH
+constexpr uint32_t kCtlAtReset = 0x7;    // PREFETCH, ICACHE, LITEN
+
+class StandbyIdleTest : public bsp::mspm0::test::RegisterTest {
+ protected:
+  void SetUp() override {
+    RegisterTest::SetUp();
+    regs().set(kCpussCtl, kCtlAtReset);
+    clock.start();
+    StandbyIdle::init(kConfig);
+    regs().clearLog();
+  }
+  // The scheduler's idle: interrupts masked, nothing due (untimed).
+  bool idle() {
+    const uint32_t saved = fw::port::irqSave();
+    const bool slept = idle_.sleep(false, fw::Instant{});
+    fw::port::irqRestore(saved);
+    return slept;
+  }
+  long indexOf(bsp::mspm0::test::Access::Kind kind, uintptr_t address, uint32_t value, bool anyValue) const {
+    const auto& log = bsp::mspm0::test::model().log();
+    for (size_t i = 0; i < log.size(); ++i)
+      if (log[i].kind == kind && log[i].address == address && (anyValue || log[i].value == value))
+        return static_cast<long>(i);
+    return -1;
+  }
+
+  static constexpr StandbyIdle::Config kConfig{0x40086000, 2,          0x400F0000, 0x40108000,
+                                               0x40400000, 0x400A0000, kAlertPin};
+  TimgClock clock{{0x40084000, 16, 31}};
+  StandbyIdle idle_{clock, kConfig};
+};
+
+TEST_F(StandbyIdleTest, ThePrefetcherIsOffAcrossTheStandbyWfiAndRestoredAfter) {
+  // CPU_ERR_03: entering a low-power mode the prefetcher can fetch all zeros, and the Thread code after the
+  // WFI runs before any handler. CTL.PREFETCH is cleared, then SHUTDNSTORE0 read (CPU_ERR_02: the disable
+  // takes effect once a SHUTDNSTORE access completes), before SCR.SLEEPDEEP; CTL comes back whole after.
+  regs().set(kGpioaDin, kAlertPin);  // ALERT high: idle
+  ASSERT_TRUE(idle());
+  using Kind = bsp::mspm0::test::Access::Kind;
+  const long off = indexOf(Kind::Write, kCpussCtl, kCtlAtReset & ~kPrefetch, false);
+  const long settle = indexOf(Kind::Read, kShutdnStore0, 0, true);
+  const long deep = indexOf(Kind::Write, kScr, 1U << 2, false);
+  const long back = regs().findWrite(kCpussCtl, kCtlAtReset, static_cast<size_t>(deep < 0 ? 0 : deep));
+  ASSERT_GE(off, 0) << "PREFETCH cleared before the STANDBY1 WFI";
+  ASSERT_GE(settle, 0);
+  ASSERT_GE(deep, 0);
+  EXPECT_LT(off, settle);
+  EXPECT_LT(settle, deep);
+  EXPECT_GT(back, deep) << "CTL restored after the wake-up";
+  EXPECT_EQ(regs().value(kCpussCtl), kCtlAtReset);
+}
+
+TEST_F(StandbyIdleTest, AWakePinStillLowKeepsTheCoreOutOfStandby) {
+  // GPIO_ERR_01 case 2: back in STANDBY1 with the wake pulse still active, no later wake edge is detected.
+  // ALERT (falling edge, active low) still low: SLEEP0 (false, SCR untouched); high again: STANDBY1.
+  regs().set(kGpioaDin, 0);
+  EXPECT_FALSE(idle());
+  EXPECT_TRUE(regs().writes(kScr).empty());
+  regs().set(kGpioaDin, kAlertPin);
+  EXPECT_TRUE(idle());
+  EXPECT_FALSE(regs().writes(kScr).empty());
 }
 
 }  // namespace

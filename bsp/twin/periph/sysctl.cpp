@@ -11,6 +11,9 @@ constexpr uint32_t kSysosccfg = 0x1100, kMclkcfg = 0x1104, kHsclken = 0x1108, kH
 constexpr uint32_t kHfclkclkcfg = 0x1110, kGenclkcfg = 0x1138, kClkstatus = 0x1204;
 constexpr uint32_t kResetlevel = 0x1300, kResetcmd = 0x1304, kRstcause = 0x1220, kSysoscfclctl = 0x1310;
 
+// SHUTDNSTORE0..3 (0x1400..0x140C, one byte each: hw_sysctl_mspm0l11xx_l13xx.h, _g1x0x_g3x0x.h). Firmware
+// reads one after clearing CPUSS CTL.PREFETCH (CPU_ERR_02, SLAZ742G; bsp/mspm0/power_policy.cpp).
+constexpr uint32_t kShutdnstore0 = 0x1400, kShutdnstoreCount = 4;
 constexpr uint32_t kPmodecfg = 0x1140;     // SOCLOCK.PMODECFG (hw_sysctl_mspm0l11xx_l13xx.h, _g1x0x_g3x0x.h)
 constexpr uint32_t kSysoscFreqMask = 0x3;  // SYSOSCCFG.FREQ, 0 = base 32 MHz
 // SYSOSCCFG.USE4MHZSTOP (bit 8) and DISABLESTOP (bit 9), MCLKCFG.STOPCLKSTBY (bit 21), PMODECFG.DSLEEP (1:0:
@@ -93,6 +96,10 @@ std::string Sysctl::canClockProblem() const {
 
 bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
   if (bytes != 4) return false;
+  if (offset >= kShutdnstore0 && offset < kShutdnstore0 + 4 * kShutdnstoreCount && offset % 4 == 0) {
+    value = shutdnStore_[(offset - kShutdnstore0) / 4];
+    return true;
+  }
   switch (offset) {
     case kSysosccfg:
       value = sysosccfg_;
@@ -136,6 +143,10 @@ bool Sysctl::read(uint32_t offset, unsigned bytes, uint32_t& value) {
 
 bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
   if (bytes != 4) return false;
+  if (offset >= kShutdnstore0 && offset < kShutdnstore0 + 4 * kShutdnstoreCount && offset % 4 == 0) {
+    shutdnStore_[(offset - kShutdnstore0) / 4] = static_cast<uint8_t>(value);
+    return true;
+  }
   switch (offset) {
     case kSysosccfg:
       if (value & kSysoscFreqMask) {

@@ -80,6 +80,7 @@ class Sysctl final : public Device {
   bool hasHfxt_;
   uint32_t sysosccfg_ = 0, mclkcfg_ = 0, hsclken_ = 0, hsclkcfg_ = 0, hfclkclkcfg_ = 0, genclkcfg_ = 0;
   uint32_t resetLevel_ = 0, pmodecfg_ = 0;
+  uint8_t shutdnStore_[4] = {};  // SHUTDNSTORE0..3, kept across resets (hw_sysctl: shutdown storage memory)
   BootRequest bootRequest_ = BootRequest::None;
   bool fclMode_ = false;
   // Reads CLKSTATUS as the start-up monitor has it: HFCLKGOOD, or HFCLKOFF on a board without a crystal.

@@ -56,7 +56,12 @@ constinit UartSerial::RxBuffer serialReceived;  // zero: in .bss
 constinit UartSerial serial(kSerialConfig, &serialReceived);
 constinit Mspm0System system(Chip::kCpuss);
 #if BSP_DEEP_IDLE
-constexpr StandbyIdle::Config kIdleConfig{Chip::kTimg1, Chip::kIrqTimg1, Chip::kI2c0, Chip::kUart0};
+// The falling-edge wake inputs (all on GPIOA) that must read high before STANDBY1 (GPIO_ERR_01,
+// power_policy.cpp).
+constexpr uint32_t kWakePins = Chip::kPa15.mask() | (BMS_BOARD_LED_BUTTON ? Chip::kPa14.mask() : 0U);
+static_assert(Chip::kPa15.port == 0 && Chip::kPa14.port == 0);
+constexpr StandbyIdle::Config kIdleConfig{Chip::kTimg1, Chip::kIrqTimg1,        Chip::kI2c0, Chip::kUart0,
+                                          Chip::kCpuss, Chip::kPa15.portBase(), kWakePins};
 constinit StandbyIdle power(clock, kIdleConfig);
 #endif
 
