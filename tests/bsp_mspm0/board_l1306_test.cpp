@@ -12,7 +12,6 @@
 #include "i2c_model.hpp"
 #include "pin_model.hpp"
 #include "sysclock.hpp"
-#include "sysctl_model.hpp"
 #include "uart_dma_model.hpp"
 
 extern "C" {
@@ -32,18 +31,16 @@ constexpr uint32_t kBq769x2StretchLimitUs = 4000;  // board_config.hpp: the BQ76
 
 class L1306BoardTest : public RegisterTest {
  protected:
+  L1306BoardTest() : RegisterTest(twin::Part::L1306) {}
   void SetUp() override {
     RegisterTest::SetUp();
     i2c.attach();
     serial.attach();
     alert.attach();
-    sysctl.attach();
-    sysctl.withoutExternalResistorSelect();
     image::bringUp();
   }
 
   I2cModel i2c{Chip::kI2c0};
-  SysctlModel sysctl;
   UartTxDmaModel serial{Chip::kUart0, Chip::kDma, 0, Chip::kDmaTrigUart0Tx};
   // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16).
   ActiveLowInput alert{"PA15 ALERT", kGpioaBase, 15, 16, ActiveLowInput::Output::OpenDrain};
@@ -54,7 +51,7 @@ TEST_F(L1306BoardTest, TheSysoscRunsInFclModeOnTheRoscResistor) {
   // SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL (the L13xx's FCL always uses the external ROSC resistor:
   // dl_sysctl_mspm0l11xx_l13xx.h DL_SYSCTL_enableSYSOSCFCLExternalResistor).
   EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1310), 0x2A000001U);
-  EXPECT_TRUE(sysctl.fclOn());
+  EXPECT_NE(regs().peek(0x400AF000 + 0x1204) & (1U << 24), 0U);  // CLKSTATUS.FCLMODE
 }
 
 TEST_F(L1306BoardTest, SlcanLeavesOnTheBackChannelPinPa8) {

@@ -661,6 +661,7 @@ TEST_F(Chip, TheLowerLevelCauseWinsUntilRstcauseIsRead) {
 TEST_F(Chip, TheFclNeedsItsKeyAndEndsOnlyWithABootrst) {
   // SYSOSCFCLCTL: "The key value of 2Ah (42) must be written to KEY together with SETUSEFCL"; "Once enabled,
   // this state is locked until the next BOOTRST" (hw_sysctl); CLKSTATUS.FCLMODE shows it.
+  wr(kSysctl + 0x1100, 0);           // SYSOSCCFG.FREQ: base (the frequency first, sysctl.hpp)
   wr(kSysctl + 0x1310, 0x00000003);  // no key: ignored
   EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
   wr(kSysctl + 0x1310, 0x2A000003);
@@ -673,6 +674,25 @@ TEST_F(Chip, TheFclNeedsItsKeyAndEndsOnlyWithABootrst) {
   wr(kSysctl + 0x1304, 0xE4000001);
   runUs(10);
   EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+}
+
+TEST_F(Chip, TheFclTurnedOnBeforeTheSysoscFrequencyStopsTheRun) {
+  // TI's SysConfig order: SYSOSCCFG's frequency, then the FCL (sysctl.hpp).
+  wr(kSysctl + 0x1310, 0x2A000003);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("before SYSOSCCFG"), std::string::npos) << why();
+}
+
+TEST_F(Chip, TheHfxtRangeChangedWhileTheHfxtRunsStopsTheRun) {
+  // TI's HFXT set-up turns the HFXT off before it sets range and start-up time (sysctl.hpp): a software
+  // SYSRST keeps it running with the last settings.
+  wr(kSysctl + 0x1110, 0x2000 | 0xFF);  // 16..32 MHz, longest start-up
+  wr(kSysctl + 0x1108, 1);              // HFXTEN
+  wr(kSysctl + 0x1110, (0x2000 | 0xFF) | (1U << 28));
+  EXPECT_FALSE(stopped()) << "the start-up monitor alone may follow HFXTEN";
+  wr(kSysctl + 0x1110, 0x3000 | 10U);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("HFXTRSEL or HFXTTIME changed"), std::string::npos) << why();
 }
 
 // --- TIMG
