@@ -1,7 +1,7 @@
 // Bring-up of the LP-MSPM0G3507 board with the monitor on I2C0 (images/common/board_g3507_can.cpp with the
 // board_config.hpp of lp-mspm0g3507-bq76952) on the register model: crystal, CAN, ALERT input and I2C
-// timeout, checked against TI's facts and the model's rules (mcan_model, i2c_model, pin_model) and the twin's
-// SYSCTL.
+// timeout, checked against TI's facts and the model's rules (mcan_model, i2c_model) and the twin's SYSCTL,
+// IOMUX and GPIO.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -11,12 +11,12 @@
 #include "fixture.hpp"
 #include "i2c_model.hpp"
 #include "mcan_model.hpp"
-#include "pin_model.hpp"
 #include "sysclock.hpp"
 
 extern "C" {
 uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
 void CANFD0_IRQHandler();
+void GROUP1_IRQHandler();
 }
 
 namespace bsp::mspm0::test {
@@ -31,14 +31,11 @@ class G3507I2cBoardTest : public RegisterTest {
     RegisterTest::SetUp();
     i2c.attach();
     can.attach();
-    alert.attach();
     image::bringUp();
   }
 
   I2cModel i2c{Chip::kI2c0};
   McanModel can{Chip::kCanfd0};
-  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PB0 (PINCM12).
-  ActiveLowInput alert{"PB0 ALERT", kGpioaBase + kGpioPortStride, 0, 12, ActiveLowInput::Output::OpenDrain};
   int calls = 0;
 };
 
@@ -67,8 +64,15 @@ TEST_F(G3507I2cBoardTest, CanRunsOnTheCrystalAndEveryInterruptIsAcknowledged) {
 }
 
 TEST_F(G3507I2cBoardTest, AlertIsAFallingEdgeInputWithThePullUp) {
-  image::board().alert.enable(counter(calls));  // the pin model checks PB0 when it is unmasked
-  EXPECT_TRUE(alert.check());
+  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PB0 (PINCM12): its
+  // fall reaches the handler, and released it reads high on the MCU's pull-up.
+  image::board().alert.enable(counter(calls));
+  chip().pins().setExternal(12, twin::Drive::Low);
+  GROUP1_IRQHandler();
+  EXPECT_EQ(calls, 1);
+  chip().pins().setExternal(12, twin::Drive::None);
+  EXPECT_TRUE(image::board().alert.level());
+  EXPECT_TRUE(chip().pins().floatingReads().empty());
   image::board().alert.disable();
 }
 

@@ -1,6 +1,7 @@
 // Bring-up of the LP-MSPM0G3507 board with a BQ79616 chain on UART0 (images/common/board_g3507_can.cpp with
 // the board_config.hpp of lp-mspm0g3507-bq79616, default UART0_PA10_PA11) on the register model: the link's
-// TX DMA and the nFAULT input, checked against the model's rules (uart_dma_model, pin_model).
+// TX DMA and the nFAULT input, checked against the model's rules (uart_dma_model) and the twin's SYSCTL,
+// IOMUX and GPIO.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -10,12 +11,12 @@
 #include "chip/mspm0g3507.hpp"
 #include "fixture.hpp"
 #include "mcan_model.hpp"
-#include "pin_model.hpp"
 #include "uart_dma_model.hpp"
 
 extern "C" {
 uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
 void UART0_IRQHandler();
+void GROUP1_IRQHandler();
 }
 
 namespace bsp::mspm0::test {
@@ -29,14 +30,11 @@ class G3507UartBoardTest : public RegisterTest {
     RegisterTest::SetUp();
     can.attach();
     link.attach();
-    nfault.attach();
     image::bringUp();
   }
 
   McanModel can{Chip::kCanfd0};
   UartTxDmaModel link{Chip::kUart0, Chip::kDma, 1, Chip::kDmaTrigUart0Tx};
-  // BQ79616 nFAULT: active low, driven by the device, on PB0 (PINCM12).
-  ActiveLowInput nfault{"PB0 nFAULT", kGpioaBase + kGpioPortStride, 0, 12, ActiveLowInput::Output::Driven};
   int calls = 0;
 };
 
@@ -61,8 +59,12 @@ TEST_F(G3507UartBoardTest, Bq79616FramesLeaveByDmaAtOneFreeEntry) {
 }
 
 TEST_F(G3507UartBoardTest, NfaultIsAFallingEdgeInput) {
-  image::board().nfault.enable(counter(calls));  // the pin model checks PB0 when it is unmasked
-  EXPECT_TRUE(nfault.check());
+  // BQ79616 nFAULT: active low, driven by the device (high when no fault), on PB0 (PINCM12).
+  chip().pins().setExternal(12, twin::Drive::High);
+  image::board().nfault.enable(counter(calls));
+  chip().pins().setExternal(12, twin::Drive::Low);
+  GROUP1_IRQHandler();
+  EXPECT_EQ(calls, 1);
   image::board().nfault.disable();
 }
 

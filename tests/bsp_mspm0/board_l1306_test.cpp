@@ -1,6 +1,7 @@
 // Bring-up of the LP-MSPM0L1306 board (images/common/board_l1306_i2c_slcan.cpp with the board_config.hpp of
 // lp-mspm0l1306-bq76952) on the register model: the pins, settings and interrupt paths the image programs,
-// checked against TI's LaunchPad facts and the model's rules (i2c_model, uart_dma_model, pin_model).
+// checked against TI's LaunchPad facts, the model's rules (i2c_model, uart_dma_model) and the twin's SYSCTL,
+// IOMUX and GPIO.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -10,7 +11,6 @@
 #include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
 #include "i2c_model.hpp"
-#include "pin_model.hpp"
 #include "sysclock.hpp"
 #include "uart_dma_model.hpp"
 
@@ -36,14 +36,11 @@ class L1306BoardTest : public RegisterTest {
     RegisterTest::SetUp();
     i2c.attach();
     serial.attach();
-    alert.attach();
     image::bringUp();
   }
 
   I2cModel i2c{Chip::kI2c0};
   UartTxDmaModel serial{Chip::kUart0, Chip::kDma, 0, Chip::kDmaTrigUart0Tx};
-  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16).
-  ActiveLowInput alert{"PA15 ALERT", kGpioaBase, 15, 16, ActiveLowInput::Output::OpenDrain};
   int calls = 0;
 };
 
@@ -86,12 +83,15 @@ TEST_F(L1306BoardTest, ALineStillShiftingWhenTheDmaIsDoneCompletesAtEndOfTransmi
 }
 
 TEST_F(L1306BoardTest, AlertIsAFallingEdgeInputWithThePullUpAndReachesItsHandler) {
-  image::board().alert.enable(counter(calls));  // the pin model checks PA15 when it is unmasked
-  EXPECT_TRUE(alert.check());
-  regs().queueRead(Chip::kCpuss + 0x1130, 1);  // INT_GROUP1 IIDX: GPIOA
-  regs().queueRead(kGpioaBase + 0x1038, 1U << 15);
+  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16): its
+  // fall reaches the handler, and released it reads high on the MCU's pull-up.
+  image::board().alert.enable(counter(calls));
+  chip().pins().setExternal(16, twin::Drive::Low);
   GROUP1_IRQHandler();
   EXPECT_EQ(calls, 1);
+  chip().pins().setExternal(16, twin::Drive::None);
+  EXPECT_TRUE(image::board().alert.level());
+  EXPECT_TRUE(chip().pins().floatingReads().empty());
   image::board().alert.disable();
 }
 

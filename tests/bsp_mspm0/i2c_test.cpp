@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fixture.hpp"
+#include "gpio.hpp"
 #include "i2c.hpp"
 #include "i2c_model.hpp"
 #include "mmio.hpp"
@@ -45,8 +46,8 @@ constexpr uintptr_t kPincm1 = 0x40428004;  // PA0 = SDA
 constexpr uintptr_t kPincm2 = 0x40428008;  // PA1 = SCL
 constexpr uintptr_t kGpioaDoutSet = 0x400A1290;
 constexpr uintptr_t kGpioaDoutClr = 0x400A12A0;
-constexpr uintptr_t kGpioaDin = 0x400A1380;
 constexpr uintptr_t kNvicIser = 0xE000E100;
+constexpr int kSdaPincm = 1, kSclPincm = 2;
 
 // I2C_CPU_INT_IMASK_* bits.
 constexpr uint32_t kTxDone = 1U << 1;
@@ -78,10 +79,23 @@ class I2cTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
+    // The board: GPIOA powered (the boards' bring-up does it before the I2C), pull-ups on SDA (PA0, PINCM1)
+    // and SCL (PA1, PINCM2) as on the EVMs; the twin's IOMUX and GPIO carry the lines during a bus recovery.
+    powerGpioPort(kGpioaBase);
+    chip().pins().setBoardPullUp(kSdaPincm, true);
+    chip().pins().setBoardPullUp(kSclPincm, true);
     fifo.attach();
     i2c.init();
     regs().set(kMbmon, 0x3);  // SCL and SDA high: idle bus
     regs().clearLog();
+  }
+
+  // A target holds SDA low (stuck mid-byte) and lets it go after `clocks` SCL pulses (never: -1).
+  void holdSda(int clocks) {
+    chip().pins().setExternal(kSdaPincm, twin::Drive::Low);
+    chip().pins().onChange(kSclPincm, [this, clocks, pulses = 0](bool high) mutable {
+      if (high && ++pulses == clocks) chip().pins().setExternal(kSdaPincm, twin::Drive::None);
+    });
   }
 
   // Plays back one interrupt: MIS holds `pending` for the ISR's read.
@@ -419,9 +433,7 @@ TEST_F(I2cTest, TimeoutRecoversTheBusWithClocksAndStop) {
   list[0].write = a;
   ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
   regs().clearLog();
-  // SDA (PA0, DIN bit 0) held low by the target for two clocks, then released; SCL (bit 1) high.
-  regs().queueReads(kGpioaDin, {0x2, 0x2, 0x3});
-  regs().set(kGpioaDin, 0x3);
+  holdSda(2);  // released by the second recovery clock
   interrupt(kTimeoutA);
 
   EXPECT_EQ(list[0].status, fw::Status::Timeout);
@@ -452,7 +464,7 @@ TEST_F(I2cTest, StuckSdaAfterNineClocksIsBusStuck) {
   list[0].write = a;
   ASSERT_EQ(i2c.start(list, counter(done)), fw::Status::Ok);
   regs().clearLog();
-  regs().set(kGpioaDin, 0x2);  // SDA never released
+  holdSda(-1);  // SDA never released
   interrupt(kTimeoutA);
   EXPECT_EQ(list[0].status, fw::Status::BusStuck);
   const auto clr = regs().writes(kGpioaDoutClr);
@@ -460,8 +472,7 @@ TEST_F(I2cTest, StuckSdaAfterNineClocksIsBusStuck) {
 }
 
 TEST_F(I2cTest, IdleBusWithSdaLowIsRecoveredBeforeStarting) {
-  regs().set(kMbmon, 0x1);     // SCL high, SDA low on an idle bus
-  regs().set(kGpioaDin, 0x3);  // released after the first check
+  regs().set(kMbmon, 0x1);  // SCL high, SDA low on an idle bus; released by the time recovery looks
   const std::array<uint8_t, 1> a{0x01};
   std::array<fw::hal::I2cTransaction, 1> list{};
   list[0].address = 0x08;
@@ -472,8 +483,8 @@ TEST_F(I2cTest, IdleBusWithSdaLowIsRecoveredBeforeStarting) {
 }
 
 TEST_F(I2cTest, IdleBusThatStaysStuckIsReportedFromTheInterrupt) {
-  regs().set(kMbmon, 0x1);     // SDA low on an idle bus
-  regs().set(kGpioaDin, 0x2);  // and recovery cannot free it
+  regs().set(kMbmon, 0x1);  // SDA low on an idle bus
+  holdSda(-1);              // and recovery cannot free it
   const std::array<uint8_t, 1> a{0x01};
   std::array<fw::hal::I2cTransaction, 1> list{};
   list[0].address = 0x08;
@@ -618,9 +629,8 @@ TEST_F(I2cTest, StartRejectsBadListsAndBusy) {
 }
 
 TEST_F(I2cTest, RecoverWhenIdleReportsTheBusState) {
-  regs().set(kGpioaDin, 0x3);
   EXPECT_EQ(i2c.recover(), fw::Status::Ok);
-  regs().set(kGpioaDin, 0x2);
+  holdSda(-1);
   EXPECT_EQ(i2c.recover(), fw::Status::BusStuck);
 }
 

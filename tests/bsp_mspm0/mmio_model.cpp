@@ -15,6 +15,9 @@ struct Range {
 };
 constexpr Range kTwinRanges[] = {
     {twin::Sysctl::kBase, twin::Sysctl::kSize},
+    {twin::Pins::kBase, twin::Pins::kSize},  // IOMUX
+    {0x400A0000, 0x4000},                    // GPIOA, GPIOB
+    {twin::Cpuss::kBase, twin::Cpuss::kSize},
 };
 
 // The twin's CPU runs WFI; B .-2 from 0x100 (the reset vector), SP at the top of SRAM: it sleeps, and time

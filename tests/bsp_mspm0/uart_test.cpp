@@ -10,6 +10,7 @@
 
 #include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
+#include "gpio.hpp"
 #include "mmio.hpp"
 #include "regs/uart.hpp"
 #include "uart_dma_model.hpp"
@@ -91,6 +92,7 @@ class UartLinkTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
+    powerGpioPort(kGpioaBase);  // the board's bring-up powers the port before the link takes TX for a ping
     link.init();
     regs().clearLog();
   }
@@ -109,6 +111,7 @@ class UartLinkTest : public RegisterTest {
 
 TEST_F(UartLinkTest, InitSets1MbaudFromThe32MHzBusClock) {
   RegisterTest::SetUp();
+  powerGpioPort(kGpioaBase);
   UartLink fresh(linkConfig());
   fresh.init();
   // 32 MHz / (16 * 1 Mbaud) = 2.0: IBRD 2, FBRD 0 (tsv example "UART1 (to BQ79616) ... IBRD=2 FBRD=0").
