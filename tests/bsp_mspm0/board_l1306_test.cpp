@@ -1,18 +1,18 @@
 // Bring-up of the LP-MSPM0L1306 board (images/common/board_l1306_i2c_slcan.cpp with the board_config.hpp of
 // lp-mspm0l1306-bq76952) on the register model: the pins, settings and interrupt paths the image programs,
-// checked against TI's LaunchPad facts, the model's rules (i2c_model, uart_dma_model) and the twin's SYSCTL,
-// IOMUX and GPIO.
+// checked against TI's LaunchPad facts, the model's rules (i2c_model) and the twin's SYSCTL, IOMUX, GPIO,
+// UART and DMA.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "board_l1306_i2c_slcan.hpp"
 #include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
 #include "i2c_model.hpp"
 #include "sysclock.hpp"
-#include "uart_dma_model.hpp"
 
 extern "C" {
 uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
@@ -35,12 +35,12 @@ class L1306BoardTest : public RegisterTest {
   void SetUp() override {
     RegisterTest::SetUp();
     i2c.attach();
-    serial.attach();
+    chip().uart(0).onTransmit([this](uint8_t b) { sent.push_back(b); });
     image::bringUp();
   }
 
   I2cModel i2c{Chip::kI2c0};
-  UartTxDmaModel serial{Chip::kUart0, Chip::kDma, 0, Chip::kDmaTrigUart0Tx};
+  std::vector<uint8_t> sent;  // what UART0 put on the line
   int calls = 0;
 };
 
@@ -61,24 +61,27 @@ TEST_F(L1306BoardTest, SlcanLeavesOnTheBackChannelPinPa8) {
 
 TEST_F(L1306BoardTest, SlcanTextReachesTheLineAndCompletesAtEndOfTransmission) {
   const std::array<uint8_t, 6> text{'t', '1', '0', '0', '0', '\r'};
+  regs().dmaBuffer(std::span<const uint8_t>(text));
   ASSERT_EQ(image::board().serial.write(text, counter(calls)), fw::Status::Ok);
-  serial.transmit(100);
-  EXPECT_EQ(serial.sent().size(), text.size());
+  regs().advanceUs(1000);  // six frames at 115200 Bd
+  EXPECT_EQ(sent, std::vector<uint8_t>(text.begin(), text.end()));
   UART0_IRQHandler();
   EXPECT_EQ(calls, 1);
 }
 
 TEST_F(L1306BoardTest, ALineStillShiftingWhenTheDmaIsDoneCompletesAtEndOfTransmission) {
   // The usual case on the part: DMA_DONE_TX comes with the last bytes still in the 4-entry FIFO, so the line
-  // completes at EOT, which the UART raises only with CTL0.RXE set as well (UART_ERR_02, uart_dma_model.hpp).
+  // completes at EOT, which the UART raises only with CTL0.RXE set as well (UART_ERR_02, twin
+  // periph/uart.hpp).
   const std::array<uint8_t, 6> text{'t', '1', '0', '0', '0', '\r'};
+  regs().dmaBuffer(std::span<const uint8_t>(text));
   ASSERT_EQ(image::board().serial.write(text, counter(calls)), fw::Status::Ok);
-  serial.transmit(2);  // the DMA has moved all six bytes; four are still queued
+  ASSERT_TRUE(regs().runUntil([this] { return sent.size() == 2; }, 1000));  // the DMA has moved all six
   UART0_IRQHandler();
   EXPECT_EQ(calls, 0) << "not done while bytes are still on their way";
-  serial.transmit(100);
+  regs().advanceUs(1000);
   UART0_IRQHandler();
-  EXPECT_EQ(serial.sent().size(), text.size());
+  EXPECT_EQ(sent.size(), text.size());
   EXPECT_EQ(calls, 1);
 }
 

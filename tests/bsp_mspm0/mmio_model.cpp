@@ -18,6 +18,8 @@ constexpr Range kTwinRanges[] = {
     {twin::Pins::kBase, twin::Pins::kSize},  // IOMUX
     {0x400A0000, 0x4000},                    // GPIOA, GPIOB
     {twin::Cpuss::kBase, twin::Cpuss::kSize},
+    {0x40100000, 0xA000},  // UART1 0x40100000, UART2 0x40102000 (G3507), UART0 0x40108000
+    {twin::Dma::kBase, twin::Dma::kSize},
 };
 
 // The twin's CPU runs WFI; B .-2 from 0x100 (the reset vector), SP at the top of SRAM: it sleeps, and time
@@ -57,6 +59,38 @@ void RegisterModel::reset(twin::Part part) {
   chip_->machine().takeResetCause();
   stopFlagged_ = false;
   warningsFlagged_ = 0;
+  dmaBuffers_.clear();
+  nextSram_ = chip_->machine().layout().sramBase;
+}
+
+void RegisterModel::shareBuffer(const uint8_t* source, uint8_t* destination, size_t size) {
+  twin::Machine& m = chip_->machine();
+  dmaBuffers_.push_back({source, destination, size, nextSram_});
+  nextSram_ += static_cast<uint32_t>((size + 3) & ~size_t{3});
+  if (nextSram_ > m.layout().sramBase + m.layout().sramSize / 2)
+    flag("dmaBuffer(): the buffers take more than half the twin's SRAM");
+}
+
+uint32_t RegisterModel::dmaAddress(uintptr_t address, uint32_t value) {
+  // DMACHAN[n] at DMA_BASE + 0x1200 + 0x10 n: DMASA +4, DMADA +8 (hw_dma.h; dma.hpp).
+  const uintptr_t offset = address - twin::Dma::kBase;
+  if (offset < 0x1200 || offset >= 0x1300 || ((offset & 0xF) != 4 && (offset & 0xF) != 8)) return value;
+  for (const DmaBuffer& b : dmaBuffers_) {
+    const uint32_t hostLow = static_cast<uint32_t>(reinterpret_cast<uintptr_t>(b.source));
+    if (value - hostLow >= b.size) continue;
+    for (size_t i = 0; i < b.size; ++i)
+      chip_->machine().busWrite(b.twinAddress + static_cast<uint32_t>(i), 1, b.source[i]);
+    return b.twinAddress + (value - hostLow);
+  }
+  return value;
+}
+
+bool RegisterModel::runUntil(const std::function<bool()>& done, uint64_t maxUs) {
+  for (uint64_t us = 0; us < maxUs; ++us) {
+    if (done()) return true;
+    advanceUs(1);
+  }
+  return done();
 }
 
 bool RegisterModel::bridged(uintptr_t address) {
@@ -109,6 +143,13 @@ void RegisterModel::advance(uint64_t cycles) {
     }
     m.timeline().advanceTo(end);
   }
+  for (const DmaBuffer& b : dmaBuffers_) {
+    for (size_t i = 0; b.destination != nullptr && i < b.size; ++i) {
+      uint32_t byte = 0;
+      m.busRead(b.twinAddress + static_cast<uint32_t>(i), 1, byte);
+      b.destination[i] = static_cast<uint8_t>(byte);
+    }
+  }
   checkTwin();
 }
 
@@ -142,7 +183,7 @@ uint32_t RegisterModel::read(uintptr_t address) {
 void RegisterModel::write(uintptr_t address, uint32_t v) {
   log_.push_back({Access::Kind::Write, address, v});
   current_[address] = v;
-  if (bridged(address)) twinWrite(address, v);
+  if (bridged(address)) twinWrite(address, dmaAddress(address, v));
   auto h = hooks_.find(address);
   if (h == hooks_.end()) return;
   const auto hooks = h->second;  // a copy: a hook may add hooks

@@ -7,6 +7,11 @@
 // G3507 unless the test asks for an L1306) whose CPU sleeps in a WFI loop; chip() lets a test act on the
 // world outside the chip (a pin driven low, a crystal missing) and advance() lets time pass, as spin() does
 // (4 CPU cycles per iteration, mmio.hpp). Which peripherals are bridged: twinRanges() (mmio_model.cpp).
+// DMA buffers: a driver gives the DMA a buffer's address (mmio::address(): the low 32 bits of the host
+// pointer), the twin's DMA works on the twin's SRAM. dmaBuffer() gives a host buffer a place in that SRAM: a
+// DMASA/DMADA write of an address inside it reaches the twin as the address of its SRAM copy (the log keeps
+// the driver's value); the copy is refreshed from the host buffer at that write, and a writable buffer gets
+// the SRAM copy back after every advance() (the DMA moves data only as time passes).
 // A bridged access that the twin refuses (no such register), a rule of the twin's models that stops the run
 // and a rule that warns (rules.hpp) are each flagged as a broken rule, with the twin's message.
 //
@@ -23,7 +28,7 @@
 // - onWrite(address, hook) runs `hook(value)` after a write to that address is logged and stored (e.g. to
 //   model a DMA-done flag appearing when a channel is enabled); several hooks run in the order added. Hooks
 //   may call set()/queueRead().
-// - Peripheral models (mcan_model, i2c_model, uart_dma_model) attach hooks and
+// - Peripheral models (mcan_model, i2c_model, timg_model) attach hooks and
 //   report a broken documented rule with flag(rule); every rule cites the TI source it enforces.
 //   violations() lists them; the test fixture fails any test that leaves one (a test that provokes one on
 //   purpose takes it with takeViolations()).
@@ -38,6 +43,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +87,11 @@ class RegisterModel {
   // Lets `cycles` CPU cycles (32 MHz) pass on the twin: its peripherals' events fire in order.
   void advance(uint64_t cycles);
   void advanceUs(uint64_t us) { advance(us * 32); }
+  // Advances 1 us at a time until `done()` (true) or `maxUs` have passed (false).
+  bool runUntil(const std::function<bool()>& done, uint64_t maxUs);
+  // A buffer the DMA reads (TX source) or writes (RX destination); valid until the next reset().
+  void dmaBuffer(std::span<const uint8_t> source) { shareBuffer(source.data(), nullptr, source.size()); }
+  void dmaBuffer(std::span<uint8_t> buffer) { shareBuffer(buffer.data(), buffer.data(), buffer.size()); }
 
   // Called by the mmio facade.
   uint32_t read(uintptr_t address);
@@ -109,6 +120,16 @@ class RegisterModel {
   uint32_t twinRead(uintptr_t address);
   void twinWrite(uintptr_t address, uint32_t value);
   void checkTwin();  // flags a stop or a warning of the twin's rules not flagged yet
+  struct DmaBuffer {
+    const uint8_t* source;
+    uint8_t* destination;  // null: the DMA only reads it
+    size_t size;
+    uint32_t twinAddress;
+  };
+  void shareBuffer(const uint8_t* source, uint8_t* destination, size_t size);
+  uint32_t dmaAddress(uintptr_t address, uint32_t value);  // the twin's view of a DMASA/DMADA value
+  std::vector<DmaBuffer> dmaBuffers_;
+  uint32_t nextSram_ = 0;
   std::unique_ptr<twin::Mspm0> chip_;
   bool stopFlagged_ = false;
   size_t warningsFlagged_ = 0;
