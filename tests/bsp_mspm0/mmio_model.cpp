@@ -20,7 +20,12 @@ constexpr Range kTwinRanges[] = {
     {twin::Cpuss::kBase, twin::Cpuss::kSize},
     {0x40100000, 0xA000},  // UART1 0x40100000, UART2 0x40102000 (G3507), UART0 0x40108000
     {twin::Dma::kBase, twin::Dma::kSize},
+    {0x400F0000, 0x4000},  // I2C0, I2C1
 };
+
+// What one register access takes on the twin: a Cortex-M0+ LDR or STR is 2 cycles (ARM DDI 0484C, Cortex-M0+
+// TRM, "Instruction set summary"), so a poll loop lets the peripheral's time pass as on the part.
+constexpr uint64_t kAccessCycles = 2;
 
 // The twin's CPU runs WFI; B .-2 from 0x100 (the reset vector), SP at the top of SRAM: it sleeps, and time
 // passes from one peripheral event to the next while a test waits.
@@ -177,6 +182,7 @@ uint32_t RegisterModel::read(uintptr_t address) {
     v = value(address);
   }
   log_.push_back({Access::Kind::Read, address, v});
+  advance(kAccessCycles);
   return v;
 }
 
@@ -184,6 +190,7 @@ void RegisterModel::write(uintptr_t address, uint32_t v) {
   log_.push_back({Access::Kind::Write, address, v});
   current_[address] = v;
   if (bridged(address)) twinWrite(address, dmaAddress(address, v));
+  advance(kAccessCycles);
   auto h = hooks_.find(address);
   if (h == hooks_.end()) return;
   const auto hooks = h->second;  // a copy: a hook may add hooks

@@ -306,7 +306,9 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   start();
   ScriptedTarget target({0x02});
   chip_.i2c0().attach(0x0B, target);
+  wr(kI2c0 + 0x1228, 0);                // MCR: not active while the timeout is set (i2c.hpp)
   wr(kI2c0 + 0x1204, (1U << 15) | 3U);  // TIMEOUT_CTL: TCNTAEN, TCNTLA 3
+  wr(kI2c0 + 0x1228, 1U | 4U);
   wr(kI2c0 + 0x1210, (0x0B << 1) | 1);
   wr(kI2c0 + 0x1214, (1U << 16) | (1U << 3) | 1U | 2U);
   runUs(100);
@@ -317,6 +319,25 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
   EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[I2C-NO-STOP]"), std::string::npos)
       << chip_.machine().ruleWarnings()[0];
+}
+
+TEST_F(I2c, TheTimeoutSetWhileTheControllerIsActiveStopsTheRun) {
+  // The clock-low timeout is configured during initialisation, not in the active state (SLAU846B 20.2).
+  start();
+  wr(kI2c0 + 0x1204, (1U << 15) | 3U);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("TIMEOUT_CTL written while MCR.ACTIVE"), std::string::npos) << why();
+}
+
+TEST_F(I2c, TheAnalogGlitchFilterWithoutChainStopsTheRun) {
+  // "When 0, chaining is disabled and only digital filter output is available to IP logic" (hw_i2c.h
+  // GFCTL.CHAIN): AGFEN alone filters nothing the controller sees; with CHAIN it is in the path.
+  start();
+  wr(kI2c0 + 0x1200, (1U << 8) | (1U << 11));
+  EXPECT_FALSE(stopped()) << why();
+  wr(kI2c0 + 0x1200, 1U << 8);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("AGFEN without GFCTL.CHAIN"), std::string::npos) << why();
 }
 
 // A target that stretches SCL before each byte it sends (a BQ76952 or BQ4050 extending the clock).
