@@ -10,7 +10,6 @@
 #include "board_g3507_can.hpp"
 #include "chip/mspm0g3507.hpp"
 #include "fixture.hpp"
-#include "mcan_model.hpp"
 
 extern "C" {
 uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
@@ -27,12 +26,10 @@ class G3507UartBoardTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
-    can.attach();
     chip().uart(0).onTransmit([this](uint8_t b) { sent.push_back(b); });
     image::bringUp();
   }
 
-  McanModel can{Chip::kCanfd0};
   std::vector<uint8_t> sent;  // what UART0 put on the line
   int calls = 0;
 };

@@ -21,6 +21,7 @@ constexpr Range kTwinRanges[] = {
     {0x40100000, 0xA000},  // UART1 0x40100000, UART2 0x40102000 (G3507), UART0 0x40108000
     {twin::Dma::kBase, twin::Dma::kSize},
     {0x400F0000, 0x4000},  // I2C0, I2C1
+    {0x40508000, 0x8000},  // CANFD0 (G3507)
 };
 
 // What one register access takes on the twin: a Cortex-M0+ LDR or STR is 2 cycles (ARM DDI 0484C, Cortex-M0+

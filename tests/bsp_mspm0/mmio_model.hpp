@@ -28,7 +28,7 @@
 // - onWrite(address, hook) runs `hook(value)` after a write to that address is logged and stored (e.g. to
 //   model a DMA-done flag appearing when a channel is enabled); several hooks run in the order added. Hooks
 //   may call set()/queueRead().
-// - Peripheral models (mcan_model, timg_model) attach hooks and
+// - Peripheral models (timg_model: TIMG is not bridged yet) attach hooks and
 //   report a broken documented rule with flag(rule); every rule cites the TI source it enforces.
 //   violations() lists them; the test fixture fails any test that leaves one (a test that provokes one on
 //   purpose takes it with takeViolations()).

@@ -491,6 +491,15 @@ TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
   EXPECT_EQ(chip_.machine().ruleWarnings().size(), 1U);
 }
 
+TEST_F(Chip, McanDividerBeforeTheModuleClockStopsTheRun) {
+  // CLK_REQEN "requests the functional and register clocks" (hw_mcan.h MCAN_CLKEN): the divider comes after.
+  startHfxt();
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7904, 0);  // MCANSS_CLKDIV before MCANSS_CLKEN
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("MCANSS_CLKDIV written before"), std::string::npos) << why();
+}
+
 TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
   // GENCLKCFG.CANCLKSRC 1 = SYSPLLCLK1 (hw_sysctl_mspm0g1x0x_g3x0x.h) with HSCLKEN.SYSPLLEN clear: CANCLK has
   // no source, MEM_INIT_DONE never comes.
