@@ -1,20 +1,18 @@
 // Bring-up of the LP-MSPM0L1306 board (images/common/board_l1306_i2c_slcan.cpp with the board_config.hpp of
 // lp-mspm0l1306-bq76952) on the register model: the pins, settings and interrupt paths the image programs,
-// checked against TI's LaunchPad facts and the model's rules (i2c_model, uart_dma_model, pin_model).
+// checked against TI's LaunchPad facts, the twin's SYSCTL, IOMUX, GPIO, UART, DMA and
+// I2C.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "board_l1306_i2c_slcan.hpp"
 #include "chip/mspm0l1306.hpp"
 #include "fixture.hpp"
-#include "i2c_model.hpp"
-#include "pin_model.hpp"
 #include "sysclock.hpp"
-#include "sysctl_model.hpp"
-#include "uart_dma_model.hpp"
 
 extern "C" {
 uint32_t __stack_limit__[2];  // the linker symbol the watchdog's stack guard reads on the target
@@ -33,21 +31,14 @@ constexpr uint32_t kBq769x2StretchLimitUs = 4000;  // board_config.hpp: the BQ76
 
 class L1306BoardTest : public RegisterTest {
  protected:
+  L1306BoardTest() : RegisterTest(twin::Part::L1306) {}
   void SetUp() override {
     RegisterTest::SetUp();
-    i2c.attach();
-    serial.attach();
-    alert.attach();
-    sysctl.attach();
-    sysctl.withoutExternalResistorSelect();
+    chip().uart(0).onTransmit([this](uint8_t b) { sent.push_back(b); });
     image::bringUp();
   }
 
-  I2cModel i2c{Chip::kI2c0};
-  SysctlModel sysctl;
-  UartTxDmaModel serial{Chip::kUart0, Chip::kDma, 0, Chip::kDmaTrigUart0Tx};
-  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16).
-  ActiveLowInput alert{"PA15 ALERT", kGpioaBase, 15, 16, ActiveLowInput::Output::OpenDrain};
+  std::vector<uint8_t> sent;  // what UART0 put on the line
   int calls = 0;
 };
 
@@ -55,7 +46,7 @@ TEST_F(L1306BoardTest, TheSysoscRunsInFclModeOnTheRoscResistor) {
   // SYSOSCFCLCTL = KEY 0x2A | SETUSEFCL (the L13xx's FCL always uses the external ROSC resistor:
   // dl_sysctl_mspm0l11xx_l13xx.h DL_SYSCTL_enableSYSOSCFCLExternalResistor).
   EXPECT_EQ(regs().lastWrite(0x400AF000 + 0x1310), 0x2A000001U);
-  EXPECT_TRUE(sysctl.fclOn());
+  EXPECT_NE(regs().peek(0x400AF000 + 0x1204) & (1U << 24), 0U);  // CLKSTATUS.FCLMODE
 }
 
 TEST_F(L1306BoardTest, SlcanLeavesOnTheBackChannelPinPa8) {
@@ -68,42 +59,51 @@ TEST_F(L1306BoardTest, SlcanLeavesOnTheBackChannelPinPa8) {
 
 TEST_F(L1306BoardTest, SlcanTextReachesTheLineAndCompletesAtEndOfTransmission) {
   const std::array<uint8_t, 6> text{'t', '1', '0', '0', '0', '\r'};
+  regs().dmaBuffer(std::span<const uint8_t>(text));
   ASSERT_EQ(image::board().serial.write(text, counter(calls)), fw::Status::Ok);
-  serial.transmit(100);
-  EXPECT_EQ(serial.sent().size(), text.size());
+  regs().advanceUs(1000);  // six frames at 115200 Bd
+  EXPECT_EQ(sent, std::vector<uint8_t>(text.begin(), text.end()));
   UART0_IRQHandler();
   EXPECT_EQ(calls, 1);
 }
 
 TEST_F(L1306BoardTest, ALineStillShiftingWhenTheDmaIsDoneCompletesAtEndOfTransmission) {
   // The usual case on the part: DMA_DONE_TX comes with the last bytes still in the 4-entry FIFO, so the line
-  // completes at EOT, which the UART raises only with CTL0.RXE set as well (UART_ERR_02, uart_dma_model.hpp).
+  // completes at EOT, which the UART raises only with CTL0.RXE set as well (UART_ERR_02, twin
+  // periph/uart.hpp).
   const std::array<uint8_t, 6> text{'t', '1', '0', '0', '0', '\r'};
+  regs().dmaBuffer(std::span<const uint8_t>(text));
   ASSERT_EQ(image::board().serial.write(text, counter(calls)), fw::Status::Ok);
-  serial.transmit(2);  // the DMA has moved all six bytes; four are still queued
+  ASSERT_TRUE(regs().runUntil([this] { return sent.size() == 2; }, 1000));  // the DMA has moved all six
   UART0_IRQHandler();
   EXPECT_EQ(calls, 0) << "not done while bytes are still on their way";
-  serial.transmit(100);
+  regs().advanceUs(1000);
   UART0_IRQHandler();
-  EXPECT_EQ(serial.sent().size(), text.size());
+  EXPECT_EQ(sent.size(), text.size());
   EXPECT_EQ(calls, 1);
 }
 
 TEST_F(L1306BoardTest, AlertIsAFallingEdgeInputWithThePullUpAndReachesItsHandler) {
-  image::board().alert.enable(counter(calls));  // the pin model checks PA15 when it is unmasked
-  EXPECT_TRUE(alert.check());
-  regs().queueRead(Chip::kCpuss + 0x1130, 1);  // INT_GROUP1 IIDX: GPIOA
-  regs().queueRead(kGpioaBase + 0x1038, 1U << 15);
+  // The BQ76952 ALERT, configured active-low open-drain by the BQ769x2-family images, on PA15 (PINCM16): its
+  // fall reaches the handler, and released it reads high on the MCU's pull-up.
+  image::board().alert.enable(counter(calls));
+  chip().pins().setExternal(16, twin::Drive::Low);
   GROUP1_IRQHandler();
   EXPECT_EQ(calls, 1);
+  chip().pins().setExternal(16, twin::Drive::None);
+  EXPECT_TRUE(image::board().alert.level());
+  EXPECT_TRUE(chip().pins().floatingReads().empty());
   image::board().alert.disable();
 }
 
 TEST_F(L1306BoardTest, I2cTimeoutIsTheStretchLimitWithinOneCount) {
-  // TI's count of TIMEOUT_CTL.TCNTLA (i2c_model.hpp): 4 ms at 400 kHz is 84 counts of 48 us = 4.03 ms (the
-  // old 247 counts were 11.9 ms).
-  EXPECT_GE(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs);
-  EXPECT_LT(i2c.timeoutUs(kBusClockHz), kBq769x2StretchLimitUs + 48);
+  // TI's count of TIMEOUT_CTL.TCNTLA (the twin's I2C, bsp/twin/periph/i2c.hpp): 4 ms at 400 kHz is 84 counts
+  // of 48 us = 4.03 ms (the old 247 counts were 11.9 ms). Measured on the twin (one SCL period of the START
+  // included: 2.5 us at 400 kHz).
+  const uint64_t us = i2cTimeoutOnTheTwinUs(image::board().i2c);
+  EXPECT_GE(us, kBq769x2StretchLimitUs);
+  EXPECT_LT(us, kBq769x2StretchLimitUs + 48);
+  regs().takeViolations();  // the controller is left waiting on the held SCL
 }
 
 TEST_F(L1306BoardTest, TheStandbyIdleCountsTimg1OnLfclkAndSelectsStandby1) {

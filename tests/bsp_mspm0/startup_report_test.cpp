@@ -1,5 +1,5 @@
-// The start-up report (bsp/mspm0/fault.hpp): RSTCAUSE read once against the register model's read-to-clear
-// SYSCTL (sysctl_model.hpp), and which resets let the fault record count. Cause IDs: hw_sysctl_*.h
+// The start-up report (bsp/mspm0/fault.hpp): RSTCAUSE read once against the twin's read-to-clear SYSCTL
+// (bsp/twin/periph/sysctl.hpp), and which resets let the fault record count. Cause IDs: hw_sysctl_*.h
 // SYSCTL_RSTCAUSE_ID_*; what each reset level resets: SLAU846B Table 2-12 / SLAU847D Table 2-9.
 #include <gtest/gtest.h>
 
@@ -7,31 +7,24 @@
 
 #include "fault.hpp"
 #include "fixture.hpp"
-#include "sysctl_model.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
 
 constexpr uintptr_t kRstcause = 0x400AF000 + 0x1220;
 
-class StartupReportTest : public RegisterTest {
- protected:
-  void SetUp() override {
-    RegisterTest::SetUp();
-    sysctl.attach();
-  }
-  SysctlModel sysctl;
-};
+class StartupReportTest : public RegisterTest {};
 
 TEST_F(StartupReportTest, TheResetCauseIsReadOnceAndTheReadClearsIt) {
-  sysctl.resetCause(0x0E);  // WWDT0 violation
+  // The twin's WWDT0 violation: a BOOTRST with cause 0x0E (bsp/twin/periph/wwdt.hpp).
+  chip().machine().reset(twin::ResetKind::Bootrst, "WWDT0 violation", twin::rstcause::kBootWwdt0);
   EXPECT_EQ(takeResetCause(), 0x0E);
   EXPECT_EQ(regs().readCount(kRstcause), 1U);
   EXPECT_EQ(takeResetCause(), 0x00) << "no reset since the last read";
 }
 
 TEST_F(StartupReportTest, OnlyTheIdFieldIsTaken) {
-  regs().queueRead(kRstcause, 0xFFFFFF1B);  // bits above RSTCAUSE.ID 4:0 are reserved
+  regs().queueRead(kRstcause, 0xFFFFFF1B);  // reserved bits above RSTCAUSE.ID 4:0 (the twin reads them 0)
   EXPECT_EQ(takeResetCause(), 0x1B);
 }
 

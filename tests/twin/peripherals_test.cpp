@@ -306,7 +306,9 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   start();
   ScriptedTarget target({0x02});
   chip_.i2c0().attach(0x0B, target);
+  wr(kI2c0 + 0x1228, 0);                // MCR: not active while the timeout is set (i2c.hpp)
   wr(kI2c0 + 0x1204, (1U << 15) | 3U);  // TIMEOUT_CTL: TCNTAEN, TCNTLA 3
+  wr(kI2c0 + 0x1228, 1U | 4U);
   wr(kI2c0 + 0x1210, (0x0B << 1) | 1);
   wr(kI2c0 + 0x1214, (1U << 16) | (1U << 3) | 1U | 2U);
   runUs(100);
@@ -317,6 +319,25 @@ TEST_F(I2c, ABusHeldAfterABurstWithoutStopTimesOutLikeAStretch) {
   ASSERT_EQ(chip_.machine().ruleWarnings().size(), 1U);
   EXPECT_NE(chip_.machine().ruleWarnings()[0].find("[I2C-NO-STOP]"), std::string::npos)
       << chip_.machine().ruleWarnings()[0];
+}
+
+TEST_F(I2c, TheTimeoutSetWhileTheControllerIsActiveStopsTheRun) {
+  // The clock-low timeout is configured during initialisation, not in the active state (SLAU846B 20.2).
+  start();
+  wr(kI2c0 + 0x1204, (1U << 15) | 3U);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("TIMEOUT_CTL written while MCR.ACTIVE"), std::string::npos) << why();
+}
+
+TEST_F(I2c, TheAnalogGlitchFilterWithoutChainStopsTheRun) {
+  // "When 0, chaining is disabled and only digital filter output is available to IP logic" (hw_i2c.h
+  // GFCTL.CHAIN): AGFEN alone filters nothing the controller sees; with CHAIN it is in the path.
+  start();
+  wr(kI2c0 + 0x1200, (1U << 8) | (1U << 11));
+  EXPECT_FALSE(stopped()) << why();
+  wr(kI2c0 + 0x1200, 1U << 8);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("AGFEN without GFCTL.CHAIN"), std::string::npos) << why();
 }
 
 // A target that stretches SCL before each byte it sends (a BQ76952 or BQ4050 extending the clock).
@@ -468,6 +489,15 @@ TEST_F(Chip, AKeyedRegisterWrittenWithoutItsKeyIsNamed) {
       << chip_.machine().ruleWarnings()[0];
   wr(kUart0 + 0x800, kPwrenOn);
   EXPECT_EQ(chip_.machine().ruleWarnings().size(), 1U);
+}
+
+TEST_F(Chip, McanDividerBeforeTheModuleClockStopsTheRun) {
+  // CLK_REQEN "requests the functional and register clocks" (hw_mcan.h MCAN_CLKEN): the divider comes after.
+  startHfxt();
+  wr(kCan + 0x6800, kPwrenOn);
+  wr(kCan + 0x7904, 0);  // MCANSS_CLKDIV before MCANSS_CLKEN
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("MCANSS_CLKDIV written before"), std::string::npos) << why();
 }
 
 TEST_F(Chip, McanClockFromTheSysPllThatIsOffIsStoppedByTheClockRule) {
@@ -661,6 +691,7 @@ TEST_F(Chip, TheLowerLevelCauseWinsUntilRstcauseIsRead) {
 TEST_F(Chip, TheFclNeedsItsKeyAndEndsOnlyWithABootrst) {
   // SYSOSCFCLCTL: "The key value of 2Ah (42) must be written to KEY together with SETUSEFCL"; "Once enabled,
   // this state is locked until the next BOOTRST" (hw_sysctl); CLKSTATUS.FCLMODE shows it.
+  wr(kSysctl + 0x1100, 0);           // SYSOSCCFG.FREQ: base (the frequency first, sysctl.hpp)
   wr(kSysctl + 0x1310, 0x00000003);  // no key: ignored
   EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
   wr(kSysctl + 0x1310, 0x2A000003);
@@ -673,6 +704,25 @@ TEST_F(Chip, TheFclNeedsItsKeyAndEndsOnlyWithABootrst) {
   wr(kSysctl + 0x1304, 0xE4000001);
   runUs(10);
   EXPECT_EQ(rd(kSysctl + 0x1204) & (1U << 24), 0U);
+}
+
+TEST_F(Chip, TheFclTurnedOnBeforeTheSysoscFrequencyStopsTheRun) {
+  // TI's SysConfig order: SYSOSCCFG's frequency, then the FCL (sysctl.hpp).
+  wr(kSysctl + 0x1310, 0x2A000003);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("before SYSOSCCFG"), std::string::npos) << why();
+}
+
+TEST_F(Chip, TheHfxtRangeChangedWhileTheHfxtRunsStopsTheRun) {
+  // TI's HFXT set-up turns the HFXT off before it sets range and start-up time (sysctl.hpp): a software
+  // SYSRST keeps it running with the last settings.
+  wr(kSysctl + 0x1110, 0x2000 | 0xFF);  // 16..32 MHz, longest start-up
+  wr(kSysctl + 0x1108, 1);              // HFXTEN
+  wr(kSysctl + 0x1110, (0x2000 | 0xFF) | (1U << 28));
+  EXPECT_FALSE(stopped()) << "the start-up monitor alone may follow HFXTEN";
+  wr(kSysctl + 0x1110, 0x3000 | 10U);
+  EXPECT_TRUE(stopped());
+  EXPECT_NE(why().find("HFXTRSEL or HFXTTIME changed"), std::string::npos) << why();
 }
 
 // --- TIMG

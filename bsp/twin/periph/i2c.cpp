@@ -18,6 +18,7 @@ constexpr uint32_t kAckOverride = 1U << 4;  // MCTR.MACKOEN
 constexpr uint32_t kMsrBusy = 1U << 0, kMsrErr = 1U << 1, kMsrAdrAck = 1U << 2, kMsrDatAck = 1U << 3;
 constexpr uint32_t kMsrIdle = 1U << 5, kMsrBusBusy = 1U << 6;
 constexpr uint32_t kMcrActive = 1U << 0, kMcrClkStretch = 1U << 2;
+constexpr uint32_t kGfctlAgfen = 1U << 8, kGfctlChain = 1U << 11;  // hw_i2c.h GFCTL.AGFEN, CHAIN
 constexpr uint32_t kTxFlush = 1U << 7, kRxFlush = 1U << 15;
 constexpr uint32_t kTimeoutAEnable = 1U << 15;
 constexpr uint32_t kPecEnable = 1U << 12, kPecsrError = 1U << 17;
@@ -44,6 +45,7 @@ I2c::I2c(Machine& machine, const char* name, Pins& pins)
       step_(machine.timeline(), [this] { step(); }),
       timeout_(machine.timeline(), [this] { onTimeout(); }),
       flush_(machine.timeline(), [this] {
+        if (flushStuck_) return;  // the fault holdFlush(): only a GPRCM reset empties the FIFOs
         if (mfifoctl_ & kTxFlush) tx_.clear();
         if ((mfifoctl_ & kRxFlush) && rxDelivered_ && !rx_.empty()) {
           machine_.violate(
@@ -532,9 +534,17 @@ bool I2c::writeRegister(uint32_t offset, uint32_t value) {
   }
   switch (offset) {
     case kGfctl:
+      // "When 0, chaining is disabled and only digital filter output is available to IP logic" (hw_i2c.h
+      // GFCTL.CHAIN): the analog filter enabled without CHAIN filters nothing the controller sees.
+      if ((value & kGfctlAgfen) && !(value & kGfctlChain))
+        stop("GFCTL.AGFEN without GFCTL.CHAIN: the analog glitch filter is not in the path (hw_i2c.h CHAIN)");
       gfctl_ = value;
       return true;
     case kTimeoutCtl:
+      // The clock-low timeout is configured during initialisation, not in the active state (SLAU847D 21.2 /
+      // SLAU846B 20.2, "clock low timeout").
+      if (mcr_ & kMcrActive)
+        stop("TIMEOUT_CTL written while MCR.ACTIVE is set (SLAU846B 20.2: configured during initialisation)");
       timeoutCtl_ = value;
       return true;
     case kTimeoutCnt:

@@ -30,6 +30,11 @@
 // describes it beyond hw_i2c.h's field (bsp/mspm0/README.md, open questions). A continuation after a
 // transmit burst or after a NACKed byte stops the run (not modelled).
 //
+// Set-up rules that stop the run: TIMEOUT_CTL written while MCR.ACTIVE is set (SLAU846B 20.2 / SLAU847D
+// 21.2 "clock low timeout": configured during initialisation, not in the active state); GFCTL.AGFEN without
+// GFCTL.CHAIN ("When 0, chaining is disabled and only digital filter output is available to IP logic",
+// hw_i2c.h GFCTL.CHAIN: the analog filter would do nothing).
+//
 // Rules that stop the run (the part would lose data silently): a write to MTXDATA with the TX FIFO full
 // ("the model drops and flags a write to a full FIFO"); a burst while MCR.ACTIVE is clear; a target that
 // stretches SCL on any byte (address, written or read) with MCR.CLKSTRETCH clear (rules.hpp I2C-CLKSTRETCH).
@@ -119,6 +124,9 @@ class I2c final : public Peripheral {
   // A controller transfer is on the bus (START sent, STOP not yet): its bit timing needs the functional
   // clock it was configured for (the power-mode rule, rules.hpp SLEEP-EVENT-LOST).
   bool transferInFlight() const { return phase_ != Phase::Idle && phase_ != Phase::TimedOut; }
+  // A fault for the tests of a driver's bounded flush wait: from now on a flush never completes (MFIFOSR
+  // never shows it done); a GPRCM reset still empties the FIFOs.
+  void holdFlush() { flushStuck_ = true; }
 
  private:
   enum class Phase : uint8_t { Idle, Start, Address, Data, WaitFifo, Stop, TimedOut };
@@ -152,7 +160,8 @@ class I2c final : public Peripheral {
   TimedEvent step_, timeout_, flush_;
   std::map<uint8_t, bsp::host::I2cTarget*> targets_;
   std::map<uint8_t, TargetRange> ranges_;
-  bool flushSeenDone_ = true;  // since a flush bit was set, MFIFOSR has shown the flush complete
+  bool flushSeenDone_ = true;
+  bool flushStuck_ = false;  // since a flush bit was set, MFIFOSR has shown the flush complete
   std::function<void(const I2cWireLog&)> sink_;
   int sdaPincm_ = 0, sclPincm_ = 0;
   uint32_t sdaPf_ = 0, sclPf_ = 0;

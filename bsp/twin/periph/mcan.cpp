@@ -97,6 +97,7 @@ void Mcan::note(const std::string& text) {
 }
 
 bool Mcan::initReadBack() const {
+  if (initHeld_) return true;
   return machine_.now() >= initSyncAt_ ? initValue_ : !initValue_;
 }
 
@@ -726,6 +727,10 @@ bool Mcan::writeRegister(uint32_t offset, uint32_t value) {
       clken_ = value;
       return true;
     case kClkdiv:
+      // CLK_REQEN "requests the functional and register clocks" of the module (hw_mcan.h MCAN_CLKEN), and
+      // TI's MCAN set-up enables the module clock before it sets the divider; TI gives no behaviour for a
+      // divider written without the clock, so the twin takes the safe side and refuses it.
+      if ((clken_ & 1U) == 0) stop("MCANSS_CLKDIV written before MCANSS_CLKEN.CLK_REQEN requested the clock");
       clkdiv_ = value;
       return true;
     default:

@@ -16,6 +16,8 @@
 // - Protected registers (NBTP, DBTP, TEST, GFC, SIDFC, XIDFC, XIDAM, RXF0C, RXF1C, RXBC, RXESC, TXBC, TXESC,
 //   TXEFC, TSCC, TOCC, TDCR) take a write only "with CCCR.CCE='1' and CCCR.INIT='1'" (hw_mcan.h CCCR.CCE);
 //   otherwise the write is ignored, as the M_CAN ignores it, and noted in notes().
+// - MCANSS_CLKDIV written before MCANSS_CLKEN.CLK_REQEN stops the run: CLK_REQEN "requests the functional
+//   and register clocks" (hw_mcan.h MCAN_CLKEN) and TI's set-up enables the module clock first.
 // - CLK_REQEN with CANCLK's source off (rules.hpp CLOCK-OFF: the HFXT never started, or the SYSPLL off)
 //   stops the run: the message RAM would never initialise.
 // - MEM_INIT_DONE: the message RAM is ready kMemInitCycles after the module clock is requested (CLK_REQEN)
@@ -123,6 +125,8 @@ class Mcan final : public Peripheral {
   // MCANSS_EOI leaves it waiting for ever, and every later interrupt of the line is lost.
   uint64_t awaitingEoiCycles(int line) const;
   bool busOff() const { return busOff_; }
+  // A fault for the tests of a driver's bounded wait: from now on CCCR.INIT reads 1 whatever is written.
+  void holdInit() { initHeld_ = true; }
   // Each bus-off: the cycle it began and the cycle the recovery ended (0: not yet), for reports.
   struct BusOffSpan {
     uint64_t startCycle = 0, recoveredCycle = 0;
@@ -168,6 +172,7 @@ class Mcan final : public Peripheral {
   uint32_t tec_ = 0;
   uint32_t busBitRate_ = 0, errorFramesLeft_ = 0, errorFrames_ = 0;
   bool initValue_ = true;  // INIT as the core sees it once synchronised
+  bool initHeld_ = false;
   uint64_t initSyncAt_ = 0;
   bool busOff_ = false, errorPassive_ = false, integrating_ = false;
   // TX FIFO

@@ -25,6 +25,7 @@ constexpr uint32_t kMclkUdivMask = 0x30;  // MCLKCFG.UDIV (ULPCLK divider)
 constexpr uint32_t kMclkUseHsclk = 1U << 16, kMclkUseLfclk = 1U << 20;
 constexpr uint32_t kHfxtEnable = 1U << 0;                 // HSCLKEN.HFXTEN
 constexpr uint32_t kHfxtTimeMask = 0xFF;                  // HFCLKCLKCFG.HFXTTIME, 64 us units
+constexpr uint32_t kHfxtRangeMask = 0x3000;               // HFCLKCLKCFG.HFXTRSEL
 constexpr uint32_t kHfclkFaultCheck = 1U << 28;           // HFCLKCLKCFG.HFCLKFLTCHK
 constexpr uint32_t kCanclkSysPll = 1U << 8;               // GENCLKCFG.CANCLKSRC
 constexpr uint32_t kHfclkGood = 1U << 8;                  // CLKSTATUS.HFCLKGOOD
@@ -49,6 +50,7 @@ PowerMode Sysctl::deepSleepMode() const {
 
 void Sysctl::reset(ResetKind kind) {
   sysosccfg_ = mclkcfg_ = hsclkcfg_ = genclkcfg_ = resetLevel_ = pmodecfg_ = 0;
+  sysoscFreqWritten_ = false;
   // The FCL stays on until the next BOOTRST ("Once enabled, this state is locked until the next BOOTRST",
   // hw_sysctl SYSOSCFCLCTL.SETUSEFCL; a BOOTRST resets "SYSOSC FCL mode (if enabled)", SLAU847F, BOOTRST
   // section).
@@ -154,6 +156,7 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
             "SYSCTL: SYSOSCCFG.FREQ selects a SYSOSC frequency other than 32 MHz; the twin runs 32 MHz");
       }
       sysosccfg_ = value;
+      sysoscFreqWritten_ = true;
       return true;
     case kMclkcfg:
       if (value & (kMclkMdivMask | kMclkUdivMask | kMclkUseHsclk | kMclkUseLfclk)) {
@@ -187,6 +190,12 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       if (!machine_.checkKey("SYSCTL SYSOSCFCLCTL", value, kFclKey)) return true;
       if (!hasHfxt_ && (value & kSetUseExRes)) {
         machine_.stop("SYSCTL: SYSOSCFCLCTL.SETUSEEXRES on the MSPM0L1306, which has no such field");
+        return true;
+      }
+      if ((value & kSetUseFcl) && !sysoscFreqWritten_) {
+        machine_.stop(
+            "SYSCTL: SYSOSCFCLCTL.SETUSEFCL before SYSOSCCFG selected the SYSOSC frequency (TI's order: the "
+            "frequency, then the FCL)");
         return true;
       }
       if (value & kSetUseFcl) fclMode_ = true;
@@ -251,6 +260,11 @@ bool Sysctl::write(uint32_t offset, unsigned bytes, uint32_t value) {
       hsclkcfg_ = value;
       return true;
     case kHfclkclkcfg:
+      if ((hsclken_ & kHfxtEnable) && ((value ^ hfclkclkcfg_) & (kHfxtRangeMask | kHfxtTimeMask)) != 0) {
+        machine_.stop(
+            "SYSCTL: HFCLKCLKCFG.HFXTRSEL or HFXTTIME changed while HSCLKEN.HFXTEN is set (TI's HFXT set-up "
+            "turns the HFXT off first)");
+      }
       hfclkclkcfg_ = value;
       // The monitor switched on after the crystal: the check runs once the start-up time has passed.
       if ((hsclken_ & kHfxtEnable) && (value & kHfclkFaultCheck) && hfxtGoodAt_ == UINT64_MAX)

@@ -28,7 +28,14 @@
 //   2-12).
 // - SYSOSCFCLCTL (0x1310): KEY 0x2A with SETUSEFCL turns the frequency correction loop on until the next
 //   BOOTRST (CLKSTATUS.FCLMODE reads 1); without the key the write is ignored; SETUSEEXRES on the L1306
-//   stops the run (no such field there).
+//   stops the run (no such field there). The FCL comes on only after SYSOSCCFG selected the frequency it
+//   corrects: TI's SysConfig order (SYSCTL.Board.c.xdt: the SYSOSC frequency, then the FCL); TI gives no
+//   behaviour for the other order, so the twin takes the safe side and an FCL turned on before any SYSOSCCFG
+//   write since the reset stops the run.
+// - The HFXT's range and start-up time (HFCLKCLKCFG.HFXTRSEL 13:12, HFXTTIME 7:0) change only while
+//   HSCLKEN.HFXTEN is clear: TI's HFXT set-up turns the HFXT off before it sets them, because some crystal
+//   settings survive the lower reset levels (mspm0-sdk dl_sysctl_mspm0g1x0x_g3x0x.c, HFXT parameters); the
+//   images' fault path is such a reset (a software SYSRST). A change with HFXTEN set stops the run.
 // - The crystal's range (rules.hpp WIRE-HFXT-RANGE): when HSCLKEN.HFXTEN starts the HFXT,
 //   HFCLKCLKCFG.HFXTRSEL must name the range the board's crystal lies in (hw_sysctl HFXTRSEL: 0 4..8, 1
 //   8..16, 2 16..32, 3 32..48 MHz; the LP-MSPM0G3507's 40 MHz crystal needs 3).
@@ -83,6 +90,7 @@ class Sysctl final : public Device {
   uint8_t shutdnStore_[4] = {};  // SHUTDNSTORE0..3, kept across resets (hw_sysctl: shutdown storage memory)
   BootRequest bootRequest_ = BootRequest::None;
   bool fclMode_ = false;
+  bool sysoscFreqWritten_ = false;  // SYSOSCCFG written since the reset (the FCL's order)
   // Reads CLKSTATUS as the start-up monitor has it: HFCLKGOOD, or HFCLKOFF on a board without a crystal.
   uint32_t hfclkStatus();
 
