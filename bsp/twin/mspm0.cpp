@@ -236,6 +236,14 @@ bool Mspm0::load(const ElfFile& elf) {
 // by an asynchronous fast-clock request (dl_sysctl_mspm0l11xx_l13xx.h STANDBY1 comment).
 void Mspm0::addSleepChecks() {
   Machine& m = machine();
+  // PREFETCH-SLEEP (rules.hpp, CPU_ERR_03): every sleep with the flash prefetcher off.
+  m.onSleep([this, &m] {
+    if (m.imageRules() && cpuss_->prefetchOn())
+      m.violate(Rule::PrefetchSleep,
+                "the core sleeps with CPUSS CTL.PREFETCH set: CPU_ERR_03, the prefetcher can fetch zeros "
+                "entering the sleep and the code after the wake-up run corrupted; turn it off across the "
+                "WFI");
+  });
   for (auto& i2c : {i2c0_.get(), i2c1_.get()}) {
     m.addSleepCheck([i2c](PowerMode) {
       return i2c->transferInFlight()

@@ -6,7 +6,7 @@ namespace twin {
 
 namespace {
 
-constexpr std::array<RuleInfo, 41> kRules = {{
+constexpr std::array<RuleInfo, 42> kRules = {{
     {"WIRE-UART-BAUD", "SLUSE81E UART RX baud rate error; SLAU846B/SLAU847D UART baud-rate generation", true},
     {"WIRE-I2C-SCL", "SLUSE13B 14 I2C up to 400 kHz; SLUSC67A SMBus 10..100 kHz", true},
     {"WIRE-I2C-TPR", "hw_i2c.h MTPR.TPR 1..127; SLAU846B 20.1 / SLAU847D 21.1 up to 1 Mbps", true},
@@ -85,9 +85,12 @@ constexpr std::array<RuleInfo, 41> kRules = {{
      "SLAU847D 23 TIMx shadow compare table 23-16 (compare event when CTR equals CC; SLAU846B TIMx the "
      "same); hw_gptimer.h CPU_INT CCU0, ICLR, ISET",
      true},
+    {"PREFETCH-SLEEP",
+     "CPU_ERR_03 (SLAZ741D/E MSPM0L130x, SLAZ742E MSPM0G350x; text in SLAZ763 6.3); hw_cpuss.h CTL.PREFETCH",
+     true},
 }};
 
-static_assert(kRules.size() == static_cast<size_t>(Rule::TimerComparePassed) + 1,
+static_assert(kRules.size() == static_cast<size_t>(Rule::PrefetchSleep) + 1,
               "one entry per Rule, in its order");
 
 }  // namespace

@@ -203,6 +203,12 @@
 //                     itself, as IDLE-WFI does for its race. A firmware that instead never arms closer than
 //                     its arming window (and pends near deadlines itself) would be named too: none of ours
 //                     does
+//   PREFETCH-SLEEP    the core goes to sleep (WFI, or back to sleep at a handler's return) while CPUSS
+//                     CTL.PREFETCH is set: CPU_ERR_03 (MSPM0L130x SLAZ741D/E, MSPM0G350x SLAZ742E; the
+//                     advisory's text in SLAZ763 6.3): entering a low-power mode with a prefetch pending the
+//                     prefetcher can fetch all zeros, and code run after the wake-up before a handler has
+//                     refilled it can be corrupted; SLEEP0 is one of those modes. The twin does not model the
+//                     corruption, so it checks the workaround: the prefetcher off across every sleep
 #pragma once
 
 #include <cstdint>
@@ -252,6 +258,7 @@ enum class Rule : uint8_t {
   HfxtWaitUnbounded,
   TimerCompareUnseen,
   TimerComparePassed,
+  PrefetchSleep,
 };
 
 struct RuleInfo {

@@ -17,6 +17,11 @@
 //                                  that makes work for the Thread calls it (Scheduler::post, a clock's
 //                                  alarm); the Thread calls it after its wait too (a wake-up with no
 //                                  handler behind it). On the host both only record the state.
+//   uint32_t chipSleepBegin();     called with interrupts MASKED before the first sleep of an idle: the
+//   void chipSleepEnd(uint32_t);   chip's own preparation (the MSPM0: its flash prefetcher off, an erratum);
+//                                  chipSleepEnd, given what Begin returned, undoes it once the Thread runs
+//                                  on after resumeOnExit(), so every sleep in between (sleep-on-exit ones
+//                                  too) is covered. No-ops where the chip needs nothing.
 // CriticalSection is the RAII form; sections nest.
 #pragma once
 

@@ -186,6 +186,7 @@ inline void Scheduler::noteRun(TaskId id, Duration took) {
 
 bool Scheduler::idle() {
   const uint32_t saved = port::irqSave();
+  uint32_t chip = 0;
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
   const bool armed = state_.timers != nullptr && wakeArmedForEarliest();
@@ -200,6 +201,9 @@ bool Scheduler::idle() {
     }
     trace(TraceKind::Idle, kNoTask, 0);
     FW_IDLE_WINDOW();
+    // The chip's own preparation (hal/irq.hpp: the MSPM0's prefetcher off), undone below once the Thread
+    // runs on: it covers every sleep until then, the ones sleep-on-exit makes at handler returns too.
+    chip = port::chipSleepBegin();
     // The board's policy may sleep deeper itself (hal/power.hpp); it then leaves sleep-on-exit clear, so the
     // next idle chooses again after whatever woke the core.
     bool slept = false;
@@ -219,7 +223,10 @@ bool Scheduler::idle() {
   port::irqRestore(saved);
   // Here a handler resumed the Thread, or the WFI ended with none taken (ARMv6-M allows a wake-up for no
   // reason, B1.5.19): either way the Thread runs on, and its own handlers must not stop it.
-  if (!work) port::resumeOnExit();
+  if (!work) {
+    port::resumeOnExit();
+    port::chipSleepEnd(chip);
+  }
   return !work;
 }
 

@@ -10,6 +10,19 @@
 
 #include <cstdint>
 
+// The chip's own work around a sleep, if its BSP puts a chip_sleep.hpp on the include path (the MSPM0:
+// bsp/mspm0/port/chip_sleep.hpp, an erratum of the flash prefetcher); nothing on QEMU.
+#if __has_include("chip_sleep.hpp")
+#include "chip_sleep.hpp"
+#else
+namespace fw::port {
+inline uint32_t chipSleepBegin() {
+  return 0;
+}
+inline void chipSleepEnd(uint32_t) {}
+}  // namespace fw::port
+#endif
+
 namespace fw::port {
 
 inline uint32_t irqSave() {

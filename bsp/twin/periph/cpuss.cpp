@@ -4,10 +4,14 @@ namespace twin {
 
 namespace {
 constexpr uint32_t kGroups = 0x1100, kGroupStride = 0x30, kCtl = 0x1300;
-}
+// CTL after a reset: PREFETCH, ICACHE and LITEN all set (0x07: the reset values of TI's device description
+// files for the MSPM0, as the PACs generated from them carry; hw_cpuss.h names the fields), so firmware that
+// never writes CTL runs with the prefetcher on.
+constexpr uint32_t kCtlReset = 0x07;
+}  // namespace
 
-Cpuss::Cpuss(Machine& machine) : machine_(machine) {
-  machine.onReset([this](ResetKind) { ctl_ = 0; });
+Cpuss::Cpuss(Machine& machine) : machine_(machine), ctl_(kCtlReset) {
+  machine.onReset([this](ResetKind) { ctl_ = kCtlReset; });
 }
 
 void Cpuss::setMember(int group, int index, bool asserted) {

@@ -31,12 +31,14 @@ class Cpuss final : public Device {
   void setMember(int group, int index, bool asserted);
   // Members a group has (IMASK's read value), set by the chip.
   void setMembers(int group, uint32_t mask) { members_[static_cast<size_t>(group)] = mask; }
+  // CTL.PREFETCH (bit 0, hw_cpuss.h): the flash prefetcher is on (the PREFETCH-SLEEP rule, rules.hpp).
+  bool prefetchOn() const { return (ctl_ & 1U) != 0; }
 
  private:
   Machine& machine_;
   std::array<uint32_t, 5> ris_{};
   std::array<uint32_t, 5> members_{};
-  uint32_t ctl_ = 0;
+  uint32_t ctl_;
 };
 
 }  // namespace twin
