@@ -48,9 +48,10 @@ inline void CanPublisher::pump(Instant now) {
     // The queue's room and the budget before build(): a frame is filled only when this run sends it, not
     // once more next run. (Built into a full queue, every frame of a 64-board cycle was filled twice: 10 %
     // of the 64-device BQ79616 image's busy cycles, twin profile.)
-    if (plan_.active() && (queueFull() || yieldFor(budget))) return;
+    const uint32_t left = can_.counters().txFrames;
+    if (plan_.active() && (queueFull(left) || yieldFor(budget))) return;
     if (!plan_.build(now, frame)) return;
-    const Status s = counted(can_.send(frame));
+    const Status s = counted(can_.send(frame), left);
     if (s == Status::Ok) {
       ++state_->stats.frames;
       plan_.advance();
@@ -74,7 +75,8 @@ inline bool CanPublisher::sendAnswers(uint8_t& budget) {
   while (box.count != 0) {
     if (yieldFor(budget)) return false;
     --budget;
-    const Status s = counted(can_.send(box.frames[box.next]));
+    const uint32_t left = can_.counters().txFrames;
+    const Status s = counted(can_.send(box.frames[box.next]), left);
     if (s == Status::Overflow) {
       ++state_->stats.refused;
       return false;

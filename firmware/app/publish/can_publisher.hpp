@@ -76,21 +76,23 @@ class CanPublisher final : public sched::Task {
   // (queue full) or the budget ran out.
   inline bool sendAnswers(uint8_t& budget);
   // The queue is still full: it refused a frame, and since then no more frames have left it (the controller's
-  // txFrames) than this task queued. This task is the controller's only sender, so the count is exact; a
+  // txFrames, `left`) than this task queued. This task is the controller's only sender, so the count holds; a
   // frame built now would only be refused, and built again once one has left (kCan).
-  bool queueFull() const {
+  bool queueFull(uint32_t left) const {
     const State& st = *state_;
-    return st.counting && can_.counters().txFrames - st.leftAtFull <= st.queuedSince;
+    return st.counting && left - st.leftAtFull <= st.queuedSince;
   }
-  // A send's result for the count above: Overflow starts it afresh (the queue is full now), Ok counts a
-  // frame.
-  Status counted(Status s) {
+  // A send's result for the count above, with txFrames as read before the send: Overflow starts the count
+  // afresh (the queue was full with `left` frames gone; read after the refusal, a frame leaving in between
+  // would be counted as gone before the queue was full, and the count would wait for one frame too many),
+  // Ok counts a frame.
+  Status counted(Status s, uint32_t left) {
     State& st = *state_;
     if (s == Status::Ok) {
       ++st.queuedSince;
     } else if (s == Status::Overflow) {
       st.counting = true;
-      st.leftAtFull = can_.counters().txFrames;
+      st.leftAtFull = left;
       st.queuedSince = 0;
     }
     return s;
@@ -109,7 +111,7 @@ class CanPublisher final : public sched::Task {
     bool recovering;
     bool counting;  // the queue refused a frame since the last bus-off: its room is counted (queueFull())
     uint32_t busOffsSeen;  // the controller's bus-off count when recovery was last asked for
-    uint32_t leftAtFull;   // the controller's txFrames when the queue last refused a frame
+    uint32_t leftAtFull;   // the controller's txFrames before the send the queue last refused
     uint32_t queuedSince;  // frames this task queued since then
     sched::Timer timer;
     PublishStats stats;
