@@ -27,6 +27,7 @@ constexpr Range kTwinRanges[] = {
     {0x40090000, 0x2000},  // TIMG8 (G3507)
     {0x40868000, 0x4000},  // TIMG6, TIMG7 (G3507)
     {0x40080000, 0x2000},  // WWDT0
+    {twin::Flashctl::kBase, twin::Flashctl::kSize},
 };
 
 // What one register access takes on the twin: a Cortex-M0+ LDR or STR is 2 cycles (ARM DDI 0484C, Cortex-M0+
