@@ -1,13 +1,15 @@
-// Register-level tests of the TIMG scheduler clock (bsp/mspm0/timg_clock.*). Addresses: TIMG0_BASE
-// 0x40084000 + GPTIMER.* offsets (mspm0l1306.tsv); CC/CCCTL at 0x1810/0x1830 and the CCU0/CCU1 bits (8/9)
-// from the TIMx register description (SLAU846A section 23, mspm0-data tim_v1.yaml).
+// Register-level tests of the TIMG scheduler clock (bsp/mspm0/timg_clock.*) on the twin's TIMG0
+// (bsp/twin/periph/timg.hpp: a 16-bit counter on BUSCLK / (CPS.PCNT + 1), LOAD/ZERO/CCUn events exact to the
+// timer clock). Time passes on the twin; the test takes the timer's interrupt when the twin's MIS shows one,
+// as the core would. Addresses: TIMG0_BASE 0x40084000 + GPTIMER.* offsets (mspm0l1306.tsv); CC/CCCTL at
+// 0x1810/0x1830 and the CCU0/CCU1 bits (8/9) from the TIMx register description (SLAU846A section 23,
+// mspm0-data tim_v1.yaml).
 #include <gtest/gtest.h>
 
 #include <cstdint>
 
 #include "fixture.hpp"
 #include "timg_clock.hpp"
-#include "timg_model.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -18,7 +20,6 @@ constexpr uintptr_t kMis = kBase + 0x1038;
 constexpr uintptr_t kIset = kBase + 0x1040;
 constexpr uintptr_t kIclr = kBase + 0x1048;
 constexpr uintptr_t kCps = kBase + 0x110C;
-constexpr uintptr_t kCtr = kBase + 0x1800;
 constexpr uintptr_t kCtrctl = kBase + 0x1804;
 constexpr uintptr_t kLoad = kBase + 0x1808;
 constexpr uintptr_t kCc0 = kBase + 0x1810;
@@ -26,23 +27,48 @@ constexpr uintptr_t kCc1 = kBase + 0x1814;
 constexpr uint32_t kLoadEvent = 1U << 1;  // GPTIMER_CPU_INT_IMASK_L
 constexpr uint32_t kCcu0 = 1U << 8;
 constexpr uint32_t kCcu1 = 1U << 9;
+constexpr uint64_t kCyclesPerUs = 32;  // the counter's tick: BUSCLK 32 MHz / (PCNT 31 + 1)
 
 class ClockTest : public RegisterTest {
  protected:
   void SetUp() override {
     RegisterTest::SetUp();
-    clock.start();
+    startClock(clock);
   }
-  void interrupt(uint32_t pending) {
-    regs().queueRead(kMis, pending);
-    clock.onInterrupt();
+  // Starts `timgClock` and notes the cycle of its CTRCTL enable: tick n of the counter comes 32 n cycles
+  // later (the hook runs after the write's 2 cycles, mmio_model.hpp).
+  void startClock(TimgClock& timgClock) {
+    regs().onWrite(kCtrctl, [this](uint32_t v) {
+      if (v & 1U) started_ = chip().machine().now() - 2;
+    });
+    timgClock.start();
   }
-  uint32_t nowAt(uint32_t counter) {
-    regs().queueRead(kCtr, counter);
-    return clock.now().us;
+  // Microseconds the counter has counted since the start.
+  uint64_t elapsedUs() { return (chip().machine().now() - started_) / kCyclesPerUs; }
+  // Lets time pass to the start of the counter's tick `us` (the reads that follow stay within it).
+  void runTo(uint64_t us) {
+    const uint64_t target = started_ + us * kCyclesPerUs;
+    ASSERT_LE(chip().machine().now(), target);
+    regs().advance(target - chip().machine().now());
+  }
+  // The core takes the timer's interrupt if the twin's MIS shows one.
+  bool takeInterrupt(TimgClock& timgClock) {
+    if (regs().peek(kMis) == 0) return false;
+    timgClock.onInterrupt();
+    return true;
+  }
+  // Lets time pass to tick `us` (or a few cycles past it, for an interrupt due on it), taking each interrupt
+  // as it comes.
+  void runServicingTo(uint64_t us) {
+    const uint64_t target = started_ + us * kCyclesPerUs;
+    while (regs().runUntilEvent([this] { return regs().peek(kMis) != 0; },
+                                (target - chip().machine().now()) / kCyclesPerUs))
+      clock.onInterrupt();
+    if (chip().machine().now() < target) regs().advance(target - chip().machine().now());
   }
 
   TimgClock clock{{kBase, 16, 31}};
+  uint64_t started_ = 0;
 };
 
 TEST_F(ClockTest, StartCounts1MHzUpWithTwoEventsPerWrap) {
@@ -56,25 +82,36 @@ TEST_F(ClockTest, StartCounts1MHzUpWithTwoEventsPerWrap) {
 }
 
 TEST_F(ClockTest, WidensThe16BitCounterAcrossWraps) {
-  EXPECT_EQ(nowAt(0x0010), 0x10U);
-  EXPECT_EQ(nowAt(0x7FF0), 0x7FF0U);
-  EXPECT_EQ(nowAt(0x8004), 0x8004U);  // half event pending, not yet counted
-  interrupt(kCcu1);
+  runTo(0x0010);
+  EXPECT_EQ(clock.now().us, 0x10U);
+  runTo(0x7FF0);
+  EXPECT_EQ(clock.now().us, 0x7FF0U);
+  runTo(0x8004);
+  ASSERT_EQ(regs().peek(kMis), kCcu1);
+  EXPECT_EQ(clock.now().us, 0x8004U);  // half event pending, not yet counted
+  ASSERT_TRUE(takeInterrupt(clock));
   EXPECT_EQ(regs().lastWrite(kIclr), kCcu1);
-  EXPECT_EQ(nowAt(0x8010), 0x8010U);
-  EXPECT_EQ(nowAt(0x0003), 0x10003U);  // wrapped, load event still pending
-  interrupt(kLoadEvent);
-  EXPECT_EQ(nowAt(0x0005), 0x10005U);
-  interrupt(kCcu1);
-  interrupt(kLoadEvent);
-  EXPECT_EQ(nowAt(0x0001), 0x20001U);
+  runTo(0x8010);
+  EXPECT_EQ(clock.now().us, 0x8010U);
+  runTo(0x10003);
+  ASSERT_EQ(regs().peek(kMis), kLoadEvent);
+  EXPECT_EQ(clock.now().us, 0x10003U);  // wrapped, load event still pending
+  ASSERT_TRUE(takeInterrupt(clock));
+  runTo(0x10005);
+  EXPECT_EQ(clock.now().us, 0x10005U);
+  runServicingTo(0x20001);
+  EXPECT_EQ(clock.now().us, 0x20001U);
 }
 
 TEST_F(ClockTest, AnEventTakenOneTickEarlyDoesNotJumpAhead) {
-  interrupt(kCcu1);
-  interrupt(kLoadEvent);  // taken while the counter still reads 0xFFFF
-  EXPECT_EQ(nowAt(0xFFFF), 0xFFFFU);
-  EXPECT_EQ(nowAt(0x0000), 0x10000U);
+  // LOAD is set as the counter becomes 0xFFFF (hw_gptimer.h CPU_INT L): an interrupt taken at once finds the
+  // counter still in the first half.
+  runServicingTo(0xFFFE);
+  ASSERT_TRUE(regs().runUntilEvent([this] { return regs().peek(kMis) != 0; }, 2));
+  ASSERT_TRUE(takeInterrupt(clock));
+  EXPECT_EQ(clock.now().us, 0xFFFFU);
+  runTo(0x10000);
+  EXPECT_EQ(clock.now().us, 0x10000U);
 }
 
 TEST_F(ClockTest, WidenIsMonotonicOverManyPeriods) {
@@ -93,27 +130,33 @@ TEST_F(ClockTest, WidenIsMonotonicOverManyPeriods) {
 }
 
 TEST_F(ClockTest, WakeAtArmsTheCompareForNearDeadlines) {
+  runTo(100);
   regs().clearLog();
-  regs().queueReads(kCtr, {100, 110});
   clock.wakeAt(fw::Instant{600});
   EXPECT_EQ(regs().lastWrite(kCc0), 600U);
   EXPECT_EQ(regs().lastWrite(kIclr), kCcu0);
   EXPECT_NE(regs().lastWrite(kImask).value() & kCcu0, 0U);
   EXPECT_FALSE(regs().lastWrite(kIset).has_value());
-  interrupt(kCcu0);  // one-shot: the alarm disarms itself
+  ASSERT_TRUE(regs().runUntilEvent([this] { return regs().peek(kMis) != 0; }, 1000));
+  EXPECT_EQ(elapsedUs(), 600U) << "CCU0 as the counter becomes CC0";
+  ASSERT_TRUE(takeInterrupt(clock));  // one-shot: the alarm disarms itself
   EXPECT_EQ(regs().lastWrite(kImask).value() & kCcu0, 0U);
 }
 
 TEST_F(ClockTest, WakeAtPendsTheInterruptWhenTheDeadlinePassedWhileArming) {
+  // The counter passes CC0 = 600 right after CC0 is written (time the core spends elsewhere, here let pass on
+  // the twin): the compare fires, the arming's ICLR wipes it, and only the re-check's ISET keeps the wake-up.
+  runTo(100);
+  regs().onWrite(kCc0, [this](uint32_t) { regs().advanceUs(600); });
   regs().clearLog();
-  regs().queueReads(kCtr, {100, 700});  // the counter passed CC0 = 600 between the two reads
   clock.wakeAt(fw::Instant{600});
   EXPECT_EQ(regs().lastWrite(kIset), kCcu0);
+  EXPECT_EQ(regs().peek(kMis), kCcu0);
 }
 
 TEST_F(ClockTest, FarDeadlinesArmAnIntermediateWakeUpLessThanAWrapAhead) {
+  runTo(100);
   regs().clearLog();
-  regs().queueReads(kCtr, {100, 110});
   clock.wakeAt(fw::Instant{100 + 100000});  // beyond one wrap of the 16-bit counter (65 536 us)
   ASSERT_TRUE(regs().lastWrite(kCc0).has_value());
   const uint32_t cc0 = regs().lastWrite(kCc0).value();
@@ -130,41 +173,45 @@ TEST_F(ClockTest, WakeArmedFromWakeAtUntilTheAlarmFires) {
   // The scheduler leaves the clock unread while this says true (firmware/hal/clock.hpp): it must turn false
   // exactly when the handler took the alarm, and never be true with no alarm armed.
   EXPECT_FALSE(clock.wakeArmed()) << "nothing armed yet";
-  regs().queueReads(kCtr, {100, 110});
+  runTo(100);
   clock.wakeAt(fw::Instant{600});
   EXPECT_TRUE(clock.wakeArmed());
-  interrupt(kLoadEvent);  // a half-period count is not the alarm
+  runServicingTo(599);  // nothing fires before CC0
   EXPECT_TRUE(clock.wakeArmed());
-  interrupt(kCcu0);
+  ASSERT_TRUE(regs().runUntilEvent([this] { return regs().peek(kMis) != 0; }, 2));
+  ASSERT_TRUE(takeInterrupt(clock));
   EXPECT_FALSE(clock.wakeArmed());
+  // A half-period count is not the alarm.
+  clock.wakeAt(fw::Instant{0x8000 + 100});
+  runServicingTo(0x8000 + 50);
+  EXPECT_TRUE(clock.wakeArmed()) << "CCU1 at 0x8000 taken, the alarm still armed";
   // A far deadline: its intermediate wake-up counts as the armed one, and fires before the deadline.
-  regs().queueReads(kCtr, {120, 125});
-  clock.wakeAt(fw::Instant{120 + 100000});
+  runServicingTo(0x8000 + 100);
+  EXPECT_FALSE(clock.wakeArmed());
+  const uint64_t from = elapsedUs();
+  clock.wakeAt(fw::Instant{static_cast<uint32_t>(from) + 100000});
   EXPECT_TRUE(clock.wakeArmed());
-  interrupt(kCcu0);
+  ASSERT_TRUE(regs().runUntilEvent([this] { return (regs().peek(kMis) & kCcu0) != 0; }, 100000));
+  EXPECT_LT(elapsedUs(), from + 100000);
+  ASSERT_TRUE(takeInterrupt(clock));
   EXPECT_FALSE(clock.wakeArmed());
 }
 
-// The clock against a counting timer (timg_model.hpp), driven the way the scheduler's idle loop drives it:
-// check the deadline, wakeAt(), sleep until an interrupt, take it, check again.
+// The clock driven the way the scheduler's idle loop drives it: check the deadline, wakeAt(), sleep until an
+// interrupt, take it, check again.
 class ClockWakeTest : public ClockTest {
  protected:
-  void SetUp() override {
-    ClockTest::SetUp();
-    timer.attach();
-  }
-  // The timer tick at which the idle loop sees `deadline` due.
+  // The microsecond (since the start) at which the idle loop sees `deadline` due.
   uint64_t sleepUntil(TimgClock& timgClock, uint32_t deadline) {
     for (int wakeUps = 0; wakeUps < 64; ++wakeUps) {
-      if (fw::isDue(fw::Instant{deadline}, timgClock.now())) return timer.now();
+      if (fw::isDue(fw::Instant{deadline}, timgClock.now())) return elapsedUs();
       timgClock.wakeAt(fw::Instant{deadline});
-      if (!timer.runUntilInterrupt(0x20000)) break;
+      if (!regs().runUntilEvent([this] { return regs().peek(kMis) != 0; }, 0x20000)) break;
       timgClock.onInterrupt();
     }
     ADD_FAILURE() << "no wake-up for " << deadline;
     return 0;
   }
-  TimgModel timer{kBase};
 };
 
 TEST_F(ClockWakeTest, WakesOnTheDeadlineTickAtAnyDistanceAndPhase) {
@@ -178,8 +225,7 @@ TEST_F(ClockWakeTest, WakesOnTheDeadlineTickAtAnyDistanceAndPhase) {
       SCOPED_TRACE(::testing::Message() << "start " << start << " us, deadline " << distance << " us later");
       RegisterTest::SetUp();
       TimgClock fresh{{kBase, 16, 31}};
-      fresh.start();
-      timer.attach();
+      startClock(fresh);
       ASSERT_EQ(sleepUntil(fresh, start), start);
       const uint32_t deadline = start + distance;
       // Exact: CCU0 is set on the tick the counter becomes CC0 (1 us at 1 MHz), and the idle loop sees the
@@ -191,27 +237,27 @@ TEST_F(ClockWakeTest, WakesOnTheDeadlineTickAtAnyDistanceAndPhase) {
 }
 
 TEST_F(ClockWakeTest, WakeUpsForOtherInterruptsLeaveTheDeadlineExact) {
-  // The scheduler's idle loop, woken by other interrupts (the bytes of an I2C scan), reads the clock and
-  // re-arms only once the armed wake-up has fired (wakeArmed() false): the deadline is still seen on its own
-  // tick, at any distance (a far one through its intermediate wake-ups).
+  // The scheduler's idle loop, woken by other interrupts (the bytes of an I2C scan, every 997 us here), reads
+  // the clock and re-arms only once the armed wake-up has fired (wakeArmed() false): the deadline is still
+  // seen on its own tick, at any distance (a far one through its intermediate wake-ups).
   for (uint32_t distance : {700U, 20000U, 65535U, 70000U, 250000U}) {
     SCOPED_TRACE(::testing::Message() << "deadline " << distance << " us ahead");
     RegisterTest::SetUp();
     TimgClock fresh{{kBase, 16, 31}};
-    fresh.start();
-    timer.attach();
+    startClock(fresh);
     ASSERT_EQ(sleepUntil(fresh, 100), 100U);
     const uint32_t deadline = 100 + distance;
     uint64_t seen = 0;
     for (int wakeUps = 0; wakeUps < 2000 && seen == 0; ++wakeUps) {
       if (!fresh.wakeArmed()) {
         if (fw::isDue(fw::Instant{deadline}, fresh.now())) {
-          seen = timer.now();
+          seen = elapsedUs();
           break;
         }
         fresh.wakeAt(fw::Instant{deadline});
       }
-      if (timer.runUntilInterrupt(997)) fresh.onInterrupt();  // else another peripheral's interrupt woke it
+      // The timer's interrupt, else another peripheral's 997 us on.
+      if (regs().runUntilEvent([this] { return regs().peek(kMis) != 0; }, 997)) fresh.onInterrupt();
     }
     EXPECT_EQ(seen, deadline);
   }

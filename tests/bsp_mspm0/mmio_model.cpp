@@ -1,5 +1,6 @@
 #include "mmio_model.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "mmio.hpp"
@@ -22,6 +23,11 @@ constexpr Range kTwinRanges[] = {
     {twin::Dma::kBase, twin::Dma::kSize},
     {0x400F0000, 0x4000},  // I2C0, I2C1
     {0x40508000, 0x8000},  // CANFD0 (G3507)
+    {0x40084000, 0xA000},  // TIMG0, TIMG1 0x40086000 / TIMG2 0x40088000 / TIMG4 0x4008C000 (L1306)
+    {0x40090000, 0x2000},  // TIMG8 (G3507)
+    {0x40868000, 0x4000},  // TIMG6, TIMG7 (G3507)
+    {0x40080000, 0x2000},  // WWDT0
+    {twin::Flashctl::kBase, twin::Flashctl::kSize},
 };
 
 // What one register access takes on the twin: a Cortex-M0+ LDR or STR is 2 cycles (ARM DDI 0484C, Cortex-M0+
@@ -97,6 +103,17 @@ bool RegisterModel::runUntil(const std::function<bool()>& done, uint64_t maxUs) 
     advanceUs(1);
   }
   return done();
+}
+
+bool RegisterModel::runUntilEvent(const std::function<bool()>& done, uint64_t maxUs) {
+  twin::Machine& m = chip_->machine();
+  const uint64_t end = m.now() + maxUs * m.cyclesPerUs();
+  while (!done()) {
+    if (m.now() >= end) return false;
+    const uint64_t next = std::min(std::max(m.timeline().next(), m.now() + 1), end);
+    advance(next - m.now());
+  }
+  return true;
 }
 
 bool RegisterModel::bridged(uintptr_t address) {

@@ -28,8 +28,8 @@
 // - onWrite(address, hook) runs `hook(value)` after a write to that address is logged and stored (e.g. to
 //   model a DMA-done flag appearing when a channel is enabled); several hooks run in the order added. Hooks
 //   may call set()/queueRead().
-// - Peripheral models (timg_model: TIMG is not bridged yet) attach hooks and
-//   report a broken documented rule with flag(rule); every rule cites the TI source it enforces.
+// - A test's own peripheral model (for what the twin does not model) attaches hooks and reports a broken
+//   documented rule with flag(rule), citing the TI source it enforces.
 //   violations() lists them; the test fixture fails any test that leaves one (a test that provokes one on
 //   purpose takes it with takeViolations()).
 // - Addresses are whatever the driver computes from its configured base: tests use the tsv bases, so an
@@ -89,6 +89,9 @@ class RegisterModel {
   void advanceUs(uint64_t us) { advance(us * 32); }
   // Advances 1 us at a time until `done()` (true) or `maxUs` have passed (false).
   bool runUntil(const std::function<bool()>& done, uint64_t maxUs);
+  // The same, from one of the twin's peripheral events to the next (exact to the cycle, and fast over long
+  // waits): for a `done()` that only an event can change, such as an interrupt flag.
+  bool runUntilEvent(const std::function<bool()>& done, uint64_t maxUs);
   // A buffer the DMA reads (TX source) or writes (RX destination); valid until the next reset().
   void dmaBuffer(std::span<const uint8_t> source) { shareBuffer(source.data(), nullptr, source.size()); }
   void dmaBuffer(std::span<uint8_t> buffer) { shareBuffer(buffer.data(), buffer.data(), buffer.size()); }

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "fixture.hpp"
+#include "gpio.hpp"
 #include "hal/irq.hpp"
 #include "power_policy.hpp"
 #include "timg_clock.hpp"
@@ -104,25 +105,30 @@ TEST(StandbyTime, NeverStepsBackBehindTheHaltedTime) {
   EXPECT_EQ(now.us, halted.us);
 }
 
-// doSleep on the register model, with the L1306's addresses (mspm0l130x.h): TIMG0 the 1 MHz clock, TIMG1 on
-// LFCLK (IRQ 2), I2C0, UART0, CPUSS CTL at 0x40401300 (hw_cpuss.h), GPIOA DIN at 0x400A1380 (hw_gpio.h),
-// ALERT on PA15, SCR at 0xE000ED10 (ARMv6-M ARM B3.2.7), SYSCTL SHUTDNSTORE0 at 0x400AF000 + 0x1400
-// (hw_sysctl_mspm0l11xx_l13xx.h).
+// doSleep on the register model and an L1306 twin (mspm0l130x.h addresses): TIMG0 the 1 MHz clock, TIMG1 on
+// LFCLK (IRQ 2), I2C0 and UART0 powered as the board's bring-up powers them, CPUSS CTL at 0x40401300
+// (hw_cpuss.h; the twin's CPUSS, reset value 0x7), ALERT on PA15 (PINCM16) an edge input with its pull-up,
+// driven low from outside the chip by its device, SCR at 0xE000ED10 (ARMv6-M ARM B3.2.7), SYSCTL
+// SHUTDNSTORE0 at 0x400AF000 + 0x1400 (hw_sysctl_mspm0l11xx_l13xx.h).
 constexpr uintptr_t kCpussCtl = 0x40401300;
-constexpr uintptr_t kGpioaDin = 0x400A1380;
-constexpr uint32_t kAlertPin = 1U << 15;
 constexpr uintptr_t kScr = 0xE000ED10;
 constexpr uintptr_t kShutdnStore0 = 0x400AF000 + 0x1400;
 constexpr uint32_t kPrefetch = 1U << 0;  // CPUSS CTL.PREFETCH
 constexpr uint32_t kCtlAtReset = 0x7;    // PREFETCH, ICACHE, LITEN
+constexpr bsp::mspm0::Pin kAlertPin{0, 15, 16};
+constexpr uintptr_t kI2c0 = 0x400F0000, kUart0 = 0x40108000, kGpioa = 0x400A0000;
 
 class StandbyIdleTest : public bsp::mspm0::test::RegisterTest {
  protected:
+  StandbyIdleTest() : RegisterTest(twin::Part::L1306) {}
   void SetUp() override {
     RegisterTest::SetUp();
-    regs().set(kCpussCtl, kCtlAtReset);
+    bsp::mspm0::powerGpioPort(kGpioa);
     clock.start();
     StandbyIdle::init(kConfig);
+    bsp::mspm0::reg::resetAndPowerUp(bsp::mspm0::reg::gprcm(kI2c0));
+    bsp::mspm0::reg::resetAndPowerUp(bsp::mspm0::reg::gprcm(kUart0));
+    alert.init();
     regs().clearLog();
   }
   // The scheduler's idle: interrupts masked, nothing due (untimed).
@@ -139,19 +145,28 @@ class StandbyIdleTest : public bsp::mspm0::test::RegisterTest {
         return static_cast<long>(i);
     return -1;
   }
+  // The BQ76952 holds ALERT low (asserted) or releases it (the pull-up makes the high).
+  void alertHeldLow(bool low) {
+    chip().pins().setExternal(kAlertPin.pincm, low ? twin::Drive::Low : twin::Drive::None);
+  }
 
-  static constexpr StandbyIdle::Config kConfig{0x40086000, 2,          0x400F0000, 0x40108000,
-                                               0x40400000, 0x400A0000, kAlertPin};
+  static constexpr StandbyIdle::Config kConfig{0x40086000, 2,      kI2c0,           kUart0,
+                                               0x40400000, kGpioa, kAlertPin.mask()};
   TimgClock clock{{0x40084000, 16, 31}};
   StandbyIdle idle_{clock, kConfig};
+  bsp::mspm0::GpioEdgeInput alert{kAlertPin, bsp::mspm0::Edge::Falling, bsp::mspm0::Pull::Up};
 };
 
 TEST_F(StandbyIdleTest, ThePrefetcherIsOffAcrossTheStandbyWfiAndRestoredAfter) {
   // CPU_ERR_03: entering a low-power mode the prefetcher can fetch all zeros, and the Thread code after the
   // WFI runs before any handler. CTL.PREFETCH is cleared, then SHUTDNSTORE0 read (CPU_ERR_02: the disable
   // takes effect once a SHUTDNSTORE access completes), before SCR.SLEEPDEEP; CTL comes back whole after.
-  regs().set(kGpioaDin, kAlertPin);  // ALERT high: idle
-  ASSERT_TRUE(idle());
+  uint32_t ctlAtSleepDeep = 0xFFFFFFFF;
+  regs().onWrite(kScr, [&](uint32_t v) {
+    if (v & (1U << 2)) ctlAtSleepDeep = regs().peek(kCpussCtl);
+  });
+  ASSERT_EQ(regs().peek(kCpussCtl), kCtlAtReset);
+  ASSERT_TRUE(idle());  // ALERT released (high): STANDBY1
   using Kind = bsp::mspm0::test::Access::Kind;
   const long off = indexOf(Kind::Write, kCpussCtl, kCtlAtReset & ~kPrefetch, false);
   const long settle = indexOf(Kind::Read, kShutdnStore0, 0, true);
@@ -162,17 +177,18 @@ TEST_F(StandbyIdleTest, ThePrefetcherIsOffAcrossTheStandbyWfiAndRestoredAfter) {
   ASSERT_GE(deep, 0);
   EXPECT_LT(off, settle);
   EXPECT_LT(settle, deep);
+  EXPECT_EQ(ctlAtSleepDeep, kCtlAtReset & ~kPrefetch) << "the twin's CTL as the core enters STANDBY1";
   EXPECT_GT(back, deep) << "CTL restored after the wake-up";
-  EXPECT_EQ(regs().value(kCpussCtl), kCtlAtReset);
+  EXPECT_EQ(regs().peek(kCpussCtl), kCtlAtReset);
 }
 
 TEST_F(StandbyIdleTest, AWakePinStillLowKeepsTheCoreOutOfStandby) {
   // GPIO_ERR_01 case 2: back in STANDBY1 with the wake pulse still active, no later wake edge is detected.
   // ALERT (falling edge, active low) still low: SLEEP0 (false, SCR untouched); high again: STANDBY1.
-  regs().set(kGpioaDin, 0);
+  alertHeldLow(true);
   EXPECT_FALSE(idle());
   EXPECT_TRUE(regs().writes(kScr).empty());
-  regs().set(kGpioaDin, kAlertPin);
+  alertHeldLow(false);
   EXPECT_TRUE(idle());
   EXPECT_FALSE(regs().writes(kScr).empty());
 }

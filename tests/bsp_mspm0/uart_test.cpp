@@ -1,7 +1,7 @@
 // Register-level tests of the UART drivers (bsp/mspm0/uart_link.*, uart_serial.*) on the twin's UART and DMA
 // (bsp/twin/periph/uart.hpp, dma.hpp: FIFOs, trigger levels, EOT, DMA transfers at the baud rate; their
 // rules, e.g. the TX DMA trigger needs TXIFLSEL = 7); bytes arrive through the twin's UART (Uart::receive)
-// and leave through its transmit sink. The link's timer (TIMG6) is still scripted. Addresses: UART0_BASE
+// and leave through its transmit sink, and the link's timer on the twin's TIMG6. Addresses: UART0_BASE
 // 0x40108000 + UART.* offsets, DMA_BASE 0x4042A000 (channel n at +0x1200 + 0x10n, DMATCTL n at +0x1110 + 4n,
 // tsv note "DMA"), TIMG6_BASE 0x40868000 + GPTIMER.* offsets, all from mspm0g3507.tsv; DMA triggers from its
 // dmatrig rows (UART0 RX 17, TX 18) and mspm0l1306.tsv (UART0 TX 11).
@@ -109,9 +109,13 @@ class UartLinkTest : public RegisterTest {
       regs().advanceUs(10);
     }
   }
-  void timerInterrupt() {
-    regs().queueRead(kTimerMis, 0x1);  // Z (zero event)
+  // Waits for the link timer's interrupt on the twin's TIMG6 (its zero event) and takes it; returns the
+  // microseconds waited.
+  uint64_t timerInterrupt() {
+    const uint64_t from = chip().machine().now();
+    EXPECT_TRUE(regs().runUntilEvent([this] { return regs().peek(kTimerMis) != 0; }, 200000));
     link.onTimerInterrupt();
+    return (chip().machine().now() - from) / 32;
   }
 
   UartLink link{linkConfig()};
@@ -263,7 +267,9 @@ TEST_F(UartLinkTest, PingHoldsTxLowForAHardwareTimedInterval) {
   EXPECT_EQ(link.ping(fw::ms(2), counter(done)), fw::Status::Busy);
   EXPECT_EQ(done, 0);
 
-  timerInterrupt();
+  const uint64_t pulseUs = timerInterrupt();
+  EXPECT_GE(pulseUs, 1999U);
+  EXPECT_LE(pulseUs, 2001U);
   EXPECT_EQ(regs().lastWrite(kPincm21), 0x80U | 2U);  // back to UART0_TX (PF 2)
   EXPECT_EQ(regs().lastWrite(kGpioaDoeClr), 1U << 10);
   EXPECT_EQ(done, 1);
@@ -273,11 +279,13 @@ TEST_F(UartLinkTest, PingHoldsTxLowForAHardwareTimedInterval) {
 TEST_F(UartLinkTest, LongPingRunsInTimerChunks) {
   ASSERT_EQ(link.ping(fw::ms(100), counter(done)), fw::Status::Ok);
   EXPECT_EQ(regs().lastWrite(kTimerLoad), 0xFFFFU);
-  timerInterrupt();
+  uint64_t pulseUs = timerInterrupt();
   EXPECT_EQ(done, 0);
   EXPECT_EQ(regs().lastWrite(kTimerLoad), 100000U - 0xFFFFU);
-  timerInterrupt();
+  pulseUs += timerInterrupt();
   EXPECT_EQ(done, 1);
+  EXPECT_GE(pulseUs, 99999U);
+  EXPECT_LE(pulseUs, 100001U);
 }
 
 TEST_F(UartLinkTest, AbortStopsEverythingWithoutDone) {

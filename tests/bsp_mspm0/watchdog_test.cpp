@@ -1,5 +1,7 @@
-// Register-level tests of the window watchdog and its stack guard (bsp/mspm0/watchdog.*). Addresses:
-// WWDT0_BASE 0x40080000 + WWDT.* offsets; fields WWDT_WWDTCTL0_* and note "WWDT restart" (mspm0l1306.tsv).
+// Register-level tests of the window watchdog and its stack guard (bsp/mspm0/watchdog.*) on the twin's WWDT0
+// (bsp/twin/periph/wwdt.hpp: the period from LFCLK, a restart with another value or the period expiring is a
+// violation, which resets the chip). Addresses: WWDT0_BASE 0x40080000 + WWDT.* offsets; fields
+// WWDT_WWDTCTL0_* and note "WWDT restart" (mspm0l1306.tsv).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -29,8 +31,24 @@ TEST_F(WatchdogTest, StartSelectsAOneSecondPeriodWithoutClosedWindow) {
 }
 
 TEST_F(WatchdogTest, FeedRestartsTheCounter) {
+  watchdog.start();
   watchdog.feed();
   EXPECT_EQ(regs().lastWrite(kCntRst), 0xA7U);
+}
+
+TEST_F(WatchdogTest, FedEveryHalfSecondTheChipRunsOnAndUnfedItResetsAfterOneSecond) {
+  // The period: 2^15 LFCLK counts, 1 s (hw_wwdt.h WWDTCTL0.PER; SLAU847D WWDT); a WWDT0 violation is a
+  // BOOTRST (the twin's reset log: the power-on, then each reset).
+  watchdog.start();
+  for (int i = 0; i < 6; ++i) {
+    regs().advanceUs(500000);
+    watchdog.feed();
+  }
+  EXPECT_EQ(chip().machine().resets().size(), 1U) << "3 s fed: no reset";
+  regs().advanceUs(990000);
+  EXPECT_EQ(chip().machine().resets().size(), 1U);
+  regs().advanceUs(20000);
+  EXPECT_EQ(chip().machine().resets().size(), 2U) << "1 s after the last feed";
 }
 
 TEST_F(WatchdogTest, FeedWithAnOverwrittenGuardFaultsInsteadOfFeeding) {

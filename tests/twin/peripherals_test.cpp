@@ -781,6 +781,20 @@ TEST_F(Chip, AFallingEdgeFlagsAnInputWithItsPolarityAndInputEnable) {
   EXPECT_EQ(rd(kGpioa + 0x2000 + 0x1380) & 1U, 1U);
 }
 
+TEST_F(Chip, CpussCtlResetsWithPrefetchCacheAndLiteralsOnAndKeepsOnlyItsFields) {
+  // CPUSS CTL (0x1300): PREFETCH bit 0, ICACHE bit 1, LITEN bit 2, the rest reserved (hw_cpuss.h CPUSS_CTL);
+  // reset value 0x7 (TI's SVD, cpuss.hpp), restored by a software SYSRST (RESETLEVEL 0, RESETCMD 0xE4 | GO).
+  constexpr uint32_t kCtl = 0x40400000 + 0x1300;
+  EXPECT_EQ(rd(kCtl), 0x7U);
+  wr(kCtl, 0xFFFFFFFAU);  // ICACHE on, PREFETCH and LITEN off, every reserved bit set
+  EXPECT_EQ(rd(kCtl), 0x2U);
+  wr(kSysctl + 0x1300, 0);
+  wr(kSysctl + 0x1304, 0xE4000001);
+  runUs(10);
+  ASSERT_EQ(chip_.machine().resets().size(), 2U);
+  EXPECT_EQ(rd(kCtl), 0x7U);
+}
+
 TEST_F(Chip, ARegisterAccessBeforePowerEnableStopsTheRun) {
   // Peripheral registers are reachable only with GPRCM.PWREN.ENABLE (TRM "Peripheral power enable control").
   wr(kI2c0 + 0x1228, 1);

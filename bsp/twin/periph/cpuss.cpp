@@ -4,14 +4,11 @@ namespace twin {
 
 namespace {
 constexpr uint32_t kGroups = 0x1100, kGroupStride = 0x30, kCtl = 0x1300;
-// CTL after a reset: PREFETCH, ICACHE and LITEN all set (0x07: the reset values of TI's device description
-// files for the MSPM0, as the PACs generated from them carry; hw_cpuss.h names the fields), so firmware that
-// never writes CTL runs with the prefetcher on.
-constexpr uint32_t kCtlReset = 0x07;
+constexpr uint32_t kCtlFields = 0x7;  // PREFETCH, ICACHE, LITEN (cpuss.hpp)
 }  // namespace
 
-Cpuss::Cpuss(Machine& machine) : machine_(machine), ctl_(kCtlReset) {
-  machine.onReset([this](ResetKind) { ctl_ = kCtlReset; });
+Cpuss::Cpuss(Machine& machine) : machine_(machine) {
+  machine.onReset([this](ResetKind) { ctl_ = kCtlAtReset; });
 }
 
 void Cpuss::setMember(int group, int index, bool asserted) {
@@ -52,7 +49,7 @@ bool Cpuss::read(uint32_t offset, unsigned bytes, uint32_t& value) {
 bool Cpuss::write(uint32_t offset, unsigned bytes, uint32_t value) {
   if (bytes != 4) return false;
   if (offset == kCtl) {
-    ctl_ = value;
+    ctl_ = value & kCtlFields;
     return true;
   }
   // The group registers are read-only, ISET/ICLR have nothing to act on (the members are levels).

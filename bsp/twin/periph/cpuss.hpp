@@ -5,8 +5,13 @@
 // A group is a read-only mux: RIS bit k is member k+1's interrupt output (a level), IMASK reads as the
 // members present, IIDX the lowest pending member + 1 without clearing anything (hw_cpuss.h declares IMASK,
 // RIS, MIS, IIDX read-only). The group's output is an NVIC line: GROUP0 IRQ 0, GROUP1 IRQ 1 (tsv irq rows).
-// CTL (0x1300, prefetch/cache control) is kept and has no effect on timing: the twin charges zero-wait-state
-// cycles (README, open questions).
+// CTL (0x1300, prefetch/cache control): PREFETCH bit 0, ICACHE bit 1, LITEN bit 2 (hw_cpuss.h CPUSS_CTL_*),
+// the other bits reserved (read 0). Its reset value is 0x7, all three on: TI's SVD for the parts (CPUSS CTL
+// resetValue, as carried by the svd2rust crates generated from it: NanaHigh/mspm0g350x-pac src/cpuss/ctl.rs
+// for the G350x, sigpwny/mspm0l222x-pac src/cpuss/cpuss_ctl.rs for the L222x; hw_cpuss.h gives no reset
+// values; the L130x SVD was not read: bsp/twin/README.md). Every reset the twin performs (SYSRST and up)
+// restores it. The bits are kept and have no effect on timing: the twin charges zero-wait-state cycles
+// (README, open questions).
 #pragma once
 
 #include <array>
@@ -21,6 +26,7 @@ class Cpuss final : public Device {
  public:
   static constexpr uint32_t kBase = 0x40400000;
   static constexpr uint32_t kSize = 0x2000;
+  static constexpr uint32_t kCtlAtReset = 0x7;  // CTL: PREFETCH | ICACHE | LITEN
 
   explicit Cpuss(Machine& machine);
   const char* name() const override { return "CPUSS"; }
@@ -31,14 +37,14 @@ class Cpuss final : public Device {
   void setMember(int group, int index, bool asserted);
   // Members a group has (IMASK's read value), set by the chip.
   void setMembers(int group, uint32_t mask) { members_[static_cast<size_t>(group)] = mask; }
-  // CTL.PREFETCH (bit 0, hw_cpuss.h): the flash prefetcher is on (the PREFETCH-SLEEP rule, rules.hpp).
+  // CTL.PREFETCH (bit 0): the flash prefetcher is on (the PREFETCH-SLEEP rule, rules.hpp).
   bool prefetchOn() const { return (ctl_ & 1U) != 0; }
 
  private:
   Machine& machine_;
   std::array<uint32_t, 5> ris_{};
   std::array<uint32_t, 5> members_{};
-  uint32_t ctl_;
+  uint32_t ctl_ = kCtlAtReset;
 };
 
 }  // namespace twin
