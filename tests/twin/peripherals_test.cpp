@@ -795,6 +795,46 @@ TEST_F(Chip, CpussCtlResetsWithPrefetchCacheAndLiteralsOnAndKeepsOnlyItsFields) 
   EXPECT_EQ(rd(kCtl), 0x7U);
 }
 
+// PREFETCH-SLEEP (rules.hpp, CPU_ERR_03): with the product's rules on, a sleep with CPUSS CTL.PREFETCH set
+// stops the run; the same sleep with the prefetcher turned off first does not. The program masks interrupts
+// (the idle rule) and sleeps: CPSID i; WFI; B .-2, after, in the second case, LDR r0, =CTL; MOVS r1, #6;
+// STR r1, [r0].
+TEST(PrefetchSleep, ASleepWithThePrefetcherOnStopsTheRunAndOneWithItOffDoesNot) {
+  for (const bool prefetchOff : {false, true}) {
+    SCOPED_TRACE(prefetchOff ? "prefetcher off" : "prefetcher on (its reset value)");
+    twin::Mspm0 chip(Part::L1306);
+    std::vector<uint8_t> flash(0x114, 0);
+    const uint32_t sp = 0x20001000, entry = 0x101;
+    for (int i = 0; i < 4; ++i) {
+      flash[i] = static_cast<uint8_t>(sp >> (8 * i));
+      flash[4 + i] = static_cast<uint8_t>(entry >> (8 * i));
+    }
+    const std::vector<uint16_t> off = {0x4803, 0x2106,
+                                       0x6001};  // LDR r0, [pc, #12]; MOVS r1, #6; STR r1, [r0]
+    std::vector<uint16_t> code = prefetchOff ? off : std::vector<uint16_t>{0xBF00, 0xBF00, 0xBF00};
+    for (const uint16_t h : {0xB672, 0xBF30, 0xE7FD})
+      code.push_back(h);  // CPSID i; WFI; B .-2
+    for (size_t i = 0; i < code.size(); ++i) {
+      flash[0x100 + 2 * i] = static_cast<uint8_t>(code[i]);
+      flash[0x100 + 2 * i + 1] = static_cast<uint8_t>(code[i] >> 8);
+    }
+    const uint32_t ctl = 0x40400000 + 0x1300;  // the literal, 12 bytes after the LDR's PC (0x104)
+    for (int i = 0; i < 4; ++i)
+      flash[0x110 + i] = static_cast<uint8_t>(ctl >> (8 * i));
+    ASSERT_TRUE(chip.machine().loadFlash(flash));
+    chip.machine().powerOn();
+    chip.machine().enableImageRules(0x20000000);
+    chip.machine().run(chip.machine().now() + 32 * 100);
+    if (prefetchOff) {
+      EXPECT_FALSE(chip.machine().stopped()) << chip.machine().stopReason();
+    } else {
+      ASSERT_TRUE(chip.machine().stopped());
+      EXPECT_NE(chip.machine().stopReason().find("PREFETCH-SLEEP"), std::string::npos)
+          << chip.machine().stopReason();
+    }
+  }
+}
+
 TEST_F(Chip, ARegisterAccessBeforePowerEnableStopsTheRun) {
   // Peripheral registers are reachable only with GPRCM.PWREN.ENABLE (TRM "Peripheral power enable control").
   wr(kI2c0 + 0x1228, 1);
