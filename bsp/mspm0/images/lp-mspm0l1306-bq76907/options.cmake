@@ -15,8 +15,8 @@ set(BMS_IMAGE_OPTIONS
   FW_BQ769X_PROBE_CRC=0           # removes nothing used: the configuration knows the device's CRC mode (probe never asked for)
   FW_BQ769X_CRC=0                 # removes nothing used: the device runs without CRC (link.crc false, the default Comm Type)
   FW_BQ769X_FAULT_INDICATOR=0     # the L1306 board has no fault output pin
-  FW_BQ769X_BALANCE=0             # balancing does not fit the 16 KiB budget beside the state of charge (measured 2026-11-29, third session: 17 684 B with it, 1 300 B past; README "Open questions"); built in, every host and twin test of the image passes
-  FW_RECORD_STORE=0               # the record store (app/store) does not fit the 16 KiB yet (20 512 B for the full L1306-BQ76952 with it, balancing and SOC, app/store/README.md "Figures"): its hooks are built out, nothing kept across a reset; app_init.cpp and data_flash.cpp are ready for 1
+  FW_BQ769X_BALANCE=0             # balancing does not fit the 16 KiB budget beside the state of charge (measured 2026-11-29, fourth session: 17 692 B with it; README "The L1306 boards do not hold the full application"); built in, every host and twin test of the image passes
+  FW_RECORD_STORE=0               # the record store (app/store) does not fit the 16 KiB (20 916 B with it and balancing, measured 2026-11-29, fourth session; README "The L1306 boards do not hold the full application"): its hooks are built out, nothing kept across a reset; app_init.cpp and data_flash.cpp are ready for 1
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
 )
