@@ -25,13 +25,6 @@ inline void writeScr(uint32_t value) {
   mmio::block<mmio::Reg>(kScr).write(value);
 }
 
-// SYSCTL SHUTDNSTORE0 (0x1400, hw_sysctl_mspm0l11xx_l13xx.h and _g1x0x_g3x0x.h): read after clearing
-// CTL.PREFETCH, because a prefetch disable takes effect only once a SHUTDNSTORE access completes
-// (CPU_ERR_02, SLAZ742G; also listed in SLAZ741D/E for the L130x).
-inline void settlePrefetchOff() {
-  static_cast<void>(mmio::block<mmio::Reg>(reg::sysctl::kBase + 0x1400).read());
-}
-
 // Microseconds to LFCLK ticks, rounded down (x 67 / 2048 = 0.032715 ticks/us, 0.16 % under 32 768 / 1e6):
 // the wake-up comes early, never late; the rest is slept on the exact clock. kMaxSleepUs x 67 fits 32 bits.
 constexpr uint32_t ticksFor(uint32_t us) {
@@ -89,14 +82,8 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   // was armed, pend the wake-up ourselves.
   if (((lf.ctr.read() - start) & 0xFFFF) >= ticks) lfEvents.iset.write(timg::kIntCcu0);
 
-  // CPU_ERR_03 (listed for the L130x in SLAZ741D/E and the G350x in SLAZ742E; its text read in SLAZ763 6.3,
-  // the same advisory ID): entering SLEEP0 the prefetcher can fetch all zeros, and flash code run after the
-  // wake-up before an ISR has refilled the prefetcher and cache can be corrupted. Here the Thread code after
-  // the WFI runs first (PRIMASK set), so the prefetcher is off from before the WFI until that code has run.
-  mmio::Reg& cpuCtl = reg::cpuss::ctl(config_.cpuss);
-  const uint32_t cpuCtlSaved = cpuCtl.read();
-  cpuCtl.write(cpuCtlSaved & ~reg::cpuss::kCtlPrefetch);
-  settlePrefetchOff();
+  // The flash prefetcher is already off (CPU_ERR_03): the scheduler's idle turned it off before asking this
+  // policy and turns it on again once the Thread runs on (fw::port::chipSleepBegin, chip_sleep.hpp).
   writeScr(kScrSleepDeep);
   fw::port::waitForInterrupt();
   writeScr(0);
@@ -107,7 +94,6 @@ bool StandbyIdle::doSleep(bool timed, fw::Instant deadline) {
   lfEvents.iclr.write(timg::kIntCcu0);
   nvic::regs().icpr.write(1U << config_.lfIrq);
   clock_.resume(timeAfterSleep(anchor_, halted, start, woke), timed, deadline);
-  cpuCtl.write(cpuCtlSaved);
   return true;
 }
 

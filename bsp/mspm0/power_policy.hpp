@@ -10,9 +10,9 @@
 //   STANDBY1 after waking it makes the device miss every later wake edge.
 // - Otherwise STANDBY1: TimgClock halted, an LFCLK timer (TIMG1, clocked through STANDBY1: SLASEX0D table
 //   8-1, SLAU847D 2 "LFCLK") armed for the deadline minus kMarginUs (at most kMaxSleepUs: its 16-bit count
-//   wraps in 2 s), SCR.SLEEPDEEP set for this one WFI, with the instruction prefetcher off across it
-//   (CPU_ERR_03: the prefetcher can fetch all zeros entering a low-power mode, and the Thread code after this
-//   WFI runs before any handler). After the WFI, interrupts still masked: SLEEPDEEP
+//   wraps in 2 s), SCR.SLEEPDEEP set for this one WFI (the instruction prefetcher is
+//   off across it: the scheduler's idle turns it off before asking the policy, fw::port::chipSleepBegin,
+//   CPU_ERR_03). After the WFI, interrupts still masked: SLEEPDEEP
 //   cleared, the time taken from the LFCLK count (x 1e6 / 32 768 = x 15 625 / 512 us a tick,
 //   timeAfterSleep()), TimgClock restarted there and its wake-up re-armed. So no handler ever reads a clock
 //   that is behind, and the time is off by less than one LFCLK tick (30.5 us) after a sleep, without adding
@@ -44,7 +44,6 @@ class StandbyIdle final : public fw::hal::PowerPolicy {
     uint8_t lfIrq = 0;
     uintptr_t i2c = 0;       // the I2C controller whose transfers need BUSCLK
     uintptr_t uart = 0;      // the UART whose transmission needs BUSCLK
-    uintptr_t cpuss = 0;     // CPUSS, whose CTL.PREFETCH is cleared across the WFI (CPU_ERR_03)
     uintptr_t wakePort = 0;  // the GPIO port of the falling-edge wake inputs ...
     uint32_t wakePins = 0;   // ... and their DIN bits: STANDBY1 only while all read high (GPIO_ERR_01)
   };

@@ -120,8 +120,11 @@ TEST(SchedIdle, OnlyAHandlerThatPostsResumesTheThread) {
   bsp::host::Harness h;
   FnTask task;
   h.sched.addTask(0, task);
-  bool quietLeavesItSet = false, busyLeavesItSet = true;
-  const int quiet = h.irq.attach("quiet", [&] { quietLeavesItSet = h.irq.sleepingOnExit(); });
+  bool quietLeavesItSet = false, busyLeavesItSet = true, quietSeesChipPrepared = false;
+  const int quiet = h.irq.attach("quiet", [&] {
+    quietLeavesItSet = h.irq.sleepingOnExit();
+    quietSeesChipPrepared = h.irq.chipSleepPrepared();
+  });
   const int busy = h.irq.attach("busy", [&] {
     h.sched.post(0, 0x1);
     busyLeavesItSet = h.irq.sleepingOnExit();
@@ -130,6 +133,10 @@ TEST(SchedIdle, OnlyAHandlerThatPostsResumesTheThread) {
   EXPECT_TRUE(h.sched.idle());
   EXPECT_TRUE(quietLeavesItSet) << "a handler that posts nothing returns to sleep";
   EXPECT_FALSE(h.irq.sleepingOnExit()) << "the Thread clears it when it runs on";
+  // The chip's preparation for sleeping (hal/irq.hpp chipSleepBegin: the MSPM0's prefetcher off, CPU_ERR_03)
+  // lasts through the sleeps sleep-on-exit makes at handler returns, and is undone once the Thread runs on.
+  EXPECT_TRUE(quietSeesChipPrepared);
+  EXPECT_FALSE(h.irq.chipSleepPrepared());
 
   h.irq.setIdleProbe([&] { h.irq.raise(busy); });
   EXPECT_TRUE(h.sched.idle());
@@ -152,6 +159,7 @@ class RecordingPolicy final : public fw::hal::PowerPolicy {
   bool lastTimed = false;
   uint32_t lastDeadline = 0;
   bool maskedWhenAsked = false;
+  bool chipPreparedWhenAsked = false;
   bool sleepOnExitAtItsWfi = false;
 
  private:
@@ -160,6 +168,7 @@ class RecordingPolicy final : public fw::hal::PowerPolicy {
     lastTimed = timed;
     lastDeadline = deadline.us;
     maskedWhenAsked = irq_.masked();
+    chipPreparedWhenAsked = irq_.chipSleepPrepared();
     if (deep) {
       sleepOnExitAtItsWfi = irq_.sleepingOnExit();
       irq_.waitForInterrupt();
@@ -203,6 +212,10 @@ TEST(SchedIdle, APolicyThatSleptItselfLeavesNoPlainSleepAndNoSleepOnExit) {
   EXPECT_FALSE(policy.lastTimed) << "no timer armed: no deadline";
   EXPECT_EQ(h.irq.sleeps(), sleepsBefore + 1) << "one WFI, the policy's";
   EXPECT_FALSE(policy.sleepOnExitAtItsWfi) << "the Thread looks again after whatever woke the core";
+  // The chip's preparation (the MSPM0: its prefetcher off, CPU_ERR_03) covers the policy's own sleep too,
+  // and is undone once the Thread runs on.
+  EXPECT_TRUE(policy.chipPreparedWhenAsked);
+  EXPECT_FALSE(h.irq.chipSleepPrepared());
   // The timers still fire: the policy only chooses how the core sleeps.
   h.sched.startTimer(timer, 1, 0x1, ms(3));
   h.runFor(ms(5));

@@ -11,10 +11,9 @@ void irqRestore(uint32_t saved);
 void waitForInterrupt();
 void sleepOnExit();
 void resumeOnExit();
-// No chip work around a sleep on the host.
-inline uint32_t chipSleepBegin() {
-  return 0;
-}
-inline void chipSleepEnd(uint32_t) {}
+// The chip's preparation around a sleep: nothing to do on the host; the simulated controller records
+// whether it is in effect (SimIrq::chipSleepPrepared), so tests see where the scheduler puts it.
+uint32_t chipSleepBegin();
+void chipSleepEnd(uint32_t);
 
 }  // namespace fw::port

@@ -76,6 +76,7 @@ void SimIrq::reset() {
   inHandler_ = false;
   sleeps_ = 0;
   sleepOnExit_ = false;
+  chipSleepPrepared_ = false;
 }
 
 }  // namespace bsp::host
@@ -100,6 +101,13 @@ void sleepOnExit() {
 }
 void resumeOnExit() {
   bsp::host::simIrq().resumeOnExit();
+}
+uint32_t chipSleepBegin() {
+  bsp::host::simIrq().chipSleepPrepared(true);
+  return 0;
+}
+void chipSleepEnd(uint32_t) {
+  bsp::host::simIrq().chipSleepPrepared(false);
 }
 
 }  // namespace fw::port

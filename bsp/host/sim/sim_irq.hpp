@@ -33,6 +33,10 @@ class SimIrq {
   // The sleep-on-exit state (fw::port::sleepOnExit / resumeOnExit): set, a handler returning to the Thread
   // would put the core back to sleep on the target.
   bool sleepingOnExit() const { return sleepOnExit_; }
+  // Between fw::port::chipSleepBegin and chipSleepEnd: the chip's preparation for sleeping is in effect (on
+  // the MSPM0 the flash prefetcher is off, bsp/mspm0/port/chip_sleep.hpp).
+  bool chipSleepPrepared() const { return chipSleepPrepared_; }
+  void chipSleepPrepared(bool on) { chipSleepPrepared_ = on; }
 
   // Port implementation.
   uint32_t save();
@@ -65,6 +69,7 @@ class SimIrq {
   bool inHandler_ = false;
   uint64_t sleeps_ = 0;
   bool sleepOnExit_ = false;
+  bool chipSleepPrepared_ = false;
   std::function<void()> idleProbe_;
 };
 

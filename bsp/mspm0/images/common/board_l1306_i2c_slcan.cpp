@@ -60,8 +60,8 @@ constinit Mspm0System system(Chip::kCpuss);
 // power_policy.cpp).
 constexpr uint32_t kWakePins = Chip::kPa15.mask() | (BMS_BOARD_LED_BUTTON ? Chip::kPa14.mask() : 0U);
 static_assert(Chip::kPa15.port == 0 && Chip::kPa14.port == 0);
-constexpr StandbyIdle::Config kIdleConfig{Chip::kTimg1, Chip::kIrqTimg1,        Chip::kI2c0, Chip::kUart0,
-                                          Chip::kCpuss, Chip::kPa15.portBase(), kWakePins};
+constexpr StandbyIdle::Config kIdleConfig{Chip::kTimg1, Chip::kIrqTimg1,        Chip::kI2c0,
+                                          Chip::kUart0, Chip::kPa15.portBase(), kWakePins};
 constinit StandbyIdle power(clock, kIdleConfig);
 #endif
 
