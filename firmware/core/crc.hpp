@@ -54,13 +54,10 @@ constexpr Crc16Table makeCrc16Table() {
 inline constexpr Crc16Table kCrc16Table = makeCrc16Table();
 }  // namespace detail
 
-constexpr uint16_t crc16Update(uint16_t crc, uint8_t byte) {
-  return static_cast<uint16_t>((crc >> 8) ^ detail::kCrc16Table.entry[(crc ^ byte) & 0xFFU]);
-}
-
 namespace detail {
-// crc16Update() on a 32-bit value with the table's address in a register (with the 16-bit value GCC masked
-// with a constant it loaded again every byte).
+// One byte into the CRC: the low byte of crc ^ byte indexes the table. On a 32-bit value with the table's
+// address in a register (with a 16-bit value GCC masked with a constant it loaded again every byte). The
+// value stays within 16 bits: a 16-bit value shifted right by 8, xor a 16-bit entry.
 [[gnu::always_inline]] constexpr uint32_t crc16Step(uint32_t crc, const uint16_t* table, uint8_t byte) {
   return (crc >> 8) ^ table[static_cast<uint8_t>(crc ^ byte)];
 }

@@ -87,15 +87,14 @@ void Persistence::evaluated(FaultMask newlyTripped, bool settled, Instant now) {
     st.settingsSeen = settings_.changes();
     st.settingsDirty = true;
   }
-  // A counted state of charge (the gauge keeps its own); Restored moves nothing until the count does.
-  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge &&
-      socMoved(s - st.socStoredAtS >= kSocMaxAgeS ? 1 : kSocStep))
-    st.socDirty = true;
+  if (socMoved(s - st.socStoredAtS >= kSocMaxAgeS ? 1 : kSocStep)) st.socDirty = true;
   if (settled && !st.posted && hasWork()) repost();
 }
 
-// Whether the published state of charge is at least `step` from the stored one (any, when none is stored).
+// Whether the published state of charge is a counted one (the gauge keeps its own) at least `step` from the
+// stored one (any, when none is stored). Restored moves nothing until the count does.
 bool Persistence::socMoved(uint16_t step) const {
+  if (!kSoc || !pack_.soc.known() || pack_.soc.basis == SocBasis::Gauge) return false;
   const uint16_t now = pack_.soc.permille, kept = state_->socStored;
   return !state_->socKept || (now > kept ? now - kept : kept - now) >= step;
 }
@@ -155,7 +154,7 @@ void Persistence::step() {
 }
 
 void Persistence::beforeReset() {
-  if (kSoc && pack_.soc.known() && pack_.soc.basis != SocBasis::Gauge && socMoved(1)) state_->socDirty = true;
+  if (socMoved(1)) state_->socDirty = true;
   // The steps the lowest task would run, now: at most three jobs, each a write or an erase and the write
   // (the step's own post is harmless: the reset comes first).
   for (uint8_t n = 0; n < 6 && nextJob() != Job::None; ++n)
