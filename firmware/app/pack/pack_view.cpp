@@ -22,28 +22,28 @@ int32_t fold(int16_t* ext, uint16_t* at, bool& seen, const int16_t* values, uint
   return sum;
 }
 
-// A board's cells in one pass: their sum and their highest and lowest reading, without places (a fold of
-// every board's cells with places, and the open-wire walk beside it, were 17 % of the 64-device BQ79616
-// image's busy cycles, twin profile).
-struct CellRange {
+// A board's readings (its cells, or its temperatures) in one pass: their sum and their highest and lowest,
+// without places (a fold of every board's cells with places, and the open-wire walk beside it, were 17 % of
+// the 64-device BQ79616 image's busy cycles, twin profile).
+struct ReadingRange {
   int32_t sum;
   int32_t max;
   int32_t min;
 };
 // Scalars in the loop and its own function: with the struct's members in the loop, or inlined into
 // summarize(), GCC kept the three on the stack (a load and a store each a cell).
-[[gnu::noinline]] CellRange cellRange(const int16_t* cellMv, uint8_t cells) {
+[[gnu::noinline]] ReadingRange readingRange(const int16_t* reading, uint8_t count) {
   int32_t sum = 0;
   int32_t max = INT16_MIN;
   int32_t min = INT16_MAX;
-  if (cells != 0) {  // the loop test at the bottom: 14 cycles a cell, 18 with it at the top
-    const int16_t* const end = cellMv + cells;
+  if (count != 0) {  // the loop test at the bottom: 14 cycles a reading, 18 with it at the top
+    const int16_t* const end = reading + count;
     do {
-      const int32_t v = *cellMv;
+      const int32_t v = *reading;
       sum += v;
       if (v > max) max = v;
       if (v < min) min = v;
-    } while (++cellMv != end);
+    } while (++reading != end);
   }
   return {sum, max, min};
 }
@@ -61,7 +61,7 @@ bool foldCells(PackTotals& t, const int16_t* cellMv, uint8_t cells, uint16_t boa
     // kOpenWireStepMv apart; no two cells are further apart than the board's highest and lowest, so a board
     // whose range shows neither is clear without the walk over its neighbours. (A kNoReading cell is below
     // the floor: such a board is never folded, as before; a board of no cells has the empty range, clear.)
-    const CellRange r = cellRange(cellMv, cells);
+    const ReadingRange r = readingRange(cellMv, cells);
     if (r.min < kCellFloorMv || (r.max - r.min > kOpenWireStepMv && openWireCells(cellMv, cells) != 0))
       return false;
     t.packMv += r.sum;
@@ -77,7 +77,7 @@ void foldTemps(PackTotals& t, const int16_t* tempDeciK, uint8_t temps, uint16_t 
   if constexpr (kMaxBoards > 1) {
     // As with the cells, only a board that could hold a new extreme is folded: a kNoReading slot reads as
     // the lowest value, so a board with one is always folded (the fold leaves it out).
-    const CellRange r = cellRange(tempDeciK, temps);
+    const ReadingRange r = readingRange(tempDeciK, temps);
     if (t.temps && r.max <= t.extreme[kMaxTemp] && r.min >= t.extreme[kMinTemp]) return;
   }
   fold(&t.extreme[kMaxTemp], &t.at[kMaxTemp], t.temps, tempDeciK, temps,
