@@ -1,7 +1,8 @@
 // The firmware images themselves on the twin (build/<preset>/<preset>.elf; skipped when not built, as
 // ./ci/test builds them before it tests):
 // - the fast paths in CPU-counted time: ALERT (BQ76952) to the FETs off, nFAULT (BQ79616) to the fault
-//   output, wherever in the scan period the edge comes;
+//   output, wherever in the scan period the edge comes, and while the image's own record store erases or
+//   programs the flash (every flash read stalls then: the driver's wait acts on the line itself);
 // - deliberately broken variants of an image, made here by patching its flash, each caught by the twin: the
 //   MCAN interrupt never acknowledged (the MCANSS EOI store taken out), two interrupt vectors swapped, and
 //   the watchdog never restarted (the WWDTCNTRST store taken out);
