@@ -10,22 +10,41 @@ namespace {
 namespace fc = reg::flashctl;
 
 // The only code that runs while the flash bank is busy. In SRAM (.ramfunc, placed in .data by
-// linker/mspm0_sections.ld and copied by the reset handler): a fetch from flash would stall until the
-// operation ends (SLAAE56A flash section: a program/erase stalls every read of the bank), which would make
-// the bound meaningless. long_call: SRAM is beyond the reach of a BL from flash. It calls nothing and reads
-// no constant from flash (the masks are immediates). Returns the last STATCMD value read.
+// linker/mspm0_sections.ld and copied by the reset handler): a fetch from flash, or a data read (a literal, a
+// constant), would stall until the operation ends (SLAU846A NVM chapter, flash banks; SLAAE56A: a program or
+// erase stalls every read request to the one bank), which would make the bound meaningless and the watch
+// late. long_call: SRAM is beyond the reach of a BL from flash. It calls nothing and reads no constant from
+// flash (the masks are immediates; the watch is an SRAM struct whose addresses were computed before).
+// PRIMASK is set from before CMDEXEC to after the wait: an interrupt's vector and handler are in flash, so it
+// could only stall the bus and the watch (ARMv6-M: PRIMASK masks every configurable interrupt; the pending
+// ones are taken when it is cleared). Returns the last STATCMD value read.
 #if defined(BSP_MSPM0_MMIO_MODEL) && BSP_MSPM0_MMIO_MODEL
 #define BSP_MSPM0_RAMFUNC __attribute__((noinline))
 #else
 #define BSP_MSPM0_RAMFUNC __attribute__((section(".ramfunc"), noinline, long_call))
 #endif
-BSP_MSPM0_RAMFUNC uint32_t executeAndPoll(fc::Command& command, const mmio::Reg& statcmd, uint32_t bound) {
+BSP_MSPM0_RAMFUNC uint32_t executeAndPoll(fc::Command& command, const mmio::Reg& statcmd, uint32_t bound,
+                                          const FlashFaultWatch* watch) {
+#if !(defined(BSP_MSPM0_MMIO_MODEL) && BSP_MSPM0_MMIO_MODEL)
+  uint32_t primask;
+  __asm volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
+#endif
   command.cmdexec.write(fc::kExecute);
   uint32_t status = 0;
   for (uint32_t i = 0; i < bound; ++i) {
     status = statcmd.read();
     if ((status & fc::kStatDone) != 0) break;
+    // The fault line's edge: the fast path's action now, once (the pins stay as driven: protection takes
+    // them over after the operation, see the contract).
+    if (watch != nullptr && (mmio::block<const mmio::Reg>(watch->edgeStatus).read() & watch->edgeMask) != 0 &&
+        *watch->armed) {
+      mmio::block<mmio::Reg>(watch->outputSet).write(watch->outputMask);
+      watch = nullptr;
+    }
   }
+#if !(defined(BSP_MSPM0_MMIO_MODEL) && BSP_MSPM0_MMIO_MODEL)
+  __asm volatile("msr primask, %0" ::"r"(primask) : "memory");
+#endif
   return status;
 }
 
@@ -64,7 +83,8 @@ fw::Status FlashctlStorage::execute(uint32_t offset, const uint8_t* word) {
   // sector n, hw_flashctl.h).
   fc::protect(base_).cmdweprota.write(~(1U << (address / kSectorBytes)));
   const uint32_t status = executeAndPoll(
-      command, fc::statcmd(base_), flashPollBound(program ? kFlashProgramMaxUs : kFlashEraseMaxUs, cpuMhz_));
+      command, fc::statcmd(base_), flashPollBound(program ? kFlashProgramMaxUs : kFlashEraseMaxUs, cpuMhz_),
+      watch_ != nullptr && watch_->armed != nullptr ? watch_ : nullptr);
   if ((status & fc::kStatDone) == 0) return fw::Status::Timeout;
   if ((status & fc::kStatPass) == 0) return fw::Status::VerifyFailed;
   return reads(offset, program ? kWordBytes : kSectorBytes, word) ? fw::Status::Ok : fw::Status::VerifyFailed;

@@ -21,14 +21,43 @@
 //   3.3): the real wait is at most that, and longer only if iterations are slower.
 // - Results: STATCMD not DONE within the bound: Timeout; DONE without PASS (protection, verify, illegal
 //   address...): VerifyFailed; read-back differs: VerifyFailed.
+// - Protection during the operation (watchFaultLine): the wait runs with PRIMASK set, so no interrupt whose
+//   vector and handler are in flash starts and stalls there (they run right after, in their order). With a
+//   watch, each iteration also looks at the board's fault line; the first time its edge is pending (and
+//   unmasked) while the watch is armed, it drives the watch's outputs high at once, as the fast path would
+//   (FETs off through CFETOFF/DFETOFF, or the fault output), then waits on. After the operation the pending
+//   edge interrupt runs the normal path: protection, which takes the fault line as a fault exactly while the
+//   watch is armed (PackView::monitorRunning), opens the same paths and so agrees with the pins.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
 #include "hal/flash.hpp"
+#include "pin.hpp"
+#include "regs/common.hpp"
+#include "regs/gpio.hpp"
 
 namespace bsp::mspm0 {
+
+// What the wait watches while the flash bank is busy. It and everything it points to must be in SRAM or a
+// peripheral (the wait reads no flash): register addresses computed before the call, no code.
+struct FlashFaultWatch {
+  uintptr_t edgeStatus = 0;  // the fault line's GPIO port CPU_INT MIS: its edge pending and unmasked
+  uint32_t edgeMask = 0;     // the fault line's bit there
+  uintptr_t outputSet = 0;   // DOUTSET31_0 of the outputs' port
+  uint32_t outputMask = 0;   // the outputs driven high (that path off / fault asserted)
+  const volatile bool* armed = nullptr;  // the fault line counts as a fault now (nullptr: never)
+};
+
+// The watch of `line` (falling-edge input, GpioEdgeInput) driving `outputs` of port `outputPort` (0 = GPIOA,
+// 1 = GPIOB) high; armed later (the armed flag is the application's).
+constexpr FlashFaultWatch faultLineWatch(const Pin& line, uint8_t outputPort, uint32_t outputs) {
+  const Pin port{outputPort, 0, 0};
+  return {line.portBase() + reg::kCpuIntOffset + offsetof(reg::EventBlock, mis), line.mask(),
+          port.portBase() + reg::gpio::kDataOffset + offsetof(reg::gpio::Data, doutset), outputs, nullptr};
+}
 
 struct FlashctlConfig {
   uintptr_t base;          // FLASHCTL_BASE
@@ -61,6 +90,8 @@ class FlashctlStorage final : public fw::hal::FlashStorage {
   static constexpr bool regionFits(uint32_t address, uint32_t sectors) {
     return address % kSectorBytes == 0 && sectors > 0 && address / kSectorBytes + sectors <= 32;
   }
+  // Every later operation watches `watch` (see the contract; nullptr: none). It must stay valid and in SRAM.
+  void watchFaultLine(const FlashFaultWatch* watch) { watch_ = watch; }
 
  private:
   fw::Status doErase(uint32_t sector) override;
@@ -74,6 +105,7 @@ class FlashctlStorage final : public fw::hal::FlashStorage {
   uint32_t regionAddress_;
   uint32_t cpuMhz_;
   bool ecc_;
+  const FlashFaultWatch* watch_ = nullptr;
 };
 
 }  // namespace bsp::mspm0

@@ -410,8 +410,9 @@ void Machine::run(uint64_t endCycle) {
     }
     timeline_.clearRearmed();
     while (now() < horizon) {
-      if (now() < flashBusyUntil_ && core_.pc() < layout_.flashSize) {
-        // The next fetch is from the flash bank FLASHCTL is busy with: the core stalls (busy, not asleep).
+      if (now() < flashBusyUntil_ && (core_.pc() < layout_.flashSize || core_.waitingForFlash())) {
+        // The next fetch, or the load of the instruction that waits, is from the flash bank FLASHCTL is busy
+        // with: the core stalls (busy, not asleep).
         const uint64_t until = std::min(flashBusyUntil_, horizon);
         if (profiler_ != nullptr) {
           profiler_->account(core_.pc(), core_.ipsr(), core_.ipsr(), false,

@@ -148,9 +148,13 @@ class Machine final : public CoreObserver {
   Core& core() { return core_; }
   const MemoryLayout& layout() const { return layout_; }
   bool inSram(uint32_t address) const { return address - layout_.sramBase < layout_.sramSize; }
-  // FLASHCTL programs or erases until `cycle` (0: not): the one flash bank stalls every read, so the core
-  // fetches no instruction from flash before then; code in SRAM runs on (periph/flashctl.hpp).
-  void stallFlashUntil(uint64_t cycle) { flashBusyUntil_ = cycle; }
+  // FLASHCTL programs or erases until `cycle` (0: not, or no longer): the one flash bank stalls every read,
+  // so the core neither fetches an instruction nor loads data from flash before then; code in SRAM that
+  // reads no flash runs on (periph/flashctl.hpp).
+  void stallFlashUntil(uint64_t cycle) {
+    flashBusyUntil_ = cycle;
+    core_.setFlashBusy(cycle != 0);
+  }
   // An external interrupt line's level (IRQ n of the NVIC).
   void setIrq(int irq, bool asserted);
   // IRQ-UNSERVED (rules.hpp): the lines asserted now for at least `minCycles` whose NVIC enable was never set

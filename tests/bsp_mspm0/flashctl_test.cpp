@@ -10,6 +10,7 @@
 
 #include "fixture.hpp"
 #include "flashctl.hpp"
+#include "gpio.hpp"
 
 namespace bsp::mspm0::test {
 namespace {
@@ -117,6 +118,41 @@ TEST_F(Flashctl, TheWaitIsBoundedByTheDataSheetMaximum) {
     regs().queueRead(kStatcmd, kInProgress);
   EXPECT_EQ(s.erase(1), fw::Status::Timeout);
   EXPECT_EQ(regs().readCount(kStatcmd), 320000U);
+}
+
+// The watch (flashctl.hpp): the fault line's edge pending (PB0's bit in GPIOB's CPU_INT MIS) while armed
+// drives the outputs (DOUTSET of GPIOB: PB2 | PB3) once, from inside the wait; not armed, it drives nothing.
+constexpr uintptr_t kGpiobMis = 0x400A2000 + 0x1020 + 0x18, kGpiobDoutset = 0x400A2000 + 0x1290;
+
+TEST_F(Flashctl, AFaultLineEdgeDuringTheWaitDrivesTheOutputsOnceWhileArmed) {
+  powerGpioPort(kGpioaBase + kGpioPortStride);
+  auto s = storage();
+  bool armed = true;
+  FlashFaultWatch watch = faultLineWatch(Pin{1, 0, 12}, 1, 0xC);
+  watch.armed = &armed;
+  EXPECT_EQ(watch.edgeStatus, kGpiobMis);
+  EXPECT_EQ(watch.outputSet, kGpiobDoutset);
+  s.watchFaultLine(&watch);
+  regs().clearLog();
+  regs().queueReads(kStatcmd, {kInProgress, kInProgress, kInProgress, kInProgress});
+  regs().queueReads(kGpiobMis, {0, 0x2, 0x1, 0x1});  // another pin's edge, then PB0's
+  EXPECT_EQ(s.program(0, kWord), fw::Status::Ok);
+  ASSERT_EQ(regs().writes(kGpiobDoutset).size(), 1U);
+  EXPECT_EQ(regs().lastWrite(kGpiobDoutset), 0xCU);
+  EXPECT_EQ(flash(kRegion + 7), 8) << "the program completes as without a watch";
+}
+
+TEST_F(Flashctl, AFaultLineEdgeWhileNotArmedDrivesNothing) {
+  powerGpioPort(kGpioaBase + kGpioPortStride);
+  auto s = storage();
+  bool armed = false;  // the monitor is not running: protection does not take the line as a fault
+  FlashFaultWatch watch = faultLineWatch(Pin{1, 0, 12}, 1, 0xC);
+  watch.armed = &armed;
+  s.watchFaultLine(&watch);
+  regs().queueReads(kStatcmd, {kInProgress, kInProgress});
+  regs().queueReads(kGpiobMis, {0x1, 0x1});
+  EXPECT_EQ(s.erase(1), fw::Status::Ok);
+  EXPECT_TRUE(regs().writes(kGpiobDoutset).empty());
 }
 
 }  // namespace

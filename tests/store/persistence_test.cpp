@@ -10,6 +10,7 @@
 #include "app/protection/default_limits.hpp"
 #include "core/assert.hpp"
 #include "sim/sim_flash.hpp"
+#include "sim/sim_irq.hpp"
 
 namespace {
 
@@ -147,6 +148,52 @@ TEST(Persistence, TripIsWrittenOnlyOnceProtectionSettledAndFromTheLowestTask) {
   EXPECT_EQ(log.entry[0].rule, static_cast<uint8_t>(FaultId::CellOvervoltage));
   EXPECT_EQ(log.entry[0].value, 4321);
   EXPECT_EQ(log.entry[0].uptimeS, 7U);
+}
+
+// The flash behind the store, noting whether interrupts were masked at each program and erase.
+class MaskNotingFlash final : public fw::hal::FlashStorage {
+ public:
+  explicit MaskNotingFlash(bsp::host::SimFlash& flash)
+      : FlashStorage(flash.read().data(), flash.sectorCount()), flash_(flash) {}
+  int masked = 0, unmasked = 0;
+
+ private:
+  fw::Status doErase(uint32_t sector) override {
+    note();
+    return flash_.erase(sector);
+  }
+  fw::Status doProgram(uint32_t offset, std::span<const uint8_t, kWordBytes> word) override {
+    note();
+    return flash_.program(offset, word);
+  }
+  void note() { ++(bsp::host::simIrq().masked() ? masked : unmasked); }
+  bsp::host::SimFlash& flash_;
+};
+
+// A step (one job: here an erase, then the write of a trip that compacts) runs with interrupts masked from
+// its start to its end, so a fault-line edge between two word programs stays pending until the flash driver's
+// wait sees it (bsp/mspm0/flashctl.hpp) instead of running a handler whose task then waits for the step.
+TEST(Persistence, EveryStepRunsWithInterruptsMasked) {
+  bsp::host::SimFlash sim(2);
+  MaskNotingFlash flash(sim);
+  FixedClock clock;
+  fw::sched::Scheduler scheduler{clock};
+  fw::app::PackView pack{};
+  fw::app::command::LimitSettings settings{fw::app::kDefaultLimits};
+  Persistence persist(flash, scheduler, pack, settings);
+  LowestTask task(persist);
+  scheduler.addTask(fw::app::kCommandTask, task);
+  StartupInfo info{kPor, false, 0, 0};
+  persist.start(info);
+  for (uint32_t s = 0; s < 100 && sim.eraseCount() < 2; ++s) {  // trips until the store has erased twice
+    persist.evaluated(fw::app::bit(FaultId::CellOvervoltage), true, at(s));
+    while (scheduler.dispatchOne()) {
+    }
+  }
+  EXPECT_EQ(sim.eraseCount(), 2U);
+  EXPECT_GE(flash.masked, 40);
+  EXPECT_EQ(flash.unmasked, 0);
+  EXPECT_FALSE(bsp::host::simIrq().masked()) << "the mask ends with the step";
 }
 
 TEST(Persistence, LogKeepsTheLastFourTripsAcrossResets) {

@@ -37,9 +37,14 @@ constexpr uint32_t kData = 0x7000;  // the data region (bsp/mspm0/linker), secto
 class Flash : public twin_test::ChipRig {
  protected:
   // The CPU runs ADDS r0, #1; B .-2 (r0 counts the iterations), from flash or from the bottom of SRAM.
-  explicit Flash(Part part = Part::G3507, bool fromSram = false)
-      : ChipRig(part, {0x01, 0x30, 0xFD, 0xE7}, fromSram) {}
+  explicit Flash(Part part = Part::G3507, bool fromSram = false,
+                 std::array<uint8_t, 4> loop = {0x01, 0x30, 0xFD, 0xE7})
+      : ChipRig(part, loop, fromSram) {}
   uint8_t flashAt(uint32_t address) { return chip_.machine().flash()[address]; }
+  uint32_t rdFlash32(uint32_t address) {
+    return static_cast<uint32_t>(flashAt(address) | flashAt(address + 1) << 8 | flashAt(address + 2) << 16) |
+           static_cast<uint32_t>(flashAt(address + 3)) << 24;
+  }
   // A one-word program in the order TI's driverlib issues it (hardware ECC on the G3507): the sector
   // unprotected first.
   void program(uint32_t address, uint32_t lo, uint32_t hi, bool unprotect = true) {
@@ -164,6 +169,28 @@ TEST_F(FlashSram, SramCodeRunsWhileTheBankIsBusy) {
   runUs(40);
   EXPECT_GT(chip_.machine().core().reg(0), before + 100);
   EXPECT_EQ(rd(kStatcmd), kInProgress);
+}
+
+// SRAM code that reads the flash (here LDR r0, [r1] with r1 = 0 from reset: the vector table) waits too: the
+// one bank stalls data reads as well as fetches (SLAU846A NVM chapter, flash banks; SLAAE56A). So a wait loop
+// in SRAM that read a literal or a constant from flash would be caught here, not only on the part.
+class FlashSramLoads : public Flash {
+ protected:
+  FlashSramLoads() : Flash(Part::G3507, true, {0x08, 0x68, 0xFD, 0xE7}) {}  // LDR r0, [r1]; B .-2 (r1 = 0)
+};
+
+TEST_F(FlashSramLoads, SramCodeThatLoadsFromFlashWaitsForTheProgramToEnd) {
+  twin::Machine& m = chip_.machine();
+  runUs(10);
+  const uint64_t before = m.core().instructions();
+  ASSERT_GT(before, 0U);
+  program(kData, 1, 2);
+  runUs(40);
+  EXPECT_LE(m.core().instructions(), before + 1) << "a load from flash completed during the program";
+  runUs(20);
+  EXPECT_GT(m.core().instructions(), before + 100) << "the loop runs on once the program is done";
+  EXPECT_EQ(m.core().reg(0), rdFlash32(0)) << "the load, run again, read the vector table's first word";
+  EXPECT_FALSE(m.stopped()) << why();
 }
 
 TEST_F(Flash, APowerCutHalfWayLeavesATornWordAndTheFlashSurvivesTheReset) {

@@ -96,6 +96,13 @@ bool Core::load(uint32_t address, unsigned bytes, uint32_t& value) {
   }
   const uint8_t* p = nullptr;
   if (address < flashSize_) {
+    if (flashBusy_ && !vectorFetch_) {
+      // On a part with one bank a program or erase stalls every read request to the flash, data loads as
+      // well as fetches, until it completes (SLAU846A NVM chapter, flash banks; SLAAE56A flash memory
+      // organization): the load waits, so the instruction runs again once the bank is free.
+      waitingForFlash_ = true;
+      return false;
+    }
     p = flash_ + address;
   } else if (address - sramBase_ < sramSize_) {
     p = sram_ + (address - sramBase_);
@@ -243,7 +250,10 @@ void Core::takeException(int exception, uint32_t returnAddress) {
   nvic_.activate(exception);
   event_ = true;
   uint32_t vector = 0;
-  if (!load(vtor_ + 4U * static_cast<uint32_t>(exception), 4, vector)) {
+  vectorFetch_ = true;
+  const bool fetched = load(vtor_ + 4U * static_cast<uint32_t>(exception), 4, vector);
+  vectorFetch_ = false;
+  if (!fetched) {
     halt("exception " + std::to_string(exception) + ": no vector at " + hex(vtor_ + 4U * exception));
     return;
   }
@@ -328,6 +338,7 @@ uint32_t Core::step() {
   }
   uint16_t op = 0;
   if (!fetch(pc_, op)) return 0;
+  waitingForFlash_ = false;
   faulted_ = false;
   extraCycles_ = 0;
   next_ = pc_ + 2;
@@ -340,6 +351,10 @@ uint32_t Core::step() {
     spent = execute32(op, hw2);
   } else {
     spent = execute(op);
+  }
+  if (waitingForFlash_) {  // a load from the busy bank: nothing done (loads write no register before the
+    --instructions_;       // last one is in), the same instruction runs again
+    return 0;
   }
   if (!faulted_) pc_ = next_;  // a faulting instruction returns to itself (HardFault's ReturnAddress)
   return spent + extraCycles_;

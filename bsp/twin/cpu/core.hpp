@@ -75,6 +75,11 @@ class Core {
     sram_ = data, sramBase_ = base, sramSize_ = size;
   }
   void setObserver(CoreObserver* observer) { observer_ = observer; }
+  // FLASHCTL programs or erases: the one flash bank answers no read, instruction fetch or data load
+  // (Machine::stallFlashUntil). An instruction whose load hits the flash then does not execute: step()
+  // returns 0 with waitingForFlash() set, and runs it again once the bank is free (the machine waits).
+  void setFlashBusy(bool busy) { flashBusy_ = busy; }
+  bool waitingForFlash() const { return waitingForFlash_; }
   void setSramWatch(SramWatch* watch) { watch_ = watch; }
 
   // Reset (B1.5.5): MSP and PC from the vector table at VTOR = 0, Thread mode, PRIMASK 0, NVIC reset.
@@ -143,6 +148,10 @@ class Core {
   CoreObserver* observer_ = nullptr;
   SramWatch* watch_ = nullptr;
   bool stacking_ = false;  // exception entry or return moves the frame: not an instruction's access
+  bool flashBusy_ = false;
+  bool waitingForFlash_ = false;  // the current instruction's load hit the busy flash bank
+  bool vectorFetch_ =
+      false;  // exception entry's vector load: the machine charges its wait (onExceptionEntry)
   uint32_t maskSections_ = 0;
   uint32_t handlerStackTop_ = 0;
   const uint8_t* flash_ = nullptr;

@@ -201,6 +201,7 @@ void Flashctl::finish() {
     std::fill(flash.begin() + first, flash.begin() + first + kSectorBytes, 0xFF);
   }
   op_ = Op::None;
+  machine_.stallFlashUntil(0);  // the bank answers reads again
   statcmd_ = kDone | kPass;
   weprotA_ = weprotB_ = ~0U;  // re-protected after every command
 }

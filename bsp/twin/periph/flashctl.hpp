@@ -16,8 +16,10 @@
 //   sector ends with STATCMD = CMDDONE | FAILWEPROT and does nothing (hw_flashctl.h STATCMD.FAILWEPROT).
 // - Stall: a program or erase takes the data sheet's typical time (word 50 us, sector erase 4 ms: MSPM0L110x
 //   SLASEX5C / MSPM0G310x-Q1 7.7). While it runs the CPU fetches no instruction from flash: the core waits
-//   (Machine::stallFlashUntil) until it ends, as the one bank stalls every read (SLAAE56A flash section).
-//   Code in SRAM runs on. (Data loads from flash by SRAM code are not stalled in the model.)
+//   (Machine::stallFlashUntil) until it ends, as the one bank stalls every read request, data loads too
+//   (SLAU846A NVM chapter, flash banks; SLAAE56A flash memory organization). Code in SRAM runs on until it
+//   loads from flash (a literal, a constant table): that instruction waits for the end. (DMA reads of the
+//   flash are not stalled in the model: no image's DMA reads flash.)
 // - ECC (G3507): the 8 ECC bits are computed by the hardware when CMDBYTEN enables the ECC byte (bit 8) and
 //   CMDCTL.ECCGENOVR is clear (hw_flashctl.h); a program without the ECC byte, or with the override, stops
 //   (not modelled: the word would read back with an ECC error, SLAU846A program section).

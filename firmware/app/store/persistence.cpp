@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/assert.hpp"
+#include "hal/irq.hpp"
 
 namespace fw::app::store {
 
@@ -141,6 +142,11 @@ void Persistence::done(Job job) {
 }
 
 void Persistence::step() {
+  // Masked for the whole job: between two word programs the CPU runs the store's code from flash, where an
+  // interrupt would run the fault line's handler, whose protection task then waits for this task to return
+  // (up to a compaction's 81 programs). Held pending instead, the edge is seen by the flash driver's wait at
+  // the next program or erase (bsp/mspm0/flashctl.hpp), which drives the fast path's pins.
+  const hal::CriticalSection masked;
   State& st = *state_;
   st.posted = false;
   if (const Job job = nextJob(); job != Job::None) {

@@ -26,8 +26,10 @@
 //   state of charge, else one sector erase; the next settled evaluation posts it again if work is left. A
 //   write that finds no erased sector (Busy) erases one and writes in the next step. So every program and
 //   erase runs after the scan's bus work and the FET request, from the task that runs only when protection,
-//   the monitor and the publisher have nothing to do (the CPU still stalls for the flash: a fault-line
-//   interrupt that comes during an erase waits for it, measured in tests/twin, store/README.md).
+//   the monitor and the publisher have nothing to do. A step runs with interrupts masked (PRIMASK): a
+//   fault-line edge that comes during it stays pending, and the flash driver's wait, which runs through
+//   every program and erase, acts on it at once (the MSPM0 driver's watch: bsp/mspm0/flashctl.hpp); the
+//   interrupt and protection run when the step returns (store/README.md "In the images").
 // - beforeReset() (BackgroundWork, from the command task just before a commanded reset, the paths off):
 //   writes at once what is waiting and a state of charge that moved at all since it was stored, through
 //   the steps the lowest task would run (at most six: three record writes, each possibly after an erase).

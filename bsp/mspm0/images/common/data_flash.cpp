@@ -34,13 +34,15 @@ constexpr bool kEcc = true;
 
 }  // namespace
 
-fw::hal::FlashStorage& dataFlash() {
+fw::hal::FlashStorage& dataFlash(const bsp::mspm0::FlashFaultWatch* watch) {
   const auto address = static_cast<uint32_t>(reinterpret_cast<uintptr_t>(__record_store_start__));
   const auto sectors = static_cast<uint32_t>(__record_store_end__ - __record_store_start__) /
                        fw::hal::FlashStorage::kSectorBytes;
   FW_ASSERT_MODULE(fw::Module::Bsp, bsp::mspm0::FlashctlStorage::regionFits(address, sectors));
-  return constructOnce<bsp::mspm0::FlashctlStorage>(bsp::mspm0::FlashctlConfig{
+  auto& flash = constructOnce<bsp::mspm0::FlashctlStorage>(bsp::mspm0::FlashctlConfig{
       Chip::kFlashctl, address, __record_store_start__, sectors, kEcc, bsp::mspm0::kBusClockHz / 1000000U});
+  flash.watchFaultLine(watch);
+  return flash;
 }
 
 }  // namespace image

@@ -4,12 +4,14 @@
 // The BQ76952's CFETOFF and DFETOFF inputs on PB2 and PB3 (bsp/mspm0/README.md "Connections"; PINCM15 and
 // PINCM16, mspm0g350x.h IOMUX_PINCM15_PF_GPIOB_DIO02 / PINCM16_PF_GPIOB_DIO03): protection drives them high
 // while it holds that path off, so a path opens without I2C (app/monitors/fet_mailbox.hpp). Asserted from
-// start-up until protection's first request.
+// start-up until protection's first request. While the record store programs or erases the flash, its
+// driver's wait watches ALERT (PB0's edge) and drives both pins high itself (bsp/mspm0/flashctl.hpp).
 #include <string_view>
 
 #include "app/monitors/bq769x_app.hpp"
 #include "app/monitors/bq769x_settings.hpp"
 #include "board.hpp"
+#include "chip/mspm0g3507.hpp"
 #include "common/construct_once.hpp"
 #include "common/kept_records.hpp"
 #include "gpio.hpp"
@@ -27,8 +29,15 @@ constexpr auto& kSettings = fw::drivers::bq769x2::packedSettings<kSettingRows>;
 using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq769x2, fw::drivers::bq769x2::Bq769x2Measurement,
                                fw::app::CanPublisher>;
 
-constinit bsp::mspm0::GpioOut chargeOff(bsp::mspm0::Pin{1, 2, 15});     // PB2 -> CFETOFF
-constinit bsp::mspm0::GpioOut dischargeOff(bsp::mspm0::Pin{1, 3, 16});  // PB3 -> DFETOFF
+constexpr bsp::mspm0::Pin kChargeOff{1, 2, 15};     // PB2 -> CFETOFF
+constexpr bsp::mspm0::Pin kDischargeOff{1, 3, 16};  // PB3 -> DFETOFF
+constinit bsp::mspm0::GpioOut chargeOff(kChargeOff);
+constinit bsp::mspm0::GpioOut dischargeOff(kDischargeOff);
+// ALERT (PB0, the board's monitor signal: board_g3507_can.hpp) during a flash program or erase: both paths
+// off, as protection does on the fault line before a scan says which fault. In SRAM (the wait reads it).
+static_assert(kChargeOff.port == kDischargeOff.port);
+constinit bsp::mspm0::FlashFaultWatch alertWatch = bsp::mspm0::faultLineWatch(
+    bsp::mspm0::chip::Mspm0g3507::kPb0, kChargeOff.port, kChargeOff.mask() | kDischargeOff.mask());
 
 }  // namespace
 
@@ -46,6 +55,7 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   App& app = image::constructOnce<App>(scheduler, board.i2c, board.alert, board.can, board.system, config);
   // Records kept in flash restored, this reset's fault record written; the Startup message: the reset cause
   // the board read, version, fault record, protection-log entries
-  image::startKeptRecords(app, scheduler, board.system.identity().resetCause);
+  alertWatch.armed = &app.pack().monitorRunning;  // the fault line is a fault exactly then (ProtectionTask)
+  image::startKeptRecords(app, scheduler, board.system.identity().resetCause, &alertWatch);
   app.start();
 }
