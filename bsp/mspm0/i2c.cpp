@@ -214,16 +214,19 @@ void I2cController::fillTx() {
 
 void I2cController::drainRx() {
   i2c::Controller& r = i2c::controller(config_.base);
-  // In locals: a store through rx_ may alias any member, so the members would be reloaded for every byte.
-  uint8_t* const first = rx_;
-  uint8_t* const end = first + rxLeft_;
-  uint8_t* rx = first;
-  // RXFIFOCNT is at most 8, so this loop is bounded.
-  for (uint32_t n = r.mfifosr.read() & i2c::kFifoRxCountMask; n != 0; --n) {
-    const uint8_t byte = static_cast<uint8_t>(r.mrxdata.read());
-    if (rx != end) *rx++ = byte;  // else: the PEC byte, already checked by the hardware
+  // RXFIFOCNT is at most 8, so both loops are bounded. The bytes are stored through a local pointer by a loop
+  // with no other test (a store through rx_ may alias any member, which would be reloaded for every byte).
+  uint32_t count = r.mfifosr.read() & i2c::kFifoRxCountMask;
+  const uint32_t stored = count < rxLeft_ ? count : rxLeft_;
+  uint8_t* rx = rx_;
+  uint8_t* const end = rx + stored;
+  if (rx != end) {
+    do {
+      *rx++ = static_cast<uint8_t>(r.mrxdata.read());
+    } while (rx != end);
   }
-  const auto stored = static_cast<uint32_t>(rx - first);
+  for (count -= stored; count != 0; --count)
+    (void)r.mrxdata.read();  // the PEC byte, already checked by the hardware
   rx_ = rx;
   rxLeft_ = static_cast<uint16_t>(rxLeft_ - stored);
   I2cTransaction& t = current();
