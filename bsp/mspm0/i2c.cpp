@@ -237,12 +237,12 @@ void I2cController::onInterrupt() {
   reg::EventBlock& events = reg::cpuInt(config_.base);
   const uint32_t pending = events.mis.read();
   events.iclr.write(pending);
+  if (phase_ == Phase::Idle) return;
   // The most frequent interrupt, 7 bytes in the middle of a read, alone: no other bit to look at.
   if (pending == i2c::kIntRxFifoTrig) {
     drainRx();
     return;
   }
-  if (phase_ == Phase::Idle) return;
 
   if (stuck_) {
     stuck_ = false;
