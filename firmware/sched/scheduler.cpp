@@ -144,6 +144,14 @@ void Scheduler::fireDueTimers(Instant now) {
 }
 
 bool Scheduler::dispatchOne() {
+  return pass(false);
+}
+
+bool Scheduler::runOnce() {
+  return pass(true);
+}
+
+inline bool Scheduler::pass(bool sleep) {
   // The clock is read only when a timer may be due: while the wake-up armed for the earliest deadline has
   // not fired, none is (most passes: a task posted by an interrupt, its follow-up).
   if (state_.timers != nullptr && !wakeArmedForEarliest()) fireDueTimers(clock_.now());
@@ -151,13 +159,22 @@ bool Scheduler::dispatchOne() {
   TaskId id;
   EventMask events;
   {
-    hal::CriticalSection cs;
+    const uint32_t saved = port::irqSave();
     const uint8_t ready = state_.ready;
-    if (ready == 0) return false;
+    if (ready == 0) {
+      // Nothing ready: the loop sleeps in this same masked section (one fewer after every wake-up).
+      if (sleep) {
+        sleepMasked(saved);
+      } else {
+        port::irqRestore(saved);
+      }
+      return false;
+    }
     id = highestBit(ready);
     events = state_.pending[id];
     state_.pending[id] = 0;
     state_.ready = static_cast<uint8_t>(ready & ~(1U << id));
+    port::irqRestore(saved);
   }
 
   trace(TraceKind::Run, id, events);
@@ -185,7 +202,10 @@ inline void Scheduler::noteRun(TaskId id, Duration took) {
 }
 
 bool Scheduler::idle() {
-  const uint32_t saved = port::irqSave();
+  return sleepMasked(port::irqSave());
+}
+
+inline bool Scheduler::sleepMasked(uint32_t saved) {
   uint32_t chip = 0;
   // Re-check with interrupts masked: anything posted from now on leaves its interrupt pending, and a pending
   // interrupt makes WFI return at once even with PRIMASK set. The handler then runs after irqRestore.
@@ -231,15 +251,11 @@ bool Scheduler::idle() {
 }
 
 void Scheduler::run() {
-  for (;;) {
-    // Only an interrupt that made work resumes the Thread (idle(): sleep-on-exit); a wake-up that finds no
-    // task ready and no timer due (the clock's intermediate alarm, a spurious wake-up) sleeps again in idle()
-    // without a pass through dispatchOne() and its clock read and critical section.
-    if (!dispatchOne()) {
-      while (idle()) {
-      }
-    }
-  }
+  // Only an interrupt that made work resumes the Thread (sleepMasked(): sleep-on-exit). A wake-up costs two
+  // masked sections: the one that takes the task, and the one that finds nothing more and sleeps (before:
+  // dispatchOne() and idle() each had their own, four).
+  for (;;)
+    runOnce();
 }
 
 void Scheduler::superviseWatchdog(hal::Watchdog& watchdog, Duration window) {

@@ -11,7 +11,7 @@
 //   checkIn() during that window; one stalled task starves the watchdog and the MCU resets.
 //
 // Contract
-// - addTask/startTimer/stopTimer/checkIn/dispatchOne/idle/run: thread mode only.
+// - addTask/startTimer/stopTimer/checkIn/dispatchOne/idle/runOnce/run: thread mode only.
 // - post() and the Notifys from notifier(): any context, including ISRs; O(1), masks interrupts for a few
 //   instructions.
 // - A programming error (duplicate priority, post to an unregistered task) goes to FW_ASSERT.
@@ -80,6 +80,9 @@ class Scheduler {
 
   // Thread mode. Fires due timers, then runs the highest-priority ready task. False if no task ran.
   bool dispatchOne();
+  // Thread mode. One pass of run(): dispatchOne(), and with no task ready idle()'s sleep in the same masked
+  // section as the ready check. False if no task ran (it slept, or found a timer due or work posted).
+  bool runOnce();
   // Thread mode. Sleeps until an interrupt unless work is pending; never loses a wake-up (see irq.hpp).
   // True if it slept, false if work was pending (a ready task or a due timer). With a power policy, the
   // policy may choose a deeper sleep (hal/power.hpp, FW_SCHED_POWER_POLICY); without one, the core's plain
@@ -91,7 +94,7 @@ class Scheduler {
     state_.power = &policy;
   }
 #endif
-  // The firmware main loop: dispatch, and idle when there is nothing to do.
+  // The firmware main loop: runOnce() for ever.
   [[noreturn]] void run();
 
   // Watchdog supervision: every `window`, feed `watchdog` if every watched task checked in, else withhold the
@@ -116,11 +119,14 @@ class Scheduler {
 
  private:
   void fireDueTimers(Instant now);
+  inline bool pass(bool sleep);  // runOnce() if `sleep`, else dispatchOne()
+  // idle() from its masked section on (`saved`: what irqSave() returned); restores the mask.
+  inline bool sleepMasked(uint32_t saved);
   // The clock's wake-up is armed for the earliest deadline, or for an earlier time, and has not fired: no
   // timer is due yet. (Armed earlier: the timer it was armed for has stopped, e.g. a bus transaction's
   // timeout. Left armed, it wakes the core once early, and the next transaction's later timeout needs no
   // re-arming: one wake-up armed per scan instead of two per transaction.)
-  bool wakeArmedForEarliest() const {
+  [[gnu::always_inline]] bool wakeArmedForEarliest() const {
     return clock_.wakeArmed() && !isBefore(state_.timers->deadline_, state_.wakeFor);
   }
   void insertTimer(Timer& timer);

@@ -1,6 +1,8 @@
 // Idle: only when nothing is ready, and never with a wake-up lost.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "fn_task.hpp"
 #include "sim/harness.hpp"
 
@@ -144,6 +146,51 @@ TEST(SchedIdle, OnlyAHandlerThatPostsResumesTheThread) {
   EXPECT_TRUE(h.sched.dispatchOne());
   EXPECT_EQ(task.received.size(), 1u);
   h.irq.setIdleProbe(nullptr);
+}
+
+TEST(SchedIdle, AWakeUpThatPostsCostsTheLoopTwoMaskedSections) {
+  // Issue 32: the main loop's pass (runOnce) takes the posted task in one masked section and, with nothing
+  // more ready, sleeps in the next. Before, run() called idle() (finding the work), dispatchOne() (the task),
+  // dispatchOne() (nothing) and idle() (the sleep), each with its own masked section: four per wake-up.
+  bsp::host::Harness h;
+  FnTask task;
+  fw::sched::Timer timer;
+  h.sched.addTask(0, task);
+  h.sched.startTimer(timer, 0, 0x4, ms(50));  // armed: no pass reads the clock
+  const int busy = h.irq.attach("busy", [&] { h.sched.post(0, 0x1); });
+  int wakeUps = 1;
+  h.irq.setIdleProbe([&] {
+    if (wakeUps-- > 0) h.irq.raise(busy);  // the first sleep ends with a completion that posts
+  });
+  EXPECT_FALSE(h.sched.runOnce()) << "nothing ready: it armed the wake-up and slept";
+  ASSERT_TRUE(h.irq.sleeps() >= 1u);
+  const uint64_t sections = h.irq.maskedSections();
+  const uint64_t sleeps = h.irq.sleeps();
+  EXPECT_TRUE(h.sched.runOnce()) << "the posted task";
+  EXPECT_FALSE(h.sched.runOnce()) << "nothing more: back to sleep";
+  ASSERT_EQ(task.received.size(), 1u);
+  EXPECT_EQ(task.received[0], 0x1u);
+  EXPECT_EQ(h.irq.sleeps(), sleeps + 1);
+  EXPECT_EQ(h.irq.maskedSections(), sections + 2);
+  h.irq.setIdleProbe(nullptr);
+}
+
+TEST(SchedIdle, RunOnceFiresADueTimerBeforeItRunsAReadyTask) {
+  // The loop's order is dispatchOne()'s: due timers first, so a timer's higher-priority task runs first.
+  bsp::host::Harness h;
+  FnTask low, high;
+  std::vector<int> order;
+  low.set([&](fw::sched::EventMask) { order.push_back(1); });
+  high.set([&](fw::sched::EventMask) { order.push_back(2); });
+  fw::sched::Timer timer;
+  h.sched.addTask(1, low);
+  h.sched.addTask(2, high);
+  h.sched.startTimer(timer, 2, 0x1, ms(1));
+  h.clock.advance(ms(2));
+  h.sched.post(1, 0x1);
+  EXPECT_TRUE(h.sched.runOnce());
+  EXPECT_TRUE(h.sched.runOnce());
+  EXPECT_EQ(order, (std::vector<int>{2, 1}));
 }
 
 }  // namespace

@@ -852,18 +852,18 @@ TEST(BrokenImage, WfiWithInterruptsEnabledIsStoppedByTheIdleRule) {
   // The CPSID before the scheduler's WFI taken out.
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
-  uint32_t wfi = 0;
-  for (uint32_t at = 0; at + 2 <= elf->flashImage().size() && wfi == 0; at += 2) {
-    if (twinpatch::half(*elf, at) == 0xBF30) wfi = at;
-  }
-  ASSERT_NE(wfi, 0U);
-  // The CPSID before it in the same function (how far before is the compiler's choice).
-  const std::string idle = elf->symbolAt(wfi);
+  // The scheduler's WFI: the first with a CPSID before it in the same function (how far before is the
+  // compiler's choice; the power policy's own WFI runs inside the scheduler's masked section, in another
+  // function, and may come first in the image now that the loop is inlined into main).
   uint32_t cpsid = 0;
-  for (uint32_t at = wfi; at >= 2 && elf->symbolAt(at) == idle && cpsid == 0; at -= 2) {
-    if (twinpatch::half(*elf, at) == 0xB672) cpsid = at;
+  for (uint32_t wfi = 0; wfi + 2 <= elf->flashImage().size() && cpsid == 0; wfi += 2) {
+    if (twinpatch::half(*elf, wfi) != 0xBF30) continue;
+    const std::string function = elf->symbolAt(wfi);
+    for (uint32_t at = wfi; at >= 2 && elf->symbolAt(at) == function && cpsid == 0; at -= 2) {
+      if (twinpatch::half(*elf, at) == 0xB672) cpsid = at;
+    }
   }
-  ASSERT_NE(cpsid, 0U) << "no CPSID before the WFI";
+  ASSERT_NE(cpsid, 0U) << "no CPSID before a WFI";
   elf->patch16(cpsid, 0xBF00);
   const std::string stop = stopOf(preset, *elf, 300000);
   EXPECT_RULE(stop, "IDLE-WFI");
@@ -1204,12 +1204,15 @@ TEST(BrokenImage, StandbyWithAScanPendingIsStoppedByTheSleepEventRule) {
   // A power policy that picks STANDBY1 (SCR.SLEEPDEEP, PMODECFG.DSLEEP STANDBY, MCLKCFG.STOPCLKSTBY: the
   // fields DL_SYSCTL_setPowerPolicySTANDBY1 sets) while the scheduler's deadline is counted by a TIMG from
   // the 32 MHz BUSCLK and the scan's I2C transfers run from it, which that mode stops: the scan would come
-  // late or stall (the first sleep names whichever is pending, at 100 ms an I2C transfer). Set through the
+  // late or stall (the first sleep names whichever is pending, at 101 ms an I2C transfer). Set through the
   // bus after bring-up, as a debugger would; the same image left in SLEEP runs clean (the image tests above).
+  // Set while the core sleeps through a transfer's FIFO interrupts: a handler that posts (a transfer's STOP,
+  // the clock's alarm) rewrites SCR before the next sleep (sleep-on-exit cleared), so a write just before one
+  // of those is undone. At 100 ms it was, once the I2C driver took fewer interrupts (issue 32).
   const std::string preset = "lp-mspm0l1306-bq76952";
   LOAD_OR_SKIP(elf, preset);
   Rig r(preset, *elf);
-  r.board.runUntilUs(100000);
+  r.board.runUntilUs(101000);
   ASSERT_FALSE(r.board.machine().stopped()) << r.board.machine().stopReason();
   twin::AddressMap& map = r.board.machine().map();
   uint32_t mclkcfg = 0;

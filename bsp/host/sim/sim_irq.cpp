@@ -25,6 +25,7 @@ void SimIrq::raise(int line) {
 uint32_t SimIrq::save() {
   const uint32_t previous = primask_ ? 1U : 0U;
   primask_ = true;
+  ++maskedSections_;
   return previous;
 }
 
@@ -75,6 +76,7 @@ void SimIrq::reset() {
   primask_ = false;
   inHandler_ = false;
   sleeps_ = 0;
+  maskedSections_ = 0;
   sleepOnExit_ = false;
   chipSleepPrepared_ = false;
 }

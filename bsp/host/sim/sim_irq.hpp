@@ -30,6 +30,8 @@ class SimIrq {
   uint64_t deliveries(int line) const { return lines_.at(static_cast<size_t>(line)).deliveries; }
   const std::string& name(int line) const { return lines_.at(static_cast<size_t>(line)).name; }
   uint64_t sleeps() const { return sleeps_; }
+  // fw::port::irqSave calls (critical sections and the scheduler's masked checks) since the reset.
+  uint64_t maskedSections() const { return maskedSections_; }
   // The sleep-on-exit state (fw::port::sleepOnExit / resumeOnExit): set, a handler returning to the Thread
   // would put the core back to sleep on the target.
   bool sleepingOnExit() const { return sleepOnExit_; }
@@ -68,6 +70,7 @@ class SimIrq {
   bool primask_ = false;
   bool inHandler_ = false;
   uint64_t sleeps_ = 0;
+  uint64_t maskedSections_ = 0;
   bool sleepOnExit_ = false;
   bool chipSleepPrepared_ = false;
   std::function<void()> idleProbe_;

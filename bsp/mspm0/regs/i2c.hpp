@@ -87,9 +87,11 @@ inline constexpr uint32_t kMcrClkStretch = 1U << 2;
 inline constexpr uint32_t kMbmonScl = 1U << 0;
 inline constexpr uint32_t kMbmonSda = 1U << 1;
 
-// MFIFOCTL: TXTRIG 2:0, TXFLUSH 7, RXTRIG 10:8, RXFLUSH 15. Level 4 = 0x4 / 0x300.
+// MFIFOCTL: TXTRIG 2:0, TXFLUSH 7, RXTRIG 10:8, RXFLUSH 15. TX level 4 = 0x4; RX level 7 = 0x600 (RXTRIG
+// LEVEL_n = (n - 1) << 8: "trigger when RX FIFO contains at least n bytes", hw_i2c.h MFIFOCTL.RXTRIG and
+// dl_i2c.h DL_I2C_RX_FIFO_LEVEL_BYTES_7).
 inline constexpr uint32_t kFifoTxTrigLevel4 = 0x4;
-inline constexpr uint32_t kFifoRxTrigLevel4 = 0x300;
+inline constexpr uint32_t kFifoRxTrigLevel7 = 0x600;
 inline constexpr uint32_t kFifoTxFlush = 1U << 7;
 inline constexpr uint32_t kFifoRxFlush = 1U << 15;
 
