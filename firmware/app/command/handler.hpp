@@ -9,7 +9,9 @@
 //   6. the values: a setting id or mode out of range, a write outside its range (out_of_range) or crossing
 //      its trip/clear partner (inconsistent); bootloader entry without the key, this node's number and the
 //      chip's TraceId (wrong_key); ClearFaults while a latched fault's condition is still there
-//      (condition_present: nothing of that fault changes).
+//      (condition_present: nothing of that fault changes); StorageMode enter while a fault is active
+//      (fault_active) or the current is above the pack's rest threshold (not_at_rest), or on an image
+//      without storage (unsupported).
 // A refused frame changes nothing but the counters and the counter window.
 //
 // Safety rules (README.md in this folder; tests/app/command_*_test.cpp):
@@ -32,6 +34,7 @@
 #include "app/command/e2e.hpp"
 #include "app/command/result.hpp"
 #include "app/command/settings.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/protection/protection_task.hpp"
 #include "app/tasks.hpp"
 #include "can/bms.hpp"
@@ -83,6 +86,9 @@ class CommandHandler {
     balancing_ = &policy;
     pack_ = &pack;
   }
+  // The monitor's pack-storage mode StorageMode asks (storage_mode.hpp); without it StorageMode is answered
+  // Unsupported.
+  void setStorage(StorageState& storage) { storage_ = &storage; }
 
   // Checks and acts on one received frame; the answers go to `out` (none for a frame not addressed here, or
   // while bootloader entry waits for the paths: poll() answers it).
@@ -118,6 +124,7 @@ class CommandHandler {
   Context ctx_;
   BalancingPolicy* balancing_ = nullptr;
   const PackView* pack_ = nullptr;
+  StorageState* storage_ = nullptr;
   Zeroed<State> state_;
 };
 

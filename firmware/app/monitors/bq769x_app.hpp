@@ -48,6 +48,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/monitors/fet_mailbox.hpp"
 #include "app/monitors/monitor_task.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -69,6 +70,7 @@ namespace fw::app {
 
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
+inline constexpr bool kStorage = FW_STORAGE != 0;
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 static_assert(!kSoc || drivers::bq769x2::kCharge,
@@ -108,6 +110,9 @@ struct Bq769xAppConfig {
   // nullptr (or FW_SOC=0): none computed, published as not available.
   const SocConfig* soc = nullptr;
   int32_t currentLsbTenthMa = 10;
+  // Pack storage (FW_STORAGE, storage_mode.hpp): the pack file's `storage`; scanEvery 0: none. Nothing in a
+  // build without it.
+  [[no_unique_address]] std::conditional_t<kStorage, StorageConfig, NoStorageConfig> storage{};
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -162,6 +167,7 @@ class Bq769xDevice : public MonitorBase {
         status_(status),
         policy_(kDefaultBalancing, balancingRules(variantOf(driverArgs...))),
         soc_(config.soc != nullptr ? *config.soc : kNoSoc, kCounterFamily, config.currentLsbTenthMa),
+        storage_(config.storage, view, status),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
@@ -180,6 +186,8 @@ class Bq769xDevice : public MonitorBase {
   // The state of charge (restore(): the record store's saved value).
   SocState& stateOfCharge() { return soc_; }
   const SocState& stateOfCharge() const { return soc_; }
+  // Pack storage: the command interface's entry (StorageMode::request).
+  StorageState& storage() { return storage_; }
 
  protected:
   static constexpr bool kCommands = true;
@@ -202,7 +210,42 @@ class Bq769xDevice : public MonitorBase {
   static constexpr bool kFaultLineToo = false;
   void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
   // A failed FET or balancing command is tried again once per scan period.
-  void scanTick() { flags_->fetBackoff = flags_->balanceBackoff = false; }
+  void scanTick() { flags_->fetBackoff = flags_->balanceBackoff = flags_->sleepBackoff = false; }
+
+  // Pack storage (storage_mode.hpp): the scans it skips, and the device's SLEEP following it (SLEEP_ENABLE
+  // in storage where the pack allows it, SLEEP_DISABLE when leaving).
+  bool storageTick() requires kStorage {
+    const bool due = storage_.tick();
+    syncSleep();
+    return due;
+  }
+  void storageScanned() requires kStorage {
+    storage_.scanned();
+    syncSleep();
+  }
+  void syncSleep() {
+    if (kStorage && storage_.deviceSleep() != flags_->sleepAllowed) flags_->sleepWanted = true;
+  }
+  Status startSleep() {
+    flags_->sleepWanted = false;
+    flags_->sleepCommand = true;
+    flags_->sleepSending = storage_.deviceSleep();
+    const Status s = driver_.startSleep(flags_->sleepSending);
+    if (s != Status::Ok) {
+      flags_->sleepCommand = false;
+      flags_->sleepWanted = flags_->sleepBackoff = true;
+    }
+    return s;
+  }
+  void sleepFinished(Status result) {
+    flags_->sleepCommand = false;
+    if (result == Status::Ok) {
+      flags_->sleepAllowed = flags_->sleepSending;
+      syncSleep();  // storage may have changed its mind meanwhile
+    } else {
+      flags_->sleepWanted = flags_->sleepBackoff = true;  // again next scan period
+    }
+  }
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
@@ -224,15 +267,19 @@ class Bq769xDevice : public MonitorBase {
   // The FET command first; balancing only once the scan due has run (it never delays one).
   bool commandWaiting() const {
     return (flags_->fetWanted && !flags_->fetBackoff) ||
+           (kStorage && flags_->sleepWanted && !flags_->sleepBackoff) ||
            (kBalancing && !loop_->scanDue && !flags_->balanceBackoff &&
             (flags_->balanceWanted || flags_->checkWanted));
   }
   Status startCommand() {
-    if (kBalancing && !(flags_->fetWanted && !flags_->fetBackoff)) return startBalancing();
+    const bool fet = flags_->fetWanted && !flags_->fetBackoff;
+    if (kStorage && !fet && flags_->sleepWanted && !flags_->sleepBackoff) return startSleep();
+    if (kBalancing && !fet) return startBalancing();
     flags_->fetWanted = false;
     return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
+    if (kStorage && flags_->sleepCommand) return sleepFinished(result);
     if (kBalancing && flags_->balancing) return balancingFinished(result);
     if (result == Status::Ok) {
       if (kStats) ++records_->stats.fetCommands;
@@ -268,7 +315,9 @@ class Bq769xDevice : public MonitorBase {
       setRunning(view_, true);
       loop_->scanDue = true;
       flags_->fetWanted =
-          flags_->fetRequested;  // protection's last request, again: the device may have reset
+          flags_->fetRequested;      // protection's last request, again: the device may have reset
+      flags_->sleepAllowed = false;  // the set-up sent SLEEP_DISABLE: storage allows SLEEP again if it wants
+      syncSleep();
       return;
     }
     // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
@@ -288,8 +337,10 @@ class Bq769xDevice : public MonitorBase {
     if (result == Status::Ok) {
       toSample(records_->measurement, config_.cells, sample_, view_);
       flags_->socDue = true;
-      // The device reset since the set-up: set it up again now (the measurement itself is valid).
-      if (records_->measurement.reg.batteryStatus.sleep_en()) {
+      // The device reset since the set-up: set it up again now (the measurement itself is valid). Not while
+      // storage allows SLEEP: a reset is then not told apart (the device's own protections run on; the
+      // set-up that follows leaving storage restores what a reset lost).
+      if (records_->measurement.reg.batteryStatus.sleep_en() && !flags_->sleepAllowed) {
         setRunning(view_, false);
         loop_->retryDue = true;
       }
@@ -441,6 +492,11 @@ class Bq769xDevice : public MonitorBase {
     bool checkWanted;                  // the last write's read-back is due
     bool balanceBackoff;               // a balancing command failed on the bus: again next scan period
     bool socDue;                       // a scan validated: the state of charge counts it after summarize
+    bool sleepWanted;                  // storage: the device's SLEEP must change (SLEEP_ENABLE / _DISABLE)
+    bool sleepCommand;                 // the command in flight is that one
+    bool sleepSending;                 // ... allowing SLEEP
+    bool sleepAllowed;                 // the device took SLEEP_ENABLE last (since the set-up)
+    bool sleepBackoff;                 // that command failed: again next scan period
   };
   struct Records {
     Bq769xStats stats;
@@ -466,6 +522,7 @@ class Bq769xDevice : public MonitorBase {
   BalancingPolicy policy_;
   Zeroed<Records> records_;
   SocState soc_;
+  [[no_unique_address]] StorageState storage_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -495,7 +552,10 @@ class Bq769xApp : public AppCore<FetMailbox, Publisher> {
     if constexpr (drivers::bq769x2::kBalance) view.balancing = &monitor_.balancingStatus();
   }
 
-  void start() { this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr); }
+  void start() {
+    this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr,
+                   kStorage ? &monitor_.storage() : nullptr);
+  }
 
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }
