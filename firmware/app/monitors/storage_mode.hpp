@@ -125,6 +125,8 @@ class StorageMode {
 struct NoStorageMode {
   constexpr NoStorageMode(const StorageConfig&, PackView&, const PublishStatus&) {}
   StorageRequest request(bool) { return StorageRequest::Unsupported; }
+  bool tick() { return true; }
+  void scanned() {}
   bool deviceSleep() const { return false; }
 };
 
