@@ -191,6 +191,7 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       return ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
                                  static_cast<int32_t>(field<M, M::kValueField>(f)));
     }
+#if FW_STORAGE != 0
     case bms::StorageMode::kId: {
       using M = bms::StorageMode;
       const uint32_t mode = field<M, M::kModeField>(f);
@@ -201,7 +202,10 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
                                     Result::NotAtRest};
       return kAnswer[static_cast<uint8_t>(storage_->request(mode == 1))];
     }
-    default: {  // EnterBootloader
+#endif
+    default: {  // EnterBootloader (and StorageMode where the build has no storage: FW_STORAGE,
+                // app/config.hpp)
+      if (FW_STORAGE == 0 && f.id == bms::StorageMode::kId) return Result::Unsupported;
       using M = bms::EnterBootloader;
       if (field<M, M::kTargetField>(f) != ctx_.node || field<M, M::kKeyField>(f) != kBootloaderKey ||
           field<M, M::kTraceIdField>(f) != ctx_.system.identity().traceId)

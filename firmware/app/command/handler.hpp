@@ -88,7 +88,11 @@ class CommandHandler {
   }
   // The monitor's pack-storage mode StorageMode asks (storage_mode.hpp); without it StorageMode is answered
   // Unsupported.
-  void setStorage(StorageState& storage) { storage_ = &storage; }
+  void setStorage([[maybe_unused]] StorageState& storage) {
+#if FW_STORAGE != 0
+    storage_ = &storage;
+#endif
+  }
 
   // Checks and acts on one received frame; the answers go to `out` (none for a frame not addressed here, or
   // while bootloader entry waits for the paths: poll() answers it).
@@ -96,15 +100,23 @@ class CommandHandler {
   // Bootloader entry: Idle, then WaitingForPaths until poll() answers (Answered once accepted, Idle again
   // when refused), then answerSent() restarts the MCU.
   enum class Boot : uint8_t { Idle, WaitingForPaths, Answered };
-  Boot boot() const { return state_->boot; }
+  Boot boot() const {
+    return state_->boot;
+  }
   // While WaitingForPaths: answers into `out` once the paths are confirmed off or the time is up.
   void poll(Replies& out);
   // While Answered, once the accepted answer has left: restarts into the bootloader.
   void answerSent();
 
-  const CommandStats& stats() const { return state_->stats; }
-  uint8_t hostOff() const { return state_->hostRequest; }
-  sched::Scheduler& scheduler() const { return ctx_.scheduler; }
+  const CommandStats& stats() const {
+    return state_->stats;
+  }
+  uint8_t hostOff() const {
+    return state_->hostRequest;
+  }
+  sched::Scheduler& scheduler() const {
+    return ctx_.scheduler;
+  }
 
  private:
   Result act(const hal::CanFrame& f, Replies& out);
@@ -124,7 +136,9 @@ class CommandHandler {
   Context ctx_;
   BalancingPolicy* balancing_ = nullptr;
   const PackView* pack_ = nullptr;
+#if FW_STORAGE != 0
   StorageState* storage_ = nullptr;
+#endif
   Zeroed<State> state_;
 };
 

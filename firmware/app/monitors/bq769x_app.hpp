@@ -71,6 +71,8 @@ namespace fw::app {
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
 inline constexpr bool kStorage = FW_STORAGE != 0;
+static_assert(!kStorage || drivers::bq769x2::kSleepControl,
+              "pack storage allows the device's SLEEP through the driver (FW_BQ769X_SLEEP)");
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 static_assert(!kSoc || drivers::bq769x2::kCharge,
@@ -210,7 +212,10 @@ class Bq769xDevice : public MonitorBase {
   static constexpr bool kFaultLineToo = false;
   void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
   // A failed FET or balancing command is tried again once per scan period.
-  void scanTick() { flags_->fetBackoff = flags_->balanceBackoff = flags_->sleepBackoff = false; }
+  void scanTick() {
+    flags_->fetBackoff = flags_->balanceBackoff = false;
+    if (kStorage) storage_.sleep.backoff = false;
+  }
 
   // Pack storage (storage_mode.hpp): the scans it skips, and the device's SLEEP following it (SLEEP_ENABLE
   // in storage where the pack allows it, SLEEP_DISABLE when leaving).
@@ -224,26 +229,26 @@ class Bq769xDevice : public MonitorBase {
     syncSleep();
   }
   void syncSleep() {
-    if (kStorage && storage_.deviceSleep() != flags_->sleepAllowed) flags_->sleepWanted = true;
+    if (kStorage && storage_.deviceSleep() != storage_.sleep.allowed) storage_.sleep.wanted = true;
   }
   Status startSleep() {
-    flags_->sleepWanted = false;
-    flags_->sleepCommand = true;
-    flags_->sleepSending = storage_.deviceSleep();
-    const Status s = driver_.startSleep(flags_->sleepSending);
+    storage_.sleep.wanted = false;
+    storage_.sleep.command = true;
+    storage_.sleep.sending = storage_.deviceSleep();
+    const Status s = driver_.startSleep(storage_.sleep.sending);
     if (s != Status::Ok) {
-      flags_->sleepCommand = false;
-      flags_->sleepWanted = flags_->sleepBackoff = true;
+      storage_.sleep.command = false;
+      storage_.sleep.wanted = storage_.sleep.backoff = true;
     }
     return s;
   }
   void sleepFinished(Status result) {
-    flags_->sleepCommand = false;
+    storage_.sleep.command = false;
     if (result == Status::Ok) {
-      flags_->sleepAllowed = flags_->sleepSending;
+      storage_.sleep.allowed = storage_.sleep.sending;
       syncSleep();  // storage may have changed its mind meanwhile
     } else {
-      flags_->sleepWanted = flags_->sleepBackoff = true;  // again next scan period
+      storage_.sleep.wanted = storage_.sleep.backoff = true;  // again next scan period
     }
   }
 
@@ -267,19 +272,19 @@ class Bq769xDevice : public MonitorBase {
   // The FET command first; balancing only once the scan due has run (it never delays one).
   bool commandWaiting() const {
     return (flags_->fetWanted && !flags_->fetBackoff) ||
-           (kStorage && flags_->sleepWanted && !flags_->sleepBackoff) ||
+           (kStorage && storage_.sleep.wanted && !storage_.sleep.backoff) ||
            (kBalancing && !loop_->scanDue && !flags_->balanceBackoff &&
             (flags_->balanceWanted || flags_->checkWanted));
   }
   Status startCommand() {
     const bool fet = flags_->fetWanted && !flags_->fetBackoff;
-    if (kStorage && !fet && flags_->sleepWanted && !flags_->sleepBackoff) return startSleep();
+    if (kStorage && !fet && storage_.sleep.wanted && !storage_.sleep.backoff) return startSleep();
     if (kBalancing && !fet) return startBalancing();
     flags_->fetWanted = false;
     return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
-    if (kStorage && flags_->sleepCommand) return sleepFinished(result);
+    if (kStorage && storage_.sleep.command) return sleepFinished(result);
     if (kBalancing && flags_->balancing) return balancingFinished(result);
     if (result == Status::Ok) {
       if (kStats) ++records_->stats.fetCommands;
@@ -315,9 +320,11 @@ class Bq769xDevice : public MonitorBase {
       setRunning(view_, true);
       loop_->scanDue = true;
       flags_->fetWanted =
-          flags_->fetRequested;      // protection's last request, again: the device may have reset
-      flags_->sleepAllowed = false;  // the set-up sent SLEEP_DISABLE: storage allows SLEEP again if it wants
-      syncSleep();
+          flags_->fetRequested;  // protection's last request, again: the device may have reset
+      if (kStorage) {
+        storage_.sleep.allowed = false;  // the set-up sent SLEEP_DISABLE: storage allows it again if it wants
+        syncSleep();
+      }
       return;
     }
     // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
@@ -340,7 +347,7 @@ class Bq769xDevice : public MonitorBase {
       // The device reset since the set-up: set it up again now (the measurement itself is valid). Not while
       // storage allows SLEEP: a reset is then not told apart (the device's own protections run on; the
       // set-up that follows leaving storage restores what a reset lost).
-      if (records_->measurement.reg.batteryStatus.sleep_en() && !flags_->sleepAllowed) {
+      if (records_->measurement.reg.batteryStatus.sleep_en() && !(kStorage && storage_.sleep.allowed)) {
         setRunning(view_, false);
         loop_->retryDue = true;
       }
@@ -492,11 +499,6 @@ class Bq769xDevice : public MonitorBase {
     bool checkWanted;                  // the last write's read-back is due
     bool balanceBackoff;               // a balancing command failed on the bus: again next scan period
     bool socDue;                       // a scan validated: the state of charge counts it after summarize
-    bool sleepWanted;                  // storage: the device's SLEEP must change (SLEEP_ENABLE / _DISABLE)
-    bool sleepCommand;                 // the command in flight is that one
-    bool sleepSending;                 // ... allowing SLEEP
-    bool sleepAllowed;                 // the device took SLEEP_ENABLE last (since the set-up)
-    bool sleepBackoff;                 // that command failed: again next scan period
   };
   struct Records {
     Bq769xStats stats;
@@ -553,8 +555,12 @@ class Bq769xApp : public AppCore<FetMailbox, Publisher> {
   }
 
   void start() {
-    this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr,
-                   kStorage ? &monitor_.storage() : nullptr);
+    BalancingPolicy* balancing = drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr;
+    if constexpr (kStorage) {
+      this->startAll(monitor_, balancing, &monitor_.storage());
+    } else {
+      this->startAll(monitor_, balancing);
+    }
   }
 
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;

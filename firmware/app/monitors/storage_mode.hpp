@@ -29,6 +29,15 @@
 
 namespace fw::app {
 
+// The device's SLEEP as the monitor commands it in storage (Bq769xDevice: SLEEP_ENABLE / SLEEP_DISABLE).
+struct SleepCommand {
+  bool wanted;   // the device's SLEEP must change
+  bool command;  // the command in flight is that one
+  bool sending;  // ... allowing SLEEP
+  bool allowed;  // the device took SLEEP_ENABLE last (since the set-up)
+  bool backoff;  // that command failed: again next scan period
+};
+
 // Why a request is refused (the command's answer says it).
 enum class StorageRequest : uint8_t { Accepted, Unsupported, FaultActive, NotAtRest };
 
@@ -36,6 +45,7 @@ class StorageMode;
 struct NoStorageMode;
 using StorageState = std::conditional_t<FW_STORAGE != 0, StorageMode, NoStorageMode>;
 
+#if FW_STORAGE != 0
 class StorageMode {
  public:
   StorageMode(const StorageConfig& config, PackView& view, const PublishStatus& status)
@@ -91,6 +101,8 @@ class StorageMode {
     }
   }
 
+  SleepCommand sleep{};  // the monitor's (Bq769xDevice)
+
   bool on() const { return view_.storage.on; }
   bool wanted() const { return wanted_; }
   // The device's SLEEP as storage wants it now.
@@ -120,10 +132,12 @@ class StorageMode {
   uint8_t ticksLeft_ = 0;
   uint32_t restPeriods_ = 0;  // scan periods since the last scan that was not at rest (or since start-up)
 };
+#endif
 
 // A build without storage (FW_STORAGE=0): every request unsupported, no state.
 struct NoStorageMode {
   constexpr NoStorageMode(const StorageConfig&, PackView&, const PublishStatus&) {}
+  static inline SleepCommand sleep{};  // named only behind kStorage: never used, nothing in RAM
   StorageRequest request(bool) { return StorageRequest::Unsupported; }
   bool tick() { return true; }
   void scanned() {}

@@ -104,6 +104,7 @@ struct BalancingStatus;  // app/balancing/balancing_status.hpp
 // added to the limits' staleAfter (protection's stale_data and what publishers call fresh); deviceAge, the
 // device's own measurement interval while it may SLEEP, added to a measurement's age where that age is
 // published.
+#if FW_STORAGE
 struct StorageView {
   bool on = false;
   uint8_t scanEvery = 0;
@@ -111,6 +112,13 @@ struct StorageView {
   Duration staleExtra{};
   Duration deviceAge{};
 };
+#else
+struct StorageView {  // FW_STORAGE=0: never in storage, and nothing in RAM
+  static constexpr bool on = false;
+  static constexpr uint8_t scanEvery = 0;
+  static constexpr Duration period{}, staleExtra{}, deviceAge{};
+};
+#endif
 
 struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
@@ -151,7 +159,7 @@ struct PackView {
   // on an image that does not balance (the BQ4050's gauge balances on its own).
   const BalancingStatus* balancing = nullptr;
   PackTotals totals{};
-  StorageView storage{};
+  [[no_unique_address]] StorageView storage{};
 
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
   bool inStartupGrace(Instant now) const { return startupGrace && isBefore(now, firstDataDue); }

@@ -142,17 +142,23 @@ constexpr Catalogue<M...> catalogue() {
 }
 template <class M, bool kSent>
 using Sent = std::conditional_t<kSent, M, Left<M>>;
+#if FW_STORAGE != 0
+#define FW_STORAGE_MESSAGE , Sent<bms::StorageStatus, kAllMessages>
+#else
+#define FW_STORAGE_MESSAGE
+#endif
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
       bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
       Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::StateOfCharge, kAllMessages>,           \
-      Sent<bms::BalancingStatus, kAllMessages>, Sent<bms::StorageStatus, kAllMessages && FW_STORAGE != 0>
+      Sent<bms::BalancingStatus, kAllMessages> FW_STORAGE_MESSAGE
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES>();
 #endif
 #undef FW_NATIVE_MESSAGES
+#undef FW_STORAGE_MESSAGE
 static_assert(
     [] {
       for (const Message& m : kCatalogue.messages)
@@ -210,8 +216,10 @@ inline uint16_t FramePlan::framesIn(Step step) const {
       return 1;
     case kBalancing:
       return pack_.balancing != nullptr ? boards : 0;
+#if FW_STORAGE != 0
     case kStorage:  // only a monitor with a storage mode sets the period (storage_mode.hpp)
       return pack_.storage.period.us != 0;
+#endif
     case kTiCells:
       return kTiLayout && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
     default:
@@ -240,7 +248,7 @@ void FramePlan::settle() {
         resume_ = kDone;
       }
     } else {
-      step_ = step_ == kStorage ? kDone : static_cast<Step>(step_ + 1);
+      step_ = step_ == kLastSlow ? kDone : static_cast<Step>(step_ + 1);
     }
   }
 }
@@ -412,6 +420,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       v[B::kTimeField] = b.seconds[index_] < 0xFFFFFFU ? b.seconds[index_] : 0xFFFFFFU;
       break;
     }
+#if FW_STORAGE != 0
     case kStorage: {
       if (!sent(kStorage)) return 0;
       // The age at worst: since the oldest board's scan, plus the device's own interval while it may SLEEP
@@ -427,6 +436,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       }
       break;
     }
+#endif
     case kTiCells: {
       if constexpr (!kTiLayout) return 0;  // compiled out: framesIn() gives this step no frames
       // Top of stack first: slot 0 is the highest board. A board that stopped being Valid since the set

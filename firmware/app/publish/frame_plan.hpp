@@ -116,17 +116,25 @@ class FramePlan {
     kTempExtremes,
     kStateOfCharge,
     kBalancing,
-    kStorage,
+#if FW_STORAGE != 0
+    kStorage,  // only where the build has storage: no step, no code without it
+#endif
     kTiCells,
     kDone
   };
+  // The last step of the slow part.
+#if FW_STORAGE != 0
+  static constexpr Step kLastSlow = kStorage;
+#else
+  static constexpr Step kLastSlow = kBalancing;
+#endif
   bool begin(bool slow);  // (.cpp) the cycles with a slow part (FW_PUBLISH_LEVEL 1 and up)
   // The fast part, PackSummary first (every build sends it, so no settle() is needed); a slow part in
   // progress waits for it (resume_). Inline: a build with PackSummary alone and no statistics keeps only
   // the stores.
   bool startFast() {
     const bool dropped = step_ <= kEvent;
-    if (kCoreMessages && step_ >= kCells && step_ <= kStorage) resume_ = step_, resumeIndex_ = index_;
+    if (kCoreMessages && step_ >= kCells && step_ <= kLastSlow) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
     if (kTiLayout) tiStartup_ = false;  // never set without the TI layout
     step_ = kSummary;
@@ -142,7 +150,9 @@ class FramePlan {
     if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kStateOfCharge ||
         step == kBalancing)
       return kAllMessages;
-    if (step == kStorage) return kAllMessages && FW_STORAGE != 0;
+#if FW_STORAGE != 0
+    if (step == kStorage) return kAllMessages;
+#endif
     if (step == kEvent || step == kCells) return kCoreMessages;
     return true;
   }

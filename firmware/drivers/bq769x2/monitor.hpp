@@ -509,8 +509,10 @@ class Monitor {
     bool readCharge;       // ... or reads what the previous one asked for
     bool chargeRequested;  // the last scan asked for it (kept between scans)
     bool requesting;       // the charge request is the transaction in flight (at step 0, before block 0)
-    bool sleepAllowed;     // runtime set-up or startSleep(): the SLEEP_EN the read-back must show
-    bool sleepOnly;        // startSleep(): the read-back ends it
+#if FW_BQ769X_SLEEP
+    bool sleepAllowed;  // runtime set-up or startSleep(): the SLEEP_EN the read-back must show
+    bool sleepOnly;     // startSleep(): the read-back ends it
+#endif
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
     SettingsTable settings;
