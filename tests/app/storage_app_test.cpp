@@ -138,4 +138,24 @@ TEST(Storage, AutomaticEntryAfterTheRestTime) {
   EXPECT_TRUE(r.b.emu.sleepAllowed());
 }
 
+// ALERT ends storage without waiting for the next storage scan: a 45 A short trips the device's OCD1 (40 A,
+// its comparator runs in SLEEP as in NORMAL, SLUUBY2B 7.3), ALERT makes protection open the FETs at once, the
+// FET command is followed by a scan (bq769x_app.hpp commandPosted), and that scan's current, or the device's
+// fault at the next scan period, ends storage: well before the next storage scan. (AFaultEndsStorage... is
+// the one that fails without the fault rule: here the scan after the command sees the current as well.)
+TEST(Storage, AlertEndsStorageBeforeTheNextStorageScan) {
+  Rig r;
+  EXPECT_EQ(r.ack("StorageMode", {"Mode=enter"}).result, kAccepted);
+  r.b.h.runFor(fw::ms(2500));
+  ASSERT_TRUE(r.b.app.pack().storage.on);
+  const uint32_t scans = r.b.app.monitor().stats().scans;
+  ASSERT_TRUE(r.b.h.runUntil([&] { return r.b.app.monitor().stats().scans != scans; }, fw::ms(1100)));
+  r.b.h.runFor(fw::ms(20));  // just after a storage scan: the next one is most of a second away
+  r.b.emu.setCurrentMa(-45000);
+  r.b.h.runFor(fw::ms(250));
+  EXPECT_NE(r.b.app.status().active & fw::app::bit(FaultId::DeviceSafety), 0U) << "ALERT: the device's fault";
+  EXPECT_FALSE(r.b.app.pack().storage.on) << "ended within a scan period of the fault, not at the next scan";
+  EXPECT_FALSE(r.b.emu.dsgFet());
+}
+
 }  // namespace
