@@ -41,6 +41,7 @@ struct SleepCommand {
 // Why a request is refused (the command's answer says it).
 enum class StorageRequest : uint8_t { Accepted, Unsupported, FaultActive, NotAtRest };
 
+inline constexpr bool kStorageBuilt = FW_STORAGE != 0;
 class StorageMode;
 struct NoStorageMode;
 using StorageState = std::conditional_t<FW_STORAGE != 0, StorageMode, NoStorageMode>;

@@ -10,7 +10,6 @@ set(BMS_IMAGE_OPTIONS
   FW_PACK_MAX_BOARDS=1            # one gauge: a pack of one board
   FW_CAN_TI_LAYOUT=0              # the TI layout (seed 001) is the BQ79616 image's
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
-  FW_STORAGE=0                    # its monitor has no storage mode yet (firmware/app/monitors/storage_mode.hpp: the BQ769x-family one only): StorageMode is answered unsupported, and the view, StorageStatus and the answer cost nothing
 )
 
 # The pack this image builds from unless -DBMS_PACK=<file> names another (firmware/app/packs/README.md): its
