@@ -93,3 +93,11 @@ static_assert(FW_PUBLISH_LEVEL >= 0 && FW_PUBLISH_LEVEL <= 2, "FW_PUBLISH_LEVEL:
 #ifndef FW_RECORD_STORE
 #define FW_RECORD_STORE 1
 #endif
+
+// --- Pack storage (app/monitors/storage_mode.hpp) ---
+// The pack-storage mode: scans every storage period of the pack file (`storage`), the device's SLEEP where
+// it has one and the pack allows it, entry by the StorageMode command or after the pack's rest time, the
+// StorageStatus message. 0 leaves it out: StorageMode is answered unsupported and nothing of it is built.
+#ifndef FW_STORAGE
+#define FW_STORAGE 1
+#endif

@@ -9,6 +9,8 @@
 #include <memory>
 
 #include "bq4050/board.hpp"
+#include "can/bms.hpp"
+#include "commands/command_frames.hpp"
 #include "outage_sweep.hpp"
 
 namespace {
@@ -69,6 +71,38 @@ TEST(Bq4050App, TheGaugesFlagsMapToThePathsTheyGuard) {
   m.safetyStatus = S::fromRaw(0);
   m.pfStatus = 1;
   EXPECT_EQ(fw::app::blockedPaths(m), 3) << "permanent failure: both";
+}
+
+// Pack storage on the BQ4050 image (issue 32): the scan period only (the bq4050-evm pack's 1000 ms; the
+// gauge's own SLEEP is its business). StorageMode is accepted at rest, the monitor scans once a second,
+// nothing goes stale, and a load ends storage at the next scan; without it the monitor scans every 100 ms.
+TEST(Bq4050Storage, StorageScansEverySecondAndALoadEndsIt) {
+  Board b;
+  b.h.runFor(fw::ms(500));
+  bmstool::CommandBuilder commands;
+  std::string error;
+  const auto f = commands.build("StorageMode", {"Mode=enter"}, error);
+  ASSERT_TRUE(f) << error;
+  const size_t before = b.can.sent().size();
+  b.can.peerSend(*f);
+  b.h.runFor(fw::ms(200));
+  bool accepted = false;
+  for (size_t i = before; i < b.can.sent().size(); ++i) {
+    const auto& s = b.can.sent()[i].frame;
+    if (s.id == fw::can::bms::CommandAck::kId) accepted = fw::can::bms::CommandAck::unpack(s).result == 0;
+  }
+  EXPECT_TRUE(accepted);
+  EXPECT_TRUE(b.app.pack().storage.on);
+  uint32_t scans = b.app.monitor().stats().scans;
+  b.h.runFor(fw::ms(5000));
+  EXPECT_LE(b.app.monitor().stats().scans - scans, 6U) << "one scan per 1000 ms storage period";
+  EXPECT_EQ(b.app.status().active, 0U) << "nothing stale";
+  b.gauge.setCurrent(-2000);
+  b.h.runFor(fw::ms(1100));
+  EXPECT_FALSE(b.app.pack().storage.on);
+  scans = b.app.monitor().stats().scans;
+  b.h.runFor(fw::ms(1000));
+  EXPECT_GE(b.app.monitor().stats().scans - scans, 9U) << "100 ms scans again";
 }
 
 }  // namespace

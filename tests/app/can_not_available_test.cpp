@@ -66,7 +66,8 @@ struct ZeroedPack {
     view->hasCurrent = true;
     view->currentMa = -1234;
     view->soc.set(573, 1433, 2500, fw::app::SocBasis::Ocv);
-    status->pathsKnown = true;  // protection confirmed the paths (FET read-back, or the fault pin)
+    view->storage.period = fw::ms(100);  // a monitor with a storage mode (storage_mode.hpp) sets it
+    status->pathsKnown = true;           // protection confirmed the paths (FET read-back, or the fault pin)
     status->chargeOn = status->dischargeOn = true;
     // The previous run left a fault record that survived the reset (a software SYSRST keeps SRAM).
     fw::app::StartupInfo startup;
@@ -140,6 +141,10 @@ void noTemperature(ZeroedPack& p) {
   }
 }
 
+void boardOneNeverMeasured(ZeroedPack& p) {
+  p.samples[1] = {};  // never validated since start-up: no age to give
+}
+
 void noSoc(ZeroedPack& p) {
   p.view->soc = {};  // basis Unknown, as a monitor leaves it until the first value
 }
@@ -192,6 +197,8 @@ const std::map<std::string, Case>& cases() {
       {"Startup.ProtectionLogEntries",
        {"an image without the record store (the L1306 images)", noRecordStore, any}},
       {"Startup.FaultSource", {"an image without the record store (the L1306 images)", noRecordStore, any}},
+      {"StorageStatus.MeasurementAge",
+       {"a board never validated since start-up", boardOneNeverMeasured, any}},
       {"Temperatures.Temp",
        {"the sensors of a scan that validated had no reading", noTemperature, itemsOfBoard(0, 2)}},
   };

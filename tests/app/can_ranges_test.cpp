@@ -48,7 +48,7 @@ constexpr double kSettingLo = -40000, kSettingHi = 20000, kSettings = 11;
 std::map<std::string, Need> commandNeeds() {
   std::map<std::string, Need> t;
   for (const char* m : {"ClearFaults", "PathRequest", "BalancingMode", "Identify", "SettingRead",
-                        "SettingWrite", "EnterBootloader"}) {
+                        "SettingWrite", "EnterBootloader", "StorageMode"}) {
     t[std::string(m) + ".Crc"] = {0, 255, false};
     t[std::string(m) + ".Counter"] = {0, 15, false};
     t[std::string(m) + ".Target"] = {1, 255, false};
@@ -69,7 +69,8 @@ std::map<std::string, Need> commandNeeds() {
   t["EnterBootloader.Key"] = {0, 255, false};
   t["CommandAck.Command"] = {0, 0x7FF, false};
   t["CommandAck.Counter"] = {0, 15, false};
-  t["CommandAck.Result"] = {0, 9, false};
+  t["CommandAck.Result"] = {0, 12, false};  // app/command/result.hpp Result
+  t["StorageMode.Mode"] = {0, 1, false};
   t["CommandAck.Rejected"] = {0, 65535, false};
   t["IdentifyVersion.VersionMajor"] = t["IdentifyVersion.VersionMinor"] = {0, 255, false};
   t["IdentifyVersion.VersionPatch"] = {0, 255, false};
@@ -118,6 +119,11 @@ const std::map<std::string, Need>& needs() {
         {"Temperatures.FrameIndex", {0, (kTemps + 2) / 3 - 1, false}},
         {"Temperatures.Status", {0, 3, false}},
         {"Temperatures.Temp", {kTempLo, kTempHi, true}},
+        {"StorageStatus.Mode", {0, 1, false}},
+        {"StorageStatus.DeviceSleep", {0, 1, false}},
+        {"StorageStatus.ScanPeriod", {100, 25000, false}},  // regmapgen pack: at most 250 scan periods
+        // Saturated short of not available (frame_plan.cpp); the Instant wraps after 71.6 minutes anyway.
+        {"StorageStatus.MeasurementAge", {0, 16777214, true}},
         {"BalancingStatus.Board", {0, kBoards - 1, false}},
         {"BalancingStatus.Mode", {0, 2, false}},   // fw::app::BalancingMode
         {"BalancingStatus.State", {0, 8, false}},  // fw::app::BalancingState

@@ -10,50 +10,14 @@
 
 #include "bq769x2/board.hpp"
 #include "can/bms.hpp"
+#include "command_rig.hpp"
 #include "commands/command_frames.hpp"
 
 namespace {
 
 namespace bms = fw::can::bms;
+using command_rig::Rig;
 using fw::app::FaultId;
-
-struct Rig {
-  std::unique_ptr<bsp::host::G3507Bq76952Board> board = bsp::host::makeG3507Bq76952Board();
-  bsp::host::G3507Bq76952Board& b = *board;
-  bmstool::CommandBuilder commands;
-  size_t seen = 0;
-
-  Rig() { b.h.runFor(fw::ms(1000)); }  // set up and measuring
-
-  void send(const std::string& message, const std::vector<std::string>& words = {}) {
-    std::string error;
-    const auto f = commands.build(message, words, error);
-    ASSERT_TRUE(f) << error;
-    b.output.peerSend(*f);
-  }
-  void sendRaw(const fw::hal::CanFrame& f) { b.output.peerSend(f); }
-  // The answers (0x580..0x584) sent since the last call.
-  std::vector<fw::hal::CanFrame> answers() {
-    std::vector<fw::hal::CanFrame> out;
-    const auto& sent = b.output.sent();
-    for (; seen < sent.size(); ++seen) {
-      if (sent[seen].frame.id >= 0x580 && sent[seen].frame.id <= 0x584) out.push_back(sent[seen].frame);
-    }
-    return out;
-  }
-  // Sends, runs 20 ms, and returns the one acknowledgement that came back.
-  bms::CommandAck ack(const std::string& message, const std::vector<std::string>& words = {}) {
-    answers();
-    send(message, words);
-    b.h.runFor(fw::ms(20));
-    const auto a = answers();
-    EXPECT_FALSE(a.empty()) << message << ": no answer";
-    if (a.empty()) return {};
-    EXPECT_EQ(a[0].id, bms::CommandAck::kId);
-    return bms::CommandAck::unpack(a[0]);
-  }
-  bool active(FaultId f) const { return (b.app.status().active & fw::app::bit(f)) != 0; }
-};
 
 constexpr uint8_t kAccepted = 0, kBadCrc = 1, kRepeated = 2, kWrongLength = 3, kOutOfRange = 4,
                   kInconsistent = 5, kUnsupported = 6, kWrongKey = 7, kBusy = 9, kConditionPresent = 10;
@@ -216,7 +180,7 @@ TEST(Commands, AFrameForAnotherNodeIsCountedAndNotAnswered) {
 TEST(Commands, AnIdentifierThatIsNotACommandIsRejectedByTheFilterWithoutAnInterrupt) {
   Rig r;
   const uint64_t interrupts = r.b.output.receiveInterrupts();
-  fw::hal::CanFrame f{0x607, false, 3, {}};
+  fw::hal::CanFrame f{0x608, false, 3, {}};  // after the last command (StorageMode 0x607)
   f.data[0] = fw::app::command::frameCrc(f.id, f.data.data(), f.dlc);
   f.data[2] = 1;
   r.sendRaw(f);

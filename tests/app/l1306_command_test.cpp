@@ -210,4 +210,20 @@ TEST(L1306Commands, AFloodOfCommandsDoesNotStarveThePublishedLines) {
       answers, r.b.output.lost(), worstGap / 1000.0);
 }
 
+// The L1306 images build pack storage out (FW_STORAGE=0, flash): StorageMode is answered unsupported and
+// nothing changes (100 ms scans, the device's SLEEP still disallowed).
+TEST(L1306Commands, StorageModeIsAnsweredUnsupportedWhereTheImageBuildsItOut) {
+  Rig r;
+  if (FW_STORAGE != 0) GTEST_SKIP() << "this build has storage";
+  r.exchange("O\r");
+  const auto acks = Rig::acks(r.exchange(r.line("StorageMode", {"Mode=enter"})));
+  ASSERT_EQ(acks.size(), 1U);
+  EXPECT_EQ(acks[0].command, bms::StorageMode::kId);
+  EXPECT_EQ(acks[0].result, 6) << "unsupported";
+  const uint32_t scans = r.b.app.monitor().stats().scans;
+  r.b.h.runFor(fw::ms(2000));
+  EXPECT_GE(r.b.app.monitor().stats().scans - scans, 19U);
+  EXPECT_FALSE(r.b.emu.sleepAllowed());
+}
+
 }  // namespace

@@ -512,6 +512,32 @@ def check_soc_count(sim, image, scratch, extra=(), duration=1200000):
           f"{known[0][0]:.0f} ms")
 
 
+def check_storage(sim, image, scratch, extra=()):
+    """storage (bms-sim's scenario): StorageMode at 1 s, then at rest, a 2 A load at 31 s. The image answers
+    accepted, scans every 1000 ms (the EVM pack's storage period) instead of every 100 ms, publishes
+    StorageStatus storage with the BQ76952's 5 s SLEEP interval in the age, trips nothing (no stale_data), and
+    the load ends storage at the next storage scan; both expect-storage steps are met."""
+    summary, frames = simulate(sim, image, "storage", scratch, 35000, extra)
+    if summary["expects_missed"] != 0 or not all(e["met"] for e in summary["storage_expects"]):
+        fail(f"storage: expects missed: {summary['storage_expects']}")
+    entered, left = summary["storage_entered_ms"], summary["storage_left_ms"]
+    if not (1000 <= entered <= 1300) or not (31000 <= left <= 33200):
+        fail(f"storage: entered at {entered} ms, left at {left} ms (StorageMode at 1 s, the load at 31 s)")
+    # 10 scans in the first second, about one a second in storage, ten a second after the load.
+    if not (70 <= summary["scans"] <= 90):
+        fail(f"storage: {summary['scans']} scans in 35 s, not about 10 + 30 + 40")
+    if summary["active_faults"]:
+        fail(f"storage: faults {summary['active_faults']} (stale data in storage?)")
+    if not (5000 <= summary["measurement_age_max_ms"] <= 6200):
+        fail(f"storage: worst published age {summary['measurement_age_max_ms']} ms, not the 5 s SLEEP interval "
+             f"plus at most a storage period")
+    acks = [f for f in frames if f[1] == 0x580]
+    if not acks or acks[0][2][1] | acks[0][2][2] << 8 != 0x607 or acks[0][2][4] != 0:
+        fail(f"storage: StorageMode not answered accepted: {acks[:1]}")
+    print(f"REPORT sim.{image}.storage: in storage {entered:.0f} .. {left:.0f} ms, {summary['scans']} scans in "
+          f"35 s, worst published age {summary['measurement_age_max_ms']} ms")
+
+
 def check_open_wire(sim, image, scratch):
     # The tap between cells 2 and 3 of board 0 opens at 2 s. The BQ769x2 and BQ79616 images read 7 400 (or
     # the 6 250 mV full scale) and 0 mV; the BQ4050 gauge refuses the cell word. Each must report open_wire
@@ -644,6 +670,8 @@ def main():
         check_gauge_soc(sim, scratch)
     elif check == "soc-count":
         check_soc_count(sim, image, scratch)
+    elif check == "storage":
+        check_storage(sim, image, scratch)
     else:
         print(__doc__)
         return 2

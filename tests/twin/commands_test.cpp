@@ -64,7 +64,7 @@ TEST(TwinCommands, TheMcanFilterPassesTheCommandsAloneAndARejectedFrameRaisesNoI
   // Not commands: another node's telemetry, the identifier after the last command, an extended frame whose
   // base identifier is a command's, and 0x5FF.
   r.board.sendCan({0x100, false, 8, {}});
-  r.board.sendCan(sealed({0x607, false, 3, {0, 0, 1}}));
+  r.board.sendCan(sealed({0x608, false, 3, {0, 0, 1}}));
   r.board.sendCan({0x600U << 18, true, 3, {}});
   r.board.sendCan({0x5FF, false, 8, {}});
   r.runMs(20);

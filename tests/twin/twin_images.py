@@ -40,6 +40,8 @@ checks:
               powered then, and nothing reads it (McanBus answers off the bus without a register access)
   soc-count   (the BQ769x images with FW_SOC) 5 minutes of the soc-discharge scenario: StateOfCharge within 2 % of the emulator's
               true value
+  storage     (the BQ769x images with FW_STORAGE) the storage scenario, 35 s: StorageMode accepted, 1 s scans, the
+              worst-case age published, no fault, the load ends storage (tests/tools check_storage)
 Every check also finds StateOfCharge in each PackSummary and the StateOfCharge message as the image can know it:
 always from the BQ4050's gauge, never on the BQ79616 image (no current input; it was 0 %) nor on an image that
 builds it out (FW_SOC=0: L1306-BQ76952), 0..100 % or not available (until known) on the other BQ769x images, and PackSummary.Counter stepping by the number of 100 ms cycles between summaries (a gap per lost one).
@@ -58,7 +60,7 @@ import canmatrix.formats
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
 from bms_sim_acceptance import (CONTRACT_KEYS, IMAGES, check_counter, check_gauge_soc,  # noqa: E402
                                 check_load_paths, check_options, check_soc_count, check_soc_published,
-                                read_candump, read_slcan_text)
+                                check_storage, read_candump, read_slcan_text)
 TWIN_KEYS = ["cpu_load_pct", "isr_max_us", "wake_latency_max_us"]
 FAULTS = ["cell_ov", "cell_uv", "occ", "ocd", "otd", "utd", "device_safety", "stale_data", "comm_loss", "open_wire",
           "otc", "utc", "comm_rate"]
@@ -609,6 +611,8 @@ def main():
         check_no_crystal(sim, elf, image, scratch)
     elif check == "soc-count":
         check_soc_count(sim, image, scratch, ("--elf", elf), 300000)  # 5 minutes: the twin is slower than the host
+    elif check == "storage":
+        check_storage(sim, image, scratch, ("--elf", elf))
     else:
         print(__doc__)
         return 2

@@ -166,16 +166,21 @@ std::string emitCpp(const Catalogue& cat, const std::string& sourcePath) {
     out << "    return m;\n  }\n};\n\n";
   }
   // The identifiers the node receives, in catalogue order: what a receive filter accepts.
-  std::string ids;
-  size_t received = 0;
+  std::vector<std::string> ids;
   for (const Message& m : cat.messages) {
-    if (!m.received) continue;
-    ids += std::string(received++ == 0 ? "" : ", ") + hexAddress(m.id);
+    if (m.received) ids.push_back(hexAddress(m.id));
   }
   writeComment(out,
                "The identifiers of the messages the node receives (direction rx), in catalogue order: "
                "what its receive filter accepts.");
-  out << "inline constexpr std::array<uint32_t, " << received << "> kReceivedIds = {{" << ids << "}};\n\n";
+  // As clang-format lays it out: on one line where it fits, else the inner braces on the next line.
+  std::string list;
+  for (const std::string& id : ids)
+    list += (list.empty() ? "" : ", ") + id;
+  const std::string head =
+      "inline constexpr std::array<uint32_t, " + std::to_string(ids.size()) + "> kReceivedIds = {";
+  const std::string line = head + "{" + list + "}};";
+  out << (line.size() <= kColumnLimit ? line : head + "\n    {" + list + "}};") << "\n\n";
   out << "}  // namespace fw::can::" << cat.name << "\n";
   return out.str();
 }

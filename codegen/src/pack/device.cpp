@@ -150,17 +150,36 @@ std::vector<ProtectionSpec> bq7690xProtections() {
 }
 
 std::vector<DeviceSpec> makeDevices() {
-  DeviceSpec bq76952{"bq76952", "bq769x2",    "BQ76952",           16,
-                     true,      "Cc2Current", {1, 10, 100, 1000},  true,
-                     true,      false,        bq769x2Protections()};
-  DeviceSpec bq76907{"bq76907", "bq7690x", "BQ76907",           7, true, "Cc2Current", {}, true,
-                     true,      false,     bq7690xProtections()};
+  DeviceSpec bq76952{"bq76952",
+                     "bq769x2",
+                     "BQ76952",
+                     16,
+                     true,
+                     "Cc2Current",
+                     {1, 10, 100, 1000},
+                     true,
+                     true,
+                     false,
+                     bq769x2Protections(),
+                     "SLUUBY2B 7.3"};
+  DeviceSpec bq76907{"bq76907",
+                     "bq7690x",
+                     "BQ76907",
+                     7,
+                     true,
+                     "Cc2Current",
+                     {},
+                     true,
+                     true,
+                     false,
+                     bq7690xProtections(),
+                     "SLUUCI8 SLEEP Mode"};
   DeviceSpec bq76905 = bq76907;
   bq76905.name = "bq76905";
   bq76905.title = "BQ76905";
   bq76905.inputs = 5;
-  DeviceSpec bq79616{"bq79616", "bq79616", "BQ79616", 16, false, "", {}, false, false, false, {}};
-  DeviceSpec bq4050{"bq4050", "bq4050", "BQ4050", 4, true, "Current", {}, false, false, true, {}};
+  DeviceSpec bq79616{"bq79616", "bq79616", "BQ79616", 16, false, "", {}, false, false, false, {}, ""};
+  DeviceSpec bq4050{"bq4050", "bq4050", "BQ4050", 4, true, "Current", {}, false, false, true, {}, ""};
   return {bq76952, bq76907, bq76905, bq79616, bq4050};
 }
 

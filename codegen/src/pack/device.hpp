@@ -66,6 +66,9 @@ struct DeviceSpec {
   bool stateOfCharge = false;     // the firmware counts its charge (the device has an accumulated charge)
   bool gauge = false;             // the device is a gas gauge with its own state of charge
   std::vector<ProtectionSpec> protections;
+  // Where TI documents the SLEEP the firmware allows in pack storage (SLEEP_ENABLE / SLEEP_DISABLE); empty:
+  // none the firmware controls (storage is the scan period only).
+  std::string sleepSource;
 };
 
 // The devices a pack file may name; nullptr for an unknown name.

@@ -72,6 +72,7 @@ class Checker {
     stateOfCharge();
     balancing();
     can();
+    storage();
   }
 
  private:
@@ -814,6 +815,80 @@ class Checker {
       out_.canPeriodMs = v;
     }
     if (integer(p_.can["slow_every"], 1, 100, "can slow_every", v)) out_.canSlowEvery = v;
+  }
+
+  // Pack storage (firmware/app/monitors/storage_mode.hpp).
+  void storage() {
+    const Group& g = p_.storage;
+    if (!g.present) return;
+    std::int64_t v = 0;
+    bool ok = true;
+    // Storage scans are whole scan periods (the monitor skips the others: the watchdog check-in and
+    // protection's tick stay on the scan period), at most 255 of them.
+    const Quantity& period = g["scan_period_ms"];
+    if (integer(period, 2 * kScanPeriodMs, 250 * kScanPeriodMs, "storage scan_period_ms", v)) {
+      if (v % kScanPeriodMs != 0)
+        diag_.error(period.loc, "storage scan_period_ms must be a whole number of the firmware's " +
+                                    std::to_string(kScanPeriodMs) + " ms scan periods (got " + period.text +
+                                    ")");
+      out_.storageScanEvery = v / kScanPeriodMs;
+    } else {
+      ok = false;
+    }
+    // The device's host watchdog opens the FETs when the host is silent for its timeout (SLUUBY2B 5.2 Host
+    // Watchdog; SLUUCJ0 6.15): the storage scans must come more often. The BQ7690x gives a timeout code
+    // whose seconds the generator does not know (the EVM pack's code 1 is 2 s): the shortest, 2 s, is taken.
+    for (const Group& p : p_.protections) {
+      if (p.key != "hwd" || !ok) continue;
+      std::int64_t timeoutMs = 2000;
+      if (p["timeout_s"].present && p["timeout_s"].isInteger) timeoutMs = p["timeout_s"].integer * 1000;
+      if (out_.storageScanEvery * kScanPeriodMs >= timeoutMs)
+        diag_.error(period.loc, "storage scan_period_ms " + period.text +
+                                    " is not shorter than the device's host watchdog (" +
+                                    std::to_string(timeoutMs) +
+                                    " ms): it would open the FETs between storage scans (" +
+                                    (dev_->family == "bq769x2" ? "SLUUBY2B 5.2" : "SLUUCJ0 6.15") + ")");
+    }
+    if (p_.deviceSleep == "true") {
+      out_.storageDeviceSleep = true;
+      if (dev_->sleepSource.empty()) {
+        diag_.error(p_.deviceSleepLoc, "the " + dev_->title +
+                                           "'s own SLEEP is not controlled by the firmware: device_sleep "
+                                           "false (storage is the scan period only)");
+      } else if (const Entry* e = entry("VoltageTime", p_.deviceSleepLoc)) {
+        // What the firmware publishes as the age of a SLEEP measurement: the device's interval there.
+        if (!e->dflt.present || !e->dflt.isInteger || e->dflt.integer <= 0)
+          diag_.error(p_.deviceSleepLoc, "device_sleep true needs the " + dev_->title +
+                                             "'s SLEEP measurement interval (Power:Sleep:Voltage Time), "
+                                             "which its register map gives no default for: device_sleep "
+                                             "false");
+        else
+          out_.storageSleepS = e->dflt.integer;
+      }
+    } else if (p_.deviceSleep != "false") {
+      diag_.error(p_.deviceSleepLoc,
+                  "storage device_sleep must be true or false (got '" + p_.deviceSleep + "')");
+    }
+    if (g["auto_entry_min"].present && integer(g["auto_entry_min"], 0, 1440, "storage auto_entry_min", v))
+      out_.storageAutoEntryMin = v;
+    // At rest: the storage rest current, else the state of charge's.
+    if (g["rest_current_ma"].present) {
+      if (integer(g["rest_current_ma"], 1, 100000, "storage rest_current_ma", v))
+        out_.storageRestCurrentMa = v;
+    } else {
+      out_.storageRestCurrentMa = out_.restCurrentMa;
+    }
+    if (out_.storageAutoEntryMin != 0 && (!dev_->current || out_.storageRestCurrentMa == 0))
+      diag_.error(g["auto_entry_min"].loc,
+                  dev_->current ? "storage auto_entry_min needs a rest current: rest_current_ma here or in "
+                                  "state_of_charge"
+                                : "the " + dev_->title +
+                                      " has no current input, so no rest: storage auto_entry_min 0 (by "
+                                      "command only)");
+    if (dev_->current && out_.storageRestCurrentMa == 0)
+      diag_.error(g.loc,
+                  "storage needs a rest current (it leaves storage above it): rest_current_ma here or "
+                  "in state_of_charge");
   }
 
   const PackFile& p_;

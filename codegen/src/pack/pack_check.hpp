@@ -9,7 +9,11 @@
 //     a threshold or delay that is not a whole number of the register's steps, or outside its range;
 //     a device protection inside the firmware limit it backs up (the device must be the backstop: it acts
 //       only beyond the firmware's trip, so the firmware always acts first on a normal limit);
-//     more cells than the device has inputs, or inputs the device cannot be told about (BQ7690x Vcell Mode).
+//     more cells than the device has inputs, or inputs the device cannot be told about (BQ7690x Vcell Mode);
+//     a storage scan period that is no whole number of scan periods, or not shorter than the device's host
+//       watchdog (the device would open the FETs between storage scans), device SLEEP on a device whose SLEEP
+//       the firmware does not control or whose SLEEP measurement interval the map does not give, and an
+//       automatic storage entry without a current input or rest threshold.
 // - Steps, ranges, widths and enums come from the register map (`family`); device.hpp adds what the map
 //   cannot say.
 // - resolvePack() returns false when any error was reported; the Resolved is then incomplete.
@@ -70,7 +74,14 @@ struct Resolved {
   bool balancing = false;
   std::map<std::string, std::int64_t> balancingValues;
   std::int64_t canBaseId = 0x100, canPeriodMs = 100, canSlowEvery = 10;
+  // pack storage (storageScanEvery 0: none)
+  std::int64_t storageScanEvery = 0, storageAutoEntryMin = 0, storageRestCurrentMa = 0, storageSleepS = 0;
+  bool storageDeviceSleep = false;
 };
+
+// The firmware's scan period (firmware/app/protection/default_limits.hpp kScanPeriod), which the pack's
+// *_scans counts and the storage scan period are counted in.
+inline constexpr std::int64_t kScanPeriodMs = 100;
 
 // `family` is the device's register map (nullptr when the device has none loaded: an error for devices whose
 // settings the firmware writes).

@@ -42,6 +42,7 @@ std::string emitPackHeader(const Resolved& p, const std::string& source) {
   o << "#pragma once\n\n#include <cstdint>\n\n";
   std::vector<std::string> includes = {"app/protection/limit_table.hpp"};
   if (p.balancing) includes.push_back("app/balancing/balancing_config.hpp");
+  includes.push_back("app/monitors/storage_config.hpp");
   if (p.soc) includes.push_back("app/soc/soc_config.hpp");
   if (d.settings)
     includes.insert(includes.end(), {"drivers/bq769x2/monitor.hpp", "regmap/" + d.family + ".hpp"});
@@ -126,6 +127,26 @@ std::string emitPackHeader(const Resolved& p, const std::string& source) {
                      {"maxDieTempDeciK", deciK("max_die_temp_c")},
                      {"minDwell", "s(" + v("min_dwell_s") + ")"},
                      {"refusedBackoff", "s(" + v("refused_backoff_s") + ")"}});
+    o << "\n";
+  }
+  {
+    // Always emitted: scanEvery 0 is a pack without storage.
+    writeComment(
+        o,
+        "Pack storage (app/monitors/storage_mode.hpp): scans every scanEvery scan periods, the "
+        "device's SLEEP, the automatic entry after that many scan periods at rest (0: by command "
+        "only), the rest threshold, the device's SLEEP measurement interval, staleAfter and the scan "
+        "period the counts are in.");
+    const std::int64_t every = p.storageScanEvery;
+    writeDesignated(
+        o, "inline constexpr app::StorageConfig kStorage",
+        {{"scanEvery", std::to_string(every)},
+         {"deviceSleep", p.storageDeviceSleep ? "true" : "false"},
+         {"autoEntryPeriods", std::to_string(p.storageAutoEntryMin * 60000 / kScanPeriodMs)},
+         {"restCurrentMa", std::to_string(p.storageRestCurrentMa)},
+         {"deviceInterval", "s(" + std::to_string(p.storageDeviceSleep ? p.storageSleepS : 0) + ")"},
+         {"staleAfter", "ms(" + std::to_string(p.staleScans * kScanPeriodMs) + ")"},
+         {"scanPeriod", "ms(" + std::to_string(kScanPeriodMs) + ")"}});
     o << "\n";
   }
   writeComment(

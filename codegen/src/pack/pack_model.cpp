@@ -33,6 +33,8 @@ const GroupSpec kBalancing{"balancing",
                             "max_cell_temp_c", "max_die_temp_c", "min_dwell_s", "refused_backoff_s"},
                            {}};
 const GroupSpec kCan{"can", {"base_id", "period_ms", "slow_every"}, {}};
+const GroupSpec kStorage{
+    "storage", {"scan_period_ms", "device_sleep"}, {"auto_entry_min", "rest_current_ma"}};
 
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
@@ -155,7 +157,7 @@ PackFile readPack(const Sources& sources, int file, Diagnostics& diag) {
   Reader r(diag);
   r.checkKeys(root, {"pack", "device", "chemistry", "cells", "limits", "can"},
               {"description", "cell_inputs", "shunt_micro_ohm", "current_unit_ma", "thermistor",
-               "device_protections", "state_of_charge", "balancing"},
+               "device_protections", "state_of_charge", "balancing", "storage"},
               "the pack file");
   p.name = r.word(root, "pack", "pack", p.nameLoc);
   Loc unused;
@@ -219,6 +221,20 @@ PackFile readPack(const Sources& sources, int file, Diagnostics& diag) {
   }
   p.balancing = r.group(root, kBalancing, "the pack file");
   p.can = r.group(root, kCan, "the pack file");
+  if (const Node* st = root.find("storage")) {
+    p.storage.key = kStorage.key;
+    p.storage.loc = st->loc;
+    if (!st->isMap()) {
+      if (!st->invalid)
+        diag.error(st->loc, std::string("storage must be a mapping, not ") + yaml::describe(st->type));
+    } else {
+      p.storage.present = true;
+      r.checkKeys(*st, kStorage.required, kStorage.optional, "storage of the pack file");
+      for (const char* key : {"scan_period_ms", "auto_entry_min", "rest_current_ma"})
+        p.storage.values[key] = r.quantity(st->find(key), std::string("storage ") + key);
+      p.deviceSleep = r.word(*st, "device_sleep", "storage device_sleep", p.deviceSleepLoc);
+    }
+  }
   return p;
 }
 

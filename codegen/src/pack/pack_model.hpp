@@ -38,6 +38,12 @@
 //               rest_current_ma, rest_s, min_cell_temp_c, max_cell_temp_c, max_die_temp_c, min_dwell_s,
 //               refused_backoff_s}
 //   can: {base_id, period_ms, slow_every}
+//   storage:                          pack storage (firmware/app/monitors/storage_mode.hpp); optional
+//     scan_period_ms: 1000            the scan period in storage: whole 100 ms scan periods, 200..25000, and
+//                                     shorter than the device's host watchdog
+//     device_sleep: true              true | false: the device may SLEEP (BQ769x2, BQ7690x only)
+//     auto_entry_min: 0               minutes at rest before storage begins on its own (0: by command only)
+//     rest_current_ma: 50             optional: at rest at or below it (default: state_of_charge's)
 // (Braces above abbreviate block mappings: the reader takes block mappings only.)
 #pragma once
 
@@ -103,6 +109,9 @@ struct PackFile {
   Loc ocvLoc;
   Group balancing;
   Group can;
+  Group storage;  // its quantities; device_sleep is a word:
+  std::string deviceSleep;
+  Loc deviceSleepLoc;
 };
 
 // Reads the YAML of `file` (registered in `sources`) into a PackFile; every unknown key, missing key and

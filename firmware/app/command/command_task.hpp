@@ -49,6 +49,7 @@ class CommandTask final : public sched::Task {
 
   const CommandHandler& handler() const { return handler_; }
   void setBalancing(BalancingPolicy& policy, const PackView& pack) { handler_.setBalancing(policy, pack); }
+  void setStorage(StorageState& storage) { handler_.setStorage(storage); }
   // Images with the record store (FW_RECORD_STORE) only: its flash jobs run here, the lowest priority.
   void setBackground(BackgroundWork& work) { background_.set(work); }
   const Link& link() const { return link_; }

@@ -9,18 +9,18 @@ namespace bms = can::bms;
 
 namespace {
 
-constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,    bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
-                            bms::Identify::kDlc,       bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
-                            bms::EnterBootloader::kDlc};
+constexpr uint8_t kDlc[] = {bms::ClearFaults::kDlc,     bms::PathRequest::kDlc, bms::BalancingMode::kDlc,
+                            bms::Identify::kDlc,        bms::SettingRead::kDlc, bms::SettingWrite::kDlc,
+                            bms::EnterBootloader::kDlc, bms::StorageMode::kDlc};
 static_assert(sizeof kDlc == kCommandCount, "one DLC per received message of bms.yaml");
-// The commands' identifiers are consecutive, in catalogue order (ClearFaults .. EnterBootloader), so a
+// The commands' identifiers are consecutive, in catalogue order (ClearFaults .. StorageMode), so a
 // command's index is its identifier's distance from the first.
 constexpr bool consecutiveIds() {
   for (uint8_t i = 0; i < kCommandCount; ++i)
     if (bms::kReceivedIds[i] != bms::ClearFaults::kId + i) return false;
-  return bms::kReceivedIds[kCommandCount - 1] == bms::EnterBootloader::kId;
+  return bms::kReceivedIds[kCommandCount - 1] == bms::StorageMode::kId;
 }
-static_assert(consecutiveIds(), "kReceivedIds: consecutive, ClearFaults .. EnterBootloader");
+static_assert(consecutiveIds(), "kReceivedIds: consecutive, ClearFaults .. StorageMode");
 // Every command begins with the E2E header this handler reads: CRC in byte 0, counter in byte 1's low
 // nibble, target in byte 2.
 static_assert(bms::ClearFaults::kFields[bms::ClearFaults::kCrcField].start == 0 &&
@@ -191,7 +191,21 @@ Result CommandHandler::act(const hal::CanFrame& f, Replies& out) {
       return ctx_.settings.write(static_cast<uint8_t>(field<M, M::kSettingField>(f)),
                                  static_cast<int32_t>(field<M, M::kValueField>(f)));
     }
-    default: {  // EnterBootloader (the last of kReceivedIds)
+#if FW_STORAGE != 0
+    case bms::StorageMode::kId: {
+      using M = bms::StorageMode;
+      const uint32_t mode = field<M, M::kModeField>(f);
+      if (mode > 1) return Result::OutOfRange;
+      if (storage_ == nullptr) return Result::Unsupported;
+      // Entering is refused while a fault is active or current flows (storage_mode.hpp); leaving never is.
+      constexpr Result kAnswer[] = {Result::Accepted, Result::Unsupported, Result::FaultActive,
+                                    Result::NotAtRest};
+      return kAnswer[static_cast<uint8_t>(storage_->request(mode == 1))];
+    }
+#endif
+    default: {  // EnterBootloader (and StorageMode where the build has no storage: FW_STORAGE,
+                // app/config.hpp)
+      if (FW_STORAGE == 0 && f.id == bms::StorageMode::kId) return Result::Unsupported;
       using M = bms::EnterBootloader;
       if (field<M, M::kTargetField>(f) != ctx_.node || field<M, M::kKeyField>(f) != kBootloaderKey ||
           field<M, M::kTraceIdField>(f) != ctx_.system.identity().traceId)

@@ -9,7 +9,9 @@
 //   6. the values: a setting id or mode out of range, a write outside its range (out_of_range) or crossing
 //      its trip/clear partner (inconsistent); bootloader entry without the key, this node's number and the
 //      chip's TraceId (wrong_key); ClearFaults while a latched fault's condition is still there
-//      (condition_present: nothing of that fault changes).
+//      (condition_present: nothing of that fault changes); StorageMode enter while a fault is active
+//      (fault_active) or the current is above the pack's rest threshold (not_at_rest), or on an image
+//      without storage (unsupported).
 // A refused frame changes nothing but the counters and the counter window.
 //
 // Safety rules (README.md in this folder; tests/app/command_*_test.cpp):
@@ -32,6 +34,7 @@
 #include "app/command/e2e.hpp"
 #include "app/command/result.hpp"
 #include "app/command/settings.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/protection/protection_task.hpp"
 #include "app/tasks.hpp"
 #include "can/bms.hpp"
@@ -83,6 +86,13 @@ class CommandHandler {
     balancing_ = &policy;
     pack_ = &pack;
   }
+  // The monitor's pack-storage mode StorageMode asks (storage_mode.hpp); without it StorageMode is answered
+  // Unsupported.
+  void setStorage([[maybe_unused]] StorageState& storage) {
+#if FW_STORAGE != 0
+    storage_ = &storage;
+#endif
+  }
 
   // Checks and acts on one received frame; the answers go to `out` (none for a frame not addressed here, or
   // while bootloader entry waits for the paths: poll() answers it).
@@ -90,15 +100,23 @@ class CommandHandler {
   // Bootloader entry: Idle, then WaitingForPaths until poll() answers (Answered once accepted, Idle again
   // when refused), then answerSent() restarts the MCU.
   enum class Boot : uint8_t { Idle, WaitingForPaths, Answered };
-  Boot boot() const { return state_->boot; }
+  Boot boot() const {
+    return state_->boot;
+  }
   // While WaitingForPaths: answers into `out` once the paths are confirmed off or the time is up.
   void poll(Replies& out);
   // While Answered, once the accepted answer has left: restarts into the bootloader.
   void answerSent();
 
-  const CommandStats& stats() const { return state_->stats; }
-  uint8_t hostOff() const { return state_->hostRequest; }
-  sched::Scheduler& scheduler() const { return ctx_.scheduler; }
+  const CommandStats& stats() const {
+    return state_->stats;
+  }
+  uint8_t hostOff() const {
+    return state_->hostRequest;
+  }
+  sched::Scheduler& scheduler() const {
+    return ctx_.scheduler;
+  }
 
  private:
   Result act(const hal::CanFrame& f, Replies& out);
@@ -118,6 +136,9 @@ class CommandHandler {
   Context ctx_;
   BalancingPolicy* balancing_ = nullptr;
   const PackView* pack_ = nullptr;
+#if FW_STORAGE != 0
+  StorageState* storage_ = nullptr;
+#endif
   Zeroed<State> state_;
 };
 

@@ -18,7 +18,9 @@ enum class Result : uint8_t {
   PathsNotOff,
   Busy,
   ConditionPresent,
+  FaultActive,  // StorageMode enter: a protection fault is active or the device holds a path off
+  NotAtRest,    // StorageMode enter: the current is above the pack's rest threshold
 };
-inline constexpr uint8_t kResultCount = 11;
+inline constexpr uint8_t kResultCount = 13;
 
 }  // namespace fw::app::command

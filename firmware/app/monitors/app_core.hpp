@@ -21,6 +21,7 @@
 
 #include "app/balancing/balancing_policy.hpp"
 #include "app/command/commands.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/protection_task.hpp"
 #include "app/publish/can_publisher.hpp"
@@ -86,12 +87,13 @@ class AppCore {
   // Protection, then the monitor, the publisher and the commands (`balancing`: the command interface's entry
   // to the monitor's balancing policy, nullptr where the image does not balance).
   template <class Monitor>
-  void startAll(Monitor& monitor, BalancingPolicy* balancing) {
+  void startAll(Monitor& monitor, BalancingPolicy* balancing, StorageState* storage = nullptr) {
     protection_.setLimitUpdate(settings_);
     protection_.start();
     monitor.start();
     publisher_.start();
     if (balancing != nullptr) command_.setBalancing(*balancing, *view_);
+    if (storage != nullptr) command_.setStorage(*storage);
     command_.start();
   }
 

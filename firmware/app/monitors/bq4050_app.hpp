@@ -14,10 +14,12 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "app/command/commands.hpp"
 #include "app/monitors/app_core.hpp"
 #include "app/monitors/monitor_task.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -37,6 +39,9 @@ struct Bq4050AppConfig {
   drivers::bq4050::GaugeConfig gauge{};
   Duration scanPeriod = kScanPeriod;  // the default limits' debounce counts assume it (default_limits.hpp)
   Duration retryInterval = ms(100);   // between failed probes (a probe of an absent gauge is a few NACKs)
+  // Pack storage (FW_STORAGE, storage_mode.hpp): the pack file's `storage`, the scan period only (the
+  // gauge's own SLEEP is its business); scanEvery 0: none. Nothing in a build without it.
+  [[no_unique_address]] std::conditional_t<kStorageBuilt, StorageConfig, NoStorageConfig> storage{};
 };
 
 // The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each
@@ -58,11 +63,12 @@ class Bq4050Device : public MonitorBase {
  public:
   // Inline: an image constructs it once, and the constructor is then stores only.
   Bq4050Device(sched::Scheduler& scheduler, hal::I2cBus& bus, const Bq4050AppConfig& config,
-               BoardSample& sample, PackView& view)
+               BoardSample& sample, PackView& view, const PublishStatus& status)
       : scheduler_(scheduler),
         config_(config),
         sample_(sample),
         view_(view),
+        storage_(config.storage, view, status),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 config.gauge) {}
@@ -70,6 +76,8 @@ class Bq4050Device : public MonitorBase {
   const drivers::bq4050::Gauge& gauge() const { return driver_; }
   const Bq4050Stats& stats() const { return records_->stats; }
   const drivers::bq4050::DeviceInfo& info() const { return records_->info; }
+  // Pack storage: the command interface's entry (StorageMode::request).
+  StorageState& storage() { return storage_; }
 
  protected:
   static constexpr bool kCommands = false;
@@ -100,6 +108,9 @@ class Bq4050Device : public MonitorBase {
     }
   }
   Status startScan() { return driver_.startScan(records_->measurement); }
+  // Pack storage (storage_mode.hpp): the scans it skips; a load or a fault ends it. No-ops without it.
+  bool storageTick() { return storage_.tick(); }
+  void storageScanned() { storage_.scanned(); }
   ScanVerdict scanFinished(Status result, Instant) {
     sample_.last = result;
     // Implausible: the gauge answered (PEC-checked, or read twice alike) with a value its inputs cannot give
@@ -151,6 +162,7 @@ class Bq4050Device : public MonitorBase {
   BoardSample& sample_;
   PackView& view_;
   Zeroed<Records> records_;
+  [[no_unique_address]] StorageState storage_;
   drivers::bq4050::Gauge driver_;
 };
 using Bq4050Monitor = MonitorTask<Bq4050Device>;
@@ -172,13 +184,13 @@ class Bq4050App : public AppCore<FaultPinActuator, CanPublisher> {
   Bq4050App(sched::Scheduler& scheduler, const Io& io, const Bq4050AppConfig& config)
       : AppCore(scheduler, kLimits, config.scanPeriod, io.can, io.system, CanLayout::Native, io.faultOut,
                 true),
-        monitor_(scheduler, io.bus, config, *addressOf(sample_), *view_) {
+        monitor_(scheduler, io.bus, config, *addressOf(sample_), *view_, *status_) {
     // The view's shape; the rest of it (and the publish status) starts zero, as Zeroed blocks do.
     view_->cellsPerBoard = config.gauge.cells;
     view_->tempsPerBoard = 1;
     view_->boards = {&*sample_, 1};
   }
-  void start() { startAll(monitor_, nullptr); }
+  void start() { startAll(monitor_, nullptr, kStorageBuilt ? &monitor_.storage() : nullptr); }
 
   const Bq4050Monitor& monitor() const { return monitor_; }
 

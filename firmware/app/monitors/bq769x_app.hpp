@@ -48,6 +48,7 @@
 #include "app/monitors/bq769x_settings.hpp"
 #include "app/monitors/fet_mailbox.hpp"
 #include "app/monitors/monitor_task.hpp"
+#include "app/monitors/storage_mode.hpp"
 #include "app/pack/pack_view.hpp"
 #include "app/protection/default_limits.hpp"
 #include "app/protection/protection_task.hpp"
@@ -69,6 +70,9 @@ namespace fw::app {
 
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
+inline constexpr bool kStorage = FW_STORAGE != 0;
+static_assert(!kStorage || drivers::bq769x2::kSleepControl,
+              "pack storage allows the device's SLEEP through the driver (FW_BQ769X_SLEEP)");
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
 static_assert(!kSoc || drivers::bq769x2::kCharge,
@@ -108,6 +112,9 @@ struct Bq769xAppConfig {
   // nullptr (or FW_SOC=0): none computed, published as not available.
   const SocConfig* soc = nullptr;
   int32_t currentLsbTenthMa = 10;
+  // Pack storage (FW_STORAGE, storage_mode.hpp): the pack file's `storage`; scanEvery 0: none. Nothing in a
+  // build without it.
+  [[no_unique_address]] std::conditional_t<kStorage, StorageConfig, NoStorageConfig> storage{};
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -162,6 +169,7 @@ class Bq769xDevice : public MonitorBase {
         status_(status),
         policy_(kDefaultBalancing, balancingRules(variantOf(driverArgs...))),
         soc_(config.soc != nullptr ? *config.soc : kNoSoc, kCounterFamily, config.currentLsbTenthMa),
+        storage_(config.storage, view, status),
         driver_(bus, scheduler.clock(),
                 drivers::DriverContext{scheduler, kMonitorTask, monitor_event::kBus, monitor_event::kTimer},
                 static_cast<DriverArgs&&>(driverArgs)..., config.monitor) {}
@@ -180,6 +188,8 @@ class Bq769xDevice : public MonitorBase {
   // The state of charge (restore(): the record store's saved value).
   SocState& stateOfCharge() { return soc_; }
   const SocState& stateOfCharge() const { return soc_; }
+  // Pack storage: the command interface's entry (StorageMode::request).
+  StorageState& storage() { return storage_; }
 
  protected:
   static constexpr bool kCommands = true;
@@ -202,7 +212,45 @@ class Bq769xDevice : public MonitorBase {
   static constexpr bool kFaultLineToo = false;
   void attachFaultLine() { alert_.enable(scheduler_.notifier(kProtectionTask, ProtectionTask::kFaultLine)); }
   // A failed FET or balancing command is tried again once per scan period.
-  void scanTick() { flags_->fetBackoff = flags_->balanceBackoff = false; }
+  void scanTick() {
+    flags_->fetBackoff = flags_->balanceBackoff = false;
+    if (kStorage) storage_.sleep.backoff = false;
+  }
+
+  // Pack storage (storage_mode.hpp): the scans it skips, and the device's SLEEP following it (SLEEP_ENABLE
+  // in storage where the pack allows it, SLEEP_DISABLE when leaving).
+  bool storageTick() requires kStorage {
+    const bool due = storage_.tick();
+    syncSleep();
+    return due;
+  }
+  void storageScanned() requires kStorage {
+    storage_.scanned();
+    syncSleep();
+  }
+  void syncSleep() {
+    if (kStorage && storage_.deviceSleep() != storage_.sleep.allowed) storage_.sleep.wanted = true;
+  }
+  Status startSleep() {
+    storage_.sleep.wanted = false;
+    storage_.sleep.command = true;
+    storage_.sleep.sending = storage_.deviceSleep();
+    const Status s = driver_.startSleep(storage_.sleep.sending);
+    if (s != Status::Ok) {
+      storage_.sleep.command = false;
+      storage_.sleep.wanted = storage_.sleep.backoff = true;
+    }
+    return s;
+  }
+  void sleepFinished(Status result) {
+    storage_.sleep.command = false;
+    if (result == Status::Ok) {
+      storage_.sleep.allowed = storage_.sleep.sending;
+      syncSleep();  // storage may have changed its mind meanwhile
+    } else {
+      storage_.sleep.wanted = storage_.sleep.backoff = true;  // again next scan period
+    }
+  }
 
   // Protection asked for the paths (FetMailbox::request()): the command goes out as soon as the bus is free.
   // A scan in progress gives way at its next read, and a scan follows the command (it tells which fault it
@@ -224,15 +272,19 @@ class Bq769xDevice : public MonitorBase {
   // The FET command first; balancing only once the scan due has run (it never delays one).
   bool commandWaiting() const {
     return (flags_->fetWanted && !flags_->fetBackoff) ||
+           (kStorage && storage_.sleep.wanted && !storage_.sleep.backoff) ||
            (kBalancing && !loop_->scanDue && !flags_->balanceBackoff &&
             (flags_->balanceWanted || flags_->checkWanted));
   }
   Status startCommand() {
-    if (kBalancing && !(flags_->fetWanted && !flags_->fetBackoff)) return startBalancing();
+    const bool fet = flags_->fetWanted && !flags_->fetBackoff;
+    if (kStorage && !fet && storage_.sleep.wanted && !storage_.sleep.backoff) return startSleep();
+    if (kBalancing && !fet) return startBalancing();
     flags_->fetWanted = false;
     return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
+    if (kStorage && storage_.sleep.command) return sleepFinished(result);
     if (kBalancing && flags_->balancing) return balancingFinished(result);
     if (result == Status::Ok) {
       if (kStats) ++records_->stats.fetCommands;
@@ -269,6 +321,10 @@ class Bq769xDevice : public MonitorBase {
       loop_->scanDue = true;
       flags_->fetWanted =
           flags_->fetRequested;  // protection's last request, again: the device may have reset
+      if (kStorage) {
+        storage_.sleep.allowed = false;  // the set-up sent SLEEP_DISABLE: storage allows it again if it wants
+        syncSleep();
+      }
       return;
     }
     // Without the start-up CONFIG_UPDATE the probe is followed by FET enable.
@@ -288,8 +344,10 @@ class Bq769xDevice : public MonitorBase {
     if (result == Status::Ok) {
       toSample(records_->measurement, config_.cells, sample_, view_);
       flags_->socDue = true;
-      // The device reset since the set-up: set it up again now (the measurement itself is valid).
-      if (records_->measurement.reg.batteryStatus.sleep_en()) {
+      // The device reset since the set-up: set it up again now (the measurement itself is valid). Not while
+      // storage allows SLEEP: a reset is then not told apart (the device's own protections run on; the
+      // set-up that follows leaving storage restores what a reset lost).
+      if (records_->measurement.reg.batteryStatus.sleep_en() && !(kStorage && storage_.sleep.allowed)) {
         setRunning(view_, false);
         loop_->retryDue = true;
       }
@@ -466,6 +524,7 @@ class Bq769xDevice : public MonitorBase {
   BalancingPolicy policy_;
   Zeroed<Records> records_;
   SocState soc_;
+  [[no_unique_address]] StorageState storage_;
   Driver driver_;
 };
 template <class Driver, class Measurement, sched::EventMask kPublisherScanDone>
@@ -495,7 +554,14 @@ class Bq769xApp : public AppCore<FetMailbox, Publisher> {
     if constexpr (drivers::bq769x2::kBalance) view.balancing = &monitor_.balancingStatus();
   }
 
-  void start() { this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr); }
+  void start() {
+    BalancingPolicy* balancing = drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr;
+    if constexpr (kStorage) {
+      this->startAll(monitor_, balancing, &monitor_.storage());
+    } else {
+      this->startAll(monitor_, balancing);
+    }
+  }
 
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;
   const Monitor& monitor() const { return monitor_; }

@@ -32,6 +32,9 @@
 //   power-up: the documented bound of the first bring-up and its first scan; PackView::inStartupGrace()
 //   until then or the first scan's result)
 //   attachFaultLine(), scanTick()                           optional: a device without them has no such work
+//   storageTick() -> bool, storageScanned()                 optional, pack storage (storage_mode.hpp): at
+//                                                           each scan period, whether a scan is due; after
+//                                                           each validated scan
 //   startSetup(), setupFinished(Status)                    set-up steps; setRunning() when done
 //   startScan(), scanFinished(Status, Instant) -> ScanVerdict, afterSummarize()
 //   recover()                                               after kFailuresBeforeRecovery failed scans
@@ -227,7 +230,9 @@ class MonitorTask final : public Device, public sched::Task {
       }
       if ((events & kScanTick) != 0) {
         if constexpr (requires(MonitorTask & t) { t.scanTick(); }) this->scanTick();
-        this->loop_->scanDue = true;
+        bool due = true;  // in pack storage only every few periods
+        if constexpr (requires(MonitorTask & t) { t.storageTick(); }) due = this->storageTick();
+        this->loop_->scanDue |= due;
         this->scheduler_.checkIn(kId);  // alive and on schedule, whatever the device's state
       }
       if ((events & kRetry) != 0) this->loop_->retryDue = true;
@@ -309,6 +314,9 @@ class MonitorTask final : public Device, public sched::Task {
       }
     }
     summarize(this->view_, now);
+    if constexpr (requires(MonitorTask & t) { t.storageScanned(); }) {
+      if (v.newData) this->storageScanned();
+    }
     this->afterSummarize();
     this->view_.startupGrace = false;  // the first result is in: protection judges the data from now on
     // A scan that validated some boards and failed on others is both: new data, and a failed attempt

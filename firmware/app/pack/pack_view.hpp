@@ -99,6 +99,27 @@ struct PackTotals {
 struct BalancingStatus;  // app/balancing/balancing_status.hpp
 
 // Byte fields first: Cortex-M0+ byte loads reach only 31 bytes past the object's address.
+// Pack storage (app/monitors/storage_mode.hpp), written by the monitor task only: whether the monitor is in
+// storage, scanning every scanEvery scan periods (0 outside storage), the scan period in effect; staleExtra,
+// added to the limits' staleAfter (protection's stale_data and what publishers call fresh); deviceAge, the
+// device's own measurement interval while it may SLEEP, added to a measurement's age where that age is
+// published.
+#if FW_STORAGE
+struct StorageView {
+  bool on = false;
+  uint8_t scanEvery = 0;
+  Duration period{};
+  Duration staleExtra{};
+  Duration deviceAge{};
+};
+#else
+struct StorageView {  // FW_STORAGE=0: never in storage, and nothing in RAM
+  static constexpr bool on = false;
+  static constexpr uint8_t scanEvery = 0;
+  static constexpr Duration period{}, staleExtra{}, deviceAge{};
+};
+#endif
+
 struct PackView {
   uint8_t cellsPerBoard = 0;  // connected cells per board
   uint8_t tempsPerBoard = 0;  // temperature sensors per board
@@ -138,6 +159,7 @@ struct PackView {
   // on an image that does not balance (the BQ4050's gauge balances on its own).
   const BalancingStatus* balancing = nullptr;
   PackTotals totals{};
+  [[no_unique_address]] StorageView storage{};
 
   uint16_t boardCount() const { return kMaxBoards == 1 ? 1 : static_cast<uint16_t>(boards.size()); }
   bool inStartupGrace(Instant now) const { return startupGrace && isBefore(now, firstDataDue); }

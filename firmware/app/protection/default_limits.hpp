@@ -66,6 +66,8 @@
 namespace fw::app {
 
 inline constexpr Duration kScanPeriod = ms(100);
+static_assert(pack::kStorage.scanPeriod == kScanPeriod,
+              "regmapgen pack counts the storage scan period in the firmware's scan periods (kScanPeriodMs)");
 
 namespace limits_detail {
 // The pack's rows, then the one rule a pack file does not set: an intermittent link, 4 of the last

@@ -64,7 +64,8 @@ ProtectionState Protection::evaluate(const ProtectionInputs& in, Instant now) {
   if (in.faultLine) state_->deviceBlocks = static_cast<uint8_t>(Action::AllOff);
   value[6] = state_->deviceBlocks;
   if (in.fresh || in.faultLine) evaluated |= bit(FaultId::DeviceSafety);
-  value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us;
+  // In pack storage the scans are further apart: stale after as many of them (PackView::storage).
+  value[7] = elapsed(t->oldest, now).us > config_.staleAfter.us + pack->storage.staleExtra.us;
   value[8] = state_->failedScans >= config_.commLossScans;
   if ((in.fresh || in.scanFailed) && !grace)
     evaluated |= bit(FaultId::CommLoss) | bit(FaultId::CommErrorRate);

@@ -142,17 +142,23 @@ constexpr Catalogue<M...> catalogue() {
 }
 template <class M, bool kSent>
 using Sent = std::conditional_t<kSent, M, Left<M>>;
+#if FW_STORAGE != 0
+#define FW_STORAGE_MESSAGE , Sent<bms::StorageStatus, kAllMessages>
+#else
+#define FW_STORAGE_MESSAGE
+#endif
 #define FW_NATIVE_MESSAGES                                                                            \
   bms::PackSummary, Sent<bms::CellExtremes, kAllMessages>, Sent<bms::ProtectionEvent, kCoreMessages>, \
       bms::Startup, Sent<bms::CellVoltages, kCoreMessages>, Sent<bms::Temperatures, kAllMessages>,    \
       Sent<bms::TemperatureExtremes, kAllMessages>, Sent<bms::StateOfCharge, kAllMessages>,           \
-      Sent<bms::BalancingStatus, kAllMessages>
+      Sent<bms::BalancingStatus, kAllMessages> FW_STORAGE_MESSAGE
 #if FW_CAN_TI_LAYOUT
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES, bms::TiCellVoltages>();
 #else
 constexpr auto kCatalogue = catalogue<FW_NATIVE_MESSAGES>();
 #endif
 #undef FW_NATIVE_MESSAGES
+#undef FW_STORAGE_MESSAGE
 static_assert(
     [] {
       for (const Message& m : kCatalogue.messages)
@@ -168,7 +174,8 @@ static_assert(bms::CellExtremes::kFieldCount <= kMaxFields &&
               bms::CellVoltages::kFieldCount <= kMaxFields && bms::Temperatures::kFieldCount <= kMaxFields &&
               bms::BalancingStatus::kFieldCount <= kMaxFields &&
               bms::TiCellVoltages::kFieldCount <= kMaxFields && bms::Startup::kFieldCount <= kMaxFields &&
-              bms::StateOfCharge::kFieldCount <= kMaxFields);
+              bms::StateOfCharge::kFieldCount <= kMaxFields && bms::StorageStatus::kFieldCount <= kMaxFields);
+static_assert(bms::StorageStatus::kMeasurementAgeNotAvailable == 0xFFFFFF);
 // StateOfCharge's capacities go out unclamped: a pack file's capacity is at most 1 048 574 mAh (regmapgen
 // pack), the remaining charge never above it, and the gauge's words are 16 bits; all below not available.
 static_assert(bms::StateOfCharge::kRemainingCapacityNotAvailable == 0xFFFFF &&
@@ -209,6 +216,10 @@ inline uint16_t FramePlan::framesIn(Step step) const {
       return 1;
     case kBalancing:
       return pack_.balancing != nullptr ? boards : 0;
+#if FW_STORAGE != 0
+    case kStorage:  // only a monitor with a storage mode sets the period (storage_mode.hpp)
+      return pack_.storage.period.us != 0;
+#endif
     case kTiCells:
       return kTiLayout && pack_.rawCells != nullptr ? static_cast<uint16_t>(boards * 4) : 0;
     default:
@@ -237,7 +248,7 @@ void FramePlan::settle() {
         resume_ = kDone;
       }
     } else {
-      step_ = step_ == kBalancing ? kDone : static_cast<Step>(step_ + 1);
+      step_ = step_ == kLastSlow ? kDone : static_cast<Step>(step_ + 1);
     }
   }
 }
@@ -279,7 +290,9 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
   // Fresh: the age is no more than staleAfter_ (no borrow from staleAfter_ - age). Computed, not tested: GCC
   // threads a test of it (`elapsed(...) <= staleAfter_`) into a second copy of the dispatch below (measured
   // 2026-11-29: +80 B on L1306-BQ76952, +40 B on the other images).
-  const auto fresh = static_cast<bool>(1U ^ ((uint64_t{staleAfter_.us} - elapsed(t.takenAt, now).us) >> 63));
+  // In pack storage the scans are further apart: stale after as many of them (PackView::storage).
+  const Duration staleAfter = staleAfter_ + pack_.storage.staleExtra;
+  const auto fresh = static_cast<bool>(1U ^ ((uint64_t{staleAfter.us} - elapsed(t.takenAt, now).us) >> 63));
   const bool cells = fresh & (t.cells != 0);
   const bool temps = fresh & (t.temps != 0);
   switch (step_) {
@@ -359,7 +372,7 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       const BoardSample& s = pack_.boards[board];
       const int16_t* values = isCells ? s.cellMv : s.tempDeciK;
       using C = bms::CellVoltages;  // Temperatures: the same layout (static_assert above)
-      auto status = static_cast<uint8_t>(boardStatus(s, now, staleAfter_));
+      auto status = static_cast<uint8_t>(boardStatus(s, now, staleAfter));
       if (status == static_cast<uint8_t>(BoardStatus::Valid)) {
         // The open-wire verdict of this frame's cells only (their neighbours decide it), not the whole
         // board's. Only after a scan whose totals show an open wire: summarize() walked every board that
@@ -407,13 +420,30 @@ uint16_t FramePlan::fill(Instant now, std::array<uint8_t, 8>& data) {
       v[B::kTimeField] = b.seconds[index_] < 0xFFFFFFU ? b.seconds[index_] : 0xFFFFFFU;
       break;
     }
+#if FW_STORAGE != 0
+    case kStorage: {
+      if (!sent(kStorage)) return 0;
+      // The age at worst: since the oldest board's scan, plus the device's own interval while it may SLEEP
+      // (PackView::storage); not available before any board validated.
+      using G = bms::StorageStatus;
+      const StorageView& st = pack_.storage;
+      v[G::kModeField] = st.on;
+      v[G::kDeviceSleepField] = st.deviceAge.us != 0;
+      v[G::kScanPeriodField] = st.period.toMs();
+      if (t.oldest.us != 0) {
+        const uint32_t age = (elapsed(t.oldest, now) + st.deviceAge).toMs();
+        v[G::kMeasurementAgeField] = age < 0xFFFFFEU ? age : 0xFFFFFEU;
+      }
+      break;
+    }
+#endif
     case kTiCells: {
       if constexpr (!kTiLayout) return 0;  // compiled out: framesIn() gives this step no frames
       // Top of stack first: slot 0 is the highest board. A board that stopped being Valid since the set
       // began ends the set (the layout cannot say so, and a receiver would give the next board's cells to
       // it).
       const auto b = static_cast<uint16_t>(pack_.boardCount() - 1 - index_ / 4);
-      if (boardStatus(pack_.boards[b], now, staleAfter_) != BoardStatus::Valid) {
+      if (boardStatus(pack_.boards[b], now, staleAfter) != BoardStatus::Valid) {
         step_ = kDone;
         return 0;
       }

@@ -15,11 +15,13 @@
 //   fast (every 100 ms)   PackSummary, CellExtremes, then ProtectionEvent if a fault tripped or cleared
 //   slow (every 1000 ms)  the fast frames, then CellVoltages and Temperatures of every board,
 //                         TemperatureExtremes, StateOfCharge (not available where the build or the monitor
-//                         has none), and BalancingStatus of every board where the pack balances
-//                         (PackView::balancing). The slow part may take longer than 100 ms (64 boards: 449
-//                         frames, about 120 ms at 500 kbit/s): a fast cycle that begins while it is still
-//                         going sends its own frames first and then lets the slow part continue where it
-//                         stopped. Only a slow cycle drops what is left of the previous one.
+//                         has none), BalancingStatus of every board where the pack balances
+//                         (PackView::balancing), and StorageStatus where the build has storage (FW_STORAGE)
+//                         and the monitor a storage mode (PackView::storage.period set). The slow part may
+//                         take longer than 100 ms (64 boards: 449 frames, about 120 ms at 500 kbit/s): a fast
+//                         cycle that begins while it is still going sends its own frames first and then lets
+//                         the slow part continue where it stopped. Only a slow cycle drops what is left of
+//                         the previous one.
 //   ti (after each scan)  seed 001's layout: per board, top of stack first, four TiCellVoltages frames with
 //                         cells 16..13, 12..9, 8..5, 4..1 as raw big-endian codes. Only whole sets: a set
 //                         begins only after a fresh scan that validated every board with no open wire (the
@@ -102,7 +104,7 @@ class FramePlan {
 
  private:
   // The messages of a cycle, in the order they go out; a cycle walks them and skips those it has no frame
-  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kBalancing;
+  // of (framesIn() == 0). Fast part: kSummary..kEvent, then kStartup once; slow part: kCells..kStorage;
   // TI: kTiCells (after kStartup once).
   enum Step : uint8_t {
     kSummary,
@@ -114,16 +116,25 @@ class FramePlan {
     kTempExtremes,
     kStateOfCharge,
     kBalancing,
+#if FW_STORAGE != 0
+    kStorage,  // only where the build has storage: no step, no code without it
+#endif
     kTiCells,
     kDone
   };
+  // The last step of the slow part.
+#if FW_STORAGE != 0
+  static constexpr Step kLastSlow = kStorage;
+#else
+  static constexpr Step kLastSlow = kBalancing;
+#endif
   bool begin(bool slow);  // (.cpp) the cycles with a slow part (FW_PUBLISH_LEVEL 1 and up)
   // The fast part, PackSummary first (every build sends it, so no settle() is needed); a slow part in
   // progress waits for it (resume_). Inline: a build with PackSummary alone and no statistics keeps only
   // the stores.
   bool startFast() {
     const bool dropped = step_ <= kEvent;
-    if (kCoreMessages && step_ >= kCells && step_ <= kBalancing) resume_ = step_, resumeIndex_ = index_;
+    if (kCoreMessages && step_ >= kCells && step_ <= kLastSlow) resume_ = step_, resumeIndex_ = index_;
     if (sent(kEvent)) event_ = (status_.pendingTripped | status_.pendingCleared) != 0;
     if (kTiLayout) tiStartup_ = false;  // never set without the TI layout
     step_ = kSummary;
@@ -139,6 +150,9 @@ class FramePlan {
     if (step == kExtremes || step == kTemps || step == kTempExtremes || step == kStateOfCharge ||
         step == kBalancing)
       return kAllMessages;
+#if FW_STORAGE != 0
+    if (step == kStorage) return kAllMessages;
+#endif
     if (step == kEvent || step == kCells) return kCoreMessages;
     return true;
   }

@@ -43,6 +43,13 @@ static_assert(!FW_BQ769X_PROBE_CRC || FW_BQ769X_CRC, "the CRC-mode probe needs t
 static_assert(!FW_BQ769X_BALANCE || FW_BQ769X_CONFIG_PATHS,
               "balancing needs the configuration paths (FW_BQ769X_CONFIG_PATHS)");
 
+// SLEEP allowed and disallowed on request (Monitor::startSleep, pack storage: app/monitors/storage_mode.hpp).
+// 0 leaves it out (startSleep() returns InvalidArgument; the run-time set-up still sends SLEEP_DISABLE): the
+// images built without storage (FW_STORAGE=0).
+#ifndef FW_BQ769X_SLEEP
+#define FW_BQ769X_SLEEP 1
+#endif
+
 // The accumulated charge every other scan (the state of charge counts it, FW_SOC): one scan asks for
 // DASTATUS6 (BQ769x2) or PASSQ (BQ7690x) first, the next reads its echo and result after its blocks
 // (monitor.hpp). 0 leaves the request and the read out (ChargeCounter::valid stays false); the L1306 images,

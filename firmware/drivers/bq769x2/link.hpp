@@ -101,6 +101,7 @@ inline constexpr bool kCrc = FW_BQ769X_CRC != 0;
 inline constexpr bool kBalance =
     FW_BQ769X_BALANCE != 0;  // host-controlled balancing is built (drivers/bq769x2/config.hpp)
 inline constexpr bool kCharge = FW_BQ769X_CHARGE != 0;
+inline constexpr bool kSleepControl = FW_BQ769X_SLEEP != 0;
 
 struct LinkConfig {
   uint8_t address = kDefaultAddress;

@@ -21,7 +21,8 @@ static_assert(regmap::code16(sub::DeviceNumber) == regmap::code16(map7690x::sub:
               regmap::code16(sub::FetEnable) == regmap::code16(map7690x::sub::FetEnable) &&
               regmap::code16(sub::CbActiveCells) == regmap::code16(map7690x::sub::CbActiveCells));
 
-static_assert(regmap::code16(sub::SleepDisable) == regmap::code16(map7690x::sub::SleepDisable));
+static_assert(regmap::code16(sub::SleepDisable) == regmap::code16(map7690x::sub::SleepDisable) &&
+              regmap::code16(sub::SleepEnable) == regmap::code16(map7690x::sub::SleepEnable));
 
 // BQ769x2 FET_CONTROL (SLUUCW9, E2E 1453973): a 1 forces that FET off, a 0 allows it, all four at once.
 using Fc = map::bits::FetControl;
@@ -132,7 +133,23 @@ Status Monitor::startFetEnable() {
 Status Monitor::startRuntimeSetup(SettingsTable settings) {
   if (busy()) return Status::Busy;
   state_->settings = settings;
+#if FW_BQ769X_SLEEP
+  state_->sleepAllowed = state_->sleepOnly = false;
+#endif
   return begin(Op::RuntimeSetup, link_.startSubcommand(regmap::code16(sub::SleepDisable)));
+}
+
+// The runtime set-up's first two steps alone, either way (SLUUBY2B 7.3, SLUUCI8 "SLEEP Mode").
+Status Monitor::startSleep([[maybe_unused]] bool allow) {
+#if FW_BQ769X_SLEEP
+  if (busy()) return Status::Busy;
+  state_->sleepAllowed = allow;
+  state_->sleepOnly = true;
+  return begin(Op::RuntimeSetup, link_.startSubcommand(allow ? regmap::code16(sub::SleepEnable)
+                                                             : regmap::code16(sub::SleepDisable)));
+#else
+  return Status::InvalidArgument;
+#endif
 }
 
 Status Monitor::startBalance(uint16_t cells) {
@@ -337,9 +354,17 @@ inline void Monitor::fetEnableStep(Status r) {
   if (r != Status::Ok) return finish(r);
   const uint8_t* d = link_.data();
   const uint8_t step = state_->step++;
-  // Step 0: SLEEP_DISABLE has run (echo); its effect shows in Battery Status[SLEEP_EN] (SLUUBY2B 7.3).
+  // Step 0: SLEEP_DISABLE (SLEEP_ENABLE) has run (echo); its effect shows in Battery Status[SLEEP_EN]
+  // (SLUUBY2B 7.3).
   if (step == 0) return next(link_.startRead(kBatteryStatus, 2));
+#if FW_BQ769X_SLEEP
+  if (step == 1) {
+    if (((d[0] & facts().sleepEnMask) != 0) != state_->sleepAllowed) return finish(Status::VerifyFailed);
+    if (state_->sleepOnly) return finish(Status::Ok);
+  }
+#else
   if (step == 1 && (d[0] & facts().sleepEnMask) != 0) return finish(Status::VerifyFailed);
+#endif
   // Alarm Enable from the table: a table only exists where the configuration paths are built.
   if constexpr (kConfigPaths) {
     if (step == 2) return next(link_.startRead(kAlarmEnable, 2));  // written: read it back

@@ -76,6 +76,14 @@
 //                         (regmaps/README.md): it is written directly. A reset allows SLEEP again, so Battery
 //                         Status[SLEEP_EN] in a scan tells the application that the device lost its RAM
 //                         configuration.
+//   startSleep(allow)     pack storage (app/monitors/storage_mode.hpp): SLEEP_ENABLE (0x0099) or
+//   SLEEP_DISABLE
+//                         (0x009A), then Battery Status read back (VerifyFailed unless [SLEEP_EN] says
+//                         `allow`). With SLEEP allowed the device enters SLEEP on its own while the CC1
+//                         current stays below Power:Sleep:Sleep Current, measures only every Power:Sleep:
+//                         Voltage Time there, and leaves it on current above that, a protection alert or
+//                         SLEEP_DISABLE (SLUUBY2B 7.3 for the BQ769x2; SLUUCI8 "SLEEP Mode" for the
+//                         BQ7690x, the same rules; TI's BQ769x2_protocol.h names both subcommands).
 //   startBalance(cells)   CB_ACTIVE_CELLS (0x0083) = bit mask of cells (bit 0 = cell 1; the BQ7690x puts
 //                         cell 1 at bit 1 on the wire and keeps bit 0 reserved, SLUAAM4 2.4 / SLUUCJ0
 //                         CB_ACTIVE_CELLS), with the 0x60 checksum and 0x61 length the write needs (SLUAA81A,
@@ -391,6 +399,7 @@ class Monitor {
   Status startFet(FetCommand command);
   Status startFetEnable();
   Status startRuntimeSetup(SettingsTable settings);
+  Status startSleep(bool allow);
   Status startBalance(uint16_t cells);
   Status startBalanceCheck();
 
@@ -500,6 +509,10 @@ class Monitor {
     bool readCharge;       // ... or reads what the previous one asked for
     bool chargeRequested;  // the last scan asked for it (kept between scans)
     bool requesting;       // the charge request is the transaction in flight (at step 0, before block 0)
+#if FW_BQ769X_SLEEP
+    bool sleepAllowed;  // runtime set-up or startSleep(): the SLEEP_EN the read-back must show
+    bool sleepOnly;     // startSleep(): the read-back ends it
+#endif
     uint16_t tmp;  // DEVICE_NUMBER while FW_VERSION is read; Alarm Enable while it is verified; the length
                    // of the scan's read in progress
     SettingsTable settings;

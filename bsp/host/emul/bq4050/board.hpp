@@ -9,6 +9,7 @@
 
 #include "app/monitors/bq4050_app.hpp"
 #include "bq4050/gauge_emulator.hpp"
+#include "packs/bq4050-evm.hpp"
 #include "sim/can.hpp"
 #include "sim/harness.hpp"
 #include "sim/i2c_bus.hpp"
@@ -38,7 +39,7 @@ struct Bq4050Board {
   SimCan can{h.clock, h.irq, 500000, 8};
   SimDigitalOut faultOut{h.clock, true};
   SimSystem system{h.clock};
-  fw::app::Bq4050AppConfig config;
+  fw::app::Bq4050AppConfig config{.storage = fw::packs::bq4050_evm::kStorage};  // the image's pack
   fw::app::Bq4050App app{h.sched, fw::app::Bq4050App::Io{bus, can, faultOut, system}, config};
 };
 

@@ -90,6 +90,7 @@ struct Bq769xBoard {
     c.soc = bq76952 ? &fw::packs::bq76952_evm::kSoc : &fw::packs::bq76907_evm::kSoc;
     c.currentLsbTenthMa =
         bq76952 ? fw::packs::bq76952_evm::kCurrentLsbTenthMa : fw::packs::bq76907_evm::kCurrentLsbTenthMa;
+    c.storage = bq76952 ? fw::packs::bq76952_evm::kStorage : fw::packs::bq76907_evm::kStorage;
     return c;
   }
 

@@ -9,6 +9,7 @@
 #include "app/protection/protection.hpp"
 #include "can/bms.hpp"
 #include "can/bms_table.hpp"
+#include "storage_view.hpp"
 
 namespace bmssim {
 namespace {
@@ -126,6 +127,38 @@ std::vector<ExpectVerdict> judgeExpects(const Scenario& scenario, const Onsets& 
   return out;
 }
 
+std::vector<StorageVerdict> judgeStorageExpects(const Scenario& scenario,
+                                                const std::vector<SentFrame>& frames, uint32_t durationMs) {
+  namespace bms = fw::can::bms;
+  std::vector<StorageVerdict> out;
+  for (const Step& st : scenario.steps) {
+    if (st.action != Action::ExpectStorage) continue;
+    StorageVerdict v{&st, std::nullopt, ""};
+    const uint64_t from = uint64_t{st.timeMs} * 1000, to = from + 2'000'000;
+    bool any = false;
+    for (const SentFrame& f : frames) {
+      if (f.id != bms::StorageStatus::kId || f.extended || f.data.size() != 8 || f.timeUs < from) continue;
+      if (f.timeUs > to) break;
+      any = true;
+      fw::hal::CanFrame c{f.id, false, 8, {}};
+      std::copy(f.data.begin(), f.data.end(), c.data.begin());
+      if ((bms::StorageStatus::unpack(c).mode == 1) == st.on) {
+        v.seenUs = f.timeUs;
+        break;
+      }
+    }
+    if (!v.seenUs) {
+      v.missed = st.timeMs > durationMs ? "the run ended (" + std::to_string(durationMs) +
+                                              " ms) before the step at " + std::to_string(st.timeMs) + " ms"
+                 : any ? std::string("StorageStatus said ") + (st.on ? "normal" : "storage") +
+                             " for 2 s after the step"
+                       : std::string("no StorageStatus within 2 s of the step (an image without storage?)");
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
 EventLatency latencyOf(const fw::app::ProtectionRecord& e, const Onsets& onsets) {
   EventLatency out;
   auto onset = onsets.find(fw::app::faultName(e.fault));
@@ -201,8 +234,12 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
   const uint64_t now = sim_.harness().nowUs();
   const Onsets& onsets = end.onsets;
   const auto verdicts = judgeExpects(scenario_, onsets, log, options_.durationMs);
-  const size_t missed = static_cast<size_t>(std::count_if(
-      verdicts.begin(), verdicts.end(), [](const ExpectVerdict& v) { return !v.missed.empty(); }));
+  const auto storageVerdicts = judgeStorageExpects(scenario_, sim_.frames(), options_.durationMs);
+  const size_t missed =
+      static_cast<size_t>(std::count_if(verdicts.begin(), verdicts.end(),
+                                        [](const ExpectVerdict& v) { return !v.missed.empty(); })) +
+      static_cast<size_t>(std::count_if(storageVerdicts.begin(), storageVerdicts.end(),
+                                        [](const StorageVerdict& v) { return !v.missed.empty(); }));
   const auto busOffs = busOffViews(sim_.busOffLog(), sim_.frames());
   if (!json_) {
     std::printf("\nscenario %s: %s\n", scenario_.name.c_str(), scenario_.description.c_str());
@@ -248,6 +285,16 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
                     fw::app::faultName(v.event->fault), ms(v.event->detected.us).c_str());
       } else {
         std::printf("expect %s (%s:%u): MISSED: %s\n", expectText(st).c_str(), scenario_.name.c_str(),
+                    st.line, v.missed.c_str());
+      }
+    }
+    for (const StorageVerdict& v : storageVerdicts) {
+      const Step& st = *v.step;
+      if (v.missed.empty()) {
+        std::printf("expect-storage %s (%s:%u): met, StorageStatus at %s ms\n", st.on ? "on" : "off",
+                    scenario_.name.c_str(), st.line, ms(*v.seenUs).c_str());
+      } else {
+        std::printf("expect-storage %s (%s:%u): MISSED: %s\n", st.on ? "on" : "off", scenario_.name.c_str(),
                     st.line, v.missed.c_str());
       }
     }
@@ -361,6 +408,19 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
     std::printf("]");
   }
   std::printf("],\n  \"cell_spread_mv\": %d,\n", f.cellSpreadMv);
+  // Pack storage as the board published it (StorageStatus; null where the image sends none).
+  const StorageSummary st = storageSummary(sim_.frames());
+  if (!st.sent) {
+    std::printf("  \"storage_mode\": null,\n");
+  } else {
+    std::printf("  \"storage_mode\": \"%s\",\n  \"storage_scan_period_ms\": %u,\n",
+                st.on ? "storage" : "normal", st.scanPeriodMs);
+    std::printf("  \"storage_entered_ms\": %s,\n  \"storage_left_ms\": %s,\n",
+                st.enteredUs ? ms(*st.enteredUs).c_str() : "null",
+                st.leftUs ? ms(*st.leftUs).c_str() : "null");
+    optionalInt("measurement_age_ms", st.ageMs ? static_cast<int64_t>(*st.ageMs) : -1);
+    std::printf("  \"measurement_age_max_ms\": %u,\n", st.maxAgeMs);
+  }
   for (const auto& [key, value] : f.extra)
     std::printf("  \"%s\": %s,\n", key.c_str(), value.c_str());
   std::printf("  \"protection_events\": [");
@@ -391,6 +451,14 @@ size_t Report::finish(const RunEnd& end, const bsp::host::SimWatchdog& watchdog)
         v.missed.empty() ? "null" : ("\"" + v.missed + "\"").c_str());
   }
   std::printf("%s],\n", verdicts.empty() ? "" : "\n  ");
+  std::printf("  \"storage_expects\": [");
+  for (size_t i = 0; i < storageVerdicts.size(); ++i) {
+    const StorageVerdict& v = storageVerdicts[i];
+    std::printf("%s\n    {\"mode\": \"%s\", \"line\": %u, \"at_ms\": %u, \"seen_ms\": %s, \"met\": %s}",
+                i == 0 ? "" : ",", v.step->on ? "storage" : "normal", v.step->line, v.step->timeMs,
+                v.seenUs ? ms(*v.seenUs).c_str() : "null", v.missed.empty() ? "true" : "false");
+  }
+  std::printf("%s],\n", storageVerdicts.empty() ? "" : "\n  ");
   std::printf("  \"expects_missed\": %zu\n}\n", missed);
   return missed;
 }

@@ -39,6 +39,14 @@ struct ExpectVerdict {
 std::vector<ExpectVerdict> judgeExpects(const Scenario& scenario, const Onsets& onsets,
                                         const std::vector<fw::app::ProtectionRecord>& log,
                                         uint32_t durationMs);
+// An expect-storage step: met when a StorageStatus frame with its mode went out within 2 s of the step.
+struct StorageVerdict {
+  const Step* step = nullptr;
+  std::optional<uint64_t> seenUs;  // that frame
+  std::string missed;              // why it was missed; empty when met
+};
+std::vector<StorageVerdict> judgeStorageExpects(const Scenario& scenario,
+                                                const std::vector<SentFrame>& frames, uint32_t durationMs);
 
 // What the end of a run hands the report: besides the image's own figures, the scenario player's view.
 struct RunEnd {

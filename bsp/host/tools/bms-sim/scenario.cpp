@@ -78,7 +78,7 @@ struct ActionSpec {
   uint8_t count;
 };
 
-constexpr std::array<ActionSpec, 21> kActions = {{
+constexpr std::array<ActionSpec, 22> kActions = {{
     {"current", Action::Current, {Arg::CurrentMa}, 1},
     {"cell", Action::Cell, {Arg::Board, Arg::Cell, Arg::CellMv}, 3},
     {"all-cells", Action::AllCells, {Arg::CellMv}, 1},
@@ -100,6 +100,7 @@ constexpr std::array<ActionSpec, 21> kActions = {{
     {"stuck-sda", Action::StuckSda, {}, 0},
     {"uart-noise", Action::UartNoise, {Arg::Ppm}, 1},
     {"can-error-frames", Action::CanErrorFrames, {Arg::Count}, 1},
+    {"expect-storage", Action::ExpectStorage, {Arg::OnOff}, 1},
 }};
 
 // The faults of fw::app::FaultId by their faultName(), and what a limit on each watches (tests check the
@@ -143,7 +144,7 @@ struct Builtin {
   const char* description;
   const char* text;
 };
-constexpr std::array<Builtin, 12> kBuiltins = {{
+constexpr std::array<Builtin, 13> kBuiltins = {{
     {"idle", "a resting pack at 3.70 V per cell, 25 degC", ""},
     {"charge", "charging at 10 A: cells rise 20 mV/s from 3.70 V", "0 current 10000\n0 ramp-all 20\n"},
     {"discharge", "discharging at 15 A: cells fall 20 mV/s from 3.70 V",
@@ -178,6 +179,14 @@ constexpr std::array<Builtin, 12> kBuiltins = {{
     // 0.5C counts up 1 % every 72 s.
     {"soc-charge", "at rest at 3.74 V per cell (50 %), then charging at 0.5C (1.25 A) from 2 s",
      "0 all-cells 3740\n0 current 0\n2000 current 1250\n"},
+    // Pack storage (firmware/app/monitors/storage_mode.hpp): the StorageMode command at 1 s, then at rest
+    // (the pack file's storage scan period, the device's SLEEP where allowed); a 2 A load at 31 s wakes the
+    // device and the next storage scan ends storage. --duration 30000 stays in storage to the end (the
+    // current figure, README "Figures").
+    {"storage",
+     "at rest: StorageMode enter at 1 s (the pack's storage scans, device SLEEP), a 2 A load at 31 s ends it",
+     "1000 send StorageMode Mode=enter\n1000 expect-storage on\n31000 current -2000\n31000 expect-storage "
+     "off\n"},
 }};
 
 // A token as the message quotes it: printable ASCII, at most 40 characters.

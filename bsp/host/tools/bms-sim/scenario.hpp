@@ -1,8 +1,9 @@
 // Scenarios: what happens to the emulated pack over time.
 //
-// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale, imbalance. Each
-// built-in is scenario text in the file format below, so a file can do whatever a built-in does. A file holds
-// one step per line; '#' starts a comment; boards are numbered from 0, cells and sensors from 1:
+// Built-in names: idle, charge, discharge, ov-cell, ot, open-wire, comm-loss, bus-off, stale, imbalance,
+// soc-discharge, soc-charge, storage. Each built-in is scenario text in the file format below, so a file can
+// do whatever a built-in does. A file holds one step per line; '#' starts a comment; boards are numbered from
+// 0, cells and sensors from 1:
 //   <time_ms> current <mA>                             the charger (positive) or load (negative): it
 //                                                      flows while the device's path for its direction is
 //                                                      closed (its FETs, or the fault output that stands
@@ -33,6 +34,10 @@
 //   <time_ms> can-error-frames <count>                 another node destroys the next <count> CAN
 //                                                      transmissions (TEC + 8 each; 32 reach bus-off)
 //   <time_ms> expect <fault>|any [<limit>]             the onset of the condition <fault> should catch
+//   <time_ms> expect-storage on|off                    the board should publish StorageStatus.Mode storage
+//                                                      (on) or normal (off) within 2 s of the step (two of
+//                                                      its once-a-second frames; firmware/app/monitors/
+//                                                      storage_mode.hpp)
 //   <time_ms> cell-capacity <mAh>                      every emulated cell holds this much: balancing takes
 //                                                      V / R from a balanced cell and its voltage falls 700
 //                                                      mV over the capacity (bsp/host/emul/cell_model.hpp);
@@ -79,7 +84,7 @@
 //   1  the run failed (the twin stopped on an access no model covers, an output could not be written)
 //   2  bad arguments or input: an option, a value out of range at file:line:col, a file too large or not a
 //      file, an option the image cannot honour
-//   3  the run completed and at least one expect was missed
+//   3  the run completed and at least one expect (or expect-storage) was missed
 #pragma once
 
 #include <cstddef>
@@ -125,6 +130,7 @@ enum class Action : uint8_t {
   StuckSda,
   UartNoise,
   CanErrorFrames,
+  ExpectStorage,
 };
 
 // The emulated quantity an expected fault's limit applies to, and which way it is crossed.

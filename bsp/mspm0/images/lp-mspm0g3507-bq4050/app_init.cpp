@@ -4,11 +4,12 @@
 #include "board.hpp"
 #include "common/construct_once.hpp"
 #include "common/kept_records.hpp"
+#include "packs/selected.hpp"
 #include "sched/scheduler.hpp"
 
 namespace {
 
-const fw::app::Bq4050AppConfig kConfig{};
+const fw::app::Bq4050AppConfig kConfig{.storage = fw::pack::kStorage};
 
 }  // namespace
 

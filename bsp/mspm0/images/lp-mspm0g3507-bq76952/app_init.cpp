@@ -48,7 +48,8 @@ void appInit(image::Board& board, fw::sched::Scheduler& scheduler) {
   static constinit fw::app::Bq769xAppConfig config{.settings = kSettings,
                                                    .cells = fw::pack::kCells,
                                                    .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
-                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
+                                                   .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa,
+                                                   .storage = fw::pack::kStorage};
   config.faultIndicator = &board.faultOut;
   config.chargeOffPin = &chargeOff;
   config.dischargeOffPin = &dischargeOff;

@@ -10,6 +10,7 @@ set(BMS_IMAGE_OPTIONS
   FW_SCHED_BUDGETS=0              # saves two clock reads per dispatch: no task has a run-time budget and no output carries the figures
   BSP_I2C_LISTS=0                 # removes nothing used: the board's I2C is not built
   FW_SOC=0                        # no current input, so no state of charge: the view keeps none, StateOfCharge goes out not available
+  FW_STORAGE=0                    # its monitor has no storage mode yet (firmware/app/monitors/storage_mode.hpp: the BQ769x-family one only): StorageMode is answered unsupported, and the view, StorageStatus and the answer cost nothing
 )
 
 # The pack this image builds from unless -DBMS_PACK=<file> names another (firmware/app/packs/README.md): its

@@ -31,7 +31,8 @@ using App = fw::app::Bq769xApp<fw::drivers::bq769x2::Bq7690x, fw::drivers::bq769
 const fw::app::Bq769xAppConfig kConfig{.settings = kSettings,
                                        .cells = fw::pack::kCells,
                                        .soc = fw::app::kSoc ? &fw::pack::kSoc : nullptr,
-                                       .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa};
+                                       .currentLsbTenthMa = fw::pack::kCurrentLsbTenthMa,
+                                       .storage = fw::pack::kStorage};
 
 }  // namespace
 

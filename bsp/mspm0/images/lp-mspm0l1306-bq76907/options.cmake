@@ -18,6 +18,8 @@ set(BMS_IMAGE_OPTIONS
   FW_BQ769X_BALANCE=0             # balancing does not fit the 16 KiB budget beside the state of charge (measured 2026-11-29, fourth session: 17 692 B with it; README "The L1306 boards do not hold the full application"); built in, every host and twin test of the image passes
   FW_RECORD_STORE=0               # the record store (app/store) does not fit the 16 KiB (20 916 B with it and balancing, measured 2026-11-29, fourth session; README "The L1306 boards do not hold the full application"): its hooks are built out, nothing kept across a reset; app_init.cpp and data_flash.cpp are ready for 1
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
+  FW_STORAGE=0                    # pack storage (StorageMode, StorageStatus) is past the 16 KiB budget for now (firmware/app/monitors/storage_mode.hpp; its cost measured in the storage branch's report): StorageMode is answered unsupported
+  FW_BQ769X_SLEEP=0               # nothing asks for SLEEP without storage: startSleep() is left out
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
 )
 

@@ -20,6 +20,8 @@ set(BMS_IMAGE_OPTIONS
   FW_RECORD_STORE=0               # the record store (app/store) does not fit the 16 KiB (22 032 B with it, balancing and SOC, measured 2026-11-29, fourth session; README "The L1306 boards do not hold the full application"): its hooks are built out, nothing kept across a reset; app_init.cpp and data_flash.cpp are ready for 1
   BSP_I2C_LISTS=0                 # removes nothing used: the driver starts one transaction at a time
   BSP_DEEP_IDLE=1                 # STANDBY1 between scans (bsp/mspm0/power_policy.hpp): the MCU's average current, computed on the twin, from 993 to 92 uA; 572 B of flash (bsp/mspm0/README.md "Low-power modes")
+  FW_STORAGE=0                    # pack storage (StorageMode, StorageStatus) is past the 16 KiB budget for now (firmware/app/monitors/storage_mode.hpp; its cost measured in the storage branch's report): StorageMode is answered unsupported
+  FW_BQ769X_SLEEP=0               # nothing asks for SLEEP without storage: startSleep() is left out
   BSP_I2C_PEC=0                   # removes nothing used: the BQ769x2 family has no SMBus PEC
 )
 
