@@ -96,7 +96,9 @@ inline constexpr uint32_t kFifoTxFlush = 1U << 7;
 inline constexpr uint32_t kFifoRxFlush = 1U << 15;
 
 // MFIFOSR: RXFIFOCNT 3:0 (bytes to read), TXFIFOCNT 11:8 (bytes that can still be written; 8 = empty).
-// FIFO depth: param I2C_SYS_FENTRIES = 8.
+// FIFO depth: param I2C_SYS_FENTRIES = 8; SLAAE56A (MSPM0 vs STM32G0, I2C table, which lists the
+// L130x): "TX: 8 byte, RX: 8 byte" for MSPM0L and MSPM0G. E2E threads report 4 entries on the newer
+// MSPM0L111x and C110x: other parts; i2c.cpp's RX trigger at 7 relies on the L130x/G350x's 8.
 inline constexpr uint32_t kFifoRxCountMask = 0xF;
 inline constexpr uint32_t kFifoTxFreeShift = 8;
 inline constexpr uint32_t kFifoTxFreeMask = 0xF00;
