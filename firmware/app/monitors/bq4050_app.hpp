@@ -14,7 +14,6 @@
 #pragma once
 
 #include <cstdint>
-#include <type_traits>
 
 #include "app/command/commands.hpp"
 #include "app/monitors/app_core.hpp"
@@ -41,7 +40,7 @@ struct Bq4050AppConfig {
   Duration retryInterval = ms(100);   // between failed probes (a probe of an absent gauge is a few NACKs)
   // Pack storage (FW_STORAGE, storage_mode.hpp): the pack file's `storage`, the scan period only (the
   // gauge's own SLEEP is its business); scanEvery 0: none. Nothing in a build without it.
-  [[no_unique_address]] std::conditional_t<kStorageBuilt, StorageConfig, NoStorageConfig> storage{};
+  [[no_unique_address]] StorageSettings storage{};
 };
 
 // The paths the gauge's own protection holds off (SafetyStatus, SLUUAQ3A chapter 2 "Protections": each

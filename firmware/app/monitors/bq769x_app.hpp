@@ -70,8 +70,7 @@ namespace fw::app {
 
 inline constexpr bool kConfigUpdate = FW_BQ769X_CONFIG_UPDATE != 0;
 inline constexpr bool kFaultIndicator = FW_BQ769X_FAULT_INDICATOR != 0;
-inline constexpr bool kStorage = FW_STORAGE != 0;
-static_assert(!kStorage || drivers::bq769x2::kSleepControl,
+static_assert(!kStorageBuilt || drivers::bq769x2::kSleepControl,
               "pack storage allows the device's SLEEP through the driver (FW_BQ769X_SLEEP)");
 static_assert(!kConfigUpdate || drivers::bq769x2::kConfigPaths,
               "the start-up CONFIG_UPDATE needs the link's configuration paths (FW_BQ769X_CONFIG_PATHS)");
@@ -114,7 +113,7 @@ struct Bq769xAppConfig {
   int32_t currentLsbTenthMa = 10;
   // Pack storage (FW_STORAGE, storage_mode.hpp): the pack file's `storage`; scanEvery 0: none. Nothing in a
   // build without it.
-  [[no_unique_address]] std::conditional_t<kStorage, StorageConfig, NoStorageConfig> storage{};
+  [[no_unique_address]] StorageSettings storage{};
 };
 
 // Statistics (core/stats.hpp: all 0 in a build without them).
@@ -214,22 +213,22 @@ class Bq769xDevice : public MonitorBase {
   // A failed FET or balancing command is tried again once per scan period.
   void scanTick() {
     flags_->fetBackoff = flags_->balanceBackoff = false;
-    if (kStorage) storage_.sleep.backoff = false;
+    if (kStorageBuilt) storage_.sleep.backoff = false;
   }
 
   // Pack storage (storage_mode.hpp): the scans it skips, and the device's SLEEP following it (SLEEP_ENABLE
   // in storage where the pack allows it, SLEEP_DISABLE when leaving).
-  bool storageTick() requires kStorage {
+  bool storageTick() requires kStorageBuilt {
     const bool due = storage_.tick();
     syncSleep();
     return due;
   }
-  void storageScanned() requires kStorage {
+  void storageScanned() requires kStorageBuilt {
     storage_.scanned();
     syncSleep();
   }
   void syncSleep() {
-    if (kStorage && storage_.deviceSleep() != storage_.sleep.allowed) storage_.sleep.wanted = true;
+    if (kStorageBuilt && storage_.deviceSleep() != storage_.sleep.allowed) storage_.sleep.wanted = true;
   }
   Status startSleep() {
     storage_.sleep.wanted = false;
@@ -272,19 +271,19 @@ class Bq769xDevice : public MonitorBase {
   // The FET command first; balancing only once the scan due has run (it never delays one).
   bool commandWaiting() const {
     return (flags_->fetWanted && !flags_->fetBackoff) ||
-           (kStorage && storage_.sleep.wanted && !storage_.sleep.backoff) ||
+           (kStorageBuilt && storage_.sleep.wanted && !storage_.sleep.backoff) ||
            (kBalancing && !loop_->scanDue && !flags_->balanceBackoff &&
             (flags_->balanceWanted || flags_->checkWanted));
   }
   Status startCommand() {
     const bool fet = flags_->fetWanted && !flags_->fetBackoff;
-    if (kStorage && !fet && storage_.sleep.wanted && !storage_.sleep.backoff) return startSleep();
+    if (kStorageBuilt && !fet && storage_.sleep.wanted && !storage_.sleep.backoff) return startSleep();
     if (kBalancing && !fet) return startBalancing();
     flags_->fetWanted = false;
     return driver_.startFet(flags_->fet);
   }
   void commandFinished(Status result) {
-    if (kStorage && storage_.sleep.command) return sleepFinished(result);
+    if (kStorageBuilt && storage_.sleep.command) return sleepFinished(result);
     if (kBalancing && flags_->balancing) return balancingFinished(result);
     if (result == Status::Ok) {
       if (kStats) ++records_->stats.fetCommands;
@@ -321,7 +320,7 @@ class Bq769xDevice : public MonitorBase {
       loop_->scanDue = true;
       flags_->fetWanted =
           flags_->fetRequested;  // protection's last request, again: the device may have reset
-      if (kStorage) {
+      if (kStorageBuilt) {
         storage_.sleep.allowed = false;  // the set-up sent SLEEP_DISABLE: storage allows it again if it wants
         syncSleep();
       }
@@ -347,7 +346,7 @@ class Bq769xDevice : public MonitorBase {
       // The device reset since the set-up: set it up again now (the measurement itself is valid). Not while
       // storage allows SLEEP: a reset is then not told apart (the device's own protections run on; the
       // set-up that follows leaving storage restores what a reset lost).
-      if (records_->measurement.reg.batteryStatus.sleep_en() && !(kStorage && storage_.sleep.allowed)) {
+      if (records_->measurement.reg.batteryStatus.sleep_en() && !(kStorageBuilt && storage_.sleep.allowed)) {
         setRunning(view_, false);
         loop_->retryDue = true;
       }
@@ -555,12 +554,8 @@ class Bq769xApp : public AppCore<FetMailbox, Publisher> {
   }
 
   void start() {
-    BalancingPolicy* balancing = drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr;
-    if constexpr (kStorage) {
-      this->startAll(monitor_, balancing, &monitor_.storage());
-    } else {
-      this->startAll(monitor_, balancing);
-    }
+    this->startAll(monitor_, drivers::bq769x2::kBalance ? &monitor_.balancing() : nullptr,
+                   kStorageBuilt ? &monitor_.storage() : nullptr);
   }
 
   using Monitor = Bq769xMonitor<Driver, Measurement, Publisher::kScanDone>;

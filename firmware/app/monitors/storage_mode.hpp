@@ -42,6 +42,8 @@ struct SleepCommand {
 enum class StorageRequest : uint8_t { Accepted, Unsupported, FaultActive, NotAtRest };
 
 inline constexpr bool kStorageBuilt = FW_STORAGE != 0;
+// A monitor's configuration of it: the pack file's `storage`, nothing in a build without it.
+using StorageSettings = std::conditional_t<kStorageBuilt, StorageConfig, NoStorageConfig>;
 class StorageMode;
 struct NoStorageMode;
 using StorageState = std::conditional_t<FW_STORAGE != 0, StorageMode, NoStorageMode>;
